@@ -1,0 +1,16 @@
+/* Sub-commands of build/voroprobe. Each returns the process exit status
+ * (0 ok, 1 failure, 2 usage error) and prints its own --help. */
+#ifndef VP_CLI_H
+#define VP_CLI_H
+
+typedef int (*vp_cmd_fn)(int argc, char **argv);
+
+struct vp_cmd {
+    const char *name;
+    vp_cmd_fn run;
+    const char *summary;
+};
+
+int vp_cmd_bench_delaunay(int argc, char **argv);
+
+#endif
