@@ -4,7 +4,7 @@
 #include "vp_cli.h"
 
 static const struct vp_cmd commands[] = {
-    { "help", 0, "this list" },
+    { "bench-delaunay", vp_cmd_bench_delaunay, "3D Delaunay of a point set (TetGen .node or generated)" },
 };
 
 static void usage(FILE *f)

@@ -1,0 +1,836 @@
+/* vp_dt — incremental 3D Delaunay triangulation (Bowyer-Watson) in a caller-given arena.
+ *
+ * Insertion of p: find one tet in conflict with p (visibility walk, or given by the caller),
+ * dig the cavity (all tets whose circumsphere contains p, found breadth-first from it), then
+ * fill it with one new tet per cavity boundary facet joined to p. Nothing in the triangulation
+ * is written until the cavity is known and the memory for the new tets is reserved, so every
+ * failure leaves the triangulation as it was.
+ *
+ * Marks live in spare bits of the vertex words: bit 31 of word 0 = "in the cavity", bit 31 of
+ * word 1 = "tested, not in conflict". Both are cleared before an insertion returns.
+ */
+#include <math.h>
+#include <string.h>
+#include "vp_dt.h"
+#include "vp_pred.h"
+#include "vp_sort.h"
+
+#define MARK 0x80000000u
+#define VMASK 0x7FFFFFFFu
+#define DEAD 0xFFFFFFFFu
+#define VDUP 0xFFFFFFFEu /* vertex record of a duplicate point: never inserted */
+
+#define TET(dt, t) ((dt)->tets + (size_t)(t) * (dt)->stride)
+#define PT(dt, v) ((dt)->vtop[-(ptrdiff_t)(v)].xyz)
+#define VREC(dt, v) ((dt)->vtop[-(ptrdiff_t)(v)])
+
+/* facet i = vertices FI[i][0..2], ordered so that orient3d(facet, v_i) > 0 */
+const unsigned char vp_dt_facet_index[4][3] = { { 1, 3, 2 }, { 0, 2, 3 }, { 0, 3, 1 }, { 0, 1, 2 } };
+#define FI vp_dt_facet_index
+
+/* one boundary facet of the cavity: its vertices (oriented towards p) and the outside neighbour */
+typedef struct bfacet {
+    uint32_t v[3];
+    uint32_t outside; /* 4 * tet + facet of the tet that stays */
+} bfacet_t;
+
+/* edge hash entry used to glue the new tets to each other */
+typedef struct ehash {
+    uint32_t a, b;    /* edge (a < b); a == VP_DT_NONE: empty */
+    uint32_t ref;     /* 4 * new tet + facet opposite the edge's third vertex */
+} ehash_t;
+
+static unsigned char *gap_lo(const vp_dt_t *dt)
+{
+    return (unsigned char *)(dt->tets + (size_t)dt->ntet_slots * dt->stride);
+}
+
+static unsigned char *gap_hi(const vp_dt_t *dt)
+{
+    return (unsigned char *)((dt->vtop + 1) - dt->nvert);
+}
+
+/* Records the arena use: tets + vertices + `scratch` bytes of scratch in use now. */
+static void note_high_water(vp_dt_t *dt, size_t scratch)
+{
+    size_t used = (size_t)(dt->mem_hi - gap_hi(dt)) + (size_t)(gap_lo(dt) - dt->mem_lo) + scratch;
+    if (used > dt->high_water) dt->high_water = used;
+}
+
+int vp_dt_init(vp_dt_t *dt, void *mem, size_t bytes, size_t payload_bytes)
+{
+    uintptr_t lo, hi;
+    if (!dt || !mem || payload_bytes > 1024) return VP_EINVAL;
+    lo = ((uintptr_t)mem + 7u) & ~(uintptr_t)7u;
+    hi = ((uintptr_t)mem + bytes) & ~(uintptr_t)7u;
+    if (hi < lo || hi - lo < 1024) return VP_EINVAL;
+    memset(dt, 0, sizeof *dt);
+    dt->mem_lo = (unsigned char *)lo;
+    dt->mem_hi = (unsigned char *)hi;
+    dt->tets = (uint32_t *)lo;
+    dt->vtop = (vp_dt_vertex_t *)hi - 1;
+    dt->stride = 8u + (uint32_t)((payload_bytes + 3u) / 4u);
+    dt->free_head = VP_DT_NONE;
+    dt->last_tet = VP_DT_NONE;
+    dt->dim = -1;
+    dt->rng = 0x2545F491u;
+    return VP_OK;
+}
+
+int vp_dt_alive(const vp_dt_t *dt, uint32_t t)
+{
+    return t < dt->ntet_slots && TET(dt, t)[0] != DEAD;
+}
+
+uint32_t vp_dt_num_finite_tets(const vp_dt_t *dt)
+{
+    return dt->nalive - dt->nghost;
+}
+
+size_t vp_dt_bytes_used(const vp_dt_t *dt)
+{
+    return dt->high_water;
+}
+
+void vp_dt_facet(const vp_dt_t *dt, uint32_t t, int i, uint32_t f[3])
+{
+    const uint32_t *v = TET(dt, t);
+    f[0] = v[FI[i][0]] & VMASK;
+    f[1] = v[FI[i][1]] & VMASK;
+    f[2] = v[FI[i][2]] & VMASK;
+}
+
+static int finite_point(const double p[3])
+{
+    /* x - x is 0 for finite x, NaN for Inf and NaN */
+    return p[0] - p[0] == 0.0 && p[1] - p[1] == 0.0 && p[2] - p[2] == 0.0;
+}
+
+static int same_point(const double *a, const double *b)
+{
+    return a[0] == b[0] && a[1] == b[1] && a[2] == b[2];
+}
+
+/* Conflict test of tet record v with p. For a finite tet: p inside the circumsphere under the
+ * symbolic perturbation. For a ghost tet: p strictly beyond its hull facet, or on the facet's
+ * plane and in conflict with the finite tet behind the facet (its circle test). When p lands
+ * exactly on a vertex, *dup receives it and the answer is 0. */
+static int conflict(const vp_dt_t *dt, const uint32_t *v, const double *p, uint32_t *dup)
+{
+    const double *a, *b, *c, *d;
+    int s;
+    if (v[3] == VP_DT_GHOST) {
+        s = vp_orient3d(PT(dt, v[0] & VMASK), PT(dt, v[1] & VMASK), PT(dt, v[2]), p);
+        if (s) return s > 0;
+        v = TET(dt, v[7] >> 2);
+    }
+    a = PT(dt, v[0] & VMASK);
+    b = PT(dt, v[1] & VMASK);
+    c = PT(dt, v[2]);
+    d = PT(dt, v[3]);
+    s = vp_insphere(a, b, c, d, p);
+    if (s == 0) {
+        if (same_point(a, p)) { *dup = v[0] & VMASK; return 0; }
+        if (same_point(b, p)) { *dup = v[1] & VMASK; return 0; }
+        if (same_point(c, p)) { *dup = v[2]; return 0; }
+        if (same_point(d, p)) { *dup = v[3]; return 0; }
+        s = vp_insphere_sos(a, b, c, d, p);
+    }
+    return s > 0;
+}
+
+int vp_dt_in_conflict(const vp_dt_t *dt, uint32_t t, const double p[3])
+{
+    uint32_t dup = VP_DT_NONE;
+    if (!vp_dt_alive(dt, t) || !finite_point(p)) return 0;
+    return conflict(dt, TET(dt, t), p, &dup);
+}
+
+/* ---- tet slots ---- */
+
+static void tet_release(vp_dt_t *dt, uint32_t t)
+{
+    uint32_t *v = TET(dt, t);
+    v[0] = DEAD;
+    v[4] = dt->free_head;
+    dt->free_head = t;
+    dt->nfree++;
+}
+
+static uint32_t tet_take(vp_dt_t *dt)
+{
+    uint32_t t;
+    if (dt->nfree) {
+        t = dt->free_head;
+        dt->free_head = TET(dt, t)[4];
+        dt->nfree--;
+        return t;
+    }
+    return dt->ntet_slots++;
+}
+
+/* ---- point location ---- */
+
+static uint32_t lcg(vp_dt_t *dt)
+{
+    dt->rng = dt->rng * 1664525u + 1013904223u;
+    return dt->rng >> 24;
+}
+
+/* Visibility walk: step through any facet that has p strictly on its far side. Ends in the
+ * finite tet whose closure contains p, or in the ghost tet of a hull facet p is beyond.
+ * Terminates in a Delaunay triangulation (acyclicity of the in-front relation); the step
+ * budget only guards against a corrupted structure. */
+static int walk(vp_dt_t *dt, const double *p, uint32_t t, uint32_t *out)
+{
+    uint32_t prev = VP_DT_NONE;
+    uint64_t budget = 16u + 4u * (uint64_t)dt->nalive;
+    if (!vp_dt_alive(dt, t)) t = dt->last_tet;
+    if (!vp_dt_alive(dt, t)) {
+        for (t = 0; t < dt->ntet_slots && !vp_dt_alive(dt, t); t++) {}
+        if (t == dt->ntet_slots) return VP_ESTATE;
+    }
+    if (TET(dt, t)[3] == VP_DT_GHOST) t = TET(dt, t)[7] >> 2;
+    while (budget--) {
+        const uint32_t *v = TET(dt, t);
+        uint32_t r, k;
+        if (v[3] == VP_DT_GHOST) { *out = t; return VP_OK; }
+        r = lcg(dt);
+        for (k = 0; k < 4; k++) {
+            uint32_t i = (r + k) & 3u, nb = v[4 + i] >> 2;
+            if (nb == prev) continue;
+            if (vp_orient3d(PT(dt, v[FI[i][0]]), PT(dt, v[FI[i][1]]), PT(dt, v[FI[i][2]]), p) < 0)
+                break;
+        }
+        if (k == 4) { *out = t; return VP_OK; }
+        prev = t;
+        t = v[4 + ((r + k) & 3u)] >> 2;
+        dt->walk_steps++;
+    }
+    return VP_EDEGEN;
+}
+
+int vp_dt_locate(vp_dt_t *dt, const double p[3], uint32_t hint, uint32_t *tet)
+{
+    if (!dt || !p || !tet || !finite_point(p)) return VP_EINVAL;
+    if (dt->dim < 3) return VP_ESTATE;
+    return walk(dt, p, hint, tet);
+}
+
+/* ---- the cavity ---- */
+
+static void unmark_cavity(vp_dt_t *dt, const uint32_t *killed_top, uint32_t nk)
+{
+    uint32_t q, i;
+    for (q = 0; q < nk; q++) {
+        uint32_t *v = TET(dt, killed_top[-1 - (ptrdiff_t)q]);
+        v[0] &= VMASK;
+    }
+    for (q = 0; q < nk; q++) {
+        uint32_t *v = TET(dt, killed_top[-1 - (ptrdiff_t)q]);
+        for (i = 0; i < 4; i++) TET(dt, v[4 + i] >> 2)[1] &= VMASK;
+    }
+}
+
+static uint32_t ehash_slot(uint32_t a, uint32_t b, uint32_t mask)
+{
+    uint64_t k = ((uint64_t)a << 32) | b;
+    return (uint32_t)((k * 0x9E3779B97F4A7C15ull) >> 40) & mask;
+}
+
+/* Inserts vertex record vid (already appended, not yet in the triangulation) given a tet
+ * `start` known to be in conflict with it. */
+static int dig_and_fill(vp_dt_t *dt, uint32_t vid, uint32_t start, uint32_t *dupv)
+{
+    const double *p = PT(dt, vid);
+    unsigned char *lo = gap_lo(dt), *hi = gap_hi(dt);
+    uint32_t *ktop = (uint32_t *)((uintptr_t)hi & ~(uintptr_t)7u); /* killed list grows down */
+    uint32_t nk = 0, q, i, nb = 0, nghost_killed = 0, nghost_new = 0, hbits, hmask;
+    uint32_t reuse, from_free, extra;
+    uint32_t dup = VP_DT_NONE;
+    bfacet_t *bf;
+    ehash_t *eh;
+    uint32_t *created, *killed;
+    unsigned char *need_lo;
+
+    /* dig: breadth-first from start over tets in conflict */
+    if ((unsigned char *)(ktop - 1) < lo) return VP_ENOMEM;
+    TET(dt, start)[0] |= MARK;
+    ktop[-1] = start;
+    nk = 1;
+    for (q = 0; q < nk; q++) {
+        const uint32_t *v = TET(dt, ktop[-1 - (ptrdiff_t)q]);
+        if (v[3] == VP_DT_GHOST) nghost_killed++;
+        for (i = 0; i < 4; i++) {
+            uint32_t u = v[4 + i] >> 2;
+            uint32_t *uv = TET(dt, u);
+            if ((uv[0] | uv[1]) & MARK) continue; /* in the cavity, or known not to be */
+            if (conflict(dt, uv, p, &dup)) {
+                if ((unsigned char *)(ktop - nk - 1) < lo) {
+                    unmark_cavity(dt, ktop, nk);
+                    return VP_ENOMEM;
+                }
+                uv[0] |= MARK;
+                ktop[-1 - (ptrdiff_t)nk] = u;
+                nk++;
+            } else {
+                if (dup != VP_DT_NONE) {
+                    unmark_cavity(dt, ktop, nk);
+                    *dupv = dup;
+                    return VP_EDUP;
+                }
+                uv[1] |= MARK;
+            }
+        }
+    }
+    /* count boundary facets: neighbours outside the cavity */
+    for (q = 0; q < nk; q++) {
+        const uint32_t *v = TET(dt, ktop[-1 - (ptrdiff_t)q]);
+        for (i = 0; i < 4; i++) nb += !(TET(dt, v[4 + i] >> 2)[0] & MARK);
+    }
+    /* reserve: boundary facets, edge hash, created list below the killed list; new slots */
+    for (hbits = 4; (1u << hbits) < 3u * nb; hbits++) {}
+    hmask = (1u << hbits) - 1u;
+    killed = ktop - nk;
+    created = killed - nb;
+    eh = (ehash_t *)((uintptr_t)(created) & ~(uintptr_t)7u) - (hmask + 1u);
+    bf = (bfacet_t *)eh - nb;
+    reuse = nb < nk ? nb : nk;
+    from_free = nb - reuse < dt->nfree ? nb - reuse : dt->nfree;
+    extra = nb - reuse - from_free;
+    need_lo = lo + (size_t)extra * dt->stride * sizeof(uint32_t);
+    if ((uintptr_t)need_lo > (uintptr_t)bf || (unsigned char *)bf < lo) {
+        unmark_cavity(dt, ktop, nk);
+        return VP_ENOMEM;
+    }
+    /* record the boundary (vertices oriented towards p) before any slot is overwritten */
+    nb = 0;
+    for (q = 0; q < nk; q++) {
+        const uint32_t *v = TET(dt, ktop[-1 - (ptrdiff_t)q]);
+        for (i = 0; i < 4; i++) {
+            uint32_t *uv = TET(dt, v[4 + i] >> 2);
+            if (uv[0] & MARK) continue;
+            uv[1] &= VMASK;
+            bf[nb].v[0] = v[FI[i][0]] & VMASK;
+            bf[nb].v[1] = v[FI[i][1]] & VMASK;
+            bf[nb].v[2] = v[FI[i][2]] & VMASK;
+            bf[nb].outside = v[4 + i];
+            nb++;
+        }
+    }
+    /* slots for the new tets: the killed ones first (same order as the killed list) */
+    for (q = 0; q < nb; q++)
+        created[q] = q < nk ? ktop[-1 - (ptrdiff_t)q] : tet_take(dt);
+    for (q = nb; q < nk; q++) tet_release(dt, ktop[-1 - (ptrdiff_t)q]);
+    memset(eh, 0xFF, (size_t)(hmask + 1u) * sizeof *eh);
+
+    /* fill: tet (a,b,c,p); with the ghost among a,b,c an even permutation moves it to slot 3 */
+    for (q = 0; q < nb; q++) {
+        uint32_t t = created[q], *w = TET(dt, t), pos[4], vv[4], e;
+        vv[0] = bf[q].v[0]; vv[1] = bf[q].v[1]; vv[2] = bf[q].v[2]; vv[3] = vid;
+        if (vv[0] == VP_DT_GHOST)      { pos[0] = 3; pos[1] = 2; pos[2] = 1; pos[3] = 0; }
+        else if (vv[1] == VP_DT_GHOST) { pos[0] = 2; pos[1] = 3; pos[2] = 0; pos[3] = 1; }
+        else if (vv[2] == VP_DT_GHOST) { pos[0] = 1; pos[1] = 0; pos[2] = 3; pos[3] = 2; }
+        else                           { pos[0] = 0; pos[1] = 1; pos[2] = 2; pos[3] = 3; }
+        nghost_new += pos[3] != 3;
+        for (e = 0; e < 4; e++) w[pos[e]] = vv[e];
+        /* facet opposite p: the outside neighbour */
+        w[4 + pos[3]] = bf[q].outside;
+        TET(dt, bf[q].outside >> 2)[4 + (bf[q].outside & 3u)] = 4u * t + pos[3];
+        /* facet opposite vv[e] (e < 3) contains p and the edge of the other two */
+        for (e = 0; e < 3; e++) {
+            uint32_t x = vv[(e + 1) % 3], y = vv[(e + 2) % 3], h;
+            if (x > y) { uint32_t tmp = x; x = y; y = tmp; }
+            h = ehash_slot(x, y, hmask);
+            while (eh[h].a != VP_DT_NONE && (eh[h].a != x || eh[h].b != y)) h = (h + 1) & hmask;
+            if (eh[h].a == VP_DT_NONE) {
+                eh[h].a = x; eh[h].b = y; eh[h].ref = 4u * t + pos[e];
+            } else {
+                uint32_t o = eh[h].ref;
+                w[4 + pos[e]] = o;
+                TET(dt, o >> 2)[4 + (o & 3u)] = 4u * t + pos[e];
+            }
+        }
+    }
+    for (q = 0; q < nb; q++) {
+        uint32_t t = created[q], e;
+        const uint32_t *w = TET(dt, t);
+        for (e = 0; e < 4; e++)
+            if (w[e] != VP_DT_GHOST) VREC(dt, w[e]).tet = t;
+    }
+    dt->nalive += nb - nk;
+    dt->nghost += nghost_new - nghost_killed;
+    dt->killed = killed;
+    dt->created = created;
+    dt->nkilled = nk;
+    dt->ncreated = nb;
+    dt->last_tet = created[0];
+    note_high_water(dt, (size_t)(gap_hi(dt) - (unsigned char *)bf));
+    return VP_OK;
+}
+
+/* ---- building the first tet ---- */
+
+static int collinear(const double *a, const double *b, const double *c)
+{
+    return !vp_orient2d_proj(a, b, c, 0) && !vp_orient2d_proj(a, b, c, 1) &&
+           !vp_orient2d_proj(a, b, c, 2);
+}
+
+/* Glues the tets in list[0..n) to each other through facets with equal vertex sets (n <= 5). */
+static void glue_small(vp_dt_t *dt, const uint32_t *list, int n)
+{
+    int a, b, i, j;
+    for (a = 0; a < n; a++)
+        for (i = 0; i < 4; i++) {
+            uint32_t fa[3], *va = TET(dt, list[a]);
+            vp_dt_facet(dt, list[a], i, fa);
+            for (b = 0; b < n; b++) {
+                if (b == a) continue;
+                for (j = 0; j < 4; j++) {
+                    uint32_t fb[3];
+                    int m = 0, x, y;
+                    vp_dt_facet(dt, list[b], j, fb);
+                    for (x = 0; x < 3; x++)
+                        for (y = 0; y < 3; y++) m += fa[x] == fb[y];
+                    if (m == 3) va[4 + i] = 4u * list[b] + (uint32_t)j;
+                }
+            }
+        }
+}
+
+/* Creates the first finite tet and its four ghosts from span[0..3], then inserts every other
+ * pending vertex up to `last`. On failure everything returns to the flat (pending) state. */
+static int build_first(vp_dt_t *dt, uint32_t last)
+{
+    uint32_t s[4], list[5], v, dup;
+    int i, k, st;
+    unsigned char *lo = gap_lo(dt);
+    memcpy(s, dt->span, sizeof s);
+    if (vp_orient3d(PT(dt, s[0]), PT(dt, s[1]), PT(dt, s[2]), PT(dt, s[3])) < 0) {
+        uint32_t tmp = s[0]; s[0] = s[1]; s[1] = tmp;
+    }
+    if ((size_t)(gap_hi(dt) - lo) < 5u * dt->stride * sizeof(uint32_t)) return VP_ENOMEM;
+    for (k = 0; k < 5; k++) list[k] = dt->ntet_slots++;
+    memcpy(TET(dt, list[0]), s, sizeof s);
+    for (i = 0; i < 4; i++) {
+        uint32_t *g = TET(dt, list[1 + i]);
+        g[0] = s[FI[i][0]];
+        g[1] = s[FI[i][2]];
+        g[2] = s[FI[i][1]];
+        g[3] = VP_DT_GHOST;
+    }
+    glue_small(dt, list, 5);
+    for (k = 0; k < 4; k++) VREC(dt, s[k]).tet = list[0];
+    dt->nalive = 5;
+    dt->nghost = 4;
+    dt->ninserted = 4;
+    dt->dim = 3;
+    dt->last_tet = list[0];
+    dt->nkilled = 0;
+    dt->ncreated = 5;
+    note_high_water(dt, 0);
+    for (v = 0; v <= last; v++) {
+        uint32_t t;
+        if (VREC(dt, v).tet != VP_DT_NONE || v == s[0] || v == s[1] || v == s[2] || v == s[3])
+            continue;
+        st = walk(dt, PT(dt, v), dt->last_tet, &t);
+        if (st == VP_OK) st = dig_and_fill(dt, v, t, &dup);
+        if (st != VP_OK) {
+            /* back to flat: no tets, every vertex pending */
+            uint32_t w;
+            for (w = 0; w <= last; w++)
+                if (VREC(dt, w).tet != VDUP) VREC(dt, w).tet = VP_DT_NONE;
+            dt->ntet_slots = dt->nfree = dt->nalive = dt->nghost = 0;
+            dt->free_head = dt->last_tet = VP_DT_NONE;
+            dt->ninserted = 0;
+            dt->dim = 2;
+            dt->nkilled = dt->ncreated = 0;
+            return st == VP_EDUP ? VP_EDEGEN : st;
+        }
+        dt->ninserted++;
+    }
+    /* the lists of the last insertion stay valid only for the last vertex; report all as new */
+    dt->nkilled = 0;
+    return VP_OK;
+}
+
+/* Adds vertex vid while the set is still flat (dim < 3). */
+static int insert_flat(vp_dt_t *dt, uint32_t vid, uint32_t *dupv)
+{
+    const double *p = PT(dt, vid);
+    uint32_t v;
+    for (v = 0; v < vid; v++)
+        if (VREC(dt, v).tet != VDUP && same_point(PT(dt, v), p)) { *dupv = v; return VP_EDUP; }
+    switch (dt->dim) {
+    case -1: dt->span[0] = vid; dt->dim = 0; break;
+    case 0: dt->span[1] = vid; dt->dim = 1; break;
+    case 1:
+        if (!collinear(PT(dt, dt->span[0]), PT(dt, dt->span[1]), p)) {
+            dt->span[2] = vid;
+            dt->dim = 2;
+        }
+        break;
+    default:
+        if (vp_orient3d(PT(dt, dt->span[0]), PT(dt, dt->span[1]), PT(dt, dt->span[2]), p)) {
+            dt->span[3] = vid;
+            return build_first(dt, vid);
+        }
+    }
+    return VP_OK;
+}
+
+/* ---- public insertion ---- */
+
+/* free space a batch of n points needs: records, order, sort scratch, a cavity's worth */
+static size_t batch_bytes(uint32_t n)
+{
+    return (size_t)n * (sizeof(vp_dt_vertex_t) + sizeof(uint32_t)) + vp_sort_scratch_bytes(n) + 4096;
+}
+
+static int append_vertex(vp_dt_t *dt, const double p[3], uint32_t *vid)
+{
+    vp_dt_vertex_t *r;
+    if (dt->nvert >= VP_DT_MAX_VERTICES) return VP_ENOMEM;
+    if ((size_t)(gap_hi(dt) - gap_lo(dt)) < 2 * sizeof(vp_dt_vertex_t) + 64) return VP_ENOMEM;
+    r = &VREC(dt, dt->nvert);
+    r->xyz[0] = p[0]; r->xyz[1] = p[1]; r->xyz[2] = p[2];
+    r->tet = VP_DT_NONE;
+    r->aux = 0;
+    *vid = dt->nvert++;
+    return VP_OK;
+}
+
+/* Puts the appended record vid into the triangulation, starting from tet `start` (walk from it
+ * when `located` is 0, or dig from it directly). */
+static int insert_record(vp_dt_t *dt, uint32_t vid, uint32_t start, int located, uint32_t *dupv)
+{
+    const double *p = PT(dt, vid);
+    int st;
+    if (dt->dim < 3) {
+        int was = dt->dim;
+        st = insert_flat(dt, vid, dupv);
+        if (st != VP_OK && st != VP_EDUP) dt->dim = was;
+        return st;
+    }
+    if (!located) {
+        const uint32_t *v;
+        st = walk(dt, p, start, &start);
+        if (st != VP_OK) return st;
+        v = TET(dt, start);
+        if (v[3] != VP_DT_GHOST) {
+            int k;
+            for (k = 0; k < 4; k++)
+                if (same_point(PT(dt, v[k]), p)) { *dupv = v[k]; return VP_EDUP; }
+        }
+    }
+    st = dig_and_fill(dt, vid, start, dupv);
+    if (st == VP_OK) dt->ninserted++;
+    return st;
+}
+
+int vp_dt_insert(vp_dt_t *dt, const double p[3], uint32_t hint, uint32_t *vertex)
+{
+    uint32_t vid, dup = VP_DT_NONE;
+    int st;
+    if (!dt || !p || !finite_point(p)) return VP_EINVAL;
+    st = append_vertex(dt, p, &vid);
+    if (st != VP_OK) return st;
+    st = insert_record(dt, vid, hint, 0, &dup);
+    if (st != VP_OK) {
+        dt->nvert--;
+        if (st == VP_EDUP && vertex) *vertex = dup;
+        return st;
+    }
+    if (vertex) *vertex = vid;
+    return VP_OK;
+}
+
+int vp_dt_insert_in_conflict(vp_dt_t *dt, const double p[3], uint32_t conflict_tet,
+                             uint32_t *vertex)
+{
+    uint32_t vid, dup = VP_DT_NONE;
+    int st;
+    if (!dt || !p || !finite_point(p)) return VP_EINVAL;
+    if (dt->dim < 3 || !vp_dt_alive(dt, conflict_tet)) return VP_EINVAL;
+    if (!conflict(dt, TET(dt, conflict_tet), p, &dup)) {
+        if (dup != VP_DT_NONE) { if (vertex) *vertex = dup; return VP_EDUP; }
+        return VP_EINVAL;
+    }
+    st = append_vertex(dt, p, &vid);
+    if (st != VP_OK) return st;
+    st = insert_record(dt, vid, conflict_tet, 1, &dup);
+    if (st != VP_OK) {
+        dt->nvert--;
+        if (st == VP_EDUP && vertex) *vertex = dup;
+        return st;
+    }
+    if (vertex) *vertex = vid;
+    return VP_OK;
+}
+
+/* Sorts and inserts one chunk xyz[0..n) whose scratch fits in the free space. */
+static int insert_chunk(vp_dt_t *dt, const double *xyz, uint32_t n, uint32_t *ids, uint32_t id0)
+{
+    uint32_t *order, base, k;
+    int st = VP_OK;
+    /* sort at the bottom of the free space, then lay the records out in insertion order */
+    order = (uint32_t *)(((uintptr_t)gap_lo(dt) + 7u) & ~(uintptr_t)7u);
+    vp_sort_brio(xyz, n, 0x5EEDu + dt->nvert, order,
+                 (void *)(((uintptr_t)(order + n) + 7u) & ~(uintptr_t)7u));
+    base = dt->nvert;
+    for (k = 0; k < n; k++) {
+        vp_dt_vertex_t *r = &VREC(dt, base + k);
+        const double *p = xyz + 3 * (size_t)order[k];
+        r->xyz[0] = p[0]; r->xyz[1] = p[1]; r->xyz[2] = p[2];
+        r->tet = VP_DT_NONE;
+        r->aux = id0 + order[k];
+        if (ids) ids[id0 + order[k]] = base + k;
+    }
+    dt->nvert = base + n;
+    note_high_water(dt, batch_bytes(n) - (size_t)n * sizeof(vp_dt_vertex_t));
+    /* the sort scratch is dead from here on: tets may grow over it */
+    for (k = 0; k < n; k++) {
+        uint32_t vid = base + k, dup = VP_DT_NONE;
+        st = insert_record(dt, vid, dt->last_tet, 0, &dup);
+        if (st == VP_EDUP) {
+            VREC(dt, vid).tet = VDUP;
+            if (ids) ids[VREC(dt, vid).aux] = dup;
+            st = VP_OK;
+        } else if (st != VP_OK) {
+            break;
+        }
+    }
+    if (st != VP_OK) {
+        /* the records from k on were never inserted: give them back */
+        uint32_t j;
+        if (ids)
+            for (j = k; j < n; j++) ids[VREC(dt, base + j).aux] = VP_DT_NONE;
+        dt->nvert = base + k;
+    }
+    return st;
+}
+
+int vp_dt_insert_batch(vp_dt_t *dt, const double *xyz, uint32_t n, uint32_t *ids)
+{
+    uint32_t done = 0;
+    size_t i;
+    if (!dt || (!xyz && n)) return VP_EINVAL;
+    for (i = 0; i < n; i++)
+        if (!finite_point(xyz + 3 * i)) return VP_EINVAL;
+    if (ids)
+        for (i = 0; i < n; i++) ids[i] = VP_DT_NONE;
+    if ((uint64_t)dt->nvert + n > VP_DT_MAX_VERTICES) return VP_ENOMEM;
+    /* one sorted batch when its scratch fits, otherwise the largest chunks that fit */
+    while (done < n) {
+        size_t room = (size_t)(gap_hi(dt) - gap_lo(dt));
+        uint32_t m = n - done;
+        int st;
+        while (m > 0 && batch_bytes(m) > room) m = m > 64 ? m / 2 : m - 1;
+        if (m == 0) return VP_ENOMEM;
+        st = insert_chunk(dt, xyz + 3 * (size_t)done, m, ids, done);
+        if (st != VP_OK) return st;
+        done += m;
+    }
+    return VP_OK;
+}
+
+/* ---- queries ---- */
+
+int vp_dt_circumcenter(const vp_dt_t *dt, uint32_t t, double c[3])
+{
+    const uint32_t *v;
+    const double *a, *b, *cc, *d;
+    double bx, by, bz, cx, cy, cz, dx, dy, dz, b2, c2, d2, det, inv;
+    if (!vp_dt_alive(dt, t)) return VP_EINVAL;
+    v = TET(dt, t);
+    if (v[3] == VP_DT_GHOST) return VP_EINVAL;
+    a = PT(dt, v[0]); b = PT(dt, v[1]); cc = PT(dt, v[2]); d = PT(dt, v[3]);
+    bx = b[0] - a[0]; by = b[1] - a[1]; bz = b[2] - a[2];
+    cx = cc[0] - a[0]; cy = cc[1] - a[1]; cz = cc[2] - a[2];
+    dx = d[0] - a[0]; dy = d[1] - a[1]; dz = d[2] - a[2];
+    b2 = bx * bx + by * by + bz * bz;
+    c2 = cx * cx + cy * cy + cz * cz;
+    d2 = dx * dx + dy * dy + dz * dz;
+    det = bx * (cy * dz - cz * dy) - by * (cx * dz - cz * dx) + bz * (cx * dy - cy * dx);
+    if (det == 0.0) return VP_EDEGEN;
+    inv = 0.5 / det;
+    c[0] = a[0] + inv * (b2 * (cy * dz - cz * dy) - c2 * (by * dz - bz * dy) + d2 * (by * cz - bz * cy));
+    c[1] = a[1] + inv * (-b2 * (cx * dz - cz * dx) + c2 * (bx * dz - bz * dx) - d2 * (bx * cz - bz * cx));
+    c[2] = a[2] + inv * (b2 * (cx * dy - cy * dx) - c2 * (bx * dy - by * dx) + d2 * (bx * cy - by * cx));
+    return VP_OK;
+}
+
+int vp_dt_voronoi_edge(const vp_dt_t *dt, uint32_t t, int i, vp_dt_vedge_t *e)
+{
+    const uint32_t *v;
+    uint32_t u, f[3];
+    int st;
+    if (!vp_dt_alive(dt, t) || i < 0 || i > 3 || !e) return VP_EINVAL;
+    v = TET(dt, t);
+    u = v[4 + i] >> 2;
+    vp_dt_facet(dt, t, i, f);
+    if (f[0] == VP_DT_GHOST || f[1] == VP_DT_GHOST || f[2] == VP_DT_GHOST) return VP_EINVAL;
+    memset(e, 0, sizeof *e);
+    if (v[3] != VP_DT_GHOST && TET(dt, u)[3] != VP_DT_GHOST) {
+        double len2 = 0.0;
+        int k;
+        if ((st = vp_dt_circumcenter(dt, t, e->from)) != VP_OK) return st;
+        if ((st = vp_dt_circumcenter(dt, u, e->to)) != VP_OK) return st;
+        for (k = 0; k < 3; k++) {
+            e->dir[k] = e->to[k] - e->from[k];
+            len2 += e->dir[k] * e->dir[k];
+        }
+        if (len2 > 0.0) {
+            double inv = 1.0 / sqrt(len2);
+            for (k = 0; k < 3; k++) e->dir[k] *= inv;
+        }
+        return VP_OK;
+    } else {
+        /* hull facet: a ray from the finite tet's Voronoi vertex, outward along the facet
+         * normal. Facet orientation: seen from the finite tet, outward is negative. */
+        uint32_t fin = v[3] == VP_DT_GHOST ? u : t, g[3];
+        int fi = v[3] == VP_DT_GHOST ? (int)(v[4 + i] & 3u) : i, k;
+        const double *a, *b, *c;
+        double n[3], len;
+        if ((st = vp_dt_circumcenter(dt, fin, e->from)) != VP_OK) return st;
+        vp_dt_facet(dt, fin, fi, g);
+        a = PT(dt, g[0]); b = PT(dt, g[1]); c = PT(dt, g[2]);
+        n[0] = (b[1] - a[1]) * (c[2] - a[2]) - (b[2] - a[2]) * (c[1] - a[1]);
+        n[1] = (b[2] - a[2]) * (c[0] - a[0]) - (b[0] - a[0]) * (c[2] - a[2]);
+        n[2] = (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
+        len = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+        if (!(len > 0.0)) return VP_EDEGEN;
+        /* the finite tet's own vertex is on the positive side: outward is -n */
+        for (k = 0; k < 3; k++) e->dir[k] = -n[k] / len;
+        e->is_ray = 1;
+        return VP_OK;
+    }
+}
+
+int vp_dt_incident_tets(const vp_dt_t *dt, uint32_t v, uint32_t *out, int cap)
+{
+    int n = 0, q;
+    uint32_t t;
+    if (!dt || v >= dt->nvert || cap < 0) return VP_EINVAL;
+    t = VREC(dt, v).tet;
+    if (t >= dt->ntet_slots) return VP_EINVAL;
+    if (cap < 1) return VP_ENOMEM;
+    out[n++] = t;
+    for (q = 0; q < n; q++) {
+        const uint32_t *w = TET(dt, out[q]);
+        int i, k;
+        for (i = 0; i < 4; i++) {
+            uint32_t u;
+            if (w[i] == v) continue; /* the facet opposite v does not contain v */
+            u = w[4 + i] >> 2;
+            for (k = 0; k < n && out[k] != u; k++) {}
+            if (k < n) continue;
+            if (n == cap) return VP_ENOMEM;
+            out[n++] = u;
+        }
+    }
+    return n;
+}
+
+/* ---- validation ---- */
+
+static int tet_has(const uint32_t *v, uint32_t x)
+{
+    return v[0] == x || v[1] == x || v[2] == x || v[3] == x;
+}
+
+/* Walks around edge (x,y) starting in tet t; returns the number of tets around it and the
+ * smallest tet index met, or 0 if the ring does not close. */
+static uint32_t edge_ring(const vp_dt_t *dt, uint32_t t, uint32_t x, uint32_t y, uint32_t *minid)
+{
+    uint32_t cur = t, n = 0, limit = dt->nalive + 1, enter_other;
+    const uint32_t *v = TET(dt, t);
+    int k, other[2], m = 0;
+    for (k = 0; k < 4; k++)
+        if (v[k] != x && v[k] != y) other[m++] = k;
+    /* leave t through the facet opposite other[0]: it contains x, y and v[other[1]] */
+    enter_other = v[other[1]];
+    cur = v[4 + other[0]] >> 2;
+    *minid = t;
+    n = 1;
+    while (cur != t) {
+        const uint32_t *w = TET(dt, cur);
+        int ex = -1;
+        if (!tet_has(w, x) || !tet_has(w, y) || !tet_has(w, enter_other) || n > limit) return 0;
+        if (cur < *minid) *minid = cur;
+        /* exit through the facet opposite enter_other */
+        for (k = 0; k < 4; k++)
+            if (w[k] == enter_other) ex = k;
+        cur = w[4 + ex] >> 2;
+        for (k = 0; k < 4; k++)
+            if (w[k] != x && w[k] != y && k != ex) break;
+        enter_other = w[k];
+        n++;
+    }
+    return n;
+}
+
+int vp_dt_check(const vp_dt_t *dt)
+{
+    uint32_t t, v, nalive = 0, nghost = 0, nfree = 0;
+    uint64_t edges = 0;
+    if (!dt) return VP_EINVAL;
+    if (dt->dim < 3) return dt->ntet_slots == 0 ? VP_OK : VP_EDEGEN;
+    for (t = dt->free_head; t != VP_DT_NONE; t = TET(dt, t)[4]) {
+        if (t >= dt->ntet_slots || TET(dt, t)[0] != DEAD || ++nfree > dt->nfree) return VP_EDEGEN;
+    }
+    if (nfree != dt->nfree) return VP_EDEGEN;
+    for (t = 0; t < dt->ntet_slots; t++) {
+        const uint32_t *w = TET(dt, t);
+        int i, k;
+        if (w[0] == DEAD) continue;
+        nalive++;
+        for (k = 0; k < 4; k++) {
+            if (w[k] & MARK) return VP_EDEGEN;
+            if (w[k] == VP_DT_GHOST ? k != 3 : (w[k] >= dt->nvert || VREC(dt, w[k]).tet >= VDUP))
+                return VP_EDEGEN;
+        }
+        if (w[0] == w[1] || w[0] == w[2] || w[0] == w[3] || w[1] == w[2] || w[1] == w[3] ||
+            w[2] == w[3])
+            return VP_EDEGEN;
+        if (w[3] == VP_DT_GHOST) nghost++;
+        else if (vp_orient3d(PT(dt, w[0]), PT(dt, w[1]), PT(dt, w[2]), PT(dt, w[3])) <= 0)
+            return VP_EDEGEN;
+        for (i = 0; i < 4; i++) {
+            uint32_t ref = w[4 + i], u = ref >> 2, j = ref & 3u, dup = VP_DT_NONE;
+            const uint32_t *x;
+            if (u >= dt->ntet_slots) return VP_EDEGEN;
+            x = TET(dt, u);
+            if (x[0] == DEAD || x[4 + j] != 4u * t + (uint32_t)i) return VP_EDEGEN;
+            if (tet_has(w, x[j])) return VP_EDEGEN;
+            for (k = 0; k < 4; k++)
+                if (k != i && !tet_has(x, w[k])) return VP_EDEGEN;
+            /* local Delaunay: the vertex across facet i is not in conflict with t */
+            if (x[j] != VP_DT_GHOST && conflict(dt, w, PT(dt, x[j]), &dup)) return VP_EDEGEN;
+        }
+        /* edges: counted once, by the smallest tet index around them */
+        for (i = 0; i < 4; i++)
+            for (k = i + 1; k < 4; k++) {
+                uint32_t minid;
+                if (!edge_ring(dt, t, w[i], w[k], &minid)) return VP_EDEGEN;
+                edges += minid == t;
+            }
+    }
+    if (nalive != dt->nalive || nghost != dt->nghost || nalive + nfree != dt->ntet_slots)
+        return VP_EDEGEN;
+    {
+        uint64_t nv = 1, nins = 0;
+        for (v = 0; v < dt->nvert; v++) {
+            uint32_t vt = VREC(dt, v).tet;
+            if (vt == VDUP) continue;
+            if (vt >= dt->ntet_slots || !tet_has(TET(dt, vt), v)) return VP_EDEGEN;
+            nins++;
+        }
+        if (nins != dt->ninserted) return VP_EDEGEN;
+        nv += nins;
+        /* closed 3-manifold (S^3 with the ghost vertex): V - E + F - T = 0, F = 2T */
+        if (nv + nalive != edges) return VP_EDEGEN;
+    }
+    return VP_OK;
+}

@@ -1,0 +1,617 @@
+/* The 3D Delaunay triangulation: validity (vp_dt_check, exact) after random, degenerate and
+ * adversarial sequences and after every error path; uniqueness under the symbolic
+ * perturbation; the planner's queries; arena exhaustion. */
+#include <math.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include "vp_dt.h"
+#include "vp_pred.h"
+#include "vp_pointgen.h"
+#include "vp_test.h"
+
+static void *xmalloc(size_t n)
+{
+    void *p = malloc(n);
+    if (!p) { fprintf(stderr, "out of memory\n"); exit(2); }
+    return p;
+}
+
+/* A finite tet as its 4 vertex coordinates, sorted, for comparing triangulations whose
+ * vertex numbering differs. */
+typedef struct { double c[12]; } tetkey_t;
+
+static int cmp_pt(const void *a, const void *b)
+{
+    return vp_lex_cmp((const double *)a, (const double *)b);
+}
+
+static int cmp_key(const void *a, const void *b)
+{
+    return memcmp(a, b, sizeof(tetkey_t)) < 0 ? -1 : memcmp(a, b, sizeof(tetkey_t)) > 0;
+}
+
+/* sorted list of finite tets; returns count */
+static size_t tet_keys(const vp_dt_t *dt, tetkey_t **out)
+{
+    size_t n = 0;
+    uint32_t t;
+    tetkey_t *k = xmalloc(sizeof *k * (vp_dt_num_finite_tets(dt) + 1));
+    for (t = 0; t < dt->ntet_slots; t++) {
+        const uint32_t *v;
+        int i;
+        if (!vp_dt_alive(dt, t) || vp_dt_is_ghost(dt, t)) continue;
+        v = vp_dt_tet(dt, t);
+        for (i = 0; i < 4; i++) memcpy(k[n].c + 3 * i, vp_dt_point(dt, v[i]), 3 * sizeof(double));
+        qsort(k[n].c, 4, 3 * sizeof(double), cmp_pt);
+        n++;
+    }
+    qsort(k, n, sizeof *k, cmp_key);
+    *out = k;
+    return n;
+}
+
+static int same_triangulation(const vp_dt_t *a, const vp_dt_t *b)
+{
+    tetkey_t *ka, *kb;
+    size_t na = tet_keys(a, &ka), nb = tet_keys(b, &kb);
+    int same = na == nb && memcmp(ka, kb, na * sizeof *ka) == 0;
+    free(ka); free(kb);
+    return same;
+}
+
+typedef struct {
+    vp_dt_t dt;
+    void *mem;
+    size_t bytes;
+} tri_t;
+
+static void tri_open(tri_t *t, size_t bytes, size_t payload)
+{
+    t->mem = xmalloc(bytes);
+    t->bytes = bytes;
+    CHECK(vp_dt_init(&t->dt, t->mem, bytes, payload) == VP_OK);
+}
+
+static void tri_close(tri_t *t) { free(t->mem); }
+
+/* Snapshot of everything that defines the triangulation, to prove "unchanged". */
+typedef struct {
+    vp_dt_t dt;
+    unsigned char *tets;
+    size_t tet_bytes;
+    unsigned char *verts;
+    size_t vert_bytes;
+} snap_t;
+
+static void snap_take(snap_t *s, const vp_dt_t *dt)
+{
+    s->dt = *dt;
+    s->tet_bytes = (size_t)dt->ntet_slots * dt->stride * 4;
+    s->tets = xmalloc(s->tet_bytes + 1);
+    memcpy(s->tets, dt->tets, s->tet_bytes);
+    s->vert_bytes = (size_t)dt->nvert * sizeof(vp_dt_vertex_t);
+    s->verts = xmalloc(s->vert_bytes + 1);
+    memcpy(s->verts, (const unsigned char *)(dt->vtop + 1) - s->vert_bytes, s->vert_bytes);
+}
+
+static int snap_same(const snap_t *s, const vp_dt_t *dt)
+{
+    int same = s->dt.ntet_slots == dt->ntet_slots && s->dt.nvert == dt->nvert &&
+               s->dt.nalive == dt->nalive && s->dt.nghost == dt->nghost &&
+               s->dt.nfree == dt->nfree && s->dt.free_head == dt->free_head &&
+               s->dt.ninserted == dt->ninserted && s->dt.dim == dt->dim;
+    if (same) same = memcmp(s->tets, dt->tets, s->tet_bytes) == 0;
+    if (same) same = memcmp(s->verts, (const unsigned char *)(dt->vtop + 1) - s->vert_bytes,
+                            s->vert_bytes) == 0;
+    return same;
+}
+
+static void snap_free(snap_t *s) { free(s->tets); free(s->verts); }
+
+static uint32_t count_finite_brute(const vp_dt_t *dt)
+{
+    uint32_t t, n = 0;
+    for (t = 0; t < dt->ntet_slots; t++) n += vp_dt_alive(dt, t) && !vp_dt_is_ghost(dt, t);
+    return n;
+}
+
+/* ---- tests ---- */
+
+static void test_random_sequential_vs_batch(void)
+{
+    size_t n, i;
+    double *xyz;
+    char err[128];
+    tri_t a, b;
+    uint32_t *ids;
+    vp_pointgen_uniform(3000, 7, &xyz, &n, err, sizeof err);
+    tri_open(&a, 4u << 20, 0);
+    for (i = 0; i < n; i++) {
+        uint32_t v;
+        CHECK(vp_dt_insert(&a.dt, xyz + 3 * i, VP_DT_NONE, &v) == VP_OK);
+        CHECK(v == i);
+        if (i % 500 == 0 || i < 12) CHECKF(vp_dt_check(&a.dt) == VP_OK, "after %zu", i);
+    }
+    CHECK(vp_dt_check(&a.dt) == VP_OK);
+    CHECK(vp_dt_num_finite_tets(&a.dt) == count_finite_brute(&a.dt));
+    tri_open(&b, 4u << 20, 0);
+    ids = xmalloc(n * sizeof *ids);
+    CHECK(vp_dt_insert_batch(&b.dt, xyz, (uint32_t)n, ids) == VP_OK);
+    CHECK(vp_dt_check(&b.dt) == VP_OK);
+    CHECK(same_triangulation(&a.dt, &b.dt));
+    for (i = 0; i < n; i++) CHECK(memcmp(vp_dt_point(&b.dt, ids[i]), xyz + 3 * i, 24) == 0);
+    free(ids);
+    tri_close(&a); tri_close(&b);
+    free(xyz);
+}
+
+static void shuffle(double *xyz, size_t n, uint64_t seed)
+{
+    size_t i, c;
+    for (i = n; i > 1; i--) {
+        size_t j = (size_t)(vp_rng_next(&seed) % i);
+        for (c = 0; c < 3; c++) {
+            double t = xyz[3 * (i - 1) + c];
+            xyz[3 * (i - 1) + c] = xyz[3 * j + c];
+            xyz[3 * j + c] = t;
+        }
+    }
+}
+
+/* The integer grid is massively cospherical and coplanar. Under the symbolic perturbation the
+ * triangulation is unique: every insertion order must give the very same tets. */
+static void test_grid_unique(void)
+{
+    size_t n, i;
+    double *xyz;
+    char err[128];
+    tri_t ref;
+    int order;
+    vp_pointgen_grid(7, 3, &xyz, &n, err, sizeof err);
+    tri_open(&ref, 4u << 20, 0);
+    CHECK(vp_dt_insert_batch(&ref.dt, xyz, (uint32_t)n, NULL) == VP_OK);
+    CHECK(vp_dt_check(&ref.dt) == VP_OK);
+    /* a grid of k^3 points has 6 (k-1)^3 ... tets only in some cases; the hull volume must
+     * match: sum of finite tet volumes = (k-1)^3 */
+    {
+        double vol = 0.0;
+        uint32_t t;
+        for (t = 0; t < ref.dt.ntet_slots; t++) {
+            const uint32_t *v;
+            const double *a, *b, *c, *d;
+            if (!vp_dt_alive(&ref.dt, t) || vp_dt_is_ghost(&ref.dt, t)) continue;
+            v = vp_dt_tet(&ref.dt, t);
+            a = vp_dt_point(&ref.dt, v[0]); b = vp_dt_point(&ref.dt, v[1]);
+            c = vp_dt_point(&ref.dt, v[2]); d = vp_dt_point(&ref.dt, v[3]);
+            vol += ((b[1] - a[1]) * (c[2] - a[2]) - (b[2] - a[2]) * (c[1] - a[1])) * (d[0] - a[0]) +
+                   ((b[2] - a[2]) * (c[0] - a[0]) - (b[0] - a[0]) * (c[2] - a[2])) * (d[1] - a[1]) +
+                   ((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])) * (d[2] - a[2]);
+        }
+        CHECKF(fabs(vol / 6.0 - 216.0) < 1e-9, "grid hull volume %.12g", vol / 6.0);
+    }
+    for (order = 0; order < 4; order++) {
+        tri_t t;
+        shuffle(xyz, n, 100 + (uint64_t)order);
+        tri_open(&t, 4u << 20, 0);
+        if (order & 1) {
+            CHECK(vp_dt_insert_batch(&t.dt, xyz, (uint32_t)n, NULL) == VP_OK);
+        } else {
+            for (i = 0; i < n; i++) CHECK(vp_dt_insert(&t.dt, xyz + 3 * i, VP_DT_NONE, NULL) == VP_OK);
+        }
+        CHECK(vp_dt_check(&t.dt) == VP_OK);
+        CHECKF(same_triangulation(&ref.dt, &t.dt), "order %d", order);
+        tri_close(&t);
+    }
+    tri_close(&ref);
+    free(xyz);
+}
+
+/* All integer points on the sphere of radius 15: exactly cospherical, plus the centre. */
+static void test_cospherical(void)
+{
+    double pts[3 * 4096];
+    size_t n = 0;
+    int x, y, z, order;
+    tri_t ref;
+    for (x = -15; x <= 15; x++)
+        for (y = -15; y <= 15; y++)
+            for (z = -15; z <= 15; z++)
+                if (x * x + y * y + z * z == 225) {
+                    pts[3 * n] = x; pts[3 * n + 1] = y; pts[3 * n + 2] = z;
+                    n++;
+                }
+    CHECK(n > 100);
+    tri_open(&ref, 4u << 20, 0);
+    CHECK(vp_dt_insert_batch(&ref.dt, pts, (uint32_t)n, NULL) == VP_OK);
+    CHECK(vp_dt_check(&ref.dt) == VP_OK);
+    for (order = 0; order < 3; order++) {
+        tri_t t;
+        size_t i;
+        shuffle(pts, n, 7 + (uint64_t)order);
+        tri_open(&t, 4u << 20, 0);
+        for (i = 0; i < n; i++) CHECK(vp_dt_insert(&t.dt, pts + 3 * i, VP_DT_NONE, NULL) == VP_OK);
+        CHECK(vp_dt_check(&t.dt) == VP_OK);
+        CHECK(same_triangulation(&ref.dt, &t.dt));
+        tri_close(&t);
+    }
+    {
+        double c[3] = { 0, 0, 0 };
+        CHECK(vp_dt_insert(&ref.dt, c, VP_DT_NONE, NULL) == VP_OK);
+        CHECK(vp_dt_check(&ref.dt) == VP_OK);
+    }
+    tri_close(&ref);
+}
+
+/* Flat starts: coplanar, collinear and repeated points before the first tet exists. */
+static void test_flat_start(void)
+{
+    tri_t t;
+    double p[3];
+    int i, j;
+    uint32_t v;
+    tri_open(&t, 1u << 20, 0);
+    p[0] = 1; p[1] = 2; p[2] = 3;
+    CHECK(vp_dt_insert(&t.dt, p, VP_DT_NONE, &v) == VP_OK && v == 0);
+    CHECK(vp_dt_insert(&t.dt, p, VP_DT_NONE, &v) == VP_EDUP && v == 0);
+    for (i = 1; i < 20; i++) { /* collinear */
+        p[0] = 1 + i; p[1] = 2 + 2 * i; p[2] = 3 + 3 * i;
+        CHECK(vp_dt_insert(&t.dt, p, VP_DT_NONE, NULL) == VP_OK);
+    }
+    CHECK(t.dt.dim == 1);
+    for (i = 0; i < 10; i++) /* coplanar: the plane z = 3 ... through the line? use x+y-z plane */
+        for (j = 0; j < 10; j++) {
+            int st;
+            p[0] = i; p[1] = j; p[2] = i + j;
+            st = vp_dt_insert(&t.dt, p, VP_DT_NONE, NULL);
+            /* (k, 2k, 3k) for k = 1..4 lies on the line inserted above */
+            CHECK(st == ((j == 2 * i && i >= 1 && i <= 4) ? VP_EDUP : VP_OK));
+        }
+    CHECK(t.dt.dim == 2);
+    CHECK(vp_dt_num_finite_tets(&t.dt) == 0);
+    CHECK(vp_dt_check(&t.dt) == VP_OK);
+    p[0] = 0.5; p[1] = 0.25; p[2] = 7;
+    CHECK(vp_dt_insert(&t.dt, p, VP_DT_NONE, NULL) == VP_OK);
+    CHECK(t.dt.dim == 3);
+    CHECK(vp_dt_check(&t.dt) == VP_OK);
+    CHECK(t.dt.ninserted == t.dt.nvert);
+    p[0] = 5; p[1] = 5; p[2] = 10; /* a coplanar point already present */
+    CHECK(vp_dt_insert(&t.dt, p, VP_DT_NONE, &v) == VP_EDUP);
+    CHECK(memcmp(vp_dt_point(&t.dt, v), p, 24) == 0);
+    CHECK(vp_dt_check(&t.dt) == VP_OK);
+    tri_close(&t);
+}
+
+static void test_bad_input(void)
+{
+    tri_t t;
+    size_t n, i;
+    double *xyz, bad[3] = { 0, 0, 0 };
+    char err[128];
+    snap_t s;
+    uint32_t v;
+    vp_pointgen_uniform(200, 9, &xyz, &n, err, sizeof err);
+    tri_open(&t, 1u << 20, 0);
+    CHECK(vp_dt_insert_batch(&t.dt, xyz, (uint32_t)n, NULL) == VP_OK);
+    snap_take(&s, &t.dt);
+    bad[1] = NAN;
+    CHECK(vp_dt_insert(&t.dt, bad, VP_DT_NONE, NULL) == VP_EINVAL);
+    bad[1] = INFINITY;
+    CHECK(vp_dt_insert(&t.dt, bad, VP_DT_NONE, NULL) == VP_EINVAL);
+    bad[1] = -INFINITY;
+    CHECK(vp_dt_insert_in_conflict(&t.dt, bad, 0, NULL) == VP_EINVAL);
+    CHECK(vp_dt_insert(&t.dt, NULL, VP_DT_NONE, NULL) == VP_EINVAL);
+    xyz[3 * 50 + 2] = NAN;
+    CHECK(vp_dt_insert_batch(&t.dt, xyz, (uint32_t)n, NULL) == VP_EINVAL);
+    xyz[3 * 50 + 2] = 0.5;
+    CHECK(snap_same(&s, &t.dt));
+    /* duplicates: every existing point, through both entry points */
+    for (i = 0; i < n; i += 7) {
+        double p[3];
+        memcpy(p, xyz + 3 * i, sizeof p);
+        if (i == 50) continue;
+        CHECK(vp_dt_insert(&t.dt, p, (uint32_t)i, &v) == VP_EDUP);
+        CHECK(memcmp(vp_dt_point(&t.dt, v), p, 24) == 0);
+        {
+            uint32_t tets[256];
+            int k = vp_dt_incident_tets(&t.dt, v, tets, 256), r;
+            CHECK(k > 0);
+            r = vp_dt_insert_in_conflict(&t.dt, p, tets[0], &v);
+            CHECK(r == VP_EDUP || r == VP_EINVAL);
+        }
+    }
+    CHECK(snap_same(&s, &t.dt));
+    CHECK(vp_dt_check(&t.dt) == VP_OK);
+    /* a batch with duplicates inside and of existing points */
+    {
+        double dups[3 * 4];
+        uint32_t ids[4];
+        memcpy(dups, xyz, 24); memcpy(dups + 3, xyz, 24);
+        dups[6] = 2; dups[7] = 2; dups[8] = 2;
+        memcpy(dups + 9, dups + 6, 24);
+        CHECK(vp_dt_insert_batch(&t.dt, dups, 4, ids) == VP_OK);
+        CHECK(ids[0] == ids[1] && ids[2] == ids[3] && ids[0] != ids[2]);
+        CHECK(memcmp(vp_dt_point(&t.dt, ids[0]), xyz, 24) == 0);
+        CHECK(vp_dt_check(&t.dt) == VP_OK);
+    }
+    snap_free(&s);
+    tri_close(&t);
+    free(xyz);
+}
+
+/* Arena exhaustion at every size from tiny to enough: the failing call changes nothing. */
+static void test_enomem(void)
+{
+    size_t n, i, bytes;
+    double *xyz;
+    char err[128];
+    int failures_seen = 0;
+    vp_pointgen_uniform(400, 11, &xyz, &n, err, sizeof err);
+    for (bytes = 1024; bytes < 140000; bytes = bytes * 9 / 8 + 8) {
+        tri_t t;
+        snap_t s;
+        int st = VP_OK;
+        tri_open(&t, bytes, 4);
+        for (i = 0; i < n; i++) {
+            snap_take(&s, &t.dt);
+            st = vp_dt_insert(&t.dt, xyz + 3 * i, VP_DT_NONE, NULL);
+            if (st != VP_OK) {
+                CHECKF(st == VP_ENOMEM, "status %d", st);
+                CHECKF(snap_same(&s, &t.dt), "changed by a failed insert, arena %zu", bytes);
+                CHECK(vp_dt_check(&t.dt) == VP_OK);
+                snap_free(&s);
+                failures_seen++;
+                break;
+            }
+            snap_free(&s);
+        }
+        if (st == VP_OK) CHECK(vp_dt_check(&t.dt) == VP_OK);
+        tri_close(&t);
+        /* the batch stops cleanly too */
+        tri_open(&t, bytes, 0);
+        {
+            uint32_t *ids = xmalloc(n * sizeof *ids);
+            st = vp_dt_insert_batch(&t.dt, xyz, (uint32_t)n, ids);
+            CHECK(st == VP_OK || st == VP_ENOMEM);
+            CHECK(vp_dt_check(&t.dt) == VP_OK);
+            if (st == VP_ENOMEM) {
+                uint32_t inserted = 0;
+                for (i = 0; i < n; i++) inserted += ids[i] != VP_DT_NONE;
+                CHECKF(inserted == t.dt.ninserted, "ids %u inserted %u nvert %u dim %d", inserted, t.dt.ninserted, t.dt.nvert, t.dt.dim);
+            }
+            free(ids);
+        }
+        tri_close(&t);
+    }
+    CHECK(failures_seen > 10);
+    free(xyz);
+}
+
+static double dist(const double *a, const double *b)
+{
+    return sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) +
+                (a[2] - b[2]) * (a[2] - b[2]));
+}
+
+/* The planner's queries: Voronoi vertices and edges, vertex stars, created/killed lists,
+ * insertion from a known conflicting tet. */
+static void test_queries(void)
+{
+    size_t n, i;
+    double *xyz;
+    char err[128];
+    tri_t t;
+    uint32_t tt, rays = 0, segs = 0;
+    vp_pointgen_uniform(500, 13, &xyz, &n, err, sizeof err);
+    tri_open(&t, 2u << 20, 8);
+    CHECK(vp_dt_insert_batch(&t.dt, xyz, (uint32_t)n, NULL) == VP_OK);
+    for (tt = 0; tt < t.dt.ntet_slots; tt++) {
+        const uint32_t *v = vp_dt_tet(&t.dt, tt);
+        double c[3];
+        int f;
+        if (!vp_dt_alive(&t.dt, tt)) continue;
+        if (vp_dt_is_ghost(&t.dt, tt)) {
+            CHECK(vp_dt_circumcenter(&t.dt, tt, c) == VP_EINVAL);
+        } else {
+            double r0;
+            CHECK(vp_dt_circumcenter(&t.dt, tt, c) == VP_OK);
+            r0 = dist(c, vp_dt_point(&t.dt, v[0]));
+            for (f = 1; f < 4; f++) CHECK(fabs(dist(c, vp_dt_point(&t.dt, v[f])) - r0) < 1e-9 * (1 + r0));
+        }
+        for (f = 0; f < 4; f++) {
+            vp_dt_vedge_t e;
+            uint32_t fv[3];
+            int st = vp_dt_voronoi_edge(&t.dt, tt, f, &e);
+            vp_dt_facet(&t.dt, tt, f, fv);
+            if (fv[0] == VP_DT_GHOST || fv[1] == VP_DT_GHOST || fv[2] == VP_DT_GHOST) {
+                CHECK(st == VP_EINVAL);
+                continue;
+            }
+            CHECK(st == VP_OK);
+            if (e.is_ray) {
+                /* from the Voronoi vertex, away from the hull: the facet's far side */
+                const uint32_t *w = vp_dt_tet(&t.dt, tt);
+                uint32_t fin = vp_dt_is_ghost(&t.dt, tt) ? w[4 + f] >> 2 : tt, k;
+                const uint32_t *fw = vp_dt_tet(&t.dt, fin);
+                double far[3], q[3];
+                for (k = 0; k < 3; k++) far[k] = e.from[k] + 1e3 * e.dir[k];
+                /* far along the ray, the facet's vertices are nearer than any other vertex of
+                 * the finite tet */
+                for (k = 0; k < 4; k++) {
+                    if (fw[k] == fv[0] || fw[k] == fv[1] || fw[k] == fv[2]) continue;
+                    memcpy(q, vp_dt_point(&t.dt, fw[k]), sizeof q);
+                    CHECK(dist(far, q) > dist(far, vp_dt_point(&t.dt, fv[0])));
+                }
+                rays++;
+            } else {
+                double d0 = dist(e.from, vp_dt_point(&t.dt, fv[0])), d1 = dist(e.to, vp_dt_point(&t.dt, fv[0]));
+                CHECK(fabs(dist(e.from, vp_dt_point(&t.dt, fv[1])) - d0) < 1e-9 * (1 + d0));
+                CHECK(fabs(dist(e.to, vp_dt_point(&t.dt, fv[2])) - d1) < 1e-9 * (1 + d1));
+                segs++;
+            }
+        }
+    }
+    CHECK(rays > 0 && segs > 0);
+    /* vertex stars against a brute-force scan */
+    for (i = 0; i < n; i += 13) {
+        uint32_t star[512], brute = 0;
+        int k = vp_dt_incident_tets(&t.dt, (uint32_t)i, star, 512), j;
+        CHECK(k > 0);
+        for (tt = 0; tt < t.dt.ntet_slots; tt++) {
+            const uint32_t *v = vp_dt_tet(&t.dt, tt);
+            if (vp_dt_alive(&t.dt, tt) &&
+                (v[0] == i || v[1] == i || v[2] == i || v[3] == i)) brute++;
+        }
+        CHECK((uint32_t)k == brute);
+        for (j = 0; j < k; j++) {
+            const uint32_t *v = vp_dt_tet(&t.dt, star[j]);
+            CHECK(v[0] == i || v[1] == i || v[2] == i || v[3] == i);
+        }
+        CHECK(vp_dt_incident_tets(&t.dt, (uint32_t)i, star, 2) == VP_ENOMEM);
+    }
+    /* insertion from a conflicting tet; killed = exactly the tets in conflict before */
+    {
+        uint64_t s = 99;
+        int round;
+        for (round = 0; round < 200; round++) {
+            double p[3];
+            uint32_t conflicting[512], nconf = 0, start = VP_DT_NONE, nk, nc, k, v;
+            const uint32_t *killed, *created;
+            p[0] = 1.4 * vp_rng_uniform(&s) - 0.2;
+            p[1] = 1.4 * vp_rng_uniform(&s) - 0.2;
+            p[2] = 1.4 * vp_rng_uniform(&s) - 0.2;
+            for (tt = 0; tt < t.dt.ntet_slots; tt++)
+                if (vp_dt_alive(&t.dt, tt) && vp_dt_in_conflict(&t.dt, tt, p)) {
+                    if (nconf < 512) conflicting[nconf++] = tt;
+                } else if (vp_dt_alive(&t.dt, tt) && start == VP_DT_NONE && round % 10 == 0) {
+                    snap_t sn;
+                    snap_take(&sn, &t.dt);
+                    CHECK(vp_dt_insert_in_conflict(&t.dt, p, tt, NULL) == VP_EINVAL);
+                    CHECK(snap_same(&sn, &t.dt));
+                    snap_free(&sn);
+                    start = 0;
+                }
+            CHECK(nconf > 0);
+            start = conflicting[(uint32_t)round % nconf];
+            /* payloads of the killed tets survive for the caller to read */
+            for (k = 0; k < nconf; k++) {
+                uint32_t *pl = vp_dt_payload(&t.dt, conflicting[k]);
+                pl[0] = 0xC0DE0000u + conflicting[k];
+            }
+            CHECK(vp_dt_insert_in_conflict(&t.dt, p, start, &v) == VP_OK);
+            killed = vp_dt_last_killed(&t.dt, &nk);
+            created = vp_dt_last_created(&t.dt, &nc);
+            CHECK(nk == nconf);
+            for (k = 0; k < nk; k++) {
+                uint32_t j, found = 0;
+                for (j = 0; j < nconf; j++) found += conflicting[j] == killed[k];
+                CHECK(found == 1);
+                CHECK(((uint32_t *)vp_dt_payload(&t.dt, killed[k]))[0] == 0xC0DE0000u + killed[k]);
+            }
+            for (k = 0; k < nc; k++) {
+                const uint32_t *w = vp_dt_tet(&t.dt, created[k]);
+                CHECK(vp_dt_alive(&t.dt, created[k]));
+                CHECK(w[0] == v || w[1] == v || w[2] == v || w[3] == v);
+            }
+            if (round % 40 == 0) CHECK(vp_dt_check(&t.dt) == VP_OK);
+        }
+        CHECK(vp_dt_check(&t.dt) == VP_OK);
+    }
+    tri_close(&t);
+    free(xyz);
+}
+
+/* Adversarial sets: the moment curve and two skew lines (quadratic size), nearly coplanar
+ * layers, points far from the origin with tiny separations. */
+static void test_adversarial(void)
+{
+    tri_t t;
+    int i, j;
+    double p[3];
+    tri_open(&t, 8u << 20, 0);
+    for (i = 0; i < 150; i++) {
+        double s = i / 150.0;
+        p[0] = s; p[1] = s * s; p[2] = s * s * s;
+        CHECK(vp_dt_insert(&t.dt, p, VP_DT_NONE, NULL) == VP_OK);
+    }
+    CHECK(vp_dt_check(&t.dt) == VP_OK);
+    tri_close(&t);
+    tri_open(&t, 16u << 20, 0);
+    for (i = 0; i < 120; i++) {
+        p[0] = i; p[1] = 0; p[2] = 0;
+        CHECK(vp_dt_insert(&t.dt, p, VP_DT_NONE, NULL) == VP_OK);
+        p[0] = 0; p[1] = i; p[2] = 1;
+        CHECK(vp_dt_insert(&t.dt, p, VP_DT_NONE, NULL) == VP_OK);
+    }
+    CHECK(vp_dt_check(&t.dt) == VP_OK);
+    CHECK(vp_dt_num_finite_tets(&t.dt) > 119 * 119 / 2);
+    tri_close(&t);
+    /* nearly coplanar layers: z = one ulp apart around 1 */
+    tri_open(&t, 8u << 20, 0);
+    for (i = 0; i < 20; i++)
+        for (j = 0; j < 20; j++) {
+            p[0] = i * 0.1; p[1] = j * 0.1;
+            p[2] = ((i * 7 + j * 3) % 3 == 0) ? nextafter(1.0, 2.0) : 1.0;
+            CHECK(vp_dt_insert(&t.dt, p, VP_DT_NONE, NULL) == VP_OK);
+        }
+    CHECK(vp_dt_check(&t.dt) == VP_OK);
+    tri_close(&t);
+    /* far from the origin, separated by a few ulps */
+    tri_open(&t, 8u << 20, 0);
+    {
+        uint64_t s = 5;
+        for (i = 0; i < 300; i++) {
+            int k;
+            for (k = 0; k < 3; k++) {
+                double base = 1e9;
+                int steps = (int)(vp_rng_next(&s) % 64);
+                p[k] = base;
+                while (steps--) p[k] = nextafter(p[k], 2e9);
+            }
+            {
+                int st = vp_dt_insert(&t.dt, p, VP_DT_NONE, NULL);
+                CHECK(st == VP_OK || st == VP_EDUP);
+            }
+        }
+        CHECK(vp_dt_check(&t.dt) == VP_OK);
+    }
+    tri_close(&t);
+}
+
+/* A fingerprint of a fixed triangulation: compared across x86-64 and aarch64 by t_cross. */
+static void print_fingerprint(void)
+{
+    size_t n;
+    double *xyz;
+    char err[128];
+    tri_t t;
+    uint64_t h = 1469598103934665603ull;
+    uint32_t tt;
+    vp_pointgen_uniform(20000, 2024, &xyz, &n, err, sizeof err);
+    tri_open(&t, 16u << 20, 0);
+    CHECK(vp_dt_insert_batch(&t.dt, xyz, (uint32_t)n, NULL) == VP_OK);
+    for (tt = 0; tt < t.dt.ntet_slots; tt++) {
+        const unsigned char *b = (const unsigned char *)vp_dt_tet(&t.dt, tt);
+        int k;
+        for (k = 0; k < 32; k++) h = (h ^ b[k]) * 1099511628211ull;
+    }
+    printf("fingerprint uniform20000: %016llx tets %u\n", (unsigned long long)h,
+           vp_dt_num_finite_tets(&t.dt));
+    tri_close(&t);
+    free(xyz);
+}
+
+int main(void)
+{
+    test_random_sequential_vs_batch();
+    test_grid_unique();
+    test_cospherical();
+    test_flat_start();
+    test_bad_input();
+    test_enomem();
+    test_queries();
+    test_adversarial();
+    print_fingerprint();
+    return vp_test_done("test_dt");
+}

@@ -1,0 +1,17 @@
+/* Point sets for benchmarks and tests: the anchor sets (uniform, grid, sphere) and TetGen
+ * .node files. Each returns 0 or -1 with a message in err; *xyz is malloc'ed (free it). */
+#ifndef VP_POINTGEN_H
+#define VP_POINTGEN_H
+#include <stddef.h>
+#include <stdint.h>
+
+/* splitmix64: the project's PC-side generator (seeded, reproducible) */
+uint64_t vp_rng_next(uint64_t *state);
+double vp_rng_uniform(uint64_t *state); /* [0,1), 53 bits */
+
+int vp_pointgen_uniform(size_t n, uint64_t seed, double **xyz, size_t *count, char *err, size_t errlen);
+int vp_pointgen_grid(size_t k, uint64_t seed, double **xyz, size_t *count, char *err, size_t errlen);
+int vp_pointgen_sphere(size_t n, uint64_t seed, double **xyz, size_t *count, char *err, size_t errlen);
+int vp_pointgen_read_node(const char *path, double **xyz, size_t *count, char *err, size_t errlen);
+int vp_pointgen_write_node(const char *path, const double *xyz, size_t n, char *err, size_t errlen);
+#endif
