@@ -250,7 +250,7 @@ static int dig_and_fill(vp_dt_t *dt, uint32_t vid, uint32_t start, uint32_t *dup
     uint32_t dup = VP_DT_NONE;
     bfacet_t *bf;
     ehash_t *eh;
-    uint32_t *created, *killed;
+    uint32_t *created, *killed, *kverts, *cfrom;
     unsigned char *need_lo;
 
     /* dig: breadth-first from start over tets in conflict */
@@ -292,8 +292,10 @@ static int dig_and_fill(vp_dt_t *dt, uint32_t vid, uint32_t start, uint32_t *dup
     for (hbits = 4; (1u << hbits) < 3u * nb; hbits++) {}
     hmask = (1u << hbits) - 1u;
     killed = ktop - nk;
-    created = killed - nb;
-    eh = (ehash_t *)((uintptr_t)(created) & ~(uintptr_t)7u) - (hmask + 1u);
+    kverts = killed - 4 * (size_t)nk;
+    created = kverts - nb;
+    cfrom = created - nb;
+    eh = (ehash_t *)((uintptr_t)(cfrom) & ~(uintptr_t)7u) - (hmask + 1u);
     bf = (bfacet_t *)eh - nb;
     reuse = nb < nk ? nb : nk;
     from_free = nb - reuse < dt->nfree ? nb - reuse : dt->nfree;
@@ -303,10 +305,16 @@ static int dig_and_fill(vp_dt_t *dt, uint32_t vid, uint32_t start, uint32_t *dup
         unmark_cavity(dt, ktop, nk);
         return VP_ENOMEM;
     }
-    /* record the boundary (vertices oriented towards p) before any slot is overwritten */
+    /* record the boundary (vertices oriented towards p) and the killed tets' vertices before
+     * any slot is overwritten */
     nb = 0;
     for (q = 0; q < nk; q++) {
         const uint32_t *v = TET(dt, ktop[-1 - (ptrdiff_t)q]);
+        uint32_t *kv = kverts + 4 * (size_t)(nk - 1 - q); /* killed[] runs the other way */
+        kv[0] = v[0] & VMASK;
+        kv[1] = v[1] & VMASK;
+        kv[2] = v[2];
+        kv[3] = v[3];
         for (i = 0; i < 4; i++) {
             uint32_t *uv = TET(dt, v[4 + i] >> 2);
             if (uv[0] & MARK) continue;
@@ -315,6 +323,7 @@ static int dig_and_fill(vp_dt_t *dt, uint32_t vid, uint32_t start, uint32_t *dup
             bf[nb].v[1] = v[FI[i][1]] & VMASK;
             bf[nb].v[2] = v[FI[i][2]] & VMASK;
             bf[nb].outside = v[4 + i];
+            cfrom[nb] = 4u * ktop[-1 - (ptrdiff_t)q] + i;
             nb++;
         }
     }
@@ -361,7 +370,9 @@ static int dig_and_fill(vp_dt_t *dt, uint32_t vid, uint32_t start, uint32_t *dup
     dt->nalive += nb - nk;
     dt->nghost += nghost_new - nghost_killed;
     dt->killed = killed;
+    dt->killed_verts = kverts;
     dt->created = created;
+    dt->created_from = cfrom;
     dt->nkilled = nk;
     dt->ncreated = nb;
     dt->last_tet = created[0];
@@ -427,8 +438,6 @@ static int build_first(vp_dt_t *dt, uint32_t last)
     dt->ninserted = 4;
     dt->dim = 3;
     dt->last_tet = list[0];
-    dt->nkilled = 0;
-    dt->ncreated = 5;
     note_high_water(dt, 0);
     for (v = 0; v <= last; v++) {
         uint32_t t;
@@ -450,8 +459,8 @@ static int build_first(vp_dt_t *dt, uint32_t last)
         }
         dt->ninserted++;
     }
-    /* the lists of the last insertion stay valid only for the last vertex; report all as new */
-    dt->nkilled = 0;
+    /* the first 3D triangulation is new as a whole: the lists are empty (scan all tets) */
+    dt->nkilled = dt->ncreated = 0;
     return VP_OK;
 }
 

@@ -50,6 +50,8 @@ typedef struct vp_dt {
     uint32_t last_tet;               /* a recently created tet: default start of walks */
     uint32_t nkilled, ncreated;      /* the last insertion's lists, see vp_dt_last_* */
     uint32_t *killed, *created;      /* point into the scratch space */
+    uint32_t *killed_verts;          /* 4 vertices of each killed tet, as they were */
+    uint32_t *created_from;          /* per created tet: 4 * killed tet + facet of its boundary facet */
     uint32_t rng;                    /* walk randomisation (a local LCG, deterministic) */
     int dim;                         /* -1 empty, 0..2 pending (flat so far), 3 tetrahedralised */
     uint32_t span[4];                /* pending mode: vertices spanning the current dimension */
@@ -131,12 +133,21 @@ int vp_dt_voronoi_edge(const vp_dt_t *dt, uint32_t t, int i, vp_dt_vedge_t *e);
 int vp_dt_incident_tets(const vp_dt_t *dt, uint32_t v, uint32_t *out, int cap);
 
 /* The tets the last successful insertion created and killed. Valid until the next call that
- * modifies the triangulation. Killed slots are reused for created tets; their payload bytes
+ * modifies the triangulation. Both are empty after the insertion that made the set 3D for the
+ * first time (every tet is new then). Killed slots are reused for created tets; their payload bytes
  * are left exactly as they were, so read a killed tet's payload before writing the payload of
  * a created one. */
 static inline const uint32_t *vp_dt_last_created(const vp_dt_t *dt, uint32_t *n)
 { *n = dt->ncreated; return dt->created; }
 static inline const uint32_t *vp_dt_last_killed(const vp_dt_t *dt, uint32_t *n)
 { *n = dt->nkilled; return dt->killed; }
+/* The vertices killed tet k had (4 per tet, in the order of vp_dt_last_killed). */
+static inline const uint32_t *vp_dt_last_killed_vertices(const vp_dt_t *dt)
+{ return dt->killed_verts; }
+/* For created tet q (order of vp_dt_last_created): 4 * t + i where facet i of killed tet t
+ * was the cavity boundary facet this tet is built on. The new tet's copy of that facet is the
+ * one opposite the new vertex; its Voronoi edge lies on the same line as before, shortened. */
+static inline const uint32_t *vp_dt_last_created_from(const vp_dt_t *dt)
+{ return dt->created_from; }
 
 #endif

@@ -15,6 +15,7 @@ static void bench_usage(FILE *f)
     fprintf(f,
         "usage: voroprobe bench-delaunay (--node FILE | --uniform N [--seed S] | --grid K |\n"
         "                                 --sphere N [--seed S]) [--check] [--bytes-per-point B]\n"
+        "                                [--save-node FILE]\n"
         "Triangulates the points (spatial sort + incremental insertion in one arena) and prints\n"
         "one JSON line: points, finite tets, seconds (sort + insertion), points_per_second,\n"
         "arena_bytes (arena actually used), bytes_per_point, valid (with --check: the full\n"
@@ -24,7 +25,8 @@ static void bench_usage(FILE *f)
         "  --grid K            the K^3 integer grid, shuffled\n"
         "  --sphere N          N points on the unit sphere\n"
         "  --seed S            generator seed (default 1)\n"
-        "  --bytes-per-point B arena given to the triangulation (default 300)\n");
+        "  --bytes-per-point B arena given to the triangulation (default 300)\n"
+        "  --save-node FILE    also write the points as a .node file (for other tools)\n");
 }
 
 static double now_seconds(void)
@@ -36,7 +38,7 @@ static double now_seconds(void)
 
 int vp_cmd_bench_delaunay(int argc, char **argv)
 {
-    const char *node = NULL;
+    const char *node = NULL, *save = NULL;
     long uniform = -1, grid = -1, sphere = -1;
     unsigned long long seed = 1;
     double bpp = 300.0;
@@ -59,6 +61,7 @@ int vp_cmd_bench_delaunay(int argc, char **argv)
         else if (!strcmp(a, "--sphere")) sphere = strtol(val, NULL, 10);
         else if (!strcmp(a, "--seed")) seed = strtoull(val, NULL, 10);
         else if (!strcmp(a, "--bytes-per-point")) bpp = strtod(val, NULL);
+        else if (!strcmp(a, "--save-node")) save = val;
         else { fprintf(stderr, "bench-delaunay: unknown option %s\n", a); bench_usage(stderr); return 2; }
         i++;
     }
@@ -72,6 +75,11 @@ int vp_cmd_bench_delaunay(int argc, char **argv)
     else if (grid >= 0) st = vp_pointgen_grid((size_t)grid, seed, &xyz, &n, err, sizeof err);
     else st = vp_pointgen_sphere((size_t)sphere, seed, &xyz, &n, err, sizeof err);
     if (st) { fprintf(stderr, "bench-delaunay: %s\n", err); return 1; }
+    if (save && vp_pointgen_write_node(save, xyz, n, err, sizeof err)) {
+        fprintf(stderr, "bench-delaunay: %s\n", err);
+        free(xyz);
+        return 1;
+    }
     if (n > VP_DT_MAX_VERTICES) { fprintf(stderr, "bench-delaunay: too many points\n"); free(xyz); return 1; }
     if (!(bpp >= 64.0)) { fprintf(stderr, "bench-delaunay: --bytes-per-point must be >= 64\n"); free(xyz); return 2; }
     bytes = (size_t)(bpp * (double)n) + (1u << 20);

@@ -1,0 +1,1616 @@
+/* vp_planner — the probe planner of "Learning smooth objects by probing", made step-driven.
+ *
+ * Vocabulary (the paper's):
+ *   Voronoi vertex    the circumcentre of a Delaunay tet (its dual); ghost tets stand for the
+ *                     infinite vertices.
+ *   active vertex     one the device can reach: it has a free path (prev links) to R^3 \ Omega.
+ *                     Active vertices inside Omega get a record (vrec) that is kept after the
+ *                     tet dies ("former Voronoi vertices"), so every stored path stays valid.
+ *   detect_access     probing the Voronoi edges around an active vertex: a hit adds the dual
+ *                     facet to Del_v|S(E) with its ball; a miss proves the edge free and makes
+ *                     the other end active. Here it is a stack of probe tasks, not a recursion.
+ *   bad ball          a surface Delaunay ball of radius > eps; the largest is refined first
+ *                     (VP_PLAN_LARGEST) or the largest near the device.
+ *   persistent facet  the tiny seed triangle: its ball (<= eps/3) keeps Del_v|S non-empty.
+ *
+ * Beyond the paper: a probe result belongs to the side it was probed from (one status per
+ * (tet, facet) side); a facet on the boundary of an insertion's cavity keeps its result when its
+ * shortened Voronoi edge still holds it; without VP_PLAN_PAPER an edge between two vertices
+ * already known free is not probed (it cannot be a facet of the final mesh, whose dual edges
+ * cross S once); holes left at the end are closed by probing around them; motion follows
+ * shortest known-free paths (A*) instead of prev chains.
+ */
+#include <math.h>
+#include <string.h>
+#include "vp_planner.h"
+#include "vp_pred.h"
+
+#define NONE VP_DT_NONE
+#define VREC_OUT 0xFFFFFFFEu /* active, outside Omega or infinite: no record needed */
+
+/* side status of a (tet, facet) pair, low 2 bits */
+#define SIDE_UNKNOWN 0u
+#define SIDE_FREE    1u  /* the whole dual edge is free */
+#define SIDE_HIT     2u  /* probed from this side: free up to the ball centre (facet record) */
+#define SIDE_BEHIND  3u  /* probed from the other side and hit: this end is beyond S */
+#define SIDE_MASK    3u
+#define SIDE_QUEUED  4u  /* a probe task is pending */
+#define SIDE_FORCED  8u  /* probed although both ends are known free (closing a hole) */
+
+/* record flags */
+#define REC_OUT 1u       /* on or outside dOmega: joins every other such record outside */
+
+/* facet record flags */
+#define FREC_FLIP 1u     /* (v0,v1,v2) is oriented inward: swap two for output */
+#define FREC_STUCK 2u    /* its centre could not be inserted: not refined again */
+
+/* phases */
+enum { PH_SEED = 0, PH_START, PH_RUN, PH_CLOSE, PH_DONE };
+
+/* task kinds */
+#define TASK_PROBE 1u
+
+struct vp_vrec {
+    double p[3];
+    double g;          /* path search: cost so far */
+    uint32_t prev;     /* previous record on the free path (itself: a root, outside Omega) */
+    uint32_t adj;      /* first free edge at this record */
+    uint32_t depth;    /* hops to the root */
+    uint32_t flags;
+    uint32_t stamp, from; /* path search bookkeeping */
+};
+
+struct vp_frec {
+    uint32_t v[3];     /* sorted; v[0] == NONE: free slot, v[1] = next free */
+    uint32_t heap;     /* index in the bad-ball heap or NONE */
+    uint32_t flags;
+    uint32_t pad;
+    double c[3];       /* ball centre (the hit) */
+    double r;          /* ball radius */
+};
+
+
+/* ---------- small vector helpers ---------- */
+
+static double dot3(const double *a, const double *b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+static void sub3(double *o, const double *a, const double *b)
+{ o[0] = a[0] - b[0]; o[1] = a[1] - b[1]; o[2] = a[2] - b[2]; }
+static double dist3(const double *a, const double *b)
+{
+    double d[3];
+    sub3(d, a, b);
+    return sqrt(dot3(d, d));
+}
+static void cross3(double *o, const double *a, const double *b)
+{
+    o[0] = a[1] * b[2] - a[2] * b[1];
+    o[1] = a[2] * b[0] - a[0] * b[2];
+    o[2] = a[0] * b[1] - a[1] * b[0];
+}
+static int finite3(const double *p)
+{
+    return p[0] - p[0] == 0.0 && p[1] - p[1] == 0.0 && p[2] - p[2] == 0.0;
+}
+static int normalize3(double *v)
+{
+    double n = sqrt(dot3(v, v));
+    if (!(n > 0.0) || !(n < 1e300)) return 0;
+    v[0] /= n; v[1] /= n; v[2] /= n;
+    return 1;
+}
+
+/* ---------- Omega ---------- */
+
+static void omega_center(const vp_planner_config_t *c, double *o)
+{
+    int k;
+    for (k = 0; k < 3; k++)
+        o[k] = c->omega_kind == VP_OMEGA_BALL ? c->omega_center[k] : 0.5 * (c->omega_lo[k] + c->omega_hi[k]);
+}
+
+static double omega_circumradius(const vp_planner_config_t *c)
+{
+    if (c->omega_kind == VP_OMEGA_BALL) return c->omega_radius;
+    return 0.5 * sqrt((c->omega_hi[0] - c->omega_lo[0]) * (c->omega_hi[0] - c->omega_lo[0]) +
+                      (c->omega_hi[1] - c->omega_lo[1]) * (c->omega_hi[1] - c->omega_lo[1]) +
+                      (c->omega_hi[2] - c->omega_lo[2]) * (c->omega_hi[2] - c->omega_lo[2]));
+}
+
+/* strictly inside Omega */
+static int omega_inside(const vp_planner_config_t *c, const double *p)
+{
+    if (c->omega_kind == VP_OMEGA_BALL) {
+        double d[3];
+        sub3(d, p, c->omega_center);
+        return dot3(d, d) < c->omega_radius * c->omega_radius;
+    }
+    return p[0] > c->omega_lo[0] && p[0] < c->omega_hi[0] && p[1] > c->omega_lo[1] &&
+           p[1] < c->omega_hi[1] && p[2] > c->omega_lo[2] && p[2] < c->omega_hi[2];
+}
+
+/* The parameter interval [*t0, *t1] of a + s*dir (unit dir, s in [0, len]) inside Omega.
+ * Returns 0 when the line misses Omega there. */
+static int omega_clip(const vp_planner_config_t *c, const double *a, const double *dir, double len,
+                      double *t0, double *t1)
+{
+    double lo = 0.0, hi = len;
+    if (c->omega_kind == VP_OMEGA_BALL) {
+        double d[3], b, cc, disc, sq;
+        sub3(d, a, c->omega_center);
+        b = dot3(d, dir);
+        cc = dot3(d, d) - c->omega_radius * c->omega_radius;
+        disc = b * b - cc;
+        if (!(disc > 0.0)) return 0;
+        sq = sqrt(disc);
+        if (-b - sq > lo) lo = -b - sq;
+        if (-b + sq < hi) hi = -b + sq;
+    } else {
+        int k;
+        for (k = 0; k < 3; k++) {
+            if (dir[k] == 0.0) {
+                if (!(a[k] > c->omega_lo[k] && a[k] < c->omega_hi[k])) return 0;
+            } else {
+                double s0 = (c->omega_lo[k] - a[k]) / dir[k], s1 = (c->omega_hi[k] - a[k]) / dir[k];
+                if (s0 > s1) { double t = s0; s0 = s1; s1 = t; }
+                if (s0 > lo) lo = s0;
+                if (s1 < hi) hi = s1;
+            }
+        }
+    }
+    if (!(lo < hi)) return 0;
+    *t0 = lo;
+    *t1 = hi;
+    return 1;
+}
+
+/* ---------- tet payload: word 0 = record, word 1 = four side bytes ---------- */
+
+static uint32_t *pay(const vp_planner_t *pl, uint32_t t) { return (uint32_t *)vp_dt_payload(&pl->dt, t); }
+static uint32_t tet_rec(const vp_planner_t *pl, uint32_t t) { return pay(pl, t)[0]; }
+static unsigned side_get(const vp_planner_t *pl, uint32_t t, int f)
+{ return (pay(pl, t)[1] >> (8 * f)) & 0xFFu; }
+static void side_set(vp_planner_t *pl, uint32_t t, int f, unsigned s)
+{
+    uint32_t *w = pay(pl, t) + 1;
+    *w = (*w & ~(0xFFu << (8 * f))) | ((uint32_t)(s & 0xFFu) << (8 * f));
+}
+static int tet_active(const vp_planner_t *pl, uint32_t t) { return tet_rec(pl, t) != NONE; }
+
+/* ---------- arena ---------- */
+
+static void *carve(unsigned char **cur, unsigned char *end, size_t bytes)
+{
+    uintptr_t p = ((uintptr_t)*cur + 7u) & ~(uintptr_t)7u;
+    if (p + bytes > (uintptr_t)end || p + bytes < p) return NULL;
+    *cur = (unsigned char *)(p + bytes);
+    return (void *)p;
+}
+
+static void note_peak(vp_planner_t *pl)
+{
+    size_t used = vp_dt_bytes_used(&pl->dt) + (size_t)pl->nvrec * sizeof(vp_vrec_t) +
+                  (size_t)pl->nfedge * 16u + (size_t)pl->nfrec * sizeof(vp_frec_t) +
+                  (size_t)(pl->hash_mask + 1u) * 4u + (size_t)pl->cap_heap * 4u +
+                  (size_t)pl->cap_task * sizeof(vp_task_t) + (size_t)pl->cap_route * 24u +
+                  (size_t)pl->cap_astar * 4u + (size_t)pl->cap_path * 4u;
+    if (used > pl->st.arena_peak) pl->st.arena_peak = used;
+}
+
+/* ---------- records and the free graph ---------- */
+
+static int rec_new(vp_planner_t *pl, const double *p, uint32_t prev, uint32_t flags, uint32_t *out)
+{
+    vp_vrec_t *r;
+    if (pl->nvrec >= pl->cap_vrec) return VP_ENOMEM;
+    r = &pl->vrec[pl->nvrec];
+    r->p[0] = p[0]; r->p[1] = p[1]; r->p[2] = p[2];
+    r->prev = prev == NONE ? pl->nvrec : prev;
+    r->adj = NONE;
+    r->depth = prev == NONE ? 0 : pl->vrec[prev].depth + 1;
+    r->flags = flags;
+    r->stamp = 0;
+    r->from = NONE;
+    r->g = 0.0;
+    *out = pl->nvrec++;
+    return VP_OK;
+}
+
+static int edge_add(vp_planner_t *pl, uint32_t a, uint32_t b)
+{
+    uint32_t e;
+    if (a == b) return VP_OK;
+    if (pl->nfedge >= pl->cap_fedge) return VP_ENOMEM;
+    e = pl->nfedge++;
+    pl->fedge[4 * e] = a;
+    pl->fedge[4 * e + 1] = b;
+    pl->fedge[4 * e + 2] = pl->vrec[a].adj;
+    pl->fedge[4 * e + 3] = pl->vrec[b].adj;
+    pl->vrec[a].adj = e;
+    pl->vrec[b].adj = e;
+    return VP_OK;
+}
+
+/* A record reached from `prev` along a proven-free segment. */
+static int rec_link(vp_planner_t *pl, const double *p, uint32_t prev, uint32_t flags, uint32_t *out)
+{
+    int st = rec_new(pl, p, prev, flags, out);
+    if (st != VP_OK) return st;
+    if (prev != NONE) {
+        st = edge_add(pl, prev, *out);
+        if (st != VP_OK) { pl->nvrec--; return st; }
+    }
+    return VP_OK;
+}
+
+/* ---------- routes outside Omega ---------- */
+
+static int seg_enters_omega(const vp_planner_config_t *c, const double *a, const double *b)
+{
+    double d[3], len, t0, t1;
+    sub3(d, b, a);
+    len = sqrt(dot3(d, d));
+    if (!(len > 0.0)) return omega_inside(c, a);
+    d[0] /= len; d[1] /= len; d[2] /= len;
+    return omega_clip(c, a, d, len, &t0, &t1) && t1 - t0 > 1e-12 * (1.0 + len);
+}
+
+static int route_push(vp_planner_t *pl, const double *p)
+{
+    double *q;
+    if (pl->nroute >= pl->cap_route) return VP_ENOMEM;
+    q = pl->route + 3 * (size_t)pl->nroute;
+    if (pl->nroute > 0 && q[-3] == p[0] && q[-2] == p[1] && q[-1] == p[2]) return VP_OK;
+    q[0] = p[0]; q[1] = p[1]; q[2] = p[2];
+    pl->nroute++;
+    return VP_OK;
+}
+
+/* Pushes p out of Omega onto the boundary of Omega grown by delta (nearest face for a box,
+ * radially for a ball). */
+static void push_out(const vp_planner_config_t *c, double *p, double delta)
+{
+    int k;
+    if (c->omega_kind == VP_OMEGA_BALL) {
+        double d[3], r;
+        sub3(d, p, c->omega_center);
+        r = sqrt(dot3(d, d));
+        if (!(r > 0.0)) { d[0] = 0; d[1] = 0; d[2] = 1; r = 1; }
+        for (k = 0; k < 3; k++) p[k] = c->omega_center[k] + d[k] * (c->omega_radius + delta) / r;
+    } else if (omega_inside(c, p)) {
+        int best = 0, side = 0;
+        double bd = 1e300;
+        for (k = 0; k < 3; k++) {
+            double dl = p[k] - c->omega_lo[k], dh = c->omega_hi[k] - p[k];
+            if (dl < bd) { bd = dl; best = k; side = 0; }
+            if (dh < bd) { bd = dh; best = k; side = 1; }
+        }
+        p[best] = side ? c->omega_hi[best] + delta : c->omega_lo[best] - delta;
+    }
+}
+
+/* Appends a path between two points on or outside dOmega that stays outside Omega: the
+ * straight segment where it does not enter Omega, otherwise its midpoint pushed out onto
+ * Omega grown by a small margin, recursively (an explicit stack of bounded depth), so the path
+ * hugs dOmega. *len gets its length; with dry != 0 it only measures. */
+#define ROUTE_DEPTH 12
+static int outside_route(vp_planner_t *pl, const double *a, const double *b, int dry, double *len)
+{
+    double stack[ROUTE_DEPTH + 2][3], cur[3], delta = 0.01 * omega_circumradius(&pl->cfg);
+    int depth[ROUTE_DEPTH + 2], n = 0, st;
+    *len = 0.0;
+    memcpy(cur, a, sizeof cur);
+    memcpy(stack[n], b, sizeof stack[n]);
+    depth[n++] = 0;
+    while (n > 0) {
+        double *y = stack[n - 1], m[3];
+        int d = depth[n - 1], k;
+        if (d >= ROUTE_DEPTH || !seg_enters_omega(&pl->cfg, cur, y)) {
+            /* at the depth limit the margin guarantees the chord is outside (see push_out) */
+            *len += dist3(cur, y);
+            if (!dry && (st = route_push(pl, y)) != VP_OK) return st;
+            memcpy(cur, y, sizeof cur);
+            n--;
+            continue;
+        }
+        for (k = 0; k < 3; k++) m[k] = 0.5 * (cur[k] + y[k]);
+        push_out(&pl->cfg, m, delta);
+        depth[n - 1] = d + 1;
+        memcpy(stack[n], m, sizeof m);
+        depth[n++] = d + 1;
+    }
+    return VP_OK;
+}
+
+/* ---------- restricted facets: hash on the sorted vertex triple ---------- */
+
+#define HASH_EMPTY 0xFFFFFFFFu
+#define HASH_TOMB  0xFFFFFFFEu
+
+static void sort3(uint32_t *v)
+{
+    uint32_t t;
+    if (v[0] > v[1]) { t = v[0]; v[0] = v[1]; v[1] = t; }
+    if (v[1] > v[2]) { t = v[1]; v[1] = v[2]; v[2] = t; }
+    if (v[0] > v[1]) { t = v[0]; v[0] = v[1]; v[1] = t; }
+}
+
+static uint32_t key_hash(const uint32_t *v)
+{
+    uint64_t h = (uint64_t)v[0] * 0x9E3779B97F4A7C15ull ^ (uint64_t)v[1] * 0xC2B2AE3D27D4EB4Full ^
+                 (uint64_t)v[2] * 0x165667B19E3779F9ull;
+    h ^= h >> 29;
+    return (uint32_t)(h * 0xBF58476D1CE4E5B9ull >> 32);
+}
+
+/* slot of key v (sorted) in the hash, or of the first free place when absent (*found = 0) */
+static uint32_t fhash_find(const vp_planner_t *pl, const uint32_t *v, int *found)
+{
+    uint32_t h = key_hash(v) & pl->hash_mask, first_free = NONE;
+    for (;;) {
+        uint32_t e = pl->fhash[h];
+        if (e == HASH_EMPTY) {
+            *found = 0;
+            return first_free != NONE ? first_free : h;
+        }
+        if (e == HASH_TOMB) {
+            if (first_free == NONE) first_free = h;
+        } else if (pl->frec[e].v[0] == v[0] && pl->frec[e].v[1] == v[1] && pl->frec[e].v[2] == v[2]) {
+            *found = 1;
+            return h;
+        }
+        h = (h + 1) & pl->hash_mask;
+    }
+}
+
+static uint32_t frec_lookup(const vp_planner_t *pl, const uint32_t *fv)
+{
+    uint32_t v[3];
+    int found;
+    uint32_t h;
+    v[0] = fv[0]; v[1] = fv[1]; v[2] = fv[2];
+    sort3(v);
+    h = fhash_find(pl, v, &found);
+    return found ? pl->fhash[h] : NONE;
+}
+
+/* ---------- the bad-ball heap (max on radius) ---------- */
+
+static void heap_swap(vp_planner_t *pl, uint32_t i, uint32_t j)
+{
+    uint32_t a = pl->heap[i], b = pl->heap[j];
+    pl->heap[i] = b; pl->heap[j] = a;
+    pl->frec[b].heap = i;
+    pl->frec[a].heap = j;
+}
+
+static void heap_up(vp_planner_t *pl, uint32_t i)
+{
+    while (i > 0) {
+        uint32_t p = (i - 1) / 2;
+        if (!(pl->frec[pl->heap[p]].r < pl->frec[pl->heap[i]].r)) break;
+        heap_swap(pl, i, p);
+        i = p;
+    }
+}
+
+static void heap_down(vp_planner_t *pl, uint32_t i)
+{
+    for (;;) {
+        uint32_t l = 2 * i + 1, r = l + 1, m = i;
+        if (l < pl->nheap && pl->frec[pl->heap[l]].r > pl->frec[pl->heap[m]].r) m = l;
+        if (r < pl->nheap && pl->frec[pl->heap[r]].r > pl->frec[pl->heap[m]].r) m = r;
+        if (m == i) break;
+        heap_swap(pl, i, m);
+        i = m;
+    }
+}
+
+static int heap_push(vp_planner_t *pl, uint32_t k)
+{
+    if (pl->nheap >= pl->cap_heap) return VP_ENOMEM;
+    pl->heap[pl->nheap] = k;
+    pl->frec[k].heap = pl->nheap++;
+    heap_up(pl, pl->nheap - 1);
+    return VP_OK;
+}
+
+static void heap_remove(vp_planner_t *pl, uint32_t k)
+{
+    uint32_t i = pl->frec[k].heap;
+    if (i == NONE) return;
+    pl->nheap--;
+    if (i != pl->nheap) {
+        heap_swap(pl, i, pl->nheap);
+        heap_down(pl, i);
+        heap_up(pl, i);
+    }
+    pl->frec[k].heap = NONE;
+}
+
+/* ---------- facet records ---------- */
+
+static void frec_delete(vp_planner_t *pl, uint32_t k)
+{
+    int found;
+    uint32_t h = fhash_find(pl, pl->frec[k].v, &found);
+    if (found) pl->fhash[h] = HASH_TOMB;
+    heap_remove(pl, k);
+    pl->frec[k].v[0] = NONE;
+    pl->frec[k].v[1] = pl->frec_free;
+    pl->frec_free = k;
+    pl->nfacets--;
+}
+
+/* Adds facet fv (any order) with ball centre c; `outside` is a point on the probe's side, so
+ * the facet is stored facing it. A facet already known keeps its first ball. */
+static int frec_add(vp_planner_t *pl, const uint32_t *fv, const double *c, const double *outside,
+                    uint32_t *out)
+{
+    uint32_t v[3], k, h;
+    int found;
+    vp_frec_t *f;
+    const double *a;
+    v[0] = fv[0]; v[1] = fv[1]; v[2] = fv[2];
+    sort3(v);
+    h = fhash_find(pl, v, &found);
+    if (found) { *out = pl->fhash[h]; return VP_OK; }
+    if (pl->frec_free != NONE) {
+        k = pl->frec_free;
+        pl->frec_free = pl->frec[k].v[1];
+    } else {
+        if (pl->nfrec >= pl->cap_frec) return VP_ENOMEM;
+        k = pl->nfrec++;
+    }
+    f = &pl->frec[k];
+    memcpy(f->v, v, sizeof v);
+    f->heap = NONE;
+    f->flags = 0;
+    f->c[0] = c[0]; f->c[1] = c[1]; f->c[2] = c[2];
+    a = vp_dt_point(&pl->dt, v[0]);
+    f->r = dist3(c, a);
+    if (vp_orient3d(a, vp_dt_point(&pl->dt, v[1]), vp_dt_point(&pl->dt, v[2]), outside) < 0)
+        f->flags |= FREC_FLIP;
+    pl->fhash[h] = k;
+    pl->nfacets++;
+    *out = k;
+    if (f->r > pl->cfg.eps) return heap_push(pl, k);
+    return VP_OK;
+}
+
+/* ---------- Voronoi edges, clipped to Omega ---------- */
+
+typedef struct edgegeom {
+    double a[3], dir[3]; /* from the tet's end towards the neighbour's end */
+    double len;          /* to the neighbour's end (huge for an infinite end) */
+    double t0, t1;       /* the part inside Omega; t0 >= t1: none */
+    int a_inside;        /* the tet's own end lies inside Omega */
+} edgegeom_t;
+
+#define FAR_AWAY 1e30
+
+/* Geometry of the Voronoi edge dual to facet f of tet t, oriented from t's Voronoi vertex. */
+static int edge_geom(const vp_planner_t *pl, uint32_t t, int f, edgegeom_t *g)
+{
+    vp_dt_vedge_t e;
+    int st = vp_dt_voronoi_edge(&pl->dt, t, f, &e), k;
+    int tg = vp_dt_is_ghost(&pl->dt, t);
+    memset(g, 0, sizeof *g);
+    if (st != VP_OK) return st;
+    if (!e.is_ray) {
+        for (k = 0; k < 3; k++) { g->a[k] = e.from[k]; g->dir[k] = e.to[k] - e.from[k]; }
+        g->len = sqrt(dot3(g->dir, g->dir));
+        if (!(g->len > 0.0)) { g->t0 = g->t1 = 0.0; g->a_inside = omega_inside(&pl->cfg, g->a); return VP_OK; }
+        for (k = 0; k < 3; k++) g->dir[k] /= g->len;
+    } else if (!tg) {
+        /* finite tet, ghost neighbour: from the Voronoi vertex outward to infinity */
+        for (k = 0; k < 3; k++) { g->a[k] = e.from[k]; g->dir[k] = e.dir[k]; }
+        g->len = FAR_AWAY;
+    } else {
+        /* ghost tet: from a point far out on the ray, back in to the finite vertex */
+        double c[3], back;
+        omega_center(&pl->cfg, c);
+        back = dist3(e.from, c) + 4.0 * omega_circumradius(&pl->cfg) + 1.0;
+        for (k = 0; k < 3; k++) { g->a[k] = e.from[k] + back * e.dir[k]; g->dir[k] = -e.dir[k]; }
+        g->len = back;
+    }
+    if (!finite3(g->a) || !finite3(g->dir)) return VP_EDEGEN;
+    if (!omega_clip(&pl->cfg, g->a, g->dir, g->len, &g->t0, &g->t1)) g->t0 = g->t1 = 0.0;
+    g->a_inside = !tg && omega_inside(&pl->cfg, g->a);
+    return VP_OK;
+}
+
+/* A point of the Voronoi vertex of finite tet t (its circumcentre), for records. */
+static int tet_point(const vp_planner_t *pl, uint32_t t, double *p)
+{
+    return vp_dt_circumcenter(&pl->dt, t, p);
+}
+
+/* ---------- paths for the device ---------- */
+
+/* first record on the prev chain of r that lies outside Omega (the chain's root) */
+static uint32_t chain_root(const vp_planner_t *pl, uint32_t r)
+{
+    while (pl->vrec[r].prev != r) r = pl->vrec[r].prev;
+    return r;
+}
+
+/* Length of the prev-chain (tree) path from record a to record b, or to the outside point gp
+ * when b == NONE. The paper's device travels these. With route != 0 the path is appended to
+ * the route. */
+static int tree_path(vp_planner_t *pl, uint32_t a, uint32_t b, const double *gp, int route,
+                     double *len)
+{
+    uint32_t x = a, y = b, ny = 0, i;
+    double l = 0.0, ol;
+    const double *last;
+    int st;
+    *len = 0.0;
+    if (b == NONE) {
+        while (pl->vrec[x].prev != x) {
+            uint32_t p = pl->vrec[x].prev;
+            l += dist3(pl->vrec[x].p, pl->vrec[p].p);
+            if (route && (st = route_push(pl, pl->vrec[p].p)) != VP_OK) return st;
+            x = p;
+        }
+        st = outside_route(pl, pl->vrec[x].p, gp, !route, &ol);
+        *len = l + ol;
+        return st;
+    }
+    /* climb to the common ancestor; y's half is kept to be walked downwards */
+    while (pl->vrec[x].depth > pl->vrec[y].depth) {
+        uint32_t p = pl->vrec[x].prev;
+        l += dist3(pl->vrec[x].p, pl->vrec[p].p);
+        if (route && (st = route_push(pl, pl->vrec[p].p)) != VP_OK) return st;
+        x = p;
+    }
+    while (pl->vrec[y].depth > pl->vrec[x].depth) {
+        if (ny >= pl->cap_path) return VP_ENOMEM;
+        pl->path[ny++] = y;
+        y = pl->vrec[y].prev;
+    }
+    while (x != y && !(pl->vrec[x].prev == x && pl->vrec[y].prev == y)) {
+        uint32_t p = pl->vrec[x].prev;
+        l += dist3(pl->vrec[x].p, pl->vrec[p].p);
+        if (route && (st = route_push(pl, pl->vrec[p].p)) != VP_OK) return st;
+        x = p;
+        if (ny >= pl->cap_path) return VP_ENOMEM;
+        pl->path[ny++] = y;
+        y = pl->vrec[y].prev;
+    }
+    last = pl->vrec[x].p;
+    if (x != y) {
+        st = outside_route(pl, pl->vrec[x].p, pl->vrec[y].p, !route, &ol);
+        if (st != VP_OK) return st;
+        l += ol;
+        last = pl->vrec[y].p;
+    }
+    for (i = ny; i-- > 0;) {
+        l += dist3(last, pl->vrec[pl->path[i]].p);
+        last = pl->vrec[pl->path[i]].p;
+        if (route && (st = route_push(pl, last)) != VP_OK) return st;
+    }
+    *len = l;
+    return VP_OK;
+}
+
+/* A* over the free graph (records joined by proven-free segments; records outside Omega joined
+ * to each other around Omega). Goal: record b, or the outside point gp when b == NONE.
+ * Returns VP_ENOMEM when the search budget runs out (the caller falls back to prev chains). */
+#define VIRTUAL 0x80000000u
+
+typedef struct astar {
+    vp_planner_t *pl;
+    uint32_t *open, nopen, stamp;
+    const double *goal;
+} astar_t;
+
+static double astar_f(const astar_t *s, uint32_t n)
+{
+    return s->pl->vrec[n].g + dist3(s->pl->vrec[n].p, s->goal);
+}
+
+static void astar_sift_up(astar_t *s, uint32_t i)
+{
+    while (i > 0) {
+        uint32_t p = (i - 1) / 2, t;
+        if (!(astar_f(s, s->open[i]) < astar_f(s, s->open[p]))) break;
+        t = s->open[i]; s->open[i] = s->open[p]; s->open[p] = t;
+        i = p;
+    }
+}
+
+static uint32_t astar_pop(astar_t *s)
+{
+    uint32_t top = s->open[0], i = 0;
+    s->open[0] = s->open[--s->nopen];
+    for (;;) {
+        uint32_t l = 2 * i + 1, r = l + 1, m = i, t;
+        if (l < s->nopen && astar_f(s, s->open[l]) < astar_f(s, s->open[m])) m = l;
+        if (r < s->nopen && astar_f(s, s->open[r]) < astar_f(s, s->open[m])) m = r;
+        if (m == i) break;
+        t = s->open[i]; s->open[i] = s->open[m]; s->open[m] = t;
+        i = m;
+    }
+    return top;
+}
+
+static int astar_relax(astar_t *s, uint32_t from, uint32_t nb, double g, uint32_t virt)
+{
+    vp_vrec_t *r = &s->pl->vrec[nb];
+    uint32_t i;
+    if (r->stamp == s->stamp && !(g < r->g)) return VP_OK;
+    if (r->stamp != s->stamp) {
+        if (s->nopen >= s->pl->cap_astar) return VP_ENOMEM;
+        r->stamp = s->stamp;
+        s->open[s->nopen++] = nb;
+        i = s->nopen - 1;
+    } else {
+        for (i = 0; i < s->nopen && s->open[i] != nb; i++) {}
+        if (i == s->nopen) { /* already closed: reopen */
+            if (s->nopen >= s->pl->cap_astar) return VP_ENOMEM;
+            s->open[s->nopen++] = nb;
+        }
+    }
+    r->g = g;
+    r->from = from | virt;
+    astar_sift_up(s, i);
+    return VP_OK;
+}
+
+static int astar_path(vp_planner_t *pl, uint32_t a, uint32_t b, const double *gp, double *len)
+{
+    astar_t s;
+    uint32_t broot = b != NONE ? chain_root(pl, b) : NONE, best_out = NONE, node = NONE, i;
+    uint32_t expansions = 0, budget = pl->cap_astar > 4096 ? 4096 : pl->cap_astar;
+    double best_out_cost = 1e300, ol;
+    int st;
+    s.pl = pl;
+    s.open = pl->astar;
+    s.nopen = 0;
+    s.stamp = ++pl->stamp;
+    s.goal = b != NONE ? pl->vrec[b].p : gp;
+    pl->vrec[a].stamp = s.stamp;
+    pl->vrec[a].g = 0.0;
+    pl->vrec[a].from = NONE;
+    s.open[s.nopen++] = a;
+    while (s.nopen > 0) {
+        uint32_t e, cur;
+        if (best_out != NONE && best_out_cost <= astar_f(&s, s.open[0])) break;
+        cur = astar_pop(&s);
+        if (cur == b) { node = b; break; }
+        if (++expansions > budget) return VP_ENOMEM;
+        for (e = pl->vrec[cur].adj; e != NONE;) {
+            int isa = pl->fedge[4 * e] == cur;
+            uint32_t nb = isa ? pl->fedge[4 * e + 1] : pl->fedge[4 * e];
+            st = astar_relax(&s, cur, nb, pl->vrec[cur].g + dist3(pl->vrec[cur].p, pl->vrec[nb].p), 0);
+            if (st != VP_OK) return st;
+            e = isa ? pl->fedge[4 * e + 2] : pl->fedge[4 * e + 3];
+        }
+        if (pl->vrec[cur].flags & REC_OUT) {
+            if (b == NONE) {
+                if (outside_route(pl, pl->vrec[cur].p, gp, 1, &ol) == VP_OK &&
+                    pl->vrec[cur].g + ol < best_out_cost) {
+                    best_out_cost = pl->vrec[cur].g + ol;
+                    best_out = cur;
+                }
+            } else if (broot != cur && outside_route(pl, pl->vrec[cur].p, pl->vrec[broot].p, 1, &ol) == VP_OK) {
+                st = astar_relax(&s, cur, broot, pl->vrec[cur].g + ol, VIRTUAL);
+                if (st != VP_OK) return st;
+            }
+        }
+    }
+    if (node == NONE && best_out == NONE) return VP_ENOMEM;
+    /* walk back from the end, collecting the records, then emit them forwards */
+    {
+        uint32_t n = node != NONE ? node : best_out, np = 0;
+        double l = 0.0;
+        const double *last = pl->vrec[a].p;
+        while (n != NONE) {
+            if (np >= pl->cap_path) return VP_ENOMEM;
+            pl->path[np++] = n;
+            n = pl->vrec[n].from == NONE ? NONE : (pl->vrec[n].from & ~VIRTUAL);
+        }
+        for (i = np - 1; i-- > 0;) {
+            uint32_t r = pl->path[i];
+            if (pl->vrec[r].from & VIRTUAL) {
+                st = outside_route(pl, last, pl->vrec[r].p, 0, &ol);
+                l += ol;
+            } else {
+                st = route_push(pl, pl->vrec[r].p);
+                l += dist3(last, pl->vrec[r].p);
+            }
+            if (st != VP_OK) return st;
+            last = pl->vrec[r].p;
+        }
+        if (node == NONE) {
+            st = outside_route(pl, last, gp, 0, &ol);
+            if (st != VP_OK) return st;
+            l += ol;
+        }
+        *len = l;
+    }
+    return VP_OK;
+}
+
+/* Plans the device's route from where it stands to record b, or to the outside point gp when
+ * b == NONE (a record is then made there). Sets pl->at to the destination record. */
+static int plan_route(vp_planner_t *pl, uint32_t b, const double *gp)
+{
+    double tl = 0.0, al = 0.0;
+    int st;
+    pl->nroute = pl->iroute = 0;
+    if (b != NONE && b == pl->at) return VP_OK;
+    /* what the prev chains would cost (reported, and used with VP_PLAN_PREV_CHAINS) */
+    st = tree_path(pl, pl->at, b, gp, 0, &tl);
+    if (st != VP_OK) return st;
+    pl->st.travel_prev_chains += tl;
+    if (!(pl->cfg.flags & VP_PLAN_PREV_CHAINS)) {
+        st = astar_path(pl, pl->at, b, gp, &al);
+        if (st != VP_OK) { pl->nroute = 0; pl->st.stale_balls += 1000000; }
+    } else {
+        st = VP_ENOMEM;
+    }
+    if (st != VP_OK) {
+        st = tree_path(pl, pl->at, b, gp, 1, &tl);
+        if (st != VP_OK) return st;
+    }
+    if (b == NONE) {
+        st = rec_new(pl, gp, NONE, REC_OUT, &b);
+        if (st != VP_OK) return st;
+    }
+    pl->at = b;
+    return VP_OK;
+}
+
+/* ---------- detect_access as a stack of probe tasks ---------- */
+
+static int task_push(vp_planner_t *pl, uint32_t t, int f, int forced)
+{
+    unsigned s = side_get(pl, t, f);
+    vp_task_t *k;
+    if (s & SIDE_QUEUED) return VP_OK;
+    if (pl->ntask >= pl->cap_task) return VP_ENOMEM;
+    k = &pl->task[pl->ntask++];
+    k->tet = t;
+    k->facet = (uint8_t)f;
+    k->kind = TASK_PROBE;
+    k->tries = 0;
+    k->off = 0.0;
+    side_set(pl, t, f, s | SIDE_QUEUED | (forced ? SIDE_FORCED : 0u));
+    return VP_OK;
+}
+
+static int facet_has_ghost(const vp_planner_t *pl, uint32_t t, int f)
+{
+    uint32_t fv[3];
+    vp_dt_facet(&pl->dt, t, f, fv);
+    return fv[0] == VP_DT_GHOST || fv[1] == VP_DT_GHOST || fv[2] == VP_DT_GHOST;
+}
+
+/* detect_access(t): queue a probe of every Voronoi edge around active vertex t that still
+ * needs one. Without VP_PLAN_PAPER, edges towards vertices already known free are left out. */
+static int explore(vp_planner_t *pl, uint32_t t)
+{
+    int f, st;
+    const uint32_t *w = vp_dt_tet(&pl->dt, t);
+    for (f = 3; f >= 0; f--) {
+        unsigned s = side_get(pl, t, f);
+        if ((s & SIDE_MASK) != SIDE_UNKNOWN || (s & SIDE_QUEUED) || facet_has_ghost(pl, t, f)) continue;
+        if (!(pl->cfg.flags & VP_PLAN_PAPER) && tet_active(pl, w[4 + f] >> 2)) continue;
+        if ((st = task_push(pl, t, f, 0)) != VP_OK) return st;
+    }
+    return VP_OK;
+}
+
+/* Marks tet t active (reachable). rec: its record, or VREC_OUT. */
+static int activate(vp_planner_t *pl, uint32_t t, uint32_t rec)
+{
+    pay(pl, t)[0] = rec;
+    return explore(pl, t);
+}
+
+/* the unique point of the facet's plane equidistant from its vertices */
+static int facet_circumcenter(const vp_planner_t *pl, const uint32_t *fv, double *m)
+{
+    const double *a = vp_dt_point(&pl->dt, fv[0]), *b = vp_dt_point(&pl->dt, fv[1]),
+                 *c = vp_dt_point(&pl->dt, fv[2]);
+    double ab[3], ac[3], n[3], t1[3], t2[3], d;
+    int k;
+    sub3(ab, b, a);
+    sub3(ac, c, a);
+    cross3(n, ab, ac);
+    d = 2.0 * dot3(n, n);
+    if (!(d > 0.0)) return 0;
+    cross3(t1, n, ab);
+    cross3(t2, ac, n);
+    for (k = 0; k < 3; k++) m[k] = a[k] + (dot3(ac, ac) * t1[k] + dot3(ab, ab) * t2[k]) / d;
+    return finite3(m);
+}
+
+/* A miss is suspicious when the edge passes through its own facet's circumcentre: the facet is
+ * then a plausible surface facet and the probe crosses the sampled surface there. */
+static int expect_hit(const vp_planner_t *pl, uint32_t t, int f, const double *origin,
+                      const double *dir, double range)
+{
+    uint32_t fv[3];
+    double m[3], d[3], s;
+    vp_dt_facet(&pl->dt, t, f, fv);
+    if (!facet_circumcenter(pl, fv, m)) return 0;
+    sub3(d, m, origin);
+    s = dot3(d, dir);
+    return s > 0.0 && s < range;
+}
+
+/* Prepares the probe of task k: the route to its origin and the ray. Returns 1 when a probe
+ * is ready, 0 when the task resolved without probing. */
+static int task_start(vp_planner_t *pl, vp_task_t *k)
+{
+    uint32_t t = k->tet, u, j;
+    int f = k->facet, st;
+    unsigned s = side_get(pl, t, f);
+    const uint32_t *w;
+    edgegeom_t g;
+    double o[3], range;
+    uint32_t goal = NONE;
+    if (!vp_dt_alive(&pl->dt, t)) return 0;
+    side_set(pl, t, f, s & ~(SIDE_QUEUED | SIDE_FORCED));
+    if ((s & SIDE_MASK) != SIDE_UNKNOWN) return 0;
+    w = vp_dt_tet(&pl->dt, t);
+    u = w[4 + f] >> 2;
+    j = w[4 + f] & 3u;
+    if (!(pl->cfg.flags & VP_PLAN_PAPER) && !(s & SIDE_FORCED) && tet_active(pl, u)) return 0;
+    if (!tet_active(pl, t)) return 0;
+    st = edge_geom(pl, t, f, &g);
+    if (st != VP_OK) return 0; /* degenerate: no usable edge */
+    if (!(g.t0 < g.t1) || k->off >= g.t1 - g.t0 - 1e-12 * (1.0 + g.t1)) {
+        /* the edge lies outside Omega (or is already proven free): free */
+        side_set(pl, t, f, SIDE_FREE);
+        side_set(pl, u, (int)j, (side_get(pl, u, (int)j) & ~SIDE_MASK) | SIDE_FREE);
+        return 0;
+    }
+    if (g.a_inside) {
+        goal = tet_rec(pl, t);
+        if (goal == VREC_OUT || goal == NONE) return 0;
+        o[0] = g.a[0]; o[1] = g.a[1]; o[2] = g.a[2];
+        range = g.t1;
+    } else {
+        int q;
+        for (q = 0; q < 3; q++) o[q] = g.a[q] + g.t0 * g.dir[q];
+        range = g.t1 - g.t0;
+    }
+    if (k->off > 0.0) {
+        /* resume a range-limited probe from the end of its free part */
+        int q;
+        for (q = 0; q < 3; q++) o[q] += k->off * g.dir[q];
+        range -= k->off;
+        goal = pl->at; /* the device was left there */
+    }
+    pl->probe_full = range;
+    if (pl->cfg.max_range > 0.0 && range > pl->cfg.max_range) range = pl->cfg.max_range;
+    if (goal != NONE) st = plan_route(pl, goal, NULL);
+    else st = plan_route(pl, NONE, o);
+    if (st != VP_OK) { pl->error = st; return 0; }
+    memcpy(pl->probe_origin, o, sizeof o);
+    memcpy(pl->probe_dir, g.dir, sizeof g.dir);
+    pl->probe_range = range;
+    pl->probe_origin_rec = pl->at;
+    pl->curtask = *k;
+    side_set(pl, t, f, side_get(pl, t, f) | SIDE_QUEUED);
+    return 1;
+}
+
+/* The result of the probe of the current task. */
+static int task_finish(vp_planner_t *pl, const vp_probe_result_t *res)
+{
+    vp_task_t *k = &pl->curtask;
+    uint32_t t = k->tet, u, j, fv[3], fr;
+    int f = k->facet, st, q;
+    const uint32_t *w = vp_dt_tet(&pl->dt, t);
+    double tol = pl->cfg.noise_tol;
+    u = w[4 + f] >> 2;
+    j = w[4 + f] & 3u;
+    side_set(pl, t, f, side_get(pl, t, f) & ~(SIDE_QUEUED | SIDE_FORCED));
+    if (res->hit && res->dist <= pl->probe_range + tol) {
+        double h[3], d = res->dist;
+        if (d > pl->probe_range) d = pl->probe_range;
+        for (q = 0; q < 3; q++) h[q] = pl->probe_origin[q] + d * pl->probe_dir[q];
+        pl->st.hits++;
+        vp_dt_facet(&pl->dt, t, f, fv);
+        st = frec_add(pl, fv, h, pl->probe_origin, &fr);
+        if (st != VP_OK) return st;
+        side_set(pl, t, f, SIDE_HIT);
+        side_set(pl, u, (int)j, (side_get(pl, u, (int)j) & ~SIDE_MASK) | SIDE_BEHIND);
+        return VP_OK;
+    }
+    pl->st.misses++;
+    /* a dropout must not open a way into the object: re-probe a miss where a hit is expected */
+    if (k->tries < pl->cfg.confirm_misses &&
+        expect_hit(pl, t, f, pl->probe_origin, pl->probe_dir, pl->probe_range)) {
+        k->tries++;
+        pl->st.reprobes++;
+        pl->probe_ready = 1;
+        side_set(pl, t, f, side_get(pl, t, f) | SIDE_QUEUED);
+        return VP_OK;
+    }
+    if (pl->probe_range < pl->probe_full - 1e-12 * (1.0 + pl->probe_full)) {
+        /* range-limited: the free part ends here; walk there and probe on */
+        double e[3];
+        uint32_t r;
+        for (q = 0; q < 3; q++) e[q] = pl->probe_origin[q] + pl->probe_range * pl->probe_dir[q];
+        st = rec_link(pl, e, pl->probe_origin_rec, 0, &r);
+        if (st != VP_OK) return st;
+        k->off += pl->probe_range;
+        pl->nroute = pl->iroute = 0;
+        st = route_push(pl, e);
+        if (st != VP_OK) return st;
+        pl->at = r;
+        if (pl->ntask >= pl->cap_task) return VP_ENOMEM;
+        pl->task[pl->ntask++] = *k;
+        side_set(pl, t, f, side_get(pl, t, f) | SIDE_QUEUED);
+        return VP_OK;
+    }
+    side_set(pl, t, f, SIDE_FREE);
+    side_set(pl, u, (int)j, (side_get(pl, u, (int)j) & ~SIDE_MASK) | SIDE_FREE);
+    if (!tet_active(pl, u)) {
+        double c[3];
+        uint32_t r;
+        if (vp_dt_is_ghost(&pl->dt, u) || tet_point(pl, u, c) != VP_OK || !omega_inside(&pl->cfg, c))
+            return activate(pl, u, VREC_OUT);
+        st = rec_link(pl, c, pl->probe_origin_rec, 0, &r);
+        if (st != VP_OK) return st;
+        return activate(pl, u, r);
+    }
+    if (tet_rec(pl, u) != VREC_OUT && pl->probe_origin_rec != NONE)
+        return edge_add(pl, pl->probe_origin_rec, tet_rec(pl, u));
+    return VP_OK;
+}
+
+/* ---------- after an insertion: the update of Del_v|S and of the free paths ---------- */
+
+static int facet_index_of(const uint32_t *w, uint32_t v)
+{
+    int k;
+    for (k = 0; k < 4; k++)
+        if (w[k] == v) return k;
+    return -1;
+}
+
+/* Entry point on dOmega of the Voronoi edge dual to facet f of t, walking from the far
+ * (neighbour's) end towards t's vertex; t's vertex is inside Omega. */
+static int entry_point(const vp_planner_t *pl, uint32_t t, int f, double *e)
+{
+    edgegeom_t g;
+    int k;
+    if (edge_geom(pl, t, f, &g) != VP_OK || !(g.t0 < g.t1)) return 0;
+    for (k = 0; k < 3; k++) e[k] = g.a[k] + g.t1 * g.dir[k];
+    return 1;
+}
+
+static int after_insert(vp_planner_t *pl, uint32_t pv)
+{
+    uint32_t nk, nc, q, ki;
+    const uint32_t *killed = vp_dt_last_killed(&pl->dt, &nk);
+    const uint32_t *kverts = vp_dt_last_killed_vertices(&pl->dt);
+    const uint32_t *created = vp_dt_last_created(&pl->dt, &nc);
+    const uint32_t *cfrom = vp_dt_last_created_from(&pl->dt);
+    uint32_t *kpay, *kbound, *ckidx;
+    const double *P = vp_dt_point(&pl->dt, pv);
+    int st, i;
+
+    if (3u * nk + nc > pl->cap_astar) return VP_ENOMEM;
+    kpay = pl->astar;
+    kbound = kpay + 2 * nk;
+    ckidx = kbound + nk;
+    /* the killed tets' payloads, before created tets overwrite their slots */
+    for (q = 0; q < nk; q++) {
+        kpay[2 * q] = pay(pl, killed[q])[0];
+        kpay[2 * q + 1] = pay(pl, killed[q])[1];
+        kbound[q] = 0;
+    }
+    for (q = 0; q < nc; q++) {
+        uint32_t ks = cfrom[q] >> 2;
+        for (ki = 0; ki < nk && killed[ki] != ks; ki++) {}
+        if (ki == nk) return VP_EDEGEN;
+        ckidx[q] = ki;
+        kbound[ki] |= 1u << (cfrom[q] & 3u);
+    }
+    /* facets inside the cavity are gone: so are their balls */
+    for (ki = 0; ki < nk; ki++)
+        for (i = 0; i < 4; i++) {
+            unsigned s = (kpay[2 * ki + 1] >> (8 * i)) & SIDE_MASK;
+            uint32_t fv[3], r;
+            int m = 0, x;
+            if ((kbound[ki] >> i) & 1u) continue;
+            if (s != SIDE_HIT && s != SIDE_BEHIND) continue;
+            for (x = 0; x < 4; x++)
+                if (x != i) fv[m++] = kverts[4 * ki + (uint32_t)x];
+            r = frec_lookup(pl, fv);
+            if (r != NONE) frec_delete(pl, r);
+        }
+    for (q = 0; q < nc; q++) {
+        pay(pl, created[q])[0] = NONE;
+        pay(pl, created[q])[1] = 0;
+    }
+    /* cavity boundary facets: the Voronoi edge keeps its line and shrinks to [P_n, P_U] */
+    for (q = 0; q < nc; q++) {
+        uint32_t n = created[q], U, jj, fv[3], r, krec;
+        const uint32_t *w = vp_dt_tet(&pl->dt, n);
+        int jn = facet_index_of(w, pv), fi = (int)(cfrom[q] & 3u);
+        unsigned sU, sK, sn;
+        int valid = 0, reach_from_k = 0, edge_free = 0;
+        double c[3];
+        ki = ckidx[q];
+        U = w[4 + jn] >> 2;
+        jj = w[4 + jn] & 3u;
+        sU = side_get(pl, U, (int)jj) & SIDE_MASK;
+        sK = (kpay[2 * ki + 1] >> (8 * fi)) & SIDE_MASK;
+        krec = kpay[2 * ki];
+        if (vp_dt_is_ghost(&pl->dt, n)) {
+            pay(pl, n)[0] = VREC_OUT;
+        } else if (tet_point(pl, n, c) != VP_OK || !omega_inside(&pl->cfg, c)) {
+            pay(pl, n)[0] = VREC_OUT;
+        }
+        if (facet_has_ghost(pl, n, jn)) continue;
+        vp_dt_facet(&pl->dt, n, jn, fv);
+        r = frec_lookup(pl, fv);
+        if (r != NONE) {
+            valid = vp_cmp_dist(pl->frec[r].c, P, vp_dt_point(&pl->dt, fv[0])) >= 0;
+            if (!valid) frec_delete(pl, r);
+        }
+        sn = SIDE_UNKNOWN;
+        if (r != NONE && valid) {
+            if (sU == SIDE_HIT) sn = SIDE_BEHIND;
+            else if (sK == SIDE_HIT) { sn = SIDE_HIT; sU = SIDE_BEHIND; reach_from_k = 1; }
+            else { sn = SIDE_UNKNOWN; }
+        } else if (sU == SIDE_FREE || sK == SIDE_FREE) {
+            sn = sU = SIDE_FREE;
+            edge_free = 1;
+            reach_from_k = 1;
+        } else if (r != NONE && sU == SIDE_HIT) {
+            /* the old hit seen from U is cut off: U's side is free up to past P_n */
+            sn = sU = SIDE_FREE;
+            edge_free = 1;
+        } else if (r != NONE) {
+            sn = sU = SIDE_UNKNOWN;
+        }
+        side_set(pl, n, jn, sn);
+        side_set(pl, U, (int)jj, (side_get(pl, U, (int)jj) & ~SIDE_MASK) | sU);
+        /* activation through the free boundary edge (the paper's v' rule), or along the
+         * former edge from the killed tet's record */
+        if (pay(pl, n)[0] != NONE) continue;
+        {
+            uint32_t nr = NONE, urec = tet_rec(pl, U);
+            int k_ok = reach_from_k && krec != NONE && krec != VREC_OUT;
+            if (edge_free && urec != NONE) {
+                if (urec == VREC_OUT) {
+                    double e[3];
+                    uint32_t er;
+                    if (!entry_point(pl, n, jn, e)) continue;
+                    st = rec_new(pl, e, NONE, REC_OUT, &er);
+                    if (st != VP_OK) return st;
+                    st = rec_link(pl, c, er, 0, &nr);
+                } else {
+                    st = rec_link(pl, c, urec, 0, &nr);
+                }
+                /* the rest of the old edge, towards the former vertex, is free too */
+                if (st == VP_OK && k_ok) st = edge_add(pl, nr, krec);
+                if (st != VP_OK) return st;
+            } else if (k_ok) {
+                st = rec_link(pl, c, krec, 0, &nr);
+                if (st != VP_OK) return st;
+            }
+            if (nr != NONE) pay(pl, n)[0] = nr;
+        }
+    }
+    /* detect_access from every new active vertex, and from old active neighbours towards
+     * new vertices not reached yet */
+    for (q = 0; q < nc; q++) {
+        uint32_t n = created[q];
+        const uint32_t *w = vp_dt_tet(&pl->dt, n);
+        int jn = facet_index_of(w, pv);
+        if (tet_active(pl, n)) {
+            if ((st = explore(pl, n)) != VP_OK) return st;
+        } else {
+            uint32_t U = w[4 + jn] >> 2, jj = w[4 + jn] & 3u;
+            if (tet_active(pl, U) && (side_get(pl, U, (int)jj) & SIDE_MASK) == SIDE_UNKNOWN &&
+                !facet_has_ghost(pl, n, jn))
+                if ((st = task_push(pl, U, (int)jj, 0)) != VP_OK) return st;
+        }
+    }
+    return VP_OK;
+}
+
+/* ---------- refinement: insert the centre of a bad ball ---------- */
+
+/* a live tet holding facet fv, and the facet's index in it */
+static uint32_t find_facet(vp_planner_t *pl, const uint32_t *fv, int *fi)
+{
+    int n = vp_dt_incident_tets(&pl->dt, fv[0], pl->astar, (int)(pl->cap_astar > 65536 ? 65536 : pl->cap_astar)), k;
+    for (k = 0; k < n; k++) {
+        const uint32_t *w = vp_dt_tet(&pl->dt, pl->astar[k]);
+        int a = facet_index_of(w, fv[1]), b = facet_index_of(w, fv[2]), c = facet_index_of(w, fv[0]);
+        if (a >= 0 && b >= 0) {
+            *fi = 6 - a - b - c;
+            return pl->astar[k];
+        }
+    }
+    return NONE;
+}
+
+static int pools_have_room(const vp_planner_t *pl)
+{
+    return pl->nvrec + 512 <= pl->cap_vrec && pl->nfedge + 512 <= pl->cap_fedge &&
+           pl->nfrec + 256 <= pl->cap_frec && pl->ntask + 256 <= pl->cap_task &&
+           pl->nheap + 256 <= pl->cap_heap && 4u * (pl->nfacets + 256) < pl->hash_mask;
+}
+
+static uint32_t choose_ball(const vp_planner_t *pl)
+{
+    uint32_t best = pl->heap[0], i;
+    double rmin, bestd;
+    if ((pl->cfg.flags & VP_PLAN_LARGEST) || pl->nheap < 2) return best;
+    /* among the balls at least 70% of the largest, the nearest to the device */
+    rmin = 0.7 * pl->frec[best].r;
+    bestd = dist3(pl->pos, pl->frec[best].c);
+    for (i = 1; i < pl->nheap; i++) {
+        const vp_frec_t *f = &pl->frec[pl->heap[i]];
+        double d;
+        if (f->r < rmin) continue;
+        d = dist3(pl->pos, f->c);
+        if (d < bestd) { bestd = d; best = pl->heap[i]; }
+    }
+    return best;
+}
+
+static int refine(vp_planner_t *pl)
+{
+    uint32_t k = choose_ball(pl), t, v = NONE, fv[3];
+    int fi, st;
+    double c[3];
+    if (!pools_have_room(pl)) return VP_ENOMEM;
+    memcpy(fv, pl->frec[k].v, sizeof fv);
+    memcpy(c, pl->frec[k].c, sizeof c);
+    t = find_facet(pl, fv, &fi);
+    if (t == NONE) {
+        frec_delete(pl, k);
+        pl->st.stale_balls++;
+        return VP_OK;
+    }
+    st = vp_dt_insert_in_conflict(&pl->dt, c, t, &v);
+    if (st == VP_EINVAL)
+        st = vp_dt_insert_in_conflict(&pl->dt, c, vp_dt_tet(&pl->dt, t)[4 + fi] >> 2, &v);
+    if (st == VP_EINVAL) st = vp_dt_insert(&pl->dt, c, t, &v);
+    if (st == VP_ENOMEM) return st;
+    if (st != VP_OK) {
+        /* cannot be refined (a duplicate within rounding): keep the facet, drop the ball */
+        heap_remove(pl, k);
+        pl->frec[k].flags |= FREC_STUCK;
+        pl->st.stale_balls++;
+        return VP_OK;
+    }
+    pl->st.insertions++;
+    pl->last_vertex = v;
+    st = after_insert(pl, v);
+    note_peak(pl);
+    return st;
+}
+
+/* ---------- closing: every edge of the mesh must have exactly two facets ---------- */
+
+/* Queues forced probes around edge (x, y) of Del(E): from every active tet of the ring, each
+ * unknown facet. Returns the number of probes queued, or a negative status. */
+static int probe_around_edge(vp_planner_t *pl, uint32_t t0, uint32_t x, uint32_t y)
+{
+    uint32_t cur = t0, other, limit = 4096, pushed = 0;
+    const uint32_t *w = vp_dt_tet(&pl->dt, t0);
+    int k, ex = -1;
+    for (k = 0; k < 4; k++)
+        if (w[k] != x && w[k] != y) { ex = k; break; }
+    if (ex < 0) return 0;
+    other = w[ex];
+    do {
+        const uint32_t *c = vp_dt_tet(&pl->dt, cur);
+        int f, st, ix = -1;
+        if (tet_active(pl, cur))
+            for (f = 0; f < 4; f++) {
+                unsigned s = side_get(pl, cur, f);
+                if ((s & SIDE_MASK) != SIDE_UNKNOWN || (s & SIDE_QUEUED) || facet_has_ghost(pl, cur, f)) continue;
+                if ((st = task_push(pl, cur, f, 1)) != VP_OK) return st;
+                pushed++;
+            }
+        for (k = 0; k < 4; k++)
+            if (c[k] == other) ix = k;
+        if (ix < 0) break;
+        for (k = 0; k < 4; k++)
+            if (c[k] != x && c[k] != y && c[k] != other) break;
+        cur = c[4 + ix] >> 2;
+        other = c[k];
+    } while (cur != t0 && --limit);
+    return (int)pushed;
+}
+
+static int close_holes(vp_planner_t *pl)
+{
+    /* edge counts in a scratch hash: 3 words per slot (a, b, count) */
+    uint32_t slots = 1, i, *tab = pl->astar, pushed = 0;
+    while (slots < 4u * pl->nfacets + 16u) slots <<= 1;
+    if (3u * slots > pl->cap_astar) return 0; /* too big to check here: left to certify */
+    for (i = 0; i < 3u * slots; i++) tab[i] = NONE;
+    for (i = 0; i < pl->nfrec; i++) {
+        const vp_frec_t *f = &pl->frec[i];
+        int e;
+        if (f->v[0] == NONE) continue;
+        for (e = 0; e < 3; e++) {
+            uint32_t a = f->v[e], b = f->v[(e + 1) % 3], h;
+            if (a > b) { uint32_t t = a; a = b; b = t; }
+            h = (uint32_t)(((uint64_t)a * 0x9E3779B97F4A7C15ull ^ b) * 0xBF58476D1CE4E5B9ull >> 40) & (slots - 1);
+            while (tab[3 * h] != NONE && (tab[3 * h] != a || tab[3 * h + 1] != b)) h = (h + 1) & (slots - 1);
+            if (tab[3 * h] == NONE) { tab[3 * h] = a; tab[3 * h + 1] = b; tab[3 * h + 2] = 0; }
+            tab[3 * h + 2]++;
+        }
+    }
+    for (i = 0; i < slots; i++) {
+        uint32_t fv[3], a = tab[3 * i], b = tab[3 * i + 1], t, k;
+        int fi, n;
+        if (a == NONE || tab[3 * i + 2] == 2) continue;
+        /* a facet record with this edge gives a tet to turn around it from */
+        t = NONE;
+        for (k = 0; k < pl->nfrec && t == NONE; k++) {
+            const vp_frec_t *f = &pl->frec[k];
+            int ha, hb;
+            if (f->v[0] == NONE) continue;
+            ha = f->v[0] == a || f->v[1] == a || f->v[2] == a;
+            hb = f->v[0] == b || f->v[1] == b || f->v[2] == b;
+            if (ha && hb) { memcpy(fv, f->v, sizeof fv); t = k; }
+        }
+        if (t == NONE) continue;
+        t = find_facet(pl, fv, &fi);
+        if (t == NONE) continue;
+        n = probe_around_edge(pl, t, a, b);
+        if (n < 0) return n;
+        pushed += (uint32_t)n;
+    }
+    return (int)pushed;
+}
+
+/* ---------- seeds: the persistent facet and a fourth point per component ---------- */
+
+static int seed_issue(vp_planner_t *pl, const double *dir, double range)
+{
+    memcpy(pl->probe_origin, pl->vrec[pl->at].p, sizeof pl->probe_origin);
+    memcpy(pl->probe_dir, dir, sizeof pl->probe_dir);
+    pl->probe_range = pl->probe_full = range;
+    pl->probe_ready = 1;
+    return VP_OK;
+}
+
+/* exit distance from p along unit u out of Omega */
+static double omega_exit(const vp_planner_config_t *c, const double *p, const double *u)
+{
+    double t0, t1;
+    if (!omega_clip(c, p, u, 1e300, &t0, &t1)) return 0.0;
+    return t1;
+}
+
+static void seed_axes(const double *u, int turn, double *w1, double *w2)
+{
+    double t[3] = { 0, 0, 1 }, a[3], b[3];
+    int k;
+    if (fabs(u[2]) > 0.8) { t[0] = 1; t[2] = 0; }
+    cross3(a, u, t);
+    normalize3(a);
+    cross3(b, u, a);
+    /* turn the pair by 30 degrees per retry (cos, sin of 30 deg multiples by rotation) */
+    for (k = 0; k < turn % 6; k++) {
+        double c30 = 0.8660254037844386, s30 = 0.5, na[3], nb[3];
+        int q;
+        for (q = 0; q < 3; q++) {
+            na[q] = c30 * a[q] + s30 * b[q];
+            nb[q] = -s30 * a[q] + c30 * b[q];
+        }
+        memcpy(a, na, sizeof a);
+        memcpy(b, nb, sizeof b);
+    }
+    memcpy(w1, a, sizeof a);
+    memcpy(w2, b, sizeof b);
+}
+
+static int seed_next(vp_planner_t *pl)
+{
+    const double *o;
+    double u[3], d[3], w1[3], w2[3], te, th;
+    int k, st;
+    if (pl->seed >= pl->cfg.ninterior) return 1; /* all seeds probed */
+    o = pl->cfg.interior[pl->seed];
+    sub3(u, pl->cfg.start, o);
+    if (!normalize3(u)) { u[0] = 0; u[1] = 0; u[2] = 1; }
+    memcpy(pl->seed_dir, u, sizeof u);
+    switch (pl->seed_step) {
+    case 0: /* from dOmega towards o */
+        te = omega_exit(&pl->cfg, o, u);
+        for (k = 0; k < 3; k++) pl->seed_q[k] = o[k] + te * u[k];
+        if ((st = plan_route(pl, NONE, pl->seed_q)) != VP_OK) return st;
+        for (k = 0; k < 3; k++) d[k] = -u[k];
+        return seed_issue(pl, d, te);
+    case 1:
+    case 2: /* two directions very close to [q, a): the persistent facet */
+        th = pl->cfg.eps / (8.0 * dist3(pl->seed_q, pl->seed_pts[pl->nseed_pts - 1])) /
+             (double)(1u << (2 * (pl->seed_try / 2)));
+        seed_axes(u, (int)pl->seed_try, w1, w2);
+        for (k = 0; k < 3; k++) d[k] = -u[k] + th * (pl->seed_step == 1 ? w1[k] : w2[k]);
+        normalize3(d);
+        return seed_issue(pl, d, 2.0 * dist3(pl->seed_q, o) + pl->cfg.eps);
+    default: /* a fourth point, from the other side of Omega */
+        for (k = 0; k < 3; k++) d[k] = -u[k];
+        te = omega_exit(&pl->cfg, o, d);
+        {
+            double q2[3];
+            for (k = 0; k < 3; k++) q2[k] = o[k] + te * d[k];
+            if ((st = plan_route(pl, NONE, q2)) != VP_OK) return st;
+        }
+        return seed_issue(pl, u, te);
+    }
+}
+
+static int seed_feed(vp_planner_t *pl, const vp_probe_result_t *res)
+{
+    double h[3];
+    int k;
+    if (res->hit)
+        for (k = 0; k < 3; k++) h[k] = pl->probe_origin[k] + res->dist * pl->probe_dir[k];
+    switch (pl->seed_step) {
+    case 0:
+        if (!res->hit) return VP_ERANGE; /* o_i is not inside the object */
+        memcpy(pl->seed_pts[pl->nseed_pts++], h, sizeof h);
+        pl->seed_step = 1;
+        pl->seed_try = 0;
+        return VP_OK;
+    case 1:
+    case 2:
+        if (res->hit && dist3(h, pl->seed_pts[pl->nseed_pts - pl->seed_step]) <= pl->cfg.eps / 4.0) {
+            memcpy(pl->seed_pts[pl->nseed_pts++], h, sizeof h);
+            if (pl->seed_step == 2) {
+                /* legs short and the triangle not flat, else try other axes, smaller angles */
+                const double *a = pl->seed_pts[pl->nseed_pts - 3], *b = pl->seed_pts[pl->nseed_pts - 2];
+                double ab[3], ac[3], n[3], area2, l2;
+                sub3(ab, b, a);
+                sub3(ac, h, a);
+                cross3(n, ab, ac);
+                area2 = sqrt(dot3(n, n));
+                l2 = dot3(ab, ab) > dot3(ac, ac) ? dot3(ab, ab) : dot3(ac, ac);
+                if (!(area2 > 0.2 * l2) && pl->seed_try < 12) {
+                    pl->nseed_pts -= 2;
+                    pl->seed_try++;
+                    pl->seed_step = 1;
+                    return VP_OK;
+                }
+                pl->seed_step = 3;
+            } else {
+                pl->seed_step = 2;
+            }
+            return VP_OK;
+        }
+        /* a miss or a far hit (near a silhouette the ray lands elsewhere): retry */
+        if (pl->seed_try >= 12) return VP_ERANGE;
+        if (pl->seed_step == 2) pl->nseed_pts--;
+        pl->seed_try++;
+        pl->seed_step = 1;
+        return VP_OK;
+    default:
+        if (!res->hit) return VP_ERANGE;
+        memcpy(pl->seed_pts[pl->nseed_pts++], h, sizeof h);
+        pl->seed++;
+        pl->seed_step = 0;
+        return VP_OK;
+    }
+}
+
+/* All seed points in the triangulation; every outside Voronoi vertex is active. */
+static int start_run(vp_planner_t *pl)
+{
+    uint32_t i, t;
+    int st;
+    for (i = 0; i < pl->nseed_pts; i++) {
+        st = vp_dt_insert(&pl->dt, pl->seed_pts[i], VP_DT_NONE, NULL);
+        if (st != VP_OK && st != VP_EDUP) return st;
+    }
+    if (pl->dt.dim < 3) return VP_EDEGEN;
+    for (t = 0; t < pl->dt.ntet_slots; t++) {
+        double c[3];
+        if (!vp_dt_alive(&pl->dt, t)) continue;
+        pay(pl, t)[1] = 0;
+        pay(pl, t)[0] = (vp_dt_is_ghost(&pl->dt, t) || tet_point(pl, t, c) != VP_OK ||
+                         !omega_inside(&pl->cfg, c)) ? VREC_OUT : NONE;
+    }
+    for (t = 0; t < pl->dt.ntet_slots; t++)
+        if (vp_dt_alive(&pl->dt, t) && tet_active(pl, t))
+            if ((st = explore(pl, t)) != VP_OK) return st;
+    note_peak(pl);
+    return VP_OK;
+}
+
+/* ---------- public ---------- */
+
+int vp_planner_init(vp_planner_t *pl, void *arena, size_t bytes, const vp_planner_config_t *cfg)
+{
+    unsigned char *cur, *end;
+    size_t dtb, unit;
+    uint32_t i, hwords;
+    int k, st;
+    if (!pl || !arena || !cfg) return VP_EINVAL;
+    if (cfg->omega_kind == VP_OMEGA_BALL) {
+        if (!finite3(cfg->omega_center) || !(cfg->omega_radius > 0.0) || !(cfg->omega_radius < 1e150))
+            return VP_EINVAL;
+    } else if (cfg->omega_kind == VP_OMEGA_BOX) {
+        if (!finite3(cfg->omega_lo) || !finite3(cfg->omega_hi)) return VP_EINVAL;
+        for (k = 0; k < 3; k++)
+            if (!(cfg->omega_lo[k] < cfg->omega_hi[k])) return VP_EINVAL;
+    } else {
+        return VP_EINVAL;
+    }
+    if (!(cfg->eps > 0.0) || !(cfg->eps < 1e150)) return VP_EINVAL;
+    if (cfg->ninterior < 1 || cfg->ninterior > VP_PLANNER_MAX_SEEDS) return VP_EINVAL;
+    for (i = 0; i < cfg->ninterior; i++)
+        if (!finite3(cfg->interior[i]) || !omega_inside(cfg, cfg->interior[i])) return VP_EINVAL;
+    if (!finite3(cfg->start) || omega_inside(cfg, cfg->start)) return VP_EINVAL;
+    if (!(cfg->max_range >= 0.0) || !(cfg->noise_tol >= 0.0) || !(cfg->clearance >= 0.0) ||
+        cfg->max_range > 1e150 || cfg->noise_tol > 1e150 || cfg->clearance > 1e150)
+        return VP_EINVAL;
+    memset(pl, 0, sizeof *pl);
+    pl->cfg = *cfg;
+    pl->arena = (unsigned char *)arena;
+    pl->arena_bytes = bytes;
+    cur = pl->arena;
+    end = pl->arena + bytes;
+    /* the split, per 100 units: triangulation 44, records 20, facets 12, free edges 8, hash 4,
+     * path search 5, paths 3, tasks 2, heap 1, route 1 */
+    unit = bytes / 100;
+    dtb = 44 * unit;
+    if (bytes < 64 * 1024) return VP_ENOMEM;
+    pl->cap_vrec = (uint32_t)(20 * unit / sizeof(vp_vrec_t));
+    pl->cap_frec = (uint32_t)(12 * unit / sizeof(vp_frec_t));
+    pl->cap_fedge = (uint32_t)(8 * unit / 16);
+    for (hwords = 1; (size_t)hwords * 2 * 4 <= 4 * unit; hwords <<= 1) {}
+    pl->cap_astar = (uint32_t)(5 * unit / 4);
+    pl->cap_path = (uint32_t)(3 * unit / 4);
+    pl->cap_task = (uint32_t)(2 * unit / sizeof(vp_task_t));
+    pl->cap_heap = (uint32_t)(unit / 4);
+    pl->cap_route = (uint32_t)(unit / 24);
+    if (pl->cap_route > 4096) pl->cap_route = 4096;
+    pl->vrec = carve(&cur, end, (size_t)pl->cap_vrec * sizeof(vp_vrec_t));
+    pl->frec = carve(&cur, end, (size_t)pl->cap_frec * sizeof(vp_frec_t));
+    pl->fedge = carve(&cur, end, (size_t)pl->cap_fedge * 16);
+    pl->fhash = carve(&cur, end, (size_t)hwords * 4);
+    pl->astar = carve(&cur, end, (size_t)pl->cap_astar * 4);
+    pl->path = carve(&cur, end, (size_t)pl->cap_path * 4);
+    pl->task = carve(&cur, end, (size_t)pl->cap_task * sizeof(vp_task_t));
+    pl->heap = carve(&cur, end, (size_t)pl->cap_heap * 4);
+    pl->route = carve(&cur, end, (size_t)pl->cap_route * 24);
+    if (!pl->vrec || !pl->frec || !pl->fedge || !pl->fhash || !pl->astar || !pl->path ||
+        !pl->task || !pl->heap || !pl->route || pl->cap_vrec < 64 || pl->cap_frec < 64 ||
+        pl->cap_task < 64 || pl->cap_route < 64 || pl->cap_astar < 1024)
+        return VP_ENOMEM;
+    dtb = (size_t)(end - cur);
+    if (dtb < 44 * unit / 2) return VP_ENOMEM;
+    st = vp_dt_init(&pl->dt, cur, dtb, 8);
+    if (st != VP_OK) return st == VP_EINVAL ? VP_ENOMEM : st;
+    pl->hash_mask = hwords - 1;
+    for (i = 0; i < hwords; i++) pl->fhash[i] = HASH_EMPTY;
+    pl->frec_free = NONE;
+    pl->last_vertex = NONE;
+    pl->phase = PH_SEED;
+    memcpy(pl->pos, cfg->start, sizeof pl->pos);
+    st = rec_new(pl, cfg->start, NONE, REC_OUT, &pl->at);
+    if (st != VP_OK) return st;
+    note_peak(pl);
+    return VP_OK;
+}
+
+int vp_planner_next(vp_planner_t *pl, vp_cmd_t *cmd)
+{
+    int st;
+    if (!pl || !cmd) return VP_EINVAL;
+    if (pl->awaiting) return VP_ESTATE;
+    if (pl->error) return pl->error;
+    memset(cmd, 0, sizeof *cmd);
+    for (;;) {
+        if (pl->iroute < pl->nroute) {
+            const double *to = pl->route + 3 * (size_t)pl->iroute++;
+            cmd->kind = VP_CMD_MOVE;
+            memcpy(cmd->from, pl->pos, sizeof cmd->from);
+            memcpy(cmd->to, to, sizeof cmd->to);
+            pl->st.travel += dist3(pl->pos, to);
+            pl->st.moves++;
+            memcpy(pl->pos, to, sizeof pl->pos);
+            return VP_OK;
+        }
+        if (pl->probe_ready) {
+            pl->probe_ready = 0;
+            pl->awaiting = 1;
+            cmd->kind = VP_CMD_PROBE;
+            memcpy(cmd->from, pl->probe_origin, sizeof cmd->from);
+            memcpy(cmd->dir, pl->probe_dir, sizeof cmd->dir);
+            cmd->range = pl->probe_range;
+            pl->st.probes++;
+            return VP_OK;
+        }
+        switch (pl->phase) {
+        case PH_SEED:
+            st = seed_next(pl);
+            if (st == 1) {
+                st = start_run(pl);
+                pl->phase = PH_RUN;
+            }
+            break;
+        case PH_RUN:
+            st = VP_OK;
+            if (pl->ntask > 0) {
+                vp_task_t k = pl->task[--pl->ntask];
+                if (task_start(pl, &k)) pl->probe_ready = 1;
+                st = pl->error;
+            } else if (pl->nheap > 0) {
+                st = refine(pl);
+            } else {
+                pl->phase = PH_CLOSE;
+            }
+            break;
+        case PH_CLOSE:
+            st = close_holes(pl);
+            pl->phase = st > 0 ? PH_RUN : PH_DONE;
+            if (st > 0) st = VP_OK;
+            break;
+        default:
+            cmd->kind = VP_CMD_DONE;
+            note_peak(pl);
+            return VP_OK;
+        }
+        if (st < 0) {
+            pl->error = st;
+            return st;
+        }
+    }
+}
+
+int vp_planner_feed(vp_planner_t *pl, const vp_probe_result_t *res)
+{
+    int st;
+    if (!pl || !res) return VP_EINVAL;
+    if (!pl->awaiting) return VP_ESTATE;
+    if (res->hit && (!(res->dist >= 0.0) || !(res->dist < 1e300))) return VP_EINVAL;
+    pl->awaiting = 0;
+    if (pl->phase == PH_SEED) st = seed_feed(pl, res);
+    else st = task_finish(pl, res);
+    if (st < 0) pl->error = st;
+    return st;
+}
+
+uint32_t vp_planner_facet_slots(const vp_planner_t *pl) { return pl->nfrec; }
+uint32_t vp_planner_num_facets(const vp_planner_t *pl) { return pl->nfacets; }
+const vp_dt_t *vp_planner_dt(const vp_planner_t *pl) { return &pl->dt; }
+
+int vp_planner_facet(const vp_planner_t *pl, uint32_t i, uint32_t v[3], double *radius, double center[3])
+{
+    const vp_frec_t *f;
+    if (i >= pl->nfrec) return 0;
+    f = &pl->frec[i];
+    if (f->v[0] == NONE) return 0;
+    v[0] = f->v[0];
+    v[1] = (f->flags & FREC_FLIP) ? f->v[2] : f->v[1];
+    v[2] = (f->flags & FREC_FLIP) ? f->v[1] : f->v[2];
+    if (radius) *radius = f->r;
+    if (center) memcpy(center, f->c, sizeof f->c);
+    return 1;
+}
+
+void vp_planner_get_stats(const vp_planner_t *pl, vp_planner_stats_t *st)
+{
+    uint32_t i;
+    *st = pl->st;
+    st->bad_balls = pl->nheap;
+    st->records = pl->nvrec;
+    st->free_edges = pl->nfedge;
+    st->facet_records = pl->nfacets;
+    st->max_ball = 0.0;
+    for (i = 0; i < pl->nfrec; i++)
+        if (pl->frec[i].v[0] != NONE && pl->frec[i].r > st->max_ball) st->max_ball = pl->frec[i].r;
+}
