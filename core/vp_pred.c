@@ -3,10 +3,13 @@
  * Each predicate is the sign of a polynomial in coordinate differences. Stages, in order:
  *   A  floating-point evaluation; the answer stands when |det| exceeds c * permanent, c a
  *      compile-time constant derived below for each predicate (rounding-error count).
- *   B  the differences p - q were exact (all two-diff tails zero): the determinant of those
- *      doubles is evaluated exactly with floating-point expansions (two-sum, Dekker product).
- *   C  insphere only: the exact determinant of the rounded differences (from B) plus the
- *      first-order effect of the tails, with an error bound of order eps^2 * permanent.
+ *   B  orient3d and insphere: double-double evaluation on the exact differences (each one a
+ *      two-diff pair hi + lo), error below c * eps^2 * permanent (bound derived at dd_mul).
+ *      Decides nearly every non-degenerate input that A could not, e.g. rounded points of a
+ *      sphere.
+ *   C  the differences p - q were exact (all two-diff tails zero, as on integer grids or for
+ *      nearby points): the determinant of those doubles, exactly, with floating-point
+ *      expansions (two-sum, Dekker product, compression).
  *   X  exact integers: every coordinate is m * 2^e; divided by 2^E (E = lowest set bit of all
  *      inputs) it is an integer below 2^2099, and the determinant is evaluated in fixed-size
  *      two's complement arrays (32-bit limbs) whose length follows the actual bit span.
@@ -45,7 +48,8 @@
 #define CD_ERR_A ((6.0 + 256.0 * EPS) * EPS)
 #define O3_ERR_A ((8.0 + 512.0 * EPS) * EPS)
 #define IS_ERR_A ((16.0 + 1024.0 * EPS) * EPS)
-#define IS_ERR_C (128.0 * EPS * EPS)
+#define O3_ERR_B (32.0 * EPS * EPS)
+#define IS_ERR_B (64.0 * EPS * EPS)
 
 /* Safe windows [2^lo, 2^hi) for nonzero |coordinates|, by polynomial degree k:
  * k (lo - 52) >= -900 and k (hi + 1) + log2(#monomials) + 28 < 1020. */
@@ -115,19 +119,6 @@ static void two_square(double a, double *x, double *y)
 static int exp_sign(const double *e, int n)
 {
     return n == 0 ? 0 : (e[n - 1] > 0.0 ? 1 : -1);
-}
-
-/* h = e + b. Returns the length (<= n + 1). */
-static int exp_grow(const double *e, int n, double b, double *h)
-{
-    double q = b, err;
-    int i, k = 0;
-    for (i = 0; i < n; i++) {
-        two_sum(q, e[i], &q, &err);
-        if (err != 0.0) h[k++] = err;
-    }
-    if (q != 0.0) h[k++] = q;
-    return k;
 }
 
 /* h = e + f: merge by magnitude, then one chain of two-sums. Returns the length. */
@@ -223,6 +214,60 @@ static int exp_norm2(const double *v, double *h)
     }
     nt = exp_sum(s[0], n[0], s[1], n[1], t);
     return exp_sum(t, nt, s[2], n[2], h);
+}
+
+/* ------------------------------------------------------------------------------------------
+ * Double-double: hi + lo with |lo| <= eps |hi| (two-sum / two-diff / two-prod outputs are).
+ * Write H = |x.hi| |y.hi| for a product, A = |x.hi| + |y.hi| for a sum.
+ * dd_mul: the error is xl*yl (<= eps^2 H) + rounding of the two cross products and their sum
+ *   (<= 4 eps^2 H + 2 eps^3 H) + rounding of pl + c, |pl + c| <= 3 eps H (1+eps)^2; total
+ *   <= 8.001 eps^2 H, i.e. <= 8.002 eps^2 |x| |y|.
+ * dd_add: rounding of xl + yl (<= eps^2 A) and of sl + t, |sl + t| <= 2 eps A (1+eps); total
+ *   <= 3.001 eps^2 A, i.e. <= 3.002 eps^2 (|x| + |y|).
+ * By induction over the expression, a value whose monomials each pass m products and s sums
+ * is off by at most ((1 + 8.002 eps^2)^m (1 + 3.002 eps^2)^s - 1) times its permanent.
+ */
+struct dd {
+    double hi, lo;
+};
+
+static struct dd dd_diff(double a, double b)
+{
+    struct dd z;
+    two_diff(a, b, &z.hi, &z.lo);
+    return z;
+}
+
+static struct dd dd_mul(struct dd x, struct dd y)
+{
+    double ph, pl, c;
+    struct dd z;
+    two_prod(x.hi, y.hi, &ph, &pl);
+    c = x.hi * y.lo + x.lo * y.hi;
+    two_sum(ph, pl + c, &z.hi, &z.lo);
+    return z;
+}
+
+static struct dd dd_add(struct dd x, struct dd y)
+{
+    double sh, sl;
+    struct dd z;
+    two_sum(x.hi, y.hi, &sh, &sl);
+    two_sum(sh, sl + (x.lo + y.lo), &z.hi, &z.lo);
+    return z;
+}
+
+static struct dd dd_sub(struct dd x, struct dd y)
+{
+    y.hi = -y.hi;
+    y.lo = -y.lo;
+    return dd_add(x, y);
+}
+
+/* [xy] minor of two dd 3-vectors: x0 y1 - x1 y0 */
+static struct dd dd_minor(const struct dd *x, const struct dd *y)
+{
+    return dd_sub(dd_mul(x[0], y[1]), dd_mul(x[1], y[0]));
 }
 
 /* ------------------------------------------------------------------------------------------
@@ -577,7 +622,29 @@ static int cmp_dist_big(const double *p, const double *q, const double *r)
  * Stage A roundings per monomial: 3 differences, product, minor, scale, 2 sums = 8.
  */
 
-/* Stage B. */
+/* Stage B: path of a monomial: minor product and difference, scale, 2 sums: m = 2, s = 3,
+ * error <= 25.02 eps^2 P_abs; P_abs (exact differences) <= (1+eps)^3 P_h and the permanent of
+ * the rounded differences P_h <= P / (1-eps)^5 (P as computed in stage A): < 25.1 eps^2 P.
+ * Deciding on |hi| > fl(32 eps^2 P) leaves |det| >= |hi| (1-eps) above that. */
+static int orient3d_dd(const double *a, const double *b, const double *c, const double *d,
+                       double perm)
+{
+    struct dd u[3], v[3], w[3], det;
+    double bound = O3_ERR_B * perm;
+    int k;
+    for (k = 0; k < 3; k++) {
+        u[k] = dd_diff(b[k], a[k]);
+        v[k] = dd_diff(c[k], a[k]);
+        w[k] = dd_diff(d[k], a[k]);
+    }
+    det = dd_add(dd_add(dd_mul(w[2], dd_minor(u, v)), dd_mul(v[2], dd_minor(w, u))),
+                 dd_mul(u[2], dd_minor(v, w)));
+    if (det.hi > bound) return 1;
+    if (-det.hi > bound) return -1;
+    return UNDECIDED;
+}
+
+/* Stage C. */
 static int orient3d_exact_diff(const double *a, const double *b, const double *c, const double *d)
 {
     double u[3], v[3], w[3], t, m[4], s1[8], s2[8], s3[8], s12[16], det[24];
@@ -617,6 +684,11 @@ static int orient3d_fp(const double *a, const double *b, const double *c, const 
     if (det > bound || -det > bound) {
         COUNT(st, stage[VP_STAGE_FILTER]);
         return det > 0.0 ? 1 : -1;
+    }
+    r = orient3d_dd(a, b, c, d, perm);
+    if (r != UNDECIDED) {
+        COUNT(st, stage[VP_STAGE_DD]);
+        return r;
     }
     r = orient3d_exact_diff(a, b, c, d);
     if (r != UNDECIDED) {
@@ -664,19 +736,53 @@ int vp_orient3d(const double *a, const double *b, const double *c, const double 
  * (scale + 2 sums), final 3 (product + 2 sums) = 16; the permanent takes the same path.
  */
 
-#define ACC_CAP 64 /* stage B accumulator; longer (rare) means go to stage X */
+static const int other3[4][3] = { { 1, 2, 3 }, { 0, 2, 3 }, { 0, 1, 3 }, { 0, 1, 2 } };
 
-/* Stages B and C. h = rounded differences, t = their tails. */
-static int insphere_expansion(const double *a, const double *b, const double *c, const double *d,
-                              const double *e, struct vp_pred_stats *st)
+/* Stage B. Path of a monomial: lift (square, 2 sums), minor (product, difference), det3
+ * (scale, 2 sums), final (product, 2 sums): m = 4, s = 7, error <= 53.03 eps^2 P_abs, with
+ * P_abs <= (1+eps)^5 P_h <= (1+eps)^5 P / (1-eps)^11 (P as computed in stage A): < 53.1 eps^2 P.
+ * Deciding on |hi| > fl(64 eps^2 P) leaves |det| >= |hi| (1-eps) above that. */
+static int insphere_dd(const double *a, const double *b, const double *c, const double *d,
+                       const double *e, double perm)
 {
-    static const int others[4][3] = { { 1, 2, 3 }, { 0, 2, 3 }, { 0, 1, 3 }, { 0, 1, 2 } };
+    struct dd h[4][3], mnr[4][4], det3, lift, term[4], det;
     const double *p[4];
-    double h[4][3], t[4][3];
-    double mnr[4][4][4];     /* exact [XY] minors, mnr[i][j] for i < j */
+    double bound = IS_ERR_B * perm;
+    int i, j, k;
+    p[0] = a;
+    p[1] = b;
+    p[2] = c;
+    p[3] = d;
+    for (i = 0; i < 4; i++)
+        for (k = 0; k < 3; k++) h[i][k] = dd_diff(p[i][k], e[k]);
+    for (i = 0; i < 4; i++)
+        for (j = i + 1; j < 4; j++) mnr[i][j] = dd_minor(h[i], h[j]);
+    for (i = 0; i < 4; i++) {
+        int x = other3[i][0], y = other3[i][1], z = other3[i][2];
+        det3 = dd_add(dd_sub(dd_mul(h[x][2], mnr[y][z]), dd_mul(h[y][2], mnr[x][z])),
+                      dd_mul(h[z][2], mnr[x][y]));
+        lift = dd_add(dd_add(dd_mul(h[i][0], h[i][0]), dd_mul(h[i][1], h[i][1])),
+                      dd_mul(h[i][2], h[i][2]));
+        term[i] = dd_mul(lift, det3);
+    }
+    det = dd_add(dd_sub(term[0], term[1]), dd_sub(term[2], term[3]));
+    if (det.hi > bound) return 1;
+    if (-det.hi > bound) return -1;
+    return UNDECIDED;
+}
+
+#define ACC_CAP 64 /* stage C accumulator; longer (rare) means go to stage X */
+
+/* Stage C: the differences are exact doubles; D' exactly with expansions. */
+static int insphere_exact_diff(const double *a, const double *b, const double *c,
+                               const double *d, const double *e)
+{
+    const double *p[4];
+    double h[4][3];
+    double mnr[4][4][4]; /* exact [XY] minors, mnr[i][j] for i < j */
     int mlen[4][4];
-    double acc[2][ACC_CAP + 2], d3[24], s1[8], s2[8], s3[8], s12[16], w[6], term[48];
-    int i, j, k, inexact = 0, alen = 0, cur = 0;
+    double acc[2][ACC_CAP], d3[24], s1[8], s2[8], s3[8], s12[16], w[6], term[48];
+    int i, j, k, alen = 0, cur = 0;
 
     p[0] = a;
     p[1] = b;
@@ -684,23 +790,21 @@ static int insphere_expansion(const double *a, const double *b, const double *c,
     p[3] = d;
     for (i = 0; i < 4; i++)
         for (k = 0; k < 3; k++) {
-            two_diff(p[i][k], e[k], &h[i][k], &t[i][k]);
-            inexact |= t[i][k] != 0.0;
+            double t;
+            two_diff(p[i][k], e[k], &h[i][k], &t);
+            if (t != 0.0) return UNDECIDED;
         }
     for (i = 0; i < 4; i++)
         for (j = i + 1; j < 4; j++)
             mlen[i][j] = prod_diff(h[i][0], h[j][1], h[j][0], h[i][1], mnr[i][j]);
-
-    /* Stage B: exact D' of the rounded differences. */
     for (i = 0; i < 4; i++) {
-        int x = others[i][0], y = others[i][1], z = others[i][2];
+        int x = other3[i][0], y = other3[i][1], z = other3[i][2];
         int n1, n2, n3, n12, n, nw, q;
         n1 = exp_scale(mnr[y][z], mlen[y][z], h[x][2], s1);
         n2 = exp_scale(mnr[x][z], mlen[x][z], -h[y][2], s2);
         n3 = exp_scale(mnr[x][y], mlen[x][y], h[z][2], s3);
         n12 = exp_sum(s1, n1, s2, n2, s12);
-        n = exp_sum(s12, n12, s3, n3, d3);
-        n = exp_compress(d3, n);
+        n = exp_compress(d3, exp_sum(s12, n12, s3, n3, d3));
         nw = exp_compress(w, exp_norm2(h[i], w));
         for (q = 0; q < nw; q++) {
             int nt = exp_scale(d3, n, (i & 1) ? -w[q] : w[q], term);
@@ -711,58 +815,9 @@ static int insphere_expansion(const double *a, const double *b, const double *c,
             alen = exp_sum(acc[cur], alen, term, nt, acc[cur ^ 1]);
             cur ^= 1;
         }
+        alen = exp_compress(acc[cur], alen);
     }
-    if (!inexact) {
-        COUNT(st, stage[VP_STAGE_EXACTDIFF]);
-        return exp_sign(acc[cur], alen);
-    }
-
-    /* Stage C: D' = D'(h) + F + R, F the first-order term in t computed in floating point,
-     * |R| <= ((1+eps)^5 - 1 - 5 eps) P_h <= 10.001 eps^2 P_h (each |t| <= eps |h|), and
-     * |F - fl(F)| <= gamma_14 * 5 eps P_h (14 roundings on F's longest path, counted below).
-     * P_h <= P (1 + 11.01 eps), P the permanent computed as in stage A from h (11 roundings).
-     * Total < 81 eps^2 P; IS_ERR_C = 128 eps^2 covers it with the rounding of IS_ERR_C * P. */
-    {
-        double mf[4][4], dm[4][4], lift[4], dlift[4], det3[4], ddet3[4], mp[4][4], det3p[4];
-        double f, perm, bound;
-        int n, s;
-        for (i = 0; i < 4; i++)
-            for (j = i + 1; j < 4; j++) {
-                double p1 = h[i][0] * h[j][1], p2 = h[j][0] * h[i][1];
-                mf[i][j] = p1 - p2;       /* 2 roundings */
-                mp[i][j] = fabs(p1) + fabs(p2);
-                /* 3 roundings */
-                dm[i][j] = (t[i][0] * h[j][1] + h[i][0] * t[j][1])
-                           - (t[j][0] * h[i][1] + h[j][0] * t[i][1]);
-            }
-        for (i = 0; i < 4; i++) {
-            int x = others[i][0], y = others[i][1], z = others[i][2];
-            det3[i] = (h[x][2] * mf[y][z] - h[y][2] * mf[x][z]) + h[z][2] * mf[x][y];
-            det3p[i] = (fabs(h[x][2]) * mp[y][z] + fabs(h[y][2]) * mp[x][z])
-                       + fabs(h[z][2]) * mp[x][y];
-            /* scale 1 + paren 1 + 2 sums, after dm's 3 (or mf's 2): <= 7 */
-            ddet3[i] = ((t[x][2] * mf[y][z] + h[x][2] * dm[y][z])
-                        - (t[y][2] * mf[x][z] + h[y][2] * dm[x][z]))
-                       + (t[z][2] * mf[x][y] + h[z][2] * dm[x][y]);
-            lift[i] = (h[i][0] * h[i][0] + h[i][1] * h[i][1]) + h[i][2] * h[i][2];
-            dlift[i] = 2.0 * ((h[i][0] * t[i][0] + h[i][1] * t[i][1]) + h[i][2] * t[i][2]);
-        }
-        perm = (lift[0] * det3p[0] + lift[1] * det3p[1]) + (lift[2] * det3p[2] + lift[3] * det3p[3]);
-        /* lift 3 + ddet3 7 + product 1 + paren 1 + 2 final sums = 14 */
-        f = ((dlift[0] * det3[0] + lift[0] * ddet3[0]) - (dlift[1] * det3[1] + lift[1] * ddet3[1]))
-            + ((dlift[2] * det3[2] + lift[2] * ddet3[2]) - (dlift[3] * det3[3] + lift[3] * ddet3[3]));
-        bound = IS_ERR_C * perm;
-        n = exp_grow(acc[cur], alen, f, acc[cur ^ 1]); /* E = D'(h) + fl(F) */
-        s = exp_sign(acc[cur ^ 1], n);
-        if (s != 0) { /* does E - s * bound keep the sign of E? */
-            n = exp_grow(acc[cur ^ 1], n, s > 0 ? -bound : bound, acc[cur]);
-            if (exp_sign(acc[cur], n) == s) {
-                COUNT(st, stage[VP_STAGE_TAIL]);
-                return s;
-            }
-        }
-    }
-    return UNDECIDED;
+    return exp_sign(acc[cur], alen);
 }
 
 static int insphere_fp(const double *a, const double *b, const double *c, const double *d,
@@ -799,8 +854,16 @@ static int insphere_fp(const double *a, const double *b, const double *c, const 
         COUNT(st, stage[VP_STAGE_FILTER]);
         return det > 0.0 ? 1 : -1;
     }
-    r = insphere_expansion(a, b, c, d, e, st);
-    if (r != UNDECIDED) return r;
+    r = insphere_dd(a, b, c, d, e, perm);
+    if (r != UNDECIDED) {
+        COUNT(st, stage[VP_STAGE_DD]);
+        return r;
+    }
+    r = insphere_exact_diff(a, b, c, d, e);
+    if (r != UNDECIDED) {
+        COUNT(st, stage[VP_STAGE_EXACTDIFF]);
+        return r;
+    }
     COUNT(st, stage[VP_STAGE_BIGINT]);
     return insphere_big(a, b, c, d, e);
 }

@@ -41,8 +41,8 @@ int vp_lex_cmp(const double *a, const double *b);
  * first); the plain functions above keep no counts. */
 enum vp_pred_stage {
     VP_STAGE_FILTER,     /* floating-point evaluation with a static error bound */
+    VP_STAGE_DD,         /* double-double evaluation with an eps^2 error bound */
     VP_STAGE_EXACTDIFF,  /* differences were exact: expansion arithmetic on them */
-    VP_STAGE_TAIL,       /* insphere: exact rounded-difference determinant + first-order tails */
     VP_STAGE_BIGINT,     /* exact integer arithmetic on the scaled coordinates */
     VP_STAGE_COUNT
 };

@@ -431,7 +431,7 @@ static long run_class(const struct gen_class *g)
 static void print_stats(const char *what, const struct vp_pred_stats *s)
 {
     unsigned long tot = s->stage[0] + s->stage[1] + s->stage[2] + s->stage[3];
-    printf("  %-10s %9lu calls: filter %.2f%%, exact-diff %.2f%%, tail %.2f%%, bigint %.3f%%, "
+    printf("  %-10s %9lu calls: filter %.2f%%, dd %.2f%%, exact-diff %.2f%%, bigint %.3f%%, "
            "rescaled %.3f%%", what, tot, 100.0 * s->stage[0] / tot, 100.0 * s->stage[1] / tot,
            100.0 * s->stage[2] / tot, 100.0 * s->stage[3] / tot, 100.0 * s->rescaled / tot);
     if (s->sos) printf(", sos %lu", s->sos);
