@@ -380,6 +380,29 @@ static void gen_extreme_grid(double (*P)[3])
     }
 }
 
+
+/* at the edges of the safe exponent windows (widths 318, 568, 878 binades): x, y on a grid
+ * at scale 2^b, z on a grid at 2^(b - span), so tiny terms decide near-degenerate cases */
+static void gen_window_edge(double (*P)[3])
+{
+    static const int widths[3] = { 318, 568, 878 };
+    int i, span = widths[rint_in(0, 2)] + rint_in(-2, 2), b = rint_in(-1074 + span, 1015);
+    double big = pow2i(b), tiny = pow2i(b - span);
+    for (i = 0; i < 5; i++) {
+        P[i][0] = big * rint_in(-2, 2);
+        P[i][1] = big * rint_in(-2, 2);
+        P[i][2] = tiny * rint_in(-2, 2);
+    }
+    if (rnd() & 1) { /* rotate the axes */
+        for (i = 0; i < 5; i++) {
+            double t = P[i][0];
+            P[i][0] = P[i][2];
+            P[i][2] = P[i][1];
+            P[i][1] = t;
+        }
+    }
+}
+
 /* ---------------------------------------------------------------- checks */
 
 struct gen_class {
@@ -656,6 +679,7 @@ int main(int argc, char **argv)
         { "wide", gen_wide, 20000 },
         { "wide-degenerate", gen_wide_degenerate, 20000 },
         { "extreme-grid", gen_extreme_grid, 50000 },
+        { "window-edge", gen_window_edge, 50000 },
     };
     double scale = 1.0, t0 = now();
     long total = 0;
@@ -683,6 +707,8 @@ int main(int argc, char **argv)
         long k = check_sos((long)(200000 * scale), gen_grid, "grid", &st_sos);
         k += check_sos((long)(30000 * scale), gen_grid_perturbed, "grid-perturbed", &st_sos);
         k += check_sos((long)(20000 * scale), gen_extreme_grid, "extreme-grid", &st_sos);
+        k += check_sos((long)(20000 * scale), gen_window_edge, "window-edge", &st_sos);
+        k += check_sos((long)(20000 * scale), gen_sphere, "sphere", &st_sos);
         k += check_facets((long)(200000 * scale));
         total += k;
         printf("%-16s %8s       %9ld checks %6.2fs\n", "sos", "", k, now() - t1);
