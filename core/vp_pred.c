@@ -13,6 +13,9 @@
  *   X  exact integers: every coordinate is m * 2^e; divided by 2^E (E = lowest set bit of all
  *      inputs) it is an integer below 2^2099, and the determinant is evaluated in fixed-size
  *      two's complement arrays (32-bit limbs) whose length follows the actual bit span.
+ * A zero permanent means every monomial has a factor p - q that is exactly 0 (a nonzero
+ * difference rounds to nonzero, and nonzero products cannot underflow, see below): the answer
+ * is 0 at once, as for coplanar points sharing a coordinate.
  * A-C assume no overflow and no precision lost to underflow. A cheap magnitude check guards
  * them: every nonzero |coordinate| must lie in [2^lo, 2^hi) (per-degree window below). Inputs
  * whose exponents spread less than the window are first multiplied by an exact power of two
@@ -682,9 +685,9 @@ static int orient3d_fp(const double *a, const double *b, const double *c, const 
                   + fabs(uz) * (fabs(vwx) + fabs(wvx));
     double bound = O3_ERR_A * perm;
     int r;
-    if (det > bound || -det > bound) {
+    if (det > bound || -det > bound || perm == 0.0) {
         COUNT(st, stage[VP_STAGE_FILTER]);
-        return det > 0.0 ? 1 : -1;
+        return det > 0.0 ? 1 : (det < 0.0 ? -1 : 0);
     }
     r = orient3d_dd(a, b, c, d, perm);
     if (r != UNDECIDED) {
@@ -851,9 +854,9 @@ static int insphere_fp(const double *a, const double *b, const double *c, const 
     double perm = (al * bcdp + bl * acdp) + (cl * abdp + dl * abcp);
     double bound = IS_ERR_A * perm;
     int r;
-    if (det > bound || -det > bound) {
+    if (det > bound || -det > bound || perm == 0.0) {
         COUNT(st, stage[VP_STAGE_FILTER]);
-        return det > 0.0 ? 1 : -1;
+        return det > 0.0 ? 1 : (det < 0.0 ? -1 : 0);
     }
     r = insphere_dd(a, b, c, d, e, perm);
     if (r != UNDECIDED) {
@@ -969,9 +972,9 @@ static int orient2d_fp(const double *a, const double *b, const double *c, int i,
     double l = ui * vj, r = uj * vi;
     double det = l - r, bound = O2_ERR_A * (fabs(l) + fabs(r));
     double t1, t2, t3, t4, m[4];
-    if (det > bound || -det > bound) {
+    if (det > bound || -det > bound || bound == 0.0) {
         COUNT(st, stage[VP_STAGE_FILTER]);
-        return det > 0.0 ? 1 : -1;
+        return det > 0.0 ? 1 : (det < 0.0 ? -1 : 0);
     }
     two_diff(b[i], a[i], &ui, &t1);
     two_diff(b[j], a[j], &uj, &t2);
@@ -1026,9 +1029,9 @@ static int cmp_dist_fp(const double *p, const double *q, const double *r,
     double det = sq - sr, bound = CD_ERR_A * (sq + sr);
     double dq[3], dr[3], hq[6], hr[6], h[12];
     int k, inexact = 0, nq, nr;
-    if (det > bound || -det > bound) {
+    if (det > bound || -det > bound || bound == 0.0) {
         COUNT(st, stage[VP_STAGE_FILTER]);
-        return det > 0.0 ? 1 : -1;
+        return det > 0.0 ? 1 : (det < 0.0 ? -1 : 0);
     }
     for (k = 0; k < 3; k++) {
         double t;
