@@ -37,4 +37,29 @@ int vp_cmp_dist(const double *p, const double *q, const double *r);
 /* Lexicographic comparison (x, then y, then z): -1, 0 (equal points), +1. */
 int vp_lex_cmp(const double *a, const double *b);
 
+/* Which stage answered a call, for tests and benchmarks. The caller owns the struct (zero it
+ * first); the plain functions above keep no counts. */
+enum vp_pred_stage {
+    VP_STAGE_FILTER,     /* floating-point evaluation with a static error bound */
+    VP_STAGE_DD,         /* double-double evaluation with an eps^2 error bound */
+    VP_STAGE_EXACTDIFF,  /* differences were exact: expansion arithmetic on them */
+    VP_STAGE_BIGINT,     /* exact integer arithmetic on the scaled coordinates */
+    VP_STAGE_COUNT
+};
+struct vp_pred_stats {
+    unsigned long stage[VP_STAGE_COUNT];
+    unsigned long rescaled;  /* inputs first scaled by a power of two into the safe range */
+    unsigned long sos;       /* vp_insphere_sos_stats: answered by the perturbation */
+};
+int vp_orient3d_stats(const double *a, const double *b, const double *c, const double *d,
+                      struct vp_pred_stats *st);
+int vp_insphere_stats(const double *a, const double *b, const double *c, const double *d,
+                      const double *e, struct vp_pred_stats *st);
+int vp_insphere_sos_stats(const double *a, const double *b, const double *c, const double *d,
+                          const double *e, struct vp_pred_stats *st);
+int vp_orient2d_proj_stats(const double *a, const double *b, const double *c, int drop,
+                           struct vp_pred_stats *st);
+int vp_cmp_dist_stats(const double *p, const double *q, const double *r,
+                      struct vp_pred_stats *st);
+
 #endif
