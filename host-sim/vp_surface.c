@@ -548,6 +548,11 @@ int vp_surface_open(const char *spec, vp_surface_t **out, char *err, size_t errl
             }
             if (kind >= 0) {
                 T->kind = kind;
+                if (text[nl] == '+' && vp_parse_mods(text + nl, &T->scale, T->c) < 0) {
+                    vp_seterr(err, errlen, "%s: unknown object '%s' after '+' (known: sphere torus genus2 ellipsoid genus5 blobby off:PATH ply:PATH)",
+                              T->text, text + nl + 1);
+                    st = VP_EINVAL; goto fail;
+                }
                 if (vp_parse_mods(text + nl, &T->scale, T->c) < 0) {
                     vp_seterr(err, errlen, "%s: bad modifiers '%s' (expected *SCALE with SCALE > 0 and/or @X,Y,Z)", T->text, text + nl);
                     st = VP_EINVAL; goto fail;
