@@ -563,6 +563,59 @@ int vp_imp_project(int kind, const double p[3], double q[3])
     return fabs(vp_imp_f(kind, x)) < 1e-10 ? 0 : -1;
 }
 
+/* Solves the 4x4 system a x = b by Gaussian elimination with partial pivoting; -1 if singular. */
+static int vp_solve4(double a[4][4], double b[4], double x[4])
+{
+    int i, j, k;
+    for (i = 0; i < 4; i++) {
+        int piv = i;
+        for (j = i + 1; j < 4; j++) if (fabs(a[j][i]) > fabs(a[piv][i])) piv = j;
+        if (!(fabs(a[piv][i]) > 1e-300)) return -1;
+        if (piv != i) {
+            double t;
+            for (k = 0; k < 4; k++) { t = a[i][k]; a[i][k] = a[piv][k]; a[piv][k] = t; }
+            t = b[i]; b[i] = b[piv]; b[piv] = t;
+        }
+        for (j = i + 1; j < 4; j++) {
+            double m = a[j][i] / a[i][i];
+            for (k = i; k < 4; k++) a[j][k] -= m * a[i][k];
+            b[j] -= m * b[i];
+        }
+    }
+    for (i = 3; i >= 0; i--) {
+        double s = b[i];
+        for (k = i + 1; k < 4; k++) s -= a[i][k] * x[k];
+        x[i] = s / a[i][i];
+    }
+    return 0;
+}
+
+/* Newton step on the Lagrange conditions q - p + lambda grad f(q) = 0, f(q) = 0 (Hessian by
+ * central differences of the gradient); y gets the proposed point. -1 if singular. */
+static int vp_lagrange_step(int kind, const double p[3], const double q[3], double y[3])
+{
+    double g[3], f, gg, lam, a[4][4], b[4], x[4], h = 1e-6 * (1 + fabs(q[0]) + fabs(q[1]) + fabs(q[2]));
+    int i, j;
+    f = vp_imp_grad(kind, q, g);
+    gg = g[0] * g[0] + g[1] * g[1] + g[2] * g[2];
+    if (!(gg > 0)) return -1;
+    lam = ((p[0] - q[0]) * g[0] + (p[1] - q[1]) * g[1] + (p[2] - q[2]) * g[2]) / gg;
+    for (j = 0; j < 3; j++) {
+        double qp[3], qm[3], gp[3], gm[3];
+        memcpy(qp, q, sizeof qp); memcpy(qm, q, sizeof qm);
+        qp[j] += h; qm[j] -= h;
+        vp_imp_grad(kind, qp, gp);
+        vp_imp_grad(kind, qm, gm);
+        for (i = 0; i < 3; i++) a[i][j] = (i == j) + lam * (gp[i] - gm[i]) / (2 * h);
+    }
+    for (i = 0; i < 3; i++) { a[i][3] = g[i]; a[3][i] = g[i]; b[i] = -(q[i] - p[i] + lam * g[i]); }
+    a[3][3] = 0;
+    b[3] = -f;
+    if (vp_solve4(a, b, x) < 0) return -1;
+    for (i = 0; i < 3; i++) y[i] = q[i] + x[i];
+    return 0;
+}
+
 double vp_imp_foot(int kind, const double p[3], const double start[3], double q[3])
 {
     double cur[3], dcur;
@@ -570,20 +623,27 @@ double vp_imp_foot(int kind, const double p[3], const double start[3], double q[
     if (vp_imp_project(kind, start, cur) < 0) memcpy(cur, start, sizeof cur);
     dcur = vp_dist3(p, cur);
     for (it = 0; it < 100; it++) {
-        double g[3], gn, n[3], w, step[3], lam = 1, z[3], dz = 0, move;
+        double g[3], gn, n[3], w, step[3], lam = 1, z[3], y[3], dz = 0, move;
         int tries, ok = 0;
-        vp_imp_grad(kind, cur, g);
-        gn = sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
-        if (!(gn > 0)) break;
-        for (k = 0; k < 3; k++) n[k] = g[k] / gn;
-        w = (p[0] - cur[0]) * n[0] + (p[1] - cur[1]) * n[1] + (p[2] - cur[2]) * n[2];
-        for (k = 0; k < 3; k++) step[k] = (p[k] - w * n[k]) - cur[k];   /* to p's tangent-plane foot */
-        for (tries = 0; tries < 12; tries++, lam *= 0.5) {
-            double y[3];
-            for (k = 0; k < 3; k++) y[k] = cur[k] + lam * step[k];
-            if (vp_imp_project(kind, y, z) < 0) continue;
+        /* Newton on the Lagrange conditions first (quadratic convergence), accepted only if it
+         * brings the surface point closer; else a damped step towards p's tangent-plane foot. */
+        if (vp_lagrange_step(kind, p, cur, y) == 0 && vp_imp_project(kind, y, z) == 0) {
             dz = vp_dist3(p, z);
-            if (dz <= dcur) { ok = 1; break; }
+            if (dz <= dcur) ok = 1;
+        }
+        if (!ok) {
+            vp_imp_grad(kind, cur, g);
+            gn = sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
+            if (!(gn > 0)) break;
+            for (k = 0; k < 3; k++) n[k] = g[k] / gn;
+            w = (p[0] - cur[0]) * n[0] + (p[1] - cur[1]) * n[1] + (p[2] - cur[2]) * n[2];
+            for (k = 0; k < 3; k++) step[k] = (p[k] - w * n[k]) - cur[k];
+            for (tries = 0; tries < 12; tries++, lam *= 0.5) {
+                for (k = 0; k < 3; k++) y[k] = cur[k] + lam * step[k];
+                if (vp_imp_project(kind, y, z) < 0) continue;
+                dz = vp_dist3(p, z);
+                if (dz <= dcur) { ok = 1; break; }
+            }
         }
         if (!ok) break;
         move = vp_dist3(z, cur);
