@@ -5,6 +5,8 @@
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
+#include "vp_bvh.h"
+#include "vp_meshcheck.h"
 #include "vp_meshgen.h"
 #include "vp_meshio.h"
 #include "vp_rng.h"
@@ -315,8 +317,49 @@ static void check_meshes(void)
             agree += hf == hb;
         }
         CHECK(agree > 300);
+        /* distances against every triangle, segment collisions against marching */
+        for (i = 0; i < 200; i++) {
+            double p[3], q[3], d, best;
+            size_t f;
+            for (k = 0; k < 3; k++) p[k] = lo[k] - 1 + (hi[k] - lo[k] + 2) * vp_rng_uniform(&r);
+            best = fabs(sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]) - 1);   /* the "+sphere" term */
+            d = vp_surface_closest(s, p, q);
+            for (f = 0; f < two.nt; f++) {
+                double v[3][3], cq[3], e;
+                int j, m;
+                for (j = 0; j < 3; j++) for (m = 0; m < 3; m++) v[j][m] = 2 * two.xyz[3 * two.tri[3 * f + j] + m] + (m == 2 ? 10 : 0);
+                e = sqrt(vp_tri_closest(p, v[0], v[1], v[2], cq));
+                if (e < best) best = e;
+            }
+            CHECKF(fabs(d - best) < 1e-12 * (1 + best) && fabs(vp_surface_distance(s, q)) < 1e-12, "mesh distance %g vs %g", d, best);
+        }
+        for (i = 0; i < 300; i++) {
+            double a[3], b[3], u[3], clearance = (i % 3) * 0.05, len = 2 * vp_rng_uniform(&r), mind = 1e300, h;
+            int n = 400, m, got;
+            for (k = 0; k < 3; k++) a[k] = lo[k] + (hi[k] - lo[k]) * vp_rng_uniform(&r);
+            vp_rng_unit3(&r, u);
+            for (k = 0; k < 3; k++) b[k] = a[k] + len * u[k];
+            h = len / n;
+            for (m = 0; m <= n; m++) {
+                double q[3], dd;
+                for (k = 0; k < 3; k++) q[k] = a[k] + (b[k] - a[k]) * m / n;
+                dd = vp_surface_inside(s, q) ? 0 : vp_surface_distance(s, q);
+                if (dd < mind) mind = dd;
+            }
+            got = vp_surface_segment_collides(s, a, b, clearance);
+            if (mind <= clearance) CHECKF(got, "mesh segment %d: missed collision", i);
+            else if (mind - h > clearance) CHECKF(!got, "mesh segment %d: false collision (%g > %g)", i, mind, clearance);
+        }
         vp_surface_close(s);
     }
+    /* a mesh against itself as an object: Hausdorff 0 */
+    snprintf(spec, sizeof spec, "ply:%s", path2);
+    if (vp_surface_open(spec, &s, err, sizeof err) == VP_OK) {
+        vp_hausdorff_t hd;
+        CHECK(vp_meshcheck_hausdorff(&two, s, 5000, 9, &hd) == VP_OK);
+        CHECKF(hd.hausdorff < 1e-12, "self Hausdorff %g", hd.hausdorff);
+        vp_surface_close(s);
+    } else CHECK(0);
     snprintf(spec, sizeof spec, "off:%s", path3);
     expect_error(spec, VP_EINVAL, "not closed");
     snprintf(spec, sizeof spec, "off:%s+off:%s@0.5,0,0", path1, path1);

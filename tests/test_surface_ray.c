@@ -5,6 +5,9 @@
 #include <math.h>
 #include <string.h>
 #include <time.h>
+#include <unistd.h>
+#include "vp_meshgen.h"
+#include "vp_meshio.h"
 #include "vp_rng.h"
 #include "vp_status.h"
 #include "vp_surface.h"
@@ -161,5 +164,20 @@ int main(void)
     check_surface("blobby", 2500, 600);
     check_surface("torus+sphere*0.4@0,0,1.5+genus5*0.3@4,0,0", 2500, 600);
     check_surface("torus*0.001@1000,2000,-3000", 300, 200);   /* small and far from the origin */
+    {
+        /* triangle meshes: a 32768-face torus grid and an icosphere, through the BVH */
+        vp_mesh_t m, ico;
+        char path[96], spec[256];
+        double off[3] = { 0, 0, 2 };
+        vp_mesh_init(&m); vp_mesh_init(&ico);
+        snprintf(path, sizeof path, "/tmp/vp_test_ray_%ld.ply", (long)getpid());
+        CHECK(vp_meshgen_torus(1.0, 0.3, 256, 64, &m) == VP_OK && vp_meshgen_icosphere(3, &ico) == VP_OK);
+        CHECK(vp_meshgen_append(&m, &ico, off) == VP_OK);
+        CHECK(vp_mesh_write_file(&m, path, VP_MESH_PLY_BIN) == VP_OK);
+        snprintf(spec, sizeof spec, "ply:%s", path);
+        check_surface(spec, 600, 300);
+        remove(path);
+        vp_mesh_free(&m); vp_mesh_free(&ico);
+    }
     return vp_test_done("test_surface_ray");
 }
