@@ -368,8 +368,35 @@ static void check_meshes(void)
     vp_mesh_free(&ico); vp_mesh_free(&tor); vp_mesh_free(&two); vp_mesh_free(&holed);
 }
 
+/* Samples are uniform by area: torus outer half, genus5 octants, a two-term split by area. */
+static void check_uniform(void)
+{
+    vp_surface_t *s;
+    char err[256];
+    size_t n = 200000, i, outer = 0, oct[8] = { 0 };
+    double *p = malloc(n * 3 * sizeof(double)), expect;
+    CHECK(vp_surface_open("torus", &s, err, sizeof err) == VP_OK);
+    vp_surface_sample(s, n, 1, p);
+    for (i = 0; i < n; i++) outer += p[3 * i] * p[3 * i] + p[3 * i + 1] * p[3 * i + 1] > 1;
+    expect = (3.141592653589793 + 0.6) / (2 * 3.141592653589793);   /* (pi R + 2r) / (2 pi R) */
+    CHECKF(fabs((double)outer / n - expect) < 4 * sqrt(expect * (1 - expect) / n), "torus outer fraction %g vs %g", (double)outer / n, expect);
+    vp_surface_close(s);
+    CHECK(vp_surface_open("genus5", &s, err, sizeof err) == VP_OK);
+    vp_surface_sample(s, n, 2, p);
+    for (i = 0; i < n; i++) oct[(p[3 * i] > 0) + 2 * (p[3 * i + 1] > 0) + 4 * (p[3 * i + 2] > 0)]++;
+    for (i = 0; i < 8; i++) CHECKF(fabs((double)oct[i] / n - 0.125) < 4 * sqrt(0.125 * 0.875 / n), "genus5 octant %lu: %g", (unsigned long)i, (double)oct[i] / n);
+    vp_surface_close(s);
+    CHECK(vp_surface_open("sphere@5,0,0+sphere*2", &s, err, sizeof err) == VP_OK);
+    vp_surface_sample(s, n, 3, p);
+    for (i = 0, outer = 0; i < n; i++) outer += p[3 * i] > 2.5;
+    CHECK(outer == n / 5);   /* areas 1 : 4 */
+    vp_surface_close(s);
+    free(p);
+}
+
 int main(void)
 {
+    check_uniform();
     const double pi = 3.141592653589793;
     check_specs();
     check_meshes();
