@@ -1,0 +1,462 @@
+/* vp_meshcheck — see vp_meshcheck.h. */
+#include <float.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include "vp_bvh.h"
+#include "vp_meshcheck.h"
+#include "vp_rng.h"
+#include "vp_status.h"
+#include "vp_surface.h"
+
+typedef struct vp_dedge { uint32_t lo, hi; uint32_t face; uint32_t forward; } vp_dedge_t;
+
+static int vp_dedge_cmp(const void *pa, const void *pb)
+{
+    const vp_dedge_t *a = pa, *b = pb;
+    if (a->lo != b->lo) return a->lo < b->lo ? -1 : 1;
+    if (a->hi != b->hi) return a->hi < b->hi ? -1 : 1;
+    if (a->face != b->face) return a->face < b->face ? -1 : 1;
+    return 0;
+}
+
+static uint32_t vp_uf_find(uint32_t *par, uint32_t x)
+{
+    while (par[x] != x) { par[x] = par[par[x]]; x = par[x]; }
+    return x;
+}
+
+static void vp_uf_join(uint32_t *par, uint32_t a, uint32_t b)
+{
+    a = vp_uf_find(par, a); b = vp_uf_find(par, b);
+    if (a != b) { if (a < b) par[b] = a; else par[a] = b; }
+}
+
+static void vp_tri_vec(const vp_mesh_t *m, size_t f, const double **a, const double **b, const double **c)
+{
+    *a = m->xyz + 3 * (size_t)m->tri[3 * f];
+    *b = m->xyz + 3 * (size_t)m->tri[3 * f + 1];
+    *c = m->xyz + 3 * (size_t)m->tri[3 * f + 2];
+}
+
+static double vp_angle(const double *p, const double *q, const double *r)
+{
+    double u[3], v[3], c[3];
+    int k;
+    for (k = 0; k < 3; k++) { u[k] = q[k] - p[k]; v[k] = r[k] - p[k]; }
+    c[0] = u[1] * v[2] - u[2] * v[1]; c[1] = u[2] * v[0] - u[0] * v[2]; c[2] = u[0] * v[1] - u[1] * v[0];
+    return atan2(sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]), u[0] * v[0] + u[1] * v[1] + u[2] * v[2]);
+}
+
+void vp_meshcheck_free(vp_meshcheck_t *r)
+{
+    if (!r) return;
+    free(r->comp_of_face);
+    free(r->comp);
+    r->comp_of_face = NULL;
+    r->comp = NULL;
+}
+
+/* Is the link of vertex v (edges opposite v in its faces) one cycle, or one path? */
+static int vp_link_ok(const uint32_t *link, size_t nlink, uint32_t *ids, uint32_t *deg, uint32_t *par)
+{
+    size_t n = 0, i, j, ends = 0, roots = 0;
+    for (i = 0; i < 2 * nlink; i++) {
+        for (j = 0; j < n; j++) if (ids[j] == link[i]) break;
+        if (j == n) { ids[n] = link[i]; deg[n] = 0; par[n] = (uint32_t)n; n++; }
+        deg[j]++;
+    }
+    for (i = 0; i < nlink; i++) {
+        uint32_t a = 0, b = 0;
+        for (j = 0; j < n; j++) { if (ids[j] == link[2 * i]) a = (uint32_t)j; if (ids[j] == link[2 * i + 1]) b = (uint32_t)j; }
+        vp_uf_join(par, a, b);
+    }
+    for (j = 0; j < n; j++) {
+        if (deg[j] > 2) return 0;
+        if (deg[j] == 1) ends++;
+        if (vp_uf_find(par, (uint32_t)j) == j) roots++;
+    }
+    return roots == 1 && (ends == 0 || ends == 2);
+}
+
+int vp_meshcheck_analyze(const vp_mesh_t *m, vp_meshcheck_t *r)
+{
+    size_t nt = m->nt, nv = m->nv, f, i, j, ne;
+    vp_dedge_t *de = NULL;
+    uint32_t *fpar = NULL, *vstart = NULL, *vfaces = NULL, *vpar = NULL, *stamp = NULL, *scratch = NULL;
+    uint32_t *link = NULL, *compmap = NULL;
+    unsigned char *bad_vertex = NULL, *bad_face = NULL;
+    size_t maxdeg = 0;
+    int st = VP_ENOMEM, c;
+    memset(r, 0, sizeof *r);
+    r->nv = nv; r->nt = nt;
+    r->min_angle_deg = 180;
+    for (i = 0; i < 3 * nt; i++) if (m->tri[i] >= nv) return VP_EINVAL;
+    if (nv > UINT32_MAX - 1 || nt > UINT32_MAX / 3) return VP_ERANGE;
+    de = malloc((3 * nt + 1) * sizeof *de);
+    fpar = malloc((nt + 1) * sizeof *fpar);
+    vstart = calloc(nv + 1, sizeof *vstart);
+    vfaces = malloc((3 * nt + 1) * sizeof *vfaces);
+    vpar = malloc((nv + 1) * sizeof *vpar);
+    stamp = malloc((nv + 1) * sizeof *stamp);
+    bad_vertex = calloc(nv + 1, 1);
+    bad_face = calloc(nt + 1, 1);
+    r->comp_of_face = malloc((nt + 1) * sizeof(int));
+    compmap = malloc((nt + 1) * sizeof *compmap);
+    if (!de || !fpar || !vstart || !vfaces || !vpar || !stamp || !bad_vertex || !bad_face || !r->comp_of_face || !compmap) goto done;
+
+    /* Faces: degenerate ones, angles, directed edges. */
+    for (f = 0; f < nt; f++) {
+        const uint32_t *t = m->tri + 3 * f;
+        const double *a, *b, *cc;
+        fpar[f] = (uint32_t)f;
+        vp_tri_vec(m, f, &a, &b, &cc);
+        if (t[0] == t[1] || t[1] == t[2] || t[2] == t[0]) bad_face[f] = 1;
+        else {
+            double u[3], v[3], n[3];
+            int k;
+            for (k = 0; k < 3; k++) { u[k] = b[k] - a[k]; v[k] = cc[k] - a[k]; }
+            n[0] = u[1] * v[2] - u[2] * v[1]; n[1] = u[2] * v[0] - u[0] * v[2]; n[2] = u[0] * v[1] - u[1] * v[0];
+            if (n[0] == 0 && n[1] == 0 && n[2] == 0) bad_face[f] = 1;
+            else {
+                double a0 = vp_angle(a, b, cc), a1 = vp_angle(b, cc, a), a2 = vp_angle(cc, a, b), mn;
+                mn = a0 < a1 ? a0 : a1;
+                if (a2 < mn) mn = a2;
+                mn *= 180.0 / 3.141592653589793;
+                if (mn < r->min_angle_deg) r->min_angle_deg = mn;
+            }
+        }
+        if (bad_face[f]) r->degenerate_faces++;
+        for (j = 0; j < 3; j++) {
+            uint32_t u = t[j], v = t[(j + 1) % 3];
+            vp_dedge_t *e = &de[3 * f + j];
+            e->lo = u < v ? u : v; e->hi = u < v ? v : u;
+            e->face = (uint32_t)f; e->forward = u < v;
+            vstart[t[j]]++;
+        }
+    }
+    if (nt == 0) r->min_angle_deg = 0;
+    qsort(de, 3 * nt, sizeof *de, vp_dedge_cmp);
+
+    /* Edges: group the directed copies. */
+    for (i = 0; i < 3 * nt; i = j) {
+        size_t cnt;
+        for (j = i + 1; j < 3 * nt && de[j].lo == de[i].lo && de[j].hi == de[i].hi; j++) {}
+        cnt = j - i;
+        r->edges++;
+        if (de[i].lo == de[i].hi) continue;   /* from a degenerate face */
+        if (cnt == 1) r->boundary_edges++;
+        else if (cnt == 2) { if (de[i].forward == de[i + 1].forward) r->misoriented_edges++; }
+        else {
+            r->nonmanifold_edges++;
+            bad_vertex[de[i].lo] = bad_vertex[de[i].hi] = 1;
+        }
+        for (ne = i + 1; ne < j; ne++) vp_uf_join(fpar, de[i].face, de[ne].face);
+    }
+
+    /* Components, numbered in order of their first face. */
+    for (f = 0; f < nt; f++) compmap[f] = UINT32_MAX;
+    r->components = 0;
+    for (f = 0; f < nt; f++) {
+        uint32_t root = vp_uf_find(fpar, (uint32_t)f);
+        if (compmap[root] == UINT32_MAX) compmap[root] = (uint32_t)r->components++;
+        r->comp_of_face[f] = (int)compmap[root];
+    }
+    r->comp = calloc((size_t)r->components + 1, sizeof *r->comp);
+    if (!r->comp) goto done;
+    for (c = 0; c < r->components; c++) r->comp[c].manifold = 1;
+
+    /* Vertex -> faces (CSR) and vertex links. */
+    {
+        size_t acc = 0;
+        for (i = 0; i < nv; i++) {
+            size_t d = vstart[i];
+            vstart[i] = (uint32_t)acc;
+            acc += d;
+            if (d > maxdeg) maxdeg = d;
+        }
+        vstart[nv] = (uint32_t)acc;
+    }
+    {
+        uint32_t *fill = malloc((nv + 1) * sizeof *fill);
+        if (!fill) goto done;
+        memcpy(fill, vstart, (nv + 1) * sizeof *fill);
+        for (f = 0; f < nt; f++)
+            for (j = 0; j < 3; j++) vfaces[fill[m->tri[3 * f + j]]++] = (uint32_t)f;
+        free(fill);
+    }
+    link = malloc((2 * maxdeg + 2) * sizeof *link);
+    scratch = malloc((6 * maxdeg + 6) * sizeof *scratch);
+    if (!link || !scratch) goto done;
+    for (i = 0; i < nv; i++) {
+        size_t nl = 0, k;
+        if (vstart[i + 1] == vstart[i]) { r->unused_vertices++; continue; }
+        for (k = vstart[i]; k < vstart[i + 1]; k++) {
+            const uint32_t *t = m->tri + 3 * (size_t)vfaces[k];
+            int at = t[0] == i ? 0 : t[1] == i ? 1 : 2;
+            if (bad_face[vfaces[k]]) { bad_vertex[i] = 1; continue; }
+            link[2 * nl] = t[(at + 1) % 3];
+            link[2 * nl + 1] = t[(at + 2) % 3];
+            nl++;
+        }
+        if (!bad_vertex[i] && !vp_link_ok(link, nl, scratch, scratch + 2 * maxdeg + 2, scratch + 4 * maxdeg + 4))
+            bad_vertex[i] = 1;
+        if (bad_vertex[i]) r->nonmanifold_vertices++;
+    }
+
+    /* Per component: faces, vertices, edges, boundary, area, volume, manifoldness. */
+    for (f = 0; f < nt; f++) {
+        vp_mesh_component_t *cp = &r->comp[r->comp_of_face[f]];
+        const double *a, *b, *cc;
+        double u[3], v[3], n[3];
+        int k;
+        vp_tri_vec(m, f, &a, &b, &cc);
+        for (k = 0; k < 3; k++) { u[k] = b[k] - a[k]; v[k] = cc[k] - a[k]; }
+        n[0] = u[1] * v[2] - u[2] * v[1]; n[1] = u[2] * v[0] - u[0] * v[2]; n[2] = u[0] * v[1] - u[1] * v[0];
+        cp->faces++;
+        cp->area += 0.5 * sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+        cp->volume += (a[0] * (b[1] * cc[2] - b[2] * cc[1]) - a[1] * (b[0] * cc[2] - b[2] * cc[0]) +
+                       a[2] * (b[0] * cc[1] - b[1] * cc[0])) / 6.0;
+        if (bad_face[f]) cp->manifold = 0;
+    }
+    for (i = 0; i < nv; i++) { stamp[i] = UINT32_MAX; vpar[i] = (uint32_t)i; }
+    for (f = 0; f < nt; f++) {
+        uint32_t cid = (uint32_t)r->comp_of_face[f];
+        for (j = 0; j < 3; j++) {
+            uint32_t v = m->tri[3 * f + j];
+            if (bad_vertex[v]) r->comp[cid].manifold = 0;
+        }
+    }
+    /* vertices per component: a vertex counts once for each component it touches */
+    {
+        size_t *order = malloc((nt + 1) * sizeof *order), *cstart = calloc((size_t)r->components + 1, sizeof *cstart);
+        if (!order || !cstart) { free(order); free(cstart); goto done; }
+        for (f = 0; f < nt; f++) cstart[r->comp_of_face[f] + 1]++;
+        for (c = 0; c < r->components; c++) cstart[c + 1] += cstart[c];
+        for (f = 0; f < nt; f++) order[cstart[r->comp_of_face[f]]++] = f;
+        for (f = 0; f < nt; f++) {
+            size_t ff = order[f];
+            uint32_t cid = (uint32_t)r->comp_of_face[ff];
+            for (j = 0; j < 3; j++) {
+                uint32_t v = m->tri[3 * ff + j];
+                if (stamp[v] != cid) { stamp[v] = cid; r->comp[cid].vertices++; }
+            }
+        }
+        free(order); free(cstart);
+    }
+    for (i = 0; i < 3 * nt; i = j) {
+        size_t cnt;
+        vp_mesh_component_t *cp;
+        for (j = i + 1; j < 3 * nt && de[j].lo == de[i].lo && de[j].hi == de[i].hi; j++) {}
+        cnt = j - i;
+        cp = &r->comp[r->comp_of_face[de[i].face]];
+        cp->edges++;
+        if (de[i].lo == de[i].hi) continue;
+        if (cnt == 1) { cp->boundary_edges++; vp_uf_join(vpar, de[i].lo, de[i].hi); }
+        else if (cnt > 2 || de[i].forward == de[i + 1].forward) cp->manifold = cnt > 2 ? 0 : cp->manifold;
+        if (cnt == 2 && de[i].forward == de[i + 1].forward) cp->genus = -2;   /* marks "misoriented" for now */
+    }
+    /* boundary loops: components of the boundary-edge graph */
+    for (i = 0; i < nv; i++) stamp[i] = 0;
+    for (i = 0; i < 3 * nt; i = j) {
+        for (j = i + 1; j < 3 * nt && de[j].lo == de[i].lo && de[j].hi == de[i].hi; j++) {}
+        if (j - i == 1 && de[i].lo != de[i].hi) {
+            uint32_t root = vp_uf_find(vpar, de[i].lo);
+            if (!stamp[root]) { stamp[root] = 1; r->comp[r->comp_of_face[de[i].face]].boundary_loops++; }
+        }
+    }
+    r->euler = 0;
+    r->genus = 0;
+    for (c = 0; c < r->components; c++) {
+        vp_mesh_component_t *cp = &r->comp[c];
+        long twice;
+        int misoriented = cp->genus == -2;
+        cp->euler = (long)cp->vertices - (long)cp->edges + (long)cp->faces;
+        cp->closed = cp->manifold && cp->boundary_edges == 0;
+        twice = 2 - cp->euler - (long)cp->boundary_loops;
+        cp->genus = (cp->manifold && !misoriented && twice >= 0 && twice % 2 == 0) ? (int)(twice / 2) : -1;
+        r->euler += cp->euler;
+        if (cp->genus < 0 || r->genus < 0) r->genus = -1; else r->genus += cp->genus;
+    }
+    /* a vertex shared by two components was counted twice above; the global count uses it once */
+    {
+        size_t used = nv - r->unused_vertices, sumv = 0;
+        for (c = 0; c < r->components; c++) sumv += r->comp[c].vertices;
+        r->euler -= (long)(sumv - used);
+    }
+    r->closed_manifold = nt > 0 && r->boundary_edges == 0 && r->nonmanifold_edges == 0 &&
+                         r->nonmanifold_vertices == 0 && r->degenerate_faces == 0;
+    r->oriented = r->misoriented_edges == 0 && r->nonmanifold_edges == 0;
+    r->outward = r->closed_manifold && r->oriented;
+    for (c = 0; c < r->components; c++) if (!(r->comp[c].volume > 0)) r->outward = 0;
+    st = VP_OK;
+done:
+    free(de); free(fpar); free(vstart); free(vfaces); free(vpar); free(stamp); free(scratch);
+    free(link); free(compmap); free(bad_vertex); free(bad_face);
+    if (st < 0) vp_meshcheck_free(r);
+    return st;
+}
+
+void vp_meshcheck_print(const vp_meshcheck_t *r, void *file)
+{
+    FILE *f = file;
+    int c;
+    fprintf(f, "vertices %lu (unused %lu), triangles %lu, edges %lu\n", (unsigned long)r->nv,
+            (unsigned long)r->unused_vertices, (unsigned long)r->nt, (unsigned long)r->edges);
+    fprintf(f, "closed 2-manifold %s, oriented %s, outward %s\n", r->closed_manifold ? "yes" : "no",
+            r->oriented ? "yes" : "no", r->outward ? "yes" : "no");
+    fprintf(f, "boundary edges %lu, non-manifold edges %lu, non-manifold vertices %lu, misoriented edges %lu, degenerate faces %lu\n",
+            (unsigned long)r->boundary_edges, (unsigned long)r->nonmanifold_edges, (unsigned long)r->nonmanifold_vertices,
+            (unsigned long)r->misoriented_edges, (unsigned long)r->degenerate_faces);
+    fprintf(f, "components %d, euler %ld, genus %d, smallest angle %.3f deg\n", r->components, r->euler, r->genus, r->min_angle_deg);
+    for (c = 0; c < r->components && c < 50; c++)
+        fprintf(f, "  component %d: faces %lu euler %ld genus %d boundary loops %lu area %.6g volume %.6g\n", c,
+                (unsigned long)r->comp[c].faces, r->comp[c].euler, r->comp[c].genus,
+                (unsigned long)r->comp[c].boundary_loops, r->comp[c].area, r->comp[c].volume);
+}
+
+/* ---------- Hausdorff ---------- */
+
+#define VP_HD_TOP 24
+
+typedef struct vp_hd_cand { double d; double p[3]; size_t face; double u, v; } vp_hd_cand_t;
+
+static void vp_hd_keep(vp_hd_cand_t *top, int *ntop, const vp_hd_cand_t *c)
+{
+    int i;
+    if (*ntop == VP_HD_TOP && c->d <= top[VP_HD_TOP - 1].d) return;
+    i = *ntop < VP_HD_TOP ? (*ntop)++ : VP_HD_TOP - 1;
+    while (i > 0 && top[i - 1].d < c->d) { top[i] = top[i - 1]; i--; }
+    top[i] = *c;
+}
+
+static void vp_bary_point(const vp_mesh_t *m, size_t f, double u, double v, double p[3])
+{
+    const double *a, *b, *c;
+    int k;
+    vp_tri_vec(m, f, &a, &b, &c);
+    for (k = 0; k < 3; k++) p[k] = a[k] + u * (b[k] - a[k]) + v * (c[k] - a[k]);
+}
+
+int vp_meshcheck_hausdorff(const vp_mesh_t *m, const vp_surface_t *s, size_t n, uint64_t seed, vp_hausdorff_t *out)
+{
+    vp_bvh_t *bvh = NULL;
+    double *cdf = NULL, *pts = NULL, acc = 0, sum;
+    size_t f, i, *vface = NULL;
+    vp_hd_cand_t top[VP_HD_TOP];
+    int ntop = 0, st, t;
+    vp_rng_t r;
+    if (!m || !s || !out || m->nt == 0) return VP_EINVAL;
+    memset(out, 0, sizeof *out);
+    st = vp_bvh_build(m->xyz, m->nv, m->tri, m->nt, &bvh);
+    if (st < 0) return st;
+    cdf = malloc(m->nt * sizeof *cdf);
+    vface = malloc((m->nv + 1) * sizeof *vface);
+    pts = malloc((n + 1) * 3 * sizeof *pts);
+    if (!cdf || !vface || !pts) { st = VP_ENOMEM; goto done; }
+    for (i = 0; i < m->nv; i++) vface[i] = (size_t)-1;
+    for (f = 0; f < m->nt; f++) {
+        const double *a, *b, *c;
+        double u[3], v[3], nn[3];
+        int k;
+        vp_tri_vec(m, f, &a, &b, &c);
+        for (k = 0; k < 3; k++) { u[k] = b[k] - a[k]; v[k] = c[k] - a[k]; }
+        nn[0] = u[1] * v[2] - u[2] * v[1]; nn[1] = u[2] * v[0] - u[0] * v[2]; nn[2] = u[0] * v[1] - u[1] * v[0];
+        acc += 0.5 * sqrt(nn[0] * nn[0] + nn[1] * nn[1] + nn[2] * nn[2]);
+        cdf[f] = acc;
+        for (k = 0; k < 3; k++) vface[m->tri[3 * f + k]] = f;
+    }
+
+    /* Mesh -> surface: every vertex, then n points uniform by area. */
+    vp_rng_seed(&r, seed);
+    sum = 0;
+    for (i = 0; i < m->nv + n; i++) {
+        vp_hd_cand_t c;
+        if (i < m->nv) {
+            if (vface[i] == (size_t)-1) continue;
+            c.face = vface[i];
+            c.u = m->tri[3 * c.face + 1] == i ? 1 : 0;
+            c.v = m->tri[3 * c.face + 2] == i ? 1 : 0;
+        } else {
+            double target = vp_rng_uniform(&r) * acc;
+            size_t lo = 0, hi = m->nt - 1;
+            while (lo < hi) { size_t mid = (lo + hi) / 2; if (cdf[mid] > target) hi = mid; else lo = mid + 1; }
+            c.face = lo;
+            c.u = vp_rng_uniform(&r); c.v = vp_rng_uniform(&r);
+            if (c.u + c.v > 1) { c.u = 1 - c.u; c.v = 1 - c.v; }
+        }
+        vp_bary_point(m, c.face, c.u, c.v, c.p);
+        c.d = vp_surface_distance(s, c.p);
+        if (i >= m->nv) sum += c.d;
+        vp_hd_keep(top, &ntop, &c);
+    }
+    out->mean_mesh_to_surface = n ? sum / (double)n : 0;
+    /* Local maximisation inside each candidate's triangle (pattern search on u, v). */
+    for (t = 0; t < ntop; t++) {
+        vp_hd_cand_t c = top[t];
+        double step = 0.25;
+        static const double dirs[6][2] = { { 1, 0 }, { -1, 0 }, { 0, 1 }, { 0, -1 }, { 1, -1 }, { -1, 1 } };
+        while (step > 1e-10) {
+            int k, moved = 0;
+            for (k = 0; k < 6; k++) {
+                vp_hd_cand_t e = c;
+                e.u = c.u + step * dirs[k][0];
+                e.v = c.v + step * dirs[k][1];
+                if (e.u < 0) e.u = 0;
+                if (e.v < 0) e.v = 0;
+                if (e.u + e.v > 1) { double sc = 1 / (e.u + e.v); e.u *= sc; e.v *= sc; }
+                vp_bary_point(m, e.face, e.u, e.v, e.p);
+                e.d = vp_surface_distance(s, e.p);
+                if (e.d > c.d) { c = e; moved = 1; }
+            }
+            if (!moved) step *= 0.5;
+        }
+        if (c.d > out->mesh_to_surface) out->mesh_to_surface = c.d;
+    }
+
+    /* Surface -> mesh. */
+    if (vp_surface_sample(s, n, seed ^ 0x5a5a5a5a5a5a5a5aULL, pts) != n) { st = VP_ENOMEM; goto done; }
+    ntop = 0;
+    sum = 0;
+    for (i = 0; i < n; i++) {
+        vp_hd_cand_t c;
+        memcpy(c.p, pts + 3 * i, sizeof c.p);
+        c.d = vp_bvh_closest(bvh, c.p, NULL, NULL);
+        c.face = 0; c.u = c.v = 0;
+        sum += c.d;
+        vp_hd_keep(top, &ntop, &c);
+    }
+    out->mean_surface_to_mesh = n ? sum / (double)n : 0;
+    for (t = 0; t < ntop; t++) {
+        vp_hd_cand_t c = top[t];
+        double step = sqrt(vp_surface_area(s) / (double)(n + 1));
+        while (step > 1e-10) {
+            double nrm[3], t1[3], t2[3], len;
+            int k, moved = 0, j;
+            vp_surface_normal(s, c.p, nrm);
+            /* tangent basis */
+            if (fabs(nrm[0]) < 0.9) { t1[0] = 0; t1[1] = nrm[2]; t1[2] = -nrm[1]; }
+            else { t1[0] = -nrm[2]; t1[1] = 0; t1[2] = nrm[0]; }
+            len = sqrt(t1[0] * t1[0] + t1[1] * t1[1] + t1[2] * t1[2]);
+            for (j = 0; j < 3; j++) t1[j] /= len;
+            t2[0] = nrm[1] * t1[2] - nrm[2] * t1[1]; t2[1] = nrm[2] * t1[0] - nrm[0] * t1[2]; t2[2] = nrm[0] * t1[1] - nrm[1] * t1[0];
+            for (k = 0; k < 4; k++) {
+                double y[3], q[3], d;
+                double a = (k == 0) - (k == 1), b = (k == 2) - (k == 3);
+                for (j = 0; j < 3; j++) y[j] = c.p[j] + step * (a * t1[j] + b * t2[j]);
+                vp_surface_closest(s, y, q);
+                d = vp_bvh_closest(bvh, q, NULL, NULL);
+                if (d > c.d) { c.d = d; memcpy(c.p, q, sizeof q); moved = 1; }
+            }
+            if (!moved) step *= 0.5;
+        }
+        if (c.d > out->surface_to_mesh) out->surface_to_mesh = c.d;
+    }
+    out->hausdorff = out->mesh_to_surface > out->surface_to_mesh ? out->mesh_to_surface : out->surface_to_mesh;
+    st = VP_OK;
+done:
+    vp_bvh_free(bvh);
+    free(cdf); free(vface); free(pts);
+    return st;
+}
