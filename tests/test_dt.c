@@ -151,7 +151,7 @@ static void shuffle(double *xyz, size_t n, uint64_t seed)
 {
     size_t i, c;
     for (i = n; i > 1; i--) {
-        size_t j = (size_t)(vp_rng_next(&seed) % i);
+        size_t j = (size_t)(vp_splitmix_next(&seed) % i);
         for (c = 0; c < 3; c++) {
             double t = xyz[3 * (i - 1) + c];
             xyz[3 * (i - 1) + c] = xyz[3 * j + c];
@@ -478,9 +478,9 @@ static void test_queries(void)
             double p[3];
             uint32_t conflicting[512], nconf = 0, start = VP_DT_NONE, nk, nc, k, v;
             const uint32_t *killed, *created;
-            p[0] = 1.4 * vp_rng_uniform(&s) - 0.2;
-            p[1] = 1.4 * vp_rng_uniform(&s) - 0.2;
-            p[2] = 1.4 * vp_rng_uniform(&s) - 0.2;
+            p[0] = 1.4 * vp_splitmix_uniform(&s) - 0.2;
+            p[1] = 1.4 * vp_splitmix_uniform(&s) - 0.2;
+            p[2] = 1.4 * vp_splitmix_uniform(&s) - 0.2;
             for (tt = 0; tt < t.dt.ntet_slots; tt++)
                 if (vp_dt_alive(&t.dt, tt) && vp_dt_in_conflict(&t.dt, tt, p)) {
                     if (nconf < 512) conflicting[nconf++] = tt;
@@ -565,7 +565,7 @@ static void test_adversarial(void)
             int k;
             for (k = 0; k < 3; k++) {
                 double base = 1e9;
-                int steps = (int)(vp_rng_next(&s) % 64);
+                int steps = (int)(vp_splitmix_next(&s) % 64);
                 p[k] = base;
                 while (steps--) p[k] = nextafter(p[k], 2e9);
             }

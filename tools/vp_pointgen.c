@@ -5,7 +5,7 @@
 #include <string.h>
 #include "vp_pointgen.h"
 
-uint64_t vp_rng_next(uint64_t *state)
+uint64_t vp_splitmix_next(uint64_t *state)
 {
     uint64_t z = (*state += 0x9E3779B97F4A7C15ull);
     z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
@@ -13,9 +13,9 @@ uint64_t vp_rng_next(uint64_t *state)
     return z ^ (z >> 31);
 }
 
-double vp_rng_uniform(uint64_t *state)
+double vp_splitmix_uniform(uint64_t *state)
 {
-    return (double)(vp_rng_next(state) >> 11) * (1.0 / 9007199254740992.0);
+    return (double)(vp_splitmix_next(state) >> 11) * (1.0 / 9007199254740992.0);
 }
 
 static double *alloc_points(size_t n, char *err, size_t errlen)
@@ -31,7 +31,7 @@ int vp_pointgen_uniform(size_t n, uint64_t seed, double **xyz, size_t *count, ch
     size_t i;
     double *p = alloc_points(n, err, errlen);
     if (!p) return -1;
-    for (i = 0; i < 3 * n; i++) p[i] = vp_rng_uniform(&s);
+    for (i = 0; i < 3 * n; i++) p[i] = vp_splitmix_uniform(&s);
     *xyz = p; *count = n;
     return 0;
 }
@@ -50,7 +50,7 @@ int vp_pointgen_grid(size_t k, uint64_t seed, double **xyz, size_t *count, char 
                 i++;
             }
     for (i = n; i > 1; i--) { /* Fisher-Yates shuffle */
-        size_t j = (size_t)(vp_rng_next(&s) % i), c;
+        size_t j = (size_t)(vp_splitmix_next(&s) % i), c;
         for (c = 0; c < 3; c++) {
             double t = p[3 * (i - 1) + c];
             p[3 * (i - 1) + c] = p[3 * j + c];
@@ -70,9 +70,9 @@ int vp_pointgen_sphere(size_t n, uint64_t seed, double **xyz, size_t *count, cha
     for (i = 0; i < n; i++) {
         double v[3], r2;
         do {
-            v[0] = 2.0 * vp_rng_uniform(&s) - 1.0;
-            v[1] = 2.0 * vp_rng_uniform(&s) - 1.0;
-            v[2] = 2.0 * vp_rng_uniform(&s) - 1.0;
+            v[0] = 2.0 * vp_splitmix_uniform(&s) - 1.0;
+            v[1] = 2.0 * vp_splitmix_uniform(&s) - 1.0;
+            v[2] = 2.0 * vp_splitmix_uniform(&s) - 1.0;
             r2 = v[0] * v[0] + v[1] * v[1] + v[2] * v[2];
         } while (r2 > 1.0 || r2 < 1e-6);
         r2 = 1.0 / sqrt(r2);
