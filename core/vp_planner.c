@@ -265,55 +265,99 @@ static int route_push(vp_planner_t *pl, const double *p)
     return VP_OK;
 }
 
-/* Pushes p out of Omega onto the boundary of Omega grown by delta (nearest face for a box,
- * radially for a ball). */
-static void push_out(const vp_planner_config_t *c, double *p, double delta)
+/* Moves m (the midpoint of a chord with unit direction u) out of Omega: along the part of
+ * (m - centre) perpendicular to the chord, to delta beyond dOmega. */
+static void push_out(const vp_planner_config_t *c, double *m, const double *u, double delta)
 {
+    double o[3], d[3], t0, t1, s;
     int k;
-    if (c->omega_kind == VP_OMEGA_BALL) {
-        double d[3], r;
-        sub3(d, p, c->omega_center);
-        r = sqrt(dot3(d, d));
-        if (!(r > 0.0)) { d[0] = 0; d[1] = 0; d[2] = 1; r = 1; }
-        for (k = 0; k < 3; k++) p[k] = c->omega_center[k] + d[k] * (c->omega_radius + delta) / r;
-    } else if (omega_inside(c, p)) {
-        int best = 0, side = 0;
-        double bd = 1e300;
-        for (k = 0; k < 3; k++) {
-            double dl = p[k] - c->omega_lo[k], dh = c->omega_hi[k] - p[k];
-            if (dl < bd) { bd = dl; best = k; side = 0; }
-            if (dh < bd) { bd = dh; best = k; side = 1; }
-        }
-        p[best] = side ? c->omega_hi[best] + delta : c->omega_lo[best] - delta;
+    omega_center(c, o);
+    sub3(d, m, o);
+    s = dot3(d, u);
+    for (k = 0; k < 3; k++) d[k] -= s * u[k];
+    if (!normalize3(d)) {
+        double t[3] = { 0, 0, 1 };
+        if (fabs(u[2]) > 0.8) { t[0] = 1; t[2] = 0; }
+        cross3(d, u, t);
+        normalize3(d);
     }
+    if (!omega_clip(c, m, d, 1e300, &t0, &t1)) return;
+    for (k = 0; k < 3; k++) m[k] += (t1 + delta) * d[k];
+}
+
+/* The fallback: out to a sphere around Omega's circumsphere, along the great circle in chords
+ * of at most 15 degrees (they stay outside the circumsphere), and back in. */
+static int sphere_route(vp_planner_t *pl, const double *a, const double *b, int dry, double *len)
+{
+    double c[3], ra, rb, rs, ua[3], ub[3], um[3], prev[3];
+    int i, k, st, half;
+    omega_center(&pl->cfg, c);
+    rs = 1.01 * omega_circumradius(&pl->cfg);
+    sub3(ua, a, c);
+    sub3(ub, b, c);
+    ra = sqrt(dot3(ua, ua));
+    rb = sqrt(dot3(ub, ub));
+    if (!normalize3(ua) || !normalize3(ub)) return VP_EDEGEN;
+    if (ra < rs) ra = rs;
+    if (rb < rs) rb = rs;
+    for (k = 0; k < 3; k++) um[k] = ua[k] + ub[k];
+    if (!normalize3(um)) {
+        double t[3] = { 1, 0, 0 };
+        if (fabs(ua[0]) > 0.9) { t[0] = 0; t[1] = 1; }
+        cross3(um, ua, t);
+        normalize3(um);
+    }
+    prev[0] = a[0]; prev[1] = a[1]; prev[2] = a[2];
+    for (half = 0; half < 2; half++) {
+        const double *u0 = half ? um : ua, *u1 = half ? ub : um;
+        for (i = half; i <= 8; i++) {
+            double s = i / 8.0, w[3], r = ra + (rb - ra) * 0.5 * (half + s);
+            for (k = 0; k < 3; k++) w[k] = (1.0 - s) * u0[k] + s * u1[k];
+            normalize3(w);
+            for (k = 0; k < 3; k++) w[k] = c[k] + r * w[k];
+            *len += dist3(prev, w);
+            if (!dry && (st = route_push(pl, w)) != VP_OK) return st;
+            prev[0] = w[0]; prev[1] = w[1]; prev[2] = w[2];
+        }
+    }
+    *len += dist3(prev, b);
+    return dry ? VP_OK : route_push(pl, b);
 }
 
 /* Appends a path between two points on or outside dOmega that stays outside Omega: the
- * straight segment where it does not enter Omega, otherwise its midpoint pushed out onto
- * Omega grown by a small margin, recursively (an explicit stack of bounded depth), so the path
- * hugs dOmega. *len gets its length; with dry != 0 it only measures. */
-#define ROUTE_DEPTH 12
+ * straight segment where it does not enter Omega, otherwise its midpoint pushed out of Omega
+ * (sideways to the chord), recursively with an explicit stack of bounded depth, so the path
+ * hugs dOmega. If that does not settle, the way round Omega's circumsphere. *len gets its
+ * length; with dry != 0 it only measures. */
+#define ROUTE_DEPTH 10
 static int outside_route(vp_planner_t *pl, const double *a, const double *b, int dry, double *len)
 {
     double stack[ROUTE_DEPTH + 2][3], cur[3], delta = 0.01 * omega_circumradius(&pl->cfg);
     int depth[ROUTE_DEPTH + 2], n = 0, st;
+    uint32_t nroute0 = pl->nroute;
     *len = 0.0;
     memcpy(cur, a, sizeof cur);
     memcpy(stack[n], b, sizeof stack[n]);
     depth[n++] = 0;
     while (n > 0) {
-        double *y = stack[n - 1], m[3];
+        double *y = stack[n - 1], m[3], u[3];
         int d = depth[n - 1], k;
-        if (d >= ROUTE_DEPTH || !seg_enters_omega(&pl->cfg, cur, y)) {
-            /* at the depth limit the margin guarantees the chord is outside (see push_out) */
+        if (!seg_enters_omega(&pl->cfg, cur, y)) {
             *len += dist3(cur, y);
             if (!dry && (st = route_push(pl, y)) != VP_OK) return st;
             memcpy(cur, y, sizeof cur);
             n--;
             continue;
         }
+        if (d >= ROUTE_DEPTH) {
+            pl->nroute = nroute0;
+            *len = 0.0;
+            return sphere_route(pl, a, b, dry, len);
+        }
+        sub3(u, y, cur);
+        normalize3(u);
         for (k = 0; k < 3; k++) m[k] = 0.5 * (cur[k] + y[k]);
-        push_out(&pl->cfg, m, delta);
+        push_out(&pl->cfg, m, u, delta);
         depth[n - 1] = d + 1;
         memcpy(stack[n], m, sizeof m);
         depth[n++] = d + 1;
