@@ -43,21 +43,23 @@
 /* facet record flags */
 #define FREC_FLIP 1u     /* (v0,v1,v2) is oriented inward: swap two for output */
 #define FREC_STUCK 2u    /* its centre could not be inserted: not refined again */
+#define FREC_DOUBLE 4u   /* hit from both ends: the dual edge crosses S twice */
 
 /* phases */
-enum { PH_SEED = 0, PH_START, PH_RUN, PH_CLOSE, PH_DONE };
+enum { PH_SEED = 0, PH_START, PH_RUN, PH_CLOSE, PH_COMPONENTS, PH_RESEED, PH_DONE };
 
 /* task kinds */
 #define TASK_PROBE 1u
 
 struct vp_vrec {
     double p[3];
-    double g;          /* path search: cost so far */
+    double g, f;       /* path search: cost so far, and plus the straight distance left */
     uint32_t prev;     /* previous record on the free path (itself: a root, outside Omega) */
     uint32_t adj;      /* first free edge at this record */
     uint32_t depth;    /* hops to the root */
     uint32_t flags;
     uint32_t stamp, from; /* path search bookkeeping */
+    uint32_t hpos;        /* place in the search's open heap, NONE when closed */
 };
 
 struct vp_frec {
@@ -521,6 +523,23 @@ static int frec_add(vp_planner_t *pl, const uint32_t *fv, const double *c, const
     return VP_OK;
 }
 
+/* A second ball for facet record k (the edge crosses S twice): keep the larger, and mark the
+ * record so that no free segment is inferred from it any more. */
+static void frec_set_ball(vp_planner_t *pl, uint32_t k, const double *c)
+{
+    vp_frec_t *f = &pl->frec[k];
+    double r = dist3(c, vp_dt_point(&pl->dt, f->v[0]));
+    f->flags |= FREC_DOUBLE;
+    if (!(r > f->r)) return;
+    f->c[0] = c[0]; f->c[1] = c[1]; f->c[2] = c[2];
+    f->r = r;
+    if (f->heap != NONE) {
+        heap_up(pl, f->heap);
+    } else if (r > pl->cfg.eps && !(f->flags & FREC_STUCK)) {
+        (void)heap_push(pl, k);
+    }
+}
+
 /* ---------- Voronoi edges, clipped to Omega ---------- */
 
 typedef struct edgegeom {
@@ -648,56 +667,62 @@ typedef struct astar {
     const double *goal;
 } astar_t;
 
-static double astar_f(const astar_t *s, uint32_t n)
+static void astar_place(astar_t *s, uint32_t i, uint32_t n)
 {
-    return s->pl->vrec[n].g + dist3(s->pl->vrec[n].p, s->goal);
+    s->open[i] = n;
+    s->pl->vrec[n].hpos = i;
 }
 
 static void astar_sift_up(astar_t *s, uint32_t i)
 {
+    uint32_t n = s->open[i];
+    double f = s->pl->vrec[n].f;
     while (i > 0) {
-        uint32_t p = (i - 1) / 2, t;
-        if (!(astar_f(s, s->open[i]) < astar_f(s, s->open[p]))) break;
-        t = s->open[i]; s->open[i] = s->open[p]; s->open[p] = t;
+        uint32_t p = (i - 1) / 2;
+        if (!(f < s->pl->vrec[s->open[p]].f)) break;
+        astar_place(s, i, s->open[p]);
         i = p;
     }
+    astar_place(s, i, n);
 }
 
 static uint32_t astar_pop(astar_t *s)
 {
-    uint32_t top = s->open[0], i = 0;
-    s->open[0] = s->open[--s->nopen];
+    uint32_t top = s->open[0], i = 0, last;
+    s->pl->vrec[top].hpos = NONE;
+    if (--s->nopen == 0) return top;
+    last = s->open[s->nopen];
     for (;;) {
-        uint32_t l = 2 * i + 1, r = l + 1, m = i, t;
-        if (l < s->nopen && astar_f(s, s->open[l]) < astar_f(s, s->open[m])) m = l;
-        if (r < s->nopen && astar_f(s, s->open[r]) < astar_f(s, s->open[m])) m = r;
-        if (m == i) break;
-        t = s->open[i]; s->open[i] = s->open[m]; s->open[m] = t;
+        uint32_t l = 2 * i + 1, r = l + 1, m;
+        double fm = s->pl->vrec[last].f;
+        m = NONE;
+        if (l < s->nopen && s->pl->vrec[s->open[l]].f < fm) { m = l; fm = s->pl->vrec[s->open[l]].f; }
+        if (r < s->nopen && s->pl->vrec[s->open[r]].f < fm) m = r;
+        if (m == NONE) break;
+        astar_place(s, i, s->open[m]);
         i = m;
     }
+    astar_place(s, i, last);
     return top;
 }
 
 static int astar_relax(astar_t *s, uint32_t from, uint32_t nb, double g, uint32_t virt)
 {
     vp_vrec_t *r = &s->pl->vrec[nb];
-    uint32_t i;
     if (r->stamp == s->stamp && !(g < r->g)) return VP_OK;
     if (r->stamp != s->stamp) {
-        if (s->nopen >= s->pl->cap_astar) return VP_ENOMEM;
         r->stamp = s->stamp;
-        s->open[s->nopen++] = nb;
-        i = s->nopen - 1;
-    } else {
-        for (i = 0; i < s->nopen && s->open[i] != nb; i++) {}
-        if (i == s->nopen) { /* already closed: reopen */
-            if (s->nopen >= s->pl->cap_astar) return VP_ENOMEM;
-            s->open[s->nopen++] = nb;
-        }
+        r->hpos = NONE;
     }
     r->g = g;
+    r->f = g + dist3(r->p, s->goal);
     r->from = from | virt;
-    astar_sift_up(s, i);
+    if (r->hpos == NONE) {
+        if (s->nopen >= s->pl->cap_astar) return VP_ENOMEM;
+        r->hpos = s->nopen++;
+        s->open[r->hpos] = nb;
+    }
+    astar_sift_up(s, r->hpos);
     return VP_OK;
 }
 
@@ -715,12 +740,15 @@ static int astar_path(vp_planner_t *pl, uint32_t a, uint32_t b, const double *gp
     s.goal = b != NONE ? pl->vrec[b].p : gp;
     pl->vrec[a].stamp = s.stamp;
     pl->vrec[a].g = 0.0;
+    pl->vrec[a].f = dist3(pl->vrec[a].p, s.goal);
     pl->vrec[a].from = NONE;
+    pl->vrec[a].hpos = 0;
     s.open[s.nopen++] = a;
     while (s.nopen > 0) {
         uint32_t e, cur;
-        if (best_out != NONE && best_out_cost <= astar_f(&s, s.open[0])) break;
+        if (best_out != NONE && best_out_cost <= pl->vrec[s.open[0]].f) break;
         cur = astar_pop(&s);
+        pl->st.astar_expansions++;
         if (cur == b) { node = b; break; }
         if (++expansions > budget) return VP_ENOMEM;
         for (e = pl->vrec[cur].adj; e != NONE;) {
@@ -783,20 +811,28 @@ static int plan_route(vp_planner_t *pl, uint32_t b, const double *gp)
     double tl = 0.0, al = 0.0;
     int st;
     pl->nroute = pl->iroute = 0;
+    pl->st.routes++;
+    pl->route_from = pl->at;
+    pl->shortcut = NONE;
     if (b != NONE && b == pl->at) return VP_OK;
-    /* what the prev chains would cost (reported, and used with VP_PLAN_PREV_CHAINS) */
-    st = tree_path(pl, pl->at, b, gp, 0, &tl);
-    if (st != VP_OK) return st;
-    pl->st.travel_prev_chains += tl;
     if (!(pl->cfg.flags & VP_PLAN_PREV_CHAINS)) {
         st = astar_path(pl, pl->at, b, gp, &al);
-        if (st != VP_OK) { pl->nroute = 0; pl->st.stale_balls += 1000000; }
+        if (st != VP_OK) { pl->nroute = 0; pl->st.astar_fallbacks++; }
     } else {
         st = VP_ENOMEM;
     }
+    if (!(pl->cfg.flags & (VP_PLAN_PREV_CHAINS | VP_PLAN_PAPER)) && b != NONE) {
+        /* a long detour to a near target: first probe the straight way (one probe can save
+         * many moves); the route found stays the plan if the probe hits */
+        double d = dist3(pl->vrec[pl->at].p, pl->vrec[b].p);
+        double known = st == VP_OK ? al : 1e300;
+        if (known > 3.0 * d + 2.0 * pl->cfg.eps && d > 0.0) pl->shortcut = b;
+    }
     if (st != VP_OK) {
+        /* the prev chains: always a way (and the only one with VP_PLAN_PREV_CHAINS) */
         st = tree_path(pl, pl->at, b, gp, 1, &tl);
         if (st != VP_OK) return st;
+        pl->st.travel_prev_chains += tl;
     }
     if (b == NONE) {
         st = rec_new(pl, gp, NONE, REC_OUT, &b);
@@ -807,6 +843,13 @@ static int plan_route(vp_planner_t *pl, uint32_t b, const double *gp)
 }
 
 /* ---------- detect_access as a stack of probe tasks ---------- */
+
+/* Probing every edge of every active vertex (the paper's detect_access): always with
+ * VP_PLAN_PAPER, otherwise only while a hole could not be closed locally. */
+static int exhaustive(const vp_planner_t *pl)
+{
+    return (pl->cfg.flags & VP_PLAN_PAPER) || pl->exhaustive;
+}
 
 static int task_push(vp_planner_t *pl, uint32_t t, int f, int forced)
 {
@@ -839,8 +882,11 @@ static int explore(vp_planner_t *pl, uint32_t t)
     const uint32_t *w = vp_dt_tet(&pl->dt, t);
     for (f = 3; f >= 0; f--) {
         unsigned s = side_get(pl, t, f);
-        if ((s & SIDE_MASK) != SIDE_UNKNOWN || (s & SIDE_QUEUED) || facet_has_ghost(pl, t, f)) continue;
-        if (!(pl->cfg.flags & VP_PLAN_PAPER) && tet_active(pl, w[4 + f] >> 2)) continue;
+        if ((s & SIDE_QUEUED) || facet_has_ghost(pl, t, f)) continue;
+        /* BEHIND seen from a free vertex: the edge crosses S twice; its other ball is probed
+         * from here */
+        if ((s & SIDE_MASK) != SIDE_UNKNOWN && (s & SIDE_MASK) != SIDE_BEHIND) continue;
+        if ((s & SIDE_MASK) == SIDE_UNKNOWN && !exhaustive(pl) && tet_active(pl, w[4 + f] >> 2)) continue;
         if ((st = task_push(pl, t, f, 0)) != VP_OK) return st;
     }
     return VP_OK;
@@ -898,11 +944,12 @@ static int task_start(vp_planner_t *pl, vp_task_t *k)
     uint32_t goal = NONE;
     if (!vp_dt_alive(&pl->dt, t)) return 0;
     side_set(pl, t, f, s & ~(SIDE_QUEUED | SIDE_FORCED));
-    if ((s & SIDE_MASK) != SIDE_UNKNOWN) return 0;
+    if ((s & SIDE_MASK) != SIDE_UNKNOWN && (s & SIDE_MASK) != SIDE_BEHIND) return 0;
     w = vp_dt_tet(&pl->dt, t);
     u = w[4 + f] >> 2;
     j = w[4 + f] & 3u;
-    if (!(pl->cfg.flags & VP_PLAN_PAPER) && !(s & SIDE_FORCED) && tet_active(pl, u)) return 0;
+    if ((s & SIDE_MASK) == SIDE_UNKNOWN && !exhaustive(pl) && !(s & SIDE_FORCED) && tet_active(pl, u))
+        return 0;
     if (!tet_active(pl, t)) return 0;
     st = edge_geom(pl, t, f, &g);
     if (st != VP_OK) return 0; /* degenerate: no usable edge */
@@ -940,6 +987,13 @@ static int task_start(vp_planner_t *pl, vp_task_t *k)
     pl->probe_origin_rec = pl->at;
     pl->curtask = *k;
     side_set(pl, t, f, side_get(pl, t, f) | SIDE_QUEUED);
+    if (pl->shortcut != NONE) {
+        /* the shortcut probe goes first, from where the device stands now */
+        pl->sc_from = pl->route_from;
+        pl->sc_tries = 0;
+        pl->sc_pending = 1;
+        return 2;
+    }
     return 1;
 }
 
@@ -960,10 +1014,18 @@ static int task_finish(vp_planner_t *pl, const vp_probe_result_t *res)
         for (q = 0; q < 3; q++) h[q] = pl->probe_origin[q] + d * pl->probe_dir[q];
         pl->st.hits++;
         vp_dt_facet(&pl->dt, t, f, fv);
-        st = frec_add(pl, fv, h, pl->probe_origin, &fr);
-        if (st != VP_OK) return st;
-        side_set(pl, t, f, SIDE_HIT);
-        side_set(pl, u, (int)j, (side_get(pl, u, (int)j) & ~SIDE_MASK) | SIDE_BEHIND);
+        {
+            unsigned su = side_get(pl, u, (int)j) & SIDE_MASK;
+            st = frec_add(pl, fv, h, pl->probe_origin, &fr);
+            if (st != VP_OK) return st;
+            side_set(pl, t, f, SIDE_HIT);
+            if (su == SIDE_HIT) {
+                /* seen from both ends: two balls; the larger one decides refinement */
+                frec_set_ball(pl, fr, h);
+            } else {
+                side_set(pl, u, (int)j, (side_get(pl, u, (int)j) & ~SIDE_MASK) | SIDE_BEHIND);
+            }
+        }
         return VP_OK;
     }
     pl->st.misses++;
@@ -1065,7 +1127,7 @@ static int after_insert(vp_planner_t *pl, uint32_t pv)
             uint32_t fv[3], r;
             int m = 0, x;
             if ((kbound[ki] >> i) & 1u) continue;
-            if (s != SIDE_HIT && s != SIDE_BEHIND) continue;
+            (void)s;
             for (x = 0; x < 4; x++)
                 if (x != i) fv[m++] = kverts[4 * ki + (uint32_t)x];
             r = frec_lookup(pl, fv);
@@ -1098,8 +1160,15 @@ static int after_insert(vp_planner_t *pl, uint32_t pv)
         vp_dt_facet(&pl->dt, n, jn, fv);
         r = frec_lookup(pl, fv);
         if (r != NONE) {
+            int dbl = (pl->frec[r].flags & FREC_DOUBLE) != 0;
             valid = vp_cmp_dist(pl->frec[r].c, P, vp_dt_point(&pl->dt, fv[0])) >= 0;
             if (!valid) frec_delete(pl, r);
+            if (dbl) {
+                /* two crossings: nothing about free parts can be inferred; look again */
+                side_set(pl, n, jn, SIDE_UNKNOWN);
+                side_set(pl, U, (int)jj, side_get(pl, U, (int)jj) & ~SIDE_MASK);
+                continue;
+            }
         }
         sn = SIDE_UNKNOWN;
         if (r != NONE && valid) {
@@ -1234,6 +1303,7 @@ static int refine(vp_planner_t *pl)
     }
     pl->st.insertions++;
     pl->last_vertex = v;
+    pl->exhaustive = 0;
     st = after_insert(pl, v);
     note_peak(pl);
     return st;
@@ -1276,7 +1346,7 @@ static int probe_around_edge(vp_planner_t *pl, uint32_t t0, uint32_t x, uint32_t
 static int close_holes(vp_planner_t *pl)
 {
     /* edge counts in a scratch hash: 3 words per slot (a, b, count) */
-    uint32_t slots = 1, i, *tab = pl->astar, pushed = 0;
+    uint32_t slots = 1, i, *tab = pl->astar, pushed = 0, holes = 0;
     while (slots < 4u * pl->nfacets + 16u) slots <<= 1;
     if (3u * slots > pl->cap_astar) return 0; /* too big to check here: left to certify */
     for (i = 0; i < 3u * slots; i++) tab[i] = NONE;
@@ -1313,8 +1383,119 @@ static int close_holes(vp_planner_t *pl)
         n = probe_around_edge(pl, t, a, b);
         if (n < 0) return n;
         pushed += (uint32_t)n;
+        holes++;
+    }
+    if (holes > 0 && pushed == 0 && !pl->exhaustive) {
+        /* no active vertex next to the holes: detect_access in full from every active vertex
+         * until the next insertion */
+        uint32_t tt;
+        int st;
+        pl->exhaustive = 1;
+        pl->st.escalations++;
+        for (tt = 0; tt < pl->dt.ntet_slots; tt++)
+            if (vp_dt_alive(&pl->dt, tt) && tet_active(pl, tt)) {
+                if ((st = explore(pl, tt)) != VP_OK) return st;
+            }
+        return (int)pl->ntask;
     }
     return (int)pushed;
+}
+
+static int seed_issue(vp_planner_t *pl, const double *dir, double range);
+static double omega_exit(const vp_planner_config_t *c, const double *p, const double *u);
+static int pools_have_room(const vp_planner_t *pl);
+
+/* ---------- H2: a vertex on every component ---------- */
+
+/* 1 if point o is enclosed by the mesh: odd number of facets crossed by a ray from o. The
+ * ray's direction is fixed and irrational-looking so that it meets no edge in practice. */
+static int mesh_encloses(const vp_planner_t *pl, const double *o)
+{
+    static const double dir[3] = { 0.4469983318002897, 0.5384104567341229, 0.7144217014264011 };
+    uint32_t i, crossings = 0;
+    for (i = 0; i < pl->nfrec; i++) {
+        const vp_frec_t *f = &pl->frec[i];
+        const double *a, *b, *c;
+        double e1[3], e2[3], p[3], q[3], t[3], det, u, v, w;
+        if (f->v[0] == NONE) continue;
+        a = vp_dt_point(&pl->dt, f->v[0]);
+        b = vp_dt_point(&pl->dt, f->v[1]);
+        c = vp_dt_point(&pl->dt, f->v[2]);
+        sub3(e1, b, a);
+        sub3(e2, c, a);
+        cross3(p, dir, e2);
+        det = dot3(e1, p);
+        if (det == 0.0) continue;
+        sub3(t, o, a);
+        u = dot3(t, p) / det;
+        if (u < 0.0 || u > 1.0) continue;
+        cross3(q, t, e1);
+        v = dot3(dir, q) / det;
+        if (v < 0.0 || u + v > 1.0) continue;
+        w = dot3(e2, q) / det;
+        if (w > 0.0) crossings++;
+    }
+    return (int)(crossings & 1u);
+}
+
+/* Directions tried, one after the other, to find a component the seeds missed. */
+static void reseed_dir(uint32_t attempt, double *d)
+{
+    static const signed char D[26][3] = {
+        { 0, 0, 1 }, { 0, 0, -1 }, { 1, 0, 0 }, { -1, 0, 0 }, { 0, 1, 0 }, { 0, -1, 0 },
+        { 1, 1, 1 }, { -1, -1, -1 }, { 1, -1, 1 }, { -1, 1, -1 }, { 1, 1, -1 }, { -1, -1, 1 },
+        { -1, 1, 1 }, { 1, -1, -1 }, { 1, 1, 0 }, { -1, -1, 0 }, { 1, -1, 0 }, { -1, 1, 0 },
+        { 1, 0, 1 }, { -1, 0, -1 }, { 1, 0, -1 }, { -1, 0, 1 }, { 0, 1, 1 }, { 0, -1, -1 },
+        { 0, 1, -1 }, { 0, -1, 1 } };
+    d[0] = D[attempt % 26][0]; d[1] = D[attempt % 26][1]; d[2] = D[attempt % 26][2];
+    normalize3(d);
+}
+
+#define RESEED_TRIES 26u
+
+/* After the mesh closed: every o_i must be enclosed by it (H2). A missed component gets a new
+ * sample: a probe towards o_i from another side of Omega, inserted like a ball centre. */
+static int check_components(vp_planner_t *pl)
+{
+    uint32_t i;
+    for (i = 0; i < pl->cfg.ninterior; i++) {
+        const double *o = pl->cfg.interior[i];
+        double d[3], q[3], te;
+        int k, st;
+        if (pl->h2_done & (1u << i)) continue;
+        if (mesh_encloses(pl, o)) { pl->h2_done |= 1u << i; continue; }
+        if (pl->h2_tries[i] >= RESEED_TRIES) continue; /* reported: not found */
+        reseed_dir(pl->h2_tries[i]++, d);
+        te = omega_exit(&pl->cfg, o, d);
+        for (k = 0; k < 3; k++) q[k] = o[k] + te * d[k];
+        if ((st = plan_route(pl, NONE, q)) != VP_OK) return st;
+        for (k = 0; k < 3; k++) d[k] = -d[k];
+        pl->reseed = i;
+        pl->phase = PH_RESEED;
+        return seed_issue(pl, d, te);
+    }
+    pl->phase = PH_DONE;
+    return VP_OK;
+}
+
+static int reseed_feed(vp_planner_t *pl, const vp_probe_result_t *res)
+{
+    double h[3];
+    uint32_t v;
+    int k, st;
+    pl->phase = PH_COMPONENTS;
+    if (!res->hit) return VP_OK;
+    for (k = 0; k < 3; k++) h[k] = pl->probe_origin[k] + res->dist * pl->probe_dir[k];
+    if (!pools_have_room(pl)) return VP_ENOMEM;
+    st = vp_dt_insert(&pl->dt, h, VP_DT_NONE, &v);
+    if (st == VP_EDUP) return VP_OK;
+    if (st != VP_OK) return st;
+    pl->st.insertions++;
+    pl->st.reseeds++;
+    pl->exhaustive = 0;
+    st = after_insert(pl, v);
+    pl->phase = PH_RUN;
+    return st;
 }
 
 /* ---------- seeds: the persistent facet and a fourth point per component ---------- */
@@ -1568,6 +1749,22 @@ int vp_planner_next(vp_planner_t *pl, vp_cmd_t *cmd)
             memcpy(pl->pos, to, sizeof pl->pos);
             return VP_OK;
         }
+        if (pl->sc_pending == 1) {
+            const vp_vrec_t *a = &pl->vrec[pl->sc_from], *b = &pl->vrec[pl->shortcut];
+            double d[3], len;
+            sub3(d, b->p, a->p);
+            len = sqrt(dot3(d, d));
+            d[0] /= len; d[1] /= len; d[2] /= len;
+            pl->sc_pending = 2;
+            pl->awaiting = 1;
+            cmd->kind = VP_CMD_PROBE;
+            memcpy(cmd->from, a->p, sizeof cmd->from);
+            memcpy(cmd->dir, d, sizeof cmd->dir);
+            cmd->range = len;
+            pl->st.probes++;
+            pl->st.shortcut_probes++;
+            return VP_OK;
+        }
         if (pl->probe_ready) {
             pl->probe_ready = 0;
             pl->awaiting = 1;
@@ -1591,6 +1788,7 @@ int vp_planner_next(vp_planner_t *pl, vp_cmd_t *cmd)
             if (pl->ntask > 0) {
                 vp_task_t k = pl->task[--pl->ntask];
                 if (task_start(pl, &k)) pl->probe_ready = 1;
+                if (pl->sc_pending) pl->iroute = pl->nroute; /* hold the route: shortcut first */
                 st = pl->error;
             } else if (pl->nheap > 0) {
                 st = refine(pl);
@@ -1600,8 +1798,11 @@ int vp_planner_next(vp_planner_t *pl, vp_cmd_t *cmd)
             break;
         case PH_CLOSE:
             st = close_holes(pl);
-            pl->phase = st > 0 ? PH_RUN : PH_DONE;
+            pl->phase = st > 0 ? PH_RUN : PH_COMPONENTS;
             if (st > 0) st = VP_OK;
+            break;
+        case PH_COMPONENTS:
+            st = check_components(pl);
             break;
         default:
             cmd->kind = VP_CMD_DONE;
@@ -1622,7 +1823,30 @@ int vp_planner_feed(vp_planner_t *pl, const vp_probe_result_t *res)
     if (!pl->awaiting) return VP_ESTATE;
     if (res->hit && (!(res->dist >= 0.0) || !(res->dist < 1e300))) return VP_EINVAL;
     pl->awaiting = 0;
+    if (pl->sc_pending == 2) {
+        pl->sc_pending = 0;
+        if (res->hit) {
+            pl->st.hits++;
+            pl->iroute = 0; /* the searched route stands */
+            return VP_OK;
+        }
+        pl->st.misses++;
+        if (pl->sc_tries < pl->cfg.confirm_misses) {
+            pl->sc_tries++;
+            pl->st.reprobes++;
+            pl->sc_pending = 1;
+            return VP_OK;
+        }
+        /* the straight way is free: take it */
+        st = edge_add(pl, pl->sc_from, pl->shortcut);
+        if (st != VP_OK) { pl->error = st; return st; }
+        pl->nroute = pl->iroute = 0;
+        st = route_push(pl, pl->vrec[pl->shortcut].p);
+        if (st != VP_OK) { pl->error = st; return st; }
+        return VP_OK;
+    }
     if (pl->phase == PH_SEED) st = seed_feed(pl, res);
+    else if (pl->phase == PH_RESEED) st = reseed_feed(pl, res);
     else st = task_finish(pl, res);
     if (st < 0) pl->error = st;
     return st;
@@ -1651,6 +1875,9 @@ void vp_planner_get_stats(const vp_planner_t *pl, vp_planner_stats_t *st)
     uint32_t i;
     *st = pl->st;
     st->bad_balls = pl->nheap;
+    st->missing_components = 0;
+    for (i = 0; i < pl->cfg.ninterior; i++)
+        st->missing_components += !(pl->h2_done & (1u << i));
     st->records = pl->nvrec;
     st->free_edges = pl->nfedge;
     st->facet_records = pl->nfacets;

@@ -65,11 +65,16 @@ typedef struct vp_probe_result {
 
 typedef struct vp_planner_stats {
     uint64_t probes, hits, misses, moves, reprobes;
-    uint64_t insertions, stale_balls;
+    uint64_t insertions, stale_balls, routes, astar_fallbacks, astar_expansions;
+    uint64_t shortcut_probes;
+    uint64_t escalations;
+    uint64_t reseeds;          /* samples added on components the seeds had missed */      /* holes closed by probing every edge of every active vertex */  /* probes of a straight way to save a detour */
     double travel;             /* length of all MOVEs */
-    double travel_prev_chains; /* what the same moves would cost along prev chains */
+    double travel_prev_chains; /* travel that went along prev chains (all of it with
+                                  VP_PLAN_PREV_CHAINS; else the search's fallbacks) */
     double max_ball;           /* largest surface Delaunay ball now */
     uint32_t bad_balls;        /* in the queue now */
+    uint32_t missing_components; /* o_i not enclosed by the mesh (H2 fails for them) */
     uint32_t records, free_edges, facet_records;
     size_t arena_peak;
 } vp_planner_stats_t;
@@ -105,15 +110,22 @@ typedef struct vp_planner {
     uint32_t at;             /* record the device stands at (VP_DT_NONE between) */
     double pos[3];
     uint32_t seed, seed_step, seed_try;
-    double seed_pts[8][3];
+    double seed_pts[4 * VP_PLANNER_MAX_SEEDS][3];
     uint32_t nseed_pts;
     double seed_q[3], seed_dir[3];
     double probe_origin[3], probe_dir[3], probe_range, probe_full;
     int probe_ready;         /* a probe is prepared: issue it once the route is done */
     uint32_t probe_origin_rec, misses_in_row;
+    uint32_t route_from;     /* where the current route starts */
+    uint32_t shortcut, sc_from, sc_tries; /* a straight shortcut being probed */
+    int sc_pending;          /* 1: to issue, 2: issued */
     uint32_t stamp;
     uint32_t last_vertex;
     int error;
+    int exhaustive;          /* detect_access in full until the next insertion (closing) */
+    uint32_t h2_done;        /* bit i: o_i is enclosed by the mesh */
+    uint8_t h2_tries[VP_PLANNER_MAX_SEEDS];
+    uint32_t reseed;
     vp_task_t curtask;       /* the probe being carried out */
     vp_planner_stats_t st;
 } vp_planner_t;

@@ -39,6 +39,9 @@ int vp_session_run(vp_planner_t *pl, const vp_device_ops_t *dev, const vp_sessio
  * faces oriented outward). */
 int vp_session_mesh(const vp_planner_t *pl, vp_mesh_t *m);
 
+/* Orients each connected component of m consistently and outward (positive volume). */
+int vp_mesh_orient(vp_mesh_t *m);
+
 /* CPU seconds of this process, wall seconds (monotonic). */
 double vp_cpu_seconds(void);
 double vp_wall_seconds(void);
