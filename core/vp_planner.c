@@ -188,13 +188,20 @@ static void *carve(unsigned char **cur, unsigned char *end, size_t bytes)
     return (void *)p;
 }
 
+/* Arena in use at most: the triangulation's high-water mark plus every pool's. The planner's
+ * split of the arena is fixed, so a session needs each pool's peak to fit its share. */
 static void note_peak(vp_planner_t *pl)
 {
-    size_t used = vp_dt_bytes_used(&pl->dt) + (size_t)pl->nvrec * sizeof(vp_vrec_t) +
-                  (size_t)pl->nfedge * 16u + (size_t)pl->nfrec * sizeof(vp_frec_t) +
-                  (size_t)(pl->hash_mask + 1u) * 4u + (size_t)pl->cap_heap * 4u +
-                  (size_t)pl->cap_task * sizeof(vp_task_t) + (size_t)pl->cap_route * 24u +
-                  (size_t)pl->cap_astar * 4u + (size_t)pl->cap_path * 4u;
+    size_t used;
+    uint32_t hash_need = 1;
+    if (pl->ntask > pl->peak_task) pl->peak_task = pl->ntask;
+    if (pl->nheap > pl->peak_heap) pl->peak_heap = pl->nheap;
+    if (pl->nroute > pl->peak_route) pl->peak_route = pl->nroute;
+    while (hash_need < 2u * pl->nfacets + 16u) hash_need <<= 1;
+    used = vp_dt_bytes_used(&pl->dt) + (size_t)pl->nvrec * sizeof(vp_vrec_t) +
+           (size_t)pl->nfedge * 16u + (size_t)pl->nfrec * sizeof(vp_frec_t) + (size_t)hash_need * 4u +
+           (size_t)pl->peak_heap * 4u + (size_t)pl->peak_task * sizeof(vp_task_t) +
+           (size_t)pl->peak_route * 24u + (size_t)pl->peak_astar * 4u + (size_t)pl->peak_path * 4u;
     if (used > pl->st.arena_peak) pl->st.arena_peak = used;
 }
 
@@ -721,6 +728,7 @@ static int astar_relax(astar_t *s, uint32_t from, uint32_t nb, double g, uint32_
         if (s->nopen >= s->pl->cap_astar) return VP_ENOMEM;
         r->hpos = s->nopen++;
         s->open[r->hpos] = nb;
+        if (s->nopen > s->pl->peak_astar) s->pl->peak_astar = s->nopen;
     }
     astar_sift_up(s, r->hpos);
     return VP_OK;
@@ -780,6 +788,7 @@ static int astar_path(vp_planner_t *pl, uint32_t a, uint32_t b, const double *gp
         while (n != NONE) {
             if (np >= pl->cap_path) return VP_ENOMEM;
             pl->path[np++] = n;
+            if (np > pl->peak_path) pl->peak_path = np;
             n = pl->vrec[n].from == NONE ? NONE : (pl->vrec[n].from & ~VIRTUAL);
         }
         for (i = np - 1; i-- > 0;) {
@@ -1029,9 +1038,11 @@ static int task_finish(vp_planner_t *pl, const vp_probe_result_t *res)
         return VP_OK;
     }
     pl->st.misses++;
-    /* a dropout must not open a way into the object: re-probe a miss where a hit is expected */
-    if (k->tries < pl->cfg.confirm_misses &&
-        expect_hit(pl, t, f, pl->probe_origin, pl->probe_dir, pl->probe_range)) {
+    /* a dropout must not open a way into the object: a miss is trusted only after
+     * confirm_misses more misses on the same ray (twice that where a hit is expected) */
+    if (pl->cfg.confirm_misses > 0 &&
+        k->tries < pl->cfg.confirm_misses *
+                       (expect_hit(pl, t, f, pl->probe_origin, pl->probe_dir, pl->probe_range) ? 2u : 1u)) {
         k->tries++;
         pl->st.reprobes++;
         pl->probe_ready = 1;
@@ -1104,6 +1115,7 @@ static int after_insert(vp_planner_t *pl, uint32_t pv)
     int st, i;
 
     if (3u * nk + nc > pl->cap_astar) return VP_ENOMEM;
+    if (3u * nk + nc > pl->peak_astar) pl->peak_astar = 3u * nk + nc;
     kpay = pl->astar;
     kbound = kpay + 2 * nk;
     ckidx = kbound + nk;
@@ -1143,8 +1155,8 @@ static int after_insert(vp_planner_t *pl, uint32_t pv)
         const uint32_t *w = vp_dt_tet(&pl->dt, n);
         int jn = facet_index_of(w, pv), fi = (int)(cfrom[q] & 3u);
         unsigned sU, sK, sn;
-        int valid = 0, reach_from_k = 0, edge_free = 0;
-        double c[3];
+        int valid = 0, reach_from_k = 0, edge_free = 0, c_ok = 0;
+        double c[3], oldc[3], pu[3], tol = pl->cfg.noise_tol;
         ki = ckidx[q];
         U = w[4 + jn] >> 2;
         jj = w[4 + jn] & 3u;
@@ -1155,12 +1167,15 @@ static int after_insert(vp_planner_t *pl, uint32_t pv)
             pay(pl, n)[0] = VREC_OUT;
         } else if (tet_point(pl, n, c) != VP_OK || !omega_inside(&pl->cfg, c)) {
             pay(pl, n)[0] = VREC_OUT;
+        } else {
+            c_ok = 1;
         }
         if (facet_has_ghost(pl, n, jn)) continue;
         vp_dt_facet(&pl->dt, n, jn, fv);
         r = frec_lookup(pl, fv);
         if (r != NONE) {
             int dbl = (pl->frec[r].flags & FREC_DOUBLE) != 0;
+            memcpy(oldc, pl->frec[r].c, sizeof oldc);
             valid = vp_cmp_dist(pl->frec[r].c, P, vp_dt_point(&pl->dt, fv[0])) >= 0;
             if (!valid) frec_delete(pl, r);
             if (dbl) {
@@ -1173,16 +1188,28 @@ static int after_insert(vp_planner_t *pl, uint32_t pv)
         sn = SIDE_UNKNOWN;
         if (r != NONE && valid) {
             if (sU == SIDE_HIT) sn = SIDE_BEHIND;
-            else if (sK == SIDE_HIT) { sn = SIDE_HIT; sU = SIDE_BEHIND; reach_from_k = 1; }
+            else if (sK == SIDE_HIT) {
+                sn = SIDE_HIT;
+                sU = SIDE_BEHIND;
+                /* [P_kold, c) was free; P_n lies on it, clear of c by the noise tolerance */
+                reach_from_k = krec != NONE && krec != VREC_OUT && c_ok &&
+                               dist3(pl->vrec[krec].p, c) <= dist3(pl->vrec[krec].p, pl->frec[r].c) - tol;
+            }
             else { sn = SIDE_UNKNOWN; }
         } else if (sU == SIDE_FREE || sK == SIDE_FREE) {
             sn = sU = SIDE_FREE;
             edge_free = 1;
             reach_from_k = 1;
         } else if (r != NONE && sU == SIDE_HIT) {
-            /* the old hit seen from U is cut off: U's side is free up to past P_n */
-            sn = sU = SIDE_FREE;
-            edge_free = 1;
+            /* the old hit seen from U is cut off: U's side is free up to past P_n (with the
+             * noise tolerance to spare) */
+            if (c_ok && (vp_dt_is_ghost(&pl->dt, U) ||
+                         (tet_point(pl, U, pu) == VP_OK && dist3(pu, c) <= dist3(pu, oldc) - tol))) {
+                sn = sU = SIDE_FREE;
+                edge_free = 1;
+            } else {
+                sn = sU = SIDE_UNKNOWN;
+            }
         } else if (r != NONE) {
             sn = sU = SIDE_UNKNOWN;
         }
@@ -1687,18 +1714,18 @@ int vp_planner_init(vp_planner_t *pl, void *arena, size_t bytes, const vp_planne
     pl->arena_bytes = bytes;
     cur = pl->arena;
     end = pl->arena + bytes;
-    /* the split, per 100 units: triangulation 44, records 20, facets 12, free edges 8, hash 4,
-     * path search 5, paths 3, tasks 2, heap 1, route 1 */
+    /* the split, per 100 units, from the peaks measured per output vertex (README): the
+     * triangulation 34, records 34, free edges 11, facets 9, hash 3, path search 3, paths 1,
+     * tasks 1, heap 1, route 1 */
     unit = bytes / 100;
-    dtb = 44 * unit;
     if (bytes < 64 * 1024) return VP_ENOMEM;
-    pl->cap_vrec = (uint32_t)(20 * unit / sizeof(vp_vrec_t));
-    pl->cap_frec = (uint32_t)(12 * unit / sizeof(vp_frec_t));
-    pl->cap_fedge = (uint32_t)(8 * unit / 16);
-    for (hwords = 1; (size_t)hwords * 2 * 4 <= 4 * unit; hwords <<= 1) {}
-    pl->cap_astar = (uint32_t)(5 * unit / 4);
-    pl->cap_path = (uint32_t)(3 * unit / 4);
-    pl->cap_task = (uint32_t)(2 * unit / sizeof(vp_task_t));
+    pl->cap_vrec = (uint32_t)(34 * unit / sizeof(vp_vrec_t));
+    pl->cap_frec = (uint32_t)(9 * unit / sizeof(vp_frec_t));
+    pl->cap_fedge = (uint32_t)(11 * unit / 16);
+    for (hwords = 1; (size_t)hwords * 2 * 4 <= 3 * unit; hwords <<= 1) {}
+    pl->cap_astar = (uint32_t)(3 * unit / 4);
+    pl->cap_path = (uint32_t)(unit / 4);
+    pl->cap_task = (uint32_t)(unit / sizeof(vp_task_t));
     pl->cap_heap = (uint32_t)(unit / 4);
     pl->cap_route = (uint32_t)(unit / 24);
     if (pl->cap_route > 4096) pl->cap_route = 4096;
@@ -1716,7 +1743,7 @@ int vp_planner_init(vp_planner_t *pl, void *arena, size_t bytes, const vp_planne
         pl->cap_task < 64 || pl->cap_route < 64 || pl->cap_astar < 1024)
         return VP_ENOMEM;
     dtb = (size_t)(end - cur);
-    if (dtb < 44 * unit / 2) return VP_ENOMEM;
+    if (dtb < 30 * unit) return VP_ENOMEM;
     st = vp_dt_init(&pl->dt, cur, dtb, 8);
     if (st != VP_OK) return st == VP_EINVAL ? VP_ENOMEM : st;
     pl->hash_mask = hwords - 1;

@@ -121,6 +121,7 @@ typedef struct vp_planner {
     int sc_pending;          /* 1: to issue, 2: issued */
     uint32_t stamp;
     uint32_t last_vertex;
+    uint32_t peak_task, peak_heap, peak_route, peak_astar, peak_path; /* high-water marks */
     int error;
     int exhaustive;          /* detect_access in full until the next insertion (closing) */
     uint32_t h2_done;        /* bit i: o_i is enclosed by the mesh */

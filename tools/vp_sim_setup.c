@@ -151,7 +151,9 @@ int vp_sim_open(vp_sim_t *s, const vp_sim_options_t *o, char *err, size_t errlen
     st = vp_sim_config(s->surf, eps, o->omega_ball, o->omega_margin, &s->cfg, err, errlen);
     if (st != VP_OK) return st;
     s->cfg.noise_tol = 4.0 * o->noise;
-    s->cfg.confirm_misses = (uint32_t)(o->confirm >= 0 ? o->confirm : (o->dropout > 0 ? 2 : 0));
+    /* with dropouts, trust a miss once a false one is unlikely: p^(c+1) <= 1e-6 */
+    s->cfg.confirm_misses = (uint32_t)(o->confirm >= 0 ? o->confirm
+                                       : o->dropout > 0 ? (int)ceil(log(1e-6) / log(o->dropout)) - 1 : 0);
     s->cfg.clearance = o->clearance;
     s->cfg.max_range = o->max_range;
     s->cfg.flags = o->flags;
