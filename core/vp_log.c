@@ -1,0 +1,468 @@
+/* vp_log — see vp_log.h; the byte layout is in doc/session-log.md. */
+#include <string.h>
+#include "vp_log.h"
+
+const unsigned char vp_log_magic[VP_LOG_MAGIC_LEN] = { 'V', 'P', 'L', 'O', 'G', '\r', '\n', 0x1a };
+
+/* header: magic 8, version 2, flags 2, length 4, then fixed fields up to the interior points */
+#define HDR_FIXED 180u
+#define REC_FRAME 16u   /* length 4, sequence 4, type 2, flags 2 ... CRC 4 */
+
+/* ---------- CRC-32, four bits at a time from a constant table ---------- */
+
+static const uint32_t crc_nibble[16] = {
+    0x00000000u, 0x1DB71064u, 0x3B6E20C8u, 0x26D930ACu, 0x76DC4190u, 0x6B6B51F4u,
+    0x4DB26158u, 0x5005713Cu, 0xEDB88320u, 0xF00F9344u, 0xD6D6A3E8u, 0xCB61B38Cu,
+    0x9B64C2B0u, 0x86D3D2D4u, 0xA00AE278u, 0xBDBDF21Cu
+};
+
+uint32_t vp_log_crc32(uint32_t crc, const void *data, size_t len)
+{
+    const unsigned char *p = (const unsigned char *)data;
+    size_t i;
+    crc = ~crc;
+    for (i = 0; i < len; i++) {
+        crc ^= p[i];
+        crc = (crc >> 4) ^ crc_nibble[crc & 15u];
+        crc = (crc >> 4) ^ crc_nibble[crc & 15u];
+    }
+    return ~crc;
+}
+
+/* ---------- little-endian fields ---------- */
+
+static void put16(unsigned char *p, uint32_t v) { p[0] = (unsigned char)v; p[1] = (unsigned char)(v >> 8); }
+static void put32(unsigned char *p, uint32_t v)
+{
+    p[0] = (unsigned char)v; p[1] = (unsigned char)(v >> 8);
+    p[2] = (unsigned char)(v >> 16); p[3] = (unsigned char)(v >> 24);
+}
+static void put64(unsigned char *p, uint64_t v) { put32(p, (uint32_t)v); put32(p + 4, (uint32_t)(v >> 32)); }
+static uint64_t dbits(double d) { uint64_t u; memcpy(&u, &d, 8); return u; }
+static void putd(unsigned char *p, double d) { put64(p, dbits(d)); }
+static void putd3(unsigned char *p, const double *v) { putd(p, v[0]); putd(p + 8, v[1]); putd(p + 16, v[2]); }
+
+static uint32_t get16(const unsigned char *p) { return (uint32_t)p[0] | (uint32_t)p[1] << 8; }
+static uint32_t get32(const unsigned char *p)
+{
+    return (uint32_t)p[0] | (uint32_t)p[1] << 8 | (uint32_t)p[2] << 16 | (uint32_t)p[3] << 24;
+}
+static uint64_t get64(const unsigned char *p) { return (uint64_t)get32(p) | (uint64_t)get32(p + 4) << 32; }
+static double getd(const unsigned char *p) { uint64_t u = get64(p); double d; memcpy(&d, &u, 8); return d; }
+static void getd3(const unsigned char *p, double *v) { v[0] = getd(p); v[1] = getd(p + 8); v[2] = getd(p + 16); }
+
+/* finite without libm: exponent bits not all ones */
+static int finite_d(double d) { return ((dbits(d) >> 52) & 0x7FFu) != 0x7FFu; }
+static int finite3(const double *v) { return finite_d(v[0]) && finite_d(v[1]) && finite_d(v[2]); }
+
+static size_t bounded_len(const char *s, size_t max)
+{
+    size_t n = 0;
+    if (!s) return 0;
+    while (n < max && s[n]) n++;
+    return n;
+}
+
+/* ---------- header ---------- */
+
+void vp_log_header_init(vp_log_header_t *h, const vp_planner_config_t *cfg, uint64_t arena_bytes,
+                        uint32_t units, const char *board, const char *note)
+{
+    size_t n;
+    memset(h, 0, sizeof *h);
+    h->version = VP_LOG_VERSION;
+    h->units = units;
+    if (cfg) h->cfg = *cfg;
+    h->arena_bytes = arena_bytes;
+    n = bounded_len(board, VP_LOG_BOARD_MAX);
+    memcpy(h->board, board ? board : "", n);
+    h->board[n] = 0;
+    n = bounded_len(note, VP_LOG_NOTE_MAX);
+    memcpy(h->note, note ? note : "", n);
+    h->note[n] = 0;
+}
+
+int vp_log_header_size(const vp_log_header_t *h)
+{
+    size_t bl, nl;
+    if (!h || h->cfg.ninterior < 1 || h->cfg.ninterior > VP_PLANNER_MAX_SEEDS) return VP_EINVAL;
+    bl = bounded_len(h->board, VP_LOG_BOARD_MAX + 1);
+    nl = bounded_len(h->note, VP_LOG_NOTE_MAX + 1);
+    if (bl > VP_LOG_BOARD_MAX || nl > VP_LOG_NOTE_MAX) return VP_EINVAL;
+    return (int)(HDR_FIXED + 24u * h->cfg.ninterior + 2u + bl + 2u + nl + 4u);
+}
+
+int vp_log_header_encode(const vp_log_header_t *h, void *buf, size_t cap)
+{
+    unsigned char *p = (unsigned char *)buf, *q;
+    const vp_planner_config_t *c;
+    int size = vp_log_header_size(h);
+    size_t bl, nl;
+    uint32_t i;
+    if (size < 0) return size;
+    if (!buf || cap < (size_t)size) return VP_ENOMEM;
+    c = &h->cfg;
+    memcpy(p, vp_log_magic, VP_LOG_MAGIC_LEN);
+    put16(p + 8, VP_LOG_VERSION);
+    put16(p + 10, 0);
+    put32(p + 12, (uint32_t)size);
+    put32(p + 16, h->units);
+    put32(p + 20, (uint32_t)c->omega_kind);
+    putd(p + 24, c->eps);
+    putd3(p + 32, c->omega_lo);
+    putd3(p + 56, c->omega_hi);
+    putd3(p + 80, c->omega_center);
+    putd(p + 104, c->omega_radius);
+    putd3(p + 112, c->start);
+    putd(p + 136, c->max_range);
+    putd(p + 144, c->noise_tol);
+    putd(p + 152, c->clearance);
+    put32(p + 160, c->confirm_misses);
+    put32(p + 164, c->flags);
+    put64(p + 168, h->arena_bytes);
+    put32(p + 176, c->ninterior);
+    q = p + HDR_FIXED;
+    for (i = 0; i < c->ninterior; i++, q += 24) putd3(q, c->interior[i]);
+    bl = bounded_len(h->board, VP_LOG_BOARD_MAX);
+    put16(q, (uint32_t)bl);
+    memcpy(q + 2, h->board, bl);
+    q += 2 + bl;
+    nl = bounded_len(h->note, VP_LOG_NOTE_MAX);
+    put16(q, (uint32_t)nl);
+    memcpy(q + 2, h->note, nl);
+    q += 2 + nl;
+    put32(q, vp_log_crc32(0, p, (size_t)(q - p)));
+    return size;
+}
+
+/* Decodes a complete header of n bytes (length and CRC already checked). */
+static int header_decode(const unsigned char *p, uint32_t n, vp_log_header_t *h)
+{
+    vp_planner_config_t *c = &h->cfg;
+    const unsigned char *q, *end = p + n - 4;
+    uint32_t i, bl, nl;
+    memset(h, 0, sizeof *h);
+    h->version = get16(p + 8);
+    h->units = get32(p + 16);
+    c->omega_kind = (int)get32(p + 20);
+    c->eps = getd(p + 24);
+    getd3(p + 32, c->omega_lo);
+    getd3(p + 56, c->omega_hi);
+    getd3(p + 80, c->omega_center);
+    c->omega_radius = getd(p + 104);
+    getd3(p + 112, c->start);
+    c->max_range = getd(p + 136);
+    c->noise_tol = getd(p + 144);
+    c->clearance = getd(p + 152);
+    c->confirm_misses = get32(p + 160);
+    c->flags = get32(p + 164);
+    h->arena_bytes = get64(p + 168);
+    c->ninterior = get32(p + 176);
+    if (get16(p + 10) != 0) return 0;
+    if (c->ninterior < 1 || c->ninterior > VP_PLANNER_MAX_SEEDS) return 0;
+    if (c->omega_kind != VP_OMEGA_BOX && c->omega_kind != VP_OMEGA_BALL) return 0;
+    q = p + HDR_FIXED;
+    if ((size_t)(end - q) < 24u * c->ninterior + 2u) return 0;
+    for (i = 0; i < c->ninterior; i++, q += 24) getd3(q, c->interior[i]);
+    bl = get16(q);
+    q += 2;
+    if (bl > VP_LOG_BOARD_MAX || (size_t)(end - q) < bl + 2u) return 0;
+    memcpy(h->board, q, bl);
+    h->board[bl] = 0;
+    q += bl;
+    nl = get16(q);
+    q += 2;
+    if (nl > VP_LOG_NOTE_MAX || (size_t)(end - q) != nl) return 0;
+    memcpy(h->note, q, nl);
+    h->note[nl] = 0;
+    /* every number the planner needs must be finite; embedded NULs are not text */
+    if (!finite_d(c->eps) || !finite3(c->omega_lo) || !finite3(c->omega_hi) ||
+        !finite3(c->omega_center) || !finite_d(c->omega_radius) || !finite3(c->start) ||
+        !finite_d(c->max_range) || !finite_d(c->noise_tol) || !finite_d(c->clearance))
+        return 0;
+    for (i = 0; i < c->ninterior; i++)
+        if (!finite3(c->interior[i])) return 0;
+    if (bounded_len(h->board, bl) != bl || bounded_len(h->note, nl) != nl) return 0;
+    return 1;
+}
+
+/* ---------- records ---------- */
+
+static void record_clear(vp_log_record_t *r, uint32_t seq, int type)
+{
+    memset(r, 0, sizeof *r);
+    r->seq = seq;
+    r->type = type;
+}
+
+void vp_log_record_probe(vp_log_record_t *r, uint32_t seq, const vp_cmd_t *cmd,
+                         const vp_probe_result_t *res, double raw)
+{
+    record_clear(r, seq, VP_LOG_PROBE);
+    memcpy(r->origin, cmd->from, sizeof r->origin);
+    memcpy(r->dir, cmd->dir, sizeof r->dir);
+    r->range = cmd->range;
+    r->hit = res->hit ? 1 : 0;
+    r->dist = res->dist;
+    r->raw = raw;
+}
+
+void vp_log_record_move(vp_log_record_t *r, uint32_t seq, const vp_cmd_t *cmd)
+{
+    record_clear(r, seq, VP_LOG_MOVE);
+    memcpy(r->target, cmd->to, sizeof r->target);
+}
+
+void vp_log_record_event(vp_log_record_t *r, uint32_t seq, uint32_t event, int32_t code,
+                         const char *text)
+{
+    size_t n = bounded_len(text, VP_LOG_TEXT_MAX);
+    record_clear(r, seq, VP_LOG_EVENT);
+    r->event = event;
+    r->code = code;
+    memcpy(r->text, text ? text : "", n);
+    r->text[n] = 0;
+    r->text_len = (uint32_t)n;
+}
+
+int vp_log_record_size(const vp_log_record_t *r)
+{
+    if (!r) return VP_EINVAL;
+    switch (r->type) {
+    case VP_LOG_PROBE: return VP_LOG_PROBE_SIZE;
+    case VP_LOG_MOVE: return VP_LOG_MOVE_SIZE;
+    case VP_LOG_EVENT:
+        if (r->text_len > VP_LOG_TEXT_MAX || bounded_len(r->text, r->text_len) != r->text_len)
+            return VP_EINVAL;
+        return (int)(VP_LOG_EVENT_BASE + r->text_len);
+    default: return VP_EINVAL;
+    }
+}
+
+int vp_log_record_encode(const vp_log_record_t *r, void *buf, size_t cap)
+{
+    unsigned char *p = (unsigned char *)buf;
+    int size = vp_log_record_size(r), k;
+    if (size < 0) return size;
+    if (!buf || cap < (size_t)size) return VP_ENOMEM;
+    put32(p, (uint32_t)size);
+    put32(p + 4, r->seq);
+    put16(p + 8, (uint32_t)r->type);
+    put16(p + 10, 0);
+    if (r->type == VP_LOG_PROBE) {
+        putd3(p + 12, r->origin);
+        putd3(p + 36, r->dir);
+        putd(p + 60, r->range);
+        putd(p + 68, r->dist);
+        putd(p + 76, r->raw);
+        put32(p + 84, r->hit ? 1u : 0u);
+    } else if (r->type == VP_LOG_MOVE) {
+        putd3(p + 12, r->target);
+    } else {
+        put32(p + 12, r->event);
+        put32(p + 16, (uint32_t)r->code);
+        for (k = 0; k < 4; k++) putd(p + 20 + 8 * k, r->value[k]);
+        put16(p + 52, r->text_len);
+        memcpy(p + 54, r->text, r->text_len);
+    }
+    put32(p + size - 4, vp_log_crc32(0, p, (size_t)size - 4));
+    return size;
+}
+
+/* Decodes a complete record (length and CRC checked): a VP_LOG_R_* reason. */
+static int record_decode(const unsigned char *p, uint32_t n, vp_log_record_t *r)
+{
+    uint32_t type = get16(p + 8), k;
+    record_clear(r, get32(p + 4), (int)type);
+    if (type == VP_LOG_PROBE) {
+        uint32_t hit;
+        if (n != VP_LOG_PROBE_SIZE) return VP_LOG_R_LENGTH;
+        getd3(p + 12, r->origin);
+        getd3(p + 36, r->dir);
+        r->range = getd(p + 60);
+        r->dist = getd(p + 68);
+        r->raw = getd(p + 76);
+        hit = get32(p + 84);
+        if (hit > 1 || !finite3(r->origin) || !finite3(r->dir) || !finite_d(r->range) ||
+            !finite_d(r->dist))
+            return VP_LOG_R_FIELD;
+        r->hit = (int)hit;
+    } else if (type == VP_LOG_MOVE) {
+        if (n != VP_LOG_MOVE_SIZE) return VP_LOG_R_LENGTH;
+        getd3(p + 12, r->target);
+        if (!finite3(r->target)) return VP_LOG_R_FIELD;
+    } else if (type == VP_LOG_EVENT) {
+        if (n < VP_LOG_EVENT_BASE) return VP_LOG_R_LENGTH;
+        r->event = get32(p + 12);
+        r->code = (int32_t)get32(p + 16);
+        for (k = 0; k < 4; k++) r->value[k] = getd(p + 20 + 8 * k);
+        r->text_len = get16(p + 52);
+        if (r->text_len > VP_LOG_TEXT_MAX || n != VP_LOG_EVENT_BASE + r->text_len) return VP_LOG_R_LENGTH;
+        memcpy(r->text, p + 54, r->text_len);
+        r->text[r->text_len] = 0;
+        if (bounded_len(r->text, r->text_len) != r->text_len) return VP_LOG_R_FIELD;
+    } else {
+        return VP_LOG_R_TYPE;
+    }
+    if (get16(p + 10) != 0) return VP_LOG_R_FIELD;
+    return VP_LOG_R_OK;
+}
+
+/* ---------- reader ---------- */
+
+const char *vp_log_reason_text(int reason)
+{
+    switch (reason) {
+    case VP_LOG_R_OK: return "ok";
+    case VP_LOG_R_TRUNCATED: return "truncated (the data ends inside it: a torn write)";
+    case VP_LOG_R_MAGIC: return "not a voroprobe session log (bad magic)";
+    case VP_LOG_R_VERSION: return "written by a newer log format version";
+    case VP_LOG_R_HEADER: return "invalid header";
+    case VP_LOG_R_HEADER_CRC: return "header CRC mismatch";
+    case VP_LOG_R_LENGTH: return "impossible record length";
+    case VP_LOG_R_CRC: return "CRC mismatch";
+    case VP_LOG_R_SEQUENCE: return "wrong sequence number";
+    case VP_LOG_R_TYPE: return "unknown record type";
+    case VP_LOG_R_FIELD: return "invalid field value";
+    default: return "unknown reason";
+    }
+}
+
+void vp_log_reader_init(vp_log_reader_t *r)
+{
+    memset(r, 0, sizeof *r);
+    r->status = VP_OK;
+    r->need = 16;          /* the header's fixed start: magic, version, flags, length */
+}
+
+static int reader_fail(vp_log_reader_t *r, int status, int reason)
+{
+    r->status = status;
+    r->reason = reason;
+    r->bad_in_header = !r->have_header;
+    r->bad_record = r->records;
+    r->bad_offset = r->offset;
+    return status;
+}
+
+/* The first `need` bytes of the current item are in buf: check them, maybe ask for more. */
+static int reader_step(vp_log_reader_t *r, vp_log_record_t *rec)
+{
+    const unsigned char *p = r->buf;
+    uint32_t n;
+    int why;
+    if (!r->have_header) {
+        if (r->have == 16) {
+            uint32_t ver = get16(p + 8);
+            if (memcmp(p, vp_log_magic, VP_LOG_MAGIC_LEN) != 0) return reader_fail(r, VP_ECORRUPT, VP_LOG_R_MAGIC);
+            if (ver > VP_LOG_VERSION) return reader_fail(r, VP_EVERSION, VP_LOG_R_VERSION);
+            n = get32(p + 12);
+            if (ver == 0 || n < HDR_FIXED + 24u + 8u || n > VP_LOG_MAX_HEADER)
+                return reader_fail(r, VP_ECORRUPT, VP_LOG_R_HEADER);
+            r->need = n;
+            return VP_LOG_NEED_MORE;
+        }
+        n = r->need;
+        if (vp_log_crc32(0, p, n - 4) != get32(p + n - 4)) return reader_fail(r, VP_ECORRUPT, VP_LOG_R_HEADER_CRC);
+        if (!header_decode(p, n, &r->header)) return reader_fail(r, VP_ECORRUPT, VP_LOG_R_HEADER);
+        r->have_header = 1;
+        r->offset += n;
+        r->have = 0;
+        r->need = 4;
+        return VP_LOG_GOT_HEADER;
+    }
+    if (r->have == 4) {
+        n = get32(p);
+        if (n < REC_FRAME || n > VP_LOG_MAX_RECORD) return reader_fail(r, VP_ECORRUPT, VP_LOG_R_LENGTH);
+        r->need = n;
+        return VP_LOG_NEED_MORE;
+    }
+    n = r->need;
+    if (vp_log_crc32(0, p, n - 4) != get32(p + n - 4)) return reader_fail(r, VP_ECORRUPT, VP_LOG_R_CRC);
+    if (get32(p + 4) != r->records) return reader_fail(r, VP_ECORRUPT, VP_LOG_R_SEQUENCE);
+    why = record_decode(p, n, rec);
+    if (why != VP_LOG_R_OK) return reader_fail(r, VP_ECORRUPT, why);
+    r->records++;
+    r->offset += n;
+    r->have = 0;
+    r->need = 4;
+    return VP_LOG_GOT_RECORD;
+}
+
+int vp_log_reader_push(vp_log_reader_t *r, const void *data, size_t len, size_t *used,
+                       vp_log_record_t *rec)
+{
+    const unsigned char *d = (const unsigned char *)data;
+    size_t pos = 0;
+    int st = VP_LOG_NEED_MORE;
+    if (used) *used = 0;
+    if (r->status != VP_OK) return r->status;
+    if (!rec || (!d && len)) return VP_EINVAL;
+    while (pos < len) {
+        size_t take = r->need - r->have;
+        if (take > len - pos) take = len - pos;
+        memcpy(r->buf + r->have, d + pos, take);
+        r->have += (uint32_t)take;
+        pos += take;
+        if (r->have < r->need) break;
+        st = reader_step(r, rec);
+        if (st != VP_LOG_NEED_MORE) break;
+    }
+    if (used) *used = pos;
+    return st;
+}
+
+int vp_log_reader_finish(vp_log_reader_t *r)
+{
+    if (r->status != VP_OK) return r->status;
+    if (!r->have_header || r->have > 0) return reader_fail(r, VP_ECORRUPT, VP_LOG_R_TRUNCATED);
+    return VP_OK;
+}
+
+/* ---------- replay ---------- */
+
+static int same_bits(const double *a, const double *b, int n)
+{
+    int k;
+    for (k = 0; k < n; k++)
+        if (dbits(a[k]) != dbits(b[k])) return 0;
+    return 1;
+}
+
+int vp_log_replay(vp_planner_t *pl, const vp_log_record_t *rec, vp_log_mismatch_t *mm)
+{
+    vp_cmd_t cmd;
+    vp_probe_result_t res;
+    const char *bad = NULL;
+    int st;
+    if (!pl || !rec) return VP_EINVAL;
+    if (rec->type == VP_LOG_EVENT) return VP_OK;
+    st = vp_planner_next(pl, &cmd);
+    if (st != VP_OK) return st;
+    if (rec->type == VP_LOG_MOVE) {
+        if (cmd.kind != VP_CMD_MOVE) bad = "kind";
+        else if (!same_bits(cmd.to, rec->target, 3)) bad = "target";
+    } else if (rec->type == VP_LOG_PROBE) {
+        if (cmd.kind != VP_CMD_PROBE) bad = "kind";
+        else if (!same_bits(cmd.from, rec->origin, 3)) bad = "origin";
+        else if (!same_bits(cmd.dir, rec->dir, 3)) bad = "dir";
+        else if (!same_bits(&cmd.range, &rec->range, 1)) bad = "range";
+    } else {
+        bad = "kind";
+    }
+    if (bad) {
+        if (mm) {
+            mm->expected_type = rec->type;
+            mm->got_kind = cmd.kind;
+            mm->field = bad;
+            mm->got = cmd;
+        }
+        return VP_ECORRUPT;
+    }
+    if (rec->type == VP_LOG_PROBE) {
+        res.hit = rec->hit;
+        res.dist = rec->dist;
+        return vp_planner_feed(pl, &res);
+    }
+    return VP_OK;
+}
