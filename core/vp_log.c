@@ -308,6 +308,21 @@ static int record_decode(const unsigned char *p, uint32_t n, vp_log_record_t *r)
     return VP_LOG_R_OK;
 }
 
+int vp_log_record_decode(const void *buf, size_t len, vp_log_record_t *rec, int *reason)
+{
+    const unsigned char *p = (const unsigned char *)buf;
+    uint32_t n;
+    int why = VP_LOG_R_OK;
+    if (!buf || !rec) return VP_EINVAL;
+    if (len < 4) why = VP_LOG_R_TRUNCATED;
+    else if ((n = get32(p)) < REC_FRAME || n > VP_LOG_MAX_RECORD) why = VP_LOG_R_LENGTH;
+    else if (len < n) why = VP_LOG_R_TRUNCATED;
+    else if (vp_log_crc32(0, p, n - 4) != get32(p + n - 4)) why = VP_LOG_R_CRC;
+    else why = record_decode(p, n, rec);
+    if (reason) *reason = why;
+    return why == VP_LOG_R_OK ? (int)n : VP_ECORRUPT;
+}
+
 /* ---------- reader ---------- */
 
 const char *vp_log_reason_text(int reason)

@@ -92,6 +92,9 @@ void vp_log_record_event(vp_log_record_t *r, uint32_t seq, uint32_t event, int32
                          const char *text);
 int vp_log_record_size(const vp_log_record_t *r);
 int vp_log_record_encode(const vp_log_record_t *r, void *buf, size_t cap);
+/* Decodes one record from buf[len] (frame, CRC and fields checked; not the sequence): its size,
+ * or VP_ECORRUPT with *reason (VP_LOG_R_*; may be NULL). */
+int vp_log_record_decode(const void *buf, size_t len, vp_log_record_t *rec, int *reason);
 
 /* Why reading stopped. */
 enum vp_log_reason {

@@ -10,7 +10,7 @@ struct vp_simdev {
     const vp_surface_t *surf;
     vp_simdev_config_t cfg;
     double pos[3];
-    vp_rng_t rng;
+    uint64_t nprobe;     /* probes done: the next probe's number */
     vp_simdev_stats_t st;
 };
 
@@ -34,7 +34,6 @@ int vp_simdev_create(const vp_surface_t *s, const vp_simdev_config_t *cfg, const
     d->surf = s;
     if (cfg) d->cfg = *cfg;
     memcpy(d->pos, start, sizeof d->pos);
-    vp_rng_seed(&d->rng, d->cfg.seed);
     *out = d;
     return VP_OK;
 }
@@ -71,6 +70,7 @@ out:
 int vp_simdev_probe(vp_simdev_t *d, const double dir[3], double range, vp_simdev_probe_t *res)
 {
     vp_simdev_probe_t r;
+    vp_rng_t rng;
     double n2, t, noise, u;
     int k;
     memset(&r, 0, sizeof r);
@@ -79,9 +79,11 @@ int vp_simdev_probe(vp_simdev_t *d, const double dir[3], double range, vp_simdev
     n2 = dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2];
     if (fabs(n2 - 1) > 1e-9) { r.status = VP_EINVAL; goto out; }
     if (d->cfg.max_range > 0 && range > d->cfg.max_range) range = d->cfg.max_range;
-    /* Two draws per probe whatever happens, so one probe's outcome never shifts the next's noise. */
-    noise = d->cfg.noise_sigma > 0 ? d->cfg.noise_sigma * vp_rng_normal(&d->rng) : 0;
-    u = vp_rng_uniform(&d->rng);
+    /* The draws of probe k come from a generator seeded by (seed, k) alone. */
+    vp_rng_seed(&rng, d->cfg.seed ^ (0x9E3779B97F4A7C15ULL * (d->nprobe + 1)));
+    d->nprobe++;
+    noise = d->cfg.noise_sigma > 0 ? d->cfg.noise_sigma * vp_rng_normal(&rng) : 0;
+    u = vp_rng_uniform(&rng);
     d->st.probes++;
     if (!vp_surface_ray(d->surf, d->pos, dir, range, &t)) { d->st.misses++; goto out; }
     r.true_t = t;
@@ -99,4 +101,10 @@ out:
 }
 
 void vp_simdev_position(const vp_simdev_t *d, double p[3]) { memcpy(p, d->pos, sizeof d->pos); }
+void vp_simdev_restore(vp_simdev_t *d, const double p[3], uint64_t probes)
+{
+    memcpy(d->pos, p, sizeof d->pos);
+    d->nprobe = probes;
+}
+
 void vp_simdev_stats(const vp_simdev_t *d, vp_simdev_stats_t *st) { *st = d->st; }

@@ -4,7 +4,8 @@
  *          radius; collisions counted; travel accumulated; optional travel box (refused).
  *   probe: from the current position along a unit direction up to a range: first surface
  *          crossing, with optional Gaussian noise along the ray, dropouts and a minimum range,
- *          all drawn from a seeded PRNG (runs are reproducible).
+ *          drawn from a PRNG seeded by (seed, probe number): the k-th probe's noise and dropout
+ *          depend on nothing else, so a session resumed from its log sees the same results.
  * Plain double arrays in, result structs out: no planner types. */
 #ifndef VP_SIMDEV_H
 #define VP_SIMDEV_H
@@ -52,6 +53,9 @@ void vp_simdev_destroy(vp_simdev_t *d);
 int  vp_simdev_move(vp_simdev_t *d, const double target[3], vp_simdev_move_t *res);
 int  vp_simdev_probe(vp_simdev_t *d, const double dir_unit[3], double range, vp_simdev_probe_t *res);
 void vp_simdev_position(const vp_simdev_t *d, double p[3]);
+/* Puts the device back where a logged session left it: at p, with `probes` probes done (the
+ * next probe is number `probes`). Statistics are kept. */
+void vp_simdev_restore(vp_simdev_t *d, const double p[3], uint64_t probes);
 void vp_simdev_stats(const vp_simdev_t *d, vp_simdev_stats_t *st);
 
 #endif

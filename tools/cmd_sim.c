@@ -12,6 +12,7 @@
 #include "vp_simdev.h"
 #include "vp_surface.h"
 #include "vp_sim_setup.h"
+#include "vp_simlog.h"
 
 static void sim_usage(FILE *f)
 {
@@ -22,7 +23,16 @@ static void sim_usage(FILE *f)
         "                     or several joined by '+' (see below)\n"
         "  --eps E            largest surface Delaunay ball radius (same units as the object)\n"
         "  --eps-rel R        eps as a fraction of the object's bounding-box diagonal\n"
-        "  --out PREFIX       write PREFIX.ply and PREFIX.off (default: out/scan)\n"
+        "  --out PREFIX       write PREFIX.ply, PREFIX.off and the session log PREFIX.vplog\n"
+        "                     (default: out/scan)\n"
+        "  --log FILE         write the session log to FILE instead of PREFIX.vplog\n"
+        "  --no-log           write no session log\n"
+        "  --resume LOG       replay LOG, then continue the scan and append to it (the options\n"
+        "                     recorded in LOG are used; the mesh goes beside LOG unless --out)\n"
+        "  --sync POLICY      when the log is synced: record (each, default), N (every N\n"
+        "                     records), Tms (every T ms), N,Tms, close (only at the end)\n"
+        "  --stop-after N     pause the session after N commands (a PAUSE event; resumable)\n"
+        "  --power-cut BYTES  simulate a power cut once the log reaches BYTES bytes (torn write)\n"
         "  --noise S          Gaussian noise of each hit distance (standard deviation)\n"
         "  --dropout P        probability that a real hit reports a miss\n"
         "  --confirm N        re-probes of a miss where a hit is expected (default 2 with\n"
@@ -46,34 +56,46 @@ int vp_cmd_sim(int argc, char **argv)
 {
     vp_sim_options_t o;
     vp_sim_t sim;
-    char err[512];
+    vp_simlog_t g;
+    char err[1400];
     int st, i;
     vp_sim_options_default(&o);
+    vp_simlog_init(&g);
     for (i = 1; i < argc; i++) {
         const char *a = argv[i];
         if (!strcmp(a, "--help") || !strcmp(a, "-h")) { sim_usage(stdout); return 0; }
-        st = vp_sim_parse_option(&o, argc, argv, &i, err, sizeof err);
+        st = vp_simlog_parse_option(&g, argc, argv, &i, err, sizeof err);
+        if (st == 1) st = vp_sim_parse_option(&o, argc, argv, &i, err, sizeof err);
         if (st == 0) continue;
         fprintf(stderr, "sim: %s\n", st < 0 ? err : "unknown option");
         if (st > 0) { fprintf(stderr, "sim: unknown option %s (see --help)\n", a); }
         return 2;
     }
+    if (vp_simlog_options(&g, &o, argc, argv, err, sizeof err) != VP_OK) {
+        fprintf(stderr, "sim: %s\n", err);
+        vp_simlog_free(&g);
+        return 1;
+    }
     if (!o.surface) { fprintf(stderr, "sim: --surface is required (see --help)\n"); return 2; }
     if (!(o.eps > 0.0) && !(o.eps_rel > 0.0)) { fprintf(stderr, "sim: give --eps or --eps-rel (see --help)\n"); return 2; }
     st = vp_sim_open(&sim, &o, err, sizeof err);
-    if (st != VP_OK) { fprintf(stderr, "sim: %s\n", err); return 1; }
+    if (st == VP_OK) st = vp_simlog_begin(&g, &sim, &o, o.quiet ? NULL : stderr, err, sizeof err);
+    if (st != VP_OK) { fprintf(stderr, "sim: %s\n", err); vp_sim_close(&sim); vp_simlog_free(&g); return 1; }
     if (!o.quiet)
         fprintf(stderr, "voroprobe sim: %s, eps %.6g, %d component(s), arena %zu bytes\n",
                 o.surface, sim.cfg.eps, sim.components, o.arena);
-    st = vp_sim_run(&sim, o.quiet ? NULL : stderr);
+    st = g.complete ? VP_OK : vp_sim_run(&sim, o.quiet ? NULL : stderr);
     if (st != VP_OK && st != VP_ENOMEM)
         fprintf(stderr, "sim: the scan stopped: %s\n", vp_strerror(st));
     else if (st == VP_ENOMEM)
         fprintf(stderr, "sim: the arena is full (--arena): the mesh so far is written\n");
+    if (vp_simlog_end(&g, &sim, stderr)) { vp_sim_close(&sim); vp_simlog_free(&g); return 1; }
     st = vp_sim_finish(&sim, &o, err, sizeof err);
     if (st != VP_OK) fprintf(stderr, "sim: %s\n", err);
+    if (!o.quiet || !o.json) vp_simlog_report(&g, stdout);
     vp_sim_report(&sim, &o, stdout);
     i = sim.run.status == VP_OK && st == VP_OK ? 0 : 1;
     vp_sim_close(&sim);
+    vp_simlog_free(&g);
     return i;
 }

@@ -13,5 +13,8 @@ struct vp_cli_cmd {
 
 int vp_cmd_bench_delaunay(int argc, char **argv);
 int vp_cmd_sim(int argc, char **argv);
+int vp_cmd_replay(int argc, char **argv);
+int vp_cmd_mesh(int argc, char **argv);
+int vp_cmd_log(int argc, char **argv);
 
 #endif

@@ -192,6 +192,7 @@ static int dev_probe(void *ctx, const vp_cmd_t *cmd, vp_probe_result_t *res)
     vp_simdev_probe_t r;
     int st = vp_simdev_probe(s->dev, cmd->dir, cmd->range, &r);
     if (st != VP_OK) return st;
+    s->raw = r.hit ? r.t : NAN;
     res->hit = r.hit;
     res->dist = r.hit ? (r.t < 0 ? 0.0 : r.t) : 0.0;
     return VP_OK;
@@ -203,7 +204,7 @@ int vp_sim_run(vp_sim_t *s, FILE *progress)
     ops.ctx = s;
     ops.move = dev_move;
     ops.probe = dev_probe;
-    return vp_session_run(s->pl, &ops, NULL, 0, progress, &s->run);
+    return vp_session_run(s->pl, &ops, s->hooks, 0, progress, &s->run);
 }
 
 static int mkdir_for(const char *prefix)

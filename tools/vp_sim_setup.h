@@ -40,6 +40,8 @@ typedef struct vp_sim {
     vp_hausdorff_t haus;
     int have_haus;
     double min_angle;
+    const vp_session_hooks_t *hooks; /* passed to vp_session_run (the session log); may be NULL */
+    double raw;                      /* the last probe's raw reading (NaN: no return) */
 } vp_sim_t;
 
 void vp_sim_options_default(vp_sim_options_t *o);

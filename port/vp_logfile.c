@@ -1,0 +1,176 @@
+/* vp_logfile — see vp_logfile.h. */
+#include <errno.h>
+#include <fcntl.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+#include <unistd.h>
+#include "vp_logfile.h"
+
+static double now_s(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+void vp_logfile_config_default(vp_logfile_config_t *c)
+{
+    memset(c, 0, sizeof *c);
+    c->sync_records = 1;
+}
+
+int vp_logfile_parse_sync(const char *s, vp_logfile_config_t *c)
+{
+    uint32_t rec = 0, ms = 0;
+    if (!strcmp(s, "record")) { c->sync_records = 1; c->sync_ms = 0; return 0; }
+    if (!strcmp(s, "close")) { c->sync_records = 0; c->sync_ms = 0; return 0; }
+    while (*s) {
+        char *e;
+        unsigned long v;
+        if (*s < '0' || *s > '9') return -1;
+        v = strtoul(s, &e, 10);
+        if (v == 0 || v > 100000000ul) return -1;
+        if (!strncmp(e, "ms", 2)) { ms = (uint32_t)v; e += 2; }
+        else rec = (uint32_t)v;
+        if (*e == ',') e++;
+        else if (*e) return -1;
+        s = e;
+    }
+    if (!rec && !ms) return -1;
+    c->sync_records = rec;
+    c->sync_ms = ms;
+    return 0;
+}
+
+static void start(vp_logfile_t *f, int fd, const vp_logfile_config_t *cfg)
+{
+    memset(f, 0, sizeof *f);
+    f->fd = fd;
+    if (cfg) f->cfg = *cfg;
+    else vp_logfile_config_default(&f->cfg);
+}
+
+/* Writes all of p (as far as the simulated power cut allows). */
+static int write_all(vp_logfile_t *f, const unsigned char *p, size_t n)
+{
+    size_t allowed = n;
+    int cut = 0;
+    if (f->dead) return VP_EIO;
+    if (f->cfg.die_after_bytes && f->bytes + n > f->cfg.die_after_bytes) {
+        allowed = f->bytes < f->cfg.die_after_bytes ? (size_t)(f->cfg.die_after_bytes - f->bytes) : 0;
+        cut = 1;
+    }
+    while (allowed > 0) {
+        ssize_t w = write(f->fd, p, allowed);
+        if (w < 0) {
+            if (errno == EINTR) continue;
+            return VP_EIO;
+        }
+        p += w;
+        allowed -= (size_t)w;
+        f->bytes += (uint64_t)w;
+    }
+    if (cut) {
+        f->dead = 1;
+        errno = EIO;
+        return VP_EIO;
+    }
+    return VP_OK;
+}
+
+int vp_logfile_sync(vp_logfile_t *f)
+{
+    if (f->fd < 0 || f->dead) return VP_EIO;
+    if (fdatasync(f->fd) != 0) return VP_EIO;
+    f->unsynced = 0;
+    f->syncs++;
+    return VP_OK;
+}
+
+/* The folder entry of a new file must reach the medium too. */
+static void sync_dir_of(const char *path)
+{
+    char dir[4096];
+    const char *slash = strrchr(path, '/');
+    size_t n = slash ? (size_t)(slash - path) : 0;
+    int fd;
+    if (!slash) { dir[0] = '.'; n = 1; }
+    else if (n == 0) { dir[0] = '/'; n = 1; }
+    else if (n >= sizeof dir) return;
+    else memcpy(dir, path, n);
+    dir[n] = 0;
+    fd = open(dir, O_RDONLY);
+    if (fd < 0) return;
+    (void)fsync(fd);
+    close(fd);
+}
+
+int vp_logfile_create(vp_logfile_t *f, const char *path, const vp_log_header_t *h,
+                      const vp_logfile_config_t *cfg)
+{
+    unsigned char buf[VP_LOG_MAX_HEADER];
+    int n = vp_log_header_encode(h, buf, sizeof buf), fd, st;
+    start(f, -1, cfg);
+    if (n < 0) return n;
+    fd = open(path, O_WRONLY | O_CREAT | O_TRUNC, 0666);
+    if (fd < 0) return VP_EIO;
+    f->fd = fd;
+    st = write_all(f, buf, (size_t)n);
+    if (st == VP_OK && !f->dead) st = vp_logfile_sync(f);
+    if (st == VP_OK) sync_dir_of(path);
+    return st;
+}
+
+int vp_logfile_open_append(vp_logfile_t *f, const char *path, uint64_t good_bytes,
+                           uint32_t next_seq, const vp_logfile_config_t *cfg)
+{
+    int fd;
+    start(f, -1, cfg);
+    fd = open(path, O_WRONLY);
+    if (fd < 0) return VP_EIO;
+    f->fd = fd;
+    /* drop a torn or damaged tail: new records must follow the last valid one */
+    if (ftruncate(fd, (off_t)good_bytes) != 0 || lseek(fd, (off_t)good_bytes, SEEK_SET) < 0 ||
+        fdatasync(fd) != 0)
+        return VP_EIO;
+    f->bytes = good_bytes;
+    f->seq = next_seq;
+    return VP_OK;
+}
+
+int vp_logfile_append(vp_logfile_t *f, vp_log_record_t *rec)
+{
+    unsigned char buf[VP_LOG_MAX_RECORD];
+    int n, st;
+    if (f->fd < 0 || f->dead) return VP_EIO;
+    rec->seq = f->seq;
+    n = vp_log_record_encode(rec, buf, sizeof buf);
+    if (n < 0) return n;
+    st = write_all(f, buf, (size_t)n);
+    if (st != VP_OK) return st;
+    f->seq++;
+    f->records++;
+    if (f->unsynced++ == 0 && f->cfg.sync_ms) f->first_unsynced = now_s();
+    if ((f->cfg.sync_records && f->unsynced >= f->cfg.sync_records) ||
+        (f->cfg.sync_ms && (now_s() - f->first_unsynced) * 1000.0 >= (double)f->cfg.sync_ms))
+        return vp_logfile_sync(f);
+    return VP_OK;
+}
+
+int vp_logfile_event(vp_logfile_t *f, uint32_t event, int32_t code, const char *text)
+{
+    vp_log_record_t rec;
+    vp_log_record_event(&rec, 0, event, code, text);
+    return vp_logfile_append(f, &rec);
+}
+
+int vp_logfile_close(vp_logfile_t *f)
+{
+    int st = VP_OK;
+    if (f->fd < 0) return VP_OK;
+    if (!f->dead && f->unsynced) st = vp_logfile_sync(f);
+    if (close(f->fd) != 0 && st == VP_OK) st = VP_EIO;
+    f->fd = -1;
+    return st;
+}

@@ -1,0 +1,53 @@
+/* vp_logfile — the session log as a POSIX file: header on create, records appended one
+ * write() each, synced to the medium by a policy (every record, every N records, every T ms),
+ * trading flash wear and speed against what a power cut can take.
+ *
+ * For power-loss tests the writer can "die" after a set number of bytes (littlefs's emubd
+ * idea): the write in progress is torn exactly there and every later call fails with VP_EIO,
+ * as if the power had gone.
+ */
+#ifndef VP_LOGFILE_H
+#define VP_LOGFILE_H
+#include <stdint.h>
+#include "vp_log.h"
+
+typedef struct vp_logfile_config {
+    uint32_t sync_records;     /* fdatasync after this many unsynced records (0: not by count) */
+    uint32_t sync_ms;          /* ... or when the oldest unsynced record is this old (0: not by time) */
+    uint64_t die_after_bytes;  /* power-cut simulation: the file never grows past this (0: off) */
+} vp_logfile_config_t;         /* all zero: sync only on close; see vp_logfile_config_default */
+
+typedef struct vp_logfile {
+    int fd;
+    vp_logfile_config_t cfg;
+    uint32_t seq;              /* the next record's sequence number */
+    uint64_t bytes;            /* the file's length */
+    uint32_t unsynced;         /* records written since the last sync */
+    double first_unsynced;     /* monotonic seconds of the oldest unsynced record */
+    unsigned long records, syncs;
+    int dead;                  /* the simulated power cut happened */
+} vp_logfile_t;
+
+/* Every record synced: nothing acknowledged is ever lost. */
+void vp_logfile_config_default(vp_logfile_config_t *c);
+/* Parses a policy: "record" (each record), "N" (every N records), "Tms" (every T ms), "N,Tms",
+ * "close" (only on close). 0 or -1 (bad text). */
+int vp_logfile_parse_sync(const char *s, vp_logfile_config_t *c);
+
+/* Creates (or replaces) path with the header; the header is synced at once. cfg may be NULL
+ * (default). VP_OK, VP_EINVAL, VP_EIO (errno kept). */
+int vp_logfile_create(vp_logfile_t *f, const char *path, const vp_log_header_t *h,
+                      const vp_logfile_config_t *cfg);
+/* Opens an existing log to append: cuts it back to good_bytes (the end of its last valid
+ * record, from the reader) and continues with sequence number next_seq. */
+int vp_logfile_open_append(vp_logfile_t *f, const char *path, uint64_t good_bytes,
+                           uint32_t next_seq, const vp_logfile_config_t *cfg);
+/* Sets rec->seq, encodes and writes it, syncs when the policy says so. VP_EIO on a failed
+ * write (or after the simulated power cut). */
+int vp_logfile_append(vp_logfile_t *f, vp_log_record_t *rec);
+int vp_logfile_event(vp_logfile_t *f, uint32_t event, int32_t code, const char *text);
+int vp_logfile_sync(vp_logfile_t *f);
+/* Syncs and closes (also after a failure: then only closes). */
+int vp_logfile_close(vp_logfile_t *f);
+
+#endif

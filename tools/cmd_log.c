@@ -1,0 +1,496 @@
+/* voroprobe replay / log / mesh: session logs on the PC. */
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include "vp_cli.h"
+#include "vp_meshcheck.h"
+#include "vp_meshio.h"
+#include "vp_session.h"
+#include "vp_sim_setup.h"
+#include "vp_slog.h"
+
+/* ---------- shared ---------- */
+
+typedef struct logjob {
+    const char *log, *out;
+    size_t arena;          /* 0: the header's */
+    unsigned long upto;    /* replay only the first N records (0: all) */
+    int quiet;
+    vp_slog_t L;
+    vp_replay_t R;
+    vp_mesh_t mesh;
+} logjob_t;
+
+/* Loads and replays; prints the load problem (if any) to stderr. 0 ok, 1 failure. */
+static int load_and_replay(logjob_t *j, const char *cmd)
+{
+    char err[1400], stop[600];
+    int st = vp_slog_load(&j->L, j->log, err, sizeof err);
+    if (st != VP_OK) { fprintf(stderr, "%s: %s\n", cmd, err); return 1; }
+    if (j->L.status != VP_OK) {
+        vp_slog_stop_text(&j->L, stop, sizeof stop);
+        fprintf(stderr, "%s: %s: %s\n", cmd, j->log, stop);
+    }
+    st = vp_replay_open(&j->R, &j->L, j->arena, err, sizeof err);
+    if (st == VP_OK) st = vp_replay_run(&j->R, &j->L, j->upto ? (uint32_t)j->upto : j->L.n, err, sizeof err);
+    if (st != VP_OK) { fprintf(stderr, "%s: %s: %s\n", cmd, j->log, err); return 1; }
+    vp_mesh_init(&j->mesh);
+    st = vp_session_mesh(j->R.pl, &j->mesh);
+    if (st != VP_OK) { fprintf(stderr, "%s: mesh: %s\n", cmd, vp_strerror(st)); return 1; }
+    return 0;
+}
+
+static void job_free(logjob_t *j)
+{
+    vp_mesh_free(&j->mesh);
+    vp_replay_close(&j->R);
+    vp_slog_free(&j->L);
+}
+
+/* Common options; 0 taken, 1 not ours, -1 bad. */
+static int job_option(logjob_t *j, int argc, char **argv, int *i, const char *cmd)
+{
+    const char *a = argv[*i], *val = *i + 1 < argc ? argv[*i + 1] : NULL;
+    if (!strcmp(a, "--quiet")) { j->quiet = 1; return 0; }
+    if (strcmp(a, "--out") && strcmp(a, "--arena") && strcmp(a, "--upto")) {
+        if (a[0] == '-' && a[1]) return 1;
+        if (j->log) { fprintf(stderr, "%s: one log at a time ('%s' and '%s')\n", cmd, j->log, a); return -1; }
+        j->log = a;
+        return 0;
+    }
+    if (!val) { fprintf(stderr, "%s: %s needs a value\n", cmd, a); return -1; }
+    (*i)++;
+    if (!strcmp(a, "--out")) j->out = val;
+    else if (!strcmp(a, "--arena")) {
+        if (vp_parse_size(val, &j->arena) || j->arena == 0) { fprintf(stderr, "%s: --arena: bad size '%s'\n", cmd, val); return -1; }
+    } else {
+        char *e;
+        j->upto = strtoul(val, &e, 10);
+        if (e == val || *e) { fprintf(stderr, "%s: --upto takes a record count, not '%s'\n", cmd, val); return -1; }
+    }
+    return 0;
+}
+
+static int write_mesh(const vp_mesh_t *m, const char *prefix, const char *ext, int format, const char *cmd)
+{
+    char path[1200];
+    snprintf(path, sizeof path, "%s%s", prefix, ext);
+    if (vp_mesh_write_file(m, path, format) != VP_OK) {
+        fprintf(stderr, "%s: cannot write %s: %s\n", cmd, path, strerror(errno));
+        return 1;
+    }
+    return 0;
+}
+
+/* ---------- replay ---------- */
+
+static void replay_usage(FILE *f)
+{
+    fprintf(f,
+        "usage: voroprobe replay LOG --out PREFIX [--arena BYTES] [--upto N] [--quiet]\n"
+        "Feeds the logged probe results back through the planner the header describes, checks\n"
+        "that every command it issues equals the logged one bit for bit, and writes the mesh it\n"
+        "has at the end of the log: PREFIX.ply (binary) and PREFIX.off, byte-identical to what the\n"
+        "device or `sim` wrote. A damaged or torn tail is reported (record number, byte offset)\n"
+        "and the valid records before it are replayed.\n"
+        "  --out PREFIX   output files (required)\n"
+        "  --arena BYTES  planner arena (default: the size in the log header)\n"
+        "  --upto N       replay only the first N records\n"
+        "  --quiet        no summary\n");
+}
+
+int vp_cmd_replay(int argc, char **argv)
+{
+    logjob_t j;
+    int i, rc;
+    memset(&j, 0, sizeof j);
+    vp_mesh_init(&j.mesh);
+    for (i = 1; i < argc; i++) {
+        if (!strcmp(argv[i], "--help") || !strcmp(argv[i], "-h")) { replay_usage(stdout); return 0; }
+        rc = job_option(&j, argc, argv, &i, "replay");
+        if (rc < 0) return 2;
+        if (rc > 0) { fprintf(stderr, "replay: unknown option %s (see --help)\n", argv[i]); return 2; }
+    }
+    if (!j.log || !j.out) { fprintf(stderr, "replay: give LOG and --out PREFIX (see --help)\n"); return 2; }
+    rc = load_and_replay(&j, "replay");
+    if (rc == 0) rc = write_mesh(&j.mesh, j.out, ".ply", VP_MESH_PLY_BIN, "replay") ||
+                      write_mesh(&j.mesh, j.out, ".off", VP_MESH_OFF, "replay");
+    if (rc == 0 && !j.quiet) {
+        printf("replayed %u records of %s (%llu probes, %llu hits, %llu moves): every command equal to the logged one\n",
+               j.R.applied, j.log, (unsigned long long)j.R.probes, (unsigned long long)j.L.hits,
+               (unsigned long long)j.L.moves);
+        printf("session %s; mesh: %zu vertices, %zu facets\n",
+               j.R.done ? "complete (DONE)" : "incomplete (no DONE): the mesh is the one at the end of the log",
+               j.mesh.nv, j.mesh.nt);
+        printf("wrote %s.ply and %s.off\n", j.out, j.out);
+    }
+    job_free(&j);
+    return rc;
+}
+
+/* ---------- mesh ---------- */
+
+static void mesh_usage(FILE *f)
+{
+    fprintf(f,
+        "usage: voroprobe mesh LOG --out PREFIX [--ascii] [--off] [--points] [--upto N]\n"
+        "The mesh of a logged session. Complete session: the final mesh. Incomplete one (the\n"
+        "device stopped early): the visible restricted Delaunay triangulation so far, with the\n"
+        "parts not yet closed reported as holes (boundary edges and loops), never patched.\n"
+        "  --out PREFIX   write PREFIX.ply (binary little-endian PLY; required)\n"
+        "  --ascii        ASCII PLY instead of binary\n"
+        "  --off          also write PREFIX.off\n"
+        "  --points       also write PREFIX.points.ply: every probed surface point, with a unit\n"
+        "                 normal pointing back to the probe's origin (binary or --ascii)\n"
+        "  --upto N       only the first N records (the session as it was then)\n"
+        "  --arena BYTES  planner arena (default: the size in the log header)\n"
+        "  --quiet        no summary\n");
+}
+
+/* Every hit as a point with the unit normal towards its probe origin. */
+static int write_points(const vp_slog_t *L, uint32_t upto, const char *path, int ascii, size_t *count)
+{
+    FILE *f = fopen(path, "wb");
+    uint32_t i;
+    size_t n = 0;
+    int k;
+    if (!f) return VP_EIO;
+    for (i = 0; i < upto; i++) {
+        vp_log_record_t r;
+        if (vp_slog_record(L, i, &r) == VP_OK && r.type == VP_LOG_PROBE && r.hit) n++;
+    }
+    fprintf(f, "ply\nformat %s 1.0\ncomment voroprobe probed points; normals point to the probe origins\n"
+            "element vertex %zu\nproperty double x\nproperty double y\nproperty double z\n"
+            "property double nx\nproperty double ny\nproperty double nz\nend_header\n",
+            ascii ? "ascii" : "binary_little_endian", n);
+    for (i = 0; i < upto; i++) {
+        vp_log_record_t r;
+        double v[6], len;
+        if (vp_slog_record(L, i, &r) != VP_OK || r.type != VP_LOG_PROBE || !r.hit) continue;
+        len = sqrt(r.dir[0] * r.dir[0] + r.dir[1] * r.dir[1] + r.dir[2] * r.dir[2]);
+        for (k = 0; k < 3; k++) {
+            v[k] = r.origin[k] + r.dist * r.dir[k];
+            v[3 + k] = len > 0 ? -r.dir[k] / len : 0.0;
+        }
+        if (ascii) {
+            fprintf(f, "%.17g %.17g %.17g %.17g %.17g %.17g\n", v[0], v[1], v[2], v[3], v[4], v[5]);
+        } else {
+            unsigned char b[48];
+            for (k = 0; k < 6; k++) {
+                uint64_t u;
+                int q;
+                memcpy(&u, &v[k], 8);
+                for (q = 0; q < 8; q++) b[8 * k + q] = (unsigned char)(u >> (8 * q));
+            }
+            fwrite(b, 1, sizeof b, f);
+        }
+    }
+    *count = n;
+    k = ferror(f);
+    return fclose(f) == 0 && !k ? VP_OK : VP_EIO;
+}
+
+int vp_cmd_mesh(int argc, char **argv)
+{
+    logjob_t j;
+    int i, rc, ascii = 0, off = 0, points = 0;
+    memset(&j, 0, sizeof j);
+    vp_mesh_init(&j.mesh);
+    for (i = 1; i < argc; i++) {
+        const char *a = argv[i];
+        if (!strcmp(a, "--help") || !strcmp(a, "-h")) { mesh_usage(stdout); return 0; }
+        if (!strcmp(a, "--ascii")) { ascii = 1; continue; }
+        if (!strcmp(a, "--off")) { off = 1; continue; }
+        if (!strcmp(a, "--points")) { points = 1; continue; }
+        rc = job_option(&j, argc, argv, &i, "mesh");
+        if (rc < 0) return 2;
+        if (rc > 0) { fprintf(stderr, "mesh: unknown option %s (see --help)\n", a); return 2; }
+    }
+    if (!j.log || !j.out) { fprintf(stderr, "mesh: give LOG and --out PREFIX (see --help)\n"); return 2; }
+    rc = load_and_replay(&j, "mesh");
+    if (rc == 0) rc = write_mesh(&j.mesh, j.out, ".ply", ascii ? VP_MESH_PLY_ASCII : VP_MESH_PLY_BIN, "mesh");
+    if (rc == 0 && off) rc = write_mesh(&j.mesh, j.out, ".off", VP_MESH_OFF, "mesh");
+    if (rc == 0) {
+        vp_meshcheck_t c;
+        size_t npts = 0;
+        char path[1200];
+        if (points) {
+            snprintf(path, sizeof path, "%s.points.ply", j.out);
+            if (write_points(&j.L, j.R.applied, path, ascii, &npts) != VP_OK) {
+                fprintf(stderr, "mesh: cannot write %s: %s\n", path, strerror(errno));
+                rc = 1;
+            }
+        }
+        if (rc == 0 && !j.quiet && vp_meshcheck_analyze(&j.mesh, &c) == VP_OK) {
+            vp_planner_stats_t st;
+            size_t loops = 0;
+            int k;
+            for (k = 0; k < c.components; k++) loops += c.comp[k].boundary_loops;
+            vp_planner_get_stats(j.R.pl, &st);
+            printf("%s: %u records replayed (%llu probes, %llu hits), session %s\n", j.log, j.R.applied,
+                   (unsigned long long)j.R.probes, (unsigned long long)st.hits,
+                   j.R.done ? "complete (DONE)" : "INCOMPLETE (no DONE)");
+            printf("mesh: %zu vertices, %zu facets, %d component(s); ", j.mesh.nv, j.mesh.nt, c.components);
+            if (c.closed_manifold)
+                printf("closed 2-manifold, genus %d, no holes\n", c.genus);
+            else
+                printf("%zu hole(s): %zu boundary edges in %zu boundary loop(s)%s (not patched)\n",
+                       loops, c.boundary_edges, loops,
+                       c.nonmanifold_edges ? ", and non-manifold edges" : "");
+            printf("largest surface Delaunay ball %.6g (eps %.6g), %u bad ball(s) left, %u interior point(s) not enclosed\n",
+                   st.max_ball, j.L.header.cfg.eps, st.bad_balls, st.missing_components);
+            printf("wrote %s.ply%s%s%s\n", j.out, off ? " and " : "", off ? j.out : "", off ? ".off" : "");
+            if (points) printf("wrote %s (%zu points with normals)\n", path, npts);
+            vp_meshcheck_free(&c);
+        }
+    }
+    job_free(&j);
+    return rc;
+}
+
+/* ---------- log dump / check ---------- */
+
+static void log_usage(FILE *f)
+{
+    fprintf(f,
+        "usage: voroprobe log dump LOG [--jsonl | --csv]\n"
+        "       voroprobe log check LOG [--no-replay]\n"
+        "dump   prints the header and every valid record: text (default), JSON lines (one\n"
+        "       object per line: the header first), or CSV (one row per record). Numbers are\n"
+        "       printed with 17 significant digits (exact doubles).\n"
+        "check  verifies the header, every record's length, CRC and sequence number, replays\n"
+        "       the planner over the valid records (unless --no-replay), and says what is\n"
+        "       recoverable. Exit status 0: intact; 1: damaged (the valid part is named).\n");
+}
+
+static void json_str(FILE *f, const char *s)
+{
+    fputc('"', f);
+    for (; *s; s++) {
+        unsigned char c = (unsigned char)*s;
+        if (c == '"' || c == '\\') fprintf(f, "\\%c", c);
+        else if (c < 0x20) fprintf(f, "\\u%04x", c);
+        else fputc(c, f);
+    }
+    fputc('"', f);
+}
+
+static void json_num(FILE *f, double v)
+{
+    if (isfinite(v)) fprintf(f, "%.17g", v);
+    else fprintf(f, "null");
+}
+
+static void json_vec(FILE *f, const double *v)
+{
+    fputc('[', f); json_num(f, v[0]); fputc(',', f); json_num(f, v[1]); fputc(',', f); json_num(f, v[2]); fputc(']', f);
+}
+
+static const char *units_name(uint32_t u)
+{
+    return u == VP_LOG_UNITS_M ? "m" : u == VP_LOG_UNITS_MM ? "mm" : u == VP_LOG_UNITS_INCH ? "inch" : "none";
+}
+
+static const char *type_str(int t)
+{
+    return t == VP_LOG_PROBE ? "probe" : t == VP_LOG_MOVE ? "move" : "event";
+}
+
+static void dump_header_text(const vp_log_header_t *h, FILE *f)
+{
+    const vp_planner_config_t *c = &h->cfg;
+    uint32_t i;
+    fprintf(f, "# voroprobe session log, format version %u, units %s, board '%s'\n", h->version,
+            units_name(h->units), h->board);
+    fprintf(f, "# note: %s\n", h->note);
+    fprintf(f, "# eps %.17g, ", c->eps);
+    if (c->omega_kind == VP_OMEGA_BALL)
+        fprintf(f, "Omega ball centre %.17g %.17g %.17g radius %.17g\n", c->omega_center[0], c->omega_center[1],
+                c->omega_center[2], c->omega_radius);
+    else
+        fprintf(f, "Omega box %.17g %.17g %.17g .. %.17g %.17g %.17g\n", c->omega_lo[0], c->omega_lo[1],
+                c->omega_lo[2], c->omega_hi[0], c->omega_hi[1], c->omega_hi[2]);
+    for (i = 0; i < c->ninterior; i++)
+        fprintf(f, "# interior point o_%u: %.17g %.17g %.17g\n", i, c->interior[i][0], c->interior[i][1], c->interior[i][2]);
+    fprintf(f, "# start %.17g %.17g %.17g, max range %.17g, noise tolerance %.17g, clearance %.17g\n",
+            c->start[0], c->start[1], c->start[2], c->max_range, c->noise_tol, c->clearance);
+    fprintf(f, "# confirm misses %u, planner flags 0x%x, arena %llu bytes\n", c->confirm_misses, c->flags,
+            (unsigned long long)h->arena_bytes);
+}
+
+static void dump_header_json(const vp_log_header_t *h, FILE *f)
+{
+    const vp_planner_config_t *c = &h->cfg;
+    uint32_t i;
+    fprintf(f, "{\"header\":{\"version\":%u,\"units\":\"%s\",\"board\":", h->version, units_name(h->units));
+    json_str(f, h->board);
+    fprintf(f, ",\"note\":");
+    json_str(f, h->note);
+    fprintf(f, ",\"eps\":"); json_num(f, c->eps);
+    fprintf(f, ",\"omega\":\"%s\"", c->omega_kind == VP_OMEGA_BALL ? "ball" : "box");
+    fprintf(f, ",\"omega_lo\":"); json_vec(f, c->omega_lo);
+    fprintf(f, ",\"omega_hi\":"); json_vec(f, c->omega_hi);
+    fprintf(f, ",\"omega_center\":"); json_vec(f, c->omega_center);
+    fprintf(f, ",\"omega_radius\":"); json_num(f, c->omega_radius);
+    fprintf(f, ",\"interior\":[");
+    for (i = 0; i < c->ninterior; i++) { if (i) fputc(',', f); json_vec(f, c->interior[i]); }
+    fprintf(f, "],\"start\":"); json_vec(f, c->start);
+    fprintf(f, ",\"max_range\":"); json_num(f, c->max_range);
+    fprintf(f, ",\"noise_tol\":"); json_num(f, c->noise_tol);
+    fprintf(f, ",\"clearance\":"); json_num(f, c->clearance);
+    fprintf(f, ",\"confirm_misses\":%u,\"flags\":%u,\"arena_bytes\":%llu}}\n", c->confirm_misses, c->flags,
+            (unsigned long long)h->arena_bytes);
+}
+
+static int log_dump(const char *path, int mode)
+{
+    vp_slog_t L;
+    char err[1400], stop[600];
+    uint32_t i;
+    int st = vp_slog_load(&L, path, err, sizeof err);
+    if (st != VP_OK) { fprintf(stderr, "log dump: %s\n", err); return 1; }
+    if (mode == 0) dump_header_text(&L.header, stdout);
+    else if (mode == 1) dump_header_json(&L.header, stdout);
+    else printf("seq,offset,type,origin_x,origin_y,origin_z,dir_x,dir_y,dir_z,range,hit,dist,raw,"
+                "point_x,point_y,point_z,target_x,target_y,target_z,event,code,text\n");
+    for (i = 0; i < L.n; i++) {
+        vp_log_record_t r;
+        double p[3];
+        int k;
+        if (vp_slog_record(&L, i, &r) != VP_OK) break;
+        for (k = 0; k < 3; k++) p[k] = r.origin[k] + r.dist * r.dir[k];
+        if (mode == 0) {
+            printf("%u @%zu ", r.seq, L.off[i]);
+            if (r.type == VP_LOG_PROBE) {
+                printf("PROBE from %.17g %.17g %.17g dir %.17g %.17g %.17g range %.17g: ", r.origin[0], r.origin[1],
+                       r.origin[2], r.dir[0], r.dir[1], r.dir[2], r.range);
+                if (r.hit) printf("hit at %.17g (point %.17g %.17g %.17g) raw %.17g\n", r.dist, p[0], p[1], p[2], r.raw);
+                else printf("miss (dist %.17g, raw %.17g)\n", r.dist, r.raw);
+            } else if (r.type == VP_LOG_MOVE) {
+                printf("MOVE to %.17g %.17g %.17g\n", r.target[0], r.target[1], r.target[2]);
+            } else {
+                printf("EVENT %s code %d", vp_slog_event_name(r.event), (int)r.code);
+                if (r.event == VP_LOG_EV_CALIBRATION)
+                    printf(" values %.17g %.17g %.17g %.17g", r.value[0], r.value[1], r.value[2], r.value[3]);
+                printf(" '%s'\n", r.text);
+            }
+        } else if (mode == 1) {
+            printf("{\"seq\":%u,\"offset\":%zu,\"type\":\"%s\"", r.seq, L.off[i], type_str(r.type));
+            if (r.type == VP_LOG_PROBE) {
+                printf(",\"origin\":"); json_vec(stdout, r.origin);
+                printf(",\"dir\":"); json_vec(stdout, r.dir);
+                printf(",\"range\":"); json_num(stdout, r.range);
+                printf(",\"hit\":%s,\"dist\":", r.hit ? "true" : "false"); json_num(stdout, r.dist);
+                printf(",\"raw\":"); json_num(stdout, r.raw);
+                if (r.hit) { printf(",\"point\":"); json_vec(stdout, p); }
+            } else if (r.type == VP_LOG_MOVE) {
+                printf(",\"target\":"); json_vec(stdout, r.target);
+            } else {
+                printf(",\"event\":\"%s\",\"event_code\":%u,\"code\":%d,\"values\":[", vp_slog_event_name(r.event),
+                       r.event, (int)r.code);
+                for (k = 0; k < 4; k++) { if (k) putchar(','); json_num(stdout, r.value[k]); }
+                printf("],\"text\":"); json_str(stdout, r.text);
+            }
+            printf("}\n");
+        } else {
+            printf("%u,%zu,%s,", r.seq, L.off[i], type_str(r.type));
+            if (r.type == VP_LOG_PROBE)
+                printf("%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%d,%.17g,%.17g,", r.origin[0], r.origin[1],
+                       r.origin[2], r.dir[0], r.dir[1], r.dir[2], r.range, r.hit, r.dist, r.raw);
+            else
+                printf(",,,,,,,,,,");
+            if (r.type == VP_LOG_PROBE && r.hit) printf("%.17g,%.17g,%.17g,", p[0], p[1], p[2]);
+            else printf(",,,");
+            if (r.type == VP_LOG_MOVE) printf("%.17g,%.17g,%.17g,", r.target[0], r.target[1], r.target[2]);
+            else printf(",,,");
+            if (r.type == VP_LOG_EVENT) {
+                printf("%s,%d,\"", vp_slog_event_name(r.event), (int)r.code);
+                for (k = 0; r.text[k]; k++) { if (r.text[k] == '"') putchar('"'); putchar(r.text[k]); }
+                printf("\"\n");
+            } else {
+                printf(",,\n");
+            }
+        }
+    }
+    if (L.status != VP_OK) {
+        vp_slog_stop_text(&L, stop, sizeof stop);
+        fprintf(stderr, "log dump: %s: %s\n", path, stop);
+    }
+    st = L.status == VP_OK ? 0 : 1;
+    vp_slog_free(&L);
+    return st;
+}
+
+static int log_check(const char *path, int replay)
+{
+    vp_slog_t L;
+    char err[1400], stop[600];
+    int st = vp_slog_load(&L, path, err, sizeof err), rc;
+    uint32_t i, last_event = 0;
+    if (st != VP_OK) {
+        printf("%s: NOT usable: %s\n", path, err);
+        return 1;
+    }
+    for (i = 0; i < L.n; i++) {
+        vp_log_record_t r;
+        if (vp_slog_record(&L, i, &r) == VP_OK && r.type == VP_LOG_EVENT) last_event = r.event;
+    }
+    vp_slog_stop_text(&L, stop, sizeof stop);
+    printf("%s: format version %u, board '%s', %llu bytes\n", path, L.header.version, L.header.board,
+           (unsigned long long)L.size);
+    printf("header: ok (CRC good), eps %.6g, %u interior point(s)\n", L.header.cfg.eps, L.header.cfg.ninterior);
+    printf("records: %u valid (%llu probes, %llu hits, %llu moves, %llu events)\n", L.n,
+           (unsigned long long)L.probes, (unsigned long long)L.hits, (unsigned long long)L.moves,
+           (unsigned long long)L.events);
+    printf("%s\n", stop);
+    rc = L.status == VP_OK ? 0 : 1;
+    if (replay) {
+        vp_replay_t R;
+        st = vp_replay_open(&R, &L, 0, err, sizeof err);
+        if (st == VP_OK) st = vp_replay_run(&R, &L, L.n, err, sizeof err);
+        if (st == VP_OK)
+            printf("replay: the planner reissues all %u commands bit for bit\n", (unsigned)(L.probes + L.moves));
+        else {
+            printf("replay: FAILED: %s\n", err);
+            rc = 1;
+        }
+        vp_replay_close(&R);
+    }
+    if (L.done)
+        printf("session: complete (DONE)%s\n", rc ? "; the mesh can be rebuilt from the valid records" : "");
+    else
+        printf("session: incomplete (last event: %s): `sim --resume %s` continues it from record %u; "
+               "`mesh` gives the mesh so far%s\n", last_event ? vp_slog_event_name(last_event) : "none", path, L.n,
+               L.status != VP_OK ? " (resume first cuts the damaged tail)" : "");
+    vp_slog_free(&L);
+    return rc;
+}
+
+int vp_cmd_log(int argc, char **argv)
+{
+    const char *sub, *path = NULL;
+    int i, mode = 0, replay = 1;
+    if (argc < 2 || !strcmp(argv[1], "--help") || !strcmp(argv[1], "-h")) {
+        log_usage(argc < 2 ? stderr : stdout);
+        return argc < 2 ? 2 : 0;
+    }
+    sub = argv[1];
+    if (strcmp(sub, "dump") && strcmp(sub, "check")) {
+        fprintf(stderr, "log: unknown sub-command '%s' (dump or check; see --help)\n", sub);
+        return 2;
+    }
+    for (i = 2; i < argc; i++) {
+        const char *a = argv[i];
+        if (!strcmp(a, "--help") || !strcmp(a, "-h")) { log_usage(stdout); return 0; }
+        if (!strcmp(sub, "dump") && !strcmp(a, "--jsonl")) mode = 1;
+        else if (!strcmp(sub, "dump") && !strcmp(a, "--csv")) mode = 2;
+        else if (!strcmp(sub, "check") && !strcmp(a, "--no-replay")) replay = 0;
+        else if (a[0] == '-' && a[1]) { fprintf(stderr, "log %s: unknown option %s (see --help)\n", sub, a); return 2; }
+        else if (path) { fprintf(stderr, "log %s: one log at a time\n", sub); return 2; }
+        else path = a;
+    }
+    if (!path) { fprintf(stderr, "log %s: give a LOG file (see --help)\n", sub); return 2; }
+    return !strcmp(sub, "dump") ? log_dump(path, mode) : log_check(path, replay);
+}

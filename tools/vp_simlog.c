@@ -1,0 +1,314 @@
+/* vp_simlog — see vp_simlog.h. */
+#include <errno.h>
+#include <math.h>
+#include <stdarg.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include "vp_simlog.h"
+
+void vp_simlog_init(vp_simlog_t *g)
+{
+    memset(g, 0, sizeof *g);
+    /* a simulated device: sync ten times a second (--sync record for every record) */
+    g->fcfg.sync_ms = 100;
+    g->w.file.fd = -1;
+}
+
+void vp_simlog_free(vp_simlog_t *g)
+{
+    if (g->w.file.fd >= 0) vp_logfile_close(&g->w.file);
+    if (g->have_L) vp_slog_free(&g->L);
+    g->have_L = 0;
+}
+
+int vp_simlog_parse_option(vp_simlog_t *g, int argc, char **argv, int *i, char *err, size_t errlen)
+{
+    const char *a = argv[*i], *val = *i + 1 < argc ? argv[*i + 1] : NULL;
+    if (!strcmp(a, "--no-log")) { g->no_log = 1; return 0; }
+    if (strcmp(a, "--log") && strcmp(a, "--resume") && strcmp(a, "--sync") && strcmp(a, "--stop-after") &&
+        strcmp(a, "--power-cut"))
+        return 1;
+    if (!val) { snprintf(err, errlen, "%s needs a value", a); return -1; }
+    (*i)++;
+    if (!strcmp(a, "--log")) g->log = val;
+    else if (!strcmp(a, "--resume")) g->resume = val;
+    else if (!strcmp(a, "--sync")) {
+        if (vp_logfile_parse_sync(val, &g->fcfg)) {
+            snprintf(err, errlen, "--sync takes record, close, N (records), Tms or N,Tms; not '%s'", val);
+            return -1;
+        }
+    } else {
+        char *e;
+        unsigned long long v = strtoull(val, &e, 10);
+        if (e == val || *e || v == 0) { snprintf(err, errlen, "%s takes a positive integer, not '%s'", a, val); return -1; }
+        if (!strcmp(a, "--stop-after")) g->stop_after = (unsigned long)v;
+        else g->fcfg.die_after_bytes = v;
+    }
+    return 0;
+}
+
+/* ---------- the options as text: the log's note ---------- */
+
+static void put_tok(char *buf, size_t n, size_t *len, const char *tok)
+{
+    size_t k;
+    int quote = *tok == 0;
+    for (k = 0; tok[k]; k++)
+        if (tok[k] == ' ' || tok[k] == '\'' || tok[k] == '\\' || tok[k] == '\t' || tok[k] == '\n') quote = 1;
+    if (*len && *len + 1 < n) buf[(*len)++] = ' ';
+    if (quote && *len + 1 < n) buf[(*len)++] = '\'';
+    for (k = 0; tok[k] && *len + 2 < n; k++) {
+        if (tok[k] == '\'' || tok[k] == '\\') buf[(*len)++] = '\\';
+        buf[(*len)++] = tok[k];
+    }
+    if (quote && *len + 1 < n) buf[(*len)++] = '\'';
+    buf[*len < n ? *len : n - 1] = 0;
+}
+
+static void put_opt(char *buf, size_t n, size_t *len, const char *name, const char *fmt, ...)
+{
+    char v[64];
+    va_list ap;
+    put_tok(buf, n, len, name);
+    if (!fmt) return;
+    va_start(ap, fmt);
+    vsnprintf(v, sizeof v, fmt, ap);
+    va_end(ap);
+    put_tok(buf, n, len, v);
+}
+
+/* The shortest of %.15g..%.17g that reads back as the same double. */
+static void put_num(char *buf, size_t n, size_t *len, const char *name, double x)
+{
+    char v[40];
+    int p;
+    for (p = 15; p <= 17; p++) {
+        snprintf(v, sizeof v, "%.*g", p, x);
+        if (strtod(v, NULL) == x) break;
+    }
+    put_tok(buf, n, len, name);
+    put_tok(buf, n, len, v);
+}
+
+void vp_simlog_note(const vp_sim_options_t *o, char *buf, size_t n)
+{
+    size_t len = 0;
+    buf[0] = 0;
+    put_tok(buf, n, &len, "sim");
+    put_opt(buf, n, &len, "--surface", "%s", o->surface ? o->surface : "");
+    if (o->eps > 0) put_num(buf, n, &len, "--eps", o->eps);
+    else put_num(buf, n, &len, "--eps-rel", o->eps_rel);
+    put_num(buf, n, &len, "--noise", o->noise);
+    put_num(buf, n, &len, "--dropout", o->dropout);
+    if (o->confirm >= 0) put_opt(buf, n, &len, "--confirm", "%d", o->confirm);
+    put_num(buf, n, &len, "--clearance", o->clearance);
+    put_num(buf, n, &len, "--max-range", o->max_range);
+    put_opt(buf, n, &len, "--arena", "%zu", o->arena);
+    put_opt(buf, n, &len, "--omega", "%s", o->omega_ball ? "ball" : "box");
+    put_num(buf, n, &len, "--margin", o->omega_margin);
+    put_opt(buf, n, &len, "--seed", "%llu", o->seed);
+    if ((o->flags & VP_PLAN_PAPER) != 0) put_opt(buf, n, &len, "--paper", NULL);
+    if ((o->flags & VP_PLAN_LARGEST) != 0) put_opt(buf, n, &len, "--largest", NULL);
+    if ((o->flags & VP_PLAN_PREV_CHAINS) != 0) put_opt(buf, n, &len, "--prev-chains", NULL);
+}
+
+/* Splits the note back into tokens (in place in buf); returns the count. */
+static int split_note(char *buf, char **tok, int cap)
+{
+    char *r = buf, *w = buf;
+    int n = 0;
+    while (*r) {
+        int quoted = 0;
+        while (*r == ' ') r++;
+        if (!*r) break;
+        if (n == cap) return -1;
+        tok[n++] = w;
+        while (*r && (quoted || *r != ' ')) {
+            if (*r == '\'') { quoted = !quoted; r++; continue; }
+            if (*r == '\\' && r[1]) r++;
+            *w++ = *r++;
+        }
+        if (*r) r++;
+        *w++ = 0;
+    }
+    return n;
+}
+
+int vp_simlog_options(vp_simlog_t *g, vp_sim_options_t *o, int argc, char **argv, char *err,
+                      size_t errlen)
+{
+    char *note = g->note, *tok[128], sub[512];
+    int n, i, st, has_out = 0;
+    if (!g->resume) return VP_OK;
+    st = vp_slog_load(&g->L, g->resume, err, errlen);
+    if (st != VP_OK) return st;
+    g->have_L = 1;
+    memcpy(note, g->L.header.note, sizeof g->note);
+    n = split_note(note, tok, 128);
+    if (n < 1 || strcmp(tok[0], "sim") != 0) {
+        snprintf(err, errlen, "%s was not written by `sim` (its note does not start with 'sim'): "
+                 "resume it with the program that wrote it", g->resume);
+        return VP_EINVAL;
+    }
+    vp_sim_options_default(o);
+    for (i = 1; i < n; i++) {
+        st = vp_sim_parse_option(o, n, tok, &i, sub, sizeof sub);
+        if (st != 0) {
+            snprintf(err, errlen, "%s: the options recorded in the log are not understood ('%s'%s%s)",
+                     g->resume, tok[i], st < 0 ? ": " : "", st < 0 ? sub : "");
+            return VP_EINVAL;
+        }
+    }
+    for (i = 1; i < argc; i++) {
+        vp_simlog_t scratch;
+        vp_simlog_init(&scratch);
+        if (!strcmp(argv[i], "--out")) has_out = 1;
+        if (vp_simlog_parse_option(&scratch, argc, argv, &i, sub, sizeof sub) == 0) continue;
+        if (vp_sim_parse_option(o, argc, argv, &i, sub, sizeof sub) != 0) {
+            snprintf(err, errlen, "bad option %s", argv[i]);
+            return VP_EINVAL;
+        }
+    }
+    if (!has_out) {
+        /* the mesh goes beside the log: LOG minus .vplog */
+        size_t len = strlen(g->resume);
+        if (len >= sizeof g->prefix) { snprintf(err, errlen, "log path too long"); return VP_EINVAL; }
+        memcpy(g->prefix, g->resume, len + 1);
+        if (len > 6 && !strcmp(g->prefix + len - 6, ".vplog")) g->prefix[len - 6] = 0;
+        else snprintf(g->prefix + len, sizeof g->prefix - len, ".resumed");
+        o->out = g->prefix;
+    }
+    return VP_OK;
+}
+
+/* ---------- begin / end ---------- */
+
+static int copy_prefix(const char *to, const unsigned char *data, size_t n, char *err, size_t errlen)
+{
+    FILE *f = fopen(to, "wb");
+    if (!f || fwrite(data, 1, n, f) != n || fflush(f) != 0) {
+        snprintf(err, errlen, "cannot write %s: %s", to, strerror(errno));
+        if (f) fclose(f);
+        return VP_EIO;
+    }
+    fclose(f);
+    return VP_OK;
+}
+
+/* Creates the folders above path. */
+static int mkdirs_for(const char *path)
+{
+    char dir[1100];
+    size_t i, n = strlen(path);
+    if (n >= sizeof dir) return -1;
+    memcpy(dir, path, n + 1);
+    for (i = 1; i < n; i++)
+        if (dir[i] == '/') {
+            dir[i] = 0;
+            if (mkdir(dir, 0777) != 0 && errno != EEXIST) return -1;
+            dir[i] = '/';
+        }
+    return 0;
+}
+
+int vp_simlog_begin(vp_simlog_t *g, vp_sim_t *s, const vp_sim_options_t *o, FILE *msg,
+                    char *err, size_t errlen)
+{
+    char why[200], stop[600];
+    int st;
+    s->raw = NAN;
+    if (g->no_log && !g->resume) return VP_OK;
+    if (g->log) snprintf(g->path, sizeof g->path, "%s", g->log);
+    else if (g->resume) snprintf(g->path, sizeof g->path, "%s", g->resume);
+    else if (o->out) snprintf(g->path, sizeof g->path, "%s.vplog", o->out);
+    else return VP_OK;
+    if (mkdirs_for(g->path) != 0) {
+        snprintf(err, errlen, "cannot create the folder of %s: %s", g->path, strerror(errno));
+        return VP_EIO;
+    }
+    if (g->resume) {
+        vp_replay_t R;
+        if (!vp_slog_same_config(&g->L.header.cfg, g->L.header.arena_bytes, &s->cfg, (uint64_t)o->arena,
+                                 why, sizeof why)) {
+            snprintf(err, errlen, "%s: the scan configuration is not the logged one (%s): resume with "
+                     "the options the log was made with", g->resume, why);
+            return VP_EINVAL;
+        }
+        vp_slog_stop_text(&g->L, stop, sizeof stop);
+        if (msg) fprintf(msg, "resume %s: %s\n", g->resume, stop);
+        vp_replay_init_state(&R, s->pl, &g->L);
+        st = vp_replay_run(&R, &g->L, g->L.n, why, sizeof why);
+        if (st != VP_OK) { snprintf(err, errlen, "%s: replay failed: %s", g->resume, why); return st; }
+        g->replayed = R.applied;
+        g->complete = g->L.done;
+        vp_simdev_restore(s->dev, R.pos, R.probes);
+        if (msg) fprintf(msg, "resume: %u records replayed (%llu probes, %llu moves), device at %.6g %.6g %.6g%s\n",
+                         R.applied, (unsigned long long)R.probes, (unsigned long long)g->L.moves,
+                         R.pos[0], R.pos[1], R.pos[2], g->complete ? "; the session is already complete" : "");
+        if (g->no_log) return VP_OK;
+        if (strcmp(g->path, g->resume) != 0 &&
+            (st = copy_prefix(g->path, g->L.data, (size_t)g->L.good_bytes, err, errlen)) != VP_OK)
+            return st;
+        if (g->complete) return VP_OK;   /* nothing to append */
+        st = vp_logfile_open_append(&g->w.file, g->path, g->L.good_bytes, g->L.n, &g->fcfg);
+        if (st == VP_OK) {
+            snprintf(why, sizeof why, "resumed after record %d", (int)g->L.n - 1);
+            st = vp_logfile_event(&g->w.file, VP_LOG_EV_RESUME, 0, why);
+        }
+    } else {
+        vp_log_header_t h;
+        char note[VP_LOG_NOTE_MAX + 1];
+        vp_simlog_note(o, note, sizeof note);
+        vp_log_header_init(&h, &s->cfg, (uint64_t)o->arena, VP_LOG_UNITS_NONE, "host-sim", note);
+        st = vp_logfile_create(&g->w.file, g->path, &h, &g->fcfg);
+        if (st == VP_OK) st = vp_logfile_event(&g->w.file, VP_LOG_EV_START, 0, "voroprobe sim");
+    }
+    if (st != VP_OK) {
+        if (g->w.file.dead) { g->active = 1; g->w.failed = 1; return VP_OK; } /* cut at once */
+        snprintf(err, errlen, "cannot write the session log %s: %s", g->path, strerror(errno));
+        return st;
+    }
+    g->active = 1;
+    g->w.raw = &s->raw;
+    g->w.stop_after = g->stop_after;
+    g->hooks.ctx = &g->w;
+    g->hooks.after = vp_slog_after;
+    s->hooks = &g->hooks;
+    return VP_OK;
+}
+
+int vp_simlog_end(vp_simlog_t *g, vp_sim_t *s, FILE *msg)
+{
+    int st = s->run.status;
+    if (!g->active) return 0;
+    if (g->w.file.dead) {
+        if (msg) fprintf(msg, "sim: simulated power cut: the log %s stops at byte %llu; resume with --resume %s\n",
+                         g->path, (unsigned long long)g->w.file.bytes, g->path);
+        vp_logfile_close(&g->w.file);
+        return 1;
+    }
+    if (!g->w.failed) {
+        if (st == VP_EABORT && g->stop_after) {
+            char t[80];
+            snprintf(t, sizeof t, "paused after %lu commands (--stop-after)", g->w.commands);
+            vp_logfile_event(&g->w.file, VP_LOG_EV_PAUSE, 0, t);
+        } else if (st != VP_OK) {
+            vp_logfile_event(&g->w.file, VP_LOG_EV_FAULT, st, vp_strerror(st));
+        }
+    }
+    if (vp_logfile_close(&g->w.file) != VP_OK || g->w.failed) {
+        if (msg) fprintf(msg, "sim: writing the session log %s failed: %s\n", g->path, strerror(errno));
+    }
+    return 0;
+}
+
+void vp_simlog_report(const vp_simlog_t *g, FILE *f)
+{
+    if (!g->path[0] || g->no_log) return;
+    if (g->complete && !g->active)
+        fprintf(f, "log: %s (complete; %u records replayed, nothing appended)\n", g->path, g->replayed);
+    else
+        fprintf(f, "log: %s (%u records replayed + %lu written, %lu syncs)\n", g->path, g->replayed,
+                g->w.file.records, g->w.file.syncs);
+}

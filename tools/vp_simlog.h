@@ -1,0 +1,48 @@
+/* vp_simlog — the session log of `sim`: options (--log, --no-log, --resume, --sync,
+ * --stop-after, --power-cut), creating the log, resuming from one (replay, device restored,
+ * append), and the closing event. cmd_sim.c calls these around vp_sim_open/run/finish. */
+#ifndef VP_SIMLOG_H
+#define VP_SIMLOG_H
+#include <stdio.h>
+#include "vp_sim_setup.h"
+#include "vp_slog.h"
+
+typedef struct vp_simlog {
+    const char *log;             /* --log FILE (NULL: PREFIX.vplog) */
+    const char *resume;          /* --resume LOG */
+    int no_log;                  /* --no-log */
+    vp_logfile_config_t fcfg;    /* --sync, --power-cut */
+    unsigned long stop_after;    /* --stop-after N */
+    /* state */
+    char path[1100], prefix[1100];
+    char note[VP_LOG_NOTE_MAX + 1];  /* the resumed log's options (o points into it) */
+    vp_slog_t L;                 /* the resumed log */
+    int have_L, active, complete;
+    uint32_t replayed;
+    vp_slog_writer_t w;
+    vp_session_hooks_t hooks;
+} vp_simlog_t;
+
+void vp_simlog_init(vp_simlog_t *g);
+/* Like vp_sim_parse_option: 0 taken, 1 not ours, -1 bad value (err). */
+int  vp_simlog_parse_option(vp_simlog_t *g, int argc, char **argv, int *i, char *err, size_t errlen);
+/* With --resume: loads the log and rebuilds o from the defaults, the sim options recorded in
+ * the log, then the command line's (which win). Without: nothing. */
+int  vp_simlog_options(vp_simlog_t *g, vp_sim_options_t *o, int argc, char **argv, char *err,
+                       size_t errlen);
+/* After vp_sim_open: creates the log, or replays the resumed one into s->pl (the configuration
+ * must be the logged one bit for bit), puts the device where the log left it and reopens the
+ * log to append. Sets s->hooks. msg: progress notes (may be NULL). */
+int  vp_simlog_begin(vp_simlog_t *g, vp_sim_t *s, const vp_sim_options_t *o, FILE *msg,
+                     char *err, size_t errlen);
+/* After the run: FAULT or PAUSE event (DONE is written when the planner says so), sync, close.
+ * Returns 1 when the simulated power cut stopped the run (nothing more may be written). */
+int  vp_simlog_end(vp_simlog_t *g, vp_sim_t *s, FILE *msg);
+/* One summary line (nothing without a log). */
+void vp_simlog_report(const vp_simlog_t *g, FILE *f);
+void vp_simlog_free(vp_simlog_t *g);
+/* The sim options as a command line (the log's note); parsing it back gives the same
+ * configuration bit for bit. */
+void vp_simlog_note(const vp_sim_options_t *o, char *buf, size_t n);
+
+#endif

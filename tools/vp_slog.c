@@ -1,0 +1,294 @@
+/* vp_slog — see vp_slog.h. */
+#include <errno.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include "vp_slog.h"
+
+const char *vp_slog_event_name(uint32_t event)
+{
+    switch (event) {
+    case VP_LOG_EV_START: return "start";
+    case VP_LOG_EV_PAUSE: return "pause";
+    case VP_LOG_EV_RESUME: return "resume";
+    case VP_LOG_EV_FAULT: return "fault";
+    case VP_LOG_EV_DONE: return "done";
+    case VP_LOG_EV_CALIBRATION: return "calibration";
+    default: return "unknown";
+    }
+}
+
+static int index_records(vp_slog_t *L, char *err, size_t errlen)
+{
+    vp_log_reader_t *r = malloc(sizeof *r);
+    size_t pos = 0, cap = 1024;
+    int st = VP_LOG_NEED_MORE;
+    if (!r || !(L->off = malloc(cap * sizeof *L->off))) {
+        free(r);
+        snprintf(err, errlen, "out of memory");
+        return VP_ENOMEM;
+    }
+    vp_log_reader_init(r);
+    while (pos < L->size) {
+        vp_log_record_t rec;
+        size_t used;
+        uint64_t at = r->offset;
+        st = vp_log_reader_push(r, L->data + pos, L->size - pos, &used, &rec);
+        pos += used;
+        if (st < 0) break;
+        if (st == VP_LOG_GOT_HEADER) L->header = r->header;
+        if (st != VP_LOG_GOT_RECORD) continue;
+        if (L->n == cap) {
+            size_t *o = realloc(L->off, 2 * cap * sizeof *o);
+            if (!o) { free(r); snprintf(err, errlen, "out of memory"); return VP_ENOMEM; }
+            L->off = o;
+            cap *= 2;
+        }
+        L->off[L->n++] = (size_t)at;
+        if (rec.type == VP_LOG_PROBE) { L->probes++; L->hits += rec.hit != 0; }
+        else if (rec.type == VP_LOG_MOVE) L->moves++;
+        else { L->events++; if (rec.event == VP_LOG_EV_DONE) L->done = 1; }
+    }
+    if (st >= 0) st = vp_log_reader_finish(r);
+    L->good_bytes = r->offset;
+    L->status = st < 0 ? st : VP_OK;
+    L->reason = st < 0 ? r->reason : VP_LOG_R_OK;
+    if (!r->have_header) {
+        int vst = r->status == VP_EVERSION ? VP_EVERSION : VP_ECORRUPT;
+        if (r->reason == VP_LOG_R_VERSION)
+            snprintf(err, errlen, "the log was written by a newer format version (%u; this build reads up to %u): "
+                     "use a newer voroprobe", (unsigned)(L->size >= 10 ? L->data[8] | L->data[9] << 8 : 0),
+                     VP_LOG_VERSION);
+        else
+            snprintf(err, errlen, "unusable header: %s", vp_log_reason_text(r->reason));
+        free(r);
+        return vst;
+    }
+    free(r);
+    return VP_OK;
+}
+
+int vp_slog_load_buf(vp_slog_t *L, const void *buf, size_t len, char *err, size_t errlen)
+{
+    memset(L, 0, sizeof *L);
+    L->data = malloc(len ? len : 1);
+    if (!L->data) { snprintf(err, errlen, "out of memory"); return VP_ENOMEM; }
+    if (len) memcpy(L->data, buf, len);
+    L->size = len;
+    return index_records(L, err, errlen);
+}
+
+int vp_slog_load(vp_slog_t *L, const char *path, char *err, size_t errlen)
+{
+    FILE *f = fopen(path, "rb");
+    size_t cap = 1 << 16, n = 0;
+    unsigned char *p;
+    char sub[400];
+    int st;
+    memset(L, 0, sizeof *L);
+    if (!f) { snprintf(err, errlen, "cannot open %s: %s", path, strerror(errno)); return VP_EIO; }
+    p = malloc(cap);
+    while (p) {
+        size_t k = fread(p + n, 1, cap - n, f);
+        n += k;
+        if (n < cap) break;
+        {
+            unsigned char *q = realloc(p, cap * 2);
+            if (!q) { free(p); p = NULL; break; }
+            p = q;
+            cap *= 2;
+        }
+    }
+    if (!p || ferror(f)) {
+        fclose(f);
+        free(p);
+        snprintf(err, errlen, "cannot read %s", path);
+        return VP_EIO;
+    }
+    fclose(f);
+    L->data = p;
+    L->size = n;
+    st = index_records(L, sub, sizeof sub);
+    if (st != VP_OK) snprintf(err, errlen, "%s: %s", path, sub);
+    return st;
+}
+
+void vp_slog_free(vp_slog_t *L)
+{
+    free(L->data);
+    free(L->off);
+    memset(L, 0, sizeof *L);
+}
+
+int vp_slog_record(const vp_slog_t *L, uint32_t i, vp_log_record_t *rec)
+{
+    int st;
+    if (i >= L->n) return VP_EINVAL;
+    st = vp_log_record_decode(L->data + L->off[i], L->size - L->off[i], rec, NULL);
+    return st < 0 ? st : VP_OK;
+}
+
+void vp_slog_stop_text(const vp_slog_t *L, char *buf, size_t n)
+{
+    if (L->status == VP_OK) {
+        snprintf(buf, n, "complete: %u records, %llu bytes, all CRCs and sequence numbers good",
+                 L->n, (unsigned long long)L->size);
+        return;
+    }
+    snprintf(buf, n, "reading stops at record %u (byte offset %llu): %s; records 0..%d "
+             "(bytes 0..%llu) are valid and kept, %llu byte(s) after them are not used",
+             L->n, (unsigned long long)L->good_bytes, vp_log_reason_text(L->reason), (int)L->n - 1,
+             (unsigned long long)L->good_bytes, (unsigned long long)(L->size - L->good_bytes));
+}
+
+/* ---------- replay ---------- */
+
+void vp_replay_init_state(vp_replay_t *R, vp_planner_t *pl, const vp_slog_t *L)
+{
+    memset(R, 0, sizeof *R);
+    R->pl = pl;
+    memcpy(R->pos, L->header.cfg.start, sizeof R->pos);
+}
+
+int vp_replay_open(vp_replay_t *R, const vp_slog_t *L, size_t arena, char *err, size_t errlen)
+{
+    size_t bytes = arena ? arena : (size_t)L->header.arena_bytes;
+    int st;
+    vp_replay_init_state(R, NULL, L);
+    if (bytes == 0 || (uint64_t)bytes != (arena ? (uint64_t)arena : L->header.arena_bytes)) {
+        snprintf(err, errlen, "the header's arena size %llu cannot be used here",
+                 (unsigned long long)L->header.arena_bytes);
+        return VP_EINVAL;
+    }
+    R->pl = malloc(sizeof *R->pl);
+    R->arena = malloc(bytes);
+    if (!R->pl || !R->arena) {
+        snprintf(err, errlen, "cannot allocate the planner's %zu-byte arena", bytes);
+        return VP_ENOMEM;
+    }
+    st = vp_planner_init(R->pl, R->arena, bytes, &L->header.cfg);
+    if (st != VP_OK) {
+        snprintf(err, errlen, "the planner refuses the header's configuration: %s", vp_strerror(st));
+        return st;
+    }
+    return VP_OK;
+}
+
+void vp_replay_close(vp_replay_t *R)
+{
+    free(R->pl);
+    free(R->arena);
+    memset(R, 0, sizeof *R);
+}
+
+static const char *cmd_name(int kind)
+{
+    return kind == VP_CMD_MOVE ? "MOVE" : kind == VP_CMD_PROBE ? "PROBE" : kind == VP_CMD_DONE ? "DONE" : "?";
+}
+
+static const char *type_name(int type)
+{
+    return type == VP_LOG_MOVE ? "MOVE" : type == VP_LOG_PROBE ? "PROBE" : "EVENT";
+}
+
+int vp_replay_run(vp_replay_t *R, const vp_slog_t *L, uint32_t upto, char *err, size_t errlen)
+{
+    if (upto > L->n) upto = L->n;
+    while (R->applied < upto) {
+        vp_log_record_t rec;
+        vp_log_mismatch_t mm;
+        uint32_t i = R->applied;
+        int st = vp_slog_record(L, i, &rec);
+        if (st != VP_OK) {
+            snprintf(err, errlen, "record %u (byte offset %zu) cannot be decoded", i, L->off[i]);
+            return st;
+        }
+        memset(&mm, 0, sizeof mm);
+        if (rec.type == VP_LOG_EVENT) {
+            if (rec.event == VP_LOG_EV_DONE && !R->done) {
+                /* the planner must agree that the session is complete */
+                vp_cmd_t cmd;
+                st = vp_planner_next(R->pl, &cmd);
+                if (st != VP_OK || cmd.kind != VP_CMD_DONE) {
+                    snprintf(err, errlen, "record %u (byte offset %zu): the log says DONE, the planner %s%s",
+                             i, L->off[i], st != VP_OK ? "stopped: " : "issued ",
+                             st != VP_OK ? vp_strerror(st) : cmd_name(cmd.kind));
+                    return st != VP_OK ? st : VP_ECORRUPT;
+                }
+                R->done = 1;
+            }
+            R->applied++;
+            continue;
+        }
+        st = vp_log_replay(R->pl, &rec, &mm);
+        if (st == VP_ECORRUPT && mm.field) {
+            if (mm.got_kind != (rec.type == VP_LOG_MOVE ? VP_CMD_MOVE : VP_CMD_PROBE))
+                snprintf(err, errlen, "record %u (byte offset %zu): the log has a %s, the planner issued %s: "
+                         "this log was made by another planner build or configuration", i, L->off[i],
+                         type_name(rec.type), cmd_name(mm.got_kind));
+            else
+                snprintf(err, errlen, "record %u (byte offset %zu): the planner's %s differs in its %s "
+                         "(not bit for bit the logged one): another planner build or configuration",
+                         i, L->off[i], type_name(rec.type), mm.field);
+            return st;
+        }
+        if (st != VP_OK) {
+            snprintf(err, errlen, "record %u (byte offset %zu): the planner stopped: %s", i, L->off[i],
+                     vp_strerror(st));
+            return st;
+        }
+        if (rec.type == VP_LOG_MOVE) memcpy(R->pos, rec.target, sizeof R->pos);
+        else R->probes++;
+        R->applied++;
+    }
+    return VP_OK;
+}
+
+static int bits_eq(const double *a, const double *b, int n)
+{
+    return memcmp(a, b, (size_t)n * sizeof(double)) == 0;
+}
+
+int vp_slog_same_config(const vp_planner_config_t *a, uint64_t arena_a,
+                        const vp_planner_config_t *b, uint64_t arena_b, char *why, size_t n)
+{
+    const char *f = NULL;
+    uint32_t i;
+    if (a->omega_kind != b->omega_kind) f = "Omega kind";
+    else if (!bits_eq(&a->eps, &b->eps, 1)) f = "eps";
+    else if (a->omega_kind == VP_OMEGA_BOX && (!bits_eq(a->omega_lo, b->omega_lo, 3) || !bits_eq(a->omega_hi, b->omega_hi, 3))) f = "Omega box";
+    else if (a->omega_kind == VP_OMEGA_BALL && (!bits_eq(a->omega_center, b->omega_center, 3) || !bits_eq(&a->omega_radius, &b->omega_radius, 1))) f = "Omega ball";
+    else if (a->ninterior != b->ninterior) f = "number of interior points";
+    else if (!bits_eq(a->start, b->start, 3)) f = "start position";
+    else if (!bits_eq(&a->max_range, &b->max_range, 1)) f = "max range";
+    else if (!bits_eq(&a->noise_tol, &b->noise_tol, 1)) f = "noise tolerance";
+    else if (!bits_eq(&a->clearance, &b->clearance, 1)) f = "clearance";
+    else if (a->confirm_misses != b->confirm_misses) f = "confirm misses";
+    else if (a->flags != b->flags) f = "planner flags";
+    else if (arena_a != arena_b) f = "arena size";
+    for (i = 0; !f && i < a->ninterior && i < VP_PLANNER_MAX_SEEDS; i++)
+        if (!bits_eq(a->interior[i], b->interior[i], 3)) f = "interior points";
+    if (f && why) snprintf(why, n, "%s differs", f);
+    return f == NULL;
+}
+
+/* ---------- writer hook ---------- */
+
+int vp_slog_after(void *ctx, const vp_cmd_t *cmd, const vp_probe_result_t *res)
+{
+    vp_slog_writer_t *w = ctx;
+    vp_log_record_t rec;
+    int st;
+    if (cmd->kind == VP_CMD_DONE) {
+        vp_log_record_event(&rec, 0, VP_LOG_EV_DONE, 0, "the planner says DONE");
+    } else if (cmd->kind == VP_CMD_MOVE) {
+        vp_log_record_move(&rec, 0, cmd);
+    } else {
+        vp_log_record_probe(&rec, 0, cmd, res, w->raw ? *w->raw : NAN);
+    }
+    st = vp_logfile_append(&w->file, &rec);
+    if (st != VP_OK) { w->failed = 1; return st; }
+    w->commands++;
+    if (w->stop_after && w->commands >= w->stop_after && cmd->kind != VP_CMD_DONE) return VP_EABORT;
+    return VP_OK;
+}
