@@ -347,7 +347,7 @@ void vp_log_reader_init(vp_log_reader_t *r)
 {
     memset(r, 0, sizeof *r);
     r->status = VP_OK;
-    r->need = 16;          /* the header's fixed start: magic, version, flags, length */
+    r->need = VP_LOG_MAGIC_LEN;   /* the magic first, then version, flags and length */
 }
 
 static int reader_fail(vp_log_reader_t *r, int status, int reason)
@@ -367,9 +367,13 @@ static int reader_step(vp_log_reader_t *r, vp_log_record_t *rec)
     uint32_t n;
     int why;
     if (!r->have_header) {
+        if (r->have == VP_LOG_MAGIC_LEN) {
+            if (memcmp(p, vp_log_magic, VP_LOG_MAGIC_LEN) != 0) return reader_fail(r, VP_ECORRUPT, VP_LOG_R_MAGIC);
+            r->need = 16;
+            return VP_LOG_NEED_MORE;
+        }
         if (r->have == 16) {
             uint32_t ver = get16(p + 8);
-            if (memcmp(p, vp_log_magic, VP_LOG_MAGIC_LEN) != 0) return reader_fail(r, VP_ECORRUPT, VP_LOG_R_MAGIC);
             if (ver > VP_LOG_VERSION) return reader_fail(r, VP_EVERSION, VP_LOG_R_VERSION);
             n = get32(p + 12);
             if (ver == 0 || n < HDR_FIXED + 24u + 8u || n > VP_LOG_MAX_HEADER)
