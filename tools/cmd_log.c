@@ -119,8 +119,8 @@ int vp_cmd_replay(int argc, char **argv)
                       write_mesh(&j.mesh, j.out, ".off", VP_MESH_OFF, "replay");
     if (rc == 0 && !j.quiet) {
         printf("replayed %u records of %s (%llu probes, %llu hits, %llu moves): every command equal to the logged one\n",
-               j.R.applied, j.log, (unsigned long long)j.R.probes, (unsigned long long)j.L.hits,
-               (unsigned long long)j.L.moves);
+               j.R.applied, j.log, (unsigned long long)j.R.probes, (unsigned long long)j.R.hits,
+               (unsigned long long)(j.R.applied > 0 ? j.L.moves : 0));
         printf("session %s; mesh: %zu vertices, %zu facets\n",
                j.R.done ? "complete (DONE)" : "incomplete (no DONE): the mesh is the one at the end of the log",
                j.mesh.nv, j.mesh.nt);
@@ -230,7 +230,7 @@ int vp_cmd_mesh(int argc, char **argv)
             for (k = 0; k < c.components; k++) loops += c.comp[k].boundary_loops;
             vp_planner_get_stats(j.R.pl, &st);
             printf("%s: %u records replayed (%llu probes, %llu hits), session %s\n", j.log, j.R.applied,
-                   (unsigned long long)j.R.probes, (unsigned long long)st.hits,
+                   (unsigned long long)j.R.probes, (unsigned long long)j.R.hits,
                    j.R.done ? "complete (DONE)" : "INCOMPLETE (no DONE)");
             printf("mesh: %zu vertices, %zu facets, %d component(s); ", j.mesh.nv, j.mesh.nt, c.components);
             if (c.closed_manifold)

@@ -7,6 +7,7 @@ static const struct vp_cli_cmd commands[] = {
     { "sim", vp_cmd_sim, "scan a simulated object (host-sim) and write the mesh" },
     { "replay", vp_cmd_replay, "replay a session log through the planner, bit for bit, and mesh it" },
     { "mesh", vp_cmd_mesh, "the mesh (and probed points) of a session log, complete or not" },
+    { "certify", vp_cmd_certify, "check the papers' hypotheses H1-H3 on a log or mesh, facet by facet" },
     { "log", vp_cmd_log, "session logs: dump the records, check CRCs and what is recoverable" },
     { "bench-delaunay", vp_cmd_bench_delaunay, "3D Delaunay of a point set (TetGen .node or generated)" },
 };

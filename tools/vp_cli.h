@@ -16,5 +16,6 @@ int vp_cmd_sim(int argc, char **argv);
 int vp_cmd_replay(int argc, char **argv);
 int vp_cmd_mesh(int argc, char **argv);
 int vp_cmd_log(int argc, char **argv);
+int vp_cmd_certify(int argc, char **argv);
 
 #endif

@@ -238,7 +238,7 @@ int vp_replay_run(vp_replay_t *R, const vp_slog_t *L, uint32_t upto, char *err, 
             return st;
         }
         if (rec.type == VP_LOG_MOVE) memcpy(R->pos, rec.target, sizeof R->pos);
-        else R->probes++;
+        else { R->probes++; R->hits += rec.hit != 0; }
         R->applied++;
     }
     return VP_OK;

@@ -43,6 +43,7 @@ typedef struct vp_replay {
     uint32_t applied;          /* records replayed */
     double pos[3];             /* device position after them */
     uint64_t probes;           /* PROBE records replayed (the device's probe count) */
+    uint64_t hits;             /* of which hits */
     int done;                  /* the planner said DONE after the last record */
 } vp_replay_t;
 
