@@ -99,3 +99,21 @@ demo: $(PROG)
 
 clean:
 	rm -rf $(BUILD) build-*
+
+# ---- fuzzing: libFuzzer targets tests/fuzz/fuzz_*.c (clang, Debian's libclang-rt-14-dev) ----
+#   make fuzz [FUZZ_TIME=60]   builds BUILD/fuzz/fuzz_* and runs each for FUZZ_TIME seconds
+FUZZ_CC ?= clang
+FUZZ_TIME ?= 60
+FUZZ_CFLAGS := -std=c99 -g -O1 $(FPFLAGS) -D_POSIX_C_SOURCE=200809L -D_DEFAULT_SOURCE -Icore -Ihost-sim \
+               -Iport -Itools -fno-sanitize-recover=undefined
+FUZZ_SRC := $(CORE_SRC) $(SIM_SRC) $(TOOL_SRC) port/vp_logfile.c
+FUZZ_OBJ := $(FUZZ_SRC:%.c=$(BUILD)/fuzz/obj/%.o)
+FUZZ_BIN := $(patsubst tests/fuzz/%.c,$(BUILD)/fuzz/%,$(wildcard tests/fuzz/fuzz_*.c))
+.SECONDARY: $(FUZZ_OBJ)
+$(BUILD)/fuzz/obj/%.o: %.c $(wildcard core/*.h host-sim/*.h port/*.h tools/*.h) Makefile
+	@mkdir -p $(@D)
+	$(FUZZ_CC) $(FUZZ_CFLAGS) -fsanitize=fuzzer-no-link,address,undefined -c $< -o $@
+$(BUILD)/fuzz/%: tests/fuzz/%.c $(FUZZ_OBJ)
+	$(FUZZ_CC) $(FUZZ_CFLAGS) -fsanitize=fuzzer,address,undefined -o $@ $< $(FUZZ_OBJ) -lm
+fuzz: $(PROG) $(FUZZ_BIN)
+	@sh tests/fuzz/run.sh $(BUILD) $(FUZZ_TIME)

@@ -1,0 +1,42 @@
+#!/bin/sh
+# Runs every libFuzzer target in BUILD/fuzz for SECONDS seconds each, on a corpus seeded with
+# a small simulated session (its log, OFF and PLY files), torn and hand-made variants.
+# Crashes and sanitizer reports fail the run (artifacts in BUILD/fuzz/artifacts).
+# Usage: sh tests/fuzz/run.sh BUILD SECONDS
+set -u
+B=${1:-build}; T=${2:-60}
+F="$B/fuzz"; S="$F/seeds"
+rm -rf "$S"; mkdir -p "$S/log" "$S/off" "$S/ply" "$F/artifacts"
+w="$S/work"; mkdir -p "$w"
+"$B/voroprobe" sim --surface sphere --eps-rel 0.3 --out "$w/s" --quiet --hausdorff 0 --sync close >/dev/null &&
+"$B/voroprobe" sim --surface torus --eps-rel 0.25 --out "$w/t" --dropout 0.1 --noise 0.001 --quiet --hausdorff 0 \
+  --sync close --stop-after 300 >/dev/null 2>&1
+"$B/voroprobe" mesh "$w/s.vplog" --out "$w/a" --ascii >/dev/null 2>&1
+[ -s "$w/s.vplog" ] && [ -s "$w/a.ply" ] || { echo "fuzz: cannot make the seed corpus with $B/voroprobe"; exit 1; }
+cp "$w/s.vplog" "$w/t.vplog" "$S/log/"
+head -c 388 "$w/s.vplog" >"$S/log/header-only"
+head -c 1000 "$w/t.vplog" >"$S/log/torn"
+cp "$w/s.off" "$S/off/"
+printf 'OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n4 1 2 3 0\n' >"$S/off/tet.off"
+printf 'OFF\n# comment\n3 1 0\n0 0 0 1 0 0 0 1 0\n3 0 1 2\n' >"$S/off/tri.off"
+cp "$w/s.ply" "$S/ply/bin.ply"; cp "$w/a.ply" "$S/ply/ascii.ply"
+printf 'ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n' >"$S/ply/tri.ply"
+rm -rf "$w"
+fail=0
+for f in "$F"/fuzz_*; do
+  [ -x "$f" ] || continue
+  name=$(basename "$f"); kind=${name#fuzz_}
+  corpus="$F/corpus/$kind"; mkdir -p "$corpus"
+  "$f" -max_total_time="$T" -timeout=20 -rss_limit_mb=2048 -max_len=65536 -print_final_stats=1 \
+       -artifact_prefix="$F/artifacts/$name-" "$corpus" "$S/$kind" >"$F/$name.log" 2>&1
+  rc=$?
+  runs=$(grep -o 'stat::number_of_executed_units: *[0-9]*' "$F/$name.log" | grep -o '[0-9]*$')
+  if [ $rc -ne 0 ] || grep -qE 'ERROR: (AddressSanitizer|LeakSanitizer|libFuzzer)|runtime error:' "$F/$name.log"; then
+    echo "$name: FAILED (exit $rc) after ${runs:-?} runs; see $F/$name.log"
+    grep -E 'ERROR|runtime error|SUMMARY' "$F/$name.log" | head -5
+    fail=1
+  else
+    echo "$name: ${runs:-?} runs in ${T}s, corpus $(ls "$corpus" | wc -l) inputs, no crash, no sanitizer report"
+  fi
+done
+exit $fail
