@@ -239,8 +239,8 @@ int vp_cmd_mesh(int argc, char **argv)
                 printf("%zu hole(s): %zu boundary edges in %zu boundary loop(s)%s (not patched)\n",
                        loops, c.boundary_edges, loops,
                        c.nonmanifold_edges ? ", and non-manifold edges" : "");
-            printf("largest surface Delaunay ball %.6g (eps %.6g), %u bad ball(s) left, %u interior point(s) not enclosed\n",
-                   st.max_ball, j.L.header.cfg.eps, st.bad_balls, st.missing_components);
+            printf("largest surface Delaunay ball %.6g (eps %.6g), %u bad ball(s) left%s\n", st.max_ball,
+                   j.L.header.cfg.eps, st.bad_balls, j.R.done ? "" : " (`certify` names every open edge and large ball)");
             printf("wrote %s.ply%s%s%s\n", j.out, off ? " and " : "", off ? j.out : "", off ? ".off" : "");
             if (points) printf("wrote %s (%zu points with normals)\n", path, npts);
             vp_meshcheck_free(&c);
