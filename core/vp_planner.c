@@ -66,7 +66,7 @@ struct vp_frec {
     uint32_t v[3];     /* sorted; v[0] == NONE: free slot, v[1] = next free */
     uint32_t heap;     /* index in the bad-ball heap or NONE */
     uint32_t flags;
-    uint32_t pad;
+    uint32_t hint;     /* a tet that had the facet (checked before use) */
     double c[3];       /* ball centre (the hit) */
     double r;          /* ball radius */
 };
@@ -482,11 +482,28 @@ static void heap_remove(vp_planner_t *pl, uint32_t k)
 
 /* ---------- facet records ---------- */
 
+/* Rebuilds the hash from the live records when deleted slots pile up (they lengthen every
+ * probe sequence). */
+static void fhash_rebuild(vp_planner_t *pl)
+{
+    uint32_t i;
+    for (i = 0; i <= pl->hash_mask; i++) pl->fhash[i] = HASH_EMPTY;
+    for (i = 0; i < pl->nfrec; i++) {
+        int found;
+        if (pl->frec[i].v[0] == NONE) continue;
+        pl->fhash[fhash_find(pl, pl->frec[i].v, &found)] = i;
+    }
+    pl->ntomb = 0;
+}
+
 static void frec_delete(vp_planner_t *pl, uint32_t k)
 {
     int found;
     uint32_t h = fhash_find(pl, pl->frec[k].v, &found);
-    if (found) pl->fhash[h] = HASH_TOMB;
+    if (found) {
+        pl->fhash[h] = HASH_TOMB;
+        if (++pl->ntomb > (pl->hash_mask + 1u) / 4u) pl->fhash_dirty = 1;
+    }
     heap_remove(pl, k);
     pl->frec[k].v[0] = NONE;
     pl->frec[k].v[1] = pl->frec_free;
@@ -497,7 +514,7 @@ static void frec_delete(vp_planner_t *pl, uint32_t k)
 /* Adds facet fv (any order) with ball centre c; `outside` is a point on the probe's side, so
  * the facet is stored facing it. A facet already known keeps its first ball. */
 static int frec_add(vp_planner_t *pl, const uint32_t *fv, const double *c, const double *outside,
-                    uint32_t *out)
+                    uint32_t tet, uint32_t *out)
 {
     uint32_t v[3], k, h;
     int found;
@@ -518,11 +535,13 @@ static int frec_add(vp_planner_t *pl, const uint32_t *fv, const double *c, const
     memcpy(f->v, v, sizeof v);
     f->heap = NONE;
     f->flags = 0;
+    f->hint = tet;
     f->c[0] = c[0]; f->c[1] = c[1]; f->c[2] = c[2];
     a = vp_dt_point(&pl->dt, v[0]);
     f->r = dist3(c, a);
     if (vp_orient3d(a, vp_dt_point(&pl->dt, v[1]), vp_dt_point(&pl->dt, v[2]), outside) < 0)
         f->flags |= FREC_FLIP;
+    if (pl->fhash[h] == HASH_TOMB && pl->ntomb > 0) pl->ntomb--;
     pl->fhash[h] = k;
     pl->nfacets++;
     *out = k;
@@ -734,11 +753,12 @@ static int astar_relax(astar_t *s, uint32_t from, uint32_t nb, double g, uint32_
     return VP_OK;
 }
 
-static int astar_path(vp_planner_t *pl, uint32_t a, uint32_t b, const double *gp, double *len)
+static int astar_path(vp_planner_t *pl, uint32_t a, uint32_t b, const double *gp, double *len,
+                      uint32_t max_expansions)
 {
     astar_t s;
     uint32_t broot = b != NONE ? chain_root(pl, b) : NONE, best_out = NONE, node = NONE, i;
-    uint32_t expansions = 0, budget = pl->cap_astar > 4096 ? 4096 : pl->cap_astar;
+    uint32_t expansions = 0, budget = pl->cap_astar > max_expansions ? max_expansions : pl->cap_astar;
     double best_out_cost = 1e300, ol;
     int st;
     s.pl = pl;
@@ -813,6 +833,24 @@ static int astar_path(vp_planner_t *pl, uint32_t a, uint32_t b, const double *gp
     return VP_OK;
 }
 
+#define SEARCH_LOCAL 256u  /* expansions before a straight shortcut is probed */
+#define SEARCH_FULL 4096u  /* expansions before falling back to the prev chains */
+
+/* The full route from record a to record b (search, else prev chains), into the route buffer. */
+static int route_full(vp_planner_t *pl, uint32_t a, uint32_t b)
+{
+    double l;
+    int st;
+    pl->nroute = pl->iroute = 0;
+    st = astar_path(pl, a, b, NULL, &l, SEARCH_FULL);
+    if (st == VP_OK) return VP_OK;
+    pl->nroute = 0;
+    pl->st.astar_fallbacks++;
+    st = tree_path(pl, a, b, NULL, 1, &l);
+    if (st == VP_OK) pl->st.travel_prev_chains += l;
+    return st;
+}
+
 /* Plans the device's route from where it stands to record b, or to the outside point gp when
  * b == NONE (a record is then made there). Sets pl->at to the destination record. */
 static int plan_route(vp_planner_t *pl, uint32_t b, const double *gp)
@@ -823,9 +861,33 @@ static int plan_route(vp_planner_t *pl, uint32_t b, const double *gp)
     pl->st.routes++;
     pl->route_from = pl->at;
     pl->shortcut = NONE;
+    pl->route_deferred = 0;
     if (b != NONE && b == pl->at) return VP_OK;
+    if (!(pl->cfg.flags & VP_PLAN_PREV_CHAINS) && b != NONE) {
+        /* the goal one free edge away: no search */
+        uint32_t e, cur = pl->at;
+        for (e = pl->vrec[cur].adj; e != NONE;) {
+            int isa = pl->fedge[4 * e] == cur;
+            if ((isa ? pl->fedge[4 * e + 1] : pl->fedge[4 * e]) == b) {
+                pl->at = b;
+                pl->st.direct_routes++;
+                return route_push(pl, pl->vrec[b].p);
+            }
+            e = isa ? pl->fedge[4 * e + 2] : pl->fedge[4 * e + 3];
+        }
+    }
     if (!(pl->cfg.flags & VP_PLAN_PREV_CHAINS)) {
-        st = astar_path(pl, pl->at, b, gp, &al);
+        int cheap = b != NONE && !(pl->cfg.flags & VP_PLAN_PAPER);
+        st = astar_path(pl, pl->at, b, gp, &al, cheap ? SEARCH_LOCAL : SEARCH_FULL);
+        if (st != VP_OK && cheap) {
+            /* no short way in the free graph: probe the straight line first; the full search
+             * runs only if that probe hits */
+            pl->nroute = 0;
+            pl->shortcut = b;
+            pl->route_deferred = 1;
+            pl->at = b;
+            return VP_OK;
+        }
         if (st != VP_OK) { pl->nroute = 0; pl->st.astar_fallbacks++; }
     } else {
         st = VP_ENOMEM;
@@ -1025,7 +1087,7 @@ static int task_finish(vp_planner_t *pl, const vp_probe_result_t *res)
         vp_dt_facet(&pl->dt, t, f, fv);
         {
             unsigned su = side_get(pl, u, (int)j) & SIDE_MASK;
-            st = frec_add(pl, fv, h, pl->probe_origin, &fr);
+            st = frec_add(pl, fv, h, pl->probe_origin, t, &fr);
             if (st != VP_OK) return st;
             side_set(pl, t, f, SIDE_HIT);
             if (su == SIDE_HIT) {
@@ -1262,8 +1324,24 @@ static int after_insert(vp_planner_t *pl, uint32_t pv)
 
 /* ---------- refinement: insert the centre of a bad ball ---------- */
 
+static uint32_t find_facet_slow(vp_planner_t *pl, const uint32_t *fv, int *fi);
+
 /* a live tet holding facet fv, and the facet's index in it */
 static uint32_t find_facet(vp_planner_t *pl, const uint32_t *fv, int *fi)
+{
+    uint32_t k = frec_lookup(pl, fv);
+    if (k != NONE && vp_dt_alive(&pl->dt, pl->frec[k].hint)) {
+        const uint32_t *w = vp_dt_tet(&pl->dt, pl->frec[k].hint);
+        int a = facet_index_of(w, fv[0]), b = facet_index_of(w, fv[1]), c = facet_index_of(w, fv[2]);
+        if (a >= 0 && b >= 0 && c >= 0) {
+            *fi = 6 - a - b - c;
+            return pl->frec[k].hint;
+        }
+    }
+    return find_facet_slow(pl, fv, fi);
+}
+
+static uint32_t find_facet_slow(vp_planner_t *pl, const uint32_t *fv, int *fi)
 {
     int n = vp_dt_incident_tets(&pl->dt, fv[0], pl->astar, (int)(pl->cap_astar > 65536 ? 65536 : pl->cap_astar)), k;
     for (k = 0; k < n; k++) {
@@ -1304,6 +1382,7 @@ static uint32_t choose_ball(const vp_planner_t *pl)
 
 static int refine(vp_planner_t *pl)
 {
+    if (pl->fhash_dirty) { fhash_rebuild(pl); pl->fhash_dirty = 0; }
     uint32_t k = choose_ball(pl), t, v = NONE, fv[3];
     int fi, st;
     double c[3];
@@ -1854,6 +1933,11 @@ int vp_planner_feed(vp_planner_t *pl, const vp_probe_result_t *res)
         pl->sc_pending = 0;
         if (res->hit) {
             pl->st.hits++;
+            if (pl->route_deferred) {
+                pl->route_deferred = 0;
+                st = route_full(pl, pl->sc_from, pl->shortcut);
+                if (st != VP_OK) { pl->error = st; return st; }
+            }
             pl->iroute = 0; /* the searched route stands */
             return VP_OK;
         }
@@ -1865,6 +1949,7 @@ int vp_planner_feed(vp_planner_t *pl, const vp_probe_result_t *res)
             return VP_OK;
         }
         /* the straight way is free: take it */
+        pl->route_deferred = 0;
         st = edge_add(pl, pl->sc_from, pl->shortcut);
         if (st != VP_OK) { pl->error = st; return st; }
         pl->nroute = pl->iroute = 0;

@@ -66,7 +66,7 @@ typedef struct vp_probe_result {
 typedef struct vp_planner_stats {
     uint64_t probes, hits, misses, moves, reprobes;
     uint64_t insertions, stale_balls, routes, astar_fallbacks, astar_expansions;
-    uint64_t shortcut_probes;
+    uint64_t shortcut_probes, direct_routes;
     uint64_t escalations;
     uint64_t reseeds;          /* samples added on components the seeds had missed */      /* holes closed by probing every edge of every active vertex */  /* probes of a straight way to save a detour */
     double travel;             /* length of all MOVEs */
@@ -98,7 +98,8 @@ typedef struct vp_planner {
     vp_vrec_t *vrec; uint32_t nvrec, cap_vrec;
     uint32_t *fedge; uint32_t nfedge, cap_fedge;     /* 4 words: a, b, next_a, next_b */
     vp_frec_t *frec; uint32_t nfrec, cap_frec, frec_free, nfacets;
-    uint32_t *fhash; uint32_t hash_mask;              /* facet key -> frec index */
+    uint32_t *fhash; uint32_t hash_mask, ntomb;       /* facet key -> frec index */
+    int fhash_dirty;
     uint32_t *heap; uint32_t nheap, cap_heap;         /* bad balls, max-heap on radius */
     vp_task_t *task; uint32_t ntask, cap_task;        /* pending probes (a stack) */
     uint32_t *path; uint32_t npath, cap_path, ipath;  /* current route: waypoint records */
@@ -119,6 +120,7 @@ typedef struct vp_planner {
     uint32_t route_from;     /* where the current route starts */
     uint32_t shortcut, sc_from, sc_tries; /* a straight shortcut being probed */
     int sc_pending;          /* 1: to issue, 2: issued */
+    int route_deferred;      /* the route waits for the shortcut probe's answer */
     uint32_t stamp;
     uint32_t last_vertex;
     uint32_t peak_task, peak_heap, peak_route, peak_astar, peak_path; /* high-water marks */
