@@ -846,9 +846,7 @@ static int route_full(vp_planner_t *pl, uint32_t a, uint32_t b)
     if (st == VP_OK) return VP_OK;
     pl->nroute = 0;
     pl->st.astar_fallbacks++;
-    st = tree_path(pl, a, b, NULL, 1, &l);
-    if (st == VP_OK) pl->st.travel_prev_chains += l;
-    return st;
+    return tree_path(pl, a, b, NULL, 1, &l);
 }
 
 /* Plans the device's route from where it stands to record b, or to the outside point gp when
@@ -863,6 +861,12 @@ static int plan_route(vp_planner_t *pl, uint32_t b, const double *gp)
     pl->shortcut = NONE;
     pl->route_deferred = 0;
     if (b != NONE && b == pl->at) return VP_OK;
+    if (!(pl->cfg.flags & VP_PLAN_PREV_CHAINS)) {
+        /* what the same move costs along prev chains (reported beside the travel) */
+        st = tree_path(pl, pl->at, b, gp, 0, &tl);
+        if (st != VP_OK) return st;
+        pl->st.travel_prev_chains += tl;
+    }
     if (!(pl->cfg.flags & VP_PLAN_PREV_CHAINS) && b != NONE) {
         /* the goal one free edge away: no search */
         uint32_t e, cur = pl->at;
@@ -903,7 +907,7 @@ static int plan_route(vp_planner_t *pl, uint32_t b, const double *gp)
         /* the prev chains: always a way (and the only one with VP_PLAN_PREV_CHAINS) */
         st = tree_path(pl, pl->at, b, gp, 1, &tl);
         if (st != VP_OK) return st;
-        pl->st.travel_prev_chains += tl;
+        if (pl->cfg.flags & VP_PLAN_PREV_CHAINS) pl->st.travel_prev_chains += tl;
     }
     if (b == NONE) {
         st = rec_new(pl, gp, NONE, REC_OUT, &b);

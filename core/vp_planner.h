@@ -70,8 +70,8 @@ typedef struct vp_planner_stats {
     uint64_t escalations;
     uint64_t reseeds;          /* samples added on components the seeds had missed */      /* holes closed by probing every edge of every active vertex */  /* probes of a straight way to save a detour */
     double travel;             /* length of all MOVEs */
-    double travel_prev_chains; /* travel that went along prev chains (all of it with
-                                  VP_PLAN_PREV_CHAINS; else the search's fallbacks) */
+    double travel_prev_chains; /* what the same moves cost along prev chains (the paper's
+                                  paths); equal to travel with VP_PLAN_PREV_CHAINS */
     double max_ball;           /* largest surface Delaunay ball now */
     uint32_t bad_balls;        /* in the queue now */
     uint32_t missing_components; /* o_i not enclosed by the mesh (H2 fails for them) */

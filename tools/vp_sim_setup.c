@@ -264,7 +264,7 @@ void vp_sim_report(const vp_sim_t *s, const vp_sim_options_t *o, FILE *f)
                 s->have_check && s->check.closed_manifold ? "closed 2-manifold" : "NOT a closed manifold",
                 s->have_check ? s->check.components : -1, s->have_check ? s->check.genus : -1,
                 s->have_check ? s->check.min_angle_deg : 0.0);
-        fprintf(f, "probes: %llu (%.2f per vertex, %.0f%% hits), moves %llu, travel %.4g (prev chains %.4g), collisions %lu\n",
+        fprintf(f, "probes: %llu (%.2f per vertex, %.0f%% hits), moves %llu, travel %.4g (along prev chains: %.4g), collisions %lu\n",
                 (unsigned long long)st.probes, nv ? (double)st.probes / nv : 0.0,
                 st.probes ? 100.0 * (double)st.hits / (double)st.probes : 0.0,
                 (unsigned long long)st.moves, st.travel, st.travel_prev_chains, ds.collisions);
