@@ -511,6 +511,25 @@ static void frec_delete(vp_planner_t *pl, uint32_t k)
     pl->nfacets--;
 }
 
+/* With an angle bound: the smallest angle of the triangle is below it, i.e. its shortest edge
+ * is shorter than 2 R sin(bound), R its circumradius (Chew's criterion, as CGAL's mesher has). */
+static int facet_too_sharp(const vp_planner_t *pl, const uint32_t *v)
+{
+    const double *a, *b, *c;
+    double ab[3], ac[3], bc[3], n[3], la, lb, lc, lmin, area2, r;
+    if (!(pl->sin_angle > 0.0)) return 0;
+    a = vp_dt_point(&pl->dt, v[0]); b = vp_dt_point(&pl->dt, v[1]); c = vp_dt_point(&pl->dt, v[2]);
+    sub3(ab, b, a); sub3(ac, c, a); sub3(bc, c, b);
+    la = sqrt(dot3(bc, bc)); lb = sqrt(dot3(ac, ac)); lc = sqrt(dot3(ab, ab));
+    cross3(n, ab, ac);
+    area2 = sqrt(dot3(n, n));
+    if (!(area2 > 0.0)) return 1;
+    r = la * lb * lc / (2.0 * area2);
+    lmin = la < lb ? la : lb;
+    if (lc < lmin) lmin = lc;
+    return lmin < 2.0 * r * pl->sin_angle;
+}
+
 /* Adds facet fv (any order) with ball centre c; `outside` is a point on the probe's side, so
  * the facet is stored facing it. A facet already known keeps its first ball. */
 static int frec_add(vp_planner_t *pl, const uint32_t *fv, const double *c, const double *outside,
@@ -545,7 +564,7 @@ static int frec_add(vp_planner_t *pl, const uint32_t *fv, const double *c, const
     pl->fhash[h] = k;
     pl->nfacets++;
     *out = k;
-    if (f->r > pl->cfg.eps) return heap_push(pl, k);
+    if (f->r > pl->cfg.eps || facet_too_sharp(pl, v)) return heap_push(pl, k);
     return VP_OK;
 }
 
@@ -1788,6 +1807,7 @@ int vp_planner_init(vp_planner_t *pl, void *arena, size_t bytes, const vp_planne
     for (i = 0; i < cfg->ninterior; i++)
         if (!finite3(cfg->interior[i]) || !omega_inside(cfg, cfg->interior[i])) return VP_EINVAL;
     if (!finite3(cfg->start) || omega_inside(cfg, cfg->start)) return VP_EINVAL;
+    if (!(cfg->min_angle >= 0.0) || cfg->min_angle > 30.0) return VP_EINVAL;
     if (!(cfg->max_range >= 0.0) || !(cfg->noise_tol >= 0.0) || !(cfg->clearance >= 0.0) ||
         cfg->max_range > 1e150 || cfg->noise_tol > 1e150 || cfg->clearance > 1e150)
         return VP_EINVAL;
@@ -1834,6 +1854,11 @@ int vp_planner_init(vp_planner_t *pl, void *arena, size_t bytes, const vp_planne
     pl->frec_free = NONE;
     pl->last_vertex = NONE;
     pl->phase = PH_SEED;
+    {
+        /* sin of the angle bound by its Taylor series (|x| <= pi/6: error below 1e-9) */
+        double x = cfg->min_angle * 0.017453292519943295, x2 = x * x;
+        pl->sin_angle = x * (1.0 - x2 / 6.0 * (1.0 - x2 / 20.0 * (1.0 - x2 / 42.0 * (1.0 - x2 / 72.0))));
+    }
     memcpy(pl->pos, cfg->start, sizeof pl->pos);
     st = rec_new(pl, cfg->start, NONE, REC_OUT, &pl->at);
     if (st != VP_OK) return st;

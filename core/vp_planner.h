@@ -45,6 +45,8 @@ typedef struct vp_planner_config {
     double noise_tol;            /* hits are trusted to within this distance (0: exact) */
     uint32_t confirm_misses;     /* re-probes of a miss where a hit is expected (dropouts) */
     double clearance;            /* device radius kept away from every known surface point */
+    double min_angle;            /* optional angle bound in degrees (0: off, at most 30): a
+                                    facet with a smaller angle is refined like a bad ball */
     uint32_t flags;              /* VP_PLAN_* */
 } vp_planner_config_t;
 
@@ -126,6 +128,7 @@ typedef struct vp_planner {
     uint32_t peak_task, peak_heap, peak_route, peak_astar, peak_path; /* high-water marks */
     int error;
     int exhaustive;          /* detect_access in full until the next insertion (closing) */
+    double sin_angle;        /* sin of the angle bound (0: none) */
     uint32_t h2_done;        /* bit i: o_i is enclosed by the mesh */
     uint8_t h2_tries[VP_PLANNER_MAX_SEEDS];
     uint32_t reseed;

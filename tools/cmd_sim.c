@@ -29,6 +29,7 @@ static void sim_usage(FILE *f)
         "                     --dropout, else 0)\n"
         "  --clearance C      device radius: moves closer than C to the object count as collisions\n"
         "  --max-range R      rangefinder range (0: unlimited)\n"
+        "  --angle DEG        also refine facets with an angle below DEG (at most 30)\n"
         "  --arena BYTES      memory given to the planner (default 256M; K, M, G suffixes)\n"
         "  --omega box|ball   the known region containing the object (default box: the bounding box\n"
         "                     grown by 10%% of its diagonal)\n"

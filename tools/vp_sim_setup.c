@@ -50,7 +50,8 @@ int vp_sim_parse_option(vp_sim_options_t *o, int argc, char **argv, int *i, char
     if (strcmp(a, "--surface") && strcmp(a, "--eps") && strcmp(a, "--eps-rel") && strcmp(a, "--out") &&
         strcmp(a, "--noise") && strcmp(a, "--dropout") && strcmp(a, "--clearance") &&
         strcmp(a, "--max-range") && strcmp(a, "--arena") && strcmp(a, "--omega") &&
-        strcmp(a, "--seed") && strcmp(a, "--hausdorff") && strcmp(a, "--confirm") && strcmp(a, "--margin"))
+        strcmp(a, "--seed") && strcmp(a, "--hausdorff") && strcmp(a, "--confirm") && strcmp(a, "--margin") &&
+        strcmp(a, "--angle"))
         return 1;
     if (!val) { snprintf(err, errlen, "%s needs a value", a); return -1; }
     (*i)++;
@@ -94,6 +95,9 @@ int vp_sim_parse_option(vp_sim_options_t *o, int argc, char **argv, int *i, char
     } else if (!strcmp(a, "--hausdorff")) {
         if (!(v >= 0)) { snprintf(err, errlen, "--hausdorff must be >= 0"); return -1; }
         o->hausdorff = (size_t)v;
+    } else if (!strcmp(a, "--angle")) {
+        if (!(v >= 0 && v <= 30)) { snprintf(err, errlen, "--angle must be in [0, 30] degrees"); return -1; }
+        o->min_angle = v;
     } else if (!strcmp(a, "--confirm")) {
         if (!(v >= 0 && v <= 16)) { snprintf(err, errlen, "--confirm must be in 0..16"); return -1; }
         o->confirm = (int)v;
@@ -155,6 +159,7 @@ int vp_sim_open(vp_sim_t *s, const vp_sim_options_t *o, char *err, size_t errlen
     s->cfg.confirm_misses = (uint32_t)(o->confirm >= 0 ? o->confirm
                                        : o->dropout > 0 ? (int)ceil(log(1e-6) / log(o->dropout)) - 1 : 0);
     s->cfg.clearance = o->clearance;
+    s->cfg.min_angle = o->min_angle;
     s->cfg.max_range = o->max_range;
     s->cfg.flags = o->flags;
     memset(&dc, 0, sizeof dc);
