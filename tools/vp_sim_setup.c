@@ -287,7 +287,8 @@ void vp_sim_report(const vp_sim_t *s, const vp_sim_options_t *o, FILE *f)
                 "\"closed_manifold\":%s,\"components\":%d,\"genus\":%d,\"max_ball_radius\":%.9g,"
                 "\"hausdorff\":%.6g,\"min_angle_deg\":%.3f,\"planner_seconds\":%.4f,"
                 "\"total_seconds\":%.4f,\"arena_bytes_peak\":%zu,\"insertions\":%llu,\"routes\":%llu,"
-                "\"astar_expansions\":%llu,\"astar_fallbacks\":%llu}\n",
+                "\"astar_expansions\":%llu,\"astar_fallbacks\":%llu,\"shortcut_probes\":%llu,"
+                "\"escalations\":%llu,\"reseeds\":%llu,\"missing_components\":%u}\n",
                 o->surface, s->cfg.eps, vp_strerror(s->run.status), nv, (unsigned)s->mesh.nt,
                 (unsigned long long)st.probes, (unsigned long long)st.hits,
                 (unsigned long long)st.misses, (unsigned long long)st.reprobes,
@@ -298,7 +299,8 @@ void vp_sim_report(const vp_sim_t *s, const vp_sim_options_t *o, FILE *f)
                 s->have_check ? s->check.min_angle_deg : 0.0, s->run.planner_seconds,
                 s->run.total_seconds, st.arena_peak, (unsigned long long)st.insertions,
                 (unsigned long long)st.routes, (unsigned long long)st.astar_expansions,
-                (unsigned long long)st.astar_fallbacks);
+                (unsigned long long)st.astar_fallbacks, (unsigned long long)st.shortcut_probes,
+                (unsigned long long)st.escalations, (unsigned long long)st.reseeds, st.missing_components);
     }
 }
 
