@@ -66,7 +66,7 @@ struct vp_frec {
     uint32_t v[3];     /* sorted; v[0] == NONE: free slot, v[1] = next free */
     uint32_t heap;     /* index in the bad-ball heap or NONE */
     uint32_t flags;
-    uint32_t pad;
+    uint32_t hint;     /* a tet that had the facet (checked before use) */
     double c[3];       /* ball centre (the hit) */
     double r;          /* ball radius */
 };
@@ -482,11 +482,28 @@ static void heap_remove(vp_planner_t *pl, uint32_t k)
 
 /* ---------- facet records ---------- */
 
+/* Rebuilds the hash from the live records when deleted slots pile up (they lengthen every
+ * probe sequence). */
+static void fhash_rebuild(vp_planner_t *pl)
+{
+    uint32_t i;
+    for (i = 0; i <= pl->hash_mask; i++) pl->fhash[i] = HASH_EMPTY;
+    for (i = 0; i < pl->nfrec; i++) {
+        int found;
+        if (pl->frec[i].v[0] == NONE) continue;
+        pl->fhash[fhash_find(pl, pl->frec[i].v, &found)] = i;
+    }
+    pl->ntomb = 0;
+}
+
 static void frec_delete(vp_planner_t *pl, uint32_t k)
 {
     int found;
     uint32_t h = fhash_find(pl, pl->frec[k].v, &found);
-    if (found) pl->fhash[h] = HASH_TOMB;
+    if (found) {
+        pl->fhash[h] = HASH_TOMB;
+        if (++pl->ntomb > (pl->hash_mask + 1u) / 4u) pl->fhash_dirty = 1;
+    }
     heap_remove(pl, k);
     pl->frec[k].v[0] = NONE;
     pl->frec[k].v[1] = pl->frec_free;
@@ -494,10 +511,29 @@ static void frec_delete(vp_planner_t *pl, uint32_t k)
     pl->nfacets--;
 }
 
+/* With an angle bound: the smallest angle of the triangle is below it, i.e. its shortest edge
+ * is shorter than 2 R sin(bound), R its circumradius (Chew's criterion, as CGAL's mesher has). */
+static int facet_too_sharp(const vp_planner_t *pl, const uint32_t *v)
+{
+    const double *a, *b, *c;
+    double ab[3], ac[3], bc[3], n[3], la, lb, lc, lmin, area2, r;
+    if (!(pl->sin_angle > 0.0)) return 0;
+    a = vp_dt_point(&pl->dt, v[0]); b = vp_dt_point(&pl->dt, v[1]); c = vp_dt_point(&pl->dt, v[2]);
+    sub3(ab, b, a); sub3(ac, c, a); sub3(bc, c, b);
+    la = sqrt(dot3(bc, bc)); lb = sqrt(dot3(ac, ac)); lc = sqrt(dot3(ab, ab));
+    cross3(n, ab, ac);
+    area2 = sqrt(dot3(n, n));
+    if (!(area2 > 0.0)) return 1;
+    r = la * lb * lc / (2.0 * area2);
+    lmin = la < lb ? la : lb;
+    if (lc < lmin) lmin = lc;
+    return lmin < 2.0 * r * pl->sin_angle;
+}
+
 /* Adds facet fv (any order) with ball centre c; `outside` is a point on the probe's side, so
  * the facet is stored facing it. A facet already known keeps its first ball. */
 static int frec_add(vp_planner_t *pl, const uint32_t *fv, const double *c, const double *outside,
-                    uint32_t *out)
+                    uint32_t tet, uint32_t *out)
 {
     uint32_t v[3], k, h;
     int found;
@@ -518,15 +554,17 @@ static int frec_add(vp_planner_t *pl, const uint32_t *fv, const double *c, const
     memcpy(f->v, v, sizeof v);
     f->heap = NONE;
     f->flags = 0;
+    f->hint = tet;
     f->c[0] = c[0]; f->c[1] = c[1]; f->c[2] = c[2];
     a = vp_dt_point(&pl->dt, v[0]);
     f->r = dist3(c, a);
     if (vp_orient3d(a, vp_dt_point(&pl->dt, v[1]), vp_dt_point(&pl->dt, v[2]), outside) < 0)
         f->flags |= FREC_FLIP;
+    if (pl->fhash[h] == HASH_TOMB && pl->ntomb > 0) pl->ntomb--;
     pl->fhash[h] = k;
     pl->nfacets++;
     *out = k;
-    if (f->r > pl->cfg.eps) return heap_push(pl, k);
+    if (f->r > pl->cfg.eps || facet_too_sharp(pl, v)) return heap_push(pl, k);
     return VP_OK;
 }
 
@@ -734,11 +772,12 @@ static int astar_relax(astar_t *s, uint32_t from, uint32_t nb, double g, uint32_
     return VP_OK;
 }
 
-static int astar_path(vp_planner_t *pl, uint32_t a, uint32_t b, const double *gp, double *len)
+static int astar_path(vp_planner_t *pl, uint32_t a, uint32_t b, const double *gp, double *len,
+                      uint32_t max_expansions)
 {
     astar_t s;
     uint32_t broot = b != NONE ? chain_root(pl, b) : NONE, best_out = NONE, node = NONE, i;
-    uint32_t expansions = 0, budget = pl->cap_astar > 4096 ? 4096 : pl->cap_astar;
+    uint32_t expansions = 0, budget = pl->cap_astar > max_expansions ? max_expansions : pl->cap_astar;
     double best_out_cost = 1e300, ol;
     int st;
     s.pl = pl;
@@ -813,6 +852,22 @@ static int astar_path(vp_planner_t *pl, uint32_t a, uint32_t b, const double *gp
     return VP_OK;
 }
 
+#define SEARCH_LOCAL 256u  /* expansions before a straight shortcut is probed */
+#define SEARCH_FULL 4096u  /* expansions before falling back to the prev chains */
+
+/* The full route from record a to record b (search, else prev chains), into the route buffer. */
+static int route_full(vp_planner_t *pl, uint32_t a, uint32_t b)
+{
+    double l;
+    int st;
+    pl->nroute = pl->iroute = 0;
+    st = astar_path(pl, a, b, NULL, &l, SEARCH_FULL);
+    if (st == VP_OK) return VP_OK;
+    pl->nroute = 0;
+    pl->st.astar_fallbacks++;
+    return tree_path(pl, a, b, NULL, 1, &l);
+}
+
 /* Plans the device's route from where it stands to record b, or to the outside point gp when
  * b == NONE (a record is then made there). Sets pl->at to the destination record. */
 static int plan_route(vp_planner_t *pl, uint32_t b, const double *gp)
@@ -823,9 +878,39 @@ static int plan_route(vp_planner_t *pl, uint32_t b, const double *gp)
     pl->st.routes++;
     pl->route_from = pl->at;
     pl->shortcut = NONE;
+    pl->route_deferred = 0;
     if (b != NONE && b == pl->at) return VP_OK;
     if (!(pl->cfg.flags & VP_PLAN_PREV_CHAINS)) {
-        st = astar_path(pl, pl->at, b, gp, &al);
+        /* what the same move costs along prev chains (reported beside the travel) */
+        st = tree_path(pl, pl->at, b, gp, 0, &tl);
+        if (st != VP_OK) return st;
+        pl->st.travel_prev_chains += tl;
+    }
+    if (!(pl->cfg.flags & VP_PLAN_PREV_CHAINS) && b != NONE) {
+        /* the goal one free edge away: no search */
+        uint32_t e, cur = pl->at;
+        for (e = pl->vrec[cur].adj; e != NONE;) {
+            int isa = pl->fedge[4 * e] == cur;
+            if ((isa ? pl->fedge[4 * e + 1] : pl->fedge[4 * e]) == b) {
+                pl->at = b;
+                pl->st.direct_routes++;
+                return route_push(pl, pl->vrec[b].p);
+            }
+            e = isa ? pl->fedge[4 * e + 2] : pl->fedge[4 * e + 3];
+        }
+    }
+    if (!(pl->cfg.flags & VP_PLAN_PREV_CHAINS)) {
+        int cheap = b != NONE && !(pl->cfg.flags & VP_PLAN_PAPER);
+        st = astar_path(pl, pl->at, b, gp, &al, cheap ? SEARCH_LOCAL : SEARCH_FULL);
+        if (st != VP_OK && cheap) {
+            /* no short way in the free graph: probe the straight line first; the full search
+             * runs only if that probe hits */
+            pl->nroute = 0;
+            pl->shortcut = b;
+            pl->route_deferred = 1;
+            pl->at = b;
+            return VP_OK;
+        }
         if (st != VP_OK) { pl->nroute = 0; pl->st.astar_fallbacks++; }
     } else {
         st = VP_ENOMEM;
@@ -841,7 +926,7 @@ static int plan_route(vp_planner_t *pl, uint32_t b, const double *gp)
         /* the prev chains: always a way (and the only one with VP_PLAN_PREV_CHAINS) */
         st = tree_path(pl, pl->at, b, gp, 1, &tl);
         if (st != VP_OK) return st;
-        pl->st.travel_prev_chains += tl;
+        if (pl->cfg.flags & VP_PLAN_PREV_CHAINS) pl->st.travel_prev_chains += tl;
     }
     if (b == NONE) {
         st = rec_new(pl, gp, NONE, REC_OUT, &b);
@@ -1025,7 +1110,7 @@ static int task_finish(vp_planner_t *pl, const vp_probe_result_t *res)
         vp_dt_facet(&pl->dt, t, f, fv);
         {
             unsigned su = side_get(pl, u, (int)j) & SIDE_MASK;
-            st = frec_add(pl, fv, h, pl->probe_origin, &fr);
+            st = frec_add(pl, fv, h, pl->probe_origin, t, &fr);
             if (st != VP_OK) return st;
             side_set(pl, t, f, SIDE_HIT);
             if (su == SIDE_HIT) {
@@ -1262,8 +1347,24 @@ static int after_insert(vp_planner_t *pl, uint32_t pv)
 
 /* ---------- refinement: insert the centre of a bad ball ---------- */
 
+static uint32_t find_facet_slow(vp_planner_t *pl, const uint32_t *fv, int *fi);
+
 /* a live tet holding facet fv, and the facet's index in it */
 static uint32_t find_facet(vp_planner_t *pl, const uint32_t *fv, int *fi)
+{
+    uint32_t k = frec_lookup(pl, fv);
+    if (k != NONE && vp_dt_alive(&pl->dt, pl->frec[k].hint)) {
+        const uint32_t *w = vp_dt_tet(&pl->dt, pl->frec[k].hint);
+        int a = facet_index_of(w, fv[0]), b = facet_index_of(w, fv[1]), c = facet_index_of(w, fv[2]);
+        if (a >= 0 && b >= 0 && c >= 0) {
+            *fi = 6 - a - b - c;
+            return pl->frec[k].hint;
+        }
+    }
+    return find_facet_slow(pl, fv, fi);
+}
+
+static uint32_t find_facet_slow(vp_planner_t *pl, const uint32_t *fv, int *fi)
 {
     int n = vp_dt_incident_tets(&pl->dt, fv[0], pl->astar, (int)(pl->cap_astar > 65536 ? 65536 : pl->cap_astar)), k;
     for (k = 0; k < n; k++) {
@@ -1304,6 +1405,7 @@ static uint32_t choose_ball(const vp_planner_t *pl)
 
 static int refine(vp_planner_t *pl)
 {
+    if (pl->fhash_dirty) { fhash_rebuild(pl); pl->fhash_dirty = 0; }
     uint32_t k = choose_ball(pl), t, v = NONE, fv[3];
     int fi, st;
     double c[3];
@@ -1705,6 +1807,7 @@ int vp_planner_init(vp_planner_t *pl, void *arena, size_t bytes, const vp_planne
     for (i = 0; i < cfg->ninterior; i++)
         if (!finite3(cfg->interior[i]) || !omega_inside(cfg, cfg->interior[i])) return VP_EINVAL;
     if (!finite3(cfg->start) || omega_inside(cfg, cfg->start)) return VP_EINVAL;
+    if (!(cfg->min_angle >= 0.0) || cfg->min_angle > 30.0) return VP_EINVAL;
     if (!(cfg->max_range >= 0.0) || !(cfg->noise_tol >= 0.0) || !(cfg->clearance >= 0.0) ||
         cfg->max_range > 1e150 || cfg->noise_tol > 1e150 || cfg->clearance > 1e150)
         return VP_EINVAL;
@@ -1751,6 +1854,11 @@ int vp_planner_init(vp_planner_t *pl, void *arena, size_t bytes, const vp_planne
     pl->frec_free = NONE;
     pl->last_vertex = NONE;
     pl->phase = PH_SEED;
+    {
+        /* sin of the angle bound by its Taylor series (|x| <= pi/6: error below 1e-9) */
+        double x = cfg->min_angle * 0.017453292519943295, x2 = x * x;
+        pl->sin_angle = x * (1.0 - x2 / 6.0 * (1.0 - x2 / 20.0 * (1.0 - x2 / 42.0 * (1.0 - x2 / 72.0))));
+    }
     memcpy(pl->pos, cfg->start, sizeof pl->pos);
     st = rec_new(pl, cfg->start, NONE, REC_OUT, &pl->at);
     if (st != VP_OK) return st;
@@ -1854,6 +1962,11 @@ int vp_planner_feed(vp_planner_t *pl, const vp_probe_result_t *res)
         pl->sc_pending = 0;
         if (res->hit) {
             pl->st.hits++;
+            if (pl->route_deferred) {
+                pl->route_deferred = 0;
+                st = route_full(pl, pl->sc_from, pl->shortcut);
+                if (st != VP_OK) { pl->error = st; return st; }
+            }
             pl->iroute = 0; /* the searched route stands */
             return VP_OK;
         }
@@ -1865,6 +1978,7 @@ int vp_planner_feed(vp_planner_t *pl, const vp_probe_result_t *res)
             return VP_OK;
         }
         /* the straight way is free: take it */
+        pl->route_deferred = 0;
         st = edge_add(pl, pl->sc_from, pl->shortcut);
         if (st != VP_OK) { pl->error = st; return st; }
         pl->nroute = pl->iroute = 0;

@@ -115,6 +115,28 @@ static void test_surfaces(void)
     check_scan(&r, 2, 1, 2.0 * r.eps);
 }
 
+/* The optional angle bound: no triangle angle below it at the end. */
+static void test_angle_bound(void)
+{
+    vp_sim_options_t o;
+    vp_sim_t s;
+    char err[512];
+    vp_sim_options_default(&o);
+    o.surface = "torus";
+    o.eps_rel = 0.02;
+    o.out = NULL;
+    o.hausdorff = 0;
+    o.quiet = 1;
+    o.min_angle = 25.0;
+    CHECK(vp_sim_open(&s, &o, err, sizeof err) == VP_OK);
+    CHECK(vp_sim_run(&s, NULL) == VP_OK);
+    CHECK(vp_sim_finish(&s, &o, err, sizeof err) == VP_OK);
+    CHECK(s.have_check && s.check.closed_manifold && s.check.genus == 1);
+    CHECKF(s.check.min_angle_deg >= 25.0 - 1e-6, "smallest angle %.3f", s.check.min_angle_deg);
+    printf("torus with a 25 degree bound: %zu vertices, smallest angle %.2f\n", s.mesh.nv, s.check.min_angle_deg);
+    vp_sim_close(&s);
+}
+
 /* The published rule (probe every edge, prev chains, largest ball first) gives the same
  * guarantees, with more probes. */
 static void test_paper_mode(void)
@@ -273,5 +295,6 @@ int main(void)
     test_paper_mode();
     test_noise();
     test_arena_per_vertex();
+    test_angle_bound();
     return vp_test_done("test_planner");
 }

@@ -50,7 +50,8 @@ int vp_sim_parse_option(vp_sim_options_t *o, int argc, char **argv, int *i, char
     if (strcmp(a, "--surface") && strcmp(a, "--eps") && strcmp(a, "--eps-rel") && strcmp(a, "--out") &&
         strcmp(a, "--noise") && strcmp(a, "--dropout") && strcmp(a, "--clearance") &&
         strcmp(a, "--max-range") && strcmp(a, "--arena") && strcmp(a, "--omega") &&
-        strcmp(a, "--seed") && strcmp(a, "--hausdorff") && strcmp(a, "--confirm") && strcmp(a, "--margin"))
+        strcmp(a, "--seed") && strcmp(a, "--hausdorff") && strcmp(a, "--confirm") && strcmp(a, "--margin") &&
+        strcmp(a, "--angle"))
         return 1;
     if (!val) { snprintf(err, errlen, "%s needs a value", a); return -1; }
     (*i)++;
@@ -94,6 +95,9 @@ int vp_sim_parse_option(vp_sim_options_t *o, int argc, char **argv, int *i, char
     } else if (!strcmp(a, "--hausdorff")) {
         if (!(v >= 0)) { snprintf(err, errlen, "--hausdorff must be >= 0"); return -1; }
         o->hausdorff = (size_t)v;
+    } else if (!strcmp(a, "--angle")) {
+        if (!(v >= 0 && v <= 30)) { snprintf(err, errlen, "--angle must be in [0, 30] degrees"); return -1; }
+        o->min_angle = v;
     } else if (!strcmp(a, "--confirm")) {
         if (!(v >= 0 && v <= 16)) { snprintf(err, errlen, "--confirm must be in 0..16"); return -1; }
         o->confirm = (int)v;
@@ -155,6 +159,7 @@ int vp_sim_open(vp_sim_t *s, const vp_sim_options_t *o, char *err, size_t errlen
     s->cfg.confirm_misses = (uint32_t)(o->confirm >= 0 ? o->confirm
                                        : o->dropout > 0 ? (int)ceil(log(1e-6) / log(o->dropout)) - 1 : 0);
     s->cfg.clearance = o->clearance;
+    s->cfg.min_angle = o->min_angle;
     s->cfg.max_range = o->max_range;
     s->cfg.flags = o->flags;
     memset(&dc, 0, sizeof dc);
@@ -265,7 +270,7 @@ void vp_sim_report(const vp_sim_t *s, const vp_sim_options_t *o, FILE *f)
                 s->have_check && s->check.closed_manifold ? "closed 2-manifold" : "NOT a closed manifold",
                 s->have_check ? s->check.components : -1, s->have_check ? s->check.genus : -1,
                 s->have_check ? s->check.min_angle_deg : 0.0);
-        fprintf(f, "probes: %llu (%.2f per vertex, %.0f%% hits), moves %llu, travel %.4g (prev chains %.4g), collisions %lu\n",
+        fprintf(f, "probes: %llu (%.2f per vertex, %.0f%% hits), moves %llu, travel %.4g (along prev chains: %.4g), collisions %lu\n",
                 (unsigned long long)st.probes, nv ? (double)st.probes / nv : 0.0,
                 st.probes ? 100.0 * (double)st.hits / (double)st.probes : 0.0,
                 (unsigned long long)st.moves, st.travel, st.travel_prev_chains, ds.collisions);
@@ -283,7 +288,8 @@ void vp_sim_report(const vp_sim_t *s, const vp_sim_options_t *o, FILE *f)
                 "\"closed_manifold\":%s,\"components\":%d,\"genus\":%d,\"max_ball_radius\":%.9g,"
                 "\"hausdorff\":%.6g,\"min_angle_deg\":%.3f,\"planner_seconds\":%.4f,"
                 "\"total_seconds\":%.4f,\"arena_bytes_peak\":%zu,\"insertions\":%llu,\"routes\":%llu,"
-                "\"astar_expansions\":%llu,\"astar_fallbacks\":%llu}\n",
+                "\"astar_expansions\":%llu,\"astar_fallbacks\":%llu,\"shortcut_probes\":%llu,"
+                "\"escalations\":%llu,\"reseeds\":%llu,\"missing_components\":%u}\n",
                 o->surface, s->cfg.eps, vp_strerror(s->run.status), nv, (unsigned)s->mesh.nt,
                 (unsigned long long)st.probes, (unsigned long long)st.hits,
                 (unsigned long long)st.misses, (unsigned long long)st.reprobes,
@@ -294,7 +300,8 @@ void vp_sim_report(const vp_sim_t *s, const vp_sim_options_t *o, FILE *f)
                 s->have_check ? s->check.min_angle_deg : 0.0, s->run.planner_seconds,
                 s->run.total_seconds, st.arena_peak, (unsigned long long)st.insertions,
                 (unsigned long long)st.routes, (unsigned long long)st.astar_expansions,
-                (unsigned long long)st.astar_fallbacks);
+                (unsigned long long)st.astar_fallbacks, (unsigned long long)st.shortcut_probes,
+                (unsigned long long)st.escalations, (unsigned long long)st.reseeds, st.missing_components);
     }
 }
 
