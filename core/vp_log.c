@@ -5,7 +5,7 @@
 const unsigned char vp_log_magic[VP_LOG_MAGIC_LEN] = { 'V', 'P', 'L', 'O', 'G', '\r', '\n', 0x1a };
 
 /* header: magic 8, version 2, flags 2, length 4, then fixed fields up to the interior points */
-#define HDR_FIXED 180u
+#define HDR_FIXED 188u
 #define REC_FRAME 16u   /* length 4, sequence 4, type 2, flags 2 ... CRC 4 */
 
 /* ---------- CRC-32, four bits at a time from a constant table ---------- */
@@ -117,10 +117,11 @@ int vp_log_header_encode(const vp_log_header_t *h, void *buf, size_t cap)
     putd(p + 136, c->max_range);
     putd(p + 144, c->noise_tol);
     putd(p + 152, c->clearance);
-    put32(p + 160, c->confirm_misses);
-    put32(p + 164, c->flags);
-    put64(p + 168, h->arena_bytes);
-    put32(p + 176, c->ninterior);
+    putd(p + 160, c->min_angle);
+    put32(p + 168, c->confirm_misses);
+    put32(p + 172, c->flags);
+    put64(p + 176, h->arena_bytes);
+    put32(p + 184, c->ninterior);
     q = p + HDR_FIXED;
     for (i = 0; i < c->ninterior; i++, q += 24) putd3(q, c->interior[i]);
     bl = bounded_len(h->board, VP_LOG_BOARD_MAX);
@@ -154,10 +155,11 @@ static int header_decode(const unsigned char *p, uint32_t n, vp_log_header_t *h)
     c->max_range = getd(p + 136);
     c->noise_tol = getd(p + 144);
     c->clearance = getd(p + 152);
-    c->confirm_misses = get32(p + 160);
-    c->flags = get32(p + 164);
-    h->arena_bytes = get64(p + 168);
-    c->ninterior = get32(p + 176);
+    c->min_angle = getd(p + 160);
+    c->confirm_misses = get32(p + 168);
+    c->flags = get32(p + 172);
+    h->arena_bytes = get64(p + 176);
+    c->ninterior = get32(p + 184);
     if (get16(p + 10) != 0) return 0;
     if (c->ninterior < 1 || c->ninterior > VP_PLANNER_MAX_SEEDS) return 0;
     if (c->omega_kind != VP_OMEGA_BOX && c->omega_kind != VP_OMEGA_BALL) return 0;
@@ -178,7 +180,8 @@ static int header_decode(const unsigned char *p, uint32_t n, vp_log_header_t *h)
     /* every number the planner needs must be finite; embedded NULs are not text */
     if (!finite_d(c->eps) || !finite3(c->omega_lo) || !finite3(c->omega_hi) ||
         !finite3(c->omega_center) || !finite_d(c->omega_radius) || !finite3(c->start) ||
-        !finite_d(c->max_range) || !finite_d(c->noise_tol) || !finite_d(c->clearance))
+        !finite_d(c->max_range) || !finite_d(c->noise_tol) || !finite_d(c->clearance) ||
+        !finite_d(c->min_angle))
         return 0;
     for (i = 0; i < c->ninterior; i++)
         if (!finite3(c->interior[i])) return 0;

@@ -36,7 +36,7 @@ static void make_header(vp_log_header_t *h, uint32_t ninterior)
     for (i = 0; i < ninterior; i++) { c.interior[i][0] = i * 0.1; c.interior[i][1] = 1.0 / 3.0; c.interior[i][2] = -(double)i; }
     c.eps = 0.17493710530423543;
     c.start[0] = 2.5; c.start[1] = 2.5; c.start[2] = 2.5;
-    c.max_range = 5; c.noise_tol = 4e-4; c.confirm_misses = 7; c.clearance = 0.01;
+    c.max_range = 5; c.noise_tol = 4e-4; c.confirm_misses = 7; c.clearance = 0.01; c.min_angle = 20.5;
     c.flags = VP_PLAN_PAPER | VP_PLAN_LARGEST;
     vp_log_header_init(h, &c, (uint64_t)256 << 20, VP_LOG_UNITS_MM, "host-sim", "sim --surface torus --eps-rel 0.05");
 }
@@ -51,7 +51,7 @@ static int header_equal(const vp_log_header_t *a, const vp_log_header_t *b)
                 x->confirm_misses == y->confirm_misses && x->flags == y->flags &&
                 same(x->eps, y->eps) && same(x->omega_radius, y->omega_radius) &&
                 same(x->max_range, y->max_range) && same(x->noise_tol, y->noise_tol) &&
-                same(x->clearance, y->clearance);
+                same(x->clearance, y->clearance) && same(x->min_angle, y->min_angle);
     for (k = 0; k < 3; k++)
         ok = ok && same(x->omega_lo[k], y->omega_lo[k]) && same(x->omega_hi[k], y->omega_hi[k]) &&
              same(x->omega_center[k], y->omega_center[k]) && same(x->start[k], y->start[k]);
@@ -182,7 +182,7 @@ static void test_roundtrip(void)
         }
     }
     /* the planner configuration the format covers: a new field needs a new format version */
-    CHECKF(sizeof(vp_planner_config_t) == 552,
+    CHECKF(sizeof(vp_planner_config_t) == 560,
            "vp_planner_config_t changed (%zu bytes): update core/vp_log.c, doc/session-log.md, VP_LOG_VERSION",
            sizeof(vp_planner_config_t));
 }

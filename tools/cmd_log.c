@@ -316,8 +316,8 @@ static void dump_header_text(const vp_log_header_t *h, FILE *f)
         fprintf(f, "# interior point o_%u: %.17g %.17g %.17g\n", i, c->interior[i][0], c->interior[i][1], c->interior[i][2]);
     fprintf(f, "# start %.17g %.17g %.17g, max range %.17g, noise tolerance %.17g, clearance %.17g\n",
             c->start[0], c->start[1], c->start[2], c->max_range, c->noise_tol, c->clearance);
-    fprintf(f, "# confirm misses %u, planner flags 0x%x, arena %llu bytes\n", c->confirm_misses, c->flags,
-            (unsigned long long)h->arena_bytes);
+    fprintf(f, "# angle bound %.17g, confirm misses %u, planner flags 0x%x, arena %llu bytes\n", c->min_angle,
+            c->confirm_misses, c->flags, (unsigned long long)h->arena_bytes);
 }
 
 static void dump_header_json(const vp_log_header_t *h, FILE *f)
@@ -340,6 +340,7 @@ static void dump_header_json(const vp_log_header_t *h, FILE *f)
     fprintf(f, ",\"max_range\":"); json_num(f, c->max_range);
     fprintf(f, ",\"noise_tol\":"); json_num(f, c->noise_tol);
     fprintf(f, ",\"clearance\":"); json_num(f, c->clearance);
+    fprintf(f, ",\"min_angle\":"); json_num(f, c->min_angle);
     fprintf(f, ",\"confirm_misses\":%u,\"flags\":%u,\"arena_bytes\":%llu}}\n", c->confirm_misses, c->flags,
             (unsigned long long)h->arena_bytes);
 }

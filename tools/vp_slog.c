@@ -263,6 +263,7 @@ int vp_slog_same_config(const vp_planner_config_t *a, uint64_t arena_a,
     else if (!bits_eq(&a->max_range, &b->max_range, 1)) f = "max range";
     else if (!bits_eq(&a->noise_tol, &b->noise_tol, 1)) f = "noise tolerance";
     else if (!bits_eq(&a->clearance, &b->clearance, 1)) f = "clearance";
+    else if (!bits_eq(&a->min_angle, &b->min_angle, 1)) f = "angle bound";
     else if (a->confirm_misses != b->confirm_misses) f = "confirm misses";
     else if (a->flags != b->flags) f = "planner flags";
     else if (arena_a != arena_b) f = "arena size";

@@ -14,7 +14,8 @@ w="$S/work"; mkdir -p "$w"
 "$B/voroprobe" mesh "$w/s.vplog" --out "$w/a" --ascii >/dev/null 2>&1
 [ -s "$w/s.vplog" ] && [ -s "$w/a.ply" ] || { echo "fuzz: cannot make the seed corpus with $B/voroprobe"; exit 1; }
 cp "$w/s.vplog" "$w/t.vplog" "$S/log/"
-head -c 388 "$w/s.vplog" >"$S/log/header-only"
+hdr=$("$B/voroprobe" log dump "$w/s.vplog" --csv | awk -F, 'NR == 2 {print $2}')
+head -c "$hdr" "$w/s.vplog" >"$S/log/header-only"
 head -c 1000 "$w/t.vplog" >"$S/log/torn"
 cp "$w/s.off" "$S/off/"
 printf 'OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n4 1 2 3 0\n' >"$S/off/tet.off"
