@@ -430,7 +430,7 @@ static void test_powercut(void)
 static void test_simdev_restore(void)
 {
     vp_surface_t *s;
-    vp_simdev_t *a, *b;
+    vp_simdev_t *a = NULL, *b = NULL;
     vp_simdev_config_t cfg;
     char err[200];
     double start[3] = { 3, 0.1, 0.2 }, ray[3] = { -1, 0, 0 };
