@@ -87,11 +87,13 @@ int vp_cmd_sim(int argc, char **argv)
         fprintf(stderr, "voroprobe sim: %s, eps %.6g, %d component(s), arena %zu bytes\n",
                 o.surface, sim.cfg.eps, sim.components, o.arena);
     st = g.complete ? VP_OK : vp_sim_run(&sim, o.quiet ? NULL : stderr);
-    if (st != VP_OK && st != VP_ENOMEM)
+    if (vp_simlog_end(&g, &sim, stderr)) { vp_sim_close(&sim); vp_simlog_free(&g); return 1; }
+    if (st == VP_EABORT && g.stop_after)
+        ; /* paused on purpose: said by vp_simlog_end */
+    else if (st != VP_OK && st != VP_ENOMEM)
         fprintf(stderr, "sim: the scan stopped: %s\n", vp_strerror(st));
     else if (st == VP_ENOMEM)
         fprintf(stderr, "sim: the arena is full (--arena): the mesh so far is written\n");
-    if (vp_simlog_end(&g, &sim, stderr)) { vp_sim_close(&sim); vp_simlog_free(&g); return 1; }
     st = vp_sim_finish(&sim, &o, err, sizeof err);
     if (st != VP_OK) fprintf(stderr, "sim: %s\n", err);
     if (!o.quiet || !o.json) vp_simlog_report(&g, stdout);

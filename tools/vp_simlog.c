@@ -294,6 +294,7 @@ int vp_simlog_end(vp_simlog_t *g, vp_sim_t *s, FILE *msg)
             char t[80];
             snprintf(t, sizeof t, "paused after %lu commands (--stop-after)", g->w.commands);
             vp_logfile_event(&g->w.file, VP_LOG_EV_PAUSE, 0, t);
+            if (msg) fprintf(msg, "sim: %s; the mesh so far is written; resume with --resume %s\n", t, g->path);
         } else if (st != VP_OK) {
             vp_logfile_event(&g->w.file, VP_LOG_EV_FAULT, st, vp_strerror(st));
         }
