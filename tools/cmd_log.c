@@ -120,7 +120,7 @@ int vp_cmd_replay(int argc, char **argv)
     if (rc == 0 && !j.quiet) {
         printf("replayed %u records of %s (%llu probes, %llu hits, %llu moves): every command equal to the logged one\n",
                j.R.applied, j.log, (unsigned long long)j.R.probes, (unsigned long long)j.R.hits,
-               (unsigned long long)(j.R.applied > 0 ? j.L.moves : 0));
+               (unsigned long long)j.R.moves);
         printf("session %s; mesh: %zu vertices, %zu facets\n",
                j.R.done ? "complete (DONE)" : "incomplete (no DONE): the mesh is the one at the end of the log",
                j.mesh.nv, j.mesh.nt);

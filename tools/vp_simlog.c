@@ -245,7 +245,7 @@ int vp_simlog_begin(vp_simlog_t *g, vp_sim_t *s, const vp_sim_options_t *o, FILE
         g->complete = g->L.done;
         vp_simdev_restore(s->dev, R.pos, R.probes);
         if (msg) fprintf(msg, "resume: %u records replayed (%llu probes, %llu moves), device at %.6g %.6g %.6g%s\n",
-                         R.applied, (unsigned long long)R.probes, (unsigned long long)g->L.moves,
+                         R.applied, (unsigned long long)R.probes, (unsigned long long)R.moves,
                          R.pos[0], R.pos[1], R.pos[2], g->complete ? "; the session is already complete" : "");
         if (g->no_log) return VP_OK;
         if (strcmp(g->path, g->resume) != 0 &&

@@ -237,7 +237,7 @@ int vp_replay_run(vp_replay_t *R, const vp_slog_t *L, uint32_t upto, char *err, 
                      vp_strerror(st));
             return st;
         }
-        if (rec.type == VP_LOG_MOVE) memcpy(R->pos, rec.target, sizeof R->pos);
+        if (rec.type == VP_LOG_MOVE) { memcpy(R->pos, rec.target, sizeof R->pos); R->moves++; }
         else { R->probes++; R->hits += rec.hit != 0; }
         R->applied++;
     }

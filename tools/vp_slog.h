@@ -44,6 +44,7 @@ typedef struct vp_replay {
     double pos[3];             /* device position after them */
     uint64_t probes;           /* PROBE records replayed (the device's probe count) */
     uint64_t hits;             /* of which hits */
+    uint64_t moves;            /* MOVE records replayed */
     int done;                  /* the planner said DONE after the last record */
 } vp_replay_t;
 
