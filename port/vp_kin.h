@@ -21,7 +21,7 @@ typedef struct vp_kin_config {
     double tilt_offset[3];   /* tilt axis centre from the pan pivot, pan frame (mm) */
     double laser_offset[3];  /* laser origin from the tilt axis centre, tilt frame (mm) */
     double lo[VP_KIN_JOINTS], hi[VP_KIN_JOINTS]; /* joint travel; lo == hi == 0: unlimited */
-    double origin_tol;       /* aim: laser origin stays this close to the target (0: 0.01 mm) */
+    double origin_tol;       /* aim: laser origin stays this close to its line (0: 0.1 mm) */
 } vp_kin_config_t;
 
 typedef struct vp_kin { vp_kin_config_t cfg; double reach; } vp_kin_t;
