@@ -1,0 +1,28 @@
+/* vp_cam — the camera boundary: a grayscale frame and a capture interface that V4L2, libcamera
+ * and the host-sim renderer all fill the same way. Nothing above it knows which one it was. */
+#ifndef VP_CAM_H
+#define VP_CAM_H
+#include <stdint.h>
+
+typedef struct vp_frame {
+    const uint8_t *data;     /* first luma byte of the top row */
+    int width, height;
+    int stride;              /* bytes from one row to the next */
+    int step;                /* bytes from one pixel to the next: 1 GREY, 2 YUYV (luma bytes) */
+    int64_t t_ns;            /* exposure time stamp (CLOCK_MONOTONIC; simulated clock in dry runs) */
+    int index;               /* backend buffer index, for release */
+} vp_frame_t;
+
+#define VP_FRAME_PIX(f, x, y) ((f)->data[(size_t)(y) * (size_t)(f)->stride + (size_t)(x) * (size_t)(f)->step])
+
+typedef struct vp_cam {
+    void *ctx;
+    /* A frame exposed at or after not_before_ns (older queued frames are dropped), within
+     * timeout_ms: VP_OK, VP_ETIMEOUT, VP_EIO. The frame stays valid until release. */
+    int  (*capture)(void *ctx, int64_t not_before_ns, int timeout_ms, vp_frame_t *f);
+    void (*release)(void *ctx, vp_frame_t *f);
+    void (*close)(void *ctx);
+    const char *name;        /* "v4l2", "libcamera", "camsim" */
+} vp_cam_t;
+
+#endif
