@@ -221,7 +221,7 @@ static int vp_camsim_capture(void *ctx, int64_t not_before, int timeout_ms, vp_f
 }
 
 static void vp_camsim_release(void *ctx, vp_frame_t *f) { (void)f; ((vp_camsim_t *)ctx)->busy = 0; }
-static void vp_camsim_close_cb(void *ctx) { (void)ctx; }
+static void vp_camsim_close_cb(void *ctx) { vp_camsim_destroy(ctx); }
 
 vp_cam_t vp_camsim_cam(vp_camsim_t *cs)
 {
@@ -230,6 +230,7 @@ vp_cam_t vp_camsim_cam(vp_camsim_t *cs)
     c.capture = vp_camsim_capture;
     c.release = vp_camsim_release;
     c.close = vp_camsim_close_cb;
+    c.error = NULL;
     c.name = "camsim";
     return c;
 }

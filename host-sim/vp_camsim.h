@@ -54,7 +54,8 @@ int vp_camsim_render(const vp_camsim_config_t *c, const vp_camsim_scene_t *sc, c
                      const double pos[3], vp_rng_t *rng, uint8_t *img, int stride, vp_camsim_truth_t *truth);
 
 /* The camera backend: pose(ctx, rot, pos) gives the head pose at capture time; clock(ctx) the
- * time stamp (NULL: 0). Frames come from one buffer: one frame out at a time. */
+ * time stamp (NULL: 0). Frames come from one buffer: one frame out at a time. The backend's
+ * close destroys the renderer. */
 typedef struct vp_camsim vp_camsim_t;
 int     vp_camsim_create(const vp_camsim_config_t *c, const vp_camsim_scene_t *sc, uint64_t seed,
                          void (*pose)(void *ctx, double rot[9], double pos[3]),

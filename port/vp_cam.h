@@ -2,6 +2,7 @@
  * and the host-sim renderer all fill the same way. Nothing above it knows which one it was. */
 #ifndef VP_CAM_H
 #define VP_CAM_H
+#include <stddef.h>
 #include <stdint.h>
 
 typedef struct vp_frame {
@@ -21,8 +22,22 @@ typedef struct vp_cam {
      * timeout_ms: VP_OK, VP_ETIMEOUT, VP_EIO. The frame stays valid until release. */
     int  (*capture)(void *ctx, int64_t not_before_ns, int timeout_ms, vp_frame_t *f);
     void (*release)(void *ctx, vp_frame_t *f);
-    void (*close)(void *ctx);
+    void (*close)(void *ctx);                  /* releases everything, ctx included */
+    const char *(*error)(void *ctx);           /* the last failure in words (may be NULL) */
     const char *name;        /* "v4l2", "libcamera", "camsim" */
 } vp_cam_t;
+
+/* Opening by name, from a board file: the backends behind one call. */
+typedef struct vp_cam_config {
+    char backend[16];        /* "v4l2" (default when empty) or "libcamera" */
+    char device[128];        /* v4l2: "/dev/video0"; libcamera: camera id or "" for the first */
+    int width, height;       /* 0: the device's default */
+    unsigned format;         /* v4l2 fourcc, 0: GREY else YUYV */
+    int exposure_us;         /* > 0: manual exposure */
+    int buffers;             /* 0: 4 */
+} vp_cam_config_t;
+
+/* VP_ENODEV also when the backend was not built (libcamera without the library). */
+int vp_cam_open(const vp_cam_config_t *c, vp_cam_t *cam, char *err, size_t errlen);
 
 #endif
