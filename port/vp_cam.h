@@ -27,6 +27,8 @@ typedef struct vp_cam {
     const char *name;        /* "v4l2", "libcamera", "camsim" */
 } vp_cam_t;
 
+#define VP_FOURCC(a, b, c, d) ((unsigned)(a) | ((unsigned)(b) << 8) | ((unsigned)(c) << 16) | ((unsigned)(d) << 24))
+
 /* Opening by name, from a board file: the backends behind one call. */
 typedef struct vp_cam_config {
     char backend[16];        /* "v4l2" (default when empty) or "libcamera" */

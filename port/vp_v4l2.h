@@ -8,8 +8,6 @@
 #include <stddef.h>
 #include "vp_cam.h"
 
-#define VP_FOURCC(a, b, c, d) ((unsigned)(a) | ((unsigned)(b) << 8) | ((unsigned)(c) << 16) | ((unsigned)(d) << 24))
-
 typedef struct vp_v4l2_config {
     const char *device;      /* "/dev/video0" */
     int width, height;       /* 0: keep the device's current size */
