@@ -43,28 +43,30 @@
 /* facet record flags */
 #define FREC_FLIP 1u     /* (v0,v1,v2) is oriented inward: swap two for output */
 #define FREC_STUCK 2u    /* its centre could not be inserted: not refined again */
+#define FREC_DOUBLE 4u   /* hit from both ends: the dual edge crosses S twice */
 
 /* phases */
-enum { PH_SEED = 0, PH_START, PH_RUN, PH_CLOSE, PH_DONE };
+enum { PH_SEED = 0, PH_START, PH_RUN, PH_CLOSE, PH_COMPONENTS, PH_RESEED, PH_DONE };
 
 /* task kinds */
 #define TASK_PROBE 1u
 
 struct vp_vrec {
     double p[3];
-    double g;          /* path search: cost so far */
+    double g, f;       /* path search: cost so far, and plus the straight distance left */
     uint32_t prev;     /* previous record on the free path (itself: a root, outside Omega) */
     uint32_t adj;      /* first free edge at this record */
     uint32_t depth;    /* hops to the root */
     uint32_t flags;
     uint32_t stamp, from; /* path search bookkeeping */
+    uint32_t hpos;        /* place in the search's open heap, NONE when closed */
 };
 
 struct vp_frec {
     uint32_t v[3];     /* sorted; v[0] == NONE: free slot, v[1] = next free */
     uint32_t heap;     /* index in the bad-ball heap or NONE */
     uint32_t flags;
-    uint32_t pad;
+    uint32_t hint;     /* a tet that had the facet (checked before use) */
     double c[3];       /* ball centre (the hit) */
     double r;          /* ball radius */
 };
@@ -186,13 +188,20 @@ static void *carve(unsigned char **cur, unsigned char *end, size_t bytes)
     return (void *)p;
 }
 
+/* Arena in use at most: the triangulation's high-water mark plus every pool's. The planner's
+ * split of the arena is fixed, so a session needs each pool's peak to fit its share. */
 static void note_peak(vp_planner_t *pl)
 {
-    size_t used = vp_dt_bytes_used(&pl->dt) + (size_t)pl->nvrec * sizeof(vp_vrec_t) +
-                  (size_t)pl->nfedge * 16u + (size_t)pl->nfrec * sizeof(vp_frec_t) +
-                  (size_t)(pl->hash_mask + 1u) * 4u + (size_t)pl->cap_heap * 4u +
-                  (size_t)pl->cap_task * sizeof(vp_task_t) + (size_t)pl->cap_route * 24u +
-                  (size_t)pl->cap_astar * 4u + (size_t)pl->cap_path * 4u;
+    size_t used;
+    uint32_t hash_need = 1;
+    if (pl->ntask > pl->peak_task) pl->peak_task = pl->ntask;
+    if (pl->nheap > pl->peak_heap) pl->peak_heap = pl->nheap;
+    if (pl->nroute > pl->peak_route) pl->peak_route = pl->nroute;
+    while (hash_need < 2u * pl->nfacets + 16u) hash_need <<= 1;
+    used = vp_dt_bytes_used(&pl->dt) + (size_t)pl->nvrec * sizeof(vp_vrec_t) +
+           (size_t)pl->nfedge * 16u + (size_t)pl->nfrec * sizeof(vp_frec_t) + (size_t)hash_need * 4u +
+           (size_t)pl->peak_heap * 4u + (size_t)pl->peak_task * sizeof(vp_task_t) +
+           (size_t)pl->peak_route * 24u + (size_t)pl->peak_astar * 4u + (size_t)pl->peak_path * 4u;
     if (used > pl->st.arena_peak) pl->st.arena_peak = used;
 }
 
@@ -265,55 +274,99 @@ static int route_push(vp_planner_t *pl, const double *p)
     return VP_OK;
 }
 
-/* Pushes p out of Omega onto the boundary of Omega grown by delta (nearest face for a box,
- * radially for a ball). */
-static void push_out(const vp_planner_config_t *c, double *p, double delta)
+/* Moves m (the midpoint of a chord with unit direction u) out of Omega: along the part of
+ * (m - centre) perpendicular to the chord, to delta beyond dOmega. */
+static void push_out(const vp_planner_config_t *c, double *m, const double *u, double delta)
 {
+    double o[3], d[3], t0, t1, s;
     int k;
-    if (c->omega_kind == VP_OMEGA_BALL) {
-        double d[3], r;
-        sub3(d, p, c->omega_center);
-        r = sqrt(dot3(d, d));
-        if (!(r > 0.0)) { d[0] = 0; d[1] = 0; d[2] = 1; r = 1; }
-        for (k = 0; k < 3; k++) p[k] = c->omega_center[k] + d[k] * (c->omega_radius + delta) / r;
-    } else if (omega_inside(c, p)) {
-        int best = 0, side = 0;
-        double bd = 1e300;
-        for (k = 0; k < 3; k++) {
-            double dl = p[k] - c->omega_lo[k], dh = c->omega_hi[k] - p[k];
-            if (dl < bd) { bd = dl; best = k; side = 0; }
-            if (dh < bd) { bd = dh; best = k; side = 1; }
-        }
-        p[best] = side ? c->omega_hi[best] + delta : c->omega_lo[best] - delta;
+    omega_center(c, o);
+    sub3(d, m, o);
+    s = dot3(d, u);
+    for (k = 0; k < 3; k++) d[k] -= s * u[k];
+    if (!normalize3(d)) {
+        double t[3] = { 0, 0, 1 };
+        if (fabs(u[2]) > 0.8) { t[0] = 1; t[2] = 0; }
+        cross3(d, u, t);
+        normalize3(d);
     }
+    if (!omega_clip(c, m, d, 1e300, &t0, &t1)) return;
+    for (k = 0; k < 3; k++) m[k] += (t1 + delta) * d[k];
+}
+
+/* The fallback: out to a sphere around Omega's circumsphere, along the great circle in chords
+ * of at most 15 degrees (they stay outside the circumsphere), and back in. */
+static int sphere_route(vp_planner_t *pl, const double *a, const double *b, int dry, double *len)
+{
+    double c[3], ra, rb, rs, ua[3], ub[3], um[3], prev[3];
+    int i, k, st, half;
+    omega_center(&pl->cfg, c);
+    rs = 1.01 * omega_circumradius(&pl->cfg);
+    sub3(ua, a, c);
+    sub3(ub, b, c);
+    ra = sqrt(dot3(ua, ua));
+    rb = sqrt(dot3(ub, ub));
+    if (!normalize3(ua) || !normalize3(ub)) return VP_EDEGEN;
+    if (ra < rs) ra = rs;
+    if (rb < rs) rb = rs;
+    for (k = 0; k < 3; k++) um[k] = ua[k] + ub[k];
+    if (!normalize3(um)) {
+        double t[3] = { 1, 0, 0 };
+        if (fabs(ua[0]) > 0.9) { t[0] = 0; t[1] = 1; }
+        cross3(um, ua, t);
+        normalize3(um);
+    }
+    prev[0] = a[0]; prev[1] = a[1]; prev[2] = a[2];
+    for (half = 0; half < 2; half++) {
+        const double *u0 = half ? um : ua, *u1 = half ? ub : um;
+        for (i = half; i <= 8; i++) {
+            double s = i / 8.0, w[3], r = ra + (rb - ra) * 0.5 * (half + s);
+            for (k = 0; k < 3; k++) w[k] = (1.0 - s) * u0[k] + s * u1[k];
+            normalize3(w);
+            for (k = 0; k < 3; k++) w[k] = c[k] + r * w[k];
+            *len += dist3(prev, w);
+            if (!dry && (st = route_push(pl, w)) != VP_OK) return st;
+            prev[0] = w[0]; prev[1] = w[1]; prev[2] = w[2];
+        }
+    }
+    *len += dist3(prev, b);
+    return dry ? VP_OK : route_push(pl, b);
 }
 
 /* Appends a path between two points on or outside dOmega that stays outside Omega: the
- * straight segment where it does not enter Omega, otherwise its midpoint pushed out onto
- * Omega grown by a small margin, recursively (an explicit stack of bounded depth), so the path
- * hugs dOmega. *len gets its length; with dry != 0 it only measures. */
-#define ROUTE_DEPTH 12
+ * straight segment where it does not enter Omega, otherwise its midpoint pushed out of Omega
+ * (sideways to the chord), recursively with an explicit stack of bounded depth, so the path
+ * hugs dOmega. If that does not settle, the way round Omega's circumsphere. *len gets its
+ * length; with dry != 0 it only measures. */
+#define ROUTE_DEPTH 10
 static int outside_route(vp_planner_t *pl, const double *a, const double *b, int dry, double *len)
 {
     double stack[ROUTE_DEPTH + 2][3], cur[3], delta = 0.01 * omega_circumradius(&pl->cfg);
     int depth[ROUTE_DEPTH + 2], n = 0, st;
+    uint32_t nroute0 = pl->nroute;
     *len = 0.0;
     memcpy(cur, a, sizeof cur);
     memcpy(stack[n], b, sizeof stack[n]);
     depth[n++] = 0;
     while (n > 0) {
-        double *y = stack[n - 1], m[3];
+        double *y = stack[n - 1], m[3], u[3];
         int d = depth[n - 1], k;
-        if (d >= ROUTE_DEPTH || !seg_enters_omega(&pl->cfg, cur, y)) {
-            /* at the depth limit the margin guarantees the chord is outside (see push_out) */
+        if (!seg_enters_omega(&pl->cfg, cur, y)) {
             *len += dist3(cur, y);
             if (!dry && (st = route_push(pl, y)) != VP_OK) return st;
             memcpy(cur, y, sizeof cur);
             n--;
             continue;
         }
+        if (d >= ROUTE_DEPTH) {
+            pl->nroute = nroute0;
+            *len = 0.0;
+            return sphere_route(pl, a, b, dry, len);
+        }
+        sub3(u, y, cur);
+        normalize3(u);
         for (k = 0; k < 3; k++) m[k] = 0.5 * (cur[k] + y[k]);
-        push_out(&pl->cfg, m, delta);
+        push_out(&pl->cfg, m, u, delta);
         depth[n - 1] = d + 1;
         memcpy(stack[n], m, sizeof m);
         depth[n++] = d + 1;
@@ -429,11 +482,28 @@ static void heap_remove(vp_planner_t *pl, uint32_t k)
 
 /* ---------- facet records ---------- */
 
+/* Rebuilds the hash from the live records when deleted slots pile up (they lengthen every
+ * probe sequence). */
+static void fhash_rebuild(vp_planner_t *pl)
+{
+    uint32_t i;
+    for (i = 0; i <= pl->hash_mask; i++) pl->fhash[i] = HASH_EMPTY;
+    for (i = 0; i < pl->nfrec; i++) {
+        int found;
+        if (pl->frec[i].v[0] == NONE) continue;
+        pl->fhash[fhash_find(pl, pl->frec[i].v, &found)] = i;
+    }
+    pl->ntomb = 0;
+}
+
 static void frec_delete(vp_planner_t *pl, uint32_t k)
 {
     int found;
     uint32_t h = fhash_find(pl, pl->frec[k].v, &found);
-    if (found) pl->fhash[h] = HASH_TOMB;
+    if (found) {
+        pl->fhash[h] = HASH_TOMB;
+        if (++pl->ntomb > (pl->hash_mask + 1u) / 4u) pl->fhash_dirty = 1;
+    }
     heap_remove(pl, k);
     pl->frec[k].v[0] = NONE;
     pl->frec[k].v[1] = pl->frec_free;
@@ -441,10 +511,29 @@ static void frec_delete(vp_planner_t *pl, uint32_t k)
     pl->nfacets--;
 }
 
+/* With an angle bound: the smallest angle of the triangle is below it, i.e. its shortest edge
+ * is shorter than 2 R sin(bound), R its circumradius (Chew's criterion, as CGAL's mesher has). */
+static int facet_too_sharp(const vp_planner_t *pl, const uint32_t *v)
+{
+    const double *a, *b, *c;
+    double ab[3], ac[3], bc[3], n[3], la, lb, lc, lmin, area2, r;
+    if (!(pl->sin_angle > 0.0)) return 0;
+    a = vp_dt_point(&pl->dt, v[0]); b = vp_dt_point(&pl->dt, v[1]); c = vp_dt_point(&pl->dt, v[2]);
+    sub3(ab, b, a); sub3(ac, c, a); sub3(bc, c, b);
+    la = sqrt(dot3(bc, bc)); lb = sqrt(dot3(ac, ac)); lc = sqrt(dot3(ab, ab));
+    cross3(n, ab, ac);
+    area2 = sqrt(dot3(n, n));
+    if (!(area2 > 0.0)) return 1;
+    r = la * lb * lc / (2.0 * area2);
+    lmin = la < lb ? la : lb;
+    if (lc < lmin) lmin = lc;
+    return lmin < 2.0 * r * pl->sin_angle;
+}
+
 /* Adds facet fv (any order) with ball centre c; `outside` is a point on the probe's side, so
  * the facet is stored facing it. A facet already known keeps its first ball. */
 static int frec_add(vp_planner_t *pl, const uint32_t *fv, const double *c, const double *outside,
-                    uint32_t *out)
+                    uint32_t tet, uint32_t *out)
 {
     uint32_t v[3], k, h;
     int found;
@@ -465,16 +554,35 @@ static int frec_add(vp_planner_t *pl, const uint32_t *fv, const double *c, const
     memcpy(f->v, v, sizeof v);
     f->heap = NONE;
     f->flags = 0;
+    f->hint = tet;
     f->c[0] = c[0]; f->c[1] = c[1]; f->c[2] = c[2];
     a = vp_dt_point(&pl->dt, v[0]);
     f->r = dist3(c, a);
     if (vp_orient3d(a, vp_dt_point(&pl->dt, v[1]), vp_dt_point(&pl->dt, v[2]), outside) < 0)
         f->flags |= FREC_FLIP;
+    if (pl->fhash[h] == HASH_TOMB && pl->ntomb > 0) pl->ntomb--;
     pl->fhash[h] = k;
     pl->nfacets++;
     *out = k;
-    if (f->r > pl->cfg.eps) return heap_push(pl, k);
+    if (f->r > pl->cfg.eps || facet_too_sharp(pl, v)) return heap_push(pl, k);
     return VP_OK;
+}
+
+/* A second ball for facet record k (the edge crosses S twice): keep the larger, and mark the
+ * record so that no free segment is inferred from it any more. */
+static void frec_set_ball(vp_planner_t *pl, uint32_t k, const double *c)
+{
+    vp_frec_t *f = &pl->frec[k];
+    double r = dist3(c, vp_dt_point(&pl->dt, f->v[0]));
+    f->flags |= FREC_DOUBLE;
+    if (!(r > f->r)) return;
+    f->c[0] = c[0]; f->c[1] = c[1]; f->c[2] = c[2];
+    f->r = r;
+    if (f->heap != NONE) {
+        heap_up(pl, f->heap);
+    } else if (r > pl->cfg.eps && !(f->flags & FREC_STUCK)) {
+        (void)heap_push(pl, k);
+    }
 }
 
 /* ---------- Voronoi edges, clipped to Omega ---------- */
@@ -604,64 +712,72 @@ typedef struct astar {
     const double *goal;
 } astar_t;
 
-static double astar_f(const astar_t *s, uint32_t n)
+static void astar_place(astar_t *s, uint32_t i, uint32_t n)
 {
-    return s->pl->vrec[n].g + dist3(s->pl->vrec[n].p, s->goal);
+    s->open[i] = n;
+    s->pl->vrec[n].hpos = i;
 }
 
 static void astar_sift_up(astar_t *s, uint32_t i)
 {
+    uint32_t n = s->open[i];
+    double f = s->pl->vrec[n].f;
     while (i > 0) {
-        uint32_t p = (i - 1) / 2, t;
-        if (!(astar_f(s, s->open[i]) < astar_f(s, s->open[p]))) break;
-        t = s->open[i]; s->open[i] = s->open[p]; s->open[p] = t;
+        uint32_t p = (i - 1) / 2;
+        if (!(f < s->pl->vrec[s->open[p]].f)) break;
+        astar_place(s, i, s->open[p]);
         i = p;
     }
+    astar_place(s, i, n);
 }
 
 static uint32_t astar_pop(astar_t *s)
 {
-    uint32_t top = s->open[0], i = 0;
-    s->open[0] = s->open[--s->nopen];
+    uint32_t top = s->open[0], i = 0, last;
+    s->pl->vrec[top].hpos = NONE;
+    if (--s->nopen == 0) return top;
+    last = s->open[s->nopen];
     for (;;) {
-        uint32_t l = 2 * i + 1, r = l + 1, m = i, t;
-        if (l < s->nopen && astar_f(s, s->open[l]) < astar_f(s, s->open[m])) m = l;
-        if (r < s->nopen && astar_f(s, s->open[r]) < astar_f(s, s->open[m])) m = r;
-        if (m == i) break;
-        t = s->open[i]; s->open[i] = s->open[m]; s->open[m] = t;
+        uint32_t l = 2 * i + 1, r = l + 1, m;
+        double fm = s->pl->vrec[last].f;
+        m = NONE;
+        if (l < s->nopen && s->pl->vrec[s->open[l]].f < fm) { m = l; fm = s->pl->vrec[s->open[l]].f; }
+        if (r < s->nopen && s->pl->vrec[s->open[r]].f < fm) m = r;
+        if (m == NONE) break;
+        astar_place(s, i, s->open[m]);
         i = m;
     }
+    astar_place(s, i, last);
     return top;
 }
 
 static int astar_relax(astar_t *s, uint32_t from, uint32_t nb, double g, uint32_t virt)
 {
     vp_vrec_t *r = &s->pl->vrec[nb];
-    uint32_t i;
     if (r->stamp == s->stamp && !(g < r->g)) return VP_OK;
     if (r->stamp != s->stamp) {
-        if (s->nopen >= s->pl->cap_astar) return VP_ENOMEM;
         r->stamp = s->stamp;
-        s->open[s->nopen++] = nb;
-        i = s->nopen - 1;
-    } else {
-        for (i = 0; i < s->nopen && s->open[i] != nb; i++) {}
-        if (i == s->nopen) { /* already closed: reopen */
-            if (s->nopen >= s->pl->cap_astar) return VP_ENOMEM;
-            s->open[s->nopen++] = nb;
-        }
+        r->hpos = NONE;
     }
     r->g = g;
+    r->f = g + dist3(r->p, s->goal);
     r->from = from | virt;
-    astar_sift_up(s, i);
+    if (r->hpos == NONE) {
+        if (s->nopen >= s->pl->cap_astar) return VP_ENOMEM;
+        r->hpos = s->nopen++;
+        s->open[r->hpos] = nb;
+        if (s->nopen > s->pl->peak_astar) s->pl->peak_astar = s->nopen;
+    }
+    astar_sift_up(s, r->hpos);
     return VP_OK;
 }
 
-static int astar_path(vp_planner_t *pl, uint32_t a, uint32_t b, const double *gp, double *len)
+static int astar_path(vp_planner_t *pl, uint32_t a, uint32_t b, const double *gp, double *len,
+                      uint32_t max_expansions)
 {
     astar_t s;
     uint32_t broot = b != NONE ? chain_root(pl, b) : NONE, best_out = NONE, node = NONE, i;
-    uint32_t expansions = 0, budget = pl->cap_astar > 4096 ? 4096 : pl->cap_astar;
+    uint32_t expansions = 0, budget = pl->cap_astar > max_expansions ? max_expansions : pl->cap_astar;
     double best_out_cost = 1e300, ol;
     int st;
     s.pl = pl;
@@ -671,12 +787,15 @@ static int astar_path(vp_planner_t *pl, uint32_t a, uint32_t b, const double *gp
     s.goal = b != NONE ? pl->vrec[b].p : gp;
     pl->vrec[a].stamp = s.stamp;
     pl->vrec[a].g = 0.0;
+    pl->vrec[a].f = dist3(pl->vrec[a].p, s.goal);
     pl->vrec[a].from = NONE;
+    pl->vrec[a].hpos = 0;
     s.open[s.nopen++] = a;
     while (s.nopen > 0) {
         uint32_t e, cur;
-        if (best_out != NONE && best_out_cost <= astar_f(&s, s.open[0])) break;
+        if (best_out != NONE && best_out_cost <= pl->vrec[s.open[0]].f) break;
         cur = astar_pop(&s);
+        pl->st.astar_expansions++;
         if (cur == b) { node = b; break; }
         if (++expansions > budget) return VP_ENOMEM;
         for (e = pl->vrec[cur].adj; e != NONE;) {
@@ -708,6 +827,7 @@ static int astar_path(vp_planner_t *pl, uint32_t a, uint32_t b, const double *gp
         while (n != NONE) {
             if (np >= pl->cap_path) return VP_ENOMEM;
             pl->path[np++] = n;
+            if (np > pl->peak_path) pl->peak_path = np;
             n = pl->vrec[n].from == NONE ? NONE : (pl->vrec[n].from & ~VIRTUAL);
         }
         for (i = np - 1; i-- > 0;) {
@@ -732,6 +852,22 @@ static int astar_path(vp_planner_t *pl, uint32_t a, uint32_t b, const double *gp
     return VP_OK;
 }
 
+#define SEARCH_LOCAL 256u  /* expansions before a straight shortcut is probed */
+#define SEARCH_FULL 4096u  /* expansions before falling back to the prev chains */
+
+/* The full route from record a to record b (search, else prev chains), into the route buffer. */
+static int route_full(vp_planner_t *pl, uint32_t a, uint32_t b)
+{
+    double l;
+    int st;
+    pl->nroute = pl->iroute = 0;
+    st = astar_path(pl, a, b, NULL, &l, SEARCH_FULL);
+    if (st == VP_OK) return VP_OK;
+    pl->nroute = 0;
+    pl->st.astar_fallbacks++;
+    return tree_path(pl, a, b, NULL, 1, &l);
+}
+
 /* Plans the device's route from where it stands to record b, or to the outside point gp when
  * b == NONE (a record is then made there). Sets pl->at to the destination record. */
 static int plan_route(vp_planner_t *pl, uint32_t b, const double *gp)
@@ -739,20 +875,58 @@ static int plan_route(vp_planner_t *pl, uint32_t b, const double *gp)
     double tl = 0.0, al = 0.0;
     int st;
     pl->nroute = pl->iroute = 0;
+    pl->st.routes++;
+    pl->route_from = pl->at;
+    pl->shortcut = NONE;
+    pl->route_deferred = 0;
     if (b != NONE && b == pl->at) return VP_OK;
-    /* what the prev chains would cost (reported, and used with VP_PLAN_PREV_CHAINS) */
-    st = tree_path(pl, pl->at, b, gp, 0, &tl);
-    if (st != VP_OK) return st;
-    pl->st.travel_prev_chains += tl;
     if (!(pl->cfg.flags & VP_PLAN_PREV_CHAINS)) {
-        st = astar_path(pl, pl->at, b, gp, &al);
-        if (st != VP_OK) { pl->nroute = 0; pl->st.stale_balls += 1000000; }
+        /* what the same move costs along prev chains (reported beside the travel) */
+        st = tree_path(pl, pl->at, b, gp, 0, &tl);
+        if (st != VP_OK) return st;
+        pl->st.travel_prev_chains += tl;
+    }
+    if (!(pl->cfg.flags & VP_PLAN_PREV_CHAINS) && b != NONE) {
+        /* the goal one free edge away: no search */
+        uint32_t e, cur = pl->at;
+        for (e = pl->vrec[cur].adj; e != NONE;) {
+            int isa = pl->fedge[4 * e] == cur;
+            if ((isa ? pl->fedge[4 * e + 1] : pl->fedge[4 * e]) == b) {
+                pl->at = b;
+                pl->st.direct_routes++;
+                return route_push(pl, pl->vrec[b].p);
+            }
+            e = isa ? pl->fedge[4 * e + 2] : pl->fedge[4 * e + 3];
+        }
+    }
+    if (!(pl->cfg.flags & VP_PLAN_PREV_CHAINS)) {
+        int cheap = b != NONE && !(pl->cfg.flags & VP_PLAN_PAPER);
+        st = astar_path(pl, pl->at, b, gp, &al, cheap ? SEARCH_LOCAL : SEARCH_FULL);
+        if (st != VP_OK && cheap) {
+            /* no short way in the free graph: probe the straight line first; the full search
+             * runs only if that probe hits */
+            pl->nroute = 0;
+            pl->shortcut = b;
+            pl->route_deferred = 1;
+            pl->at = b;
+            return VP_OK;
+        }
+        if (st != VP_OK) { pl->nroute = 0; pl->st.astar_fallbacks++; }
     } else {
         st = VP_ENOMEM;
     }
+    if (!(pl->cfg.flags & (VP_PLAN_PREV_CHAINS | VP_PLAN_PAPER)) && b != NONE) {
+        /* a long detour to a near target: first probe the straight way (one probe can save
+         * many moves); the route found stays the plan if the probe hits */
+        double d = dist3(pl->vrec[pl->at].p, pl->vrec[b].p);
+        double known = st == VP_OK ? al : 1e300;
+        if (known > 3.0 * d + 2.0 * pl->cfg.eps && d > 0.0) pl->shortcut = b;
+    }
     if (st != VP_OK) {
+        /* the prev chains: always a way (and the only one with VP_PLAN_PREV_CHAINS) */
         st = tree_path(pl, pl->at, b, gp, 1, &tl);
         if (st != VP_OK) return st;
+        if (pl->cfg.flags & VP_PLAN_PREV_CHAINS) pl->st.travel_prev_chains += tl;
     }
     if (b == NONE) {
         st = rec_new(pl, gp, NONE, REC_OUT, &b);
@@ -763,6 +937,13 @@ static int plan_route(vp_planner_t *pl, uint32_t b, const double *gp)
 }
 
 /* ---------- detect_access as a stack of probe tasks ---------- */
+
+/* Probing every edge of every active vertex (the paper's detect_access): always with
+ * VP_PLAN_PAPER, otherwise only while a hole could not be closed locally. */
+static int exhaustive(const vp_planner_t *pl)
+{
+    return (pl->cfg.flags & VP_PLAN_PAPER) || pl->exhaustive;
+}
 
 static int task_push(vp_planner_t *pl, uint32_t t, int f, int forced)
 {
@@ -795,8 +976,11 @@ static int explore(vp_planner_t *pl, uint32_t t)
     const uint32_t *w = vp_dt_tet(&pl->dt, t);
     for (f = 3; f >= 0; f--) {
         unsigned s = side_get(pl, t, f);
-        if ((s & SIDE_MASK) != SIDE_UNKNOWN || (s & SIDE_QUEUED) || facet_has_ghost(pl, t, f)) continue;
-        if (!(pl->cfg.flags & VP_PLAN_PAPER) && tet_active(pl, w[4 + f] >> 2)) continue;
+        if ((s & SIDE_QUEUED) || facet_has_ghost(pl, t, f)) continue;
+        /* BEHIND seen from a free vertex: the edge crosses S twice; its other ball is probed
+         * from here */
+        if ((s & SIDE_MASK) != SIDE_UNKNOWN && (s & SIDE_MASK) != SIDE_BEHIND) continue;
+        if ((s & SIDE_MASK) == SIDE_UNKNOWN && !exhaustive(pl) && tet_active(pl, w[4 + f] >> 2)) continue;
         if ((st = task_push(pl, t, f, 0)) != VP_OK) return st;
     }
     return VP_OK;
@@ -854,11 +1038,12 @@ static int task_start(vp_planner_t *pl, vp_task_t *k)
     uint32_t goal = NONE;
     if (!vp_dt_alive(&pl->dt, t)) return 0;
     side_set(pl, t, f, s & ~(SIDE_QUEUED | SIDE_FORCED));
-    if ((s & SIDE_MASK) != SIDE_UNKNOWN) return 0;
+    if ((s & SIDE_MASK) != SIDE_UNKNOWN && (s & SIDE_MASK) != SIDE_BEHIND) return 0;
     w = vp_dt_tet(&pl->dt, t);
     u = w[4 + f] >> 2;
     j = w[4 + f] & 3u;
-    if (!(pl->cfg.flags & VP_PLAN_PAPER) && !(s & SIDE_FORCED) && tet_active(pl, u)) return 0;
+    if ((s & SIDE_MASK) == SIDE_UNKNOWN && !exhaustive(pl) && !(s & SIDE_FORCED) && tet_active(pl, u))
+        return 0;
     if (!tet_active(pl, t)) return 0;
     st = edge_geom(pl, t, f, &g);
     if (st != VP_OK) return 0; /* degenerate: no usable edge */
@@ -896,6 +1081,13 @@ static int task_start(vp_planner_t *pl, vp_task_t *k)
     pl->probe_origin_rec = pl->at;
     pl->curtask = *k;
     side_set(pl, t, f, side_get(pl, t, f) | SIDE_QUEUED);
+    if (pl->shortcut != NONE) {
+        /* the shortcut probe goes first, from where the device stands now */
+        pl->sc_from = pl->route_from;
+        pl->sc_tries = 0;
+        pl->sc_pending = 1;
+        return 2;
+    }
     return 1;
 }
 
@@ -916,16 +1108,26 @@ static int task_finish(vp_planner_t *pl, const vp_probe_result_t *res)
         for (q = 0; q < 3; q++) h[q] = pl->probe_origin[q] + d * pl->probe_dir[q];
         pl->st.hits++;
         vp_dt_facet(&pl->dt, t, f, fv);
-        st = frec_add(pl, fv, h, pl->probe_origin, &fr);
-        if (st != VP_OK) return st;
-        side_set(pl, t, f, SIDE_HIT);
-        side_set(pl, u, (int)j, (side_get(pl, u, (int)j) & ~SIDE_MASK) | SIDE_BEHIND);
+        {
+            unsigned su = side_get(pl, u, (int)j) & SIDE_MASK;
+            st = frec_add(pl, fv, h, pl->probe_origin, t, &fr);
+            if (st != VP_OK) return st;
+            side_set(pl, t, f, SIDE_HIT);
+            if (su == SIDE_HIT) {
+                /* seen from both ends: two balls; the larger one decides refinement */
+                frec_set_ball(pl, fr, h);
+            } else {
+                side_set(pl, u, (int)j, (side_get(pl, u, (int)j) & ~SIDE_MASK) | SIDE_BEHIND);
+            }
+        }
         return VP_OK;
     }
     pl->st.misses++;
-    /* a dropout must not open a way into the object: re-probe a miss where a hit is expected */
-    if (k->tries < pl->cfg.confirm_misses &&
-        expect_hit(pl, t, f, pl->probe_origin, pl->probe_dir, pl->probe_range)) {
+    /* a dropout must not open a way into the object: a miss is trusted only after
+     * confirm_misses more misses on the same ray (twice that where a hit is expected) */
+    if (pl->cfg.confirm_misses > 0 &&
+        k->tries < pl->cfg.confirm_misses *
+                       (expect_hit(pl, t, f, pl->probe_origin, pl->probe_dir, pl->probe_range) ? 2u : 1u)) {
         k->tries++;
         pl->st.reprobes++;
         pl->probe_ready = 1;
@@ -998,6 +1200,7 @@ static int after_insert(vp_planner_t *pl, uint32_t pv)
     int st, i;
 
     if (3u * nk + nc > pl->cap_astar) return VP_ENOMEM;
+    if (3u * nk + nc > pl->peak_astar) pl->peak_astar = 3u * nk + nc;
     kpay = pl->astar;
     kbound = kpay + 2 * nk;
     ckidx = kbound + nk;
@@ -1021,7 +1224,7 @@ static int after_insert(vp_planner_t *pl, uint32_t pv)
             uint32_t fv[3], r;
             int m = 0, x;
             if ((kbound[ki] >> i) & 1u) continue;
-            if (s != SIDE_HIT && s != SIDE_BEHIND) continue;
+            (void)s;
             for (x = 0; x < 4; x++)
                 if (x != i) fv[m++] = kverts[4 * ki + (uint32_t)x];
             r = frec_lookup(pl, fv);
@@ -1037,8 +1240,8 @@ static int after_insert(vp_planner_t *pl, uint32_t pv)
         const uint32_t *w = vp_dt_tet(&pl->dt, n);
         int jn = facet_index_of(w, pv), fi = (int)(cfrom[q] & 3u);
         unsigned sU, sK, sn;
-        int valid = 0, reach_from_k = 0, edge_free = 0;
-        double c[3];
+        int valid = 0, reach_from_k = 0, edge_free = 0, c_ok = 0;
+        double c[3], oldc[3], pu[3], tol = pl->cfg.noise_tol;
         ki = ckidx[q];
         U = w[4 + jn] >> 2;
         jj = w[4 + jn] & 3u;
@@ -1049,27 +1252,49 @@ static int after_insert(vp_planner_t *pl, uint32_t pv)
             pay(pl, n)[0] = VREC_OUT;
         } else if (tet_point(pl, n, c) != VP_OK || !omega_inside(&pl->cfg, c)) {
             pay(pl, n)[0] = VREC_OUT;
+        } else {
+            c_ok = 1;
         }
         if (facet_has_ghost(pl, n, jn)) continue;
         vp_dt_facet(&pl->dt, n, jn, fv);
         r = frec_lookup(pl, fv);
         if (r != NONE) {
+            int dbl = (pl->frec[r].flags & FREC_DOUBLE) != 0;
+            memcpy(oldc, pl->frec[r].c, sizeof oldc);
             valid = vp_cmp_dist(pl->frec[r].c, P, vp_dt_point(&pl->dt, fv[0])) >= 0;
             if (!valid) frec_delete(pl, r);
+            if (dbl) {
+                /* two crossings: nothing about free parts can be inferred; look again */
+                side_set(pl, n, jn, SIDE_UNKNOWN);
+                side_set(pl, U, (int)jj, side_get(pl, U, (int)jj) & ~SIDE_MASK);
+                continue;
+            }
         }
         sn = SIDE_UNKNOWN;
         if (r != NONE && valid) {
             if (sU == SIDE_HIT) sn = SIDE_BEHIND;
-            else if (sK == SIDE_HIT) { sn = SIDE_HIT; sU = SIDE_BEHIND; reach_from_k = 1; }
+            else if (sK == SIDE_HIT) {
+                sn = SIDE_HIT;
+                sU = SIDE_BEHIND;
+                /* [P_kold, c) was free; P_n lies on it, clear of c by the noise tolerance */
+                reach_from_k = krec != NONE && krec != VREC_OUT && c_ok &&
+                               dist3(pl->vrec[krec].p, c) <= dist3(pl->vrec[krec].p, pl->frec[r].c) - tol;
+            }
             else { sn = SIDE_UNKNOWN; }
         } else if (sU == SIDE_FREE || sK == SIDE_FREE) {
             sn = sU = SIDE_FREE;
             edge_free = 1;
             reach_from_k = 1;
         } else if (r != NONE && sU == SIDE_HIT) {
-            /* the old hit seen from U is cut off: U's side is free up to past P_n */
-            sn = sU = SIDE_FREE;
-            edge_free = 1;
+            /* the old hit seen from U is cut off: U's side is free up to past P_n (with the
+             * noise tolerance to spare) */
+            if (c_ok && (vp_dt_is_ghost(&pl->dt, U) ||
+                         (tet_point(pl, U, pu) == VP_OK && dist3(pu, c) <= dist3(pu, oldc) - tol))) {
+                sn = sU = SIDE_FREE;
+                edge_free = 1;
+            } else {
+                sn = sU = SIDE_UNKNOWN;
+            }
         } else if (r != NONE) {
             sn = sU = SIDE_UNKNOWN;
         }
@@ -1122,8 +1347,24 @@ static int after_insert(vp_planner_t *pl, uint32_t pv)
 
 /* ---------- refinement: insert the centre of a bad ball ---------- */
 
+static uint32_t find_facet_slow(vp_planner_t *pl, const uint32_t *fv, int *fi);
+
 /* a live tet holding facet fv, and the facet's index in it */
 static uint32_t find_facet(vp_planner_t *pl, const uint32_t *fv, int *fi)
+{
+    uint32_t k = frec_lookup(pl, fv);
+    if (k != NONE && vp_dt_alive(&pl->dt, pl->frec[k].hint)) {
+        const uint32_t *w = vp_dt_tet(&pl->dt, pl->frec[k].hint);
+        int a = facet_index_of(w, fv[0]), b = facet_index_of(w, fv[1]), c = facet_index_of(w, fv[2]);
+        if (a >= 0 && b >= 0 && c >= 0) {
+            *fi = 6 - a - b - c;
+            return pl->frec[k].hint;
+        }
+    }
+    return find_facet_slow(pl, fv, fi);
+}
+
+static uint32_t find_facet_slow(vp_planner_t *pl, const uint32_t *fv, int *fi)
 {
     int n = vp_dt_incident_tets(&pl->dt, fv[0], pl->astar, (int)(pl->cap_astar > 65536 ? 65536 : pl->cap_astar)), k;
     for (k = 0; k < n; k++) {
@@ -1164,6 +1405,7 @@ static uint32_t choose_ball(const vp_planner_t *pl)
 
 static int refine(vp_planner_t *pl)
 {
+    if (pl->fhash_dirty) { fhash_rebuild(pl); pl->fhash_dirty = 0; }
     uint32_t k = choose_ball(pl), t, v = NONE, fv[3];
     int fi, st;
     double c[3];
@@ -1190,6 +1432,7 @@ static int refine(vp_planner_t *pl)
     }
     pl->st.insertions++;
     pl->last_vertex = v;
+    pl->exhaustive = 0;
     st = after_insert(pl, v);
     note_peak(pl);
     return st;
@@ -1232,7 +1475,7 @@ static int probe_around_edge(vp_planner_t *pl, uint32_t t0, uint32_t x, uint32_t
 static int close_holes(vp_planner_t *pl)
 {
     /* edge counts in a scratch hash: 3 words per slot (a, b, count) */
-    uint32_t slots = 1, i, *tab = pl->astar, pushed = 0;
+    uint32_t slots = 1, i, *tab = pl->astar, pushed = 0, holes = 0;
     while (slots < 4u * pl->nfacets + 16u) slots <<= 1;
     if (3u * slots > pl->cap_astar) return 0; /* too big to check here: left to certify */
     for (i = 0; i < 3u * slots; i++) tab[i] = NONE;
@@ -1269,8 +1512,119 @@ static int close_holes(vp_planner_t *pl)
         n = probe_around_edge(pl, t, a, b);
         if (n < 0) return n;
         pushed += (uint32_t)n;
+        holes++;
+    }
+    if (holes > 0 && pushed == 0 && !pl->exhaustive) {
+        /* no active vertex next to the holes: detect_access in full from every active vertex
+         * until the next insertion */
+        uint32_t tt;
+        int st;
+        pl->exhaustive = 1;
+        pl->st.escalations++;
+        for (tt = 0; tt < pl->dt.ntet_slots; tt++)
+            if (vp_dt_alive(&pl->dt, tt) && tet_active(pl, tt)) {
+                if ((st = explore(pl, tt)) != VP_OK) return st;
+            }
+        return (int)pl->ntask;
     }
     return (int)pushed;
+}
+
+static int seed_issue(vp_planner_t *pl, const double *dir, double range);
+static double omega_exit(const vp_planner_config_t *c, const double *p, const double *u);
+static int pools_have_room(const vp_planner_t *pl);
+
+/* ---------- H2: a vertex on every component ---------- */
+
+/* 1 if point o is enclosed by the mesh: odd number of facets crossed by a ray from o. The
+ * ray's direction is fixed and irrational-looking so that it meets no edge in practice. */
+static int mesh_encloses(const vp_planner_t *pl, const double *o)
+{
+    static const double dir[3] = { 0.4469983318002897, 0.5384104567341229, 0.7144217014264011 };
+    uint32_t i, crossings = 0;
+    for (i = 0; i < pl->nfrec; i++) {
+        const vp_frec_t *f = &pl->frec[i];
+        const double *a, *b, *c;
+        double e1[3], e2[3], p[3], q[3], t[3], det, u, v, w;
+        if (f->v[0] == NONE) continue;
+        a = vp_dt_point(&pl->dt, f->v[0]);
+        b = vp_dt_point(&pl->dt, f->v[1]);
+        c = vp_dt_point(&pl->dt, f->v[2]);
+        sub3(e1, b, a);
+        sub3(e2, c, a);
+        cross3(p, dir, e2);
+        det = dot3(e1, p);
+        if (det == 0.0) continue;
+        sub3(t, o, a);
+        u = dot3(t, p) / det;
+        if (u < 0.0 || u > 1.0) continue;
+        cross3(q, t, e1);
+        v = dot3(dir, q) / det;
+        if (v < 0.0 || u + v > 1.0) continue;
+        w = dot3(e2, q) / det;
+        if (w > 0.0) crossings++;
+    }
+    return (int)(crossings & 1u);
+}
+
+/* Directions tried, one after the other, to find a component the seeds missed. */
+static void reseed_dir(uint32_t attempt, double *d)
+{
+    static const signed char D[26][3] = {
+        { 0, 0, 1 }, { 0, 0, -1 }, { 1, 0, 0 }, { -1, 0, 0 }, { 0, 1, 0 }, { 0, -1, 0 },
+        { 1, 1, 1 }, { -1, -1, -1 }, { 1, -1, 1 }, { -1, 1, -1 }, { 1, 1, -1 }, { -1, -1, 1 },
+        { -1, 1, 1 }, { 1, -1, -1 }, { 1, 1, 0 }, { -1, -1, 0 }, { 1, -1, 0 }, { -1, 1, 0 },
+        { 1, 0, 1 }, { -1, 0, -1 }, { 1, 0, -1 }, { -1, 0, 1 }, { 0, 1, 1 }, { 0, -1, -1 },
+        { 0, 1, -1 }, { 0, -1, 1 } };
+    d[0] = D[attempt % 26][0]; d[1] = D[attempt % 26][1]; d[2] = D[attempt % 26][2];
+    normalize3(d);
+}
+
+#define RESEED_TRIES 26u
+
+/* After the mesh closed: every o_i must be enclosed by it (H2). A missed component gets a new
+ * sample: a probe towards o_i from another side of Omega, inserted like a ball centre. */
+static int check_components(vp_planner_t *pl)
+{
+    uint32_t i;
+    for (i = 0; i < pl->cfg.ninterior; i++) {
+        const double *o = pl->cfg.interior[i];
+        double d[3], q[3], te;
+        int k, st;
+        if (pl->h2_done & (1u << i)) continue;
+        if (mesh_encloses(pl, o)) { pl->h2_done |= 1u << i; continue; }
+        if (pl->h2_tries[i] >= RESEED_TRIES) continue; /* reported: not found */
+        reseed_dir(pl->h2_tries[i]++, d);
+        te = omega_exit(&pl->cfg, o, d);
+        for (k = 0; k < 3; k++) q[k] = o[k] + te * d[k];
+        if ((st = plan_route(pl, NONE, q)) != VP_OK) return st;
+        for (k = 0; k < 3; k++) d[k] = -d[k];
+        pl->reseed = i;
+        pl->phase = PH_RESEED;
+        return seed_issue(pl, d, te);
+    }
+    pl->phase = PH_DONE;
+    return VP_OK;
+}
+
+static int reseed_feed(vp_planner_t *pl, const vp_probe_result_t *res)
+{
+    double h[3];
+    uint32_t v;
+    int k, st;
+    pl->phase = PH_COMPONENTS;
+    if (!res->hit) return VP_OK;
+    for (k = 0; k < 3; k++) h[k] = pl->probe_origin[k] + res->dist * pl->probe_dir[k];
+    if (!pools_have_room(pl)) return VP_ENOMEM;
+    st = vp_dt_insert(&pl->dt, h, VP_DT_NONE, &v);
+    if (st == VP_EDUP) return VP_OK;
+    if (st != VP_OK) return st;
+    pl->st.insertions++;
+    pl->st.reseeds++;
+    pl->exhaustive = 0;
+    st = after_insert(pl, v);
+    pl->phase = PH_RUN;
+    return st;
 }
 
 /* ---------- seeds: the persistent facet and a fourth point per component ---------- */
@@ -1453,6 +1807,7 @@ int vp_planner_init(vp_planner_t *pl, void *arena, size_t bytes, const vp_planne
     for (i = 0; i < cfg->ninterior; i++)
         if (!finite3(cfg->interior[i]) || !omega_inside(cfg, cfg->interior[i])) return VP_EINVAL;
     if (!finite3(cfg->start) || omega_inside(cfg, cfg->start)) return VP_EINVAL;
+    if (!(cfg->min_angle >= 0.0) || cfg->min_angle > 30.0) return VP_EINVAL;
     if (!(cfg->max_range >= 0.0) || !(cfg->noise_tol >= 0.0) || !(cfg->clearance >= 0.0) ||
         cfg->max_range > 1e150 || cfg->noise_tol > 1e150 || cfg->clearance > 1e150)
         return VP_EINVAL;
@@ -1462,18 +1817,18 @@ int vp_planner_init(vp_planner_t *pl, void *arena, size_t bytes, const vp_planne
     pl->arena_bytes = bytes;
     cur = pl->arena;
     end = pl->arena + bytes;
-    /* the split, per 100 units: triangulation 44, records 20, facets 12, free edges 8, hash 4,
-     * path search 5, paths 3, tasks 2, heap 1, route 1 */
+    /* the split, per 100 units, from the peaks measured per output vertex (README): the
+     * triangulation 34, records 34, free edges 11, facets 9, hash 3, path search 3, paths 1,
+     * tasks 1, heap 1, route 1 */
     unit = bytes / 100;
-    dtb = 44 * unit;
     if (bytes < 64 * 1024) return VP_ENOMEM;
-    pl->cap_vrec = (uint32_t)(20 * unit / sizeof(vp_vrec_t));
-    pl->cap_frec = (uint32_t)(12 * unit / sizeof(vp_frec_t));
-    pl->cap_fedge = (uint32_t)(8 * unit / 16);
-    for (hwords = 1; (size_t)hwords * 2 * 4 <= 4 * unit; hwords <<= 1) {}
-    pl->cap_astar = (uint32_t)(5 * unit / 4);
-    pl->cap_path = (uint32_t)(3 * unit / 4);
-    pl->cap_task = (uint32_t)(2 * unit / sizeof(vp_task_t));
+    pl->cap_vrec = (uint32_t)(34 * unit / sizeof(vp_vrec_t));
+    pl->cap_frec = (uint32_t)(9 * unit / sizeof(vp_frec_t));
+    pl->cap_fedge = (uint32_t)(11 * unit / 16);
+    for (hwords = 1; (size_t)hwords * 2 * 4 <= 3 * unit; hwords <<= 1) {}
+    pl->cap_astar = (uint32_t)(3 * unit / 4);
+    pl->cap_path = (uint32_t)(unit / 4);
+    pl->cap_task = (uint32_t)(unit / sizeof(vp_task_t));
     pl->cap_heap = (uint32_t)(unit / 4);
     pl->cap_route = (uint32_t)(unit / 24);
     if (pl->cap_route > 4096) pl->cap_route = 4096;
@@ -1491,7 +1846,7 @@ int vp_planner_init(vp_planner_t *pl, void *arena, size_t bytes, const vp_planne
         pl->cap_task < 64 || pl->cap_route < 64 || pl->cap_astar < 1024)
         return VP_ENOMEM;
     dtb = (size_t)(end - cur);
-    if (dtb < 44 * unit / 2) return VP_ENOMEM;
+    if (dtb < 30 * unit) return VP_ENOMEM;
     st = vp_dt_init(&pl->dt, cur, dtb, 8);
     if (st != VP_OK) return st == VP_EINVAL ? VP_ENOMEM : st;
     pl->hash_mask = hwords - 1;
@@ -1499,6 +1854,11 @@ int vp_planner_init(vp_planner_t *pl, void *arena, size_t bytes, const vp_planne
     pl->frec_free = NONE;
     pl->last_vertex = NONE;
     pl->phase = PH_SEED;
+    {
+        /* sin of the angle bound by its Taylor series (|x| <= pi/6: error below 1e-9) */
+        double x = cfg->min_angle * 0.017453292519943295, x2 = x * x;
+        pl->sin_angle = x * (1.0 - x2 / 6.0 * (1.0 - x2 / 20.0 * (1.0 - x2 / 42.0 * (1.0 - x2 / 72.0))));
+    }
     memcpy(pl->pos, cfg->start, sizeof pl->pos);
     st = rec_new(pl, cfg->start, NONE, REC_OUT, &pl->at);
     if (st != VP_OK) return st;
@@ -1524,6 +1884,22 @@ int vp_planner_next(vp_planner_t *pl, vp_cmd_t *cmd)
             memcpy(pl->pos, to, sizeof pl->pos);
             return VP_OK;
         }
+        if (pl->sc_pending == 1) {
+            const vp_vrec_t *a = &pl->vrec[pl->sc_from], *b = &pl->vrec[pl->shortcut];
+            double d[3], len;
+            sub3(d, b->p, a->p);
+            len = sqrt(dot3(d, d));
+            d[0] /= len; d[1] /= len; d[2] /= len;
+            pl->sc_pending = 2;
+            pl->awaiting = 1;
+            cmd->kind = VP_CMD_PROBE;
+            memcpy(cmd->from, a->p, sizeof cmd->from);
+            memcpy(cmd->dir, d, sizeof cmd->dir);
+            cmd->range = len;
+            pl->st.probes++;
+            pl->st.shortcut_probes++;
+            return VP_OK;
+        }
         if (pl->probe_ready) {
             pl->probe_ready = 0;
             pl->awaiting = 1;
@@ -1547,6 +1923,7 @@ int vp_planner_next(vp_planner_t *pl, vp_cmd_t *cmd)
             if (pl->ntask > 0) {
                 vp_task_t k = pl->task[--pl->ntask];
                 if (task_start(pl, &k)) pl->probe_ready = 1;
+                if (pl->sc_pending) pl->iroute = pl->nroute; /* hold the route: shortcut first */
                 st = pl->error;
             } else if (pl->nheap > 0) {
                 st = refine(pl);
@@ -1556,8 +1933,11 @@ int vp_planner_next(vp_planner_t *pl, vp_cmd_t *cmd)
             break;
         case PH_CLOSE:
             st = close_holes(pl);
-            pl->phase = st > 0 ? PH_RUN : PH_DONE;
+            pl->phase = st > 0 ? PH_RUN : PH_COMPONENTS;
             if (st > 0) st = VP_OK;
+            break;
+        case PH_COMPONENTS:
+            st = check_components(pl);
             break;
         default:
             cmd->kind = VP_CMD_DONE;
@@ -1578,7 +1958,36 @@ int vp_planner_feed(vp_planner_t *pl, const vp_probe_result_t *res)
     if (!pl->awaiting) return VP_ESTATE;
     if (res->hit && (!(res->dist >= 0.0) || !(res->dist < 1e300))) return VP_EINVAL;
     pl->awaiting = 0;
+    if (pl->sc_pending == 2) {
+        pl->sc_pending = 0;
+        if (res->hit) {
+            pl->st.hits++;
+            if (pl->route_deferred) {
+                pl->route_deferred = 0;
+                st = route_full(pl, pl->sc_from, pl->shortcut);
+                if (st != VP_OK) { pl->error = st; return st; }
+            }
+            pl->iroute = 0; /* the searched route stands */
+            return VP_OK;
+        }
+        pl->st.misses++;
+        if (pl->sc_tries < pl->cfg.confirm_misses) {
+            pl->sc_tries++;
+            pl->st.reprobes++;
+            pl->sc_pending = 1;
+            return VP_OK;
+        }
+        /* the straight way is free: take it */
+        pl->route_deferred = 0;
+        st = edge_add(pl, pl->sc_from, pl->shortcut);
+        if (st != VP_OK) { pl->error = st; return st; }
+        pl->nroute = pl->iroute = 0;
+        st = route_push(pl, pl->vrec[pl->shortcut].p);
+        if (st != VP_OK) { pl->error = st; return st; }
+        return VP_OK;
+    }
     if (pl->phase == PH_SEED) st = seed_feed(pl, res);
+    else if (pl->phase == PH_RESEED) st = reseed_feed(pl, res);
     else st = task_finish(pl, res);
     if (st < 0) pl->error = st;
     return st;
@@ -1607,6 +2016,9 @@ void vp_planner_get_stats(const vp_planner_t *pl, vp_planner_stats_t *st)
     uint32_t i;
     *st = pl->st;
     st->bad_balls = pl->nheap;
+    st->missing_components = 0;
+    for (i = 0; i < pl->cfg.ninterior; i++)
+        st->missing_components += !(pl->h2_done & (1u << i));
     st->records = pl->nvrec;
     st->free_edges = pl->nfedge;
     st->facet_records = pl->nfacets;

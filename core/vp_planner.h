@@ -45,6 +45,8 @@ typedef struct vp_planner_config {
     double noise_tol;            /* hits are trusted to within this distance (0: exact) */
     uint32_t confirm_misses;     /* re-probes of a miss where a hit is expected (dropouts) */
     double clearance;            /* device radius kept away from every known surface point */
+    double min_angle;            /* optional angle bound in degrees (0: off, at most 30): a
+                                    facet with a smaller angle is refined like a bad ball */
     uint32_t flags;              /* VP_PLAN_* */
 } vp_planner_config_t;
 
@@ -65,11 +67,16 @@ typedef struct vp_probe_result {
 
 typedef struct vp_planner_stats {
     uint64_t probes, hits, misses, moves, reprobes;
-    uint64_t insertions, stale_balls;
+    uint64_t insertions, stale_balls, routes, astar_fallbacks, astar_expansions;
+    uint64_t shortcut_probes, direct_routes;
+    uint64_t escalations;
+    uint64_t reseeds;          /* samples added on components the seeds had missed */      /* holes closed by probing every edge of every active vertex */  /* probes of a straight way to save a detour */
     double travel;             /* length of all MOVEs */
-    double travel_prev_chains; /* what the same moves would cost along prev chains */
+    double travel_prev_chains; /* what the same moves cost along prev chains (the paper's
+                                  paths); equal to travel with VP_PLAN_PREV_CHAINS */
     double max_ball;           /* largest surface Delaunay ball now */
     uint32_t bad_balls;        /* in the queue now */
+    uint32_t missing_components; /* o_i not enclosed by the mesh (H2 fails for them) */
     uint32_t records, free_edges, facet_records;
     size_t arena_peak;
 } vp_planner_stats_t;
@@ -93,7 +100,8 @@ typedef struct vp_planner {
     vp_vrec_t *vrec; uint32_t nvrec, cap_vrec;
     uint32_t *fedge; uint32_t nfedge, cap_fedge;     /* 4 words: a, b, next_a, next_b */
     vp_frec_t *frec; uint32_t nfrec, cap_frec, frec_free, nfacets;
-    uint32_t *fhash; uint32_t hash_mask;              /* facet key -> frec index */
+    uint32_t *fhash; uint32_t hash_mask, ntomb;       /* facet key -> frec index */
+    int fhash_dirty;
     uint32_t *heap; uint32_t nheap, cap_heap;         /* bad balls, max-heap on radius */
     vp_task_t *task; uint32_t ntask, cap_task;        /* pending probes (a stack) */
     uint32_t *path; uint32_t npath, cap_path, ipath;  /* current route: waypoint records */
@@ -105,15 +113,25 @@ typedef struct vp_planner {
     uint32_t at;             /* record the device stands at (VP_DT_NONE between) */
     double pos[3];
     uint32_t seed, seed_step, seed_try;
-    double seed_pts[8][3];
+    double seed_pts[4 * VP_PLANNER_MAX_SEEDS][3];
     uint32_t nseed_pts;
     double seed_q[3], seed_dir[3];
     double probe_origin[3], probe_dir[3], probe_range, probe_full;
     int probe_ready;         /* a probe is prepared: issue it once the route is done */
     uint32_t probe_origin_rec, misses_in_row;
+    uint32_t route_from;     /* where the current route starts */
+    uint32_t shortcut, sc_from, sc_tries; /* a straight shortcut being probed */
+    int sc_pending;          /* 1: to issue, 2: issued */
+    int route_deferred;      /* the route waits for the shortcut probe's answer */
     uint32_t stamp;
     uint32_t last_vertex;
+    uint32_t peak_task, peak_heap, peak_route, peak_astar, peak_path; /* high-water marks */
     int error;
+    int exhaustive;          /* detect_access in full until the next insertion (closing) */
+    double sin_angle;        /* sin of the angle bound (0: none) */
+    uint32_t h2_done;        /* bit i: o_i is enclosed by the mesh */
+    uint8_t h2_tries[VP_PLANNER_MAX_SEEDS];
+    uint32_t reseed;
     vp_task_t curtask;       /* the probe being carried out */
     vp_planner_stats_t st;
 } vp_planner_t;

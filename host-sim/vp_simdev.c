@@ -41,9 +41,9 @@ int vp_simdev_create(const vp_surface_t *s, const vp_simdev_config_t *cfg, const
 
 void vp_simdev_destroy(vp_simdev_t *d) { free(d); }
 
-int vp_simdev_move(vp_simdev_t *d, const double target[3], vp_move_result_t *res)
+int vp_simdev_move(vp_simdev_t *d, const double target[3], vp_simdev_move_t *res)
 {
-    vp_move_result_t r = { VP_OK, 0, 0 };
+    vp_simdev_move_t r = { VP_OK, 0, 0 };
     double len;
     if (!d || !target || !vp_finite3(target)) { r.status = VP_EINVAL; goto out; }
     /* The travel box is convex: a segment stays inside iff its end does (start is inside). */
@@ -68,9 +68,9 @@ out:
     return r.status;
 }
 
-int vp_simdev_probe(vp_simdev_t *d, const double dir[3], double range, vp_probe_result_t *res)
+int vp_simdev_probe(vp_simdev_t *d, const double dir[3], double range, vp_simdev_probe_t *res)
 {
-    vp_probe_result_t r;
+    vp_simdev_probe_t r;
     double n2, t, noise, u;
     int k;
     memset(&r, 0, sizeof r);

@@ -31,26 +31,26 @@ typedef struct vp_simdev_stats {
     double travel;               /* total length moved */
 } vp_simdev_stats_t;
 
-typedef struct vp_move_result {
+typedef struct vp_simdev_move {
     int    status;     /* VP_OK, VP_ERANGE (outside the travel box), VP_EABORT (collision refused), VP_EINVAL */
     int    collided;   /* the segment met the object or came within the clearance */
     double length;     /* length moved (0 if refused) */
-} vp_move_result_t;
+} vp_simdev_move_t;
 
-typedef struct vp_probe_result {
+typedef struct vp_simdev_probe {
     int    status;     /* VP_OK or VP_EINVAL (direction not unit length, bad range) */
     int    hit;        /* 1: a surface point was reported */
     double t;          /* reported distance along the ray (noise included) */
     double point[3];   /* reported point: origin + t * dir */
     double true_t;     /* noiseless first crossing, -1 if none in range (evaluation only) */
-} vp_probe_result_t;
+} vp_simdev_probe_t;
 
 /* s must outlive the device. start: initial position (collisions there are not counted). */
 int  vp_simdev_create(const vp_surface_t *s, const vp_simdev_config_t *cfg, const double start[3],
                       vp_simdev_t **out);
 void vp_simdev_destroy(vp_simdev_t *d);
-int  vp_simdev_move(vp_simdev_t *d, const double target[3], vp_move_result_t *res);
-int  vp_simdev_probe(vp_simdev_t *d, const double dir_unit[3], double range, vp_probe_result_t *res);
+int  vp_simdev_move(vp_simdev_t *d, const double target[3], vp_simdev_move_t *res);
+int  vp_simdev_probe(vp_simdev_t *d, const double dir_unit[3], double range, vp_simdev_probe_t *res);
 void vp_simdev_position(const vp_simdev_t *d, double p[3]);
 void vp_simdev_stats(const vp_simdev_t *d, vp_simdev_stats_t *st);
 

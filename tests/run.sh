@@ -3,7 +3,7 @@
 # A test passes with exit status 0, is skipped with 77, fails otherwise.
 # Ends with one line: "N passed, N failed, N skipped".
 BUILD=${1:-build}
-export BUILD VP="$BUILD/voroprobe"
+export VP_TEST_QUICK=${VP_TEST_QUICK:-0} BUILD VP="$BUILD/voroprobe"
 pass=0; fail=0; skip=0; failed=""
 logdir="$BUILD/test-logs"; mkdir -p "$logdir"
 run_one() {

@@ -14,8 +14,8 @@ int main(void)
     vp_simdev_t *d, *d2;
     vp_simdev_config_t cfg;
     vp_simdev_stats_t st;
-    vp_probe_result_t pr, pr2;
-    vp_move_result_t mr;
+    vp_simdev_probe_t pr, pr2;
+    vp_simdev_move_t mr;
     char err[256];
     double start[3] = { 3, 0, 0 }, mx[3] = { -1, 0, 0 }, px[3] = { 1, 0, 0 }, p[3], bad[3] = { 1, 1, 0 };
     int i;

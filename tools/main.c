@@ -3,7 +3,8 @@
 #include <string.h>
 #include "vp_cli.h"
 
-static const struct vp_cmd commands[] = {
+static const struct vp_cli_cmd commands[] = {
+    { "sim", vp_cmd_sim, "scan a simulated object (host-sim) and write the mesh" },
     { "bench-delaunay", vp_cmd_bench_delaunay, "3D Delaunay of a point set (TetGen .node or generated)" },
 };
 

@@ -5,12 +5,13 @@
 
 typedef int (*vp_cmd_fn)(int argc, char **argv);
 
-struct vp_cmd {
+struct vp_cli_cmd {
     const char *name;
     vp_cmd_fn run;
     const char *summary;
 };
 
 int vp_cmd_bench_delaunay(int argc, char **argv);
+int vp_cmd_sim(int argc, char **argv);
 
 #endif

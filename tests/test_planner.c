@@ -1,0 +1,300 @@
+/* The probe planner on host-sim: closed 2-manifolds of the right genus and component count,
+ * every ball <= eps, Hausdorff within the paper's bound, zero collisions; vertex count growing
+ * like 1/eps^2; noise and dropouts; every error path. VP_TEST_QUICK=1 (set under qemu) runs a
+ * reduced set. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include "vp_planner.h"
+#include "vp_sim_setup.h"
+#include "vp_test.h"
+
+static int quick;
+
+typedef struct scan_result {
+    int status, closed, components, genus;
+    unsigned vertices, facets, collisions, missing;
+    double max_ball, hausdorff, eps, min_angle;
+    unsigned long long probes, hits;
+} scan_result_t;
+
+static void scan(const char *surface, double eps_rel, unsigned flags, double noise, double dropout,
+                 size_t hausdorff, scan_result_t *r)
+{
+    vp_sim_options_t o;
+    vp_sim_t s;
+    vp_planner_stats_t st;
+    vp_simdev_stats_t ds;
+    char err[512];
+    memset(r, 0, sizeof *r);
+    vp_sim_options_default(&o);
+    o.surface = surface;
+    o.eps_rel = eps_rel;
+    o.flags = flags;
+    o.noise = noise;
+    o.dropout = dropout;
+    o.out = NULL;
+    o.hausdorff = hausdorff;
+    o.quiet = 1;
+    o.arena = (size_t)64 << 20;
+    r->status = vp_sim_open(&s, &o, err, sizeof err);
+    if (r->status != VP_OK) {
+        fprintf(stderr, "%s: %s\n", surface, err);
+        vp_sim_close(&s);
+        return;
+    }
+    r->status = vp_sim_run(&s, NULL);
+    if (vp_sim_finish(&s, &o, err, sizeof err) != VP_OK) r->status = VP_EIO;
+    vp_planner_get_stats(s.pl, &st);
+    vp_simdev_stats(s.dev, &ds);
+    r->eps = s.cfg.eps;
+    r->vertices = (unsigned)s.mesh.nv;
+    r->facets = (unsigned)s.mesh.nt;
+    r->closed = s.have_check && s.check.closed_manifold && s.check.outward;
+    r->components = s.have_check ? s.check.components : -1;
+    r->genus = s.have_check ? s.check.genus : -1;
+    r->min_angle = s.have_check ? s.check.min_angle_deg : 0.0;
+    r->collisions = (unsigned)ds.collisions;
+    r->max_ball = st.max_ball;
+    r->missing = st.missing_components;
+    r->hausdorff = s.have_haus ? s.haus.hausdorff : -1.0;
+    r->probes = st.probes;
+    r->hits = st.hits;
+    printf("%-34s eps %.4f: %5u vertices, closed %d, comps %d, genus %d, ball %.4f, haus %.5f, "
+           "coll %u, %.2f probes/vertex\n", surface, r->eps, r->vertices, r->closed, r->components,
+           r->genus, r->max_ball, r->hausdorff, r->collisions,
+           r->vertices ? (double)r->probes / r->vertices : 0.0);
+    vp_sim_close(&s);
+}
+
+/* The object's guarantees: status, manifold, topology, balls, collisions, Hausdorff. */
+static void check_scan(const scan_result_t *r, int comps, int genus, double haus_bound)
+{
+    CHECK(r->status == VP_OK);
+    CHECK(r->closed);
+    CHECKF(r->components == comps, "components %d, expected %d", r->components, comps);
+    CHECKF(r->genus == genus, "genus %d, expected %d", r->genus, genus);
+    CHECKF(r->max_ball <= r->eps, "largest ball %.6g > eps %.6g", r->max_ball, r->eps);
+    CHECK(r->collisions == 0);
+    CHECK(r->missing == 0);
+    if (haus_bound > 0) CHECKF(r->hausdorff >= 0 && r->hausdorff <= haus_bound, "Hausdorff %.6g > %.6g", r->hausdorff, haus_bound);
+}
+
+/* Hausdorff bound of Theorem 2.1: 4.5 diam(S) / rch(S)^2 * eps^2 (reach of the sphere 1, of
+ * the torus min(r, R - r) = 0.3). For genus2/genus5 we check the empirical O(eps^2) scale
+ * against 2 eps instead (their reach is not known in closed form). */
+static void test_surfaces(void)
+{
+    scan_result_t r, r2;
+    scan("sphere", 0.05, 0, 0, 0, 4000, &r);
+    check_scan(&r, 1, 0, 4.5 * 2.0 / 1.0 * r.eps * r.eps);
+    scan("torus", 0.04, 0, 0, 0, 4000, &r);
+    check_scan(&r, 1, 1, 4.5 * 2.6 / 0.09 * r.eps * r.eps);
+    scan("genus2", 0.03, 0, 0, 0, 4000, &r);
+    check_scan(&r, 1, 2, 2.0 * r.eps);
+    if (!quick) {
+        scan("genus5", 0.025, 0, 0, 0, 4000, &r);
+        check_scan(&r, 1, 5, 2.0 * r.eps);
+        scan("ellipsoid", 0.03, 0, 0, 0, 4000, &r);
+        check_scan(&r, 1, 0, 2.0 * r.eps);
+        scan("blobby", 0.03, 0, 0, 0, 4000, &r);
+        check_scan(&r, 1, 0, 2.0 * r.eps);
+        scan("torus", 0.02, 0, 0, 0, 4000, &r2);
+        check_scan(&r2, 1, 1, 4.5 * 2.6 / 0.09 * r2.eps * r2.eps);
+    }
+    /* vertex count like 1/eps^2: halving eps multiplies it by about 4 */
+    scan("sphere", 0.04, 0, 0, 0, 0, &r);
+    scan("sphere", 0.02, 0, 0, 0, 0, &r2);
+    CHECKF(r2.vertices > 3.2 * r.vertices && r2.vertices < 4.8 * r.vertices, "%u -> %u", r.vertices, r2.vertices);
+    check_scan(&r2, 1, 0, 0);
+    /* several components at once, with a seed missed on purpose by the geometry */
+    scan("sphere*0.5@0,0,2+sphere*0.5@0,0,-2+torus", 0.02, 0, 0, 0, 3000, &r);
+    check_scan(&r, 3, 1, 2.0 * r.eps);
+    scan("sphere@3,0,0+torus", 0.02, 0, 0, 0, 3000, &r);
+    check_scan(&r, 2, 1, 2.0 * r.eps);
+}
+
+/* The optional angle bound: no triangle angle below it at the end. */
+static void test_angle_bound(void)
+{
+    vp_sim_options_t o;
+    vp_sim_t s;
+    char err[512];
+    vp_sim_options_default(&o);
+    o.surface = "torus";
+    o.eps_rel = 0.02;
+    o.out = NULL;
+    o.hausdorff = 0;
+    o.quiet = 1;
+    o.min_angle = 25.0;
+    CHECK(vp_sim_open(&s, &o, err, sizeof err) == VP_OK);
+    CHECK(vp_sim_run(&s, NULL) == VP_OK);
+    CHECK(vp_sim_finish(&s, &o, err, sizeof err) == VP_OK);
+    CHECK(s.have_check && s.check.closed_manifold && s.check.genus == 1);
+    CHECKF(s.check.min_angle_deg >= 25.0 - 1e-6, "smallest angle %.3f", s.check.min_angle_deg);
+    printf("torus with a 25 degree bound: %zu vertices, smallest angle %.2f\n", s.mesh.nv, s.check.min_angle_deg);
+    vp_sim_close(&s);
+}
+
+/* The published rule (probe every edge, prev chains, largest ball first) gives the same
+ * guarantees, with more probes. */
+static void test_paper_mode(void)
+{
+    scan_result_t a, b;
+    scan("torus", 0.04, VP_PLAN_PAPER | VP_PLAN_PREV_CHAINS | VP_PLAN_LARGEST, 0, 0, 3000, &a);
+    check_scan(&a, 1, 1, 4.5 * 2.6 / 0.09 * a.eps * a.eps);
+    scan("torus", 0.04, 0, 0, 0, 0, &b);
+    CHECKF(b.probes < a.probes, "probes: ours %llu, paper %llu", b.probes, a.probes);
+}
+
+/* Noise and dropouts well below eps: still closed, right topology, no collision. */
+static void test_noise(void)
+{
+    scan_result_t r;
+    scan("sphere", 0.04, 0, 1e-4, 0.0, 2000, &r);
+    check_scan(&r, 1, 0, 0);
+    scan("torus", 0.04, 0, 2e-4, 0.02, 2000, &r);
+    check_scan(&r, 1, 1, 0);
+    if (!quick) {
+        scan("genus2", 0.03, 0, 2e-4, 0.05, 2000, &r);
+        check_scan(&r, 1, 2, 0);
+    }
+}
+
+/* ---- error paths ---- */
+
+static void base_config(vp_planner_config_t *c)
+{
+    int k;
+    memset(c, 0, sizeof *c);
+    c->omega_kind = VP_OMEGA_BOX;
+    for (k = 0; k < 3; k++) { c->omega_lo[k] = -2; c->omega_hi[k] = 2; c->start[k] = 3; }
+    c->ninterior = 1;
+    c->eps = 0.1;
+}
+
+static void test_errors(void)
+{
+    vp_planner_t *pl = malloc(sizeof *pl);
+    size_t bytes = (size_t)8 << 20;
+    void *mem = malloc(bytes);
+    vp_planner_config_t c;
+    vp_cmd_t cmd;
+    vp_probe_result_t res;
+    base_config(&c);
+    CHECK(vp_planner_init(pl, mem, bytes, &c) == VP_OK);
+    CHECK(vp_planner_init(NULL, mem, bytes, &c) == VP_EINVAL);
+    CHECK(vp_planner_init(pl, NULL, bytes, &c) == VP_EINVAL);
+    CHECK(vp_planner_init(pl, mem, bytes, NULL) == VP_EINVAL);
+    base_config(&c); c.eps = 0;             CHECK(vp_planner_init(pl, mem, bytes, &c) == VP_EINVAL);
+    base_config(&c); c.eps = -1;            CHECK(vp_planner_init(pl, mem, bytes, &c) == VP_EINVAL);
+    base_config(&c); c.eps = NAN;           CHECK(vp_planner_init(pl, mem, bytes, &c) == VP_EINVAL);
+    base_config(&c); c.eps = INFINITY;      CHECK(vp_planner_init(pl, mem, bytes, &c) == VP_EINVAL);
+    base_config(&c); c.omega_hi[1] = -3;    CHECK(vp_planner_init(pl, mem, bytes, &c) == VP_EINVAL);
+    base_config(&c); c.omega_lo[2] = NAN;   CHECK(vp_planner_init(pl, mem, bytes, &c) == VP_EINVAL);
+    base_config(&c); c.omega_kind = 7;      CHECK(vp_planner_init(pl, mem, bytes, &c) == VP_EINVAL);
+    base_config(&c); c.omega_kind = VP_OMEGA_BALL; c.omega_radius = 0;
+    CHECK(vp_planner_init(pl, mem, bytes, &c) == VP_EINVAL);
+    base_config(&c); c.interior[0][0] = 5;  CHECK(vp_planner_init(pl, mem, bytes, &c) == VP_EINVAL);
+    base_config(&c); c.interior[0][2] = NAN; CHECK(vp_planner_init(pl, mem, bytes, &c) == VP_EINVAL);
+    base_config(&c); c.ninterior = 0;       CHECK(vp_planner_init(pl, mem, bytes, &c) == VP_EINVAL);
+    base_config(&c); c.ninterior = VP_PLANNER_MAX_SEEDS + 1; CHECK(vp_planner_init(pl, mem, bytes, &c) == VP_EINVAL);
+    base_config(&c); c.start[0] = 0; c.start[1] = 0; c.start[2] = 0; /* start inside Omega */
+    CHECK(vp_planner_init(pl, mem, bytes, &c) == VP_EINVAL);
+    base_config(&c); c.noise_tol = -1;      CHECK(vp_planner_init(pl, mem, bytes, &c) == VP_EINVAL);
+    base_config(&c);                         CHECK(vp_planner_init(pl, mem, 1000, &c) == VP_ENOMEM);
+    /* protocol: feed before a probe, next before feeding, bad results */
+    base_config(&c);
+    CHECK(vp_planner_init(pl, mem, bytes, &c) == VP_OK);
+    res.hit = 1; res.dist = 1.0;
+    CHECK(vp_planner_feed(pl, &res) == VP_ESTATE);
+    do CHECK(vp_planner_next(pl, &cmd) == VP_OK); while (cmd.kind == VP_CMD_MOVE);
+    CHECK(cmd.kind == VP_CMD_PROBE);
+    CHECK(vp_planner_next(pl, &cmd) == VP_ESTATE);
+    res.hit = 1; res.dist = NAN;
+    CHECK(vp_planner_feed(pl, &res) == VP_EINVAL);
+    res.dist = -1.0;
+    CHECK(vp_planner_feed(pl, &res) == VP_EINVAL);
+    /* a miss towards o: o is not inside the object */
+    res.hit = 0; res.dist = 0;
+    CHECK(vp_planner_feed(pl, &res) == VP_ERANGE);
+    CHECK(vp_planner_next(pl, &cmd) == VP_ERANGE);
+    free(mem);
+    free(pl);
+}
+
+/* Arena exhaustion: VP_ENOMEM, never a crash; the mesh so far stays exportable and the
+ * triangulation valid. */
+static void test_enomem(void)
+{
+    vp_sim_options_t o;
+    vp_sim_t s;
+    char err[512];
+    size_t arena;
+    int saw = 0;
+    for (arena = 80u << 10; arena <= (2u << 20); arena *= 2) {
+        vp_sim_options_default(&o);
+        o.surface = "torus";
+        o.eps_rel = 0.01;
+        o.out = NULL;
+        o.hausdorff = 0;
+        o.quiet = 1;
+        o.arena = arena;
+        if (vp_sim_open(&s, &o, err, sizeof err) != VP_OK) {
+            CHECKF(strstr(err, "arena") != NULL, "%s", err);
+            vp_sim_close(&s);
+            continue;
+        }
+        if (vp_sim_run(&s, NULL) == VP_ENOMEM) {
+            vp_cmd_t cmd;
+            saw++;
+            CHECK(vp_planner_next(s.pl, &cmd) == VP_ENOMEM); /* stays stopped */
+            CHECK(vp_dt_check(vp_planner_dt(s.pl)) == VP_OK);
+            CHECK(vp_sim_finish(&s, &o, err, sizeof err) == VP_OK);
+            CHECK(s.mesh.nt > 0);
+        }
+        vp_sim_close(&s);
+    }
+    CHECK(saw > 0);
+}
+
+/* 2 KB of arena per output vertex is enough (the split of the arena follows the measured
+ * peaks of each pool). */
+static void test_arena_per_vertex(void)
+{
+    vp_sim_options_t o;
+    vp_sim_t s;
+    char err[512];
+    unsigned nv;
+    vp_sim_options_default(&o);
+    o.surface = "genus2";
+    o.eps_rel = 0.012;
+    o.out = NULL;
+    o.hausdorff = 0;
+    o.quiet = 1;
+    CHECK(vp_sim_open(&s, &o, err, sizeof err) == VP_OK);
+    CHECK(vp_sim_run(&s, NULL) == VP_OK);
+    nv = vp_planner_dt(s.pl)->ninserted;
+    vp_sim_close(&s);
+    o.arena = (size_t)2048 * nv;
+    CHECK(vp_sim_open(&s, &o, err, sizeof err) == VP_OK);
+    CHECKF(vp_sim_run(&s, NULL) == VP_OK, "%u vertices in %zu bytes", nv, o.arena);
+    CHECK(vp_planner_dt(s.pl)->ninserted == nv);
+    printf("genus2: %u vertices scanned in a %zu-byte arena (2 KB per vertex)\n", nv, o.arena);
+    vp_sim_close(&s);
+}
+
+int main(void)
+{
+    const char *q = getenv("VP_TEST_QUICK");
+    quick = q && *q == '1';
+    test_errors();
+    test_enomem();
+    test_surfaces();
+    test_paper_mode();
+    test_noise();
+    test_arena_per_vertex();
+    test_angle_bound();
+    return vp_test_done("test_planner");
+}

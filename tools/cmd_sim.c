@@ -1,0 +1,80 @@
+/* voroprobe sim: a full scan of a simulated object (host-sim device), mesh out, figures out. */
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include "vp_cli.h"
+#include "vp_meshcheck.h"
+#include "vp_meshio.h"
+#include "vp_session.h"
+#include "vp_simdev.h"
+#include "vp_surface.h"
+#include "vp_sim_setup.h"
+
+static void sim_usage(FILE *f)
+{
+    fprintf(f,
+        "usage: voroprobe sim --surface SPEC (--eps E | --eps-rel R) [options]\n"
+        "Scans a simulated object with the probing planner and writes the mesh.\n"
+        "  --surface SPEC     sphere, torus, genus2, ellipsoid, genus5, blobby, off:FILE, ply:FILE,\n"
+        "                     or several joined by '+' (see below)\n"
+        "  --eps E            largest surface Delaunay ball radius (same units as the object)\n"
+        "  --eps-rel R        eps as a fraction of the object's bounding-box diagonal\n"
+        "  --out PREFIX       write PREFIX.ply and PREFIX.off (default: out/scan)\n"
+        "  --noise S          Gaussian noise of each hit distance (standard deviation)\n"
+        "  --dropout P        probability that a real hit reports a miss\n"
+        "  --confirm N        re-probes of a miss where a hit is expected (default 2 with\n"
+        "                     --dropout, else 0)\n"
+        "  --clearance C      device radius: moves closer than C to the object count as collisions\n"
+        "  --max-range R      rangefinder range (0: unlimited)\n"
+        "  --angle DEG        also refine facets with an angle below DEG (at most 30)\n"
+        "  --arena BYTES      memory given to the planner (default 256M; K, M, G suffixes)\n"
+        "  --omega box|ball   the known region containing the object (default box: the bounding box\n"
+        "                     grown by 10%% of its diagonal)\n"
+        "  --paper            the published algorithm: probe every edge, prev-chain travel,\n"
+        "                     largest ball first\n"
+        "  --largest          refine the largest bad ball first (default: the largest near the probe)\n"
+        "  --prev-chains      travel along prev chains only\n"
+        "  --seed N           seed of the simulated noise and dropouts (default 1)\n"
+        "  --hausdorff N      surface samples for the Hausdorff measurement (default 20000, 0: skip)\n"
+        "  --json             print one JSON object as the last line\n"
+        "  --quiet            no progress line\n\n%s\n", vp_surface_help());
+}
+
+int vp_cmd_sim(int argc, char **argv)
+{
+    vp_sim_options_t o;
+    vp_sim_t sim;
+    char err[512];
+    int st, i;
+    vp_sim_options_default(&o);
+    for (i = 1; i < argc; i++) {
+        const char *a = argv[i];
+        if (!strcmp(a, "--help") || !strcmp(a, "-h")) { sim_usage(stdout); return 0; }
+        st = vp_sim_parse_option(&o, argc, argv, &i, err, sizeof err);
+        if (st == 0) continue;
+        fprintf(stderr, "sim: %s\n", st < 0 ? err : "unknown option");
+        if (st > 0) { fprintf(stderr, "sim: unknown option %s (see --help)\n", a); }
+        return 2;
+    }
+    if (!o.surface) { fprintf(stderr, "sim: --surface is required (see --help)\n"); return 2; }
+    if (!(o.eps > 0.0) && !(o.eps_rel > 0.0)) { fprintf(stderr, "sim: give --eps or --eps-rel (see --help)\n"); return 2; }
+    st = vp_sim_open(&sim, &o, err, sizeof err);
+    if (st != VP_OK) { fprintf(stderr, "sim: %s\n", err); return 1; }
+    if (!o.quiet)
+        fprintf(stderr, "voroprobe sim: %s, eps %.6g, %d component(s), arena %zu bytes\n",
+                o.surface, sim.cfg.eps, sim.components, o.arena);
+    st = vp_sim_run(&sim, o.quiet ? NULL : stderr);
+    if (st != VP_OK && st != VP_ENOMEM)
+        fprintf(stderr, "sim: the scan stopped: %s\n", vp_strerror(st));
+    else if (st == VP_ENOMEM)
+        fprintf(stderr, "sim: the arena is full (--arena): the mesh so far is written\n");
+    st = vp_sim_finish(&sim, &o, err, sizeof err);
+    if (st != VP_OK) fprintf(stderr, "sim: %s\n", err);
+    vp_sim_report(&sim, &o, stdout);
+    i = sim.run.status == VP_OK && st == VP_OK ? 0 : 1;
+    vp_sim_close(&sim);
+    return i;
+}

@@ -1,0 +1,49 @@
+/* vp_session — the scan loop on a host: planner <-> device, with progress, timing and hooks.
+ * The device is anything that can execute MOVE and PROBE (host-sim, a real machine through
+ * port/, or a logged session being replayed). */
+#ifndef VP_SESSION_H
+#define VP_SESSION_H
+#include <stdio.h>
+#include "vp_planner.h"
+#include "vp_meshio.h"
+
+typedef struct vp_device_ops {
+    void *ctx;
+    /* executes a straight move; *collided (may be ignored) reports a collision seen by a
+     * simulator. Returns VP_OK or an error (the scan stops). */
+    int (*move)(void *ctx, const vp_cmd_t *cmd, int *collided);
+    /* executes a probe; fills res. */
+    int (*probe)(void *ctx, const vp_cmd_t *cmd, vp_probe_result_t *res);
+} vp_device_ops_t;
+
+typedef struct vp_session_hooks {
+    void *ctx;
+    /* called after each command was executed (res NULL for MOVE/DONE); a non-zero return
+     * stops the scan with that status */
+    int (*after)(void *ctx, const vp_cmd_t *cmd, const vp_probe_result_t *res);
+} vp_session_hooks_t;
+
+typedef struct vp_session_result {
+    int status;              /* VP_OK when the planner said DONE */
+    unsigned long collisions;
+    double planner_seconds;  /* CPU time inside vp_planner_next/feed */
+    double total_seconds;    /* wall time of the loop */
+} vp_session_result_t;
+
+/* Runs until DONE, an error, or max_commands (0: no limit). progress: a FILE to print a
+ * progress line to (NULL: quiet). */
+int vp_session_run(vp_planner_t *pl, const vp_device_ops_t *dev, const vp_session_hooks_t *hooks,
+                   unsigned long max_commands, FILE *progress, vp_session_result_t *out);
+
+/* The planner's restricted facets as a mesh (used vertices only, in triangulation order,
+ * faces oriented outward). */
+int vp_session_mesh(const vp_planner_t *pl, vp_mesh_t *m);
+
+/* Orients each connected component of m consistently and outward (positive volume). */
+int vp_mesh_orient(vp_mesh_t *m);
+
+/* CPU seconds of this process, wall seconds (monotonic). */
+double vp_cpu_seconds(void);
+double vp_wall_seconds(void);
+
+#endif

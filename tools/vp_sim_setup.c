@@ -1,0 +1,314 @@
+#include <errno.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include "vp_sim_setup.h"
+#include "vp_meshio.h"
+
+void vp_sim_options_default(vp_sim_options_t *o)
+{
+    memset(o, 0, sizeof *o);
+    o->out = "out/scan";
+    o->confirm = -1;
+    o->arena = (size_t)256 << 20;
+    o->omega_margin = 0.1;
+    o->seed = 1;
+    o->hausdorff = 20000;
+}
+
+int vp_parse_size(const char *s, size_t *out)
+{
+    char *e;
+    double v = strtod(s, &e);
+    if (e == s || !(v >= 0)) return -1;
+    if (*e == 'k' || *e == 'K') { v *= 1024.0; e++; }
+    else if (*e == 'm' || *e == 'M') { v *= 1048576.0; e++; }
+    else if (*e == 'g' || *e == 'G') { v *= 1073741824.0; e++; }
+    if (*e || v > 1e15) return -1;
+    *out = (size_t)v;
+    return 0;
+}
+
+static int num(const char *s, double *v)
+{
+    char *e;
+    *v = strtod(s, &e);
+    return e != s && !*e && isfinite(*v);
+}
+
+int vp_sim_parse_option(vp_sim_options_t *o, int argc, char **argv, int *i, char *err, size_t errlen)
+{
+    const char *a = argv[*i], *val = *i + 1 < argc ? argv[*i + 1] : NULL;
+    double v;
+    if (!strcmp(a, "--json")) { o->json = 1; return 0; }
+    if (!strcmp(a, "--quiet")) { o->quiet = 1; return 0; }
+    if (!strcmp(a, "--paper")) { o->flags |= VP_PLAN_PAPER | VP_PLAN_PREV_CHAINS | VP_PLAN_LARGEST; return 0; }
+    if (!strcmp(a, "--largest")) { o->flags |= VP_PLAN_LARGEST; return 0; }
+    if (!strcmp(a, "--prev-chains")) { o->flags |= VP_PLAN_PREV_CHAINS; return 0; }
+    if (strncmp(a, "--", 2) != 0) return 1;
+    if (strcmp(a, "--surface") && strcmp(a, "--eps") && strcmp(a, "--eps-rel") && strcmp(a, "--out") &&
+        strcmp(a, "--noise") && strcmp(a, "--dropout") && strcmp(a, "--clearance") &&
+        strcmp(a, "--max-range") && strcmp(a, "--arena") && strcmp(a, "--omega") &&
+        strcmp(a, "--seed") && strcmp(a, "--hausdorff") && strcmp(a, "--confirm") && strcmp(a, "--margin") &&
+        strcmp(a, "--angle"))
+        return 1;
+    if (!val) { snprintf(err, errlen, "%s needs a value", a); return -1; }
+    (*i)++;
+    if (!strcmp(a, "--surface")) { o->surface = val; return 0; }
+    if (!strcmp(a, "--out")) { o->out = val; return 0; }
+    if (!strcmp(a, "--omega")) {
+        if (!strcmp(val, "box")) o->omega_ball = 0;
+        else if (!strcmp(val, "ball")) o->omega_ball = 1;
+        else { snprintf(err, errlen, "--omega takes box or ball, not '%s'", val); return -1; }
+        return 0;
+    }
+    if (!strcmp(a, "--arena")) {
+        if (vp_parse_size(val, &o->arena)) { snprintf(err, errlen, "--arena: bad size '%s'", val); return -1; }
+        return 0;
+    }
+    if (!num(val, &v)) { snprintf(err, errlen, "%s: not a number: '%s'", a, val); return -1; }
+    if (!strcmp(a, "--eps")) {
+        if (!(v > 0)) { snprintf(err, errlen, "--eps must be > 0"); return -1; }
+        o->eps = v;
+    } else if (!strcmp(a, "--eps-rel")) {
+        if (!(v > 0 && v < 1)) { snprintf(err, errlen, "--eps-rel must be in (0, 1)"); return -1; }
+        o->eps_rel = v;
+    } else if (!strcmp(a, "--noise")) {
+        if (!(v >= 0)) { snprintf(err, errlen, "--noise must be >= 0"); return -1; }
+        o->noise = v;
+    } else if (!strcmp(a, "--dropout")) {
+        if (!(v >= 0 && v < 1)) { snprintf(err, errlen, "--dropout must be in [0, 1)"); return -1; }
+        o->dropout = v;
+    } else if (!strcmp(a, "--clearance")) {
+        if (!(v >= 0)) { snprintf(err, errlen, "--clearance must be >= 0"); return -1; }
+        o->clearance = v;
+    } else if (!strcmp(a, "--max-range")) {
+        if (!(v >= 0)) { snprintf(err, errlen, "--max-range must be >= 0"); return -1; }
+        o->max_range = v;
+    } else if (!strcmp(a, "--margin")) {
+        if (!(v > 0 && v < 10)) { snprintf(err, errlen, "--margin must be in (0, 10)"); return -1; }
+        o->omega_margin = v;
+    } else if (!strcmp(a, "--seed")) {
+        if (!(v >= 0)) { snprintf(err, errlen, "--seed must be >= 0"); return -1; }
+        o->seed = (unsigned long long)v;
+    } else if (!strcmp(a, "--hausdorff")) {
+        if (!(v >= 0)) { snprintf(err, errlen, "--hausdorff must be >= 0"); return -1; }
+        o->hausdorff = (size_t)v;
+    } else if (!strcmp(a, "--angle")) {
+        if (!(v >= 0 && v <= 30)) { snprintf(err, errlen, "--angle must be in [0, 30] degrees"); return -1; }
+        o->min_angle = v;
+    } else if (!strcmp(a, "--confirm")) {
+        if (!(v >= 0 && v <= 16)) { snprintf(err, errlen, "--confirm must be in 0..16"); return -1; }
+        o->confirm = (int)v;
+    }
+    return 0;
+}
+
+int vp_sim_config(const vp_surface_t *surf, double eps, int ball, double margin,
+                  vp_planner_config_t *cfg, char *err, size_t errlen)
+{
+    double lo[3], hi[3], diag = 0.0, m;
+    int k, c, n = vp_surface_components(surf);
+    memset(cfg, 0, sizeof *cfg);
+    vp_surface_bbox(surf, lo, hi);
+    for (k = 0; k < 3; k++) diag += (hi[k] - lo[k]) * (hi[k] - lo[k]);
+    diag = sqrt(diag);
+    m = margin * diag;
+    if (n < 1 || n > VP_PLANNER_MAX_SEEDS) {
+        snprintf(err, errlen, "the object has %d components (1..%d supported)", n, VP_PLANNER_MAX_SEEDS);
+        return VP_EINVAL;
+    }
+    if (ball) {
+        cfg->omega_kind = VP_OMEGA_BALL;
+        for (k = 0; k < 3; k++) cfg->omega_center[k] = 0.5 * (lo[k] + hi[k]);
+        cfg->omega_radius = 0.5 * diag + m;
+        for (k = 0; k < 3; k++) cfg->start[k] = cfg->omega_center[k] + (cfg->omega_radius + m) / sqrt(3.0);
+    } else {
+        cfg->omega_kind = VP_OMEGA_BOX;
+        for (k = 0; k < 3; k++) {
+            cfg->omega_lo[k] = lo[k] - m;
+            cfg->omega_hi[k] = hi[k] + m;
+            cfg->start[k] = hi[k] + 1.5 * m;
+        }
+    }
+    cfg->ninterior = (uint32_t)n;
+    for (c = 0; c < n; c++) vp_surface_interior_point(surf, c, cfg->interior[c]);
+    cfg->eps = eps;
+    return VP_OK;
+}
+
+int vp_sim_open(vp_sim_t *s, const vp_sim_options_t *o, char *err, size_t errlen)
+{
+    vp_simdev_config_t dc;
+    double lo[3], hi[3], eps;
+    int st, k;
+    memset(s, 0, sizeof *s);
+    vp_mesh_init(&s->mesh);
+    st = vp_surface_open(o->surface, &s->surf, err, errlen);
+    if (st != VP_OK) return st;
+    vp_surface_bbox(s->surf, lo, hi);
+    for (k = 0; k < 3; k++) s->diag += (hi[k] - lo[k]) * (hi[k] - lo[k]);
+    s->diag = sqrt(s->diag);
+    s->components = vp_surface_components(s->surf);
+    eps = o->eps > 0 ? o->eps : o->eps_rel * s->diag;
+    st = vp_sim_config(s->surf, eps, o->omega_ball, o->omega_margin, &s->cfg, err, errlen);
+    if (st != VP_OK) return st;
+    s->cfg.noise_tol = 4.0 * o->noise;
+    /* with dropouts, trust a miss once a false one is unlikely: p^(c+1) <= 1e-6 */
+    s->cfg.confirm_misses = (uint32_t)(o->confirm >= 0 ? o->confirm
+                                       : o->dropout > 0 ? (int)ceil(log(1e-6) / log(o->dropout)) - 1 : 0);
+    s->cfg.clearance = o->clearance;
+    s->cfg.min_angle = o->min_angle;
+    s->cfg.max_range = o->max_range;
+    s->cfg.flags = o->flags;
+    memset(&dc, 0, sizeof dc);
+    dc.clearance = o->clearance;
+    dc.noise_sigma = o->noise;
+    dc.dropout = o->dropout;
+    dc.max_range = o->max_range;
+    dc.seed = o->seed;
+    st = vp_simdev_create(s->surf, &dc, s->cfg.start, &s->dev);
+    if (st != VP_OK) { snprintf(err, errlen, "cannot create the simulated device: %s", vp_strerror(st)); return st; }
+    s->pl = malloc(sizeof *s->pl);
+    s->arena = malloc(o->arena ? o->arena : 1);
+    if (!s->pl || !s->arena) { snprintf(err, errlen, "cannot allocate the %zu-byte arena", o->arena); return VP_ENOMEM; }
+    st = vp_planner_init(s->pl, s->arena, o->arena, &s->cfg);
+    if (st != VP_OK) {
+        snprintf(err, errlen, "planner: %s%s", vp_strerror(st),
+                 st == VP_ENOMEM ? " (the arena is too small: --arena)" : "");
+        return st;
+    }
+    return VP_OK;
+}
+
+static int dev_move(void *ctx, const vp_cmd_t *cmd, int *collided)
+{
+    vp_sim_t *s = ctx;
+    vp_simdev_move_t r;
+    int st = vp_simdev_move(s->dev, cmd->to, &r);
+    *collided = r.collided;
+    return st == VP_OK || st == VP_EABORT ? VP_OK : st;
+}
+
+static int dev_probe(void *ctx, const vp_cmd_t *cmd, vp_probe_result_t *res)
+{
+    vp_sim_t *s = ctx;
+    vp_simdev_probe_t r;
+    int st = vp_simdev_probe(s->dev, cmd->dir, cmd->range, &r);
+    if (st != VP_OK) return st;
+    res->hit = r.hit;
+    res->dist = r.hit ? (r.t < 0 ? 0.0 : r.t) : 0.0;
+    return VP_OK;
+}
+
+int vp_sim_run(vp_sim_t *s, FILE *progress)
+{
+    vp_device_ops_t ops;
+    ops.ctx = s;
+    ops.move = dev_move;
+    ops.probe = dev_probe;
+    return vp_session_run(s->pl, &ops, NULL, 0, progress, &s->run);
+}
+
+static int mkdir_for(const char *prefix)
+{
+    char dir[1024];
+    const char *slash = strrchr(prefix, '/');
+    size_t n, i;
+    if (!slash) return 0;
+    n = (size_t)(slash - prefix);
+    if (n == 0 || n >= sizeof dir) return 0;
+    memcpy(dir, prefix, n);
+    dir[n] = 0;
+    for (i = 1; i <= n; i++)
+        if (dir[i] == '/' || dir[i] == 0) {
+            char c = dir[i];
+            dir[i] = 0;
+            if (mkdir(dir, 0777) != 0 && errno != EEXIST) return -1;
+            dir[i] = c;
+        }
+    return 0;
+}
+
+int vp_sim_finish(vp_sim_t *s, const vp_sim_options_t *o, char *err, size_t errlen)
+{
+    int st = vp_session_mesh(s->pl, &s->mesh);
+    if (st != VP_OK) { snprintf(err, errlen, "mesh: %s", vp_strerror(st)); return st; }
+    if (vp_meshcheck_analyze(&s->mesh, &s->check) == VP_OK) s->have_check = 1;
+    if (o->hausdorff > 0 && s->mesh.nt > 0 &&
+        vp_meshcheck_hausdorff(&s->mesh, s->surf, o->hausdorff, 7, &s->haus) == VP_OK)
+        s->have_haus = 1;
+    if (o->out) {
+        char path[1100];
+        if (mkdir_for(o->out) != 0) { snprintf(err, errlen, "cannot create the folder of %s", o->out); return VP_EIO; }
+        snprintf(path, sizeof path, "%s.ply", o->out);
+        if ((st = vp_mesh_write_file(&s->mesh, path, VP_MESH_PLY_BIN)) != VP_OK) {
+            snprintf(err, errlen, "cannot write %s", path);
+            return st;
+        }
+        snprintf(path, sizeof path, "%s.off", o->out);
+        if ((st = vp_mesh_write_file(&s->mesh, path, VP_MESH_OFF)) != VP_OK) {
+            snprintf(err, errlen, "cannot write %s", path);
+            return st;
+        }
+    }
+    return VP_OK;
+}
+
+void vp_sim_report(const vp_sim_t *s, const vp_sim_options_t *o, FILE *f)
+{
+    vp_planner_stats_t st;
+    vp_simdev_stats_t ds;
+    unsigned nv = (unsigned)s->mesh.nv;
+    vp_planner_get_stats(s->pl, &st);
+    vp_simdev_stats(s->dev, &ds);
+    if (!o->quiet || !o->json) {
+        fprintf(f, "mesh: %u vertices, %u facets; %s, %d component(s), genus %d, smallest angle %.1f deg\n",
+                nv, (unsigned)s->mesh.nt,
+                s->have_check && s->check.closed_manifold ? "closed 2-manifold" : "NOT a closed manifold",
+                s->have_check ? s->check.components : -1, s->have_check ? s->check.genus : -1,
+                s->have_check ? s->check.min_angle_deg : 0.0);
+        fprintf(f, "probes: %llu (%.2f per vertex, %.0f%% hits), moves %llu, travel %.4g (along prev chains: %.4g), collisions %lu\n",
+                (unsigned long long)st.probes, nv ? (double)st.probes / nv : 0.0,
+                st.probes ? 100.0 * (double)st.hits / (double)st.probes : 0.0,
+                (unsigned long long)st.moves, st.travel, st.travel_prev_chains, ds.collisions);
+        fprintf(f, "largest ball %.6g (eps %.6g)", st.max_ball, s->cfg.eps);
+        if (s->have_haus) fprintf(f, ", Hausdorff %.6g", s->haus.hausdorff);
+        fprintf(f, "; planner %.3f s, total %.3f s, arena peak %zu bytes (%.0f per vertex)\n",
+                s->run.planner_seconds, s->run.total_seconds, st.arena_peak,
+                nv ? (double)st.arena_peak / nv : 0.0);
+        if (o->out) fprintf(f, "wrote %s.ply and %s.off\n", o->out, o->out);
+    }
+    if (o->json) {
+        fprintf(f, "{\"surface\":\"%s\",\"eps\":%.9g,\"status\":\"%s\",\"vertices\":%u,\"facets\":%u,"
+                "\"probes\":%llu,\"hits\":%llu,\"misses\":%llu,\"reprobes\":%llu,\"moves\":%llu,"
+                "\"travel\":%.6g,\"travel_prev_chains\":%.6g,\"collisions\":%lu,"
+                "\"closed_manifold\":%s,\"components\":%d,\"genus\":%d,\"max_ball_radius\":%.9g,"
+                "\"hausdorff\":%.6g,\"min_angle_deg\":%.3f,\"planner_seconds\":%.4f,"
+                "\"total_seconds\":%.4f,\"arena_bytes_peak\":%zu,\"insertions\":%llu,\"routes\":%llu,"
+                "\"astar_expansions\":%llu,\"astar_fallbacks\":%llu}\n",
+                o->surface, s->cfg.eps, vp_strerror(s->run.status), nv, (unsigned)s->mesh.nt,
+                (unsigned long long)st.probes, (unsigned long long)st.hits,
+                (unsigned long long)st.misses, (unsigned long long)st.reprobes,
+                (unsigned long long)st.moves, st.travel, st.travel_prev_chains, ds.collisions,
+                s->have_check && s->check.closed_manifold ? "true" : "false",
+                s->have_check ? s->check.components : -1, s->have_check ? s->check.genus : -1,
+                st.max_ball, s->have_haus ? s->haus.hausdorff : -1.0,
+                s->have_check ? s->check.min_angle_deg : 0.0, s->run.planner_seconds,
+                s->run.total_seconds, st.arena_peak, (unsigned long long)st.insertions,
+                (unsigned long long)st.routes, (unsigned long long)st.astar_expansions,
+                (unsigned long long)st.astar_fallbacks);
+    }
+}
+
+void vp_sim_close(vp_sim_t *s)
+{
+    if (s->have_check) vp_meshcheck_free(&s->check);
+    vp_mesh_free(&s->mesh);
+    if (s->dev) vp_simdev_destroy(s->dev);
+    if (s->surf) vp_surface_close(s->surf);
+    free(s->pl);
+    free(s->arena);
+    memset(s, 0, sizeof *s);
+}

@@ -1,0 +1,66 @@
+/* vp_sim_setup — a simulated scan from options to figures: the object (host-sim), the planner
+ * configuration derived from it (Omega, interior points, start), the simulated device, the run,
+ * the mesh files and the measurements. Shared by `sim`, `scan --dry-run` and the tests. */
+#ifndef VP_SIM_SETUP_H
+#define VP_SIM_SETUP_H
+#include <stdio.h>
+#include "vp_planner.h"
+#include "vp_session.h"
+#include "vp_simdev.h"
+#include "vp_surface.h"
+#include "vp_meshcheck.h"
+
+typedef struct vp_sim_options {
+    const char *surface;
+    double eps, eps_rel;
+    const char *out;          /* PREFIX; NULL: do not write */
+    double noise, dropout, clearance, max_range, min_angle;
+    int confirm;              /* -1: default */
+    size_t arena;
+    int omega_ball;
+    double omega_margin;      /* fraction of the bbox diagonal */
+    unsigned flags;           /* VP_PLAN_* */
+    unsigned long long seed;
+    size_t hausdorff;
+    int json, quiet;
+} vp_sim_options_t;
+
+typedef struct vp_sim {
+    vp_surface_t *surf;
+    vp_simdev_t *dev;
+    vp_planner_t *pl;
+    void *arena;
+    vp_planner_config_t cfg;
+    int components;
+    double diag;
+    vp_session_result_t run;
+    vp_mesh_t mesh;
+    vp_meshcheck_t check;
+    int have_check;
+    vp_hausdorff_t haus;
+    int have_haus;
+    double min_angle;
+} vp_sim_t;
+
+void vp_sim_options_default(vp_sim_options_t *o);
+/* Parses argv[*i] (and its value). 0: taken; 1: not a sim option; -1: bad value (err). */
+int vp_sim_parse_option(vp_sim_options_t *o, int argc, char **argv, int *i, char *err, size_t errlen);
+/* Size with an optional K/M/G suffix; -1 on error. */
+int vp_parse_size(const char *s, size_t *out);
+
+/* Opens the object, derives the planner configuration, creates device and planner. */
+int vp_sim_open(vp_sim_t *s, const vp_sim_options_t *o, char *err, size_t errlen);
+/* The scan (until DONE or an error); s->run gets the figures. */
+int vp_sim_run(vp_sim_t *s, FILE *progress);
+/* Builds the mesh, analyses it, measures Hausdorff and writes PREFIX.ply / PREFIX.off. */
+int vp_sim_finish(vp_sim_t *s, const vp_sim_options_t *o, char *err, size_t errlen);
+/* Human summary, and with o->json one JSON object as the last line. */
+void vp_sim_report(const vp_sim_t *s, const vp_sim_options_t *o, FILE *f);
+void vp_sim_close(vp_sim_t *s);
+
+/* The planner configuration for an object: Omega = bbox grown by margin * diagonal (box or
+ * ball), one interior point per component, start outside Omega. */
+int vp_sim_config(const vp_surface_t *surf, double eps, int ball, double margin,
+                  vp_planner_config_t *cfg, char *err, size_t errlen);
+
+#endif
