@@ -86,10 +86,10 @@ int main(void)
     CHECK(b.estop.offset == 4 && b.estop.pull == VP_PULL_UP && b.laser.offset == 18);
     CHECK(b.tilt_offset[2] == 45 && b.laser_offset[0] == 20);
     CHECK(!strcmp(b.camera.backend, "v4l2") && !strcmp(b.camera.device, "/dev/video0") && b.camera.exposure_us == 1000);
-    CHECK(b.camera.format == VP_FOURCC('G', 'R', 'E', 'Y') && b.cam_model.fx == 500 && b.cam_model.fy == 500);
-    CHECK(b.min_range == 30 && b.max_range == 600 && !b.calibrated && b.tri.max_range > b.tri.min_range);
+    CHECK(b.camera.format == VP_FOURCC('G', 'R', 'E', 'Y') && b.cam_model.fx == 350 && b.cam_model.fy == 350);
+    CHECK(b.min_range == 10 && b.max_range == 400 && !b.calibrated && b.tri.max_range > b.tri.min_range);
     CHECK(b.omega_kind == VP_OMEGA_BOX && b.omega_hi[2] == 200 && b.eps == 8 && b.start[2] == 225);
-    CHECK(!strcmp(b.sim_surface, "ellipsoid*70@200,150,110"));
+    CHECK(!strcmp(b.sim_surface, "ellipsoid*50@200,150,135"));
     {
         vp_step_config_t sc;
         vp_kin_config_t kc;
@@ -166,12 +166,12 @@ int main(void)
     bad(t, LOC("box = 100"), "[omega] box: x from 100 to 390 is not within axis.x travel 0..400 less the head's reach 65.0 mm");
     t = edit("start = 200, 150, 225", "start = 200, 150, 150");
     bad(t, LOC("start = 200"), "[omega] start: the device must start outside Omega");
-    t = edit("interior = 200, 150, 110", "interior = 20, 150, 110");
+    t = edit("interior = 200, 150, 135", "interior = 20, 150, 135");
     bad(t, LOC("interior = 20,"), "[omega] interior: must lie inside Omega");
     t = edit("# line = P0X, P0Y, EX, EY", "line = 557, 277, -0.988, -0.155");
     bad(t, LOC("line = 557"), "[rangefinder] line: a calibration needs both line and model");
-    t = edit("look_at = 170, 0, 0", "look_at = -170, 0, 0");
-    bad(t, LOC("look_at = -170"), "[camera] look_at: the camera does not see the beam between min_range and max_range");
+    t = edit("look_at = 100, 0, 0", "look_at = -100, 0, 0");
+    bad(t, LOC("look_at = -100"), "[camera] look_at: the camera does not see the beam between min_range and max_range");
     t = edit("format = GREY", "format = MJPG");
     bad(t, LOC("MJPG"), "[camera] format: expected GREY, YUYV or auto, got 'MJPG'");
     t = edit("backend = v4l2", "backend = opencv");
