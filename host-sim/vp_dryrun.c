@@ -92,6 +92,11 @@ int vp_dryrun_open(const vp_board_t *b, const vp_dryrun_options_t *o, vp_dryrun_
     cc.max_range = 10 * b->max_range;
     memset(&scene, 0, sizeof scene);
     scene.surf = d->surf;
+    if (opt.flat_target) {
+        scene.surf = NULL;
+        scene.plane_n[0] = 1;
+        scene.plane_d = opt.target_x;
+    }
     st = vp_camsim_create(&cc, &scene, opt.seed ? opt.seed : (unsigned long long)b->sim_seed, vp_dryrun_pose,
                           vp_dryrun_clock, d, &d->cs);
     if (st != VP_OK) { vp_surface_close(d->surf); free(d); return st; }

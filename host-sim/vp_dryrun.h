@@ -24,6 +24,8 @@ typedef struct vp_dryrun_options {
     vp_iorec_edge_t *edges;      /* keep edges here (NULL: count only) */
     size_t cap;
     unsigned long long seed;     /* 0: the board's [sim] seed */
+    int flat_target;             /* 1: the scene is a flat target x = target_x, not the surface */
+    double target_x;
 } vp_dryrun_options_t;
 
 /* The carriages start where the laser origin is at the board's start with pan = tilt = 0

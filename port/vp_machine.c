@@ -142,3 +142,48 @@ void vp_machine_close(vp_machine_t *m)
     if (m->cam.close) m->cam.close(m->cam.ctx);
     m->cam.close = NULL;
 }
+
+int vp_machine_calibrate(vp_machine_t *m, const vp_calib_plan_t *p, vp_tri_model_t *out, vp_tri_fit_report_t *rep)
+{
+    static const double ex[3] = { 1, 0, 0 };
+    double uv[VP_MACHINE_MAX_CALIB][2], dist[VP_MACHINE_MAX_CALIB], o[3], d[3], target[VP_KIN_JOINTS];
+    int i, k, n = 0, frames, w;
+    if (!m || !p || !out || p->stations < 4 || !(p->d_near > 0) || !(p->d_far > p->d_near)) return VP_EINVAL;
+    frames = p->frames > 0 ? p->frames : 3;
+    if (p->stations * frames > VP_MACHINE_MAX_CALIB) return VP_EINVAL;
+    /* look along +x from the far station */
+    o[0] = p->target_x - p->d_far; o[1] = p->y; o[2] = p->z;
+    VP_TRY(vp_kin_aim(&m->kin, m->j, o, ex, target));
+    w = vp_kin_aim_path(&m->kin, m->j, target, m->way, VP_MACHINE_MAX_WAY);
+    if (w < 0) return w;
+    w = vp_step_move_path(&m->step, &m->way[0][0], w);
+    vp_machine_sync(m);
+    if (w < 0) return w;
+    for (i = 0; i < p->stations; i++) {
+        /* even steps of 1/d: the spot moves by about the same number of pixels each time */
+        double dd = 1 / (1 / p->d_far + (1 / p->d_near - 1 / p->d_far) * i / (p->stations - 1));
+        o[0] = p->target_x - dd;
+        VP_TRY(vp_machine_goto(m, o));
+        vp_machine_beam(m, o, d);
+        for (k = 0; k < frames; k++) {
+            vp_frame_t f;
+            vp_spot_t sp;
+            int64_t t0 = m->io.now(m->io.ctx);
+            if (m->cfg.settle_ns) m->io.wait_until(m->io.ctx, t0 + m->cfg.settle_ns);
+            t0 = m->io.now(m->io.ctx);
+            if (m->cfg.use_laser_line) m->io.write(m->io.ctx, VP_IO_LASER, VP_IO_LASER);
+            VP_TRY(m->cam.capture(m->cam.ctx, t0, m->cfg.timeout_ms, &f));
+            if (m->cfg.use_laser_line) m->io.write(m->io.ctx, VP_IO_LASER, 0);
+            w = vp_spot_find(&f, NULL, NULL, &m->ws, &sp);
+            m->cam.release(m->cam.ctx, &f);
+            if (w < 0) return w;
+            if (sp.result != VP_SPOT_FOUND) continue;
+            uv[n][0] = sp.u;
+            uv[n][1] = sp.v;
+            dist[n] = (p->target_x - o[0]) / d[0];   /* along the beam as stepped */
+            n++;
+        }
+    }
+    if (n < 4) return VP_EDEGEN;
+    return vp_tri_fit((const double (*)[2])uv, dist, n, 0, 0, out, rep);
+}

@@ -22,6 +22,7 @@
 #include "vp_step.h"
 
 #define VP_MACHINE_MAX_WAY 128
+#define VP_MACHINE_MAX_CALIB 256
 
 typedef struct vp_machine_stats {
     unsigned long moves, probes, hits, misses, frames, camera_errors;
@@ -72,6 +73,18 @@ int vp_machine_probe(vp_machine_t *m, const vp_cmd_t *cmd, vp_probe_result_t *re
  * travel: refused, nothing moved); VP_EABORT (e-stop, hard limit: stopped, fault set, homing
  * needed); VP_ETIMEOUT / VP_EIO (camera); VP_ESTATE (fault pending, not homed). */
 int vp_machine_exec(vp_machine_t *m, const vp_cmd_t *cmd, vp_probe_result_t *res);
+/* Calibration against a flat target across machine +x at x = target_x: the head looks along +x
+ * and steps towards the target through `stations` distances from d_far to d_near, evenly in 1/d
+ * so the spot moves evenly across the image (distances known from the kinematics), `frames`
+ * exposures each; the spots and distances are fitted (vp_tri_fit).
+ * VP_EDEGEN with fewer than 4 spots; the model goes to *out (ranges: the calibrated span). */
+typedef struct vp_calib_plan {
+    double target_x, y, z;            /* the plane, and where the beam crosses it */
+    double d_near, d_far;
+    int stations, frames;             /* >= 4; 0: 3 frames */
+} vp_calib_plan_t;
+int vp_machine_calibrate(vp_machine_t *m, const vp_calib_plan_t *p, vp_tri_model_t *out, vp_tri_fit_report_t *rep);
+
 /* Laser origin and beam direction now. */
 void vp_machine_beam(const vp_machine_t *m, double origin[3], double dir[3]);
 /* Drivers off, camera closed (the backends' owners release the rest). */
