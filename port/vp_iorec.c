@@ -31,6 +31,7 @@ static int vp_iorec_wait(void *ctx, int64_t t)
     vp_iorec_t *r = ctx;
     if (t < r->now) r->late_writes++;
     else r->now = t;
+    if (r->cfg.stall_ns > 0 && t >= r->cfg.stall_at) { r->now += r->cfg.stall_ns; r->cfg.stall_ns = 0; }
     return VP_OK;
 }
 

@@ -28,6 +28,7 @@ typedef struct vp_iorec_config {
     int32_t slack[VP_IO_MAX_AXES];    /* mechanical backlash in steps */
     int64_t estop_at, estop_until;    /* e-stop pressed for t in [at, until); at < 0: never */
     uint32_t stuck_inputs;            /* inputs forced active (broken switch tests) */
+    int64_t stall_at, stall_ns;       /* the first wait past stall_at returns stall_ns late (an OS stall) */
 } vp_iorec_config_t;
 
 typedef struct vp_iorec {

@@ -223,6 +223,9 @@ static int vp_step_run_block(vp_step_t *s, vp_step_block_t *b, vp_run_t *r)
             VP_TRY(vp_step_poll(s, b, r));
         }
         s->io.wait_until(s->io.ctx, t_ns);
+        /* late (the OS stalled us): shift the rest of the move rather than bunch steps */
+        now = s->io.now(s->io.ctx);
+        if (now - t_ns > (int64_t)s->cfg.max_late_ns) { start += now - t_ns; s->st.retimed++; }
         VP_TRY(vp_step_poll(s, b, r));
         /* homing: the switch closed; this tick goes out, then a decelerating stop */
         if (r->triggered && !b->stopping) vp_step_block_stop(b);
@@ -296,6 +299,7 @@ int vp_step_init(vp_step_t *s, const vp_step_config_t *cfg, const vp_io_t *io)
     if (!s->cfg.enable_ns) s->cfg.enable_ns = 1000000;
     if (!s->cfg.lead_ns) s->cfg.lead_ns = 200000;
     if (!s->cfg.poll_ns) s->cfg.poll_ns = 1000000;
+    if (!s->cfg.max_late_ns) s->cfg.max_late_ns = 100000;
     if (!(s->cfg.max_step_rate >= 0) || s->cfg.max_step_rate > 1e9 / (2.0 * s->cfg.pulse_ns)) return VP_EINVAL;
     if (!s->cfg.max_step_rate) s->cfg.max_step_rate = 1e9 / (2.0 * s->cfg.pulse_ns);
     for (i = 0; i < cfg->naxes; i++) {

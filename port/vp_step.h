@@ -6,7 +6,8 @@
  * step by Bresenham on the dominant ticks, so every axis starts and ends together and each stays
  * within half a step of the line. The profile's speed and acceleration are the largest that
  * keep every axis within its own max speed and acceleration (the most constrained axis rules).
- * Step times come from the exact profile (no accumulated drift), as absolute ns deadlines.
+ * Step times come from the exact profile (no accumulated drift), as absolute ns deadlines; a
+ * deadline met late by more than max_late_ns delays the rest of the move (never a burst).
  *
  * Also: steps per unit, direction inversion, enable lines, backlash take-up before a reversing
  * move (extra steps not counted in the position), soft travel limits (a move leaving travel is
@@ -58,6 +59,8 @@ typedef struct vp_step_config {
     uint32_t enable_ns;      /* drivers wake this long after enable (0: 1 ms) */
     uint32_t lead_ns;        /* first deadline of a block this far ahead (0: 200 us) */
     uint32_t poll_ns;        /* inputs read at least this often while waiting (0: 1 ms) */
+    uint32_t max_late_ns;    /* a step later than this shifts the rest of the move instead of
+                                a catch-up burst of steps (0: 100 us) */
     double max_step_rate;    /* backend limit in steps/s per axis (0: 1e9 / (2 pulse_ns)) */
     int allow_unhomed;       /* 1: moves allowed before homing */
     int no_hard_limits;      /* 1: a switch closing during a move is not a fault */
@@ -96,6 +99,7 @@ typedef struct vp_step_stats {
     uint64_t steps[VP_STEP_MAX_AXES];        /* pulses issued (backlash included) */
     uint64_t backlash_steps[VP_STEP_MAX_AXES];
     uint64_t moves, blocks, refused, polls;
+    uint64_t retimed;                        /* late steps that shifted the rest of a move */
     double move_time;                        /* s of motion (profile time) */
 } vp_step_stats_t;
 

@@ -5,6 +5,8 @@
  * with slack, direction inversion, e-stop (no pulse after it, drivers off within poll_ns, fault,
  * resumable after release and homing), hard limits, and the generator's own step throughput. */
 #include <math.h>
+#include <stdint.h>
+#include <stdlib.h>
 #include <string.h>
 #include <time.h>
 #include "vp_iorec.h"
@@ -483,6 +485,37 @@ int main(void)
         for (i = (int)e0; i < (int)r6.n; i++) if (r6.cfg.buf[i].line == 16 && r6.cfg.buf[i].value) { en_on = r6.cfg.buf[i].t_ns; break; }
         CHECK(en_on >= 0 && ts[0][0] - en_on >= 1000000);
         CHECK(vp_step_enable(&s6, 0) == VP_OK && (r6.out & VP_IO_EN(0)) == 0);
+    }
+
+    /* ---- an OS stall in the middle of a move: the rest is shifted, never bunched ---- */
+    {
+        static vp_iorec_t r8;
+        vp_step_t s8;
+        size_t e0;
+        int64_t minint = INT64_MAX, t0s, t1s;
+        rec_config(&rc);
+        memset(rc.has_min, 0, sizeof rc.has_min);
+        memset(rc.has_max, 0, sizeof rc.has_max);
+        vp_iorec_init(&r8, &rc);
+        io = vp_iorec_io(&r8);
+        config(&c);
+        c.allow_unhomed = 1;
+        CHECK(vp_step_init(&s8, &c, &io) == VP_OK);
+        e0 = r8.n;
+        CHECK(vp_step_move(&s8, (double[5]){ 100, 0, 0, 0, 0 }) == VP_OK);
+        collect(&r8, e0, NULL);
+        t0s = ts[0][nts[0] - 1] - ts[0][0];
+        r8.cfg.stall_at = r8.now + 400000000;     /* in the cruise of the next move */
+        r8.cfg.stall_ns = 3000000;
+        e0 = r8.n;
+        CHECK(vp_step_move(&s8, (double[5]){ 200, 0, 0, 0, 0 }) == VP_OK);
+        collect(&r8, e0, NULL);
+        t1s = ts[0][nts[0] - 1] - ts[0][0];
+        for (k = 0; k + 1 < nts[0]; k++) if (ts[0][k + 1] - ts[0][k] < minint) minint = ts[0][k + 1] - ts[0][k];
+        CHECK(nts[0] == 8000 && s8.st.retimed == 1);
+        CHECKF(minint >= (int64_t)(1e9 / 12000) - 1, "steps bunched: %lld ns apart", (long long)minint);
+        CHECKF(llabs(t1s - t0s - 3000000) < 100000, "stall added %lld ns", (long long)(t1s - t0s));
+        CHECKF(worst_speed(0, 12000, 1) <= 1 + 1e-9, "speed %.4f after a stall", worst_speed(0, 12000, 1));
     }
 
     /* ---- throughput of the generator itself (count-only recording backend) ---- */
