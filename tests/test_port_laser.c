@@ -226,12 +226,12 @@ int main(void)
             vp_surface_t *s;
             vp_camsim_scene_t sc;
             char err[200];
-            double samp[3 * 250];
+            double samp[3 * 150];
             CHECK(vp_surface_open(objs[k], &s, err, sizeof err) == VP_OK);
-            vp_surface_sample(s, 250, 99 + k, samp);
+            vp_surface_sample(s, 150, 99 + k, samp);
             memset(&sc, 0, sizeof sc);
             sc.surf = s;
-            for (i = 0; i < 250; i++) {
+            for (i = 0; i < 150; i++) {
                 double org[3], dir[3], j[5], tgt[3], len = 0, dd_ds, uv[2];
                 vp_camsim_truth_t tr;
                 int q, hit;
@@ -288,8 +288,8 @@ int main(void)
         }
         printf("%d frames: %d spots visible in range, %d measured, misses none %d several %d too-big %d off-line %d; "
                "%d hidden/no hit, %d out of range, %d false hits; %.1f ms per frame, detection %.2f ms\n",
-               1000, nvis, nhit, nmiss[3], nmiss[2], nmiss[1], nmiss[0], ninv, nout, nfalse,
-               (double)(clock() - t0) / CLOCKS_PER_SEC * 1000 / 1000, (double)tdet / CLOCKS_PER_SEC * 1000 / 1000);
+               600, nvis, nhit, nmiss[3], nmiss[2], nmiss[1], nmiss[0], ninv, nout, nfalse,
+               (double)(clock() - t0) / CLOCKS_PER_SEC * 1000 / 600, (double)tdet / CLOCKS_PER_SEC * 1000 / 600);
         printf("error: rms %.4f px (%.3f mm), max %.4f px (%.3f mm), max / (0.03 px + CRB) %.2f\n", sqrt(se / nhit),
                sqrt(semm / nhit), emax, emaxmm, zmax);
         printf("spots with peak >= 20 noise sigmas: %d, rms %.4f px, max %.4f px\n", n20, sqrt(se20 / n20), emax20);
@@ -298,7 +298,7 @@ int main(void)
         /* well-exposed spots (peak >= 20 sigma): rms within the CRB at the weakest of them (0.8/20 =
          * 0.04 px) combined with 0.03 px of pixel-sampling bias: sqrt(0.04^2 + 0.03^2) = 0.05 px */
         CHECKF(sqrt(se20 / n20) <= 0.05, "rms %.4f px", sqrt(se20 / n20));
-        CHECK(n20 > 500 && nhit > 0.95 * nvis);
+        CHECK(n20 > 300 && nhit > 0.95 * nvis);
     }
     misses(&c, &m);
     calibration(&c, &m);

@@ -261,8 +261,8 @@ int main(void)
         CHECKF(so.worst < 1, "worst probe error %.3f mm", so.worst);
         CHECKF(so.hausdorff < 15, "Hausdorff %.2f mm", so.hausdorff);
         /* the sim board, a while */
-        scan("boards/sim.ini", 600, &so);
-        CHECK(so.commands == 600 && so.falsehits == 0 && so.worst < 1);
+        scan("boards/sim.ini", 150, &so);
+        CHECK(so.commands == 150 && so.falsehits == 0 && so.worst < 1);
     }
     return vp_test_done("test_port_machine");
 }
