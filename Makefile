@@ -31,6 +31,12 @@ ifeq ($(HAVE_GPIOD),1)
 HOST_CFLAGS += -DVP_HAVE_GPIOD=1
 PORT_LIBS += -lgpiod
 endif
+# libcamera (C++): port/*.cpp is built only when pkg-config finds it.
+ifeq ($(HAVE_LIBCAMERA),1)
+HOST_CFLAGS += -DVP_HAVE_LIBCAMERA=1
+PORT_CXX_SRC := $(sort $(wildcard port/*.cpp))
+PORT_LIBS += $(shell pkg-config --libs libcamera) -lstdc++
+endif
 
 CORE_SRC := $(sort $(wildcard core/*.c))
 SIM_SRC  := $(sort $(wildcard host-sim/*.c))
@@ -43,7 +49,7 @@ endif
 
 CORE_OBJ := $(CORE_SRC:%.c=$(BUILD)/%.o)
 SIM_OBJ  := $(SIM_SRC:%.c=$(BUILD)/%.o)
-PORT_OBJ := $(PORT_SRC:%.c=$(BUILD)/%.o)
+PORT_OBJ := $(PORT_SRC:%.c=$(BUILD)/%.o) $(PORT_CXX_SRC:%.cpp=$(BUILD)/%.o)
 TOOL_OBJ := $(TOOL_SRC:%.c=$(BUILD)/%.o)
 TEST_BIN := $(TEST_SRC:tests/%.c=$(BUILD)/tests/%)
 
@@ -61,6 +67,10 @@ $(BUILD)/core/%.o: core/%.c $(wildcard core/*.h) Makefile
 $(BUILD)/%.o: %.c $(wildcard core/*.h host-sim/*.h port/*.h tools/*.h) Makefile
 	@mkdir -p $(@D)
 	$(CC) $(HOST_CFLAGS) -c $< -o $@
+
+$(BUILD)/port/%.o: port/%.cpp $(wildcard core/*.h port/*.h) Makefile
+	@mkdir -p $(@D)
+	$(CXX) -std=c++17 $(OPT) -Wall -Wextra -Werror $(shell pkg-config --cflags libcamera) -Icore -Iport -c $< -o $@
 
 $(LIBCORE): $(CORE_OBJ)
 	@rm -f $@

@@ -4,7 +4,7 @@
 # As root it runs apt-get; otherwise it prints the exact command to run.
 set -u
 PKGS="build-essential clang libclang-rt-14-dev llvm gcc-arm-none-eabi libnewlib-arm-none-eabi \
-gcc-aarch64-linux-gnu libc6-dev-arm64-cross qemu-user libgmp-dev libgpiod-dev libv4l-dev \
+gcc-aarch64-linux-gnu libc6-dev-arm64-cross qemu-user libgmp-dev libgpiod-dev libv4l-dev libcamera-dev \
 libinih-dev libpng-dev python3 python3-numpy python3-open3d binutils"
 missing=""
 for p in $PKGS; do

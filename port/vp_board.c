@@ -1,0 +1,609 @@
+/* vp_board — see vp_board.h. Keys are described by tables; values are checked where they are
+ * read, the machine as a whole after the file is read. */
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include "vp_board.h"
+#include "vp_ini.h"
+#include "vp_planner.h"
+#include "vp_status.h"
+
+enum { K_NUM, K_NUMS, K_INT, K_BOOL, K_PIN, K_STR, K_HOME, K_IO, K_FMT, K_RANGE, K_BOX, K_BALL };
+enum { R_NO = 0, R_YES = 1, R_GPIO = 2 };   /* required: never, always, for io = gpiod */
+
+typedef struct vp_bkey {
+    const char *name;
+    int type;
+    size_t off;          /* in vp_board_t, or in vp_board_axis_t for axis keys */
+    int n;               /* K_NUMS: count; K_STR: buffer size */
+    double lo, hi;       /* accepted numbers (lo > hi: any) */
+    int req;
+} vp_bkey_t;
+
+#define B(f) offsetof(vp_board_t, f)
+#define A(f) offsetof(vp_board_axis_t, f)
+#define POS 1e-300
+#define ANY 1, -1
+
+static const vp_bkey_t k_board[] = {
+    { "name", K_STR, B(name), 64, ANY, R_YES },
+    { "io", K_IO, B(io), 0, ANY, R_YES },
+    { NULL, 0, 0, 0, 0, 0, 0 } };
+static const vp_bkey_t k_timing[] = {
+    { "pulse_us", K_NUM, B(pulse_us), 1, 0.5, 1000, R_NO },
+    { "dir_setup_us", K_NUM, B(dir_setup_us), 1, 0, 1000, R_NO },
+    { "enable_ms", K_NUM, B(enable_ms), 1, 0, 1000, R_NO },
+    { "poll_ms", K_NUM, B(poll_ms), 1, 0.05, 100, R_NO },
+    { "spin_us", K_NUM, B(spin_us), 1, 0, 1000, R_NO },
+    { "max_step_rate", K_NUM, B(max_step_rate), 1, 1, 500000, R_NO },
+    { "rt_priority", K_INT, B(rt_priority), 1, 0, 99, R_NO },
+    { NULL, 0, 0, 0, 0, 0, 0 } };
+static const vp_bkey_t k_axis[] = {
+    { "step", K_PIN, A(step), 0, ANY, R_GPIO },
+    { "dir", K_PIN, A(dir), 0, ANY, R_GPIO },
+    { "enable", K_PIN, A(enable), 0, ANY, R_NO },
+    { "limit_min", K_PIN, A(lim_min), 0, ANY, R_NO },
+    { "limit_max", K_PIN, A(lim_max), 0, ANY, R_NO },
+    { "steps_per_unit", K_NUM, A(ax.steps_per_unit), 1, POS, 1e6, R_YES },
+    { "max_speed", K_NUM, A(ax.max_speed), 1, POS, 1e5, R_YES },
+    { "accel", K_NUM, A(ax.accel), 1, POS, 1e7, R_YES },
+    { "travel", K_RANGE, A(ax.travel_min), 2, -1e6, 1e6, R_YES },
+    { "backlash", K_NUM, A(ax.backlash), 1, 0, 100, R_NO },
+    { "invert", K_BOOL, A(ax.invert_dir), 0, ANY, R_NO },
+    { "home", K_HOME, A(ax.home_dir), 0, ANY, R_NO },
+    { "home_pos", K_NUM, A(ax.home_pos), 1, -1e6, 1e6, R_NO },
+    { "home_seek", K_NUM, A(ax.home_seek), 1, 0, 1e5, R_NO },
+    { "home_feed", K_NUM, A(ax.home_feed), 1, 0, 1e5, R_NO },
+    { "home_pulloff", K_NUM, A(ax.home_pulloff), 1, 0, 1000, R_NO },
+    { "home_order", K_INT, A(ax.home_order), 1, 0, 9, R_NO },
+    { NULL, 0, 0, 0, 0, 0, 0 } };
+static const vp_bkey_t k_estop[] = {
+    { "pin", K_PIN, B(estop), 0, ANY, R_GPIO },
+    { NULL, 0, 0, 0, 0, 0, 0 } };
+static const vp_bkey_t k_laser[] = {
+    { "pin", K_PIN, B(laser), 0, ANY, R_NO },
+    { NULL, 0, 0, 0, 0, 0, 0 } };
+static const vp_bkey_t k_head[] = {
+    { "tilt_offset", K_NUMS, B(tilt_offset), 3, -1e4, 1e4, R_NO },
+    { "laser_offset", K_NUMS, B(laser_offset), 3, -1e4, 1e4, R_YES },
+    { "origin_tol", K_NUM, B(origin_tol), 1, POS, 10, R_NO },
+    { NULL, 0, 0, 0, 0, 0, 0 } };
+static const vp_bkey_t k_camera[] = {
+    { "backend", K_STR, B(camera.backend), 16, ANY, R_NO },
+    { "device", K_STR, B(camera.device), 128, ANY, R_NO },
+    { "width", K_INT, B(cam_model.width), 1, 8, 4096, R_YES },
+    { "height", K_INT, B(cam_model.height), 1, 8, 4096, R_YES },
+    { "format", K_FMT, B(camera.format), 0, ANY, R_NO },
+    { "exposure_us", K_INT, B(camera.exposure_us), 1, 0, 1e7, R_NO },
+    { "buffers", K_INT, B(camera.buffers), 1, 0, 8, R_NO },
+    { "focal_px", K_NUMS, B(cam_model.fx), 1, POS, 1e5, R_NO },
+    { "fx", K_NUM, B(cam_model.fx), 1, POS, 1e5, R_NO },
+    { "fy", K_NUM, B(cam_model.fy), 1, POS, 1e5, R_NO },
+    { "center", K_NUMS, B(cam_model.cx), 2, -1e4, 1e4, R_NO },
+    { "position", K_NUMS, B(cam_model.pos), 3, -1e4, 1e4, R_YES },
+    { "look_at", K_NUMS, B(look_at), 3, -1e5, 1e5, R_YES },
+    { "up", K_NUMS, B(up), 3, -1e5, 1e5, R_NO },
+    { "timeout_ms", K_INT, B(timeout_ms), 1, 1, 60000, R_NO },
+    { NULL, 0, 0, 0, 0, 0, 0 } };
+static const vp_bkey_t k_range[] = {
+    { "min_range", K_NUM, B(min_range), 1, POS, 1e5, R_YES },
+    { "max_range", K_NUM, B(max_range), 1, POS, 1e5, R_YES },
+    { "band", K_NUM, B(band), 1, 0, 1000, R_NO },
+    { "settle_ms", K_NUM, B(settle_ms), 1, 0, 10000, R_NO },
+    { "line", K_NUMS, B(line), 4, -1e5, 1e5, R_NO },
+    { "model", K_NUMS, B(model), 3, -1e9, 1e9, R_NO },
+    { NULL, 0, 0, 0, 0, 0, 0 } };
+static const vp_bkey_t k_omega[] = {
+    { "box", K_BOX, B(omega_lo), 6, -1e6, 1e6, R_NO },
+    { "ball", K_BALL, B(omega_center), 4, -1e6, 1e6, R_NO },
+    { "interior", K_NUMS, B(interior), 3, -1e6, 1e6, R_NO },
+    { "eps", K_NUM, B(eps), 1, POS, 1e5, R_YES },
+    { "start", K_NUMS, B(start), 3, -1e6, 1e6, R_YES },
+    { "clearance", K_NUM, B(clearance), 1, 0, 1e4, R_NO },
+    { NULL, 0, 0, 0, 0, 0, 0 } };
+static const vp_bkey_t k_sim[] = {
+    { "surface", K_STR, B(sim_surface), 256, ANY, R_NO },
+    { "blur_px", K_NUM, B(sim_blur), 1, 0.3, 50, R_NO },
+    { "noise", K_NUM, B(sim_noise), 1, 0, 100, R_NO },
+    { "ambient", K_NUM, B(sim_ambient), 1, 0, 255, R_NO },
+    { "gradient", K_NUM, B(sim_gradient), 1, -255, 255, R_NO },
+    { "texture", K_NUM, B(sim_texture), 1, 0, 255, R_NO },
+    { "spot_energy", K_NUM, B(sim_energy), 1, POS, 1e9, R_NO },
+    { "seed", K_NUM, B(sim_seed), 1, 0, 9e15, R_NO },
+    { NULL, 0, 0, 0, 0, 0, 0 } };
+
+enum { S_BOARD, S_TIMING, S_AX0, S_AX4 = S_AX0 + 4, S_ESTOP, S_LASER, S_HEAD, S_CAMERA, S_RANGE, S_OMEGA, S_SIM, NSEC };
+#define NKEY 20
+
+static const char *const sec_name[NSEC] = { "board", "timing", "axis.x", "axis.y", "axis.z", "axis.pan", "axis.tilt",
+                                            "estop", "laser", "head", "camera", "rangefinder", "omega", "sim" };
+static const int sec_required[NSEC] = { 1, 0, 1, 1, 1, 1, 1, 0, 0, 1, 1, 1, 1, 0 };
+static const char *const axis_unit[VP_BOARD_AXES] = { "mm", "mm", "mm", "deg", "deg" };
+
+static const vp_bkey_t *vp_sec_keys(int s)
+{
+    if (s >= S_AX0 && s <= S_AX4) return k_axis;
+    switch (s) {
+    case S_BOARD: return k_board;
+    case S_TIMING: return k_timing;
+    case S_ESTOP: return k_estop;
+    case S_LASER: return k_laser;
+    case S_HEAD: return k_head;
+    case S_CAMERA: return k_camera;
+    case S_RANGE: return k_range;
+    case S_OMEGA: return k_omega;
+    default: return k_sim;
+    }
+}
+
+typedef struct vp_bctx {
+    vp_board_t *b;
+    const char *name;
+    int sec;                      /* current section, -1 before the first */
+    int secline[NSEC];            /* 0: section absent */
+    int line[NSEC][NKEY];         /* line each key was set on, 0: not set */
+} vp_bctx_t;
+
+static unsigned char *vp_key_ptr(vp_bctx_t *c, int s, const vp_bkey_t *k)
+{
+    unsigned char *base = (unsigned char *)c->b;
+    if (s >= S_AX0 && s <= S_AX4) base = (unsigned char *)&c->b->axis[s - S_AX0];
+    return base + k->off;
+}
+
+/* n numbers separated by commas (or blanks), all of them, each in [lo, hi] */
+static int vp_numbers(const char *v, double *out, int n, double lo, double hi, char *msg, size_t ml)
+{
+    const char *p = v;
+    int i;
+    for (i = 0; i < n; i++) {
+        char *e;
+        while (*p == ' ' || *p == '\t' || (i > 0 && *p == ',')) p++;
+        out[i] = strtod(p, &e);
+        if (e == p || !isfinite(out[i])) {
+            if (n == 1) snprintf(msg, ml, "expected a number, got '%s'", v);
+            else snprintf(msg, ml, "expected %d numbers separated by commas, got '%s'", n, v);
+            return VP_EINVAL;
+        }
+        if (lo <= hi && (out[i] < lo || out[i] > hi)) {
+            if (lo == POS) snprintf(msg, ml, "%g must be positive (at most %g)", out[i], hi);
+            else snprintf(msg, ml, "%g is outside %g..%g", out[i], lo, hi);
+            return VP_EINVAL;
+        }
+        p = e;
+        while (*p == ' ' || *p == '\t') p++;
+        if (i + 1 < n && *p == ',') p++;
+    }
+    if (*p) {
+        if (n == 1) snprintf(msg, ml, "expected a number, got '%s'", v);
+        else snprintf(msg, ml, "expected %d numbers, got '%s'", n, v);
+        return VP_EINVAL;
+    }
+    return VP_OK;
+}
+
+static int vp_pin(const char *v, vp_gpio_pin_t *pin, char *msg, size_t ml)
+{
+    char chip[VP_GPIO_CHIP_LEN], word[32];
+    const char *p = v, *colon;
+    char *e;
+    long off;
+    size_t n;
+    memset(pin, 0, sizeof *pin);
+    pin->offset = -1;
+    if (!strcmp(v, "none") || !*v) return VP_OK;
+    if (*p == '!') { pin->active_low = 1; p++; }
+    colon = strchr(p, ':');
+    if (!colon || colon == p) { snprintf(msg, ml, "expected [!]CHIP:OFFSET [pull-up|pull-down] or none, got '%s'", v); return VP_EINVAL; }
+    n = (size_t)(colon - p);
+    if (n >= sizeof chip) { snprintf(msg, ml, "chip name too long in '%s'", v); return VP_EINVAL; }
+    memcpy(chip, p, n);
+    chip[n] = 0;
+    off = strtol(colon + 1, &e, 10);
+    if (e == colon + 1 || off < 0 || off > 4095) { snprintf(msg, ml, "bad line offset in '%s'", v); return VP_EINVAL; }
+    while (*e == ' ' || *e == '\t') e++;
+    if (*e) {
+        if (strlen(e) >= sizeof word) { snprintf(msg, ml, "unknown pin option '%s'", e); return VP_EINVAL; }
+        strcpy(word, e);
+        if (!strcmp(word, "pull-up")) pin->pull = VP_PULL_UP;
+        else if (!strcmp(word, "pull-down")) pin->pull = VP_PULL_DOWN;
+        else { snprintf(msg, ml, "unknown pin option '%s' (pull-up or pull-down)", word); return VP_EINVAL; }
+    }
+    strcpy(pin->chip, chip);
+    pin->offset = (int)off;
+    return VP_OK;
+}
+
+static int vp_board_key(void *user, const char *section, const char *key, const char *val, int line, char *msg, size_t ml)
+{
+    vp_bctx_t *c = user;
+    const vp_bkey_t *keys, *k;
+    unsigned char *ptr;
+    double v[6];
+    int s, ki;
+    if (!*key) { /* a section header */
+        for (s = 0; s < NSEC; s++) if (!strcmp(section, sec_name[s])) break;
+        if (s == NSEC) { snprintf(msg, ml, "unknown section (board, timing, axis.x|y|z|pan|tilt, estop, laser, head, camera, rangefinder, omega, sim)"); return VP_EINVAL; }
+        if (c->secline[s]) { snprintf(msg, ml, "section repeated (first at line %d)", c->secline[s]); return VP_EINVAL; }
+        c->sec = s;
+        c->secline[s] = line;
+        return VP_OK;
+    }
+    if (c->sec < 0) { snprintf(msg, ml, "key outside any section"); return VP_EINVAL; }
+    s = c->sec;
+    keys = vp_sec_keys(s);
+    for (ki = 0; keys[ki].name; ki++) if (!strcmp(keys[ki].name, key)) break;
+    if (!keys[ki].name) { snprintf(msg, ml, "unknown key"); return VP_EINVAL; }
+    k = &keys[ki];
+    if (c->line[s][ki]) { snprintf(msg, ml, "set twice (first at line %d)", c->line[s][ki]); return VP_EINVAL; }
+    c->line[s][ki] = line;
+    ptr = vp_key_ptr(c, s, k);
+    switch (k->type) {
+    case K_NUM:
+        VP_TRY(vp_numbers(val, v, 1, k->lo, k->hi, msg, ml));
+        memcpy(ptr, v, sizeof(double));
+        break;
+    case K_NUMS:
+        VP_TRY(vp_numbers(val, v, k->n, k->lo, k->hi, msg, ml));
+        memcpy(ptr, v, (size_t)k->n * sizeof(double));
+        if (!strcmp(key, "focal_px")) c->b->cam_model.fy = v[0];
+        break;
+    case K_RANGE:
+        VP_TRY(vp_numbers(val, v, 2, k->lo, k->hi, msg, ml));
+        if (!(v[0] < v[1])) { snprintf(msg, ml, "expected MIN, MAX with MIN below MAX, got '%s'", val); return VP_EINVAL; }
+        memcpy(ptr, v, 2 * sizeof(double));
+        break;
+    case K_BOX:
+        VP_TRY(vp_numbers(val, v, 6, k->lo, k->hi, msg, ml));
+        if (!(v[0] < v[3] && v[1] < v[4] && v[2] < v[5])) { snprintf(msg, ml, "expected XLO, YLO, ZLO, XHI, YHI, ZHI with each LO below its HI"); return VP_EINVAL; }
+        memcpy(c->b->omega_lo, v, 3 * sizeof(double));
+        memcpy(c->b->omega_hi, v + 3, 3 * sizeof(double));
+        c->b->omega_kind = VP_OMEGA_BOX;
+        break;
+    case K_BALL:
+        VP_TRY(vp_numbers(val, v, 4, k->lo, k->hi, msg, ml));
+        if (!(v[3] > 0)) { snprintf(msg, ml, "expected X, Y, Z, RADIUS with a positive radius"); return VP_EINVAL; }
+        memcpy(c->b->omega_center, v, 3 * sizeof(double));
+        c->b->omega_radius = v[3];
+        c->b->omega_kind = VP_OMEGA_BALL;
+        break;
+    case K_INT: {
+        int iv;
+        VP_TRY(vp_numbers(val, v, 1, k->lo, k->hi, msg, ml));
+        if (v[0] != floor(v[0])) { snprintf(msg, ml, "expected a whole number, got '%s'", val); return VP_EINVAL; }
+        iv = (int)v[0];
+        memcpy(ptr, &iv, sizeof iv);
+        break;
+    }
+    case K_BOOL: {
+        int iv;
+        if (!strcmp(val, "yes") || !strcmp(val, "true") || !strcmp(val, "1")) iv = 1;
+        else if (!strcmp(val, "no") || !strcmp(val, "false") || !strcmp(val, "0")) iv = 0;
+        else { snprintf(msg, ml, "expected yes or no, got '%s'", val); return VP_EINVAL; }
+        memcpy(ptr, &iv, sizeof iv);
+        break;
+    }
+    case K_HOME: {
+        int iv;
+        if (!strcmp(val, "min")) iv = -1;
+        else if (!strcmp(val, "max")) iv = 1;
+        else if (!strcmp(val, "none")) iv = 0;
+        else { snprintf(msg, ml, "expected min, max or none, got '%s'", val); return VP_EINVAL; }
+        memcpy(ptr, &iv, sizeof iv);
+        break;
+    }
+    case K_IO: {
+        int iv;
+        if (!strcmp(val, "gpiod")) iv = VP_BOARD_IO_GPIOD;
+        else if (!strcmp(val, "sim")) iv = VP_BOARD_IO_SIM;
+        else { snprintf(msg, ml, "expected gpiod or sim, got '%s'", val); return VP_EINVAL; }
+        memcpy(ptr, &iv, sizeof iv);
+        break;
+    }
+    case K_FMT: {
+        unsigned f;
+        if (!strcmp(val, "GREY")) f = VP_FOURCC('G', 'R', 'E', 'Y');
+        else if (!strcmp(val, "YUYV")) f = VP_FOURCC('Y', 'U', 'Y', 'V');
+        else if (!strcmp(val, "auto")) f = 0;
+        else { snprintf(msg, ml, "expected GREY, YUYV or auto, got '%s'", val); return VP_EINVAL; }
+        memcpy(ptr, &f, sizeof f);
+        break;
+    }
+    case K_PIN:
+        VP_TRY(vp_pin(val, (vp_gpio_pin_t *)(void *)ptr, msg, ml));
+        break;
+    case K_STR:
+        if (strlen(val) >= (size_t)k->n) { snprintf(msg, ml, "longer than %d characters", k->n - 1); return VP_EINVAL; }
+        strcpy((char *)ptr, val);
+        if (!strcmp(key, "backend") && strcmp(val, "v4l2") && strcmp(val, "libcamera")) {
+            snprintf(msg, ml, "expected v4l2 or libcamera, got '%s'", val);
+            return VP_EINVAL;
+        }
+        break;
+    }
+    return VP_OK;
+}
+
+/* ---- the machine as a whole ---- */
+
+static int vp_key_index(int s, const char *key)
+{
+    const vp_bkey_t *k = vp_sec_keys(s);
+    int i;
+    for (i = 0; k[i].name; i++) if (!strcmp(k[i].name, key)) return i;
+    return -1;
+}
+
+static int vp_seen(const vp_bctx_t *c, int s, const char *key) { return c->line[s][vp_key_index(s, key)]; }
+
+/* "file:line: [section] key: reason" for a key (its line, or the section's when unset) */
+static int vp_bad(const vp_bctx_t *c, int s, const char *key, char *err, size_t el, const char *fmt, ...)
+{
+    char msg[300];
+    va_list ap;
+    int line = key ? vp_seen(c, s, key) : 0;
+    va_start(ap, fmt);
+    vsnprintf(msg, sizeof msg, fmt, ap);
+    va_end(ap);
+    if (!line) line = c->secline[s];
+    if (key) snprintf(err, el, "%s:%d: [%s] %s: %s", c->name, line, sec_name[s], key, msg);
+    else snprintf(err, el, "%s:%d: [%s]: %s", c->name, line, sec_name[s], msg);
+    return VP_EINVAL;
+}
+
+typedef struct vp_pinuse { const vp_gpio_pin_t *pin; int sec; const char *key; int out; } vp_pinuse_t;
+
+static int vp_board_pins(const vp_bctx_t *c, char *err, size_t el)
+{
+    static const char *const pk[5] = { "step", "dir", "enable", "limit_min", "limit_max" };
+    vp_pinuse_t u[32];
+    const vp_board_t *b = c->b;
+    int n = 0, i, j, a;
+    for (a = 0; a < VP_BOARD_AXES; a++) {
+        const vp_gpio_pin_t *p[5] = { &b->axis[a].step, &b->axis[a].dir, &b->axis[a].enable, &b->axis[a].lim_min, &b->axis[a].lim_max };
+        for (i = 0; i < 5; i++) {
+            if (!p[i]->chip[0]) continue;
+            u[n].pin = p[i]; u[n].sec = S_AX0 + a; u[n].key = pk[i]; u[n].out = i < 3; n++;
+        }
+    }
+    if (b->estop.chip[0]) { u[n].pin = &b->estop; u[n].sec = S_ESTOP; u[n].key = "pin"; u[n].out = 0; n++; }
+    if (b->laser.chip[0]) { u[n].pin = &b->laser; u[n].sec = S_LASER; u[n].key = "pin"; u[n].out = 1; n++; }
+    for (i = 0; i < n; i++)
+        for (j = 0; j < i; j++) {
+            if (strcmp(u[i].pin->chip, u[j].pin->chip) || u[i].pin->offset != u[j].pin->offset) continue;
+            /* one enable line for several drivers is normal */
+            if (!strcmp(u[i].key, "enable") && !strcmp(u[j].key, "enable") && u[i].pin->active_low == u[j].pin->active_low) continue;
+            return vp_bad(c, u[i].sec, u[i].key, err, el, "%s:%d is already [%s] %s (line %d)", u[i].pin->chip, u[i].pin->offset,
+                          sec_name[u[j].sec], u[j].key, vp_seen(c, u[j].sec, u[j].key));
+        }
+    return VP_OK;
+}
+
+static int vp_board_check(vp_bctx_t *c, char *err, size_t el)
+{
+    vp_board_t *b = c->b;
+    vp_kin_t kin;
+    vp_kin_config_t kc;
+    int s, ki, a, rc;
+    for (s = 0; s < NSEC; s++) {
+        const vp_bkey_t *k = vp_sec_keys(s);
+        if (!c->secline[s]) {
+            if (sec_required[s]) { snprintf(err, el, "%s: missing section [%s]", c->name, sec_name[s]); return VP_EINVAL; }
+            if (s == S_ESTOP && b->io == VP_BOARD_IO_GPIOD) {
+                snprintf(err, el, "%s: missing section [estop]: a board that drives motors needs an e-stop input", c->name);
+                return VP_EINVAL;
+            }
+            continue;
+        }
+        for (ki = 0; k[ki].name; ki++)
+            if (!c->line[s][ki] && (k[ki].req == R_YES || (k[ki].req == R_GPIO && b->io == VP_BOARD_IO_GPIOD))) {
+                snprintf(err, el, "%s:%d: [%s] missing key '%s'%s", c->name, c->secline[s], sec_name[s], k[ki].name,
+                         k[ki].req == R_GPIO ? " (needed with io = gpiod)" : "");
+                return VP_EINVAL;
+            }
+    }
+    /* axes */
+    for (a = 0; a < VP_BOARD_AXES; a++) {
+        vp_board_axis_t *x = &b->axis[a];
+        vp_step_axis_t *ax = &x->ax;
+        double rest, seek;
+        s = S_AX0 + a;
+        if (!ax->home_pulloff) ax->home_pulloff = 1;
+        seek = ax->home_seek ? ax->home_seek : ax->max_speed / 4;
+        if (ax->home_seek > ax->max_speed) return vp_bad(c, s, "home_seek", err, el, "faster than max_speed (%g %s/s)", ax->max_speed, axis_unit[a]);
+        if (ax->home_feed > seek) return vp_bad(c, s, "home_feed", err, el, "faster than home_seek (%g %s/s)", seek, axis_unit[a]);
+        if (ax->home_dir && !vp_seen(c, s, "home_pos")) return vp_bad(c, s, "home", err, el, "needs home_pos (where the switch closes)");
+        rest = ax->home_pos - ax->home_dir * ax->home_pulloff;
+        if (rest < ax->travel_min || rest > ax->travel_max)
+            return vp_bad(c, s, "home_pos", err, el, "%s the axis rests at %g %s, outside travel %g..%g",
+                          ax->home_dir ? "after the pull-off" : "at power-on", rest, axis_unit[a], ax->travel_min, ax->travel_max);
+        if (b->max_step_rate > 0 && ax->max_speed * ax->steps_per_unit > b->max_step_rate)
+            return vp_bad(c, s, "max_speed", err, el, "%g %s/s is %g steps/s, above [timing] max_step_rate %g", ax->max_speed,
+                          axis_unit[a], ax->max_speed * ax->steps_per_unit, b->max_step_rate);
+        if (b->io == VP_BOARD_IO_GPIOD && ax->home_dir < 0 && !x->lim_min.chip[0])
+            return vp_bad(c, s, "home", err, el, "homing to min needs a limit_min pin");
+        if (b->io == VP_BOARD_IO_GPIOD && ax->home_dir > 0 && !x->lim_max.chip[0])
+            return vp_bad(c, s, "home", err, el, "homing to max needs a limit_max pin");
+        if (b->io == VP_BOARD_IO_GPIOD && (!x->step.chip[0] || !x->dir.chip[0]))
+            return vp_bad(c, s, x->step.chip[0] ? "dir" : "step", err, el, "a driven axis needs this pin");
+    }
+    if (b->io == VP_BOARD_IO_GPIOD) {
+        if (!b->estop.chip[0]) return vp_bad(c, S_ESTOP, "pin", err, el, "a board that drives motors needs an e-stop input");
+        VP_TRY(vp_board_pins(c, err, el));
+    }
+    /* head and camera */
+    if (!b->cam_model.fx || !b->cam_model.fy) return vp_bad(c, S_CAMERA, NULL, err, el, "missing key 'focal_px' (or fx and fy)");
+    if (!vp_seen(c, S_CAMERA, "center")) {
+        b->cam_model.cx = (b->cam_model.width - 1) / 2.0;
+        b->cam_model.cy = (b->cam_model.height - 1) / 2.0;
+    }
+    if (vp_camera_look_at(&b->cam_model, b->look_at, b->up) != VP_OK)
+        return vp_bad(c, S_CAMERA, "look_at", err, el, "must differ from position and not lie along 'up' from it");
+    /* rangefinder */
+    if (!(b->min_range < b->max_range)) return vp_bad(c, S_RANGE, "max_range", err, el, "must be above min_range (%g)", b->min_range);
+    if (!!vp_seen(c, S_RANGE, "line") != !!vp_seen(c, S_RANGE, "model"))
+        return vp_bad(c, S_RANGE, vp_seen(c, S_RANGE, "line") ? "line" : "model", err, el, "a calibration needs both line and model");
+    if (vp_seen(c, S_RANGE, "line")) {
+        double len = sqrt(b->line[2] * b->line[2] + b->line[3] * b->line[3]);
+        if (!(len > 0.5 && len < 2)) return vp_bad(c, S_RANGE, "line", err, el, "the direction (3rd, 4th numbers) must be a unit vector");
+        memset(&b->tri, 0, sizeof b->tri);
+        b->tri.p0[0] = b->line[0]; b->tri.p0[1] = b->line[1];
+        b->tri.e[0] = b->line[2] / len; b->tri.e[1] = b->line[3] / len;
+        b->tri.a = b->model[0]; b->tri.b = b->model[1]; b->tri.c = b->model[2];
+        b->tri.line_tol = 3;
+        b->tri.min_range = b->min_range;
+        b->tri.max_range = b->max_range;
+        b->calibrated = 1;
+    } else {
+        rc = vp_tri_from_geometry(&b->cam_model, b->laser_offset, b->min_range, b->max_range, &b->tri);
+        if (rc != VP_OK) return vp_bad(c, S_CAMERA, "look_at", err, el, "the camera does not see the beam between min_range and max_range");
+        if (b->tri.max_range - b->tri.min_range < 0.2 * (b->max_range - b->min_range))
+            return vp_bad(c, S_CAMERA, "look_at", err, el, "the beam is in view only from %.0f to %.0f mm", b->tri.min_range, b->tri.max_range);
+        b->calibrated = 0;
+    }
+    /* Omega and the start, within reach of the head in any orientation */
+    if (!vp_seen(c, S_OMEGA, "box") == !vp_seen(c, S_OMEGA, "ball"))
+        return vp_bad(c, S_OMEGA, vp_seen(c, S_OMEGA, "box") ? "ball" : NULL, err, el, "give exactly one of box and ball");
+    vp_board_kin_config(b, &kc);
+    if (vp_kin_init(&kin, &kc) != VP_OK) return vp_bad(c, S_HEAD, NULL, err, el, "bad head geometry");
+    {
+        double lo[3], hi[3], reach = kin.reach;
+        int k;
+        const char *key = b->omega_kind == VP_OMEGA_BOX ? "box" : "ball";
+        for (k = 0; k < 3; k++) {
+            lo[k] = b->omega_kind == VP_OMEGA_BOX ? b->omega_lo[k] : b->omega_center[k] - b->omega_radius;
+            hi[k] = b->omega_kind == VP_OMEGA_BOX ? b->omega_hi[k] : b->omega_center[k] + b->omega_radius;
+            if (lo[k] - reach < b->axis[k].ax.travel_min || hi[k] + reach > b->axis[k].ax.travel_max)
+                return vp_bad(c, S_OMEGA, key, err, el, "%c from %g to %g is not within %s travel %g..%g less the head's reach %.1f mm",
+                              "xyz"[k], lo[k], hi[k], sec_name[S_AX0 + k], b->axis[k].ax.travel_min, b->axis[k].ax.travel_max, reach);
+        }
+        if (!vp_seen(c, S_OMEGA, "interior"))
+            for (k = 0; k < 3; k++) b->interior[k] = 0.5 * (lo[k] + hi[k]);
+        {
+            int inside_s = 1, inside_i = 1;
+            double ds = 0, di = 0;
+            for (k = 0; k < 3; k++) {
+                if (b->omega_kind == VP_OMEGA_BOX) {
+                    if (b->start[k] <= lo[k] || b->start[k] >= hi[k]) inside_s = 0;
+                    if (b->interior[k] <= lo[k] || b->interior[k] >= hi[k]) inside_i = 0;
+                }
+                ds += (b->start[k] - b->omega_center[k]) * (b->start[k] - b->omega_center[k]);
+                di += (b->interior[k] - b->omega_center[k]) * (b->interior[k] - b->omega_center[k]);
+            }
+            if (b->omega_kind == VP_OMEGA_BALL) { inside_s = ds < b->omega_radius * b->omega_radius; inside_i = di < b->omega_radius * b->omega_radius; }
+            if (inside_s) return vp_bad(c, S_OMEGA, "start", err, el, "the device must start outside Omega");
+            if (!inside_i) return vp_bad(c, S_OMEGA, "interior", err, el, "must lie inside Omega");
+            for (k = 0; k < 3; k++)
+                if (b->start[k] - reach < b->axis[k].ax.travel_min || b->start[k] + reach > b->axis[k].ax.travel_max)
+                    return vp_bad(c, S_OMEGA, "start", err, el, "%c = %g is beyond %s travel less the head's reach", "xyz"[k], b->start[k], sec_name[S_AX0 + k]);
+        }
+    }
+    return VP_OK;
+}
+
+static void vp_board_defaults(vp_board_t *b)
+{
+    int a;
+    memset(b, 0, sizeof *b);
+    for (a = 0; a < VP_BOARD_AXES; a++) {
+        b->axis[a].step.offset = b->axis[a].dir.offset = b->axis[a].enable.offset = -1;
+        b->axis[a].lim_min.offset = b->axis[a].lim_max.offset = -1;
+    }
+    b->estop.offset = b->laser.offset = -1;
+    b->pulse_us = 4;
+    b->dir_setup_us = 2;
+    b->enable_ms = 2;
+    b->poll_ms = 1;
+    b->spin_us = 50;
+    b->origin_tol = 0.1;
+    strcpy(b->camera.backend, "v4l2");
+    strcpy(b->camera.device, "/dev/video0");
+    b->up[2] = 1;
+    b->timeout_ms = 1000;
+    b->settle_ms = 20;
+    b->sim_blur = 1.2;
+    b->sim_noise = 2;
+    b->sim_ambient = 30;
+    b->sim_gradient = 20;
+    b->sim_texture = 3;
+    b->sim_energy = 6000;
+    b->sim_seed = 1;
+}
+
+static int vp_board_finish(vp_bctx_t *c, int rc, char *err, size_t el)
+{
+    if (rc != VP_OK) return rc;
+    return vp_board_check(c, err, el);
+}
+
+int vp_board_parse(const char *text, const char *name, vp_board_t *b, char *err, size_t errlen)
+{
+    vp_bctx_t c;
+    if (!text || !b) return VP_EINVAL;
+    vp_board_defaults(b);
+    memset(&c, 0, sizeof c);
+    c.b = b;
+    c.name = name ? name : "(board)";
+    c.sec = -1;
+    snprintf(b->path, sizeof b->path, "%s", c.name);
+    return vp_board_finish(&c, vp_ini_parse_text(text, c.name, vp_board_key, &c, err, errlen), err, errlen);
+}
+
+int vp_board_load(const char *path, vp_board_t *b, char *err, size_t errlen)
+{
+    vp_bctx_t c;
+    if (!path || !b) return VP_EINVAL;
+    vp_board_defaults(b);
+    memset(&c, 0, sizeof c);
+    c.b = b;
+    c.name = path;
+    c.sec = -1;
+    snprintf(b->path, sizeof b->path, "%s", path);
+    return vp_board_finish(&c, vp_ini_parse_file(path, vp_board_key, &c, err, errlen), err, errlen);
+}
+
+/* ---- configurations for the modules ---- */
+
+void vp_board_step_config(const vp_board_t *b, vp_step_config_t *c)
+{
+    int a;
+    memset(c, 0, sizeof *c);
+    c->naxes = VP_BOARD_AXES;
+    for (a = 0; a < VP_BOARD_AXES; a++) c->axis[a] = b->axis[a].ax;
+    c->pulse_ns = (uint32_t)llround(b->pulse_us * 1000);
+    c->dir_setup_ns = (uint32_t)llround(b->dir_setup_us * 1000);
+    c->enable_ns = (uint32_t)llround(b->enable_ms * 1e6);
+    c->poll_ns = (uint32_t)llround(b->poll_ms * 1e6);
+    c->max_step_rate = b->max_step_rate;
+}
+
+void vp_board_kin_config(const vp_board_t *b, vp_kin_config_t *k)
+{
+    int a;
+    memset(k, 0, sizeof *k);
+    memcpy(k->tilt_offset, b->tilt_offset, sizeof k->tilt_offset);
+    memcpy(k->laser_offset, b->laser_offset, sizeof k->laser_offset);
+    for (a = 0; a < VP_BOARD_AXES; a++) { k->lo[a] = b->axis[a].ax.travel_min; k->hi[a] = b->axis[a].ax.travel_max; }
+    k->origin_tol = b->origin_tol;
+}
+
+void vp_board_gpiod_config(const vp_board_t *b, vp_gpiod_config_t *g)
+{
+    int a;
+    memset(g, 0, sizeof *g);
+    for (a = 0; a < VP_BOARD_AXES; a++) {
+        const vp_board_axis_t *x = &b->axis[a];
+        if (x->step.chip[0]) g->out[a] = x->step;
+        if (x->dir.chip[0]) g->out[8 + a] = x->dir;
+        if (x->enable.chip[0]) g->out[16 + a] = x->enable;
+        if (x->lim_min.chip[0]) g->in[a] = x->lim_min;
+        if (x->lim_max.chip[0]) g->in[8 + a] = x->lim_max;
+    }
+    if (b->laser.chip[0]) g->out[24] = b->laser;
+    if (b->estop.chip[0]) g->in[16] = b->estop;
+    g->rt_priority = b->rt_priority;
+    g->spin_ns = (int64_t)llround(b->spin_us * 1000);
+    g->consumer = "voroprobe";
+}

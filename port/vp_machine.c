@@ -1,0 +1,189 @@
+/* vp_machine — see vp_machine.h. */
+#include <math.h>
+#include <string.h>
+#include "vp_machine.h"
+#include "vp_status.h"
+
+static void vp_machine_sync(vp_machine_t *m)
+{
+    double u[VP_STEP_MAX_AXES];
+    vp_step_position(&m->step, u);
+    memcpy(m->j, u, sizeof m->j);
+}
+
+int vp_machine_init(vp_machine_t *m, const vp_kin_config_t *kc, const vp_step_config_t *sc, const vp_io_t *io,
+                    const vp_cam_t *cam, const vp_tri_model_t *tri, const vp_machine_config_t *mc)
+{
+    if (!m || !kc || !sc || !io || !cam || !tri || sc->naxes != VP_KIN_JOINTS) return VP_EINVAL;
+    memset(m, 0, sizeof *m);
+    VP_TRY(vp_kin_init(&m->kin, kc));
+    VP_TRY(vp_step_init(&m->step, sc, io));
+    m->io = *io;
+    m->cam = *cam;
+    m->tri = *tri;
+    if (mc) m->cfg = *mc;
+    if (m->cfg.timeout_ms <= 0) m->cfg.timeout_ms = 1000;
+    vp_machine_sync(m);
+    return VP_OK;
+}
+
+int vp_machine_home(vp_machine_t *m)
+{
+    int rc = vp_step_home(&m->step);
+    vp_machine_sync(m);
+    return rc;
+}
+
+void vp_machine_beam(const vp_machine_t *m, double origin[3], double dir[3])
+{
+    vp_kin_forward(&m->kin, m->j, origin, dir);
+}
+
+static double vp_dist3(const double a[3], const double b[3])
+{
+    return sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) + (a[2] - b[2]) * (a[2] - b[2]));
+}
+
+int vp_machine_goto(vp_machine_t *m, const double p[3])
+{
+    double t[VP_KIN_JOINTS], o0[3], o1[3], d[3];
+    int rc;
+    VP_TRY(vp_kin_move(&m->kin, m->j, p, t));
+    vp_machine_beam(m, o0, d);
+    rc = vp_step_move(&m->step, t);
+    vp_machine_sync(m);
+    vp_machine_beam(m, o1, d);
+    m->st.travel += vp_dist3(o0, o1);
+    return rc;
+}
+
+int vp_machine_move(vp_machine_t *m, const vp_cmd_t *cmd)
+{
+    if (!m || !cmd || cmd->kind != VP_CMD_MOVE) return VP_EINVAL;
+    m->st.moves++;
+    return vp_machine_goto(m, cmd->to);
+}
+
+int vp_machine_probe(vp_machine_t *m, const vp_cmd_t *cmd, vp_probe_result_t *res)
+{
+    double target[VP_KIN_JOINTS], o0[3], d[3], dist = 0;
+    vp_frame_t f;
+    int n, rc, hit;
+    int64_t t0;
+    if (!m || !cmd || !res || cmd->kind != VP_CMD_PROBE) return VP_EINVAL;
+    res->hit = 0;
+    res->dist = 0;
+    m->st.probes++;
+    /* aim: turn about the laser origin, then wait for the head to settle */
+    VP_TRY(vp_kin_aim(&m->kin, m->j, cmd->from, cmd->dir, target));
+    n = vp_kin_aim_path(&m->kin, m->j, target, m->way, VP_MACHINE_MAX_WAY);
+    if (n < 0) return n;
+    vp_machine_beam(m, o0, d);
+    rc = vp_step_move_path(&m->step, &m->way[0][0], n);
+    vp_machine_sync(m);
+    if (rc < 0) return rc;
+    vp_machine_beam(m, m->last.origin, m->last.dir);
+    m->st.travel += vp_dist3(o0, m->last.origin);
+    t0 = m->io.now(m->io.ctx);
+    if (m->cfg.settle_ns) m->io.wait_until(m->io.ctx, t0 + m->cfg.settle_ns);
+    t0 = m->io.now(m->io.ctx);
+    /* expose */
+    if (m->cfg.use_laser_line) m->io.write(m->io.ctx, VP_IO_LASER, VP_IO_LASER);
+    rc = m->cam.capture(m->cam.ctx, t0, m->cfg.timeout_ms, &f);
+    if (m->cfg.use_laser_line) m->io.write(m->io.ctx, VP_IO_LASER, 0);
+    if (rc < 0) { m->st.camera_errors++; return rc; }
+    m->st.frames++;
+    m->last.t_ns = f.t_ns;
+    hit = vp_laser_measure(&f, &m->cfg.spot, &m->tri, &m->ws, &m->last.spot, &dist);
+    m->cam.release(m->cam.ctx, &f);
+    if (hit < 0) return hit;
+    if (!hit && m->last.spot.result == VP_SPOT_FOUND) {
+        /* a spot nearer than min_range is a surface too close, never free space: report it
+         * (extrapolated) rather than a miss */
+        const vp_tri_model_t *t = &m->tri;
+        double s = (m->last.spot.u - t->p0[0]) * t->e[0] + (m->last.spot.v - t->p0[1]) * t->e[1];
+        double d0 = vp_tri_eval(t, s, NULL), smin = vp_tri_s(t, t->min_range);
+        if ((1 + t->c * s) * (1 + t->c * smin) > 0 && d0 > 0 && d0 < t->min_range) {
+            hit = 1;
+            dist = d0;
+            m->st.near++;
+        }
+    }
+    /* a hit beyond the range asked for is a miss for the planner */
+    if (hit && dist <= cmd->range) {
+        int k;
+        res->hit = 1;
+        res->dist = dist;
+        for (k = 0; k < 3; k++) m->last.point[k] = m->last.origin[k] + dist * m->last.dir[k];
+        m->st.hits++;
+    } else {
+        int r = m->last.spot.result;
+        m->st.misses++;
+        m->st.miss_reason[hit || r == VP_SPOT_FOUND ? 5 : r + 3]++;
+    }
+    return VP_OK;
+}
+
+int vp_machine_exec(vp_machine_t *m, const vp_cmd_t *cmd, vp_probe_result_t *res)
+{
+    if (!m || !cmd) return VP_EINVAL;
+    switch (cmd->kind) {
+    case VP_CMD_MOVE: return vp_machine_move(m, cmd);
+    case VP_CMD_PROBE: return vp_machine_probe(m, cmd, res);
+    case VP_CMD_DONE: return VP_OK;
+    default: return VP_EINVAL;
+    }
+}
+
+void vp_machine_close(vp_machine_t *m)
+{
+    if (!m) return;
+    vp_step_enable(&m->step, 0);
+    if (m->cam.close) m->cam.close(m->cam.ctx);
+    m->cam.close = NULL;
+}
+
+int vp_machine_calibrate(vp_machine_t *m, const vp_calib_plan_t *p, vp_tri_model_t *out, vp_tri_fit_report_t *rep)
+{
+    static const double ex[3] = { 1, 0, 0 };
+    double uv[VP_MACHINE_MAX_CALIB][2], dist[VP_MACHINE_MAX_CALIB], o[3], d[3], target[VP_KIN_JOINTS];
+    int i, k, n = 0, frames, w;
+    if (!m || !p || !out || p->stations < 4 || !(p->d_near > 0) || !(p->d_far > p->d_near)) return VP_EINVAL;
+    frames = p->frames > 0 ? p->frames : 3;
+    if (p->stations * frames > VP_MACHINE_MAX_CALIB) return VP_EINVAL;
+    /* look along +x from the far station */
+    o[0] = p->target_x - p->d_far; o[1] = p->y; o[2] = p->z;
+    VP_TRY(vp_kin_aim(&m->kin, m->j, o, ex, target));
+    w = vp_kin_aim_path(&m->kin, m->j, target, m->way, VP_MACHINE_MAX_WAY);
+    if (w < 0) return w;
+    w = vp_step_move_path(&m->step, &m->way[0][0], w);
+    vp_machine_sync(m);
+    if (w < 0) return w;
+    for (i = 0; i < p->stations; i++) {
+        /* even steps of 1/d: the spot moves by about the same number of pixels each time */
+        double dd = 1 / (1 / p->d_far + (1 / p->d_near - 1 / p->d_far) * i / (p->stations - 1));
+        o[0] = p->target_x - dd;
+        VP_TRY(vp_machine_goto(m, o));
+        vp_machine_beam(m, o, d);
+        for (k = 0; k < frames; k++) {
+            vp_frame_t f;
+            vp_spot_t sp;
+            int64_t t0 = m->io.now(m->io.ctx);
+            if (m->cfg.settle_ns) m->io.wait_until(m->io.ctx, t0 + m->cfg.settle_ns);
+            t0 = m->io.now(m->io.ctx);
+            if (m->cfg.use_laser_line) m->io.write(m->io.ctx, VP_IO_LASER, VP_IO_LASER);
+            VP_TRY(m->cam.capture(m->cam.ctx, t0, m->cfg.timeout_ms, &f));
+            if (m->cfg.use_laser_line) m->io.write(m->io.ctx, VP_IO_LASER, 0);
+            w = vp_spot_find(&f, NULL, NULL, &m->ws, &sp);
+            m->cam.release(m->cam.ctx, &f);
+            if (w < 0) return w;
+            if (sp.result != VP_SPOT_FOUND) continue;
+            uv[n][0] = sp.u;
+            uv[n][1] = sp.v;
+            dist[n] = (p->target_x - o[0]) / d[0];   /* along the beam as stepped */
+            n++;
+        }
+    }
+    if (n < 4) return VP_EDEGEN;
+    return vp_tri_fit((const double (*)[2])uv, dist, n, 0, 0, out, rep);
+}

@@ -1,0 +1,93 @@
+/* vp_machine — the scanner as one object: kinematics, step generator, GPIO backend, camera
+ * backend and rangefinder model, executing the planner's commands:
+ *   MOVE  -> vp_kin_move -> vp_step_move -> backend              (a straight line of the laser origin)
+ *   PROBE -> vp_kin_aim (+ aim path) -> vp_step_move_path -> settle -> laser on -> capture
+ *            -> spot -> distance -> laser off -> vp_probe_result_t
+ * so a scan loop is:  while (vp_planner_next(pl, &cmd) == VP_OK && cmd.kind != VP_CMD_DONE) {
+ *                         if (vp_machine_exec(m, &cmd, &res) < 0) break;   // fault: stop, resumable
+ *                         if (cmd.kind == VP_CMD_PROBE) vp_planner_feed(pl, &res); }
+ * The backends are the caller's (vp_gpiod or vp_iorec; vp_v4l2, vp_libcamera or camsim): the
+ * machine does not know which. A probe's distance is along the beam the joints actually give
+ * (steps are quantised); `last` keeps that beam and the measured point. A spot seen nearer than
+ * the rangefinder's min_range is reported as a hit (extrapolated): a surface that close is never
+ * free space. A surface so near that its spot leaves the frame is not seen at all: keep the
+ * planner's clearance above that distance (see the board's [rangefinder] min_range). */
+#ifndef VP_MACHINE_H
+#define VP_MACHINE_H
+#include "vp_cam.h"
+#include "vp_io.h"
+#include "vp_kin.h"
+#include "vp_laser.h"
+#include "vp_planner.h"
+#include "vp_step.h"
+
+#define VP_MACHINE_MAX_WAY 128
+#define VP_MACHINE_MAX_CALIB 256
+
+typedef struct vp_machine_stats {
+    unsigned long moves, probes, hits, misses, frames, camera_errors;
+    unsigned long miss_reason[6];     /* by VP_SPOT_* + 3; [5]: spot found but out of range */
+    unsigned long near;               /* spots nearer than min_range, reported as hits */
+    double travel;                    /* laser origin path length, mm */
+} vp_machine_stats_t;
+
+typedef struct vp_machine_last {
+    double origin[3], dir[3];         /* the beam of the last probe */
+    double point[3];                  /* its hit point (if hit) */
+    vp_spot_t spot;
+    int64_t t_ns;                     /* frame time stamp */
+} vp_machine_last_t;
+
+typedef struct vp_machine_config {
+    uint32_t settle_ns;               /* wait after the aim before the exposure */
+    int timeout_ms;                   /* camera (0: 1000) */
+    int use_laser_line;               /* 1: switch VP_IO_LASER on for each exposure */
+    vp_spot_config_t spot;
+} vp_machine_config_t;
+
+typedef struct vp_machine {
+    vp_kin_t kin;
+    vp_step_t step;
+    vp_io_t io;
+    vp_cam_t cam;
+    vp_tri_model_t tri;
+    vp_machine_config_t cfg;
+    double j[VP_KIN_JOINTS];          /* joints as stepped (units) */
+    double way[VP_MACHINE_MAX_WAY][VP_KIN_JOINTS];
+    vp_machine_stats_t st;
+    vp_machine_last_t last;
+    vp_spot_ws_t ws;
+} vp_machine_t;
+
+/* Checks and wires the parts (VP_EINVAL for a bad kinematics or stepper configuration). */
+int vp_machine_init(vp_machine_t *m, const vp_kin_config_t *kc, const vp_step_config_t *sc, const vp_io_t *io,
+                    const vp_cam_t *cam, const vp_tri_model_t *tri, const vp_machine_config_t *mc);
+/* Homing cycle (vp_step_home), then the joints are known. */
+int vp_machine_home(vp_machine_t *m);
+/* Laser origin to p with pan/tilt unchanged (e.g. to the planner's start after homing). */
+int vp_machine_goto(vp_machine_t *m, const double p[3]);
+/* The two halves of exec, for loops that keep them apart. */
+int vp_machine_move(vp_machine_t *m, const vp_cmd_t *cmd);
+int vp_machine_probe(vp_machine_t *m, const vp_cmd_t *cmd, vp_probe_result_t *res);
+/* One planner command. VP_OK (a probe's miss is a result, not an error); VP_ERANGE (outside
+ * travel: refused, nothing moved); VP_EABORT (e-stop, hard limit: stopped, fault set, homing
+ * needed); VP_ETIMEOUT / VP_EIO (camera); VP_ESTATE (fault pending, not homed). */
+int vp_machine_exec(vp_machine_t *m, const vp_cmd_t *cmd, vp_probe_result_t *res);
+/* Calibration against a flat target across machine +x at x = target_x: the head looks along +x
+ * and steps towards the target through `stations` distances from d_far to d_near, evenly in 1/d
+ * so the spot moves evenly across the image (distances known from the kinematics), `frames`
+ * exposures each; the spots and distances are fitted (vp_tri_fit).
+ * VP_EDEGEN with fewer than 4 spots; the model goes to *out (ranges: the calibrated span). */
+typedef struct vp_calib_plan {
+    double target_x, y, z;            /* the plane, and where the beam crosses it */
+    double d_near, d_far;
+    int stations, frames;             /* >= 4; 0: 3 frames */
+} vp_calib_plan_t;
+int vp_machine_calibrate(vp_machine_t *m, const vp_calib_plan_t *p, vp_tri_model_t *out, vp_tri_fit_report_t *rep);
+
+/* Laser origin and beam direction now. */
+void vp_machine_beam(const vp_machine_t *m, double origin[3], double dir[3]);
+/* Drivers off, camera closed (the backends' owners release the rest). */
+void vp_machine_close(vp_machine_t *m);
+
+#endif

@@ -1,0 +1,483 @@
+/* vp_step — see vp_step.h. */
+#include <math.h>
+#include <string.h>
+#include "vp_status.h"
+#include "vp_step.h"
+
+/* ---- the block iterator (pure) ---- */
+
+int vp_step_block_init(vp_step_block_t *b, int naxes, const int32_t *delta, const double *rate,
+                       const double *acc, double rate_cap)
+{
+    uint32_t n = 0, d;
+    double v = HUGE_VAL, a = HUGE_VAL;
+    int i;
+    if (!b || !delta || !rate || !acc || naxes < 1 || naxes > VP_STEP_MAX_AXES || rate_cap < 0) return VP_EINVAL;
+    memset(b, 0, sizeof *b);
+    b->naxes = naxes;
+    for (i = 0; i < naxes; i++) {
+        if (delta[i] == INT32_MIN) return VP_EINVAL;
+        d = (uint32_t)(delta[i] < 0 ? -delta[i] : delta[i]);
+        if (d > n) n = d;
+    }
+    for (i = 0; i < naxes; i++) {
+        b->delta[i] = delta[i];
+        if (!delta[i]) continue;
+        d = (uint32_t)(delta[i] < 0 ? -delta[i] : delta[i]);
+        if (!(rate[i] > 0) || !(acc[i] > 0) || !isfinite(rate[i]) || !isfinite(acc[i])) return VP_EINVAL;
+        /* axis i runs at |d_i| / n of the dominant rate */
+        if (rate[i] * n / d < v) v = rate[i] * n / d;
+        if (acc[i] * n / d < a) a = acc[i] * n / d;
+        b->acc[i] = n / 2;
+    }
+    b->n = b->end = n;
+    if (!n) return VP_OK;
+    if (rate_cap > 0 && v > rate_cap) v = rate_cap;
+    b->v = v;
+    b->a = a;
+    b->sa = v * v / (2 * a);
+    if (2 * b->sa >= n) { /* triangle */
+        b->sa = n / 2.0;
+        b->vp = sqrt(a * n);
+        b->ta = b->vp / a;
+        b->T = 2 * b->ta;
+    } else {
+        b->vp = v;
+        b->ta = v / a;
+        b->T = 2 * b->ta + (n - 2 * b->sa) / v;
+    }
+    return VP_OK;
+}
+
+static double vp_step_block_time(const vp_step_block_t *b, double s)
+{
+    if (b->stopping) {
+        double q = b->v0 * b->v0 - 2 * b->a * (s - b->s0);
+        return b->t0 + (b->v0 - sqrt(q > 0 ? q : 0)) / b->a;
+    }
+    if (s <= b->sa) return sqrt(2 * s / b->a);
+    if (s <= b->n - b->sa) return b->ta + (s - b->sa) / b->vp;
+    return b->T - sqrt(2 * (b->n - s > 0 ? b->n - s : 0) / b->a);
+}
+
+double vp_step_block_rate(const vp_step_block_t *b)
+{
+    double s = b->k;
+    if (b->stopping) {
+        double q = b->v0 * b->v0 - 2 * b->a * (s - b->s0);
+        return sqrt(q > 0 ? q : 0);
+    }
+    if (s <= b->sa) return sqrt(2 * b->a * s);
+    if (s <= b->n - b->sa) return b->vp;
+    return sqrt(2 * b->a * (b->n - s > 0 ? b->n - s : 0));
+}
+
+int vp_step_block_next(vp_step_block_t *b, double *t, uint32_t *mask)
+{
+    uint32_t m = 0;
+    int i;
+    if (b->k >= b->end) return 0;
+    b->k++;
+    *t = vp_step_block_time(b, b->k);
+    for (i = 0; i < b->naxes; i++) {
+        if (!b->delta[i]) continue;
+        b->acc[i] += (uint32_t)(b->delta[i] < 0 ? -b->delta[i] : b->delta[i]);
+        if (b->acc[i] >= b->n) { b->acc[i] -= b->n; m |= 1u << i; }
+    }
+    *mask = m;
+    return 1;
+}
+
+void vp_step_block_stop(vp_step_block_t *b)
+{
+    double v0, t0;
+    uint32_t m;
+    if (b->k >= b->end) return;
+    v0 = vp_step_block_rate(b);
+    t0 = b->k ? vp_step_block_time(b, b->k) : 0;
+    m = (uint32_t)floor(v0 * v0 / (2 * b->a));
+    b->s0 = b->k;
+    b->t0 = t0;
+    b->v0 = v0;
+    b->stopping = 1;
+    if (b->k + m < b->end) b->end = b->k + m;
+}
+
+/* ---- the stepper ---- */
+
+enum { VP_RUN_MOVE, VP_RUN_BACKLASH, VP_RUN_HOME };
+
+typedef struct vp_run {
+    int mode;
+    int axis;            /* VP_RUN_HOME: the axis homed */
+    uint32_t watch;      /* VP_RUN_HOME: input bit that stops the block (0: none) */
+    int triggered;
+    int32_t latch;       /* position of `axis` when `watch` was first seen */
+} vp_run_t;
+
+static void vp_step_emit(vp_step_t *s, int kind, int axis, const char *what)
+{
+    vp_step_event_t ev;
+    if (!s->cfg.event) return;
+    ev.kind = kind;
+    ev.axis = axis;
+    ev.t_ns = s->io.now(s->io.ctx);
+    ev.what = what;
+    s->cfg.event(s->cfg.event_ctx, &ev);
+}
+
+static uint32_t vp_step_all(int naxes, uint32_t (*bit)(int))
+{
+    uint32_t m = 0;
+    int i;
+    for (i = 0; i < naxes; i++) m |= bit(i);
+    return m;
+}
+static uint32_t vp_bit_step(int a) { return VP_IO_STEP(a); }
+static uint32_t vp_bit_en(int a) { return VP_IO_EN(a); }
+
+static int vp_step_write(vp_step_t *s, uint32_t mask, uint32_t values)
+{
+    int r = s->io.write(s->io.ctx, mask, values);
+    if (r >= 0) s->out = (s->out & ~mask) | (values & mask);
+    return r;
+}
+
+/* Stop everything: step lines low, drivers off, fault latched. */
+static int vp_step_trip(vp_step_t *s, int fault, int kind, int axis, const char *what)
+{
+    uint32_t m = vp_step_all(s->cfg.naxes, vp_bit_step) | vp_step_all(s->cfg.naxes, vp_bit_en);
+    vp_step_write(s, m, 0);
+    s->enabled = 0;
+    s->homed = 0;
+    s->fault = fault;
+    s->fault_t = s->io.now(s->io.ctx);
+    vp_step_emit(s, kind, axis, what);
+    return fault == VP_STEP_FAULT_IO ? VP_EIO : VP_EABORT;
+}
+
+/* Inputs seen before a step: VP_OK to go on, or VP_EABORT after tripping. */
+static int vp_step_check(vp_step_t *s, const vp_step_block_t *b, vp_run_t *r, uint32_t in)
+{
+    int i;
+    if (in & VP_IO_ESTOP) return vp_step_trip(s, VP_STEP_FAULT_ESTOP, VP_STEP_EV_ESTOP, -1, "e-stop");
+    if (r->mode == VP_RUN_HOME && r->watch && (in & r->watch) && !r->triggered) {
+        r->triggered = 1;
+        r->latch = s->pos[r->axis];
+    }
+    if (s->cfg.no_hard_limits) return VP_OK;
+    for (i = 0; i < b->naxes; i++) {
+        if (r->mode == VP_RUN_HOME && i == r->axis && r->watch) continue;
+        if ((b->delta[i] < 0 && (in & VP_IO_LIM_MIN(i))) || (b->delta[i] > 0 && (in & VP_IO_LIM_MAX(i))))
+            return vp_step_trip(s, VP_STEP_FAULT_LIMIT, VP_STEP_EV_LIMIT, i, "hard limit");
+    }
+    return VP_OK;
+}
+
+static int vp_step_poll(vp_step_t *s, const vp_step_block_t *b, vp_run_t *r)
+{
+    uint32_t in = 0;
+    if (s->io.read(s->io.ctx, &in) < 0)
+        return vp_step_trip(s, VP_STEP_FAULT_IO, VP_STEP_EV_ESTOP, -1, "input read failed");
+    s->st.polls++;
+    return vp_step_check(s, b, r, in);
+}
+
+/* Runs one block through the backend: direction, enable, then timed pulses. */
+static int vp_step_run_block(vp_step_t *s, vp_step_block_t *b, vp_run_t *r)
+{
+    uint32_t dmask = 0, dval = 0, mask, smask, sval;
+    int64_t start, t_ns, wake = 0, now;
+    double t;
+    int i, rc;
+    const int64_t poll = s->cfg.poll_ns;
+    if (b->n == 0) return VP_OK;
+    for (i = 0; i < b->naxes; i++) {
+        if (!b->delta[i]) continue;
+        dmask |= VP_IO_DIR(i);
+        if ((b->delta[i] > 0) != (s->cfg.axis[i].invert_dir != 0)) dval |= VP_IO_DIR(i);
+        if (r->mode != VP_RUN_BACKLASH) s->last_dir[i] = (int8_t)(b->delta[i] > 0 ? 1 : -1);
+    }
+    /* read once before anything moves */
+    VP_TRY(vp_step_poll(s, b, r));
+    if ((s->out & dmask) != dval) {
+        if (vp_step_write(s, dmask, dval) < 0) return vp_step_trip(s, VP_STEP_FAULT_IO, VP_STEP_EV_ESTOP, -1, "write failed");
+        wake = s->cfg.dir_setup_ns;
+    }
+    if (!s->enabled) {
+        uint32_t em = vp_step_all(s->cfg.naxes, vp_bit_en);
+        if (vp_step_write(s, em, em) < 0) return vp_step_trip(s, VP_STEP_FAULT_IO, VP_STEP_EV_ESTOP, -1, "write failed");
+        s->enabled = 1;
+        if (s->cfg.enable_ns > wake) wake = s->cfg.enable_ns;
+    }
+    if (s->cfg.lead_ns > wake) wake = s->cfg.lead_ns;
+    start = s->io.now(s->io.ctx) + wake;
+    s->st.blocks++;
+    while (vp_step_block_next(b, &t, &mask)) {
+        t_ns = start + (int64_t)llround(t * 1e9);
+        /* long waits are cut into polls so the e-stop is seen within poll_ns */
+        for (;;) {
+            now = s->io.now(s->io.ctx);
+            if (t_ns - now <= poll) break;
+            s->io.wait_until(s->io.ctx, now + poll);
+            VP_TRY(vp_step_poll(s, b, r));
+        }
+        s->io.wait_until(s->io.ctx, t_ns);
+        /* late (the OS stalled us): shift the rest of the move rather than bunch steps */
+        now = s->io.now(s->io.ctx);
+        if (now - t_ns > (int64_t)s->cfg.max_late_ns) { start += now - t_ns; s->st.retimed++; }
+        VP_TRY(vp_step_poll(s, b, r));
+        /* homing: the switch closed; this tick goes out, then a decelerating stop */
+        if (r->triggered && !b->stopping) vp_step_block_stop(b);
+        smask = 0;
+        sval = 0;
+        for (i = 0; i < b->naxes; i++) {
+            if (!(mask & (1u << i))) continue;
+            smask |= VP_IO_STEP(i);
+            s->st.steps[i]++;
+            if (r->mode == VP_RUN_BACKLASH) s->st.backlash_steps[i]++;
+            else s->pos[i] += b->delta[i] > 0 ? 1 : -1;
+        }
+        sval = smask;
+        rc = vp_step_write(s, smask, sval);
+        s->io.wait_until(s->io.ctx, t_ns + s->cfg.pulse_ns);
+        if (vp_step_write(s, smask, 0) < 0 || rc < 0)
+            return vp_step_trip(s, VP_STEP_FAULT_IO, VP_STEP_EV_ESTOP, -1, "write failed");
+    }
+    s->st.move_time += vp_step_block_time(b, b->end);
+    return VP_OK;
+}
+
+static void vp_step_limits(const vp_step_t *s, double *rate, double *acc)
+{
+    int i;
+    for (i = 0; i < s->cfg.naxes; i++) {
+        rate[i] = s->cfg.axis[i].max_speed * s->cfg.axis[i].steps_per_unit;
+        acc[i] = s->cfg.axis[i].accel * s->cfg.axis[i].steps_per_unit;
+    }
+}
+
+/* Backlash take-up for reversing axes, then the block itself. */
+static int vp_step_exec(vp_step_t *s, const int32_t *delta, const double *rate, const double *acc, vp_run_t *r)
+{
+    int32_t bd[VP_STEP_MAX_AXES];
+    double brate[VP_STEP_MAX_AXES], bacc[VP_STEP_MAX_AXES];
+    vp_step_block_t b;
+    int i, any = 0;
+    vp_run_t br;
+    memset(&br, 0, sizeof br);
+    br.mode = VP_RUN_BACKLASH;
+    vp_step_limits(s, brate, bacc);
+    for (i = 0; i < s->cfg.naxes; i++) {
+        int dir = delta[i] > 0 ? 1 : delta[i] < 0 ? -1 : 0;
+        bd[i] = 0;
+        if (dir && s->backlash[i] && s->last_dir[i] && s->last_dir[i] != dir) { bd[i] = dir * s->backlash[i]; any = 1; }
+    }
+    if (any) {
+        VP_TRY(vp_step_block_init(&b, s->cfg.naxes, bd, brate, bacc, s->cfg.max_step_rate));
+        VP_TRY(vp_step_run_block(s, &b, &br));
+    }
+    VP_TRY(vp_step_block_init(&b, s->cfg.naxes, delta, rate, acc, s->cfg.max_step_rate));
+    return vp_step_run_block(s, &b, r);
+}
+
+int32_t vp_step_to_steps(const vp_step_t *s, int axis, double units)
+{
+    return (int32_t)llround(units * s->cfg.axis[axis].steps_per_unit);
+}
+
+int vp_step_init(vp_step_t *s, const vp_step_config_t *cfg, const vp_io_t *io)
+{
+    int i;
+    if (!s || !cfg || !io || !io->now || !io->wait_until || !io->write || !io->read) return VP_EINVAL;
+    if (cfg->naxes < 1 || cfg->naxes > VP_STEP_MAX_AXES) return VP_EINVAL;
+    memset(s, 0, sizeof *s);
+    s->cfg = *cfg;
+    s->io = *io;
+    if (!s->cfg.pulse_ns) s->cfg.pulse_ns = 2000;
+    if (!s->cfg.dir_setup_ns) s->cfg.dir_setup_ns = 1000;
+    if (!s->cfg.enable_ns) s->cfg.enable_ns = 1000000;
+    if (!s->cfg.lead_ns) s->cfg.lead_ns = 200000;
+    if (!s->cfg.poll_ns) s->cfg.poll_ns = 1000000;
+    if (!s->cfg.max_late_ns) s->cfg.max_late_ns = 100000;
+    if (!(s->cfg.max_step_rate >= 0) || s->cfg.max_step_rate > 1e9 / (2.0 * s->cfg.pulse_ns)) return VP_EINVAL;
+    if (!s->cfg.max_step_rate) s->cfg.max_step_rate = 1e9 / (2.0 * s->cfg.pulse_ns);
+    for (i = 0; i < cfg->naxes; i++) {
+        vp_step_axis_t *a = &s->cfg.axis[i];
+        double rest;
+        if (!(a->steps_per_unit > 0) || !(a->max_speed > 0) || !(a->accel > 0) || !isfinite(a->steps_per_unit) ||
+            !isfinite(a->max_speed) || !isfinite(a->accel) || !isfinite(a->travel_min) || !isfinite(a->travel_max) ||
+            a->travel_min > a->travel_max || !(a->backlash >= 0) || !isfinite(a->backlash) ||
+            a->home_dir < -1 || a->home_dir > 1 || !isfinite(a->home_pos) || !(a->home_seek >= 0) ||
+            !(a->home_feed >= 0) || !(a->home_pulloff >= 0) || !isfinite(a->home_seek) ||
+            !isfinite(a->home_feed) || !isfinite(a->home_pulloff)) return VP_EINVAL;
+        if (fabs(a->travel_min) * a->steps_per_unit > 2e9 || fabs(a->travel_max) * a->steps_per_unit > 2e9) return VP_EINVAL;
+        if (!a->home_seek) a->home_seek = a->max_speed / 4;
+        if (!a->home_feed) a->home_feed = a->home_seek / 10;
+        if (!a->home_pulloff) a->home_pulloff = 1;
+        if (a->home_seek > a->max_speed || a->home_feed > a->home_seek) return VP_EINVAL;
+        rest = a->home_dir ? a->home_pos - a->home_dir * a->home_pulloff : a->home_pos;
+        if (rest < a->travel_min || rest > a->travel_max) return VP_EINVAL;
+        s->backlash[i] = (int32_t)llround(a->backlash * a->steps_per_unit);
+    }
+    if (io->write(io->ctx, (1u << VP_IO_NOUT) - 1, 0) < 0) return VP_EIO;
+    return VP_OK;
+}
+
+int vp_step_enable(vp_step_t *s, int on)
+{
+    uint32_t em;
+    if (!s) return VP_EINVAL;
+    if (on && s->fault) return VP_ESTATE;
+    em = vp_step_all(s->cfg.naxes, vp_bit_en);
+    VP_TRY(vp_step_write(s, em, on ? em : 0));
+    if (on && !s->enabled) s->io.wait_until(s->io.ctx, s->io.now(s->io.ctx) + s->cfg.enable_ns);
+    s->enabled = on != 0;
+    return VP_OK;
+}
+
+void vp_step_position(const vp_step_t *s, double *units)
+{
+    int i;
+    for (i = 0; i < s->cfg.naxes; i++) units[i] = s->pos[i] / s->cfg.axis[i].steps_per_unit;
+}
+
+int vp_step_set_position(vp_step_t *s, const double *units)
+{
+    int i;
+    if (!s || !units) return VP_EINVAL;
+    if (s->fault) return VP_ESTATE;
+    for (i = 0; i < s->cfg.naxes; i++) if (!isfinite(units[i])) return VP_EINVAL;
+    for (i = 0; i < s->cfg.naxes; i++) s->pos[i] = vp_step_to_steps(s, i, units[i]);
+    s->homed = 1;
+    return VP_OK;
+}
+
+int vp_step_clear_fault(vp_step_t *s)
+{
+    uint32_t in = 0;
+    if (!s) return VP_EINVAL;
+    if (s->io.read(s->io.ctx, &in) < 0) return VP_EIO;
+    if (in & VP_IO_ESTOP) return VP_EABORT;
+    if (s->fault) vp_step_emit(s, VP_STEP_EV_CLEARED, -1, "fault cleared");
+    s->fault = VP_STEP_FAULT_NONE;
+    return VP_OK;
+}
+
+/* Checks a target against travel (half a step of slack) and turns it into step deltas. */
+static int vp_step_target(const vp_step_t *s, const double *target, const int32_t *from, int32_t *delta)
+{
+    int i;
+    for (i = 0; i < s->cfg.naxes; i++) {
+        const vp_step_axis_t *a = &s->cfg.axis[i];
+        double h = 0.5 / a->steps_per_unit;
+        if (!isfinite(target[i])) return VP_EINVAL;
+        if (target[i] < a->travel_min - h || target[i] > a->travel_max + h) return VP_ERANGE;
+        delta[i] = vp_step_to_steps(s, i, target[i]) - from[i];
+    }
+    return VP_OK;
+}
+
+int vp_step_move_path(vp_step_t *s, const double *way, int n)
+{
+    int32_t delta[VP_STEP_MAX_AXES], at[VP_STEP_MAX_AXES];
+    double rate[VP_STEP_MAX_AXES], acc[VP_STEP_MAX_AXES];
+    vp_run_t r;
+    int w, rc, na;
+    if (!s || !way || n < 0) return VP_EINVAL;
+    if (s->fault || (!s->homed && !s->cfg.allow_unhomed)) return VP_ESTATE;
+    na = s->cfg.naxes;
+    /* every waypoint first: refuse before anything moves */
+    memcpy(at, s->pos, sizeof at);
+    for (w = 0; w < n; w++) {
+        rc = vp_step_target(s, way + (size_t)w * na, at, delta);
+        if (rc < 0) { s->st.refused++; return rc; }
+    }
+    vp_step_limits(s, rate, acc);
+    memset(&r, 0, sizeof r);
+    r.mode = VP_RUN_MOVE;
+    for (w = 0; w < n; w++) {
+        vp_step_target(s, way + (size_t)w * na, s->pos, delta);
+        VP_TRY(vp_step_exec(s, delta, rate, acc, &r));
+    }
+    s->st.moves++;
+    return VP_OK;
+}
+
+int vp_step_move(vp_step_t *s, const double *target) { return vp_step_move_path(s, target, 1); }
+
+/* Single-axis homing move of `steps` (signed) at `rate` steps/s, stopping when `watch` closes. */
+static int vp_step_home_move(vp_step_t *s, int axis, int32_t steps, double rate, uint32_t watch, vp_run_t *r)
+{
+    int32_t delta[VP_STEP_MAX_AXES];
+    double rt[VP_STEP_MAX_AXES], acc[VP_STEP_MAX_AXES];
+    memset(delta, 0, sizeof delta);
+    vp_step_limits(s, rt, acc);
+    delta[axis] = steps;
+    rt[axis] = rate;
+    memset(r, 0, sizeof *r);
+    r->mode = VP_RUN_HOME;
+    r->axis = axis;
+    r->watch = watch;
+    return vp_step_exec(s, delta, rt, acc, r);
+}
+
+static int vp_step_home_fail(vp_step_t *s, int axis, int rc, const char *what)
+{
+    uint32_t m = vp_step_all(s->cfg.naxes, vp_bit_en);
+    vp_step_write(s, m | vp_step_all(s->cfg.naxes, vp_bit_step), 0);
+    s->enabled = 0;
+    s->fault = VP_STEP_FAULT_HOME;
+    s->fault_t = s->io.now(s->io.ctx);
+    vp_step_emit(s, VP_STEP_EV_HOME_FAIL, axis, what);
+    return rc;
+}
+
+static int vp_step_home_axis(vp_step_t *s, int i)
+{
+    const vp_step_axis_t *a = &s->cfg.axis[i];
+    const int dir = a->home_dir;
+    const double spu = a->steps_per_unit;
+    const uint32_t sw = dir < 0 ? VP_IO_LIM_MIN(i) : VP_IO_LIM_MAX(i);
+    int32_t pull = (int32_t)llround(a->home_pulloff * spu), seek;
+    uint32_t in = 0;
+    vp_run_t r;
+    if (pull < 1) pull = 1;
+    seek = (int32_t)ceil(1.5 * (a->travel_max - a->travel_min) * spu) + 2 * pull;
+    if (s->io.read(s->io.ctx, &in) < 0) return vp_step_home_fail(s, i, VP_EIO, "input read failed");
+    if (in & sw) { /* already on the switch: leave it first */
+        VP_TRY(vp_step_home_move(s, i, -dir * pull, a->home_seek * spu, 0, &r));
+        if (s->io.read(s->io.ctx, &in) < 0 || (in & sw)) return vp_step_home_fail(s, i, VP_EIO, "limit switch stays closed");
+    }
+    VP_TRY(vp_step_home_move(s, i, dir * seek, a->home_seek * spu, sw, &r));
+    if (!r.triggered) return vp_step_home_fail(s, i, VP_ETIMEOUT, "limit switch not found");
+    VP_TRY(vp_step_home_move(s, i, -dir * pull, a->home_seek * spu, 0, &r));
+    if (s->io.read(s->io.ctx, &in) < 0 || (in & sw)) return vp_step_home_fail(s, i, VP_EIO, "limit switch stays closed");
+    VP_TRY(vp_step_home_move(s, i, dir * 2 * pull, a->home_feed * spu, sw, &r));
+    if (!r.triggered) return vp_step_home_fail(s, i, VP_ETIMEOUT, "limit switch lost on slow approach");
+    /* the latched step is where the switch closes: home_pos */
+    s->pos[i] = vp_step_to_steps(s, i, a->home_pos) + (s->pos[i] - r.latch);
+    VP_TRY(vp_step_home_move(s, i, vp_step_to_steps(s, i, a->home_pos - dir * a->home_pulloff) - s->pos[i],
+                             a->home_seek * spu, 0, &r));
+    if (s->io.read(s->io.ctx, &in) < 0 || (in & sw)) return vp_step_home_fail(s, i, VP_EIO, "limit switch stays closed");
+    vp_step_emit(s, VP_STEP_EV_HOMED, i, "axis homed");
+    return VP_OK;
+}
+
+int vp_step_home(vp_step_t *s)
+{
+    int order[VP_STEP_MAX_AXES], n = 0, i, j;
+    if (!s) return VP_EINVAL;
+    if (s->fault) return VP_ESTATE;
+    s->homed = 0;
+    for (i = 0; i < s->cfg.naxes; i++) {
+        if (!s->cfg.axis[i].home_dir) { s->pos[i] = vp_step_to_steps(s, i, s->cfg.axis[i].home_pos); continue; }
+        /* insertion by (home_order, index) */
+        for (j = n; j > 0 && s->cfg.axis[order[j - 1]].home_order > s->cfg.axis[i].home_order; j--) order[j] = order[j - 1];
+        order[j] = i;
+        n++;
+    }
+    for (j = 0; j < n; j++) VP_TRY(vp_step_home_axis(s, order[j]));
+    s->homed = 1;
+    return VP_OK;
+}

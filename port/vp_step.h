@@ -1,0 +1,140 @@
+/* vp_step — step generation for up to VP_IO_MAX_AXES stepper axes (grbl's stepper idea, no
+ * timers: a stream of timed edges through a vp_io backend).
+ *
+ * A move is one block: the joints travel on a straight line in step space. The axis with the
+ * most steps (dominant) follows a trapezoidal velocity profile from rest to rest; the others
+ * step by Bresenham on the dominant ticks, so every axis starts and ends together and each stays
+ * within half a step of the line. The profile's speed and acceleration are the largest that
+ * keep every axis within its own max speed and acceleration (the most constrained axis rules).
+ * Step times come from the exact profile (no accumulated drift), as absolute ns deadlines; a
+ * deadline met late by more than max_late_ns delays the rest of the move (never a burst).
+ *
+ * Also: steps per unit, direction inversion, enable lines, backlash take-up before a reversing
+ * move (extra steps not counted in the position), soft travel limits (a move leaving travel is
+ * refused before any step), homing against limit switches (seek, pull off, slow locate, pull
+ * off; the switch position is latched), and an e-stop input polled before every step pulse and
+ * at least every poll_ns: no pulse after it is seen, drivers disabled, a fault reported through
+ * the event callback. A fault blocks moves until vp_step_clear_fault() and a new homing; the
+ * caller's session is untouched.
+ *
+ * The block iterator (vp_step_block_*) is pure arithmetic, usable from a timer interrupt. */
+#ifndef VP_STEP_H
+#define VP_STEP_H
+#include <stdint.h>
+#include "vp_io.h"
+
+#define VP_STEP_MAX_AXES VP_IO_MAX_AXES
+
+typedef struct vp_step_axis {
+    double steps_per_unit;   /* steps per mm (or per degree) */
+    double max_speed;        /* units/s */
+    double accel;            /* units/s^2 */
+    double travel_min, travel_max;  /* soft limits, machine coordinates */
+    double backlash;         /* units taken up before a reversal */
+    int invert_dir;          /* 1: DIR line low for positive motion */
+    int home_dir;            /* -1: switch at the min end, +1: at the max end, 0: no homing */
+    double home_pos;         /* coordinate where the switch closes (home_dir != 0), or the
+                                position taken as known at homing (home_dir == 0) */
+    double home_seek;        /* units/s (0: max_speed / 4) */
+    double home_feed;        /* units/s (0: home_seek / 10) */
+    double home_pulloff;     /* units (0: 1 unit) */
+    int home_order;          /* homing goes by increasing order, then by axis index */
+} vp_step_axis_t;
+
+enum { VP_STEP_EV_ESTOP = 1, VP_STEP_EV_LIMIT, VP_STEP_EV_HOME_FAIL, VP_STEP_EV_HOMED,
+       VP_STEP_EV_CLEARED };
+
+typedef struct vp_step_event {
+    int kind;                /* VP_STEP_EV_* */
+    int axis;                /* -1 if none */
+    int64_t t_ns;
+    const char *what;        /* short constant text */
+} vp_step_event_t;
+
+typedef struct vp_step_config {
+    int naxes;               /* 1..VP_STEP_MAX_AXES */
+    vp_step_axis_t axis[VP_STEP_MAX_AXES];
+    uint32_t pulse_ns;       /* step pulse width (0: 2000) */
+    uint32_t dir_setup_ns;   /* DIR settles this long before a step (0: 1000) */
+    uint32_t enable_ns;      /* drivers wake this long after enable (0: 1 ms) */
+    uint32_t lead_ns;        /* first deadline of a block this far ahead (0: 200 us) */
+    uint32_t poll_ns;        /* inputs read at least this often while waiting (0: 1 ms) */
+    uint32_t max_late_ns;    /* a step later than this shifts the rest of the move instead of
+                                a catch-up burst of steps (0: 100 us) */
+    double max_step_rate;    /* backend limit in steps/s per axis (0: 1e9 / (2 pulse_ns)) */
+    int allow_unhomed;       /* 1: moves allowed before homing */
+    int no_hard_limits;      /* 1: a switch closing during a move is not a fault */
+    void (*event)(void *ctx, const vp_step_event_t *ev);   /* faults and homing, may be NULL */
+    void *event_ctx;
+} vp_step_config_t;
+
+enum { VP_STEP_FAULT_NONE = 0, VP_STEP_FAULT_ESTOP, VP_STEP_FAULT_LIMIT, VP_STEP_FAULT_HOME,
+       VP_STEP_FAULT_IO };
+
+/* One block: Bresenham over `delta` with a rest-to-rest trapezoid on the dominant axis. */
+typedef struct vp_step_block {
+    int naxes;
+    int32_t delta[VP_STEP_MAX_AXES];
+    uint32_t n, k, end;      /* dominant steps: total, done, last one (a stop moves it) */
+    double v, a;             /* dominant step rate cap and acceleration */
+    double sa, ta, vp, T;    /* accel steps and time, peak rate, total time */
+    int stopping;
+    double s0, t0, v0;       /* decelerating stop from step s0 at t0 with rate v0 */
+    uint64_t acc[VP_STEP_MAX_AXES];
+} vp_step_block_t;
+
+/* rate[i], acc[i]: axis i limits in steps/s and steps/s^2 (> 0 for every moving axis);
+ * rate_cap caps every axis's step rate (0: none). VP_EINVAL for a bad limit. */
+int  vp_step_block_init(vp_step_block_t *b, int naxes, const int32_t *delta, const double *rate,
+                        const double *acc, double rate_cap);
+/* Next dominant tick: 1 with its time (s from the block start) and the axes that step (bit i,
+ * direction from the sign of delta[i]); 0 when the block is done. */
+int  vp_step_block_next(vp_step_block_t *b, double *t, uint32_t *mask);
+/* Decelerate to rest from the last tick at the block's acceleration (the path is kept). */
+void vp_step_block_stop(vp_step_block_t *b);
+/* Dominant step rate at the last tick (steps/s, the profile's value). */
+double vp_step_block_rate(const vp_step_block_t *b);
+
+typedef struct vp_step_stats {
+    uint64_t steps[VP_STEP_MAX_AXES];        /* pulses issued (backlash included) */
+    uint64_t backlash_steps[VP_STEP_MAX_AXES];
+    uint64_t moves, blocks, refused, polls;
+    uint64_t retimed;                        /* late steps that shifted the rest of a move */
+    double move_time;                        /* s of motion (profile time) */
+} vp_step_stats_t;
+
+typedef struct vp_step {
+    vp_step_config_t cfg;
+    vp_io_t io;
+    int32_t pos[VP_STEP_MAX_AXES];           /* logical position in steps */
+    int8_t last_dir[VP_STEP_MAX_AXES];       /* +1/-1 of the last motion, 0 unknown */
+    int32_t backlash[VP_STEP_MAX_AXES];      /* steps */
+    uint32_t out;                            /* current output levels */
+    int enabled, homed, fault;
+    int64_t fault_t;
+    vp_step_stats_t st;
+} vp_step_t;
+
+/* Checks the configuration (VP_EINVAL: bad counts, speeds, travel, home position outside travel
+ * after the pull-off) and sets all outputs low (drivers disabled). */
+int  vp_step_init(vp_step_t *s, const vp_step_config_t *cfg, const vp_io_t *io);
+int  vp_step_enable(vp_step_t *s, int on);
+/* Homing cycle. VP_OK; VP_EABORT (e-stop); VP_ETIMEOUT (a switch never closed within 1.5x the
+ * travel); VP_EIO (a switch stays closed after pulling off). Failures set a fault. */
+int  vp_step_home(vp_step_t *s);
+/* Coordinated move to target (units, naxes values). VP_OK; VP_ERANGE (outside travel, nothing
+ * moved); VP_ESTATE (fault pending or not homed); VP_EABORT (e-stop or hard limit during the
+ * move: stopped at once, position = the steps issued, fault set); VP_EINVAL (NaN). */
+int  vp_step_move(vp_step_t *s, const double *target);
+/* n moves through waypoints (n * naxes values); all are checked against travel first. */
+int  vp_step_move_path(vp_step_t *s, const double *way, int n);
+/* Position in units (logical, steps / steps_per_unit). */
+void vp_step_position(const vp_step_t *s, double *units);
+/* Declare the current position (boards without switches). Sets homed. */
+int  vp_step_set_position(vp_step_t *s, const double *units);
+/* Clears a fault once the e-stop is released (VP_EABORT while it is pressed); homing needed. */
+int  vp_step_clear_fault(vp_step_t *s);
+/* Unit value -> steps (rounded), as the stepper does. */
+int32_t vp_step_to_steps(const vp_step_t *s, int axis, double units);
+
+#endif

@@ -1,0 +1,204 @@
+/* Board files: boards/rpi4-gantry.ini and boards/sim.ini parse into the expected machine;
+ * broken variants are refused with the file, the right line, the section, the key and the
+ * reason; the module configurations derived from a board are accepted by those modules. */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include "vp_board.h"
+#include "vp_iorec.h"
+#include "vp_planner.h"
+#include "vp_status.h"
+#include "vp_test.h"
+
+static char text[65536];
+
+static int load_text(const char *path)
+{
+    FILE *f = fopen(path, "r");
+    size_t n;
+    if (!f) return 0;
+    n = fread(text, 1, sizeof text - 1, f);
+    text[n] = 0;
+    fclose(f);
+    return 1;
+}
+
+/* line number (1-based) of the first occurrence of s in t */
+static int line_of(const char *t, const char *s)
+{
+    const char *p = strstr(t, s), *q;
+    int line = 1;
+    if (!p) return -1;
+    for (q = t; q < p; q++) if (*q == '\n') line++;
+    return line;
+}
+
+/* text with the first `from` replaced by `to` */
+static char *edit(const char *from, const char *to)
+{
+    static char out[65536];
+    const char *p = strstr(text, from);
+    if (!p) { fprintf(stderr, "edit: '%s' not found\n", from); exit(2); }
+    snprintf(out, sizeof out, "%.*s%s%s", (int)(p - text), text, to, p + strlen(from));
+    return out;
+}
+
+/* removes a whole section: from its header to the next '[' at a line start */
+static char *cut_section(const char *hdr)
+{
+    static char out[65536];
+    const char *p = strstr(text, hdr), *e;
+    if (!p) exit(2);
+    e = strstr(p + 1, "\n[");
+    snprintf(out, sizeof out, "%.*s%s", (int)(p - text), text, e ? e + 1 : "");
+    return out;
+}
+
+static int nbad;
+static void bad(const char *t, const char *want_loc, const char *want_msg)
+{
+    vp_board_t b;
+    char err[400];
+    int rc = vp_board_parse(t, "rpi4.ini", &b, err, sizeof err);
+    nbad++;
+    CHECKF(rc == VP_EINVAL, "accepted; wanted '%s'", want_msg);
+    CHECKF(strstr(err, want_loc) && strstr(err, want_msg), "got '%s', wanted '%s' ... '%s'", err, want_loc, want_msg);
+    if (getenv("VP_VERBOSE")) printf("  %s\n", err);
+}
+
+int main(void)
+{
+    vp_board_t b;
+    char err[400], loc[64];
+    int rc, a;
+    const char *t;
+
+    /* ---- the two boards ---- */
+    rc = vp_board_load("boards/rpi4-gantry.ini", &b, err, sizeof err);
+    CHECKF(rc == VP_OK, "%s", err);
+    CHECK(!strcmp(b.name, "rpi4-gantry") && b.io == VP_BOARD_IO_GPIOD);
+    CHECK(b.axis[0].ax.steps_per_unit == 80 && b.axis[0].ax.max_speed == 150 && b.axis[0].ax.accel == 1500);
+    CHECK(b.axis[0].ax.travel_min == 0 && b.axis[0].ax.travel_max == 400 && b.axis[0].ax.home_dir == -1);
+    CHECK(b.axis[1].ax.invert_dir == 1 && b.axis[2].ax.home_dir == 1 && b.axis[4].ax.home_dir == 0);
+    CHECK(!strcmp(b.axis[0].step.chip, "gpiochip0") && b.axis[0].step.offset == 17 && !b.axis[0].step.active_low);
+    CHECK(b.axis[0].enable.offset == 16 && b.axis[0].enable.active_low == 1);
+    CHECK(b.axis[0].lim_min.offset == 19 && b.axis[0].lim_min.pull == VP_PULL_UP && b.axis[0].lim_max.offset == -1);
+    CHECK(b.estop.offset == 4 && b.estop.pull == VP_PULL_UP && b.laser.offset == 18);
+    CHECK(b.tilt_offset[2] == 45 && b.laser_offset[0] == 20);
+    CHECK(!strcmp(b.camera.backend, "v4l2") && !strcmp(b.camera.device, "/dev/video0") && b.camera.exposure_us == 1000);
+    CHECK(b.camera.format == VP_FOURCC('G', 'R', 'E', 'Y') && b.cam_model.fx == 350 && b.cam_model.fy == 350);
+    CHECK(b.min_range == 10 && b.max_range == 400 && !b.calibrated && b.tri.max_range > b.tri.min_range);
+    CHECK(b.omega_kind == VP_OMEGA_BOX && b.omega_hi[2] == 200 && b.eps == 15 && b.start[2] == 225);
+    CHECK(!strcmp(b.sim_surface, "ellipsoid*50@200,150,135"));
+    {
+        vp_step_config_t sc;
+        vp_kin_config_t kc;
+        vp_gpiod_config_t gc;
+        vp_kin_t kin;
+        vp_step_t st;
+        vp_iorec_t rec;
+        vp_iorec_config_t rcf;
+        vp_io_t io;
+        vp_board_step_config(&b, &sc);
+        CHECK(sc.naxes == 5 && sc.pulse_ns == 4000 && sc.dir_setup_ns == 2000 && sc.enable_ns == 2000000 && sc.max_step_rate == 20000);
+        memset(&rcf, 0, sizeof rcf);
+        rcf.naxes = 5;
+        rcf.estop_at = -1;
+        vp_iorec_init(&rec, &rcf);
+        io = vp_iorec_io(&rec);
+        CHECK(vp_step_init(&st, &sc, &io) == VP_OK);
+        vp_board_kin_config(&b, &kc);
+        CHECK(vp_kin_init(&kin, &kc) == VP_OK && kc.hi[3] == 190 && kc.lo[4] == -90);
+        vp_board_gpiod_config(&b, &gc);
+        CHECK(gc.out[0].offset == 17 && gc.out[8].offset == 27 && gc.out[12].offset == 13);
+        for (a = 0; a < 5; a++) CHECK(gc.out[16 + a].offset == 16 && gc.out[16 + a].active_low);
+        CHECK(gc.in[0].offset == 19 && gc.in[8 + 2].offset == 21 && gc.in[16].offset == 4 && gc.out[24].offset == 18);
+        CHECK(gc.rt_priority == 50 && gc.spin_ns == 50000);
+    }
+    rc = vp_board_load("boards/sim.ini", &b, err, sizeof err);
+    CHECKF(rc == VP_OK, "%s", err);
+    CHECK(!strcmp(b.name, "sim") && b.io == VP_BOARD_IO_SIM && !b.axis[0].step.chip[0] && !b.estop.chip[0]);
+    CHECK(!strcmp(b.sim_surface, "sphere*80") && b.interior[0] == 0 && b.sim_energy == 6000);
+    CHECK(b.cam_model.cx == 319.5 && b.cam_model.cy == 239.5);   /* centre defaults to the middle */
+
+    /* ---- broken boards ---- */
+    CHECK(load_text("boards/rpi4-gantry.ini"));
+    CHECK(vp_board_load("boards/no-such-board.ini", &b, err, sizeof err) == VP_EIO && strstr(err, "boards/no-such-board.ini"));
+#define LOC(s) (snprintf(loc, sizeof loc, "rpi4.ini:%d: ", line_of(t, s)), loc)
+    t = edit("steps_per_unit = 80\nmax_speed = 150", "stesp_per_unit = 80\nmax_speed = 150");
+    bad(t, LOC("stesp_per_unit"), "[axis.x] stesp_per_unit: unknown key");
+    t = edit("steps_per_unit = 400", "steps_per_unit = 4OO");
+    bad(t, LOC("4OO"), "[axis.z] steps_per_unit: expected a number, got '4OO'");
+    t = edit("max_speed = 120", "max_speed = -120");
+    bad(t, LOC("-120"), "[axis.y] max_speed: -120 must be positive");
+    t = edit("accel = 1200\n", "");
+    bad(t, LOC("[axis.y]"), "[axis.y] missing key 'accel'");
+    t = cut_section("[axis.tilt]");
+    bad(t, "rpi4.ini: ", "missing section [axis.tilt]");
+    t = cut_section("[estop]");
+    bad(t, "rpi4.ini: ", "missing section [estop]: a board that drives motors needs an e-stop input");
+    t = edit("dir = gpiochip0:23", "dir = gpiochip0:27");
+    snprintf(loc, sizeof loc, "rpi4.ini:%d: ", line_of(t, "[axis.y]") + 2);
+    bad(t, loc, "[axis.y] dir: gpiochip0:27 is already [axis.x] dir (line 25)");
+    t = edit("limit_max = gpiochip0:21 pull-up", "limit_max = gpiochip0:17 pull-up");
+    bad(t, LOC("limit_max = gpiochip0:17"), "[axis.z] limit_max: gpiochip0:17 is already [axis.x] step");
+    t = edit("step = gpiochip0:5", "step = gpio5");
+    bad(t, LOC("gpio5"), "[axis.pan] step: expected [!]CHIP:OFFSET [pull-up|pull-down] or none, got 'gpio5'");
+    t = edit("pin = gpiochip0:4 pull-up", "pin = gpiochip0:4 pullup");
+    bad(t, LOC("pullup"), "[estop] pin: unknown pin option 'pullup'");
+    t = edit("travel = 0, 400", "travel = 400, 0");
+    bad(t, LOC("400, 0"), "[axis.x] travel: expected MIN, MAX with MIN below MAX");
+    t = edit("travel = 0, 400", "travel = 0");
+    bad(t, LOC("travel = 0 "), "[axis.x] travel: expected 2 numbers separated by commas, got '0'");
+    t = edit("home_pos = -2", "home_pos = -5");
+    bad(t, LOC("home_pos = -5"), "[axis.x] home_pos: after the pull-off the axis rests at -2 mm, outside travel 0..400");
+    t = edit("home = max", "home = top");
+    bad(t, LOC("home = top"), "[axis.z] home: expected min, max or none, got 'top'");
+    t = edit("limit_max = gpiochip0:21 pull-up\n", "");
+    bad(t, LOC("home = max"), "[axis.z] home: homing to max needs a limit_max pin");
+    t = edit("[axis.tilt]", "[axis.w]");
+    bad(t, LOC("[axis.w]"), "[axis.w]: unknown section");
+    t = edit("backlash = 0.02", "backlash = 0.02\nmax_speed = 10");
+    bad(t, LOC("max_speed = 10\n"), "[axis.z] max_speed: set twice (first at line");
+    t = edit("max_speed = 150", "max_speed = 300");
+    bad(t, LOC("max_speed = 300"), "[axis.x] max_speed: 300 mm/s is 24000 steps/s, above [timing] max_step_rate 20000");
+    t = edit("box = 100, 80, 70, 300, 220, 200", "box = 100, 80, 70, 390, 220, 200");
+    bad(t, LOC("box = 100"), "[omega] box: x from 100 to 390 is not within axis.x travel 0..400 less the head's reach 65.0 mm");
+    t = edit("start = 200, 150, 225", "start = 200, 150, 150");
+    bad(t, LOC("start = 200"), "[omega] start: the device must start outside Omega");
+    t = edit("interior = 200, 150, 135", "interior = 20, 150, 135");
+    bad(t, LOC("interior = 20,"), "[omega] interior: must lie inside Omega");
+    t = edit("# line = P0X, P0Y, EX, EY", "line = 557, 277, -0.988, -0.155");
+    bad(t, LOC("line = 557"), "[rangefinder] line: a calibration needs both line and model");
+    t = edit("look_at = 100, 0, 0", "look_at = -100, 0, 0");
+    bad(t, LOC("look_at = -100"), "[camera] look_at: the camera does not see the beam between min_range and max_range");
+    t = edit("format = GREY", "format = MJPG");
+    bad(t, LOC("MJPG"), "[camera] format: expected GREY, YUYV or auto, got 'MJPG'");
+    t = edit("backend = v4l2", "backend = opencv");
+    bad(t, LOC("opencv"), "[camera] backend: expected v4l2 or libcamera, got 'opencv'");
+    t = edit("io = gpiod", "io = gpio");
+    bad(t, LOC("io = gpio "), "[board] io: expected gpiod or sim, got 'gpio'");
+    t = edit("invert = yes", "invert = maybe");
+    bad(t, LOC("maybe"), "[axis.y] invert: expected yes or no, got 'maybe'");
+    t = edit("pulse_us = 4 ", "pulse_us 4 ");
+    bad(t, LOC("pulse_us 4"), "expected 'key = value' or '[section]', got 'pulse_us 4");
+    t = edit("[head]", "[head");
+    bad(t, LOC("[head"), "section header without ']'");
+    t = edit("[board]", "[board]\n[board]");
+    snprintf(loc, sizeof loc, "rpi4.ini:%d: ", line_of(t, "[board]") + 1);
+    bad(t, loc, "[board]: section repeated (first at line 7)");
+    t = edit("eps = 15", "eps = 0");
+    bad(t, LOC("eps = 0"), "[omega] eps: 0 must be positive");
+    /* with io = sim the pins and the e-stop are not needed */
+    t = edit("io = gpiod", "io = sim");
+    {
+        static char t2[65536];
+        strcpy(t2, t);
+        strcpy(text, t2);
+        t = cut_section("[estop]");
+        rc = vp_board_parse(t, "rpi4.ini", &b, err, sizeof err);
+        CHECKF(rc == VP_OK, "%s", err);
+    }
+    printf("2 boards parsed; %d broken variants refused with file, line, section, key and reason\n", nbad);
+    return vp_test_done("test_port_board");
+}

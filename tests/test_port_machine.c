@@ -1,0 +1,268 @@
+/* The machine object on a dry run (recording GPIO backend + host-sim frames): homing, planner
+ * commands executed through the real kinematics, step generator and rangefinder, probe
+ * distances against the true object, refusals outside travel, e-stop during a command, and a
+ * whole planner scan driven by vp_machine_exec on boards/sim.ini. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+#include "vp_board.h"
+#include "vp_dryrun.h"
+#include "vp_meshcheck.h"
+#include "vp_meshio.h"
+#include "vp_planner.h"
+#include "vp_session.h"
+#include "vp_status.h"
+#include "vp_surface.h"
+#include "vp_test.h"
+
+static void cmd_probe(vp_cmd_t *c, const double o[3], const double to[3], double range)
+{
+    double l = 0;
+    int k;
+    memset(c, 0, sizeof *c);
+    c->kind = VP_CMD_PROBE;
+    for (k = 0; k < 3; k++) { c->from[k] = o[k]; c->dir[k] = to[k] - o[k]; l += c->dir[k] * c->dir[k]; }
+    for (k = 0; k < 3; k++) c->dir[k] /= sqrt(l);
+    c->range = range;
+}
+
+static void cmd_move(vp_cmd_t *c, const double from[3], const double to[3])
+{
+    memset(c, 0, sizeof *c);
+    c->kind = VP_CMD_MOVE;
+    memcpy(c->from, from, sizeof c->from);
+    memcpy(c->to, to, sizeof c->to);
+}
+
+typedef struct scan_out {
+    long commands, hits, misses, blind, occluded, falsehits;
+    int done;
+    double worst, rms;
+    unsigned facets;
+    int closed, genus;
+    double hausdorff;
+} scan_out_t;
+
+/* A planner scan on a board's dry run (until DONE or cap commands): every probe against the
+ * true object; at DONE the mesh is checked. */
+static void scan(const char *board, long cap, scan_out_t *o)
+{
+    vp_board_t b;
+    vp_dryrun_t *d;
+    vp_machine_t *m;
+    vp_planner_t *pl = malloc(sizeof *pl);
+    vp_planner_config_t cfg;
+    size_t arena_bytes = (size_t)64 << 20;
+    void *arena = malloc(arena_bytes);
+    char err[300];
+    double se = 0;
+    long n;
+    clock_t t0 = clock();
+    int rc = vp_board_load(board, &b, err, sizeof err);
+    memset(o, 0, sizeof *o);
+    CHECKF(rc == VP_OK, "%s", err);
+    if (rc != VP_OK) return;
+    CHECK(vp_dryrun_open(&b, NULL, &d, err, sizeof err) == VP_OK);
+    m = vp_dryrun_machine(d);
+    CHECK(vp_machine_home(m) == VP_OK);
+    CHECK(vp_machine_goto(m, b.start) == VP_OK);
+    memset(&cfg, 0, sizeof cfg);
+    cfg.omega_kind = b.omega_kind;
+    memcpy(cfg.omega_lo, b.omega_lo, sizeof cfg.omega_lo);
+    memcpy(cfg.omega_hi, b.omega_hi, sizeof cfg.omega_hi);
+    memcpy(cfg.omega_center, b.omega_center, sizeof cfg.omega_center);
+    cfg.omega_radius = b.omega_radius;
+    memcpy(cfg.interior[0], b.interior, sizeof cfg.interior[0]);
+    cfg.ninterior = 1;
+    cfg.eps = b.eps;
+    memcpy(cfg.start, b.start, sizeof cfg.start);
+    cfg.max_range = b.tri.max_range;
+    cfg.noise_tol = 2;
+    cfg.confirm_misses = 2;
+    cfg.clearance = b.clearance;
+    CHECK(vp_planner_init(pl, arena, arena_bytes, &cfg) == VP_OK);
+    for (n = 0; n < cap; n++) {
+        vp_cmd_t c;
+        vp_probe_result_t res;
+        rc = vp_planner_next(pl, &c);
+        CHECKF(rc == VP_OK, "planner: %s", vp_strerror(rc));
+        if (rc != VP_OK) break;
+        if (c.kind == VP_CMD_DONE) { o->done = 1; break; }
+        rc = vp_machine_exec(m, &c, &res);
+        CHECKF(rc == VP_OK, "command %ld (%s): %s", n, c.kind == VP_CMD_MOVE ? "move" : "probe", vp_strerror(rc));
+        if (rc != VP_OK) break;
+        if (c.kind == VP_CMD_PROBE) {
+            double t;
+            int truth = vp_surface_ray(d->surf, c.from, c.dir, c.range, &t);
+            if (res.hit && truth) {
+                double e = fabs(res.dist - t);
+                o->hits++;
+                se += e * e;
+                if (e > o->worst) o->worst = e;
+            } else if (res.hit) o->falsehits++;
+            else {
+                o->misses++;
+                if (truth && t < b.tri.min_range) o->blind++;
+                else if (truth) o->occluded++;
+            }
+            CHECK(vp_planner_feed(pl, &res) == VP_OK);
+        }
+    }
+    o->commands = n;
+    o->rms = o->hits ? sqrt(se / o->hits) : 0;
+    o->facets = vp_planner_num_facets(pl);
+    if (o->done) {
+        vp_mesh_t mesh;
+        vp_meshcheck_t mc;
+        vp_hausdorff_t hd;
+        memset(&mesh, 0, sizeof mesh);
+        CHECK(vp_session_mesh(pl, &mesh) == VP_OK);
+        CHECK(vp_meshcheck_analyze(&mesh, &mc) == VP_OK);
+        o->closed = mc.closed_manifold;
+        o->genus = mc.genus;
+        CHECK(vp_meshcheck_hausdorff(&mesh, d->surf, 20000, 7, &hd) == VP_OK);
+        o->hausdorff = hd.hausdorff;
+        vp_meshcheck_free(&mc);
+        vp_mesh_free(&mesh);
+    }
+    printf("%s: %ld commands (%s), %ld hits, %ld misses (%ld with the surface nearer than %.0f mm, %ld with the spot hidden), "
+           "%ld false hits; %lu moves, origin travel %.0f mm, %llu GPIO edges, %.0f s of machine time, %.1f s CPU\n",
+           board, n, o->done ? "DONE" : "cap", o->hits, o->misses, o->blind, b.tri.min_range, o->occluded, o->falsehits,
+           m->st.moves, m->st.travel, (unsigned long long)d->rec.edges, d->rec.now * 1e-9,
+           (double)(clock() - t0) / CLOCKS_PER_SEC);
+    printf("  probe error against the true object: rms %.3f mm, worst %.3f mm", o->rms, o->worst);
+    if (o->done) printf("; mesh: %u facets, %s, genus %d, Hausdorff to the object %.2f mm (eps %.0f)", o->facets,
+                        o->closed ? "closed manifold" : "NOT closed", o->genus, o->hausdorff, b.eps);
+    printf("\n");
+    vp_dryrun_close(d);
+    free(arena);
+    free(pl);
+}
+
+int main(void)
+{
+    vp_board_t b;
+    vp_dryrun_t *d;
+    vp_machine_t *m;
+    vp_cmd_t c;
+    vp_probe_result_t res;
+    char err[300];
+    double o[3], dir[3], p[3];
+    int rc;
+
+    rc = vp_board_load("boards/sim.ini", &b, err, sizeof err);
+    CHECKF(rc == VP_OK, "%s", err);
+    CHECK(vp_dryrun_open(&b, NULL, &d, err, sizeof err) == VP_OK);
+    m = vp_dryrun_machine(d);
+    /* nothing moves before homing */
+    cmd_move(&c, b.start, (double[3]){ 0, 0, 190 });
+    CHECK(vp_machine_exec(m, &c, &res) == VP_ESTATE);
+    CHECK(vp_machine_home(m) == VP_OK && m->step.homed);
+    CHECK(vp_machine_goto(m, b.start) == VP_OK);
+    vp_machine_beam(m, o, dir);
+    CHECKF(fabs(o[0] - b.start[0]) < 0.02 && fabs(o[1] - b.start[1]) < 0.02 && fabs(o[2] - b.start[2]) < 0.01, "at %g %g %g", o[0], o[1], o[2]);
+    /* probe straight down at the sphere (radius 80 at the origin): 120 mm */
+    cmd_probe(&c, b.start, (double[3]){ 0, 0, 0 }, 400);
+    CHECK(vp_machine_exec(m, &c, &res) == VP_OK);
+    CHECKF(res.hit && fabs(res.dist - 120) < 0.5, "hit %d dist %g", res.hit, res.dist);
+    vp_machine_beam(m, o, dir);
+    CHECK(fabs(dir[2] + 1) < 1e-6 && fabs(o[2] - 200) < 0.01);
+    vp_dryrun_true_beam(d, p, dir);
+    CHECK(fabs(p[2] - 200) < 0.01);
+    /* the same probe with a range short of the surface: a miss */
+    cmd_probe(&c, b.start, (double[3]){ 0, 0, 0 }, 100);
+    CHECK(vp_machine_exec(m, &c, &res) == VP_OK && !res.hit);
+    /* a straight move, then probes from the side and past the object */
+    cmd_move(&c, b.start, (double[3]){ 140, 30, 60 });
+    CHECK(vp_machine_exec(m, &c, &res) == VP_OK);
+    vp_machine_beam(m, o, dir);
+    CHECK(fabs(o[0] - 140) < 0.02 && fabs(o[1] - 30) < 0.02 && fabs(o[2] - 60) < 0.01);
+    {
+        double t, target[3] = { 0, 10, 20 };
+        cmd_probe(&c, (double[3]){ 140, 30, 60 }, target, 400);
+        CHECK(vp_machine_exec(m, &c, &res) == VP_OK);
+        CHECK(vp_surface_ray(d->surf, c.from, c.dir, 400, &t));
+        CHECKF(res.hit && fabs(res.dist - t) < 0.5, "side probe %d %g vs %g", res.hit, res.dist, t);
+        cmd_probe(&c, (double[3]){ 140, 30, 60 }, (double[3]){ 140, 300, 60 }, 400);
+        CHECK(vp_machine_exec(m, &c, &res) == VP_OK && !res.hit);
+    }
+    /* outside travel: refused, nothing moved */
+    cmd_move(&c, (double[3]){ 140, 30, 60 }, (double[3]){ 400, 0, 0 });
+    CHECK(vp_machine_exec(m, &c, &res) == VP_ERANGE);
+    vp_machine_beam(m, o, dir);
+    CHECK(fabs(o[0] - 140) < 0.02);
+    /* e-stop in the middle of a move: stopped, fault, homing needed, then it goes on */
+    d->rec.cfg.estop_at = d->rec.now + 100000000;
+    d->rec.cfg.estop_until = d->rec.now + 200000000;
+    cmd_move(&c, (double[3]){ 140, 30, 60 }, (double[3]){ 140, -100, 150 });
+    CHECK(vp_machine_exec(m, &c, &res) == VP_EABORT && m->step.fault == VP_STEP_FAULT_ESTOP);
+    CHECK(vp_machine_exec(m, &c, &res) == VP_ESTATE);
+    d->rec.now += 300000000;
+    CHECK(vp_step_clear_fault(&m->step) == VP_OK);
+    CHECK(vp_machine_home(m) == VP_OK);
+    CHECK(vp_machine_goto(m, (double[3]){ 140, -100, 150 }) == VP_OK);
+    printf("dry run on %s: %lu probes (%lu hits), %lu moves, %llu GPIO edges, %.2f s simulated\n", b.name, m->st.probes,
+           m->st.hits, m->st.moves, (unsigned long long)d->rec.edges, d->rec.now * 1e-9);
+    vp_dryrun_close(d);
+
+    /* calibration on the dry run: a flat target at x = 300, 20 stations from 200 to 15 mm */
+    {
+        vp_dryrun_options_t opt;
+        vp_calib_plan_t cp;
+        vp_tri_model_t fit;
+        vp_tri_fit_report_t rep;
+        double worst = 0, worst_mm = 0;
+        int i;
+        rc = vp_board_load("boards/rpi4-gantry.ini", &b, err, sizeof err);
+        CHECKF(rc == VP_OK, "%s", err);
+        memset(&opt, 0, sizeof opt);
+        opt.flat_target = 1;
+        opt.target_x = 300;
+        CHECK(vp_dryrun_open(&b, &opt, &d, err, sizeof err) == VP_OK);
+        m = vp_dryrun_machine(d);
+        CHECK(vp_machine_home(m) == VP_OK);
+        memset(&cp, 0, sizeof cp);
+        cp.target_x = 300; cp.y = 150; cp.z = 150;
+        cp.d_near = 15; cp.d_far = 200;
+        cp.stations = 20;
+        CHECK(vp_machine_calibrate(m, &cp, &fit, &rep) == VP_OK);
+        /* the board's geometric model is the truth the renderer used */
+        for (i = 0; i <= 100; i++) {
+            double dd = 15 + 185 * i / 100.0, s_fit, s_true, slope;
+            s_true = vp_tri_s(&b.tri, dd);
+            vp_tri_eval(&b.tri, s_true, &slope);
+            /* the same image point through both models */
+            {
+                double u = b.tri.p0[0] + s_true * b.tri.e[0], v = b.tri.p0[1] + s_true * b.tri.e[1], df;
+                s_fit = (u - fit.p0[0]) * fit.e[0] + (v - fit.p0[1]) * fit.e[1];
+                df = vp_tri_eval(&fit, s_fit, NULL);
+                if (fabs(df - dd) / slope > worst) worst = fabs(df - dd) / slope;
+                if (fabs(df - dd) > worst_mm) worst_mm = fabs(df - dd);
+            }
+        }
+        printf("calibration on the dry run: %d spots at 20 stations, residual rms %.3f mm (max %.3f), line %.3f px; "
+               "against the true model %.4f px = %.3f mm over 15..200 mm\n", rep.n, rep.rms_mm, rep.max_mm,
+               rep.line_rms_px, worst, worst_mm);
+        CHECK(rep.n == 60);
+        /* spots of ~0.03 px each, 60 of them: the fit is good to a few hundredths of a pixel */
+        CHECKF(worst < 0.05, "calibrated model off by %.4f px", worst);
+        vp_dryrun_close(d);
+    }
+
+    /* the rpi4 board's dry run to DONE: a closed mesh of the object within eps */
+    {
+        scan_out_t so;
+        scan("boards/rpi4-gantry.ini", 20000, &so);
+        CHECK(so.done && so.closed && so.genus == 0);
+        CHECK(so.falsehits == 0 && so.occluded == 0);
+        /* the rangefinder's own error on rendered frames is well below 1 mm at these ranges */
+        CHECKF(so.worst < 1, "worst probe error %.3f mm", so.worst);
+        CHECKF(so.hausdorff < 15, "Hausdorff %.2f mm", so.hausdorff);
+        /* the sim board, a while */
+        scan("boards/sim.ini", 150, &so);
+        CHECK(so.commands == 150 && so.falsehits == 0 && so.worst < 1);
+    }
+    return vp_test_done("test_port_machine");
+}
