@@ -116,7 +116,7 @@ FUZZ_CC ?= clang
 FUZZ_TIME ?= 60
 FUZZ_CFLAGS := -std=c99 -g -O1 $(FPFLAGS) -D_POSIX_C_SOURCE=200809L -D_DEFAULT_SOURCE -Icore -Ihost-sim \
                -Iport -Itools -fno-sanitize-recover=undefined
-FUZZ_SRC := $(CORE_SRC) $(SIM_SRC) $(TOOL_SRC) port/vp_logfile.c
+FUZZ_SRC := $(CORE_SRC) $(SIM_SRC) $(TOOL_SRC) $(PORT_SRC)
 FUZZ_OBJ := $(FUZZ_SRC:%.c=$(BUILD)/fuzz/obj/%.o)
 FUZZ_BIN := $(patsubst tests/fuzz/%.c,$(BUILD)/fuzz/%,$(wildcard tests/fuzz/fuzz_*.c))
 .SECONDARY: $(FUZZ_OBJ)
