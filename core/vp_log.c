@@ -205,7 +205,7 @@ void vp_log_record_probe(vp_log_record_t *r, uint32_t seq, const vp_cmd_t *cmd,
     memcpy(r->origin, cmd->from, sizeof r->origin);
     memcpy(r->dir, cmd->dir, sizeof r->dir);
     r->range = cmd->range;
-    r->hit = res->hit ? 1 : 0;
+    r->hit = res->hit == VP_PROBE_TOO_CLOSE ? VP_PROBE_TOO_CLOSE : res->hit ? 1 : 0;
     r->dist = res->dist;
     r->raw = raw;
 }
@@ -258,7 +258,7 @@ int vp_log_record_encode(const vp_log_record_t *r, void *buf, size_t cap)
         putd(p + 60, r->range);
         putd(p + 68, r->dist);
         putd(p + 76, r->raw);
-        put32(p + 84, r->hit ? 1u : 0u);
+        put32(p + 84, (uint32_t)r->hit);
     } else if (r->type == VP_LOG_MOVE) {
         putd3(p + 12, r->target);
     } else {
@@ -286,7 +286,7 @@ static int record_decode(const unsigned char *p, uint32_t n, vp_log_record_t *r)
         r->dist = getd(p + 68);
         r->raw = getd(p + 76);
         hit = get32(p + 84);
-        if (hit > 1 || !finite3(r->origin) || !finite3(r->dir) || !finite_d(r->range) ||
+        if (hit > 2 || !finite3(r->origin) || !finite3(r->dir) || !finite_d(r->range) ||
             !finite_d(r->dist))
             return VP_LOG_R_FIELD;
         r->hit = (int)hit;

@@ -59,7 +59,7 @@ typedef struct vp_log_record {
     int type;                  /* VP_LOG_PROBE / MOVE / EVENT */
     /* PROBE: the command and its result exactly as fed to the planner */
     double origin[3], dir[3], range;
-    int hit;                   /* 1: hit at dist; 0: miss (dist as fed, normally 0) */
+    int hit;                   /* 1: hit at dist; 0: miss (dist as fed, normally 0); 2: too close */
     double dist;
     double raw;                /* the sensor's own reading before conversion (NaN: none) */
     /* MOVE */

@@ -36,6 +36,7 @@
 #define SIDE_MASK    3u
 #define SIDE_QUEUED  4u  /* a probe task is pending */
 #define SIDE_FORCED  8u  /* probed although both ends are known free (closing a hole) */
+#define SIDE_BLOCKED 16u /* the probe from this end saw something too close to measure */
 
 /* record flags */
 #define REC_OUT 1u       /* on or outside dOmega: joins every other such record outside */
@@ -976,7 +977,7 @@ static int explore(vp_planner_t *pl, uint32_t t)
     const uint32_t *w = vp_dt_tet(&pl->dt, t);
     for (f = 3; f >= 0; f--) {
         unsigned s = side_get(pl, t, f);
-        if ((s & SIDE_QUEUED) || facet_has_ghost(pl, t, f)) continue;
+        if ((s & (SIDE_QUEUED | SIDE_BLOCKED)) || facet_has_ghost(pl, t, f)) continue;
         /* BEHIND seen from a free vertex: the edge crosses S twice; its other ball is probed
          * from here */
         if ((s & SIDE_MASK) != SIDE_UNKNOWN && (s & SIDE_MASK) != SIDE_BEHIND) continue;
@@ -1102,6 +1103,12 @@ static int task_finish(vp_planner_t *pl, const vp_probe_result_t *res)
     u = w[4 + f] >> 2;
     j = w[4 + f] & 3u;
     side_set(pl, t, f, side_get(pl, t, f) & ~(SIDE_QUEUED | SIDE_FORCED));
+    if (res->hit == VP_PROBE_TOO_CLOSE) {
+        /* nothing learnt: not free, no sample; not asked again from this end */
+        side_set(pl, t, f, side_get(pl, t, f) | SIDE_BLOCKED);
+        pl->st.too_close++;
+        return VP_OK;
+    }
     if (res->hit && res->dist <= pl->probe_range + tol) {
         double h[3], d = res->dist;
         if (d > pl->probe_range) d = pl->probe_range;
@@ -1457,7 +1464,9 @@ static int probe_around_edge(vp_planner_t *pl, uint32_t t0, uint32_t x, uint32_t
         if (tet_active(pl, cur))
             for (f = 0; f < 4; f++) {
                 unsigned s = side_get(pl, cur, f);
-                if ((s & SIDE_MASK) != SIDE_UNKNOWN || (s & SIDE_QUEUED) || facet_has_ghost(pl, cur, f)) continue;
+                if ((s & SIDE_MASK) != SIDE_UNKNOWN || (s & (SIDE_QUEUED | SIDE_BLOCKED)) ||
+                    facet_has_ghost(pl, cur, f))
+                    continue;
                 if ((st = task_push(pl, cur, f, 1)) != VP_OK) return st;
                 pushed++;
             }
@@ -1613,7 +1622,7 @@ static int reseed_feed(vp_planner_t *pl, const vp_probe_result_t *res)
     uint32_t v;
     int k, st;
     pl->phase = PH_COMPONENTS;
-    if (!res->hit) return VP_OK;
+    if (res->hit != 1) return VP_OK;
     for (k = 0; k < 3; k++) h[k] = pl->probe_origin[k] + res->dist * pl->probe_dir[k];
     if (!pools_have_room(pl)) return VP_ENOMEM;
     st = vp_dt_insert(&pl->dt, h, VP_DT_NONE, &v);
@@ -1706,10 +1715,13 @@ static int seed_next(vp_planner_t *pl)
     }
 }
 
-static int seed_feed(vp_planner_t *pl, const vp_probe_result_t *res)
+static int seed_feed(vp_planner_t *pl, const vp_probe_result_t *res_in)
 {
     double h[3];
     int k;
+    vp_probe_result_t r = *res_in;
+    const vp_probe_result_t *res = &r;
+    if (r.hit == VP_PROBE_TOO_CLOSE) r.hit = 0; /* no usable sample: like a miss */
     if (res->hit)
         for (k = 0; k < 3; k++) h[k] = pl->probe_origin[k] + res->dist * pl->probe_dir[k];
     switch (pl->seed_step) {
@@ -1956,7 +1968,8 @@ int vp_planner_feed(vp_planner_t *pl, const vp_probe_result_t *res)
     int st;
     if (!pl || !res) return VP_EINVAL;
     if (!pl->awaiting) return VP_ESTATE;
-    if (res->hit && (!(res->dist >= 0.0) || !(res->dist < 1e300))) return VP_EINVAL;
+    if (res->hit < 0 || res->hit > VP_PROBE_TOO_CLOSE) return VP_EINVAL;
+    if (res->hit == 1 && (!(res->dist >= 0.0) || !(res->dist < 1e300))) return VP_EINVAL;
     pl->awaiting = 0;
     if (pl->sc_pending == 2) {
         pl->sc_pending = 0;

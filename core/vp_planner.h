@@ -60,8 +60,12 @@ typedef struct vp_cmd {
     double range;     /* PROBE: maximum distance */
 } vp_cmd_t;
 
+#define VP_PROBE_TOO_CLOSE 2 /* a surface nearer than the rangefinder can measure */
+
 typedef struct vp_probe_result {
-    int hit;          /* 1: surface at `dist` along the ray; 0: nothing within range */
+    int hit;          /* 1: surface at `dist` along the ray; 0: nothing within range;
+                         VP_PROBE_TOO_CLOSE: something nearer than the minimum range (no
+                         distance: nothing on this ray is proven free or sampled) */
     double dist;
 } vp_probe_result_t;
 
@@ -70,6 +74,7 @@ typedef struct vp_planner_stats {
     uint64_t insertions, stale_balls, routes, astar_fallbacks, astar_expansions;
     uint64_t shortcut_probes, direct_routes;
     uint64_t escalations;
+    uint64_t too_close;        /* probes that saw a surface nearer than the minimum range */
     uint64_t reseeds;          /* samples added on components the seeds had missed */      /* holes closed by probing every edge of every active vertex */  /* probes of a straight way to save a detour */
     double travel;             /* length of all MOVEs */
     double travel_prev_chains; /* what the same moves cost along prev chains (the paper's

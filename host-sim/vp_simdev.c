@@ -87,7 +87,7 @@ int vp_simdev_probe(vp_simdev_t *d, const double dir[3], double range, vp_simdev
     d->st.probes++;
     if (!vp_surface_ray(d->surf, d->pos, dir, range, &t)) { d->st.misses++; goto out; }
     r.true_t = t;
-    if (t < d->cfg.min_range) { d->st.too_close++; d->st.misses++; goto out; }
+    if (t < d->cfg.min_range) { d->st.too_close++; r.too_close = 1; goto out; }
     if (u < d->cfg.dropout) { d->st.dropouts++; d->st.misses++; goto out; }
     t += noise;
     if (t < 0) t = 0;

@@ -21,7 +21,7 @@ typedef struct vp_simdev_config {
     int      stop_on_collision;  /* 1: a colliding move is refused (VP_EABORT) and the device stays */
     double   noise_sigma;        /* standard deviation of the hit distance (along the ray) */
     double   dropout;            /* probability that a real hit reports a miss */
-    double   min_range;          /* hits nearer than this report a miss */
+    double   min_range;          /* a surface nearer than this is reported as too close (no distance) */
     double   max_range;          /* probe range cap (0: only the per-probe range) */
     uint64_t seed;               /* PRNG seed for noise and dropouts */
 } vp_simdev_config_t;            /* all-zero = exact point device without limits */
@@ -41,6 +41,7 @@ typedef struct vp_simdev_move {
 typedef struct vp_simdev_probe {
     int    status;     /* VP_OK or VP_EINVAL (direction not unit length, bad range) */
     int    hit;        /* 1: a surface point was reported */
+    int    too_close;  /* 1: a surface nearer than min_range (no distance, not a miss) */
     double t;          /* reported distance along the ray (noise included) */
     double point[3];   /* reported point: origin + t * dir */
     double true_t;     /* noiseless first crossing, -1 if none in range (evaluation only) */

@@ -148,6 +148,34 @@ static void test_paper_mode(void)
     CHECKF(b.probes < a.probes, "probes: ours %llu, paper %llu", b.probes, a.probes);
 }
 
+/* A rangefinder with a minimum range: what it cannot measure is never taken as free (zero
+ * collisions); where it hides a facet the mesh is reported open, not patched. */
+static void test_min_range(void)
+{
+    vp_sim_options_t o;
+    vp_sim_t s;
+    vp_planner_stats_t st;
+    vp_simdev_stats_t ds;
+    char err[512];
+    vp_sim_options_default(&o);
+    o.surface = "torus";
+    o.eps_rel = 0.02;
+    o.out = NULL;
+    o.hausdorff = 0;
+    o.quiet = 1;
+    o.min_range = 0.02;
+    CHECK(vp_sim_open(&s, &o, err, sizeof err) == VP_OK);
+    CHECK(vp_sim_run(&s, NULL) == VP_OK);
+    CHECK(vp_sim_finish(&s, &o, err, sizeof err) == VP_OK);
+    vp_planner_get_stats(s.pl, &st);
+    vp_simdev_stats(s.dev, &ds);
+    CHECK(ds.collisions == 0);
+    CHECK(st.too_close > 0 && st.too_close <= ds.too_close);
+    printf("torus with a 0.02 minimum range: %llu probes too close, %zu boundary edges, collisions %lu\n",
+           (unsigned long long)st.too_close, s.check.boundary_edges, ds.collisions);
+    vp_sim_close(&s);
+}
+
 /* Noise and dropouts well below eps: still closed, right topology, no collision. */
 static void test_noise(void)
 {
@@ -296,5 +324,6 @@ int main(void)
     test_noise();
     test_arena_per_vertex();
     test_angle_bound();
+    test_min_range();
     return vp_test_done("test_planner");
 }

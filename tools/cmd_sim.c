@@ -40,6 +40,7 @@ static void sim_usage(FILE *f)
         "  --clearance C      device radius: the simulator counts a collision for any move that comes\n"
         "                     closer than C to the object (the planner does not plan for a body yet)\n"
         "  --max-range R      rangefinder range (0: unlimited)\n"
+        "  --min-range R      the rangefinder cannot measure nearer than R (reported as too close)\n"
         "  --angle DEG        also refine facets with an angle below DEG (at most 30)\n"
         "  --arena BYTES      memory given to the planner (default 256M; K, M, G suffixes)\n"
         "  --omega box|ball   the known region containing the object (default box: the bounding box\n"

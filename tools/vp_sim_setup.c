@@ -49,7 +49,7 @@ int vp_sim_parse_option(vp_sim_options_t *o, int argc, char **argv, int *i, char
     if (strncmp(a, "--", 2) != 0) return 1;
     if (strcmp(a, "--surface") && strcmp(a, "--eps") && strcmp(a, "--eps-rel") && strcmp(a, "--out") &&
         strcmp(a, "--noise") && strcmp(a, "--dropout") && strcmp(a, "--clearance") &&
-        strcmp(a, "--max-range") && strcmp(a, "--arena") && strcmp(a, "--omega") &&
+        strcmp(a, "--max-range") && strcmp(a, "--min-range") && strcmp(a, "--arena") && strcmp(a, "--omega") &&
         strcmp(a, "--seed") && strcmp(a, "--hausdorff") && strcmp(a, "--confirm") && strcmp(a, "--margin") &&
         strcmp(a, "--angle"))
         return 1;
@@ -83,6 +83,9 @@ int vp_sim_parse_option(vp_sim_options_t *o, int argc, char **argv, int *i, char
     } else if (!strcmp(a, "--clearance")) {
         if (!(v >= 0)) { snprintf(err, errlen, "--clearance must be >= 0"); return -1; }
         o->clearance = v;
+    } else if (!strcmp(a, "--min-range")) {
+        if (!(v >= 0)) { snprintf(err, errlen, "--min-range must be >= 0"); return -1; }
+        o->min_range = v;
     } else if (!strcmp(a, "--max-range")) {
         if (!(v >= 0)) { snprintf(err, errlen, "--max-range must be >= 0"); return -1; }
         o->max_range = v;
@@ -167,6 +170,7 @@ int vp_sim_open(vp_sim_t *s, const vp_sim_options_t *o, char *err, size_t errlen
     dc.noise_sigma = o->noise;
     dc.dropout = o->dropout;
     dc.max_range = o->max_range;
+    dc.min_range = o->min_range;
     dc.seed = o->seed;
     st = vp_simdev_create(s->surf, &dc, s->cfg.start, &s->dev);
     if (st != VP_OK) { snprintf(err, errlen, "cannot create the simulated device: %s", vp_strerror(st)); return st; }
@@ -198,7 +202,7 @@ static int dev_probe(void *ctx, const vp_cmd_t *cmd, vp_probe_result_t *res)
     int st = vp_simdev_probe(s->dev, cmd->dir, cmd->range, &r);
     if (st != VP_OK) return st;
     s->raw = r.hit ? r.t : NAN;
-    res->hit = r.hit;
+    res->hit = r.too_close ? VP_PROBE_TOO_CLOSE : r.hit;
     res->dist = r.hit ? (r.t < 0 ? 0.0 : r.t) : 0.0;
     return VP_OK;
 }

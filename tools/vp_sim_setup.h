@@ -14,7 +14,7 @@ typedef struct vp_sim_options {
     const char *surface;
     double eps, eps_rel;
     const char *out;          /* PREFIX; NULL: do not write */
-    double noise, dropout, clearance, max_range, min_angle;
+    double noise, dropout, clearance, max_range, min_range, min_angle;
     int confirm;              /* -1: default */
     size_t arena;
     int omega_ball;

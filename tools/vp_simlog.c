@@ -104,6 +104,7 @@ void vp_simlog_note(const vp_sim_options_t *o, char *buf, size_t n)
     if (o->confirm >= 0) put_opt(buf, n, &len, "--confirm", "%d", o->confirm);
     put_num(buf, n, &len, "--clearance", o->clearance);
     put_num(buf, n, &len, "--max-range", o->max_range);
+    if (o->min_range > 0) put_num(buf, n, &len, "--min-range", o->min_range);
     if (o->min_angle > 0) put_num(buf, n, &len, "--angle", o->min_angle);
     put_opt(buf, n, &len, "--arena", "%zu", o->arena);
     put_opt(buf, n, &len, "--omega", "%s", o->omega_ball ? "ball" : "box");
