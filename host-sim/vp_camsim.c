@@ -235,6 +235,8 @@ vp_cam_t vp_camsim_cam(vp_camsim_t *cs)
     return c;
 }
 
+void vp_camsim_seed(vp_camsim_t *cs, uint64_t seed) { vp_rng_seed(&cs->rng, seed); }
+
 const vp_camsim_truth_t *vp_camsim_last(const vp_camsim_t *cs) { return &cs->last; }
 
 void vp_camsim_destroy(vp_camsim_t *cs)

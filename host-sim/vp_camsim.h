@@ -61,6 +61,8 @@ int     vp_camsim_create(const vp_camsim_config_t *c, const vp_camsim_scene_t *s
                          void (*pose)(void *ctx, double rot[9], double pos[3]),
                          int64_t (*clock)(void *ctx), void *ctx, vp_camsim_t **out);
 vp_cam_t vp_camsim_cam(vp_camsim_t *cs);
+/* Restarts the noise generator (e.g. per probe, so a resumed dry run sees the same frames). */
+void    vp_camsim_seed(vp_camsim_t *cs, uint64_t seed);
 /* Truth of the last frame captured. */
 const vp_camsim_truth_t *vp_camsim_last(const vp_camsim_t *cs);
 void    vp_camsim_destroy(vp_camsim_t *cs);

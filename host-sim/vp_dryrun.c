@@ -81,7 +81,7 @@ int vp_dryrun_open(const vp_board_t *b, const vp_dryrun_options_t *o, vp_dryrun_
     io = vp_iorec_io(&d->rec);
     /* the camera: host-sim frames at the carriages' pose */
     memset(&cc, 0, sizeof cc);
-    cc.cam = b->cam_model;
+    cc.cam = b->sim_cam.width ? b->sim_cam : b->cam_model;   /* as mounted ([sim] may move it) */
     memcpy(cc.laser_offset, b->laser_offset, sizeof cc.laser_offset);
     cc.blur_px = b->sim_blur;
     cc.noise = b->sim_noise;

@@ -7,6 +7,7 @@
 #include <string.h>
 #include "vp_board.h"
 #include "vp_ini.h"
+#include "vp_logfile.h"
 #include "vp_planner.h"
 #include "vp_status.h"
 
@@ -30,6 +31,7 @@ typedef struct vp_bkey {
 static const vp_bkey_t k_board[] = {
     { "name", K_STR, B(name), 64, ANY, R_YES },
     { "io", K_IO, B(io), 0, ANY, R_YES },
+    { "log_sync", K_STR, B(log_sync), 32, ANY, R_NO },
     { NULL, 0, 0, 0, 0, 0, 0 } };
 static const vp_bkey_t k_timing[] = {
     { "pulse_us", K_NUM, B(pulse_us), 1, 0.5, 1000, R_NO },
@@ -94,6 +96,8 @@ static const vp_bkey_t k_range[] = {
     { "settle_ms", K_NUM, B(settle_ms), 1, 0, 10000, R_NO },
     { "line", K_NUMS, B(line), 4, -1e5, 1e5, R_NO },
     { "model", K_NUMS, B(model), 3, -1e9, 1e9, R_NO },
+    { "calibration", K_STR, B(calibration), 256, ANY, R_NO },
+    { "near_spots", K_STR, B(near_spots), 16, ANY, R_NO },
     { NULL, 0, 0, 0, 0, 0, 0 } };
 static const vp_bkey_t k_omega[] = {
     { "box", K_BOX, B(omega_lo), 6, -1e6, 1e6, R_NO },
@@ -112,14 +116,25 @@ static const vp_bkey_t k_sim[] = {
     { "texture", K_NUM, B(sim_texture), 1, 0, 255, R_NO },
     { "spot_energy", K_NUM, B(sim_energy), 1, POS, 1e9, R_NO },
     { "seed", K_NUM, B(sim_seed), 1, 0, 9e15, R_NO },
+    { "camera_position", K_NUMS, B(sim_cam_pos), 3, -1e4, 1e4, R_NO },
+    { "camera_look_at", K_NUMS, B(sim_cam_look), 3, -1e5, 1e5, R_NO },
+    { NULL, 0, 0, 0, 0, 0, 0 } };
+static const vp_bkey_t k_calib[] = {
+    { "target", K_NUMS, B(cal_target), 3, -1e6, 1e6, R_YES },
+    { "near", K_NUM, B(cal_near), 1, POS, 1e5, R_NO },
+    { "far", K_NUM, B(cal_far), 1, POS, 1e5, R_NO },
+    { "stations", K_INT, B(cal_stations), 1, 4, 256, R_NO },
+    { "frames", K_INT, B(cal_frames), 1, 1, 64, R_NO },
     { NULL, 0, 0, 0, 0, 0, 0 } };
 
-enum { S_BOARD, S_TIMING, S_AX0, S_AX4 = S_AX0 + 4, S_ESTOP, S_LASER, S_HEAD, S_CAMERA, S_RANGE, S_OMEGA, S_SIM, NSEC };
+enum { S_BOARD, S_TIMING, S_AX0, S_AX4 = S_AX0 + 4, S_ESTOP, S_LASER, S_HEAD, S_CAMERA, S_RANGE, S_OMEGA, S_SIM, S_CALIB,
+       NSEC };
 #define NKEY 20
 
 static const char *const sec_name[NSEC] = { "board", "timing", "axis.x", "axis.y", "axis.z", "axis.pan", "axis.tilt",
-                                            "estop", "laser", "head", "camera", "rangefinder", "omega", "sim" };
-static const int sec_required[NSEC] = { 1, 0, 1, 1, 1, 1, 1, 0, 0, 1, 1, 1, 1, 0 };
+                                            "estop", "laser", "head", "camera", "rangefinder", "omega", "sim",
+                                            "calibrate" };
+static const int sec_required[NSEC] = { 1, 0, 1, 1, 1, 1, 1, 0, 0, 1, 1, 1, 1, 0, 0 };
 static const char *const axis_unit[VP_BOARD_AXES] = { "mm", "mm", "mm", "deg", "deg" };
 
 static const vp_bkey_t *vp_sec_keys(int s)
@@ -134,6 +149,7 @@ static const vp_bkey_t *vp_sec_keys(int s)
     case S_CAMERA: return k_camera;
     case S_RANGE: return k_range;
     case S_OMEGA: return k_omega;
+    case S_CALIB: return k_calib;
     default: return k_sim;
     }
 }
@@ -225,7 +241,7 @@ static int vp_board_key(void *user, const char *section, const char *key, const 
     int s, ki;
     if (!*key) { /* a section header */
         for (s = 0; s < NSEC; s++) if (!strcmp(section, sec_name[s])) break;
-        if (s == NSEC) { snprintf(msg, ml, "unknown section (board, timing, axis.x|y|z|pan|tilt, estop, laser, head, camera, rangefinder, omega, sim)"); return VP_EINVAL; }
+        if (s == NSEC) { snprintf(msg, ml, "unknown section (board, timing, axis.x|y|z|pan|tilt, estop, laser, head, camera, rangefinder, omega, sim, calibrate)"); return VP_EINVAL; }
         if (c->secline[s]) { snprintf(msg, ml, "section repeated (first at line %d)", c->secline[s]); return VP_EINVAL; }
         c->sec = s;
         c->secline[s] = line;
@@ -320,6 +336,21 @@ static int vp_board_key(void *user, const char *section, const char *key, const 
         if (!strcmp(key, "backend") && strcmp(val, "v4l2") && strcmp(val, "libcamera")) {
             snprintf(msg, ml, "expected v4l2 or libcamera, got '%s'", val);
             return VP_EINVAL;
+        }
+        if (!strcmp(key, "log_sync")) {
+            vp_logfile_config_t lc;
+            if (vp_logfile_parse_sync(val, &lc)) {
+                snprintf(msg, ml, "expected record, close, N (records), Tms or N,Tms; got '%s'", val);
+                return VP_EINVAL;
+            }
+        }
+        if (!strcmp(key, "calibration") && !*val) { snprintf(msg, ml, "expected a file name"); return VP_EINVAL; }
+        if (!strcmp(key, "near_spots")) {
+            if (strcmp(val, "too-close") && strcmp(val, "measure")) {
+                snprintf(msg, ml, "expected too-close or measure, got '%s'", val);
+                return VP_EINVAL;
+            }
+            c->b->near_measure = !strcmp(val, "measure");
         }
         break;
     }
@@ -441,6 +472,14 @@ static int vp_board_check(vp_bctx_t *c, char *err, size_t el)
     }
     if (vp_camera_look_at(&b->cam_model, b->look_at, b->up) != VP_OK)
         return vp_bad(c, S_CAMERA, "look_at", err, el, "must differ from position and not lie along 'up' from it");
+    /* the camera as mounted on the simulated head: the model unless [sim] moves it */
+    b->sim_cam = b->cam_model;
+    if (vp_seen(c, S_SIM, "camera_position")) memcpy(b->sim_cam.pos, b->sim_cam_pos, sizeof b->sim_cam.pos);
+    else memcpy(b->sim_cam_pos, b->cam_model.pos, sizeof b->sim_cam_pos);
+    if (!vp_seen(c, S_SIM, "camera_look_at")) memcpy(b->sim_cam_look, b->look_at, sizeof b->sim_cam_look);
+    if (vp_camera_look_at(&b->sim_cam, b->sim_cam_look, b->up) != VP_OK)
+        return vp_bad(c, S_SIM, vp_seen(c, S_SIM, "camera_look_at") ? "camera_look_at" : "camera_position", err, el,
+                      "the camera must not look along 'up' nor at its own position");
     /* rangefinder */
     if (!(b->min_range < b->max_range)) return vp_bad(c, S_RANGE, "max_range", err, el, "must be above min_range (%g)", b->min_range);
     if (!!vp_seen(c, S_RANGE, "line") != !!vp_seen(c, S_RANGE, "model"))
@@ -462,6 +501,20 @@ static int vp_board_check(vp_bctx_t *c, char *err, size_t el)
         if (b->tri.max_range - b->tri.min_range < 0.2 * (b->max_range - b->min_range))
             return vp_bad(c, S_CAMERA, "look_at", err, el, "the beam is in view only from %.0f to %.0f mm", b->tri.min_range, b->tri.max_range);
         b->calibrated = 0;
+    }
+    /* the calibration fixture */
+    if (c->secline[S_CALIB]) {
+        b->have_fixture = 1;
+        if (!vp_seen(c, S_CALIB, "near")) b->cal_near = 1.5 * b->min_range;
+        if (!vp_seen(c, S_CALIB, "far")) b->cal_far = b->max_range < 200 ? b->max_range : 200;
+        if (!vp_seen(c, S_CALIB, "stations")) b->cal_stations = 20;
+        if (!vp_seen(c, S_CALIB, "frames")) b->cal_frames = 3;
+        if (!(b->cal_near < b->cal_far)) return vp_bad(c, S_CALIB, "far", err, el, "must be above near (%g mm)", b->cal_near);
+        if (b->cal_near < b->min_range || b->cal_far > b->max_range)
+            return vp_bad(c, S_CALIB, b->cal_near < b->min_range ? "near" : "far", err, el,
+                          "the stations must lie within the rangefinder's range %g..%g mm", b->min_range, b->max_range);
+        if (b->cal_stations * b->cal_frames > 256)
+            return vp_bad(c, S_CALIB, "frames", err, el, "stations x frames is %d, at most 256", b->cal_stations * b->cal_frames);
     }
     /* Omega and the start, within reach of the head in any orientation */
     if (!vp_seen(c, S_OMEGA, "box") == !vp_seen(c, S_OMEGA, "ball"))
@@ -499,6 +552,27 @@ static int vp_board_check(vp_bctx_t *c, char *err, size_t el)
                 if (b->start[k] - reach < b->axis[k].ax.travel_min || b->start[k] + reach > b->axis[k].ax.travel_max)
                     return vp_bad(c, S_OMEGA, "start", err, el, "%c = %g is beyond %s travel less the head's reach", "xyz"[k], b->start[k], sec_name[S_AX0 + k]);
         }
+        {
+            /* The planner's detours outside Omega may go round its circumsphere (1.01 times its
+             * radius, hugging dOmega 1% of it away, or at the start's distance): all of that
+             * must be within reach */
+            double oc[3], rcirc = 0, rs = 0, lim;
+            for (k = 0; k < 3; k++) {
+                oc[k] = 0.5 * (lo[k] + hi[k]);
+                rcirc += 0.25 * (hi[k] - lo[k]) * (hi[k] - lo[k]);
+                rs += (b->start[k] - oc[k]) * (b->start[k] - oc[k]);
+            }
+            rcirc = b->omega_kind == VP_OMEGA_BALL ? b->omega_radius : sqrt(rcirc);
+            rs = sqrt(rs);
+            lim = 1.02 * rcirc > rs ? 1.02 * rcirc : rs;
+            for (k = 0; k < 3; k++)
+                if (oc[k] - lim - reach < b->axis[k].ax.travel_min || oc[k] + lim + reach > b->axis[k].ax.travel_max)
+                    return vp_bad(c, S_OMEGA, key, err, el, "the planner's detours round Omega reach %.1f mm from its centre "
+                                  "(%s): %c from %.1f to %.1f is not within %s travel %g..%g less the head's reach %.1f mm; "
+                                  "use a smaller %s", lim, 1.02 * rcirc >= rs ? "1.02 x its circumradius" : "the start's distance",
+                                  "xyz"[k], oc[k] - lim, oc[k] + lim, sec_name[S_AX0 + k], b->axis[k].ax.travel_min,
+                                  b->axis[k].ax.travel_max, reach, b->omega_kind == VP_OMEGA_BOX ? "box, or a ball" : "ball");
+        }
     }
     return VP_OK;
 }
@@ -532,10 +606,35 @@ static void vp_board_defaults(vp_board_t *b)
     b->sim_seed = 1;
 }
 
+/* [rangefinder] calibration = FILE: relative to the board's folder; used when it exists */
+static int vp_board_calib_key(vp_bctx_t *c, char *err, size_t el)
+{
+    vp_board_t *b = c->b;
+    const char *slash = strrchr(c->name, '/');
+    char path[512], sub[400];
+    FILE *f;
+    int rc, n;
+    if (!b->calibration[0]) return VP_OK;
+    if (b->calibration[0] == '/' || !slash) n = snprintf(path, sizeof path, "%s", b->calibration);
+    else n = snprintf(path, sizeof path, "%.*s/%s", (int)(slash - c->name), c->name, b->calibration);
+    if (n < 0 || (size_t)n >= sizeof path) return vp_bad(c, S_RANGE, "calibration", err, el, "path too long");
+    if (!(f = fopen(path, "r"))) {
+        b->calib_missing = 1;
+        snprintf(b->calib_path, sizeof b->calib_path, "%s", path);
+        return VP_OK;
+    }
+    fclose(f);
+    rc = vp_board_calibration_load(b, path, NULL, sub, sizeof sub);
+    if (rc != VP_OK) return vp_bad(c, S_RANGE, "calibration", err, el, "%s", sub);
+    return VP_OK;
+}
+
 static int vp_board_finish(vp_bctx_t *c, int rc, char *err, size_t el)
 {
     if (rc != VP_OK) return rc;
-    return vp_board_check(c, err, el);
+    rc = vp_board_check(c, err, el);
+    if (rc != VP_OK) return rc;
+    return vp_board_calib_key(c, err, el);
 }
 
 int vp_board_parse(const char *text, const char *name, vp_board_t *b, char *err, size_t errlen)
@@ -562,6 +661,127 @@ int vp_board_load(const char *path, vp_board_t *b, char *err, size_t errlen)
     c.sec = -1;
     snprintf(b->path, sizeof b->path, "%s", path);
     return vp_board_finish(&c, vp_ini_parse_file(path, vp_board_key, &c, err, errlen), err, errlen);
+}
+
+/* ---- calibration files ---- */
+
+typedef struct vp_cctx {
+    vp_board_calib_t *info;
+    int line_at, model_at, board_at;
+    double line[4], model[3];
+    int sec;                     /* 0 none, 1 [calibration], 2 [rangefinder] */
+} vp_cctx_t;
+
+static int vp_calib_key(void *user, const char *section, const char *key, const char *val, int line, char *msg, size_t ml)
+{
+    vp_cctx_t *c = user;
+    vp_board_calib_t *in = c->info;
+    double v[4];
+    (void)line;
+    if (!*key) {
+        if (!strcmp(section, "calibration")) c->sec = 1;
+        else if (!strcmp(section, "rangefinder")) c->sec = 2;
+        else { snprintf(msg, ml, "unknown section (calibration or rangefinder)"); return VP_EINVAL; }
+        return VP_OK;
+    }
+    if (c->sec == 2) {
+        if (!strcmp(key, "line")) { VP_TRY(vp_numbers(val, c->line, 4, -1e5, 1e5, msg, ml)); c->line_at = line; return VP_OK; }
+        if (!strcmp(key, "model")) { VP_TRY(vp_numbers(val, c->model, 3, -1e9, 1e9, msg, ml)); c->model_at = line; return VP_OK; }
+        snprintf(msg, ml, "unknown key (a calibration file sets line and model)");
+        return VP_EINVAL;
+    }
+    if (c->sec != 1) { snprintf(msg, ml, "key outside any section"); return VP_EINVAL; }
+    if (!strcmp(key, "board")) {
+        if (strlen(val) >= sizeof in->board) { snprintf(msg, ml, "longer than %d characters", (int)sizeof in->board - 1); return VP_EINVAL; }
+        strcpy(in->board, val);
+        c->board_at = line;
+        return VP_OK;
+    }
+    if (!strcmp(key, "span")) {
+        VP_TRY(vp_numbers(val, v, 2, POS, 1e5, msg, ml));
+        in->near = v[0];
+        in->far = v[1];
+        return VP_OK;
+    }
+    if (!strcmp(key, "spots") || !strcmp(key, "stations")) {
+        VP_TRY(vp_numbers(val, v, 1, 0, 1e6, msg, ml));
+        if (!strcmp(key, "spots")) in->spots = (int)v[0]; else in->stations = (int)v[0];
+        return VP_OK;
+    }
+    if (!strcmp(key, "residual_rms_mm") || !strcmp(key, "residual_max_mm") || !strcmp(key, "line_rms_px")) {
+        VP_TRY(vp_numbers(val, v, 1, 0, 1e9, msg, ml));
+        if (key[0] == 'l') in->line_rms_px = v[0];
+        else if (key[9] == 'r') in->rms_mm = v[0];
+        else in->max_mm = v[0];
+        return VP_OK;
+    }
+    snprintf(msg, ml, "unknown key");
+    return VP_EINVAL;
+}
+
+int vp_board_calibration_load(vp_board_t *b, const char *path, vp_board_calib_t *info, char *err, size_t errlen)
+{
+    vp_board_calib_t scratch;
+    vp_cctx_t c;
+    double len;
+    int rc;
+    if (!b || !path) return VP_EINVAL;
+    memset(&c, 0, sizeof c);
+    memset(&scratch, 0, sizeof scratch);
+    c.info = info ? info : &scratch;
+    memset(c.info, 0, sizeof *c.info);
+    rc = vp_ini_parse_file(path, vp_calib_key, &c, err, errlen);
+    if (rc != VP_OK) return rc;
+    if (!c.line_at || !c.model_at) {
+        snprintf(err, errlen, "%s: [rangefinder] missing key '%s'", path, c.line_at ? "model" : "line");
+        return VP_EINVAL;
+    }
+    if (!c.board_at) { snprintf(err, errlen, "%s: [calibration] missing key 'board'", path); return VP_EINVAL; }
+    if (strcmp(c.info->board, b->name)) {
+        snprintf(err, errlen, "%s:%d: [calibration] board: made on board '%s', not on '%s'", path, c.board_at,
+                 c.info->board, b->name);
+        return VP_EINVAL;
+    }
+    len = sqrt(c.line[2] * c.line[2] + c.line[3] * c.line[3]);
+    if (!(len > 0.5 && len < 2)) {
+        snprintf(err, errlen, "%s:%d: [rangefinder] line: the direction (3rd, 4th numbers) must be a unit vector", path, c.line_at);
+        return VP_EINVAL;
+    }
+    memset(&b->tri, 0, sizeof b->tri);
+    b->tri.p0[0] = c.line[0]; b->tri.p0[1] = c.line[1];
+    b->tri.e[0] = c.line[2] / len; b->tri.e[1] = c.line[3] / len;
+    b->tri.a = c.model[0]; b->tri.b = c.model[1]; b->tri.c = c.model[2];
+    b->tri.line_tol = 3;
+    b->tri.min_range = b->min_range;
+    b->tri.max_range = b->max_range;
+    memcpy(b->line, c.line, sizeof b->line);
+    memcpy(b->model, c.model, sizeof b->model);
+    b->calibrated = 2;
+    b->calib_missing = 0;
+    snprintf(b->calib_path, sizeof b->calib_path, "%s", path);
+    c.info->tri = b->tri;
+    return VP_OK;
+}
+
+int vp_board_calibration_write(const char *path, const vp_board_t *b, const vp_board_calib_t *c, char *err,
+                               size_t errlen)
+{
+    FILE *f = fopen(path, "w");
+    int ok;
+    if (!f) { snprintf(err, errlen, "cannot write %s", path); return VP_EIO; }
+    fprintf(f, "# voroprobe calibration of board '%s' (%s), written by `voroprobe calibrate`.\n"
+               "# Use it with `calibration = FILE` in the board's [rangefinder] or `voroprobe scan --calib FILE`.\n\n",
+            b->name, b->path);
+    fprintf(f, "[calibration]\nboard = %s\nspots = %d\nstations = %d\nspan = %.17g, %.17g    # mm from the target\n"
+               "residual_rms_mm = %.6g\nresidual_max_mm = %.6g\nline_rms_px = %.6g\n\n",
+            b->name, c->spots, c->stations, c->near, c->far, c->rms_mm, c->max_mm, c->line_rms_px);
+    fprintf(f, "# the spot at image point P0 + s E (px) is d = (A + B s) / (1 + C s) mm along the beam\n"
+               "[rangefinder]\nline = %.17g, %.17g, %.17g, %.17g\nmodel = %.17g, %.17g, %.17g\n",
+            c->tri.p0[0], c->tri.p0[1], c->tri.e[0], c->tri.e[1], c->tri.a, c->tri.b, c->tri.c);
+    ok = !ferror(f);
+    if (fclose(f) != 0) ok = 0;
+    if (!ok) { snprintf(err, errlen, "cannot write %s", path); return VP_EIO; }
+    return VP_OK;
 }
 
 /* ---- configurations for the modules ---- */

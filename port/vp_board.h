@@ -29,6 +29,7 @@ typedef struct vp_board {
     char name[64];
     char path[256];
     int io;                              /* VP_BOARD_IO_*: gpiod needs pins and an e-stop */
+    char log_sync[32];                   /* session log sync policy (vp_logfile_parse_sync; "" default) */
     vp_board_axis_t axis[VP_BOARD_AXES]; /* x y z pan tilt (index = vp_kin joint) */
     vp_gpio_pin_t estop, laser;
     /* [timing] */
@@ -44,8 +45,20 @@ typedef struct vp_board {
     /* [rangefinder] */
     double min_range, max_range, band, settle_ms;
     double line[4], model[3];
-    int calibrated;                      /* line and model given (else from the geometry) */
+    int calibrated;                      /* 1: line and model in the board, 2: from a calibration
+                                            file (else 0: from the geometry) */
     vp_tri_model_t tri;                  /* the model in use */
+    char near_spots[16];                 /* "too-close" (default) or "measure" */
+    int near_measure;                    /* a spot nearer than min_range: 1 a hit at the model's
+                                            extrapolated distance, 0 VP_PROBE_TOO_CLOSE */
+    char calibration[256];               /* [rangefinder] calibration = FILE (as written) */
+    char calib_path[512];                /* that file relative to the board's folder ("" none) */
+    int calib_missing;                   /* the key names a file that does not exist (yet) */
+    /* [calibrate]: the calibration fixture, a flat target across +x */
+    int have_fixture;
+    double cal_target[3];                /* the plane x = cal_target[0]; the beam meets it at y, z */
+    double cal_near, cal_far;            /* closest and farthest station (mm from the target) */
+    int cal_stations, cal_frames;
     /* [omega] and scan defaults */
     int omega_kind;                      /* VP_OMEGA_BOX / VP_OMEGA_BALL (vp_planner.h values) */
     double omega_lo[3], omega_hi[3], omega_center[3], omega_radius;
@@ -54,12 +67,34 @@ typedef struct vp_board {
     char sim_surface[256];
     double sim_blur, sim_noise, sim_ambient, sim_gradient, sim_texture, sim_energy;
     double sim_seed;
+    double sim_cam_pos[3], sim_cam_look[3];  /* camera_position / camera_look_at */
+    vp_camera_model_t sim_cam;           /* the camera as mounted on the simulated head (default:
+                                            the [camera] model; a dry run renders with it) */
 } vp_board_t;
+
+/* What a calibration file says about its fit (vp_board_calibration_*). */
+typedef struct vp_board_calib {
+    char board[64];                      /* the board it was made on */
+    int spots, stations;
+    double near, far;                    /* the calibrated span, mm */
+    double rms_mm, max_mm, line_rms_px;  /* fit residuals */
+    vp_tri_model_t tri;                  /* line, model (ranges: the span) */
+} vp_board_calib_t;
 
 /* VP_OK; VP_EIO (cannot read); VP_EINVAL (syntax, unknown or missing key, bad value, an
  * inconsistent machine); err gets "file:line: [section] key: reason". */
 int  vp_board_load(const char *path, vp_board_t *b, char *err, size_t errlen);
 int  vp_board_parse(const char *text, const char *name, vp_board_t *b, char *err, size_t errlen);
+
+/* A calibration file (INI: [calibration] about the fit, [rangefinder] line and model) replaces
+ * the board's rangefinder model (b->calibrated = 2, b->calib_path = path; the board's
+ * min_range/max_range stay). A board with `calibration = FILE` in [rangefinder] loads it by
+ * itself when the file exists (relative to the board's folder). VP_EIO (cannot read),
+ * VP_EINVAL ("file:line: [section] key: reason", or made on another board). info may be NULL. */
+int  vp_board_calibration_load(vp_board_t *b, const char *path, vp_board_calib_t *info, char *err, size_t errlen);
+/* Writes a calibration file for board b (VP_EIO with err). */
+int  vp_board_calibration_write(const char *path, const vp_board_t *b, const vp_board_calib_t *c, char *err,
+                                size_t errlen);
 
 /* The module configurations a board implies. */
 void vp_board_step_config(const vp_board_t *b, vp_step_config_t *c);

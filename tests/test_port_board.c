@@ -4,6 +4,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 #include "vp_board.h"
 #include "vp_iorec.h"
 #include "vp_planner.h"
@@ -88,8 +89,10 @@ int main(void)
     CHECK(!strcmp(b.camera.backend, "v4l2") && !strcmp(b.camera.device, "/dev/video0") && b.camera.exposure_us == 1000);
     CHECK(b.camera.format == VP_FOURCC('G', 'R', 'E', 'Y') && b.cam_model.fx == 350 && b.cam_model.fy == 350);
     CHECK(b.min_range == 10 && b.max_range == 400 && !b.calibrated && b.tri.max_range > b.tri.min_range);
-    CHECK(b.omega_kind == VP_OMEGA_BOX && b.omega_hi[2] == 200 && b.eps == 15 && b.start[2] == 225);
-    CHECK(!strcmp(b.sim_surface, "ellipsoid*50@200,150,135"));
+    CHECK(b.omega_kind == VP_OMEGA_BALL && b.omega_radius == 80 && b.eps == 15 && b.start[2] == 232);
+    CHECK(!strcmp(b.sim_surface, "ellipsoid*50@200,150,150"));
+    CHECK(b.near_measure == 1 && !b.calibration[0] && b.have_fixture && b.cal_target[0] == 300 && b.cal_stations == 20);
+    CHECK(b.sim_cam.pos[1] == b.cam_model.pos[1] && b.sim_cam.rot[0] == b.cam_model.rot[0]);
     {
         vp_step_config_t sc;
         vp_kin_config_t kc;
@@ -162,11 +165,22 @@ int main(void)
     bad(t, LOC("max_speed = 10\n"), "[axis.z] max_speed: set twice (first at line");
     t = edit("max_speed = 150", "max_speed = 300");
     bad(t, LOC("max_speed = 300"), "[axis.x] max_speed: 300 mm/s is 24000 steps/s, above [timing] max_step_rate 20000");
-    t = edit("box = 100, 80, 70, 300, 220, 200", "box = 100, 80, 70, 390, 220, 200");
-    bad(t, LOC("box = 100"), "[omega] box: x from 100 to 390 is not within axis.x travel 0..400 less the head's reach 65.0 mm");
-    t = edit("start = 200, 150, 225", "start = 200, 150, 150");
+    t = edit("ball = 200, 150, 150, 80", "ball = 200, 150, 150, 130");
+    bad(t, LOC("ball = 200"), "[omega] ball: y from 20 to 280 is not within axis.y travel 0..300 less the head's reach 65.0 mm");
+    t = edit("ball = 200, 150, 150, 80", "box = 130, 90, 90, 270, 210, 210");
+    bad(t, LOC("box = 130"), "[omega] box: the planner's detours round Omega reach 112.2 mm from its centre (1.02 x its "
+        "circumradius): y from 37.8 to 262.2 is not within axis.y travel 0..300 less the head's reach 65.0 mm; use a smaller box, or a ball");
+    t = edit("start = 200, 150, 232", "start = 200, 150, 150");
     bad(t, LOC("start = 200"), "[omega] start: the device must start outside Omega");
-    t = edit("interior = 200, 150, 135", "interior = 20, 150, 135");
+    t = edit("near_spots = measure", "near_spots = guess");
+    bad(t, LOC("near_spots = guess"), "[rangefinder] near_spots: expected too-close or measure, got 'guess'");
+    t = edit("name = rpi4-gantry", "name = rpi4-gantry\nlog_sync = often");
+    bad(t, LOC("log_sync = often"), "[board] log_sync: expected record, close, N (records), Tms or N,Tms; got 'often'");
+    t = edit("far = 200", "far = 12");
+    bad(t, LOC("far = 12"), "[calibrate] far: must be above near (15 mm)");
+    t = edit("camera_look_at = 100, 0, 0", "camera_look_at = 0, 30, 10");
+    bad(t, LOC("camera_look_at = 0"), "[sim] camera_look_at: the camera must not look along 'up' nor at its own position");
+    t = edit("interior = 200, 150, 150", "interior = 20, 150, 150");
     bad(t, LOC("interior = 20,"), "[omega] interior: must lie inside Omega");
     t = edit("# line = P0X, P0Y, EX, EY", "line = 557, 277, -0.988, -0.155");
     bad(t, LOC("line = 557"), "[rangefinder] line: a calibration needs both line and model");
@@ -199,6 +213,50 @@ int main(void)
         rc = vp_board_parse(t, "rpi4.ini", &b, err, sizeof err);
         CHECKF(rc == VP_OK, "%s", err);
     }
-    printf("2 boards parsed; %d broken variants refused with file, line, section, key and reason\n", nbad);
+    /* ---- calibration files: written, read back by the board, broken ones named ---- */
+    {
+        char dir[] = "/tmp/vp_calib_XXXXXX", bpath[128], cpath[128], bt[65536];
+        vp_board_t b2;
+        vp_board_calib_t ci, back;
+        FILE *f;
+        CHECK(mkdtemp(dir) != NULL);
+        snprintf(bpath, sizeof bpath, "%s/board.ini", dir);
+        snprintf(cpath, sizeof cpath, "%s/board.calib", dir);
+        CHECK(load_text("boards/rpi4-gantry.ini"));
+        t = edit("# calibration = rpi4-gantry.calib", "calibration = board.calib");
+        snprintf(bt, sizeof bt, "%s", t);
+        f = fopen(bpath, "w");
+        CHECK(f && fputs(bt, f) >= 0 && fclose(f) == 0);
+        rc = vp_board_load(bpath, &b, err, sizeof err);
+        CHECKF(rc == VP_OK && b.calib_missing && !b.calibrated && !strcmp(b.calib_path, cpath), "%s", err);
+        memset(&ci, 0, sizeof ci);
+        ci.tri = b.tri;
+        ci.tri.a += 1.5;       /* not the geometry: the file's model must win */
+        ci.spots = 60; ci.stations = 20; ci.near = 15; ci.far = 200; ci.rms_mm = 0.01;
+        CHECK(vp_board_calibration_write(cpath, &b, &ci, err, sizeof err) == VP_OK);
+        rc = vp_board_load(bpath, &b2, err, sizeof err);
+        CHECKF(rc == VP_OK && b2.calibrated == 2 && !b2.calib_missing && b2.tri.a == ci.tri.a && b2.tri.b == ci.tri.b &&
+               b2.tri.c == ci.tri.c && b2.tri.p0[0] == ci.tri.p0[0] && b2.tri.min_range == 10, "%s", err);
+        CHECK(vp_board_calibration_load(&b, cpath, &back, err, sizeof err) == VP_OK && back.spots == 60 && back.far == 200);
+        /* broken: the error names the calibration file, its line, section and key, via the board's key */
+        f = fopen(cpath, "w");
+        CHECK(f && fputs("[calibration]\nboard = rpi4-gantry\n[rangefinder]\nline = 1, 2, 1, 0\nmodel = 1, 2\n", f) >= 0 && fclose(f) == 0);
+        rc = vp_board_load(bpath, &b2, err, sizeof err);
+        CHECKF(rc == VP_EINVAL && strstr(err, "board.ini:") && strstr(err, "[rangefinder] calibration: ") &&
+               strstr(err, "board.calib:5: [rangefinder] model: expected 3 numbers"), "%s", err);
+        f = fopen(cpath, "w");
+        CHECK(f && fputs("[calibration]\nboard = sim\n[rangefinder]\nline = 1, 2, 1, 0\nmodel = 1, 2, 3\n", f) >= 0 && fclose(f) == 0);
+        rc = vp_board_calibration_load(&b, cpath, NULL, err, sizeof err);
+        CHECKF(rc == VP_EINVAL && strstr(err, "board.calib:2: [calibration] board: made on board 'sim', not on 'rpi4-gantry'"), "%s", err);
+        f = fopen(cpath, "w");
+        CHECK(f && fputs("[calibration]\nboard = rpi4-gantry\n[rangefinder]\nline = 1, 2, 1, 0\n", f) >= 0 && fclose(f) == 0);
+        rc = vp_board_calibration_load(&b, cpath, NULL, err, sizeof err);
+        CHECKF(rc == VP_EINVAL && strstr(err, "board.calib: [rangefinder] missing key 'model'"), "%s", err);
+        remove(cpath);
+        remove(bpath);
+        rmdir(dir);
+    }
+    printf("2 boards parsed; %d broken variants refused with file, line, section, key and reason; calibration files "
+           "written, read back, broken ones named\n", nbad);
     return vp_test_done("test_port_board");
 }

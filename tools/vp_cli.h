@@ -17,5 +17,7 @@ int vp_cmd_replay(int argc, char **argv);
 int vp_cmd_mesh(int argc, char **argv);
 int vp_cmd_log(int argc, char **argv);
 int vp_cmd_certify(int argc, char **argv);
+int vp_cmd_scan(int argc, char **argv);
+int vp_cmd_calibrate(int argc, char **argv);
 
 #endif

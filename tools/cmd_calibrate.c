@@ -1,0 +1,201 @@
+/* voroprobe calibrate: the rangefinder model from a flat target at known distances, written to
+ * a calibration file that the board loader reads (scan --calib FILE, or `calibration = FILE`). */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include "vp_cli.h"
+#include "vp_scan.h"
+
+static void calibrate_usage(FILE *f)
+{
+    fprintf(f,
+        "usage: voroprobe calibrate --board FILE [--dry-run] [--out CALIB] [options]\n"
+        "Fits the camera laser rangefinder. The head looks along machine +x at a flat matte target\n"
+        "standing across x, steps towards it through stations evenly spaced in 1/distance (the\n"
+        "distances come from the kinematics), finds the spot in each frame and fits the image line\n"
+        "and the model d = (a + b s) / (1 + c s); the fit residual is reported and the model is\n"
+        "written to CALIB (INI), which `scan --calib CALIB` or `calibration = CALIB` in the board's\n"
+        "[rangefinder] uses.\n"
+        "  --board FILE       the machine (boards/*.ini)\n"
+        "  --out CALIB        the calibration file (default: the board's [rangefinder] calibration,\n"
+        "                     else BOARD.calib beside the board file)\n"
+        "  --target X,Y,Z     the target is the plane x = X; the beam meets it at y = Y, z = Z\n"
+        "                     (default: the board's [calibrate] target)\n"
+        "  --near D, --far D  nearest and farthest station, mm from the target\n"
+        "  --stations N       distances (default 20), --frames N: exposures at each (default 3)\n"
+        "  --dry-run          host-sim: the target rendered by the camera as mounted on the\n"
+        "                     simulated head (the board's [sim] camera_position / camera_look_at);\n"
+        "                     the fit is compared with that camera's true model\n"
+        "  --seed N           dry run: seed of the frames' noise\n"
+        "Exit status: 0 written, 1 failed, 2 usage.\n");
+}
+
+static int nums(const char *s, double *v, int n)
+{
+    char *e;
+    int i;
+    for (i = 0; i < n; i++) {
+        v[i] = strtod(s, &e);
+        if (e == s || !isfinite(v[i])) return -1;
+        s = e;
+        if (i + 1 < n) { if (*s != ',') return -1; s++; }
+    }
+    return *s ? -1 : 0;
+}
+
+/* Largest distance error (mm, and px along the line) of model m against truth over [lo, hi]. */
+static void model_error(const vp_tri_model_t *m, const vp_tri_model_t *truth, double lo, double hi, double *mm, double *px)
+{
+    int i;
+    *mm = *px = 0;
+    for (i = 0; i <= 200; i++) {
+        double d = lo + (hi - lo) * i / 200.0, slope, s_t = vp_tri_s(truth, d), u, v, s_m, dm;
+        vp_tri_eval(truth, s_t, &slope);
+        u = truth->p0[0] + s_t * truth->e[0];
+        v = truth->p0[1] + s_t * truth->e[1];
+        s_m = (u - m->p0[0]) * m->e[0] + (v - m->p0[1]) * m->e[1];
+        dm = vp_tri_eval(m, s_m, NULL);
+        if (fabs(dm - d) > *mm) *mm = fabs(dm - d);
+        if (slope > 0 && fabs(dm - d) / slope > *px) *px = fabs(dm - d) / slope;
+    }
+}
+
+int vp_cmd_calibrate(int argc, char **argv)
+{
+    const char *board = NULL, *out = NULL;
+    double target[3], v, near = 0, far = 0;
+    int have_target = 0, stations = 0, frames = 0, dry = 0, i, st, rc = 1, dev_open = 0;
+    unsigned long long seed = 0;
+    vp_board_t b;
+    vp_scan_dev_t dev;
+    vp_calib_plan_t plan;
+    vp_tri_model_t fit;
+    vp_tri_fit_report_t rep;
+    vp_board_calib_t info;
+    char err[1200], path[600];
+    for (i = 1; i < argc; i++) {
+        const char *a = argv[i], *val = i + 1 < argc ? argv[i + 1] : NULL;
+        char *e;
+        if (!strcmp(a, "--help") || !strcmp(a, "-h")) { calibrate_usage(stdout); return 0; }
+        if (!strcmp(a, "--dry-run")) { dry = 1; continue; }
+        if (strcmp(a, "--board") && strcmp(a, "--out") && strcmp(a, "--target") && strcmp(a, "--near") &&
+            strcmp(a, "--far") && strcmp(a, "--stations") && strcmp(a, "--frames") && strcmp(a, "--seed")) {
+            fprintf(stderr, "calibrate: unknown option %s (see --help)\n", a);
+            return 2;
+        }
+        if (!val) { fprintf(stderr, "calibrate: %s needs a value\n", a); return 2; }
+        i++;
+        if (!strcmp(a, "--board")) { board = val; continue; }
+        if (!strcmp(a, "--out")) { out = val; continue; }
+        if (!strcmp(a, "--target")) {
+            if (nums(val, target, 3)) { fprintf(stderr, "calibrate: --target takes X,Y,Z, not '%s'\n", val); return 2; }
+            have_target = 1;
+            continue;
+        }
+        v = strtod(val, &e);
+        if (e == val || *e || !(v > 0) || !isfinite(v)) { fprintf(stderr, "calibrate: %s takes a positive number, not '%s'\n", a, val); return 2; }
+        if (!strcmp(a, "--near")) near = v;
+        else if (!strcmp(a, "--far")) far = v;
+        else if (!strcmp(a, "--seed")) seed = (unsigned long long)v;
+        else if (v != floor(v)) { fprintf(stderr, "calibrate: %s takes a whole number\n", a); return 2; }
+        else if (!strcmp(a, "--stations")) stations = (int)v;
+        else frames = (int)v;
+    }
+    if (!board) { fprintf(stderr, "calibrate: give the machine: --board FILE (see --help)\n"); return 2; }
+    st = vp_board_load(board, &b, err, sizeof err);
+    if (st != VP_OK) { fprintf(stderr, "calibrate: %s\n", err); return 1; }
+
+    /* the fixture: options, else the board's [calibrate], else (dry runs) Omega's far side */
+    memset(&plan, 0, sizeof plan);
+    if (!have_target && b.have_fixture) { memcpy(target, b.cal_target, sizeof target); have_target = 1; }
+    if (!have_target && dry) {
+        int k;
+        for (k = 0; k < 3; k++) target[k] = b.omega_kind == VP_OMEGA_BOX ? 0.5 * (b.omega_lo[k] + b.omega_hi[k]) : b.omega_center[k];
+        target[0] = b.omega_kind == VP_OMEGA_BOX ? b.omega_hi[0] : b.omega_center[0] + b.omega_radius;
+        have_target = 1;
+    }
+    if (!have_target) {
+        fprintf(stderr, "calibrate: %s has no [calibrate] section: say where the flat target stands with --target X,Y,Z\n", b.path);
+        return 2;
+    }
+    plan.target_x = target[0];
+    plan.y = target[1];
+    plan.z = target[2];
+    plan.d_near = near ? near : b.have_fixture ? b.cal_near : 1.5 * b.min_range;
+    plan.d_far = far ? far : b.have_fixture ? b.cal_far : (b.max_range < 200 ? b.max_range : 200);
+    plan.stations = stations ? stations : b.have_fixture ? b.cal_stations : 20;
+    plan.frames = frames ? frames : b.have_fixture ? b.cal_frames : 3;
+    if (!(plan.d_near < plan.d_far)) { fprintf(stderr, "calibrate: --near (%g) must be below --far (%g)\n", plan.d_near, plan.d_far); return 2; }
+    if (plan.stations < 4 || plan.stations * plan.frames > VP_MACHINE_MAX_CALIB) {
+        fprintf(stderr, "calibrate: stations (at least 4) x frames must be at most %d\n", VP_MACHINE_MAX_CALIB);
+        return 2;
+    }
+    if (out) snprintf(path, sizeof path, "%s", out);
+    else if (b.calib_path[0]) snprintf(path, sizeof path, "%s", b.calib_path);
+    else {
+        size_t len = strlen(board);
+        snprintf(path, sizeof path, "%s", board);
+        if (len > 4 && len < sizeof path && !strcmp(path + len - 4, ".ini")) path[len - 4] = 0;
+        snprintf(path + strlen(path), sizeof path - strlen(path), ".calib");
+    }
+
+    st = vp_scan_open(&dev, &b, dry, NULL, plan.target_x, seed, err, sizeof err);
+    if (st != VP_OK) { fprintf(stderr, "calibrate: %s\n", err); return 1; }
+    dev_open = 1;
+    fprintf(stderr, "calibrate: board %s (%s)%s; flat target at x = %g mm, beam crossing it at y = %g, z = %g\n", b.name,
+            b.path, dry ? ", dry run on host-sim" : "", plan.target_x, plan.y, plan.z);
+    vp_scan_catch_signals();
+    st = vp_scan_home(&dev, err, sizeof err);
+    if (st != VP_OK) { fprintf(stderr, "calibrate: %s\n", err); goto done; }
+    fprintf(stderr, "calibrate: homed; %d stations from %g to %g mm from the target, %d frame(s) each\n", plan.stations,
+            plan.d_far, plan.d_near, plan.frames);
+    st = vp_machine_calibrate(dev.m, &plan, &fit, &rep);
+    if (st != VP_OK) {
+        char why[300];
+        dev.fault = st;
+        vp_scan_fault_text(&dev, why, sizeof why);
+        if (st == VP_EDEGEN) fprintf(stderr, "calibrate: fewer than 4 spots found: is the target there, lit by the laser and in view?\n");
+        else if (st == VP_ERANGE) fprintf(stderr, "calibrate: the stations (x = %g .. %g, y = %g, z = %g) are outside the machine's travel\n",
+                                          plan.target_x - plan.d_far, plan.target_x - plan.d_near, plan.y, plan.z);
+        else fprintf(stderr, "calibrate: %s\n", why);
+        goto done;
+    }
+    printf("fit: %d spots at %d stations (%g..%g mm), residual rms %.4f mm, max %.4f mm; spots off the fitted line %.3f px rms\n",
+           rep.n, plan.stations, plan.d_near, plan.d_far, rep.rms_mm, rep.max_mm, rep.line_rms_px);
+    printf("model: line P0 = (%.4f, %.4f) px, E = (%.6f, %.6f); d = (%.6g + %.6g s) / (1 + %.6g s) mm\n", fit.p0[0], fit.p0[1],
+           fit.e[0], fit.e[1], fit.a, fit.b, fit.c);
+    if (dry) {
+        vp_tri_model_t truth, nominal;
+        double mm, px, mm0, px0;
+        if (vp_tri_from_geometry(&b.sim_cam, b.laser_offset, b.min_range, b.max_range, &truth) == VP_OK &&
+            vp_tri_from_geometry(&b.cam_model, b.laser_offset, b.min_range, b.max_range, &nominal) == VP_OK) {
+            model_error(&fit, &truth, plan.d_near, plan.d_far, &mm, &px);
+            model_error(&nominal, &truth, plan.d_near, plan.d_far, &mm0, &px0);
+            printf("dry run: against the true model of the mounted camera over %g..%g mm: worst %.4f mm (%.4f px); "
+                   "the camera geometry of [camera] alone is off by up to %.3f mm (%.2f px)\n", plan.d_near, plan.d_far, mm,
+                   px, mm0, px0);
+        }
+    }
+    memset(&info, 0, sizeof info);
+    info.spots = rep.n;
+    info.stations = plan.stations;
+    info.near = plan.d_near;
+    info.far = plan.d_far;
+    info.rms_mm = rep.rms_mm;
+    info.max_mm = rep.max_mm;
+    info.line_rms_px = rep.line_rms_px;
+    info.tri = fit;
+    st = vp_board_calibration_write(path, &b, &info, err, sizeof err);
+    if (st == VP_OK) {
+        vp_board_t check = b;
+        st = vp_board_calibration_load(&check, path, NULL, err, sizeof err);   /* reads back */
+    }
+    if (st != VP_OK) { fprintf(stderr, "calibrate: %s\n", err); goto done; }
+    printf("wrote %s (use it: scan --calib %s, or `calibration = FILE` in [rangefinder] of %s)\n", path, path, b.path);
+    if (rep.rms_mm > 1) fprintf(stderr, "calibrate: warning: the residual is large (%.2f mm): check the target and the focus\n", rep.rms_mm);
+    rc = 0;
+done:
+    if (dev_open) vp_scan_close(&dev);
+    return rc;
+}

@@ -1,0 +1,523 @@
+/* vp_scan — see vp_scan.h. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include "vp_cam.h"
+#include "vp_rtclock.h"
+#include "vp_scan.h"
+#include "vp_status.h"
+#include "vp_surface.h"
+
+volatile sig_atomic_t vp_scan_stop;
+
+static void vp_scan_on_signal(int sig)
+{
+    (void)sig;
+    vp_scan_stop = 1;
+}
+
+void vp_scan_catch_signals(void)
+{
+    struct sigaction sa;
+    memset(&sa, 0, sizeof sa);
+    sa.sa_handler = vp_scan_on_signal;
+    sigemptyset(&sa.sa_mask);
+    sa.sa_flags = SA_RESETHAND;    /* a second Ctrl-C ends the process at once */
+    sigaction(SIGINT, &sa, NULL);
+    sigaction(SIGTERM, &sa, NULL);
+}
+
+/* ---------- the dry run's object ---------- */
+
+int vp_scan_dry_surface(const vp_board_t *b, const char *spec, char *out, size_t outlen, char *err, size_t errlen)
+{
+    const char *s = spec && *spec ? spec : b->sim_surface[0] ? b->sim_surface : "ellipsoid";
+    vp_surface_t *surf;
+    double lo[3], hi[3], room = HUGE_VAL, margin, scale, off[3];
+    int k, st, n;
+    if (strchr(s, '*') || strchr(s, '@') || strchr(s, '+')) {
+        if (strlen(s) >= outlen) { snprintf(err, errlen, "object spec too long"); return VP_EINVAL; }
+        strcpy(out, s);
+        return VP_OK;
+    }
+    /* a bare object: centred on the interior point, 60% of the room Omega leaves around it */
+    st = vp_surface_open(s, &surf, err, errlen);
+    if (st != VP_OK) return st;
+    vp_surface_bbox(surf, lo, hi);
+    vp_surface_close(surf);
+    margin = b->clearance > b->min_range ? b->clearance : b->min_range;
+    for (k = 0; k < 3; k++) {
+        double h, e = 0.5 * (hi[k] - lo[k]);
+        if (b->omega_kind == VP_OMEGA_BOX) {
+            h = b->interior[k] - b->omega_lo[k];
+            if (b->omega_hi[k] - b->interior[k] < h) h = b->omega_hi[k] - b->interior[k];
+        } else {
+            double dc = 0;
+            int q;
+            for (q = 0; q < 3; q++) dc += (b->interior[q] - b->omega_center[q]) * (b->interior[q] - b->omega_center[q]);
+            h = b->omega_radius - sqrt(dc);
+        }
+        h -= margin;
+        if (e > 0 && h / e < room) room = h / e;
+    }
+    if (!(room > 0) || !isfinite(room)) {
+        snprintf(err, errlen, "%s: Omega leaves no room for an object around the interior point", b->path);
+        return VP_EINVAL;
+    }
+    scale = 0.6 * room;
+    for (k = 0; k < 3; k++) off[k] = b->interior[k] - scale * 0.5 * (lo[k] + hi[k]);
+    n = snprintf(out, outlen, "%s*%.6g@%.6g,%.6g,%.6g", s, scale, off[0], off[1], off[2]);
+    if (n < 0 || (size_t)n >= outlen) { snprintf(err, errlen, "object spec too long"); return VP_EINVAL; }
+    return VP_OK;
+}
+
+/* ---------- opening, homing ---------- */
+
+static const char *const vp_axis_name[VP_KIN_JOINTS] = { "x", "y", "z", "pan", "tilt" };
+
+typedef struct vp_scan_ev { int kind, axis; const char *what; } vp_scan_ev_t;
+static vp_scan_ev_t vp_scan_last_ev;
+
+static void vp_scan_event(void *ctx, const vp_step_event_t *ev)
+{
+    (void)ctx;
+    if (ev->kind == VP_STEP_EV_HOMED || ev->kind == VP_STEP_EV_CLEARED) return;
+    vp_scan_last_ev.kind = ev->kind;
+    vp_scan_last_ev.axis = ev->axis;
+    vp_scan_last_ev.what = ev->what;
+}
+
+int vp_scan_open(vp_scan_dev_t *d, const vp_board_t *b, int dry, const char *surface, double target_x,
+                 unsigned long long seed, char *err, size_t errlen)
+{
+    int st;
+    memset(d, 0, sizeof *d);
+    memset(&vp_scan_last_ev, 0, sizeof vp_scan_last_ev);
+    d->board = *b;
+    d->dry = dry;
+    d->raw = NAN;
+    d->seed = seed ? seed : (unsigned long long)b->sim_seed;
+    if (dry) {
+        vp_dryrun_options_t o;
+        memset(&o, 0, sizeof o);
+        o.surface = surface ? surface : "sphere";   /* a flat target needs no object */
+        o.flat_target = surface == NULL;
+        o.target_x = target_x;
+        o.seed = d->seed;
+        st = vp_dryrun_open(b, &o, &d->dr, err, errlen);
+        if (st != VP_OK) return st;
+        d->m = vp_dryrun_machine(d->dr);
+    } else {
+        vp_gpiod_config_t gc;
+        vp_cam_config_t cc;
+        vp_cam_t cam;
+        vp_kin_config_t kc;
+        vp_step_config_t sc;
+        vp_machine_config_t mc;
+        vp_io_t io;
+        char e1[300] = "", e2[300] = "";
+        int sg, sv;
+        if (b->io != VP_BOARD_IO_GPIOD) {
+            snprintf(err, errlen, "board '%s' (%s) has io = sim: it drives no hardware; use --dry-run", b->name, b->path);
+            return VP_ENODEV;
+        }
+        vp_board_gpiod_config(b, &gc);
+        sg = vp_gpiod_open(&gc, &d->gpio, e1, sizeof e1);
+        cc = b->camera;
+        cc.width = b->cam_model.width;
+        cc.height = b->cam_model.height;
+        memset(&cam, 0, sizeof cam);
+        sv = vp_cam_open(&cc, &cam, e2, sizeof e2);
+        if (sg != VP_OK || sv != VP_OK) {
+            snprintf(err, errlen, "the hardware of board '%s' (%s) is not available:%s%s%s%s\n"
+                     "  (scan --dry-run runs the board on host-sim instead)", b->name, b->path,
+                     sg != VP_OK ? "\n  GPIO: " : "", sg != VP_OK ? e1 : "", sv != VP_OK ? "\n  camera: " : "",
+                     sv != VP_OK ? e2 : "");
+            if (sv == VP_OK && cam.close) cam.close(cam.ctx);
+            if (d->gpio) vp_gpiod_close(d->gpio);
+            d->gpio = NULL;
+            return sg != VP_OK ? sg : sv;
+        }
+        vp_board_kin_config(b, &kc);
+        vp_board_step_config(b, &sc);
+        memset(&mc, 0, sizeof mc);
+        mc.settle_ns = (uint32_t)llround(b->settle_ms * 1e6);
+        mc.timeout_ms = b->timeout_ms;
+        mc.use_laser_line = b->laser.chip[0] != 0;
+        mc.spot.band = b->band;
+        io = vp_gpiod_io(d->gpio);
+        st = vp_machine_init(&d->hw, &kc, &sc, &io, &cam, &b->tri, &mc);
+        if (st != VP_OK) {
+            snprintf(err, errlen, "%s: the machine configuration is refused", b->path);
+            if (cam.close) cam.close(cam.ctx);
+            vp_gpiod_close(d->gpio);
+            d->gpio = NULL;
+            return st;
+        }
+        d->hw_open = 1;
+        d->m = &d->hw;
+    }
+    d->m->step.cfg.event = vp_scan_event;
+    d->m->step.cfg.event_ctx = d;
+    return VP_OK;
+}
+
+void vp_scan_fault_text(const vp_scan_dev_t *d, char *buf, size_t n)
+{
+    const vp_scan_ev_t *e = &vp_scan_last_ev;
+    const char *ax = e->axis >= 0 && e->axis < VP_KIN_JOINTS ? vp_axis_name[e->axis] : "?";
+    int st = d->fault;
+    switch (d->m ? d->m->step.fault : 0) {
+    case VP_STEP_FAULT_ESTOP:
+        snprintf(buf, n, "e-stop pressed: pulses stopped, drivers off");
+        return;
+    case VP_STEP_FAULT_LIMIT:
+        snprintf(buf, n, "limit switch of axis %s closed during a move (a hard limit): drivers off", ax);
+        return;
+    case VP_STEP_FAULT_HOME:
+        snprintf(buf, n, "homing axis %s failed: %s", ax, e->what ? e->what : "?");
+        return;
+    default: break;
+    }
+    if (st == VP_ERANGE) snprintf(buf, n, "the command is outside the machine's travel (refused, nothing moved)");
+    else if (st == VP_ETIMEOUT) snprintf(buf, n, "camera: no frame in time");
+    else if (st == VP_EIO) snprintf(buf, n, "I/O error (GPIO or camera)%s%s", d->m && d->m->cam.error ? ": " : "",
+                                    d->m && d->m->cam.error ? d->m->cam.error(d->m->cam.ctx) : "");
+    else snprintf(buf, n, "%s", vp_strerror(st));
+}
+
+int vp_scan_home(vp_scan_dev_t *d, char *err, size_t errlen)
+{
+    vp_machine_t *m = d->m;
+    double j[VP_KIN_JOINTS];
+    int a, st = vp_machine_home(m);
+    if (st != VP_OK) {
+        char t[200];
+        d->fault = st;
+        vp_scan_fault_text(d, t, sizeof t);
+        snprintf(err, errlen, "homing failed: %s", t);
+        return st;
+    }
+    /* axes without a switch: take up the backlash in a fixed direction (down unless that leaves
+     * travel), so the carriage sits the same way after every homing */
+    for (a = 0; a < VP_KIN_JOINTS; a++) {
+        const vp_step_axis_t *ax = &m->step.cfg.axis[a];
+        double dz = 2 * ax->backlash + 2 / ax->steps_per_unit;
+        if (ax->home_dir || ax->backlash <= 0) continue;
+        vp_step_position(&m->step, j);
+        j[a] -= j[a] - dz >= ax->travel_min ? dz : -dz;
+        st = vp_step_move(&m->step, j);
+        if (st == VP_OK) {
+            vp_step_position(&m->step, j);
+            j[a] = ax->home_pos;
+            st = vp_step_move(&m->step, j);
+        }
+        vp_step_position(&m->step, m->j);
+        if (st != VP_OK) {
+            char t[200];
+            d->fault = st;
+            vp_scan_fault_text(d, t, sizeof t);
+            snprintf(err, errlen, "taking up the backlash of axis %s failed: %s", vp_axis_name[a], t);
+            return st;
+        }
+    }
+    return VP_OK;
+}
+
+int vp_scan_goto(vp_scan_dev_t *d, const double p[3], char *err, size_t errlen)
+{
+    int st = vp_machine_goto(d->m, p);
+    if (st != VP_OK) {
+        char t[200];
+        d->fault = st;
+        vp_scan_fault_text(d, t, sizeof t);
+        snprintf(err, errlen, "moving to %.6g %.6g %.6g: %s", p[0], p[1], p[2], t);
+    }
+    return st;
+}
+
+double vp_scan_seconds(const vp_scan_dev_t *d)
+{
+    if (d->dry) return (double)d->dr->rec.now * 1e-9;
+    return (double)vp_rt_now() * 1e-9;
+}
+
+void vp_scan_close(vp_scan_dev_t *d)
+{
+    if (d->dr) vp_dryrun_close(d->dr);
+    if (d->hw_open) vp_machine_close(&d->hw);
+    if (d->gpio) vp_gpiod_close(d->gpio);
+    d->dr = NULL;
+    d->gpio = NULL;
+    d->hw_open = 0;
+    d->m = NULL;
+}
+
+/* ---------- executing the planner's commands ---------- */
+
+static uint64_t vp_scan_mix(uint64_t x)
+{
+    x += 0x9E3779B97F4A7C15ull;
+    x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
+    x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
+    return x ^ (x >> 31);
+}
+
+static void vp_scan_trip(vp_scan_dev_t *d)
+{
+    d->commands++;
+    if (d->dry && d->estop_at && d->commands == d->estop_at) {
+        /* pressed 2 ms into this command, and kept pressed */
+        d->dr->rec.cfg.estop_at = d->dr->rec.now + 2000000;
+        d->dr->rec.cfg.estop_until = INT64_MAX;
+    }
+}
+
+static int vp_scan_dev_move(void *ctx, const vp_cmd_t *cmd, int *collided)
+{
+    vp_scan_dev_t *d = ctx;
+    int st;
+    vp_scan_trip(d);
+    st = vp_machine_exec(d->m, cmd, NULL);
+    *collided = 0;
+    if (st != VP_OK) { d->fault = st; d->fault_cmd = *cmd; return st; }
+    if (d->dry && vp_surface_segment_collides(d->dr->surf, cmd->from, cmd->to, 0)) { d->through++; *collided = 1; }
+    return VP_OK;
+}
+
+static int vp_scan_dev_probe(void *ctx, const vp_cmd_t *cmd, vp_probe_result_t *res)
+{
+    vp_scan_dev_t *d = ctx;
+    vp_machine_t *m = d->m;
+    unsigned long near0 = m->st.near;
+    int st;
+    vp_scan_trip(d);
+    if (d->dry) vp_camsim_seed(d->dr->cs, vp_scan_mix(d->seed ^ vp_scan_mix(d->probes)));
+    st = vp_machine_exec(m, cmd, res);
+    if (st != VP_OK) { d->fault = st; d->fault_cmd = *cmd; return st; }
+    d->probes++;
+    d->raw = NAN;
+    if (m->last.spot.result == VP_SPOT_FOUND)
+        d->raw = (m->last.spot.u - m->tri.p0[0]) * m->tri.e[0] + (m->last.spot.v - m->tri.p0[1]) * m->tri.e[1];
+    /* Only "no spot", or a spot beyond the range asked, is a miss: free space. A spot nearer
+     * than min_range is VP_PROBE_TOO_CLOSE (or, with near_measure, a hit at the model's
+     * extrapolated distance, as vp_machine gives it). A frame that cannot be read (a blob too
+     * big for a spot, as a surface at the lens gives; several spots; a spot off the laser line)
+     * or a spot below the model's valid span proves nothing free: VP_PROBE_TOO_CLOSE too. */
+    {
+        const vp_tri_model_t *t = &m->tri;
+        int r = m->last.spot.result, unreadable = 0;
+        if (r == VP_SPOT_FOUND && res->hit && m->st.near != near0) {
+            d->near++;
+            if (!d->near_measure) res->hit = VP_PROBE_TOO_CLOSE;
+        } else if (r == VP_SPOT_FOUND && !res->hit) {
+            double dd = vp_tri_eval(t, d->raw, NULL), sfar = vp_tri_s(t, t->max_range);
+            int beyond = d->raw >= sfar || (dd >= t->min_range && dd > cmd->range);
+            if (!beyond) unreadable = 1;
+        } else if (r != VP_SPOT_FOUND && r != VP_SPOT_NONE) unreadable = 1;
+        if (unreadable) { res->hit = VP_PROBE_TOO_CLOSE; d->unreadable++; }
+        if (res->hit == VP_PROBE_TOO_CLOSE) res->dist = 0;
+    }
+    if (res->hit == VP_PROBE_TOO_CLOSE) d->too_close++;
+    else if (res->hit) d->hits++;
+    else d->misses++;
+    if (d->dry && res->hit != VP_PROBE_TOO_CLOSE) {
+        double t;
+        int truth = vp_surface_ray(d->dr->surf, cmd->from, cmd->dir, cmd->range, &t);
+        if (res->hit && truth) {
+            double e = fabs(res->dist - t);
+            d->true_n++;
+            d->err2 += e * e;
+            if (e > d->err_max) d->err_max = e;
+        } else if (res->hit) d->false_hits++;
+        else if (truth && t >= m->tri.min_range) d->false_misses++;
+    }
+    return VP_OK;
+}
+
+vp_device_ops_t vp_scan_ops(vp_scan_dev_t *d)
+{
+    vp_device_ops_t ops;
+    ops.ctx = d;
+    ops.move = vp_scan_dev_move;
+    ops.probe = vp_scan_dev_probe;
+    return ops;
+}
+
+/* ---------- resuming: back to where the log left the machine ---------- */
+
+typedef struct { double p[3]; uint32_t i; } vp_pt_t;
+
+static int vp_pt_cmp(const void *x, const void *y)
+{
+    const vp_pt_t *a = x, *b = y;
+    int k;
+    for (k = 0; k < 3; k++)
+        if (a->p[k] != b->p[k]) return a->p[k] < b->p[k] ? -1 : 1;
+    return a->i < b->i ? -1 : a->i > b->i;
+}
+
+static double vp_dist(const double a[3], const double b[3])
+{
+    return sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) + (a[2] - b[2]) * (a[2] - b[2]));
+}
+
+/* Shortest route from P[0] to P[n-1] along the segments P[i-1]P[i] (equal points joined).
+ * Writes the point indices into route (from P[0]) and returns their count, or < 0. */
+static long vp_scan_route(const double (*P)[3], uint32_t n, uint32_t *route)
+{
+    vp_pt_t *s = malloc((size_t)n * sizeof *s);
+    uint32_t *id = malloc((size_t)n * sizeof *id), *rep = malloc((size_t)n * sizeof *rep);
+    uint32_t *deg = calloc((size_t)n + 1, sizeof *deg), *adj = malloc(2 * (size_t)n * sizeof *adj);
+    uint32_t *prev = malloc((size_t)n * sizeof *prev), *heap = malloc(2 * (size_t)n * sizeof *heap);
+    double *dist = malloc((size_t)n * sizeof *dist), *hkey = malloc(2 * (size_t)n * sizeof *hkey);
+    uint32_t i, nn = 0, nh = 0, src, dst, v;
+    long len = -1;
+    if (!s || !id || !rep || !deg || !adj || !prev || !heap || !dist || !hkey) goto out;
+    for (i = 0; i < n; i++) { memcpy(s[i].p, P[i], sizeof s[i].p); s[i].i = i; }
+    qsort(s, n, sizeof *s, vp_pt_cmp);
+    for (i = 0; i < n; i++) {
+        if (!(i > 0 && s[i].p[0] == s[i - 1].p[0] && s[i].p[1] == s[i - 1].p[1] && s[i].p[2] == s[i - 1].p[2]))
+            rep[nn++] = s[i].i;
+        id[s[i].i] = nn - 1;
+    }
+    /* adjacency (compressed rows) of the undirected segments */
+    for (i = 1; i < n; i++) { deg[id[i - 1] + 1]++; deg[id[i] + 1]++; }
+    for (i = 0; i < nn; i++) deg[i + 1] += deg[i];
+    {
+        uint32_t *fill = malloc(((size_t)nn + 1) * sizeof *fill);
+        if (!fill) goto out;
+        memcpy(fill, deg, ((size_t)nn + 1) * sizeof *fill);
+        for (i = 1; i < n; i++) { adj[fill[id[i - 1]]++] = id[i]; adj[fill[id[i]]++] = id[i - 1]; }
+        free(fill);
+    }
+    /* Dijkstra with a lazy binary heap */
+    src = id[0];
+    dst = id[n - 1];
+    for (i = 0; i < nn; i++) { dist[i] = HUGE_VAL; prev[i] = UINT32_MAX; }
+    dist[src] = 0;
+    heap[nh] = src; hkey[nh++] = 0;
+    while (nh) {
+        double k0 = hkey[0];
+        uint32_t u = heap[0], c, q;
+        nh--;
+        heap[0] = heap[nh]; hkey[0] = hkey[nh];
+        for (c = 0;;) {   /* sift down */
+            uint32_t l = 2 * c + 1, r = l + 1, b = c;
+            if (l < nh && hkey[l] < hkey[b]) b = l;
+            if (r < nh && hkey[r] < hkey[b]) b = r;
+            if (b == c) break;
+            { double tk = hkey[b]; uint32_t tv = heap[b]; hkey[b] = hkey[c]; heap[b] = heap[c]; hkey[c] = tk; heap[c] = tv; }
+            c = b;
+        }
+        if (k0 > dist[u]) continue;
+        if (u == dst) break;
+        for (q = deg[u]; q < deg[u + 1]; q++) {
+            uint32_t w = adj[q];
+            double nd = dist[u] + vp_dist(P[rep[u]], P[rep[w]]);
+            if (nd < dist[w]) {
+                dist[w] = nd;
+                prev[w] = u;
+                if (nh < 2 * n) {  /* sift up */
+                    c = nh++;
+                    heap[c] = w; hkey[c] = nd;
+                    while (c > 0 && hkey[(c - 1) / 2] > hkey[c]) {
+                        uint32_t pa = (c - 1) / 2;
+                        double tk = hkey[pa]; uint32_t tv = heap[pa];
+                        hkey[pa] = hkey[c]; heap[pa] = heap[c]; hkey[c] = tk; heap[c] = tv;
+                        c = pa;
+                    }
+                }
+            }
+        }
+    }
+    if (dist[dst] == HUGE_VAL) goto out;
+    len = 0;
+    for (v = dst; v != UINT32_MAX; v = prev[v]) route[len++] = rep[v];
+    for (i = 0; i < (uint32_t)len / 2; i++) { uint32_t t = route[i]; route[i] = route[len - 1 - i]; route[len - 1 - i] = t; }
+out:
+    free(s); free(id); free(rep); free(deg); free(adj); free(prev); free(heap); free(dist); free(hkey);
+    return len;
+}
+
+static void vp_units(const vp_step_t *s, const int32_t *pos, double *u)
+{
+    int i;
+    for (i = 0; i < s->cfg.naxes; i++) u[i] = pos[i] / s->cfg.axis[i].steps_per_unit;
+}
+
+int vp_scan_return(vp_scan_dev_t *d, const vp_slog_t *L, uint32_t n, const double start[3], FILE *msg,
+                   char *err, size_t errlen)
+{
+    vp_machine_t *m = d->m;
+    int32_t pos[VP_STEP_MAX_AXES];
+    double u[VP_STEP_MAX_AXES], t[VP_STEP_MAX_AXES], (*P)[3] = NULL, travel = 0, route_len = 0;
+    uint32_t np = 1, i, *route = NULL;
+    uint64_t probes = 0;
+    long nr;
+    int st = VP_OK, a, w;
+    P = malloc(((size_t)L->moves + 1) * sizeof *P);
+    route = malloc(((size_t)L->moves + 1) * sizeof *route);
+    if (!P || !route) { free(P); free(route); snprintf(err, errlen, "out of memory"); return VP_ENOMEM; }
+    memcpy(P[0], start, sizeof P[0]);
+    memcpy(pos, m->step.pos, sizeof pos);
+    /* the joints the session had after each logged command, as the step generator rounds them */
+    for (i = 0; i < n && i < L->n; i++) {
+        vp_log_record_t rec;
+        if (vp_slog_record(L, i, &rec) != VP_OK) { st = VP_ECORRUPT; break; }
+        if (rec.type == VP_LOG_EVENT) continue;
+        vp_units(&m->step, pos, u);
+        if (rec.type == VP_LOG_MOVE) {
+            st = vp_kin_move(&m->kin, u, rec.target, t);
+            if (st == VP_OK && np <= L->moves) {
+                travel += vp_dist(P[np - 1], rec.target);
+                memcpy(P[np++], rec.target, sizeof P[0]);
+            }
+        } else {
+            st = vp_kin_aim(&m->kin, u, rec.origin, rec.dir, t);
+            probes++;
+        }
+        if (st != VP_OK) {
+            snprintf(err, errlen, "record %u: the logged %s is out of this board's travel", i,
+                     rec.type == VP_LOG_MOVE ? "move" : "probe");
+            break;
+        }
+        for (a = 0; a < VP_KIN_JOINTS; a++) pos[a] = vp_step_to_steps(&m->step, a, t[a]);
+    }
+    if (st == VP_ECORRUPT) snprintf(err, errlen, "the log cannot be read again");
+    if (st != VP_OK) { free(P); free(route); return st; }
+    d->probes = probes;
+    /* back along the logged moves */
+    nr = vp_scan_route((const double (*)[3])P, np, route);
+    if (nr < 1) { free(P); free(route); snprintf(err, errlen, "no route back through the logged moves"); return VP_EDEGEN; }
+    for (w = 1; w < nr; w++) route_len += vp_dist(P[route[w - 1]], P[route[w]]);
+    if (msg) fprintf(msg, "resume: back to %.6g %.6g %.6g along %ld logged move(s), %.0f mm (the session travelled %.0f mm)\n",
+                     P[np - 1][0], P[np - 1][1], P[np - 1][2], nr - 1, route_len, travel);
+    for (w = 1; w < nr && st == VP_OK; w++) {
+        if (vp_scan_stop) { st = VP_EABORT; snprintf(err, errlen, "stopped (Ctrl-C) on the way back"); break; }
+        st = vp_scan_goto(d, P[route[w]], err, errlen);
+    }
+    free(P);
+    free(route);
+    if (st != VP_OK) return st;
+    /* then the head as the log left it: turn about the laser origin to the same joints */
+    vp_units(&m->step, pos, t);
+    w = vp_kin_aim_path(&m->kin, m->j, t, m->way, VP_MACHINE_MAX_WAY);
+    st = w < 0 ? w : vp_step_move_path(&m->step, &m->way[0][0], w);
+    vp_step_position(&m->step, m->j);
+    if (st != VP_OK) {
+        char tx[200];
+        d->fault = st;
+        vp_scan_fault_text(d, tx, sizeof tx);
+        snprintf(err, errlen, "turning the head back: %s", tx);
+        return st;
+    }
+    for (a = 0; a < VP_KIN_JOINTS; a++)
+        if (m->step.pos[a] != pos[a]) {
+            snprintf(err, errlen, "axis %s is at step %ld, not at step %ld where the log left it", vp_axis_name[a],
+                     (long)m->step.pos[a], (long)pos[a]);
+            return VP_EDEGEN;
+        }
+    return VP_OK;
+}

@@ -1,0 +1,77 @@
+/* vp_scan — the machine side of `scan` and `calibrate`: a board's machine opened on its hardware
+ * (libgpiod + V4L2/libcamera) or as a dry run (host-sim at the hardware boundary), homed, and
+ * executing planner commands through vp_machine_exec with the results mapped for the planner
+ * (a spot nearer than min_range: VP_PROBE_TOO_CLOSE; no spot: a miss). A resumed session is
+ * brought back to where its log left the machine: home, the logged free route, the same joints.
+ *
+ * Dry runs are deterministic: probe k's frame noise is drawn from (seed, k) alone, axes without
+ * a switch take up their backlash the same way after every homing, and the joints a log left
+ * are recomputed step for step, so a resumed dry run sees exactly what the uncut one saw. */
+#ifndef VP_SCAN_H
+#define VP_SCAN_H
+#include <signal.h>
+#include <stddef.h>
+#include "vp_board.h"
+#include "vp_dryrun.h"
+#include "vp_gpiod.h"
+#include "vp_machine.h"
+#include "vp_session.h"
+#include "vp_slog.h"
+
+typedef struct vp_scan_dev {
+    vp_board_t board;
+    int dry;                      /* 1: host-sim stands in for the hardware */
+    vp_dryrun_t *dr;              /* dry run */
+    vp_gpiod_t *gpio;             /* hardware */
+    vp_machine_t hw;              /* the machine on the hardware backends */
+    int hw_open;
+    vp_machine_t *m;              /* the machine in use */
+    unsigned long long seed;      /* dry run: frames of probe k from (seed, k) */
+    uint64_t probes;              /* probes executed (replayed ones included after a resume) */
+    unsigned long commands;       /* commands executed by this run */
+    unsigned long too_close, hits, misses, through; /* results as fed; dry run: moves through the object */
+    unsigned long unreadable;     /* of too_close: a blob, several spots, a spot off the line or below the model */
+    unsigned long near;           /* spots nearer than min_range (too close, or hits with near_measure) */
+    int near_measure;             /* 1: a spot nearer than min_range is a hit at the extrapolated distance */
+    double raw;                   /* last probe's raw reading: spot position along the line, px (NaN: none) */
+    unsigned long estop_at;       /* dry run: press the e-stop during this run's command N (0: never) */
+    int fault;                    /* the status that stopped a command (VP_OK: none) */
+    vp_cmd_t fault_cmd;
+    /* dry run: probes against the true object */
+    unsigned long true_n, false_hits, false_misses;
+    double err2, err_max;
+} vp_scan_dev_t;
+
+/* Ctrl-C: set by the SIGINT/SIGTERM handler (vp_scan_catch_signals); the loop stops after the
+ * current command. A second signal ends the process at once. */
+extern volatile sig_atomic_t vp_scan_stop;
+void vp_scan_catch_signals(void);
+
+/* Dry runs: the object for a spec. NULL (or "") gives the board's [sim] surface, else an
+ * ellipsoid sized to Omega; a bare NAME or off:/ply: FILE (no '*' or '@') is scaled and placed
+ * to fit Omega around the board's interior point; anything else is taken as written (mm). */
+int  vp_scan_dry_surface(const vp_board_t *b, const char *spec, char *out, size_t outlen, char *err, size_t errlen);
+
+/* Opens the machine. Hardware: the GPIO lines and the camera the board names (VP_ENODEV with
+ * every missing device named in err). Dry run: host-sim with the object `surface` (a resolved
+ * spec) or a flat target x = target_x (surface NULL). */
+int  vp_scan_open(vp_scan_dev_t *d, const vp_board_t *b, int dry, const char *surface, double target_x,
+                  unsigned long long seed, char *err, size_t errlen);
+/* Homing, then axes without a switch take up their backlash in a fixed direction. */
+int  vp_scan_home(vp_scan_dev_t *d, char *err, size_t errlen);
+/* The laser origin to p, pan/tilt unchanged. */
+int  vp_scan_goto(vp_scan_dev_t *d, const double p[3], char *err, size_t errlen);
+/* The device operations for vp_session_run (ctx = d). */
+vp_device_ops_t vp_scan_ops(vp_scan_dev_t *d);
+/* After a resume's replay (first n records of L), from the planner's start (the machine homed
+ * and at cfg.start): back along the logged moves (shortest route through them: every segment
+ * was proven free), then the joints the log left, step for step. msg: notes (may be NULL). */
+int  vp_scan_return(vp_scan_dev_t *d, const vp_slog_t *L, uint32_t n, const double start[3], FILE *msg,
+                    char *err, size_t errlen);
+/* Why the last command failed, in words (e-stop, limit switch, camera, travel). */
+void vp_scan_fault_text(const vp_scan_dev_t *d, char *buf, size_t n);
+/* Machine time: simulated in a dry run, else the monotonic clock (s). */
+double vp_scan_seconds(const vp_scan_dev_t *d);
+void vp_scan_close(vp_scan_dev_t *d);
+
+#endif
