@@ -462,8 +462,10 @@ static int log_check(const char *path, int replay)
     if (L.done)
         printf("session: complete (DONE)%s\n", rc ? "; the mesh can be rebuilt from the valid records" : "");
     else
-        printf("session: incomplete (last event: %s): `sim --resume %s` continues it from record %u; "
-               "`mesh` gives the mesh so far%s\n", last_event ? vp_slog_event_name(last_event) : "none", path, L.n,
+        printf("session: incomplete (last event: %s): `%s %s%s` continues it from record %u; "
+               "`mesh` gives the mesh so far%s\n", last_event ? vp_slog_event_name(last_event) : "none",
+               strncmp(L.header.note, "scan ", 5) ? "sim --resume" : "scan --log", path,
+               strncmp(L.header.note, "scan ", 5) ? "" : " --resume", L.n,
                L.status != VP_OK ? " (resume first cuts the damaged tail)" : "");
     vp_slog_free(&L);
     return rc;

@@ -615,9 +615,16 @@ int vp_cmd_scan(int argc, char **argv)
         fprintf(stderr, "scan: stopped at %s\nscan: the log %s is resumable: voroprobe scan --log %s --resume%s\n", text,
                 o.log, o.log, dev.m->step.fault == VP_STEP_FAULT_ESTOP ? " (after releasing the e-stop)" : "");
     } else {
-        snprintf(text, sizeof text, "planner: %s", vp_strerror(st));
+        snprintf(text, sizeof text, "planner: %s", st == VP_ERANGE ? "the probe towards an interior point found no "
+                 "surface: is [omega] interior inside the object?" : vp_strerror(st));
         vp_logfile_event(&run.w.file, VP_LOG_EV_FAULT, st, text);
         fprintf(stderr, "scan: the scan stopped: %s%s\n", text, st == VP_ENOMEM ? " (the arena is full: --arena)" : "");
+        if (dev.unreadable) {
+            char why[300];
+            vp_scan_unreadable_text(&dev, why, sizeof why);
+            fprintf(stderr, "scan: %lu frame(s) could not be read (%s)%s\n", dev.unreadable, why,
+                    dev.unread_why[0] ? ": a spot off the laser line means the rangefinder model is off: calibrate" : "");
+        }
     }
     vp_logfile_close(&run.w.file);
     log_open = 0;
@@ -639,10 +646,10 @@ int vp_cmd_scan(int argc, char **argv)
         printf("mesh: %u vertices, %u facets; %s, %d component(s), genus %d\n", (unsigned)mesh.nv, (unsigned)mesh.nt,
                have_mc && mc.closed_manifold ? "closed 2-manifold" : "NOT closed (yet)", have_mc ? mc.components : -1,
                have_mc ? mc.genus : -1);
-        printf("machine: %lu probes: %lu hits (%lu nearer than %g mm, %s), %lu misses, %lu too close or unreadable (%lu "
-               "unreadable frames); %lu moves, laser origin travel %.0f mm, %.0f s of machine time%s\n", m->st.probes,
-               dev.hits, o.near ? dev.near : 0, b.tri.min_range,
-               o.near ? "measured" : "none: near spots are too close", dev.misses, dev.too_close, dev.unreadable, m->st.moves,
+        printf("machine: %lu probes: %lu hits (%lu nearer than %g mm, measured), %lu misses, %lu too close (%lu nearer "
+               "than %g mm, %lu unreadable frames); %lu moves, laser origin travel %.0f mm, %.0f s of machine time%s\n",
+               m->st.probes, dev.hits, o.near ? dev.near : 0, b.tri.min_range, dev.misses, dev.too_close,
+               o.near ? 0 : dev.near, b.tri.min_range, dev.unreadable, m->st.moves,
                m->st.travel, mt, o.dry ? " (simulated)" : "");
         printf("planner: %llu probes in all, largest ball %.4g mm (eps %g), arena peak %zu bytes\n",
                (unsigned long long)ps.probes, ps.max_ball, o.eps, ps.arena_peak);

@@ -131,7 +131,7 @@ int vp_scan_open(vp_scan_dev_t *d, const vp_board_t *b, int dry, const char *sur
         sv = vp_cam_open(&cc, &cam, e2, sizeof e2);
         if (sg != VP_OK || sv != VP_OK) {
             snprintf(err, errlen, "the hardware of board '%s' (%s) is not available:%s%s%s%s\n"
-                     "  (scan --dry-run runs the board on host-sim instead)", b->name, b->path,
+                     "  (--dry-run runs the board on host-sim instead)", b->name, b->path,
                      sg != VP_OK ? "\n  GPIO: " : "", sg != VP_OK ? e1 : "", sv != VP_OK ? "\n  camera: " : "",
                      sv != VP_OK ? e2 : "");
             if (sv == VP_OK && cam.close) cam.close(cam.ctx);
@@ -161,6 +161,12 @@ int vp_scan_open(vp_scan_dev_t *d, const vp_board_t *b, int dry, const char *sur
     d->m->step.cfg.event = vp_scan_event;
     d->m->step.cfg.event_ctx = d;
     return VP_OK;
+}
+
+void vp_scan_unreadable_text(const vp_scan_dev_t *d, char *buf, size_t n)
+{
+    snprintf(buf, n, "%lu off the laser line, %lu blobs too big for a spot, %lu with several spots, %lu below the "
+             "model's span", d->unread_why[0], d->unread_why[1], d->unread_why[2], d->unread_why[3]);
 }
 
 void vp_scan_fault_text(const vp_scan_dev_t *d, char *buf, size_t n)
@@ -316,7 +322,11 @@ static int vp_scan_dev_probe(void *ctx, const vp_cmd_t *cmd, vp_probe_result_t *
             int beyond = d->raw >= sfar || (dd >= t->min_range && dd > cmd->range);
             if (!beyond) unreadable = 1;
         } else if (r != VP_SPOT_FOUND && r != VP_SPOT_NONE) unreadable = 1;
-        if (unreadable) { res->hit = VP_PROBE_TOO_CLOSE; d->unreadable++; }
+        if (unreadable) {
+            res->hit = VP_PROBE_TOO_CLOSE;
+            d->unreadable++;
+            d->unread_why[r == VP_SPOT_OFF_LINE ? 0 : r == VP_SPOT_TOO_BIG ? 1 : r == VP_SPOT_SEVERAL ? 2 : 3]++;
+        }
         if (res->hit == VP_PROBE_TOO_CLOSE) res->dist = 0;
     }
     if (res->hit == VP_PROBE_TOO_CLOSE) d->too_close++;
@@ -363,18 +373,89 @@ static double vp_dist(const double a[3], const double b[3])
     return sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) + (a[2] - b[2]) * (a[2] - b[2]));
 }
 
-/* Shortest route from P[0] to P[n-1] along the segments P[i-1]P[i] (equal points joined).
- * Writes the point indices into route (from P[0]) and returns their count, or < 0. */
-static long vp_scan_route(const double (*P)[3], uint32_t n, uint32_t *route)
+static int vp_outside(const vp_planner_config_t *c, const double p[3])
+{
+    int k;
+    if (c->omega_kind == VP_OMEGA_BALL) return vp_dist(p, c->omega_center) >= c->omega_radius;
+    for (k = 0; k < 3; k++)
+        if (p[k] <= c->omega_lo[k] || p[k] >= c->omega_hi[k]) return 1;
+    return 0;
+}
+
+static void vp_omega_sphere(const vp_planner_config_t *c, double o[3], double *r)
+{
+    int k;
+    double q = 0;
+    for (k = 0; k < 3; k++) {
+        o[k] = c->omega_kind == VP_OMEGA_BALL ? c->omega_center[k] : 0.5 * (c->omega_lo[k] + c->omega_hi[k]);
+        q += 0.25 * (c->omega_hi[k] - c->omega_lo[k]) * (c->omega_hi[k] - c->omega_lo[k]);
+    }
+    *r = 1.01 * (c->omega_kind == VP_OMEGA_BALL ? c->omega_radius : sqrt(q));
+}
+
+/* A way between two points outside the convex Omega that stays outside it: radially out to
+ * the sphere of radius rs about o (a ray from the centre never re-enters a convex set), round
+ * it in chords of at most 15 degrees (they stay outside Omega's circumsphere), radially in.
+ * Appends the waypoints after a (b included) to W when W != NULL; returns the length. */
+static double vp_sphere_way(const double o[3], double rs, const double a[3], const double b[3], double (*W)[3],
+                            long *nw, long cap)
+{
+    double ua[3], ub[3], um[3], ra = 0, rb = 0, len = 0, prev[3], ang, dd = 0;
+    int k, half, i, n;
+    for (k = 0; k < 3; k++) { ua[k] = a[k] - o[k]; ub[k] = b[k] - o[k]; ra += ua[k] * ua[k]; rb += ub[k] * ub[k]; }
+    ra = sqrt(ra);
+    rb = sqrt(rb);
+    if (!(ra > 0) || !(rb > 0)) return HUGE_VAL;
+    for (k = 0; k < 3; k++) { ua[k] /= ra; ub[k] /= rb; um[k] = ua[k] + ub[k]; dd += um[k] * um[k]; }
+    if (dd < 1e-12) {   /* opposite: turn through any perpendicular */
+        double t[3] = { 1, 0, 0 };
+        if (fabs(ua[0]) > 0.9) { t[0] = 0; t[1] = 1; }
+        um[0] = ua[1] * t[2] - ua[2] * t[1];
+        um[1] = ua[2] * t[0] - ua[0] * t[2];
+        um[2] = ua[0] * t[1] - ua[1] * t[0];
+        dd = um[0] * um[0] + um[1] * um[1] + um[2] * um[2];
+    }
+    for (k = 0; k < 3; k++) um[k] /= sqrt(dd);
+    memcpy(prev, a, sizeof prev);
+    if (ra < rs) ra = rs;
+    if (rb < rs) rb = rs;
+    for (half = 0; half < 2; half++) {
+        const double *u0 = half ? um : ua, *u1 = half ? ub : um;
+        double c0 = u0[0] * u1[0] + u0[1] * u1[1] + u0[2] * u1[2];
+        ang = acos(c0 > 1 ? 1 : c0 < -1 ? -1 : c0);
+        n = (int)ceil(ang / (15.0 * 3.14159265358979323846 / 180.0));
+        if (n < 1) n = 1;
+        for (i = half; i <= n; i++) {
+            double t = (double)i / n, w[3], r = ra + (rb - ra) * 0.5 * (half + t), q = 0;
+            for (k = 0; k < 3; k++) { w[k] = (1 - t) * u0[k] + t * u1[k]; q += w[k] * w[k]; }
+            for (k = 0; k < 3; k++) w[k] = o[k] + r * w[k] / sqrt(q);
+            len += vp_dist(prev, w);
+            if (W && *nw < cap) memcpy(W[(*nw)++], w, sizeof w);
+            memcpy(prev, w, sizeof prev);
+        }
+    }
+    len += vp_dist(prev, b);
+    if (W && *nw < cap) memcpy(W[(*nw)++], b, sizeof prev);
+    return len;
+}
+
+/* The way back from P[0] (the start, outside Omega) to P[n-1] through proven-free space: round
+ * Omega (everything outside it is free) to the logged position v outside Omega from which the
+ * logged moves P[i-1]P[i] (equal points joined) lead to P[n-1] the shortest way, then along
+ * them. Writes the waypoints after P[0] into W (capacity cap); returns their count (< 0: none)
+ * and the length. */
+static long vp_scan_route(const vp_planner_config_t *cfg, const double (*P)[3], uint32_t n, double (*W)[3], long cap,
+                          double *route_len)
 {
     vp_pt_t *s = malloc((size_t)n * sizeof *s);
     uint32_t *id = malloc((size_t)n * sizeof *id), *rep = malloc((size_t)n * sizeof *rep);
     uint32_t *deg = calloc((size_t)n + 1, sizeof *deg), *adj = malloc(2 * (size_t)n * sizeof *adj);
     uint32_t *prev = malloc((size_t)n * sizeof *prev), *heap = malloc(2 * (size_t)n * sizeof *heap);
     double *dist = malloc((size_t)n * sizeof *dist), *hkey = malloc(2 * (size_t)n * sizeof *hkey);
-    uint32_t i, nn = 0, nh = 0, src, dst, v;
-    long len = -1;
-    if (!s || !id || !rep || !deg || !adj || !prev || !heap || !dist || !hkey) goto out;
+    double o[3], rs, best = HUGE_VAL;
+    uint32_t i, nn = 0, nh = 0, src, v, bi = 0;
+    long nw = -1;
+    if (n == 0 || !s || !id || !rep || !deg || !adj || !prev || !heap || !dist || !hkey) goto out;
     for (i = 0; i < n; i++) { memcpy(s[i].p, P[i], sizeof s[i].p); s[i].i = i; }
     qsort(s, n, sizeof *s, vp_pt_cmp);
     for (i = 0; i < n; i++) {
@@ -392,9 +473,8 @@ static long vp_scan_route(const double (*P)[3], uint32_t n, uint32_t *route)
         for (i = 1; i < n; i++) { adj[fill[id[i - 1]]++] = id[i]; adj[fill[id[i]]++] = id[i - 1]; }
         free(fill);
     }
-    /* Dijkstra with a lazy binary heap */
-    src = id[0];
-    dst = id[n - 1];
+    /* Dijkstra from the end, lazy binary heap: dist and prev lead every node to P[n-1] */
+    src = id[n - 1];
     for (i = 0; i < nn; i++) { dist[i] = HUGE_VAL; prev[i] = UINT32_MAX; }
     dist[src] = 0;
     heap[nh] = src; hkey[nh++] = 0;
@@ -412,33 +492,40 @@ static long vp_scan_route(const double (*P)[3], uint32_t n, uint32_t *route)
             c = b;
         }
         if (k0 > dist[u]) continue;
-        if (u == dst) break;
         for (q = deg[u]; q < deg[u + 1]; q++) {
             uint32_t w = adj[q];
             double nd = dist[u] + vp_dist(P[rep[u]], P[rep[w]]);
-            if (nd < dist[w]) {
+            if (nd < dist[w] && nh < 2 * n) {
                 dist[w] = nd;
                 prev[w] = u;
-                if (nh < 2 * n) {  /* sift up */
-                    c = nh++;
-                    heap[c] = w; hkey[c] = nd;
-                    while (c > 0 && hkey[(c - 1) / 2] > hkey[c]) {
-                        uint32_t pa = (c - 1) / 2;
-                        double tk = hkey[pa]; uint32_t tv = heap[pa];
-                        hkey[pa] = hkey[c]; heap[pa] = heap[c]; hkey[c] = tk; heap[c] = tv;
-                        c = pa;
-                    }
+                c = nh++;   /* sift up */
+                heap[c] = w; hkey[c] = nd;
+                while (c > 0 && hkey[(c - 1) / 2] > hkey[c]) {
+                    uint32_t pa = (c - 1) / 2;
+                    double tk = hkey[pa]; uint32_t tv = heap[pa];
+                    hkey[pa] = hkey[c]; heap[pa] = heap[c]; hkey[c] = tk; heap[c] = tv;
+                    c = pa;
                 }
             }
         }
     }
-    if (dist[dst] == HUGE_VAL) goto out;
-    len = 0;
-    for (v = dst; v != UINT32_MAX; v = prev[v]) route[len++] = rep[v];
-    for (i = 0; i < (uint32_t)len / 2; i++) { uint32_t t = route[i]; route[i] = route[len - 1 - i]; route[len - 1 - i] = t; }
+    /* the best way in: round Omega to a logged position outside it, then the logged moves */
+    vp_omega_sphere(cfg, o, &rs);
+    for (i = 0; i < nn; i++) {
+        double c;
+        if (dist[i] == HUGE_VAL || (i != id[0] && !vp_outside(cfg, P[rep[i]]))) continue;
+        c = dist[i] + (i == id[0] ? 0 : vp_sphere_way(o, rs, P[0], P[rep[i]], NULL, NULL, 0));
+        if (c < best) { best = c; bi = i; }
+    }
+    if (best == HUGE_VAL) goto out;
+    nw = 0;
+    *route_len = best;
+    if (bi != id[0]) vp_sphere_way(o, rs, P[0], P[rep[bi]], W, &nw, cap);
+    for (v = prev[bi]; v != UINT32_MAX && nw < cap; v = prev[v]) memcpy(W[nw++], P[rep[v]], sizeof W[0]);
+    if (nw >= cap) nw = -1;
 out:
     free(s); free(id); free(rep); free(deg); free(adj); free(prev); free(heap); free(dist); free(hkey);
-    return len;
+    return nw;
 }
 
 static void vp_units(const vp_step_t *s, const int32_t *pos, double *u)
@@ -452,14 +539,13 @@ int vp_scan_return(vp_scan_dev_t *d, const vp_slog_t *L, uint32_t n, const doubl
 {
     vp_machine_t *m = d->m;
     int32_t pos[VP_STEP_MAX_AXES];
-    double u[VP_STEP_MAX_AXES], t[VP_STEP_MAX_AXES], (*P)[3] = NULL, travel = 0, route_len = 0;
-    uint32_t np = 1, i, *route = NULL;
+    double u[VP_STEP_MAX_AXES], t[VP_STEP_MAX_AXES], (*P)[3] = NULL, (*W)[3] = NULL, travel = 0, route_len = 0;
+    uint32_t np = 1, i;
     uint64_t probes = 0;
-    long nr;
+    long nr, cap;
     int st = VP_OK, a, w;
     P = malloc(((size_t)L->moves + 1) * sizeof *P);
-    route = malloc(((size_t)L->moves + 1) * sizeof *route);
-    if (!P || !route) { free(P); free(route); snprintf(err, errlen, "out of memory"); return VP_ENOMEM; }
+    if (!P) { snprintf(err, errlen, "out of memory"); return VP_ENOMEM; }
     memcpy(P[0], start, sizeof P[0]);
     memcpy(pos, m->step.pos, sizeof pos);
     /* the joints the session had after each logged command, as the step generator rounds them */
@@ -486,20 +572,25 @@ int vp_scan_return(vp_scan_dev_t *d, const vp_slog_t *L, uint32_t n, const doubl
         for (a = 0; a < VP_KIN_JOINTS; a++) pos[a] = vp_step_to_steps(&m->step, a, t[a]);
     }
     if (st == VP_ECORRUPT) snprintf(err, errlen, "the log cannot be read again");
-    if (st != VP_OK) { free(P); free(route); return st; }
+    if (st != VP_OK) { free(P); return st; }
     d->probes = probes;
-    /* back along the logged moves */
-    nr = vp_scan_route((const double (*)[3])P, np, route);
-    if (nr < 1) { free(P); free(route); snprintf(err, errlen, "no route back through the logged moves"); return VP_EDEGEN; }
-    for (w = 1; w < nr; w++) route_len += vp_dist(P[route[w - 1]], P[route[w]]);
-    if (msg) fprintf(msg, "resume: back to %.6g %.6g %.6g along %ld logged move(s), %.0f mm (the session travelled %.0f mm)\n",
-                     P[np - 1][0], P[np - 1][1], P[np - 1][2], nr - 1, route_len, travel);
-    for (w = 1; w < nr && st == VP_OK; w++) {
+    /* back along the logged moves (and round Omega, where everything is free) */
+    cap = (long)np + 64;
+    W = malloc((size_t)cap * sizeof *W);
+    nr = W ? vp_scan_route(&L->header.cfg, (const double (*)[3])P, np, W, cap, &route_len) : -1;
+    if (nr < 0) { free(P); free(W); snprintf(err, errlen, "no route back through the logged moves"); return VP_EDEGEN; }
+    if (msg) fprintf(msg, "resume: back to %.6g %.6g %.6g: %ld moves, %.0f mm (the session had travelled %.0f mm)\n",
+                     P[np - 1][0], P[np - 1][1], P[np - 1][2], nr, route_len, travel);
+    for (w = 0; w < nr && st == VP_OK; w++) {
+        double o0[3], dir[3];
         if (vp_scan_stop) { st = VP_EABORT; snprintf(err, errlen, "stopped (Ctrl-C) on the way back"); break; }
-        st = vp_scan_goto(d, P[route[w]], err, errlen);
+        vp_machine_beam(m, o0, dir);
+        st = vp_scan_goto(d, W[w], err, errlen);
+        if (d->dry && vp_surface_segment_collides(d->dr->surf, o0, W[w], 0)) d->through++;
     }
+    if (msg && d->dry) fprintf(msg, "resume: dry run: %lu of those moves went through the object\n", d->through);
     free(P);
-    free(route);
+    free(W);
     if (st != VP_OK) return st;
     /* then the head as the log left it: turn about the laser origin to the same joints */
     vp_units(&m->step, pos, t);

@@ -31,6 +31,7 @@ typedef struct vp_scan_dev {
     unsigned long commands;       /* commands executed by this run */
     unsigned long too_close, hits, misses, through; /* results as fed; dry run: moves through the object */
     unsigned long unreadable;     /* of too_close: a blob, several spots, a spot off the line or below the model */
+    unsigned long unread_why[4];  /* off the line, too big, several spots, below the model */
     unsigned long near;           /* spots nearer than min_range (too close, or hits with near_measure) */
     int near_measure;             /* 1: a spot nearer than min_range is a hit at the extrapolated distance */
     double raw;                   /* last probe's raw reading: spot position along the line, px (NaN: none) */
@@ -70,6 +71,8 @@ int  vp_scan_return(vp_scan_dev_t *d, const vp_slog_t *L, uint32_t n, const doub
                     char *err, size_t errlen);
 /* Why the last command failed, in words (e-stop, limit switch, camera, travel). */
 void vp_scan_fault_text(const vp_scan_dev_t *d, char *buf, size_t n);
+/* The unreadable frames by reason, in words. */
+void vp_scan_unreadable_text(const vp_scan_dev_t *d, char *buf, size_t n);
 /* Machine time: simulated in a dry run, else the monotonic clock (s). */
 double vp_scan_seconds(const vp_scan_dev_t *d);
 void vp_scan_close(vp_scan_dev_t *d);
