@@ -159,7 +159,7 @@ static int write_points(const vp_slog_t *L, uint32_t upto, const char *path, int
     if (!f) return VP_EIO;
     for (i = 0; i < upto; i++) {
         vp_log_record_t r;
-        if (vp_slog_record(L, i, &r) == VP_OK && r.type == VP_LOG_PROBE && r.hit) n++;
+        if (vp_slog_record(L, i, &r) == VP_OK && r.type == VP_LOG_PROBE && r.hit == 1) n++;
     }
     fprintf(f, "ply\nformat %s 1.0\ncomment voroprobe probed points; normals point to the probe origins\n"
             "element vertex %zu\nproperty double x\nproperty double y\nproperty double z\n"
@@ -168,7 +168,7 @@ static int write_points(const vp_slog_t *L, uint32_t upto, const char *path, int
     for (i = 0; i < upto; i++) {
         vp_log_record_t r;
         double v[6], len;
-        if (vp_slog_record(L, i, &r) != VP_OK || r.type != VP_LOG_PROBE || !r.hit) continue;
+        if (vp_slog_record(L, i, &r) != VP_OK || r.type != VP_LOG_PROBE || r.hit != 1) continue;
         len = sqrt(r.dir[0] * r.dir[0] + r.dir[1] * r.dir[1] + r.dir[2] * r.dir[2]);
         for (k = 0; k < 3; k++) {
             v[k] = r.origin[k] + r.dist * r.dir[k];
@@ -367,7 +367,8 @@ static int log_dump(const char *path, int mode)
             if (r.type == VP_LOG_PROBE) {
                 printf("PROBE from %.17g %.17g %.17g dir %.17g %.17g %.17g range %.17g: ", r.origin[0], r.origin[1],
                        r.origin[2], r.dir[0], r.dir[1], r.dir[2], r.range);
-                if (r.hit) printf("hit at %.17g (point %.17g %.17g %.17g) raw %.17g\n", r.dist, p[0], p[1], p[2], r.raw);
+                if (r.hit == VP_PROBE_TOO_CLOSE) printf("too close (nothing measured, nothing free) raw %.17g\n", r.raw);
+                else if (r.hit) printf("hit at %.17g (point %.17g %.17g %.17g) raw %.17g\n", r.dist, p[0], p[1], p[2], r.raw);
                 else printf("miss (dist %.17g, raw %.17g)\n", r.dist, r.raw);
             } else if (r.type == VP_LOG_MOVE) {
                 printf("MOVE to %.17g %.17g %.17g\n", r.target[0], r.target[1], r.target[2]);
@@ -383,9 +384,10 @@ static int log_dump(const char *path, int mode)
                 printf(",\"origin\":"); json_vec(stdout, r.origin);
                 printf(",\"dir\":"); json_vec(stdout, r.dir);
                 printf(",\"range\":"); json_num(stdout, r.range);
-                printf(",\"hit\":%s,\"dist\":", r.hit ? "true" : "false"); json_num(stdout, r.dist);
+                printf(",\"hit\":%s,%s\"dist\":", r.hit == 1 ? "true" : "false",
+                       r.hit == VP_PROBE_TOO_CLOSE ? "\"too_close\":true," : ""); json_num(stdout, r.dist);
                 printf(",\"raw\":"); json_num(stdout, r.raw);
-                if (r.hit) { printf(",\"point\":"); json_vec(stdout, p); }
+                if (r.hit == 1) { printf(",\"point\":"); json_vec(stdout, p); }
             } else if (r.type == VP_LOG_MOVE) {
                 printf(",\"target\":"); json_vec(stdout, r.target);
             } else {
@@ -402,7 +404,7 @@ static int log_dump(const char *path, int mode)
                        r.origin[2], r.dir[0], r.dir[1], r.dir[2], r.range, r.hit, r.dist, r.raw);
             else
                 printf(",,,,,,,,,,");
-            if (r.type == VP_LOG_PROBE && r.hit) printf("%.17g,%.17g,%.17g,", p[0], p[1], p[2]);
+            if (r.type == VP_LOG_PROBE && r.hit == 1) printf("%.17g,%.17g,%.17g,", p[0], p[1], p[2]);
             else printf(",,,");
             if (r.type == VP_LOG_MOVE) printf("%.17g,%.17g,%.17g,", r.target[0], r.target[1], r.target[2]);
             else printf(",,,");

@@ -54,7 +54,8 @@ static void scan_usage(FILE *f)
         "once. The e-stop stops the pulses at once (FAULT event). Both leave the log resumable.\n"
         "Tests: --stop-after N (Ctrl-C after N commands), --estop-at N (dry run: e-stop during\n"
         "command N of this run).\n"
-        "Exit status: 0 DONE, 1 failed or stopped by a fault, 2 usage, 3 paused.\n");
+        "Exit status: 0 DONE (closed mesh), 1 failed or stopped by a fault, 2 usage, 3 paused, 4 DONE but\n"
+        "the mesh is not closed.\n");
 }
 
 typedef struct scan_opts {
@@ -653,6 +654,12 @@ int vp_cmd_scan(int argc, char **argv)
                m->st.travel, mt, o.dry ? " (simulated)" : "");
         printf("planner: %llu probes in all, largest ball %.4g mm (eps %g), arena peak %zu bytes\n",
                (unsigned long long)ps.probes, ps.max_ball, o.eps, ps.arena_peak);
+        if (rc == 0 && have_mc && !mc.closed_manifold) {
+            printf("warning: the planner said DONE but the mesh is not closed (%zu boundary edges): the planner does not "
+                   "close a hole whose probe was too close (%llu too-close results in the session)%s\n", mc.boundary_edges,
+                   (unsigned long long)ps.too_close, o.near ? "" : "; --near-spots measure reports near spots as hits");
+            rc = 4;
+        }
         if (o.dry) {
             vp_hausdorff_t hd;
             printf("dry run: probe error against the true object rms %.3f mm, worst %.3f mm (%lu hits); %lu false hits, "

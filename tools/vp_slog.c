@@ -45,7 +45,7 @@ static int index_records(vp_slog_t *L, char *err, size_t errlen)
             cap *= 2;
         }
         L->off[L->n++] = (size_t)at;
-        if (rec.type == VP_LOG_PROBE) { L->probes++; L->hits += rec.hit != 0; }
+        if (rec.type == VP_LOG_PROBE) { L->probes++; L->hits += rec.hit == 1; }
         else if (rec.type == VP_LOG_MOVE) L->moves++;
         else { L->events++; if (rec.event == VP_LOG_EV_DONE) L->done = 1; }
     }
@@ -238,7 +238,7 @@ int vp_replay_run(vp_replay_t *R, const vp_slog_t *L, uint32_t upto, char *err, 
             return st;
         }
         if (rec.type == VP_LOG_MOVE) { memcpy(R->pos, rec.target, sizeof R->pos); R->moves++; }
-        else { R->probes++; R->hits += rec.hit != 0; }
+        else { R->probes++; R->hits += rec.hit == 1; }
         R->applied++;
     }
     return VP_OK;
