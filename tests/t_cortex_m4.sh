@@ -1,7 +1,9 @@
 #!/bin/sh
-# core/ compiles and links freestanding for a Cortex-M4 (arm-none-eabi-gcc -mcpu=cortex-m4
-# -mthumb -Os) into boards/cortex-m4's image with a static arena; prints the .text size of
-# the core and the image's flash and RAM use.
+# core/ (the Delaunay core and the planner) compiles and links freestanding for a Cortex-M4
+# (arm-none-eabi-gcc -mcpu=cortex-m4 -mthumb -Os) into boards/cortex-m4's image with a static
+# arena and a built-in simulated probe; prints the .text size of the core and the image's flash
+# and RAM use with the planner linked. The firmware's scan loop also runs on the build machine
+# (-DVP_M4_HOST, same sources, same arena) and must reach DONE: the arena is large enough.
 set -eu
 B=${BUILD:-build}
 command -v arm-none-eabi-gcc >/dev/null || { echo "arm-none-eabi-gcc missing (make deps)"; exit 1; }
@@ -17,8 +19,19 @@ for c in core/*.c; do
 done
 arm-none-eabi-gcc $(echo $CF | sed "s/-pedantic//") -c boards/cortex-m4/firmware.c -o "$O/firmware.o"
 arm-none-eabi-gcc -mcpu=cortex-m4 -mthumb -mfloat-abi=hard -mfpu=fpv4-sp-d16 -nostartfiles \
-  --specs=nano.specs -Wl,--gc-sections -T boards/cortex-m4/link.ld \
+  --specs=nano.specs -Wl,--gc-sections -Wl,-Map="$O/voroprobe-m4.map" -T boards/cortex-m4/link.ld \
   -o "$O/voroprobe-m4.elf" "$O/firmware.o" $objs -lm
+# the planner must be in the image, not dropped by --gc-sections
+for f in vp_planner_init vp_planner_next vp_planner_feed vp_dt_insert; do
+  arm-none-eabi-nm "$O/voroprobe-m4.elf" | grep -q " T $f\$" || { echo "$f is not linked into the image"; exit 1; }
+done
 text=$(arm-none-eabi-size -t $objs | awk 'END {print $1}')
+ptext=$(arm-none-eabi-size "$O/vp_planner.o" | awk 'NR==2 {print $1}')
+arena=$(printf "%d" "0x$(arm-none-eabi-nm -S "$O/voroprobe-m4.elf" | awk '$4 == "arena" {print $2}')")
 set -- $(arm-none-eabi-size "$O/voroprobe-m4.elf" | awk 'NR==2 {print $1, $2, $3}')
-echo "cortex-m4: core .text $text bytes ($(echo $objs | wc -w) objects); image flash $(( $1 + $2 )) bytes, RAM $(( $2 + $3 )) bytes (static arena included)"
+flash=$(( $1 + $2 )); ram=$(( $2 + $3 ))
+# the same loop on the build machine
+gcc -std=c99 -O2 -ffp-contract=off -DVP_M4_HOST -Icore boards/cortex-m4/firmware.c core/*.c -lm -o "$O/firmware-host"
+run=$("$O/firmware-host") || { echo "$run"; echo "the firmware's scan loop did not reach DONE"; exit 1; }
+echo "$run"
+echo "cortex-m4: core .text $text bytes ($(echo $objs | wc -w) objects, planner $ptext); image with the planner flash $flash bytes, RAM $ram bytes (static arena ${arena:-?} bytes included)"

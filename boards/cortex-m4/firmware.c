@@ -1,19 +1,98 @@
-/* Cortex-M4 image: the voroprobe core with a static arena, linked freestanding.
- * Proves the core needs no OS, no heap and no stdio, and measures its flash and RAM use.
- * The main loop triangulates points from a local generator, the way the device triangulates
- * its probe hits, and parks the result where a debugger can read it. */
+/* Cortex-M4 image: the voroprobe core and planner with a static arena, linked freestanding.
+ * Proves the core and the planner need no OS, no heap and no stdio, and measures their flash
+ * and RAM use. The main loop is a whole scan: vp_planner_next -> a built-in simulated probe
+ * (a ray cast against an analytic sphere, standing in for the rangefinder) -> vp_planner_feed,
+ * until DONE; the figures are parked where a debugger can read them (vp_m4_result).
+ * Built with -DVP_M4_HOST the same loop runs on the build machine and prints them
+ * (tests/t_cortex_m4.sh), so the arena is known to be large enough for the scan. */
 #include <stdint.h>
 #include <string.h>
-#include "vp_dt.h"
+#include "vp_planner.h"
 
 #ifndef VP_M4_ARENA_BYTES
-#define VP_M4_ARENA_BYTES (96u * 1024u)
+#define VP_M4_ARENA_BYTES (448u * 1024u)   /* see link.ld: the planner needs about 400 KB */
 #endif
+#ifndef VP_M4_EPS
+#define VP_M4_EPS 0.35             /* on a unit sphere: about 80 vertices */
+#endif
+#define VP_M4_MAX_COMMANDS 200000u
 
 static uint64_t arena[VP_M4_ARENA_BYTES / 8];
-static vp_dt_t dt;
-volatile uint32_t vp_m4_result;
+static vp_planner_t pl;
 
+typedef struct vp_m4_result {
+    int32_t status;                /* VP_OK when the planner said DONE */
+    uint32_t commands, probes, hits, facets, vertices;
+    uint32_t arena_peak;           /* bytes of the arena the planner used */
+} vp_m4_result_t;
+volatile vp_m4_result_t vp_m4_result;
+
+/* The simulated probe: the unit sphere at the origin. First crossing of the ray o + t d with
+ * 0 < t <= range (range 0: unlimited). */
+static int vp_m4_sphere(const double o[3], const double d[3], double range, double *t)
+{
+    double b = o[0] * d[0] + o[1] * d[1] + o[2] * d[2];
+    double c = o[0] * o[0] + o[1] * o[1] + o[2] * o[2] - 1.0;
+    double disc = b * b - c, s, t0;
+    if (disc <= 0.0) return 0;
+    s = __builtin_sqrt(disc);
+    t0 = -b - s;
+    if (t0 <= 0.0) t0 = -b + s;    /* from inside: the way out */
+    if (t0 <= 0.0 || (range > 0.0 && t0 > range)) return 0;
+    *t = t0;
+    return 1;
+}
+
+int vp_m4_scan(void);
+int vp_m4_scan(void)
+{
+    vp_planner_config_t cfg;
+    vp_planner_stats_t st;
+    vp_cmd_t cmd;
+    uint32_t n = 0;
+    int rc, k;
+    memset(&cfg, 0, sizeof cfg);
+    cfg.omega_kind = VP_OMEGA_BOX;
+    for (k = 0; k < 3; k++) { cfg.omega_lo[k] = -1.5; cfg.omega_hi[k] = 1.5; }
+    cfg.ninterior = 1;             /* interior[0] = the origin */
+    cfg.eps = VP_M4_EPS;
+    cfg.start[2] = 2.0;
+    rc = vp_planner_init(&pl, arena, sizeof arena, &cfg);
+    while (rc == VP_OK && n < VP_M4_MAX_COMMANDS) {
+        rc = vp_planner_next(&pl, &cmd);
+        if (rc != VP_OK || cmd.kind == VP_CMD_DONE) break;
+        n++;
+        if (cmd.kind == VP_CMD_PROBE) {
+            vp_probe_result_t res;
+            res.dist = 0.0;
+            res.hit = vp_m4_sphere(cmd.from, cmd.dir, cmd.range, &res.dist);
+            rc = vp_planner_feed(&pl, &res);
+        }                          /* a MOVE: the simulated device is where it is told */
+    }
+    vp_planner_get_stats(&pl, &st);
+    vp_m4_result.status = rc;
+    vp_m4_result.commands = n;
+    vp_m4_result.probes = (uint32_t)st.probes;
+    vp_m4_result.hits = (uint32_t)st.hits;
+    vp_m4_result.facets = vp_planner_num_facets(&pl);
+    vp_m4_result.vertices = vp_planner_dt(&pl)->ninserted;
+    vp_m4_result.arena_peak = (uint32_t)st.arena_peak;
+    return rc;
+}
+
+#ifdef VP_M4_HOST
+#include <stdio.h>
+int main(void)
+{
+    int rc = vp_m4_scan();
+    printf("firmware loop on the host: status %d%s, %u commands, %u probes (%u hits), %u vertices, %u facets, "
+           "arena peak %u of %u bytes\n", (int)vp_m4_result.status, rc == VP_OK ? " (DONE)" : "",
+           (unsigned)vp_m4_result.commands, (unsigned)vp_m4_result.probes, (unsigned)vp_m4_result.hits,
+           (unsigned)vp_m4_result.vertices, (unsigned)vp_m4_result.facets, (unsigned)vp_m4_result.arena_peak,
+           (unsigned)sizeof arena);
+    return rc == VP_OK && vp_m4_result.facets > 0 ? 0 : 1;
+}
+#else
 extern uint32_t _sdata, _edata, _etext, _sbss, _ebss, _estack;
 int main(void);
 void vp_reset_handler(void);
@@ -44,17 +123,7 @@ static void (*const vector_table[16])(void) = {
 
 int main(void)
 {
-    uint32_t s = 12345u, i;
-    int st = vp_dt_init(&dt, arena, sizeof arena, 4);
-    for (i = 0; st == VP_OK && i < 1000u; i++) {
-        double p[3];
-        int k;
-        for (k = 0; k < 3; k++) {
-            s = s * 1664525u + 1013904223u;
-            p[k] = (double)(s >> 8) * (1.0 / 16777216.0);
-        }
-        st = vp_dt_insert(&dt, p, VP_DT_NONE, 0);
-    }
-    vp_m4_result = (uint32_t)vp_dt_check(&dt) ^ vp_dt_num_finite_tets(&dt);
+    vp_m4_scan();
     return 0;
 }
+#endif
