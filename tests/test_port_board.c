@@ -142,7 +142,7 @@ int main(void)
     bad(t, "rpi4.ini: ", "missing section [estop]: a board that drives motors needs an e-stop input");
     t = edit("dir = gpiochip0:23", "dir = gpiochip0:27");
     snprintf(loc, sizeof loc, "rpi4.ini:%d: ", line_of(t, "[axis.y]") + 2);
-    bad(t, loc, "[axis.y] dir: gpiochip0:27 is already [axis.x] dir (line 25)");
+    bad(t, loc, "[axis.y] dir: gpiochip0:27 is already [axis.x] dir (line 26)");
     t = edit("limit_max = gpiochip0:21 pull-up", "limit_max = gpiochip0:17 pull-up");
     bad(t, LOC("limit_max = gpiochip0:17"), "[axis.z] limit_max: gpiochip0:17 is already [axis.x] step");
     t = edit("step = gpiochip0:5", "step = gpio5");

@@ -145,7 +145,6 @@ int vp_cmd_calibrate(int argc, char **argv)
     dev_open = 1;
     fprintf(stderr, "calibrate: board %s (%s)%s; flat target at x = %g mm, beam crossing it at y = %g, z = %g\n", b.name,
             b.path, dry ? ", dry run on host-sim" : "", plan.target_x, plan.y, plan.z);
-    vp_scan_catch_signals();
     st = vp_scan_home(&dev, err, sizeof err);
     if (st != VP_OK) { fprintf(stderr, "calibrate: %s\n", err); goto done; }
     fprintf(stderr, "calibrate: homed; %d stations from %g to %g mm from the target, %d frame(s) each\n", plan.stations,
@@ -160,6 +159,14 @@ int vp_cmd_calibrate(int argc, char **argv)
                                           plan.target_x - plan.d_far, plan.target_x - plan.d_near, plan.y, plan.z);
         else fprintf(stderr, "calibrate: %s\n", why);
         goto done;
+    }
+    {
+        /* back away from the target along the stations' line (the way the head came) */
+        double away[3];
+        away[0] = plan.target_x - plan.d_far;
+        away[1] = plan.y;
+        away[2] = plan.z;
+        if (vp_scan_goto(&dev, away, err, sizeof err) != VP_OK) fprintf(stderr, "calibrate: %s\n", err);
     }
     printf("fit: %d spots at %d stations (%g..%g mm), residual rms %.4f mm, max %.4f mm; spots off the fitted line %.3f px rms\n",
            rep.n, plan.stations, plan.d_near, plan.d_far, rep.rms_mm, rep.max_mm, rep.line_rms_px);
