@@ -589,7 +589,7 @@ int vp_cmd_scan(int argc, char **argv)
         run.t0 = vp_scan_seconds(&dev);
         run.wall0 = vp_wall_seconds();
         run.probes0 = dev.probes;
-        if (!o.quiet) fprintf(stderr, "scan: homed; scanning (Ctrl-C stops after the current command)\n");
+        if (!o.quiet) fprintf(stderr, "scan: homed%s; scanning (Ctrl-C stops after the current command)\n", o.resume ? ", back where the log left off" : "");
         vp_session_run(pl, &ops, &hooks, 0, NULL, &res);
         st = res.status;
         if (!o.quiet) scan_progress(&run, 1);
@@ -649,7 +649,7 @@ int vp_cmd_scan(int argc, char **argv)
                have_mc ? mc.genus : -1);
         printf("machine: %lu probes: %lu hits (%lu nearer than %g mm, measured), %lu misses, %lu too close (%lu nearer "
                "than %g mm, %lu unreadable frames); %lu moves, laser origin travel %.0f mm, %.0f s of machine time%s\n",
-               m->st.probes, dev.hits, o.near ? dev.near : 0, b.tri.min_range, dev.misses, dev.too_close,
+               dev.hits + dev.misses + dev.too_close, dev.hits, o.near ? dev.near : 0, b.tri.min_range, dev.misses, dev.too_close,
                o.near ? 0 : dev.near, b.tri.min_range, dev.unreadable, m->st.moves,
                m->st.travel, mt, o.dry ? " (simulated)" : "");
         printf("planner: %llu probes in all, largest ball %.4g mm (eps %g), arena peak %zu bytes\n",
