@@ -12,6 +12,17 @@
 
 static int quick;
 
+/* Options of a quiet scan that writes nothing. */
+static void quiet_options(vp_sim_options_t *o, const char *surface, double eps_rel)
+{
+    vp_sim_options_default(o);
+    o->surface = surface;
+    o->eps_rel = eps_rel;
+    o->out = NULL;
+    o->hausdorff = 0;
+    o->quiet = 1;
+}
+
 typedef struct scan_result {
     int status, closed, components, genus;
     unsigned vertices, facets, collisions, missing;
@@ -28,15 +39,11 @@ static void scan(const char *surface, double eps_rel, unsigned flags, double noi
     vp_simdev_stats_t ds;
     char err[512];
     memset(r, 0, sizeof *r);
-    vp_sim_options_default(&o);
-    o.surface = surface;
-    o.eps_rel = eps_rel;
+    quiet_options(&o, surface, eps_rel);
     o.flags = flags;
     o.noise = noise;
     o.dropout = dropout;
-    o.out = NULL;
     o.hausdorff = hausdorff;
-    o.quiet = 1;
     o.arena = (size_t)64 << 20;
     r->status = vp_sim_open(&s, &o, err, sizeof err);
     if (r->status != VP_OK) {
@@ -121,12 +128,7 @@ static void test_angle_bound(void)
     vp_sim_options_t o;
     vp_sim_t s;
     char err[512];
-    vp_sim_options_default(&o);
-    o.surface = "torus";
-    o.eps_rel = 0.02;
-    o.out = NULL;
-    o.hausdorff = 0;
-    o.quiet = 1;
+    quiet_options(&o, "torus", 0.02);
     o.min_angle = 25.0;
     CHECK(vp_sim_open(&s, &o, err, sizeof err) == VP_OK);
     CHECK(vp_sim_run(&s, NULL) == VP_OK);
@@ -157,12 +159,7 @@ static void test_min_range(void)
     vp_planner_stats_t st;
     vp_simdev_stats_t ds;
     char err[512];
-    vp_sim_options_default(&o);
-    o.surface = "torus";
-    o.eps_rel = 0.02;
-    o.out = NULL;
-    o.hausdorff = 0;
-    o.quiet = 1;
+    quiet_options(&o, "torus", 0.02);
     o.min_range = 0.02;
     CHECK(vp_sim_open(&s, &o, err, sizeof err) == VP_OK);
     CHECK(vp_sim_run(&s, NULL) == VP_OK);
@@ -262,12 +259,7 @@ static void test_enomem(void)
     size_t arena;
     int saw = 0;
     for (arena = 80u << 10; arena <= (2u << 20); arena *= 2) {
-        vp_sim_options_default(&o);
-        o.surface = "torus";
-        o.eps_rel = 0.01;
-        o.out = NULL;
-        o.hausdorff = 0;
-        o.quiet = 1;
+        quiet_options(&o, "torus", 0.01);
         o.arena = arena;
         if (vp_sim_open(&s, &o, err, sizeof err) != VP_OK) {
             CHECKF(strstr(err, "arena") != NULL, "%s", err);
@@ -295,12 +287,7 @@ static void test_arena_per_vertex(void)
     vp_sim_t s;
     char err[512];
     unsigned nv;
-    vp_sim_options_default(&o);
-    o.surface = "genus2";
-    o.eps_rel = 0.012;
-    o.out = NULL;
-    o.hausdorff = 0;
-    o.quiet = 1;
+    quiet_options(&o, "genus2", 0.012);
     CHECK(vp_sim_open(&s, &o, err, sizeof err) == VP_OK);
     CHECK(vp_sim_run(&s, NULL) == VP_OK);
     nv = vp_planner_dt(s.pl)->ninserted;
