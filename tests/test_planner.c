@@ -173,6 +173,31 @@ static void test_min_range(void)
     vp_sim_close(&s);
 }
 
+/* A device with a body (clearance radius): it stays outside Omega and probes along the Voronoi
+ * lines from dOmega. Zero collisions always; objects seen whole from outside close. */
+static void test_clearance(void)
+{
+    vp_sim_options_t o;
+    vp_sim_t s;
+    vp_simdev_stats_t ds;
+    char err[512];
+    const char *objs[3] = { "sphere", "blobby", "torus" };
+    int i;
+    for (i = 0; i < 3; i++) {
+        quiet_options(&o, objs[i], 0.02);
+        o.clearance = 0.05;
+        CHECK(vp_sim_open(&s, &o, err, sizeof err) == VP_OK);
+        CHECK(vp_sim_run(&s, NULL) == VP_OK);
+        CHECK(vp_sim_finish(&s, &o, err, sizeof err) == VP_OK);
+        vp_simdev_stats(s.dev, &ds);
+        CHECK(ds.collisions == 0);
+        if (i < 2) CHECK(s.check.closed_manifold && s.check.genus == 0);
+        printf("%s with a 0.05 clearance: %zu vertices, closed %d, %zu boundary edges, collisions %lu\n",
+               objs[i], s.mesh.nv, s.check.closed_manifold, s.check.boundary_edges, ds.collisions);
+        vp_sim_close(&s);
+    }
+}
+
 /* Noise and dropouts well below eps: still closed, right topology, no collision. */
 static void test_noise(void)
 {
@@ -312,5 +337,6 @@ int main(void)
     test_arena_per_vertex();
     test_angle_bound();
     test_min_range();
+    test_clearance();
     return vp_test_done("test_planner");
 }
