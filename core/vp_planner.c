@@ -881,6 +881,15 @@ static int plan_route(vp_planner_t *pl, uint32_t b, const double *gp)
     pl->shortcut = NONE;
     pl->route_deferred = 0;
     if (b != NONE && b == pl->at) return VP_OK;
+    if (pl->cfg.clearance > 0.0) {
+        /* a device with a body never enters Omega: every probe starts on dOmega */
+        if (b != NONE && !(pl->vrec[b].flags & REC_OUT)) return VP_EDEGEN;
+        st = outside_route(pl, pl->vrec[pl->at].p, b != NONE ? pl->vrec[b].p : gp, 0, &tl);
+        if (st != VP_OK) return st;
+        if (b == NONE && (st = rec_new(pl, gp, NONE, REC_OUT, &b)) != VP_OK) return st;
+        pl->at = b;
+        return VP_OK;
+    }
     if (!(pl->cfg.flags & VP_PLAN_PREV_CHAINS)) {
         /* what the same move costs along prev chains (reported beside the travel) */
         st = tree_path(pl, pl->at, b, gp, 0, &tl);
@@ -1054,7 +1063,18 @@ static int task_start(vp_planner_t *pl, vp_task_t *k)
         side_set(pl, u, (int)j, (side_get(pl, u, (int)j) & ~SIDE_MASK) | SIDE_FREE);
         return 0;
     }
-    if (g.a_inside) {
+    pl->standoff = 0.0;
+    if (g.a_inside && pl->cfg.clearance > 0.0) {
+        /* a device with a body stays outside Omega: it probes the edge's line from where the
+         * line leaves Omega behind the vertex; only a hit beyond the vertex is on the edge */
+        double back[3], t0b, t1b;
+        int q;
+        for (q = 0; q < 3; q++) back[q] = -g.dir[q];
+        if (!omega_clip(&pl->cfg, g.a, back, 1e300, &t0b, &t1b)) return 0;
+        for (q = 0; q < 3; q++) o[q] = g.a[q] - t1b * g.dir[q];
+        range = t1b + g.t1;
+        pl->standoff = t1b;
+    } else if (g.a_inside) {
         goal = tet_rec(pl, t);
         if (goal == VREC_OUT || goal == NONE) return 0;
         o[0] = g.a[0]; o[1] = g.a[1]; o[2] = g.a[2];
@@ -1107,6 +1127,13 @@ static int task_finish(vp_planner_t *pl, const vp_probe_result_t *res)
         /* nothing learnt: not free, no sample; not asked again from this end */
         side_set(pl, t, f, side_get(pl, t, f) | SIDE_BLOCKED);
         pl->st.too_close++;
+        return VP_OK;
+    }
+    if (res->hit && pl->standoff > 0.0 && res->dist < pl->standoff + tol) {
+        /* from a standoff: the line met S before reaching the vertex; the edge is unseen */
+        side_set(pl, t, f, side_get(pl, t, f) | SIDE_BLOCKED);
+        pl->st.hits++;
+        pl->st.occluded++;
         return VP_OK;
     }
     if (res->hit && res->dist <= pl->probe_range + tol) {

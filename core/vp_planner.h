@@ -44,7 +44,9 @@ typedef struct vp_planner_config {
     double max_range;            /* rangefinder range; 0 = unlimited */
     double noise_tol;            /* hits are trusted to within this distance (0: exact) */
     uint32_t confirm_misses;     /* re-probes of a miss where a hit is expected (dropouts) */
-    double clearance;            /* device radius kept away from every known surface point */
+    double clearance;            /* device radius: > 0 keeps the device outside Omega (Omega must
+                                    keep this distance from the object); it probes every
+                                    Voronoi edge along its line from dOmega */
     double min_angle;            /* optional angle bound in degrees (0: off, at most 30): a
                                     facet with a smaller angle is refined like a bad ball */
     uint32_t flags;              /* VP_PLAN_* */
@@ -75,6 +77,7 @@ typedef struct vp_planner_stats {
     uint64_t shortcut_probes, direct_routes;
     uint64_t escalations;
     uint64_t too_close;        /* probes that saw a surface nearer than the minimum range */
+    uint64_t occluded;         /* body mode: the line met S before the edge */
     uint64_t reseeds;          /* samples added on components the seeds had missed */      /* holes closed by probing every edge of every active vertex */  /* probes of a straight way to save a detour */
     double travel;             /* length of all MOVEs */
     double travel_prev_chains; /* what the same moves cost along prev chains (the paper's
@@ -122,6 +125,7 @@ typedef struct vp_planner {
     uint32_t nseed_pts;
     double seed_q[3], seed_dir[3];
     double probe_origin[3], probe_dir[3], probe_range, probe_full;
+    double standoff;         /* distance from the probe origin to the edge's vertex (body mode) */
     int probe_ready;         /* a probe is prepared: issue it once the route is done */
     uint32_t probe_origin_rec, misses_in_row;
     uint32_t route_from;     /* where the current route starts */

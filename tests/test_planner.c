@@ -12,6 +12,17 @@
 
 static int quick;
 
+/* Options of a quiet scan that writes nothing. */
+static void quiet_options(vp_sim_options_t *o, const char *surface, double eps_rel)
+{
+    vp_sim_options_default(o);
+    o->surface = surface;
+    o->eps_rel = eps_rel;
+    o->out = NULL;
+    o->hausdorff = 0;
+    o->quiet = 1;
+}
+
 typedef struct scan_result {
     int status, closed, components, genus;
     unsigned vertices, facets, collisions, missing;
@@ -28,15 +39,11 @@ static void scan(const char *surface, double eps_rel, unsigned flags, double noi
     vp_simdev_stats_t ds;
     char err[512];
     memset(r, 0, sizeof *r);
-    vp_sim_options_default(&o);
-    o.surface = surface;
-    o.eps_rel = eps_rel;
+    quiet_options(&o, surface, eps_rel);
     o.flags = flags;
     o.noise = noise;
     o.dropout = dropout;
-    o.out = NULL;
     o.hausdorff = hausdorff;
-    o.quiet = 1;
     o.arena = (size_t)64 << 20;
     r->status = vp_sim_open(&s, &o, err, sizeof err);
     if (r->status != VP_OK) {
@@ -121,12 +128,7 @@ static void test_angle_bound(void)
     vp_sim_options_t o;
     vp_sim_t s;
     char err[512];
-    vp_sim_options_default(&o);
-    o.surface = "torus";
-    o.eps_rel = 0.02;
-    o.out = NULL;
-    o.hausdorff = 0;
-    o.quiet = 1;
+    quiet_options(&o, "torus", 0.02);
     o.min_angle = 25.0;
     CHECK(vp_sim_open(&s, &o, err, sizeof err) == VP_OK);
     CHECK(vp_sim_run(&s, NULL) == VP_OK);
@@ -157,12 +159,7 @@ static void test_min_range(void)
     vp_planner_stats_t st;
     vp_simdev_stats_t ds;
     char err[512];
-    vp_sim_options_default(&o);
-    o.surface = "torus";
-    o.eps_rel = 0.02;
-    o.out = NULL;
-    o.hausdorff = 0;
-    o.quiet = 1;
+    quiet_options(&o, "torus", 0.02);
     o.min_range = 0.02;
     CHECK(vp_sim_open(&s, &o, err, sizeof err) == VP_OK);
     CHECK(vp_sim_run(&s, NULL) == VP_OK);
@@ -174,6 +171,31 @@ static void test_min_range(void)
     printf("torus with a 0.02 minimum range: %llu probes too close, %zu boundary edges, collisions %lu\n",
            (unsigned long long)st.too_close, s.check.boundary_edges, ds.collisions);
     vp_sim_close(&s);
+}
+
+/* A device with a body (clearance radius): it stays outside Omega and probes along the Voronoi
+ * lines from dOmega. Zero collisions always; objects seen whole from outside close. */
+static void test_clearance(void)
+{
+    vp_sim_options_t o;
+    vp_sim_t s;
+    vp_simdev_stats_t ds;
+    char err[512];
+    const char *objs[3] = { "sphere", "blobby", "torus" };
+    int i;
+    for (i = 0; i < 3; i++) {
+        quiet_options(&o, objs[i], 0.02);
+        o.clearance = 0.05;
+        CHECK(vp_sim_open(&s, &o, err, sizeof err) == VP_OK);
+        CHECK(vp_sim_run(&s, NULL) == VP_OK);
+        CHECK(vp_sim_finish(&s, &o, err, sizeof err) == VP_OK);
+        vp_simdev_stats(s.dev, &ds);
+        CHECK(ds.collisions == 0);
+        if (i < 2) CHECK(s.check.closed_manifold && s.check.genus == 0);
+        printf("%s with a 0.05 clearance: %zu vertices, closed %d, %zu boundary edges, collisions %lu\n",
+               objs[i], s.mesh.nv, s.check.closed_manifold, s.check.boundary_edges, ds.collisions);
+        vp_sim_close(&s);
+    }
 }
 
 /* Noise and dropouts well below eps: still closed, right topology, no collision. */
@@ -262,12 +284,7 @@ static void test_enomem(void)
     size_t arena;
     int saw = 0;
     for (arena = 80u << 10; arena <= (2u << 20); arena *= 2) {
-        vp_sim_options_default(&o);
-        o.surface = "torus";
-        o.eps_rel = 0.01;
-        o.out = NULL;
-        o.hausdorff = 0;
-        o.quiet = 1;
+        quiet_options(&o, "torus", 0.01);
         o.arena = arena;
         if (vp_sim_open(&s, &o, err, sizeof err) != VP_OK) {
             CHECKF(strstr(err, "arena") != NULL, "%s", err);
@@ -295,12 +312,7 @@ static void test_arena_per_vertex(void)
     vp_sim_t s;
     char err[512];
     unsigned nv;
-    vp_sim_options_default(&o);
-    o.surface = "genus2";
-    o.eps_rel = 0.012;
-    o.out = NULL;
-    o.hausdorff = 0;
-    o.quiet = 1;
+    quiet_options(&o, "genus2", 0.012);
     CHECK(vp_sim_open(&s, &o, err, sizeof err) == VP_OK);
     CHECK(vp_sim_run(&s, NULL) == VP_OK);
     nv = vp_planner_dt(s.pl)->ninserted;
@@ -325,5 +337,6 @@ int main(void)
     test_arena_per_vertex();
     test_angle_bound();
     test_min_range();
+    test_clearance();
     return vp_test_done("test_planner");
 }

@@ -155,7 +155,11 @@ int vp_sim_open(vp_sim_t *s, const vp_sim_options_t *o, char *err, size_t errlen
     s->diag = sqrt(s->diag);
     s->components = vp_surface_components(s->surf);
     eps = o->eps > 0 ? o->eps : o->eps_rel * s->diag;
-    st = vp_sim_config(s->surf, eps, o->omega_ball, o->omega_margin, &s->cfg, err, errlen);
+    /* a device with a body stays outside Omega: Omega keeps twice its radius from the object */
+    st = vp_sim_config(s->surf, eps, o->omega_ball,
+                       o->clearance > 0 && 2.0 * o->clearance > o->omega_margin * s->diag
+                           ? 2.0 * o->clearance / s->diag : o->omega_margin,
+                       &s->cfg, err, errlen);
     if (st != VP_OK) return st;
     s->cfg.noise_tol = 4.0 * o->noise;
     /* with dropouts, trust a miss once a false one is unlikely: p^(c+1) <= 1e-6 */
