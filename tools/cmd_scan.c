@@ -460,23 +460,24 @@ int vp_cmd_scan(int argc, char **argv)
         /* the simulated object must lie in Omega; the board's interior point must be inside it
          * (else the object's own interior points stand in for it) */
         vp_surface_t *s = dev.dr->surf;
-        double lo[3], hi[3];
+        double lo[3], hi[3], gap = b.clearance;   /* with a clearance the head stays outside Omega */
         int inside = 1;
         vp_surface_bbox(s, lo, hi);
         for (k = 0; k < 3; k++)
-            if (b.omega_kind == VP_OMEGA_BOX && (lo[k] <= b.omega_lo[k] || hi[k] >= b.omega_hi[k])) inside = 0;
+            if (b.omega_kind == VP_OMEGA_BOX && (lo[k] - gap <= b.omega_lo[k] || hi[k] + gap >= b.omega_hi[k])) inside = 0;
         if (b.omega_kind == VP_OMEGA_BALL) {
             double c[8][3];
             int q;
             for (q = 0; q < 8; q++) {
                 double dd = 0;
                 for (k = 0; k < 3; k++) { c[q][k] = (q >> k) & 1 ? hi[k] : lo[k]; dd += (c[q][k] - b.omega_center[k]) * (c[q][k] - b.omega_center[k]); }
-                if (dd >= b.omega_radius * b.omega_radius) inside = 0;
+                if (dd >= (b.omega_radius - gap) * (b.omega_radius - gap)) inside = 0;
             }
         }
         if (!inside) {
             fprintf(stderr, "scan: the simulated object %s (box %.4g %.4g %.4g .. %.4g %.4g %.4g) is not inside the "
-                    "board's Omega ([omega] in %s)\n", surface, lo[0], lo[1], lo[2], hi[0], hi[1], hi[2], b.path);
+                    "board's Omega%s ([omega] in %s)\n", surface, lo[0], lo[1], lo[2], hi[0], hi[1], hi[2],
+                    gap > 0 ? " by the clearance (the head stays outside Omega)" : "", b.path);
             goto done;
         }
         if (vp_surface_components(s) > 1 || !vp_surface_inside(s, b.interior)) {
@@ -655,9 +656,10 @@ int vp_cmd_scan(int argc, char **argv)
         printf("planner: %llu probes in all, largest ball %.4g mm (eps %g), arena peak %zu bytes\n",
                (unsigned long long)ps.probes, ps.max_ball, o.eps, ps.arena_peak);
         if (rc == 0 && have_mc && !mc.closed_manifold) {
-            printf("warning: the planner said DONE but the mesh is not closed (%zu boundary edges): the planner does not "
-                   "close a hole whose probe was too close (%llu too-close results in the session)%s\n", mc.boundary_edges,
-                   (unsigned long long)ps.too_close, o.near ? "" : "; --near-spots measure reports near spots as hits");
+            printf("warning: the planner said DONE but the mesh is not closed (%zu boundary edges): the planner leaves open "
+                   "what its probes could not see (%llu too-close results%s, %llu Voronoi edges occluded from dOmega)\n",
+                   mc.boundary_edges, (unsigned long long)ps.too_close,
+                   o.near ? "" : ": --near-spots measure reports near spots as hits", (unsigned long long)ps.occluded);
             rc = 4;
         }
         if (o.dry) {
