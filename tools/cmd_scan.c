@@ -648,11 +648,17 @@ int vp_cmd_scan(int argc, char **argv)
         printf("mesh: %u vertices, %u facets; %s, %d component(s), genus %d\n", (unsigned)mesh.nv, (unsigned)mesh.nt,
                have_mc && mc.closed_manifold ? "closed 2-manifold" : "NOT closed (yet)", have_mc ? mc.components : -1,
                have_mc ? mc.genus : -1);
-        printf("machine: %lu probes: %lu hits (%lu nearer than %g mm, measured), %lu misses, %lu too close (%lu nearer "
-               "than %g mm, %lu unreadable frames); %lu moves, laser origin travel %.0f mm, %.0f s of machine time%s\n",
-               dev.hits + dev.misses + dev.too_close, dev.hits, o.near ? dev.near : 0, b.tri.min_range, dev.misses, dev.too_close,
-               o.near ? 0 : dev.near, b.tri.min_range, dev.unreadable, m->st.moves,
-               m->st.travel, mt, o.dry ? " (simulated)" : "");
+        {
+            char nh[80] = "", tc[120] = "";
+            if (o.near && dev.near) snprintf(nh, sizeof nh, " (%lu nearer than %g mm, measured)", dev.near, b.tri.min_range);
+            if (dev.too_close)
+                snprintf(tc, sizeof tc, " (%lu nearer than %g mm, %lu unreadable frames)", dev.too_close - dev.unreadable,
+                         b.tri.min_range, dev.unreadable);
+            printf("machine: %lu probes: %lu hits%s, %lu misses, %lu too close%s; %lu moves, laser origin travel %.0f mm, "
+                   "%.0f s of machine time%s\n", dev.hits + dev.misses + dev.too_close, dev.hits, nh, dev.misses,
+                   dev.too_close, tc, m->st.moves,
+                   m->st.travel, mt, o.dry ? " (simulated)" : "");
+        }
         printf("planner: %llu probes in all, largest ball %.4g mm (eps %g), arena peak %zu bytes\n",
                (unsigned long long)ps.probes, ps.max_ball, o.eps, ps.arena_peak);
         if (rc == 0 && have_mc && !mc.closed_manifold) {
