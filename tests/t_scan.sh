@@ -156,6 +156,9 @@ fi
 "$VP" scan --board boards/sim.ini --log "$tmp/x.vplog" >/dev/null 2>"$tmp/e.txt"
 grep -q "has io = sim: it drives no hardware; use --dry-run" "$tmp/e.txt" || bad "io = sim without --dry-run"
 "$VP" scan --board $BOARD --log "$tmp/x.vplog" --estop-at 5 >/dev/null 2>&1; [ $? -eq 2 ] || bad "--estop-at without --dry-run accepted"
+sed 's/^surface = sphere\*80/surface = sphere*140/' boards/sim.ini >"$tmp/big.ini"
+"$VP" scan --board "$tmp/big.ini" --dry-run --log "$tmp/x.vplog" >/dev/null 2>"$tmp/e.txt"
+grep -q "is not inside the board's Omega by the clearance" "$tmp/e.txt" || { bad "an object too near dOmega accepted"; cat "$tmp/e.txt"; }
 "$VP" sim --surface sphere --eps-rel 0.1 --out "$tmp/simlog" --quiet --hausdorff 0 >/dev/null 2>&1
 "$VP" scan --log "$tmp/simlog.vplog" --resume >/dev/null 2>"$tmp/e.txt"
 grep -q "not written by \`scan\` but by \`sim\`" "$tmp/e.txt" || bad "resume of a sim log"

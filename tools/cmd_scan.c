@@ -466,12 +466,17 @@ int vp_cmd_scan(int argc, char **argv)
         for (k = 0; k < 3; k++)
             if (b.omega_kind == VP_OMEGA_BOX && (lo[k] - gap <= b.omega_lo[k] || hi[k] + gap >= b.omega_hi[k])) inside = 0;
         if (b.omega_kind == VP_OMEGA_BALL) {
-            double c[8][3];
-            int q;
-            for (q = 0; q < 8; q++) {
-                double dd = 0;
-                for (k = 0; k < 3; k++) { c[q][k] = (q >> k) & 1 ? hi[k] : lo[k]; dd += (c[q][k] - b.omega_center[k]) * (c[q][k] - b.omega_center[k]); }
-                if (dd >= (b.omega_radius - gap) * (b.omega_radius - gap)) inside = 0;
+            /* the object's farthest point from the centre, from points sampled on its surface */
+            size_t q, ns = 4000;
+            double *xyz = malloc(3 * ns * sizeof *xyz), r2 = (b.omega_radius - gap) * (b.omega_radius - gap);
+            if (xyz) {
+                ns = vp_surface_sample(s, ns, 1, xyz);
+                for (q = 0; q < ns; q++) {
+                    double dd = 0;
+                    for (k = 0; k < 3; k++) dd += (xyz[3 * q + k] - b.omega_center[k]) * (xyz[3 * q + k] - b.omega_center[k]);
+                    if (dd >= r2) inside = 0;
+                }
+                free(xyz);
             }
         }
         if (!inside) {
