@@ -344,6 +344,38 @@ static int rescale(const double *const *p, int np, int lo, int hi, double (*out)
 }
 
 /* ------------------------------------------------------------------------------------------
+ * Exactness certificate (stage A'): when every difference p_i - o is computed exactly and is an
+ * integer multiple of 2^s with |difference| < 2^(s + bits), every product and sum of the
+ * floating-point evaluation is an integer multiple of 2^(k s) (k <= its degree) below
+ * 2^(53 + k s) in magnitude as long as the polynomial's monomials keep the bound (checked per
+ * predicate below), so the evaluation has no rounding at all and its sign is exact; zero
+ * included. Typical for integer grids, where the filters cannot decide exact zeros.
+ * 2^(s + bits) is the power of two just above the largest |difference|; inputs are in the
+ * predicate's window, so k s >= -1074 (no subnormal loss) and 2^-s is a normal double.
+ */
+static int small_integer_diffs(const double *const *p, int np, const double *o, int bits)
+{
+    double m = 0.0, inv;
+    int i, k;
+    for (i = 0; i < np; i++)
+        for (k = 0; k < 3; k++) {
+            double t = fabs(p[i][k] - o[k]);
+            if (t > m) m = t;
+        }
+    if (!(m > 0.0)) return 0;
+    inv = pow2(bits - 1 - exponent_of(m)); /* 2^-s */
+    for (i = 0; i < np; i++)
+        for (k = 0; k < 3; k++) {
+            double d, t, x;
+            two_diff(p[i][k], o[k], &d, &t);
+            if (t != 0.0) return 0;
+            x = d * inv; /* |x| < 2^bits <= 2^51: adding 1.5 * 2^52 rounds x to an integer */
+            if ((x + 0x1.8p52) - 0x1.8p52 != x) return 0;
+        }
+    return 1;
+}
+
+/* ------------------------------------------------------------------------------------------
  * Stage X: exact integers. Value = limbs (32 bits, little-endian); accumulators are two's
  * complement modulo 2^(32n), multiplicands are magnitudes with a separate sign. Only the final
  * value of an accumulator must fit, so intermediate wrap-around is harmless.
@@ -689,6 +721,17 @@ static int orient3d_fp(const double *a, const double *b, const double *c, const 
         COUNT(st, stage[VP_STAGE_FILTER]);
         return det > 0.0 ? 1 : (det < 0.0 ? -1 : 0);
     }
+    {
+        /* 16 bits: minors < 2^33, terms < 2^49, det < 3 * 2^49 */
+        const double *q[3];
+        q[0] = b;
+        q[1] = c;
+        q[2] = d;
+        if (small_integer_diffs(q, 3, a, 16)) {
+            COUNT(st, stage[VP_STAGE_EXACTDIFF]);
+            return det > 0.0 ? 1 : (det < 0.0 ? -1 : 0);
+        }
+    }
     r = orient3d_dd(a, b, c, d, perm);
     if (r != UNDECIDED) {
         COUNT(st, stage[VP_STAGE_DD]);
@@ -703,8 +746,8 @@ static int orient3d_fp(const double *a, const double *b, const double *c, const 
     return orient3d_big(a, b, c, d);
 }
 
-int vp_orient3d_stats(const double *a, const double *b, const double *c, const double *d,
-                      struct vp_pred_stats *st)
+static int orient3d_tail(const double *a, const double *b, const double *c, const double *d,
+                         struct vp_pred_stats *st)
 {
     const double *p[4];
     double sc[4][3];
@@ -724,9 +767,25 @@ int vp_orient3d_stats(const double *a, const double *b, const double *c, const d
     return orient3d_fp(a, b, c, d, st);
 }
 
+int vp_orient3d_stats(const double *a, const double *b, const double *c, const double *d,
+                      struct vp_pred_stats *st)
+{
+    int r = vp_orient3d_filter(a, b, c, d);
+    if (r != VP_PRED_UNSURE) {
+        COUNT(st, stage[VP_STAGE_FILTER]);
+        return r;
+    }
+    return orient3d_tail(a, b, c, d, st);
+}
+
+int vp_orient3d_tail(const double *a, const double *b, const double *c, const double *d)
+{
+    return orient3d_tail(a, b, c, d, 0);
+}
+
 int vp_orient3d(const double *a, const double *b, const double *c, const double *d)
 {
-    return vp_orient3d_stats(a, b, c, d, 0);
+    return vp_orient3d_fast(a, b, c, d);
 }
 
 /* ------------------------------------------------------------------------------------------
@@ -858,6 +917,18 @@ static int insphere_fp(const double *a, const double *b, const double *c, const 
         COUNT(st, stage[VP_STAGE_FILTER]);
         return det > 0.0 ? 1 : (det < 0.0 ? -1 : 0);
     }
+    {
+        /* 9 bits: minors < 2^19, det3 < 6 * 2^27, lifts < 3 * 2^18, det < 72 * 2^45 */
+        const double *q[4];
+        q[0] = a;
+        q[1] = b;
+        q[2] = c;
+        q[3] = d;
+        if (small_integer_diffs(q, 4, e, 9)) {
+            COUNT(st, stage[VP_STAGE_EXACTDIFF]);
+            return det > 0.0 ? 1 : (det < 0.0 ? -1 : 0);
+        }
+    }
     r = insphere_dd(a, b, c, d, e, perm);
     if (r != UNDECIDED) {
         COUNT(st, stage[VP_STAGE_DD]);
@@ -872,8 +943,8 @@ static int insphere_fp(const double *a, const double *b, const double *c, const 
     return insphere_big(a, b, c, d, e);
 }
 
-int vp_insphere_stats(const double *a, const double *b, const double *c, const double *d,
-                      const double *e, struct vp_pred_stats *st)
+static int insphere_tail(const double *a, const double *b, const double *c, const double *d,
+                         const double *e, struct vp_pred_stats *st)
 {
     const double *p[5];
     double sc[5][3];
@@ -894,10 +965,27 @@ int vp_insphere_stats(const double *a, const double *b, const double *c, const d
     return insphere_fp(a, b, c, d, e, st);
 }
 
+int vp_insphere_stats(const double *a, const double *b, const double *c, const double *d,
+                      const double *e, struct vp_pred_stats *st)
+{
+    int r = vp_insphere_filter(a, b, c, d, e);
+    if (r != VP_PRED_UNSURE) {
+        COUNT(st, stage[VP_STAGE_FILTER]);
+        return r;
+    }
+    return insphere_tail(a, b, c, d, e, st);
+}
+
+int vp_insphere_tail(const double *a, const double *b, const double *c, const double *d,
+                     const double *e)
+{
+    return insphere_tail(a, b, c, d, e, 0);
+}
+
 int vp_insphere(const double *a, const double *b, const double *c, const double *d,
                 const double *e)
 {
-    return vp_insphere_stats(a, b, c, d, e, 0);
+    return vp_insphere_fast(a, b, c, d, e);
 }
 
 /* ------------------------------------------------------------------------------------------
@@ -916,13 +1004,11 @@ int vp_insphere(const double *a, const double *b, const double *c, const double 
  * points coincide (then det M(delta) is identically 0: two equal rows).
  */
 
-int vp_insphere_sos_stats(const double *a, const double *b, const double *c, const double *d,
-                          const double *e, struct vp_pred_stats *st)
+static int insphere_perturbed(const double *a, const double *b, const double *c,
+                              const double *d, const double *e, struct vp_pred_stats *st)
 {
     const double *p[5];
-    int order[5], i, j, s;
-    s = vp_insphere_stats(a, b, c, d, e, st);
-    if (s != 0) return s;
+    int order[5], i, j;
     p[0] = a;
     p[1] = b;
     p[2] = c;
@@ -944,7 +1030,7 @@ int vp_insphere_sos_stats(const double *a, const double *b, const double *c, con
         const double *r[4];
         for (k = 0; k < 5; k++)
             if (k != q) r[n++] = p[k];
-        o = vp_orient3d(r[0], r[1], r[2], r[3]);
+        o = vp_orient3d_fast(r[0], r[1], r[2], r[3]);
         if (q & 1) o = -o; /* rows 2 and 4 (b, d) take a minus sign */
         if (o != 0) {
             COUNT(st, sos);
@@ -954,10 +1040,24 @@ int vp_insphere_sos_stats(const double *a, const double *b, const double *c, con
     return 0;
 }
 
+int vp_insphere_sos_stats(const double *a, const double *b, const double *c, const double *d,
+                          const double *e, struct vp_pred_stats *st)
+{
+    int s = vp_insphere_stats(a, b, c, d, e, st);
+    return s != 0 ? s : insphere_perturbed(a, b, c, d, e, st);
+}
+
+int vp_insphere_sos_zero(const double *a, const double *b, const double *c, const double *d,
+                         const double *e)
+{
+    return insphere_perturbed(a, b, c, d, e, 0);
+}
+
 int vp_insphere_sos(const double *a, const double *b, const double *c, const double *d,
                     const double *e)
 {
-    return vp_insphere_sos_stats(a, b, c, d, e, 0);
+    int s = vp_insphere_fast(a, b, c, d, e);
+    return s != 0 ? s : insphere_perturbed(a, b, c, d, e, 0);
 }
 
 /* ------------------------------------------------------------------------------------------

@@ -21,11 +21,24 @@
 #ifndef VP_PRED_H
 #define VP_PRED_H
 
+#include <math.h>
+
 int vp_orient3d(const double *a, const double *b, const double *c, const double *d);
 int vp_insphere(const double *a, const double *b, const double *c, const double *d,
                 const double *e);
 int vp_insphere_sos(const double *a, const double *b, const double *c, const double *d,
                     const double *e);
+
+/* vp_insphere_sos for inputs already known to give vp_insphere(a,b,c,d,e) == 0: only the
+ * perturbation is evaluated (0 when two of the points coincide). */
+int vp_insphere_sos_zero(const double *a, const double *b, const double *c, const double *d,
+                         const double *e);
+
+/* The exact stages that follow the inline filters below: same results as vp_orient3d and
+ * vp_insphere, for callers that already ran vp_*_filter and got VP_PRED_UNSURE. */
+int vp_orient3d_tail(const double *a, const double *b, const double *c, const double *d);
+int vp_insphere_tail(const double *a, const double *b, const double *c, const double *d,
+                     const double *e);
 
 /* Sign of orient2d of the projections of a,b,c on the coordinate plane that drops axis `drop`
  * (0 = x, 1 = y, 2 = z): ((b-a) x (c-a)) component along the dropped axis. */
@@ -61,5 +74,115 @@ int vp_orient2d_proj_stats(const double *a, const double *b, const double *c, in
                            struct vp_pred_stats *st);
 int vp_cmp_dist_stats(const double *p, const double *q, const double *r,
                       struct vp_pred_stats *st);
+
+/* ------------------------------------------------------------------------------------------
+ * Inline semi-static filters: the exact sign (+1 or -1) when a floating-point evaluation
+ * certifies it, VP_PRED_UNSURE otherwise (never 0). Cheap enough for inner loops; follow an
+ * UNSURE with vp_orient3d_tail / vp_insphere_tail (or use vp_orient3d_fast / vp_insphere_fast).
+ *
+ * Error bound. Let m_x, m_y, m_z be the largest |x|, |y|, |z| of the computed differences.
+ * Each of the N monomials of the polynomial is a product of exact differences, one or two per
+ * axis; the evaluation below multiplies each by at most (1 + eps)^r (r roundings along its
+ * path, the rounding of the differences included; eps = 2^-53), so
+ *   |det_computed - det| <= ((1 + eps)^r - 1) * sum |monomials|,
+ * and sum |monomials| is bounded through the maxima (exact differences are at most
+ * (1 - eps)^-1 times the computed ones):
+ *   orient3d: N = 6, each |u_x v_y w_z| <= m_x m_y m_z, r = 8 (3 differences, product, minor,
+ *     scale, 2 sums): error <= 48 eps (1 + 20 eps) m_x m_y m_z.
+ *   insphere: N = 72 = 4 lifts (3 squares, sum <= L = m_x^2 + m_y^2 + m_z^2) x 6 monomials of
+ *     a 3x3 determinant (each <= m_x m_y m_z), r = 16 (5 differences, lift 3, minor 2, det3 3,
+ *     final product and 2 sums 3): error <= 384 eps (1 + 40 eps) L m_x m_y m_z.
+ * The bound is computed with a few more roundings (each down by at most a factor 1 - eps) and
+ * uses the constants 48.5 eps and 385 eps, leaving a relative margin of 1/100 and 1/400.
+ * Underflow: with every maximum in [2^-190, 2^190] no value overflows (insphere values stay
+ * below 72 * 2^950), the bounds are normal numbers, and a product that underflows adds an
+ * absolute error below 2^-1074 that the later factors (each below the corresponding maximum)
+ * scale to at most 2^-1074 * max(1, m_z L, L, m_x m_y m_z) per product; summed over all
+ * products this stays below 2^-60 of the margin (whose size is at least 2^-1011 for insphere,
+ * 2^-624 for orient3d). Sums and differences whose result is
+ * subnormal are exact. A maximum outside the window (a zero one included: then every
+ * monomial vanishes), NaN or Inf gives UNSURE.
+ */
+#define VP_PRED_UNSURE 2
+#define VP_PRED_FILTER_O3 (48.5 * 0x1p-53)
+#define VP_PRED_FILTER_IS (385.0 * 0x1p-53)
+#define VP_PRED_FILTER_LO 0x1p-190
+#define VP_PRED_FILTER_HI 0x1p190
+
+static inline double vp_pred_max3_(double a, double b, double c)
+{
+    double m = a > b ? a : b;
+    return m > c ? m : c;
+}
+
+static inline int vp_pred_in_filter_window_(double mx, double my, double mz)
+{
+    double lo = mx < my ? mx : my, hi = mx > my ? mx : my;
+    lo = lo < mz ? lo : mz;
+    hi = hi > mz ? hi : mz;
+    return lo >= VP_PRED_FILTER_LO && hi <= VP_PRED_FILTER_HI;
+}
+
+static inline int vp_orient3d_filter(const double *a, const double *b, const double *c,
+                                     const double *d)
+{
+    double ux = b[0] - a[0], uy = b[1] - a[1], uz = b[2] - a[2];
+    double vx = c[0] - a[0], vy = c[1] - a[1], vz = c[2] - a[2];
+    double wx = d[0] - a[0], wy = d[1] - a[1], wz = d[2] - a[2];
+    double det = (wz * (ux * vy - uy * vx) + vz * (uy * wx - ux * wy)) + uz * (vx * wy - vy * wx);
+    double mx = vp_pred_max3_(fabs(ux), fabs(vx), fabs(wx));
+    double my = vp_pred_max3_(fabs(uy), fabs(vy), fabs(wy));
+    double mz = vp_pred_max3_(fabs(uz), fabs(vz), fabs(wz));
+    double bound;
+    if (!vp_pred_in_filter_window_(mx, my, mz)) return VP_PRED_UNSURE;
+    bound = VP_PRED_FILTER_O3 * ((mx * my) * mz);
+    if (det > bound) return 1;
+    if (-det > bound) return -1;
+    return VP_PRED_UNSURE;
+}
+
+static inline int vp_insphere_filter(const double *a, const double *b, const double *c,
+                                     const double *d, const double *e)
+{
+    double aex = a[0] - e[0], aey = a[1] - e[1], aez = a[2] - e[2];
+    double bex = b[0] - e[0], bey = b[1] - e[1], bez = b[2] - e[2];
+    double cex = c[0] - e[0], cey = c[1] - e[1], cez = c[2] - e[2];
+    double dex = d[0] - e[0], dey = d[1] - e[1], dez = d[2] - e[2];
+    double ab = aex * bey - bex * aey, ac = aex * cey - cex * aey, ad = aex * dey - dex * aey;
+    double bc = bex * cey - cex * bey, bd = bex * dey - dex * bey, cd = cex * dey - dex * cey;
+    double bcd = (bez * cd - cez * bd) + dez * bc;
+    double acd = (aez * cd - cez * ad) + dez * ac;
+    double abd = (aez * bd - bez * ad) + dez * ab;
+    double abc = (aez * bc - bez * ac) + cez * ab;
+    double al = (aex * aex + aey * aey) + aez * aez;
+    double bl = (bex * bex + bey * bey) + bez * bez;
+    double cl = (cex * cex + cey * cey) + cez * cez;
+    double dl = (dex * dex + dey * dey) + dez * dez;
+    double det = (al * bcd - bl * acd) + (cl * abd - dl * abc);
+    double mx = vp_pred_max3_(vp_pred_max3_(fabs(aex), fabs(bex), fabs(cex)), fabs(dex), 0.0);
+    double my = vp_pred_max3_(vp_pred_max3_(fabs(aey), fabs(bey), fabs(cey)), fabs(dey), 0.0);
+    double mz = vp_pred_max3_(vp_pred_max3_(fabs(aez), fabs(bez), fabs(cez)), fabs(dez), 0.0);
+    double bound;
+    if (!vp_pred_in_filter_window_(mx, my, mz)) return VP_PRED_UNSURE;
+    bound = VP_PRED_FILTER_IS * ((((mx * mx + my * my) + mz * mz) * ((mx * my) * mz)));
+    if (det > bound) return 1;
+    if (-det > bound) return -1;
+    return VP_PRED_UNSURE;
+}
+
+/* Exact signs: the inline filter, then the out-of-line stages. */
+static inline int vp_orient3d_fast(const double *a, const double *b, const double *c,
+                                   const double *d)
+{
+    int s = vp_orient3d_filter(a, b, c, d);
+    return s != VP_PRED_UNSURE ? s : vp_orient3d_tail(a, b, c, d);
+}
+
+static inline int vp_insphere_fast(const double *a, const double *b, const double *c,
+                                   const double *d, const double *e)
+{
+    int s = vp_insphere_filter(a, b, c, d, e);
+    return s != VP_PRED_UNSURE ? s : vp_insphere_tail(a, b, c, d, e);
+}
 
 #endif

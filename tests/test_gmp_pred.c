@@ -403,6 +403,22 @@ static void gen_window_edge(double (*P)[3])
     }
 }
 
+/* at the edges of the inline filters' window (maxima of the differences near 2^-190 and
+ * 2^190), with some differences tiny enough that their products underflow, near-degenerate
+ * (grid points nudged by an ulp) */
+static void gen_filter_edge(double (*P)[3])
+{
+    int i, k, e = (rnd() & 1) ? rint_in(-196, -184) : rint_in(184, 196);
+    double s = pow2i(e), tiny = pow2i(rint_in(-1074, -900));
+    for (i = 0; i < 5; i++)
+        for (k = 0; k < 3; k++) {
+            int mode = rint_in(0, 5);
+            if (mode == 0) P[i][k] = tiny * rint_in(-3, 3);
+            else if (mode == 1) P[i][k] = s * srand1();
+            else P[i][k] = nudge(s * rint_in(-2, 2), rint_in(-1, 1));
+        }
+}
+
 /* ---------------------------------------------------------------- checks */
 
 struct gen_class {
@@ -431,6 +447,12 @@ static long run_class(const struct gen_class *g)
         want = ref_orient3d((const double (*)[3])P, 0, 1, 2, 3);
         CHECKF(got == want, "%s orient3d got %d want %d", g->name, got, want);
         if (got != want) dump_case((const double (*)[3])P);
+        {
+            int f = vp_orient3d_filter(P[0], P[1], P[2], P[3]);
+            CHECKF(f == VP_PRED_UNSURE || f == want, "%s orient3d filter %d want %d", g->name, f, want);
+            CHECKF(vp_orient3d_tail(P[0], P[1], P[2], P[3]) == want, "%s orient3d tail", g->name);
+            checks += 2;
+        }
         got = vp_orient3d_stats(P[4], P[2], P[1], P[3], &st_o3);
         want = ref_orient3d((const double (*)[3])P, 4, 2, 1, 3);
         CHECKF(got == want, "%s orient3d(4213) got %d want %d", g->name, got, want);
@@ -438,6 +460,14 @@ static long run_class(const struct gen_class *g)
         want = ref_insphere((const double (*)[3])P);
         CHECKF(got == want, "%s insphere got %d want %d", g->name, got, want);
         if (got != want) dump_case((const double (*)[3])P);
+        {
+            /* the inline filter answers right or not at all; the tail is exact */
+            int f = vp_insphere_filter(P[0], P[1], P[2], P[3], P[4]);
+            CHECKF(f == VP_PRED_UNSURE || f == want, "%s insphere filter %d want %d", g->name, f, want);
+            if (f != VP_PRED_UNSURE && f != want) dump_case((const double (*)[3])P);
+            CHECKF(vp_insphere_tail(P[0], P[1], P[2], P[3], P[4]) == want, "%s insphere tail", g->name);
+            checks += 2;
+        }
         got = vp_orient2d_proj_stats(P[0], P[1], P[2], drop, &st_o2);
         want = ref_orient2d((const double (*)[3])P, drop);
         CHECKF(got == want, "%s orient2d got %d want %d", g->name, got, want);
@@ -522,6 +552,9 @@ static long check_sos(long cases, gen_fn gen, const char *name, struct vp_pred_s
         if (dup) want = 0;
         CHECKF(s == want, "%s sos got %d want %d", name, s, want);
         if (s != want) dump_case((const double (*)[3])P);
+        if (vp_insphere(P[0], P[1], P[2], P[3], P[4]) == 0)
+            CHECKF(vp_insphere_sos_zero(P[0], P[1], P[2], P[3], P[4]) == want,
+                   "%s sos_zero differs", name);
         o = vp_orient3d(P[0], P[1], P[2], P[3]);
         if (o != 0 && !dup) CHECKF(s != 0, "%s sos returned 0 for a proper tetrahedron", name);
         for (i = 0; i < 6; i++) {
@@ -680,6 +713,7 @@ int main(int argc, char **argv)
         { "wide-degenerate", gen_wide_degenerate, 20000 },
         { "extreme-grid", gen_extreme_grid, 50000 },
         { "window-edge", gen_window_edge, 50000 },
+        { "filter-edge", gen_filter_edge, 30000 },
     };
     double scale = 1.0, t0 = now();
     long total = 0;
@@ -709,6 +743,7 @@ int main(int argc, char **argv)
         k += check_sos((long)(20000 * scale), gen_extreme_grid, "extreme-grid", &st_sos);
         k += check_sos((long)(20000 * scale), gen_window_edge, "window-edge", &st_sos);
         k += check_sos((long)(20000 * scale), gen_sphere, "sphere", &st_sos);
+        k += check_sos((long)(20000 * scale), gen_filter_edge, "filter-edge", &st_sos);
         long kf = check_facets((long)(200000 * scale));
         total += k + kf;
         printf("%-16s %8s       %9ld checks %6.2fs (+ %ld shared-facet checks)\n", "sos", "", k,
