@@ -20,6 +20,12 @@
 #define DEAD 0xFFFFFFFFu
 #define VDUP 0xFFFFFFFEu /* vertex record of a duplicate point: never inserted */
 
+#if defined(__GNUC__) && !defined(VP_NO_PREFETCH)
+#define PREFETCH(addr) __builtin_prefetch(addr)
+#else
+#define PREFETCH(addr) ((void)0)
+#endif
+
 #define TET(dt, t) ((dt)->tets + (size_t)(t) * (dt)->stride)
 #define PT(dt, v) ((dt)->vtop[-(ptrdiff_t)(v)].xyz)
 #define VREC(dt, v) ((dt)->vtop[-(ptrdiff_t)(v)])
@@ -28,17 +34,29 @@
 const unsigned char vp_dt_facet_index[4][3] = { { 1, 3, 2 }, { 0, 2, 3 }, { 0, 3, 1 }, { 0, 1, 2 } };
 #define FI vp_dt_facet_index
 
-/* one boundary facet of the cavity: its vertices (oriented towards p) and the outside neighbour */
+/* One boundary facet of the cavity, recorded while digging. */
 typedef struct bfacet {
-    uint32_t v[3];
+    uint32_t v[3];    /* oriented so that the cavity (and p) is on its positive side */
     uint32_t outside; /* 4 * tet + facet of the tet that stays */
+    uint32_t from;    /* 4 * killed tet + facet */
+    uint32_t lid;     /* gluing: local ids of v[0..2] (7 bits each) and the ghost case (2 bits) */
 } bfacet_t;
 
-/* edge hash entry used to glue the new tets to each other */
+/* edge hash entry used to glue the new tets of a large cavity to each other */
 typedef struct ehash {
     uint32_t a, b;    /* edge (a < b); a == VP_DT_NONE: empty */
     uint32_t ref;     /* 4 * new tet + facet opposite the edge's third vertex */
 } ehash_t;
+
+/* New tet (a,b,c,p) from boundary facet (a,b,c): slot of a, b, c, p. With the ghost among
+ * a, b, c (case 1 + its index) an even permutation moves it to slot 3. */
+static const unsigned char POS[4][4] = {
+    { 0, 1, 2, 3 }, { 3, 2, 1, 0 }, { 2, 3, 0, 1 }, { 1, 0, 3, 2 }
+};
+
+#define LID_BITS 7u
+#define LID_MAX (1u << LID_BITS) /* local vertex ids for the gluing table */
+#define VTAG 0x80000000u         /* vertex record's tet word holds a local id (never a tet) */
 
 static unsigned char *gap_lo(const vp_dt_t *dt)
 {
@@ -111,6 +129,21 @@ static int same_point(const double *a, const double *b)
     return a[0] == b[0] && a[1] == b[1] && a[2] == b[2];
 }
 
+/* The rare part of the conflict test: the filter could not decide insphere(a,b,c,d,p). */
+static int conflict_exact(const uint32_t *v, const double *a, const double *b, const double *c,
+                          const double *d, const double *p, uint32_t *dup)
+{
+    int s = vp_insphere_tail(a, b, c, d, p);
+    if (s == 0) {
+        if (same_point(a, p)) { *dup = v[0] & VMASK; return 0; }
+        if (same_point(b, p)) { *dup = v[1] & VMASK; return 0; }
+        if (same_point(c, p)) { *dup = v[2]; return 0; }
+        if (same_point(d, p)) { *dup = v[3]; return 0; }
+        s = vp_insphere_sos_zero(a, b, c, d, p);
+    }
+    return s > 0;
+}
+
 /* Conflict test of tet record v with p. For a finite tet: p inside the circumsphere under the
  * symbolic perturbation. For a ghost tet: p strictly beyond its hull facet, or on the facet's
  * plane and in conflict with the finite tet behind the facet (its circle test). When p lands
@@ -120,7 +153,7 @@ static int conflict(const vp_dt_t *dt, const uint32_t *v, const double *p, uint3
     const double *a, *b, *c, *d;
     int s;
     if (v[3] == VP_DT_GHOST) {
-        s = vp_orient3d(PT(dt, v[0] & VMASK), PT(dt, v[1] & VMASK), PT(dt, v[2]), p);
+        s = vp_orient3d_fast(PT(dt, v[0] & VMASK), PT(dt, v[1] & VMASK), PT(dt, v[2]), p);
         if (s) return s > 0;
         v = TET(dt, v[7] >> 2);
     }
@@ -128,15 +161,9 @@ static int conflict(const vp_dt_t *dt, const uint32_t *v, const double *p, uint3
     b = PT(dt, v[1] & VMASK);
     c = PT(dt, v[2]);
     d = PT(dt, v[3]);
-    s = vp_insphere(a, b, c, d, p);
-    if (s == 0) {
-        if (same_point(a, p)) { *dup = v[0] & VMASK; return 0; }
-        if (same_point(b, p)) { *dup = v[1] & VMASK; return 0; }
-        if (same_point(c, p)) { *dup = v[2]; return 0; }
-        if (same_point(d, p)) { *dup = v[3]; return 0; }
-        s = vp_insphere_sos(a, b, c, d, p);
-    }
-    return s > 0;
+    s = vp_insphere_filter(a, b, c, d, p);
+    if (s != VP_PRED_UNSURE) return s > 0;
+    return conflict_exact(v, a, b, c, d, p, dup);
 }
 
 int vp_dt_in_conflict(const vp_dt_t *dt, uint32_t t, const double p[3])
@@ -199,7 +226,8 @@ static int walk(vp_dt_t *dt, const double *p, uint32_t t, uint32_t *out)
         for (k = 0; k < 4; k++) {
             uint32_t i = (r + k) & 3u, nb = v[4 + i] >> 2;
             if (nb == prev) continue;
-            if (vp_orient3d(PT(dt, v[FI[i][0]]), PT(dt, v[FI[i][1]]), PT(dt, v[FI[i][2]]), p) < 0)
+            if (vp_orient3d_fast(PT(dt, v[FI[i][0]]), PT(dt, v[FI[i][1]]), PT(dt, v[FI[i][2]]),
+                                 p) < 0)
                 break;
         }
         if (k == 4) { *out = t; return VP_OK; }
@@ -219,17 +247,14 @@ int vp_dt_locate(vp_dt_t *dt, const double p[3], uint32_t hint, uint32_t *tet)
 
 /* ---- the cavity ---- */
 
-static void unmark_cavity(vp_dt_t *dt, const uint32_t *killed_top, uint32_t nk)
+/* Clears the marks of a cavity being abandoned: queue[0..nk) in the cavity, the outside tets
+ * of the boundary facets bf[0..nb) tested not in conflict. */
+static void unmark_cavity(vp_dt_t *dt, const uint32_t *queue, uint32_t nk, const bfacet_t *bf,
+                          uint32_t nb)
 {
-    uint32_t q, i;
-    for (q = 0; q < nk; q++) {
-        uint32_t *v = TET(dt, killed_top[-1 - (ptrdiff_t)q]);
-        v[0] &= VMASK;
-    }
-    for (q = 0; q < nk; q++) {
-        uint32_t *v = TET(dt, killed_top[-1 - (ptrdiff_t)q]);
-        for (i = 0; i < 4; i++) TET(dt, v[4 + i] >> 2)[1] &= VMASK;
-    }
+    uint32_t q;
+    for (q = 0; q < nk; q++) TET(dt, queue[q])[0] &= VMASK;
+    for (q = 0; q < nb; q++) TET(dt, bf[q].outside >> 2)[1] &= VMASK;
 }
 
 static uint32_t ehash_slot(uint32_t a, uint32_t b, uint32_t mask)
@@ -238,135 +263,219 @@ static uint32_t ehash_slot(uint32_t a, uint32_t b, uint32_t mask)
     return (uint32_t)((k * 0x9E3779B97F4A7C15ull) >> 40) & mask;
 }
 
+/* Gives each vertex of the boundary facets a local id (the ghost is 0) for the gluing table,
+ * kept in its record's tet word while the cavity is filled (all of those words are rewritten
+ * by the fill). lv receives (vertex, old tet word) per id. Returns 0 if more than `cap` ids
+ * are needed (cannot happen for a cavity bounded by a sphere; the words are restored). */
+static int local_ids(vp_dt_t *dt, bfacet_t *bf, uint32_t nb, uint32_t *lv, uint32_t cap)
+{
+    uint32_t q, k, n = 1;
+    for (q = 0; q < nb; q++) {
+        uint32_t lid = 0;
+        for (k = 0; k < 3; k++) {
+            uint32_t x = bf[q].v[k], id;
+            if (x == VP_DT_GHOST) {
+                id = 0;
+                lid |= (k + 1) << (3 * LID_BITS);
+            } else {
+                uint32_t w = VREC(dt, x).tet;
+                if (w & VTAG) {
+                    id = w & ~VTAG;
+                } else {
+                    if (n == cap) {
+                        for (k = 1; k < n; k++) VREC(dt, lv[2 * k]).tet = lv[2 * k + 1];
+                        return 0;
+                    }
+                    id = n++;
+                    lv[2 * id] = x;
+                    lv[2 * id + 1] = w;
+                    VREC(dt, x).tet = VTAG | id;
+                }
+            }
+            lid |= id << (LID_BITS * k);
+        }
+        bf[q].lid = lid;
+    }
+    return 1;
+}
+
 /* Inserts vertex record vid (already appended, not yet in the triangulation) given a tet
- * `start` known to be in conflict with it. */
+ * `start` known to be in conflict with it.
+ *
+ * Scratch, in the free space between the tets (lo) and the vertex records (hi): while digging,
+ * the queue of cavity tets grows up from lo and the boundary facets grow down from hi. Then,
+ * below the boundary facets: the killed list, the killed tets' vertices, the created list,
+ * created_from (the lists the planner reads after the insertion), and the gluing table (or an
+ * edge hash for very large cavities). New tet slots beyond the old ones grow over the queue. */
 static int dig_and_fill(vp_dt_t *dt, uint32_t vid, uint32_t start, uint32_t *dupv)
 {
     const double *p = PT(dt, vid);
     unsigned char *lo = gap_lo(dt), *hi = gap_hi(dt);
-    uint32_t *ktop = (uint32_t *)((uintptr_t)hi & ~(uintptr_t)7u); /* killed list grows down */
-    uint32_t nk = 0, q, i, nb = 0, nghost_killed = 0, nghost_new = 0, hbits, hmask;
-    uint32_t reuse, from_free, extra;
+    uint32_t *queue = (uint32_t *)lo;
+    bfacet_t *bftop = (bfacet_t *)((uintptr_t)hi & ~(uintptr_t)7u), *bf;
+    uint32_t nk, nb = 0, q, i, nghost_killed = 0, nghost_new = 0, dim, reuse, from_free, extra;
     uint32_t dup = VP_DT_NONE;
-    bfacet_t *bf;
-    ehash_t *eh;
-    uint32_t *created, *killed, *kverts, *cfrom;
-    unsigned char *need_lo;
+    uint32_t *created, *killed, *kverts, *cfrom, *lv = NULL, *tbl = NULL;
+    ehash_t *eh = NULL;
+    uint32_t hmask = 0;
+    unsigned char *scratch_lo, *need_lo;
 
-    /* dig: breadth-first from start over tets in conflict */
-    if ((unsigned char *)(ktop - 1) < lo) return VP_ENOMEM;
+    /* dig: breadth-first from start over tets in conflict, recording the boundary */
+    if ((unsigned char *)(queue + 8) > (unsigned char *)(bftop - 8)) return VP_ENOMEM;
     TET(dt, start)[0] |= MARK;
-    ktop[-1] = start;
+    queue[0] = start;
     nk = 1;
     for (q = 0; q < nk; q++) {
-        const uint32_t *v = TET(dt, ktop[-1 - (ptrdiff_t)q]);
-        if (v[3] == VP_DT_GHOST) nghost_killed++;
+        uint32_t t = queue[q];
+        const uint32_t *v = TET(dt, t);
+        if ((unsigned char *)(queue + nk + 4) > (unsigned char *)(bftop - nb - 4)) {
+            unmark_cavity(dt, queue, nk, bftop - nb, nb);
+            return VP_ENOMEM;
+        }
+        nghost_killed += v[3] == VP_DT_GHOST;
         for (i = 0; i < 4; i++) {
-            uint32_t u = v[4 + i] >> 2;
+            uint32_t ref = v[4 + i], u = ref >> 2;
             uint32_t *uv = TET(dt, u);
-            if ((uv[0] | uv[1]) & MARK) continue; /* in the cavity, or known not to be */
-            if (conflict(dt, uv, p, &dup)) {
-                if ((unsigned char *)(ktop - nk - 1) < lo) {
-                    unmark_cavity(dt, ktop, nk);
-                    return VP_ENOMEM;
+            bfacet_t *b;
+            if (uv[0] & MARK) continue; /* in the cavity: an inner facet */
+            if (!(uv[1] & MARK)) {      /* not tested yet */
+                if (conflict(dt, uv, p, &dup)) {
+                    uv[0] |= MARK;
+                    queue[nk++] = u;
+                    PREFETCH(TET(dt, uv[4] >> 2));
+                    PREFETCH(TET(dt, uv[5] >> 2));
+                    PREFETCH(TET(dt, uv[6] >> 2));
+                    PREFETCH(TET(dt, uv[7] >> 2));
+                    continue;
                 }
-                uv[0] |= MARK;
-                ktop[-1 - (ptrdiff_t)nk] = u;
-                nk++;
-            } else {
                 if (dup != VP_DT_NONE) {
-                    unmark_cavity(dt, ktop, nk);
+                    unmark_cavity(dt, queue, nk, bftop - nb, nb);
                     *dupv = dup;
                     return VP_EDUP;
                 }
                 uv[1] |= MARK;
             }
+            b = bftop - ++nb;
+            b->v[0] = v[FI[i][0]] & VMASK;
+            b->v[1] = v[FI[i][1]] & VMASK;
+            b->v[2] = v[FI[i][2]] & VMASK;
+            b->outside = ref;
+            b->from = 4u * t + i;
         }
     }
-    /* count boundary facets: neighbours outside the cavity */
-    for (q = 0; q < nk; q++) {
-        const uint32_t *v = TET(dt, ktop[-1 - (ptrdiff_t)q]);
-        for (i = 0; i < 4; i++) nb += !(TET(dt, v[4 + i] >> 2)[0] & MARK);
-    }
-    /* reserve: boundary facets, edge hash, created list below the killed list; new slots */
-    for (hbits = 4; (1u << hbits) < 3u * nb; hbits++) {}
-    hmask = (1u << hbits) - 1u;
-    killed = ktop - nk;
+    bf = bftop - nb;
+
+    /* reserve the lists and the gluing scratch below the boundary facets, new slots above lo */
+    killed = (uint32_t *)bf - nk;
     kverts = killed - 4 * (size_t)nk;
     created = kverts - nb;
     cfrom = created - nb;
-    eh = (ehash_t *)((uintptr_t)(cfrom) & ~(uintptr_t)7u) - (hmask + 1u);
-    bf = (bfacet_t *)eh - nb;
+    dim = nb / 2 + 3; /* a cavity bounded by a sphere has nb / 2 + 2 boundary vertices */
+    scratch_lo = NULL;
+    if (dim <= LID_MAX) {
+        lv = cfrom - 2 * (size_t)dim;
+        tbl = lv - (size_t)dim * dim;
+        scratch_lo = (unsigned char *)tbl;
+    }
     reuse = nb < nk ? nb : nk;
     from_free = nb - reuse < dt->nfree ? nb - reuse : dt->nfree;
     extra = nb - reuse - from_free;
     need_lo = lo + (size_t)extra * dt->stride * sizeof(uint32_t);
-    if ((uintptr_t)need_lo > (uintptr_t)bf || (unsigned char *)bf < lo) {
-        unmark_cavity(dt, ktop, nk);
-        return VP_ENOMEM;
+    if (need_lo < (unsigned char *)(queue + nk)) need_lo = (unsigned char *)(queue + nk);
+    if (!scratch_lo || (uintptr_t)scratch_lo < (uintptr_t)need_lo ||
+        (uintptr_t)scratch_lo > (uintptr_t)bf) {
+        uint32_t hbits;
+        for (hbits = 4; (1u << hbits) < 3u * nb; hbits++) {}
+        hmask = (1u << hbits) - 1u;
+        tbl = NULL;
+        eh = (ehash_t *)((uintptr_t)cfrom & ~(uintptr_t)7u) - (hmask + 1u);
+        scratch_lo = (unsigned char *)eh;
+        if ((uintptr_t)scratch_lo < (uintptr_t)need_lo || (uintptr_t)scratch_lo > (uintptr_t)bf) {
+            unmark_cavity(dt, queue, nk, bf, nb);
+            return VP_ENOMEM;
+        }
     }
-    /* record the boundary (vertices oriented towards p) and the killed tets' vertices before
-     * any slot is overwritten */
-    nb = 0;
+    if (tbl && !local_ids(dt, bf, nb, lv, dim)) {
+        /* the cavity is not bounded by a sphere: impossible unless the structure is broken */
+        unmark_cavity(dt, queue, nk, bf, nb);
+        return VP_EDEGEN;
+    }
+    /* nothing can fail from here on */
+
+    /* the killed tets, as they were, before any slot is overwritten */
     for (q = 0; q < nk; q++) {
-        const uint32_t *v = TET(dt, ktop[-1 - (ptrdiff_t)q]);
-        uint32_t *kv = kverts + 4 * (size_t)(nk - 1 - q); /* killed[] runs the other way */
+        uint32_t t = queue[q];
+        const uint32_t *v = TET(dt, t);
+        uint32_t *kv = kverts + 4 * (size_t)q;
+        killed[q] = t;
         kv[0] = v[0] & VMASK;
         kv[1] = v[1] & VMASK;
         kv[2] = v[2];
         kv[3] = v[3];
-        for (i = 0; i < 4; i++) {
-            uint32_t *uv = TET(dt, v[4 + i] >> 2);
-            if (uv[0] & MARK) continue;
-            uv[1] &= VMASK;
-            bf[nb].v[0] = v[FI[i][0]] & VMASK;
-            bf[nb].v[1] = v[FI[i][1]] & VMASK;
-            bf[nb].v[2] = v[FI[i][2]] & VMASK;
-            bf[nb].outside = v[4 + i];
-            cfrom[nb] = 4u * ktop[-1 - (ptrdiff_t)q] + i;
-            nb++;
-        }
     }
-    /* slots for the new tets: the killed ones first (same order as the killed list) */
-    for (q = 0; q < nb; q++)
-        created[q] = q < nk ? ktop[-1 - (ptrdiff_t)q] : tet_take(dt);
-    for (q = nb; q < nk; q++) tet_release(dt, ktop[-1 - (ptrdiff_t)q]);
-    memset(eh, 0xFF, (size_t)(hmask + 1u) * sizeof *eh);
+    if (eh) memset(eh, 0xFF, (size_t)(hmask + 1u) * sizeof *eh);
 
-    /* fill: tet (a,b,c,p); with the ghost among a,b,c an even permutation moves it to slot 3 */
+    /* slots for the new tets: the killed ones first */
+    for (q = 0; q < nb; q++) created[q] = q < nk ? killed[q] : tet_take(dt);
+    for (q = nb; q < nk; q++) tet_release(dt, killed[q]);
+
+    /* fill: tet (a,b,c,p) on each boundary facet (a,b,c) */
     for (q = 0; q < nb; q++) {
-        uint32_t t = created[q], *w = TET(dt, t), pos[4], vv[4], e;
-        vv[0] = bf[q].v[0]; vv[1] = bf[q].v[1]; vv[2] = bf[q].v[2]; vv[3] = vid;
-        if (vv[0] == VP_DT_GHOST)      { pos[0] = 3; pos[1] = 2; pos[2] = 1; pos[3] = 0; }
-        else if (vv[1] == VP_DT_GHOST) { pos[0] = 2; pos[1] = 3; pos[2] = 0; pos[3] = 1; }
-        else if (vv[2] == VP_DT_GHOST) { pos[0] = 1; pos[1] = 0; pos[2] = 3; pos[3] = 2; }
-        else                           { pos[0] = 0; pos[1] = 1; pos[2] = 2; pos[3] = 3; }
-        nghost_new += pos[3] != 3;
-        for (e = 0; e < 4; e++) w[pos[e]] = vv[e];
-        /* facet opposite p: the outside neighbour */
-        w[4 + pos[3]] = bf[q].outside;
-        TET(dt, bf[q].outside >> 2)[4 + (bf[q].outside & 3u)] = 4u * t + pos[3];
-        /* facet opposite vv[e] (e < 3) contains p and the edge of the other two */
-        for (e = 0; e < 3; e++) {
-            uint32_t x = vv[(e + 1) % 3], y = vv[(e + 2) % 3], h;
-            if (x > y) { uint32_t tmp = x; x = y; y = tmp; }
-            h = ehash_slot(x, y, hmask);
-            while (eh[h].a != VP_DT_NONE && (eh[h].a != x || eh[h].b != y)) h = (h + 1) & hmask;
-            if (eh[h].a == VP_DT_NONE) {
-                eh[h].a = x; eh[h].b = y; eh[h].ref = 4u * t + pos[e];
-            } else {
-                uint32_t o = eh[h].ref;
-                w[4 + pos[e]] = o;
-                TET(dt, o >> 2)[4 + (o & 3u)] = 4u * t + pos[e];
+        uint32_t t = created[q], *w = TET(dt, t), out = bf[q].outside, *ow = TET(dt, out >> 2);
+        uint32_t a = bf[q].v[0], b = bf[q].v[1], c = bf[q].v[2], g, e;
+        const unsigned char *pos;
+        g = a == VP_DT_GHOST ? 1u : b == VP_DT_GHOST ? 2u : c == VP_DT_GHOST ? 3u : 0u;
+        pos = POS[g];
+        nghost_new += g != 0;
+        w[pos[0]] = a;
+        w[pos[1]] = b;
+        w[pos[2]] = c;
+        w[pos[3]] = vid;
+        /* facet opposite p: the outside neighbour (whose "tested" mark goes now) */
+        w[4 + pos[3]] = out;
+        ow[4 + (out & 3u)] = 4u * t + pos[3];
+        ow[1] &= VMASK;
+        cfrom[q] = bf[q].from;
+        if (a != VP_DT_GHOST) VREC(dt, a).tet = t;
+        if (b != VP_DT_GHOST) VREC(dt, b).tet = t;
+        if (c != VP_DT_GHOST) VREC(dt, c).tet = t;
+        if (tbl) {
+            /* the facet opposite vertex e contains p and the half-edge (e+1 -> e+2) */
+            uint32_t lid = bf[q].lid, m = LID_MAX - 1u;
+            uint32_t la = lid & m, lb = (lid >> LID_BITS) & m, lc = (lid >> (2 * LID_BITS)) & m;
+            tbl[lb * dim + lc] = 4u * t + pos[0];
+            tbl[lc * dim + la] = 4u * t + pos[1];
+            tbl[la * dim + lb] = 4u * t + pos[2];
+        } else {
+            uint32_t vv[3];
+            vv[0] = a; vv[1] = b; vv[2] = c;
+            for (e = 0; e < 3; e++) {
+                uint32_t x = vv[(e + 1) % 3], y = vv[(e + 2) % 3], h;
+                if (x > y) { uint32_t tmp = x; x = y; y = tmp; }
+                h = ehash_slot(x, y, hmask);
+                while (eh[h].a != VP_DT_NONE && (eh[h].a != x || eh[h].b != y)) h = (h + 1) & hmask;
+                if (eh[h].a == VP_DT_NONE) {
+                    eh[h].a = x; eh[h].b = y; eh[h].ref = 4u * t + pos[e];
+                } else {
+                    uint32_t o = eh[h].ref;
+                    w[4 + pos[e]] = o;
+                    TET(dt, o >> 2)[4 + (o & 3u)] = 4u * t + pos[e];
+                }
             }
         }
     }
-    for (q = 0; q < nb; q++) {
-        uint32_t t = created[q], e;
-        const uint32_t *w = TET(dt, t);
-        for (e = 0; e < 4; e++)
-            if (w[e] != VP_DT_GHOST) VREC(dt, w[e]).tet = t;
+    if (tbl) {
+        /* each new tet reads its three neighbours: the half-edges the other way round */
+        for (q = 0; q < nb; q++) {
+            uint32_t *w = TET(dt, created[q]), lid = bf[q].lid, m = LID_MAX - 1u;
+            uint32_t la = lid & m, lb = (lid >> LID_BITS) & m, lc = (lid >> (2 * LID_BITS)) & m;
+            const unsigned char *pos = POS[lid >> (3 * LID_BITS)];
+            w[4 + pos[0]] = tbl[lc * dim + lb];
+            w[4 + pos[1]] = tbl[la * dim + lc];
+            w[4 + pos[2]] = tbl[lb * dim + la];
+        }
     }
+    VREC(dt, vid).tet = created[0];
     dt->nalive += nb - nk;
     dt->nghost += nghost_new - nghost_killed;
     dt->killed = killed;
@@ -376,7 +485,7 @@ static int dig_and_fill(vp_dt_t *dt, uint32_t vid, uint32_t start, uint32_t *dup
     dt->nkilled = nk;
     dt->ncreated = nb;
     dt->last_tet = created[0];
-    note_high_water(dt, (size_t)(gap_hi(dt) - (unsigned char *)bf));
+    note_high_water(dt, (size_t)(gap_hi(dt) - scratch_lo));
     return VP_OK;
 }
 
