@@ -26,6 +26,12 @@
 #define PREFETCH(addr) ((void)0)
 #endif
 
+#if defined(__GNUC__) && !defined(__OPTIMIZE_SIZE__)
+#define ALWAYS_INLINE static inline __attribute__((always_inline))
+#else
+#define ALWAYS_INLINE static inline
+#endif
+
 #define TET(dt, t) ((dt)->tets + (size_t)(t) * (dt)->stride)
 #define PT(dt, v) ((dt)->vtop[-(ptrdiff_t)(v)].xyz)
 #define VREC(dt, v) ((dt)->vtop[-(ptrdiff_t)(v)])
@@ -78,6 +84,7 @@ static void note_high_water(vp_dt_t *dt, size_t scratch)
 int vp_dt_init(vp_dt_t *dt, void *mem, size_t bytes, size_t payload_bytes)
 {
     uintptr_t lo, hi;
+    int k;
     if (!dt || !mem || payload_bytes > 1024) return VP_EINVAL;
     lo = ((uintptr_t)mem + 7u) & ~(uintptr_t)7u;
     hi = ((uintptr_t)mem + bytes) & ~(uintptr_t)7u;
@@ -92,7 +99,26 @@ int vp_dt_init(vp_dt_t *dt, void *mem, size_t bytes, size_t payload_bytes)
     dt->last_tet = VP_DT_NONE;
     dt->dim = -1;
     dt->rng = 0x2545F491u;
+    for (k = 0; k < 3; k++) {
+        dt->box_lo[k] = HUGE_VAL;
+        dt->box_hi[k] = -HUGE_VAL;
+    }
+    dt->sbound_o3 = dt->sbound_is = HUGE_VAL;
     return VP_OK;
+}
+
+/* Grows the bounding box to hold p (finite) and updates the static filter bounds. */
+static void box_add(vp_dt_t *dt, const double *p)
+{
+    int k, grown = 0;
+    for (k = 0; k < 3; k++) {
+        if (p[k] < dt->box_lo[k]) { dt->box_lo[k] = p[k]; grown = 1; }
+        if (p[k] > dt->box_hi[k]) { dt->box_hi[k] = p[k]; grown = 1; }
+    }
+    if (grown) {
+        dt->sbound_o3 = vp_orient3d_static_bound(dt->box_lo, dt->box_hi);
+        dt->sbound_is = vp_insphere_static_bound(dt->box_lo, dt->box_hi);
+    }
 }
 
 int vp_dt_alive(const vp_dt_t *dt, uint32_t t)
@@ -144,26 +170,38 @@ static int conflict_exact(const uint32_t *v, const double *a, const double *b, c
     return s > 0;
 }
 
+static int conflict_ghost(const vp_dt_t *dt, const uint32_t *v, const double *p, uint32_t *dup);
+
 /* Conflict test of tet record v with p. For a finite tet: p inside the circumsphere under the
  * symbolic perturbation. For a ghost tet: p strictly beyond its hull facet, or on the facet's
  * plane and in conflict with the finite tet behind the facet (its circle test). When p lands
- * exactly on a vertex, *dup receives it and the answer is 0. */
-static int conflict(const vp_dt_t *dt, const uint32_t *v, const double *p, uint32_t *dup)
+ * exactly on a vertex, *dup receives it and the answer is 0. sbound: the static insphere
+ * bound when p lies in the bounding box (dt->sbound_is), else HUGE_VAL. */
+ALWAYS_INLINE int conflict_b(const vp_dt_t *dt, const uint32_t *v, const double *p,
+                             uint32_t *dup, double sbound)
 {
     const double *a, *b, *c, *d;
     int s;
-    if (v[3] == VP_DT_GHOST) {
-        s = vp_orient3d_fast(PT(dt, v[0] & VMASK), PT(dt, v[1] & VMASK), PT(dt, v[2]), p);
-        if (s) return s > 0;
-        v = TET(dt, v[7] >> 2);
-    }
+    if (v[3] == VP_DT_GHOST) return conflict_ghost(dt, v, p, dup);
     a = PT(dt, v[0] & VMASK);
     b = PT(dt, v[1] & VMASK);
     c = PT(dt, v[2]);
     d = PT(dt, v[3]);
-    s = vp_insphere_filter(a, b, c, d, p);
+    s = vp_insphere_filter_b(a, b, c, d, p, sbound);
     if (s != VP_PRED_UNSURE) return s > 0;
     return conflict_exact(v, a, b, c, d, p, dup);
+}
+
+static int conflict_ghost(const vp_dt_t *dt, const uint32_t *v, const double *p, uint32_t *dup)
+{
+    int s = vp_orient3d_fast(PT(dt, v[0] & VMASK), PT(dt, v[1] & VMASK), PT(dt, v[2]), p);
+    if (s) return s > 0;
+    return conflict_b(dt, TET(dt, v[7] >> 2), p, dup, HUGE_VAL);
+}
+
+static int conflict(const vp_dt_t *dt, const uint32_t *v, const double *p, uint32_t *dup)
+{
+    return conflict_b(dt, v, p, dup, HUGE_VAL);
 }
 
 int vp_dt_in_conflict(const vp_dt_t *dt, uint32_t t, const double p[3])
@@ -208,7 +246,7 @@ static uint32_t lcg(vp_dt_t *dt)
  * finite tet whose closure contains p, or in the ghost tet of a hull facet p is beyond.
  * Terminates in a Delaunay triangulation (acyclicity of the in-front relation); the step
  * budget only guards against a corrupted structure. */
-static int walk(vp_dt_t *dt, const double *p, uint32_t t, uint32_t *out)
+static int walk(vp_dt_t *dt, const double *p, uint32_t t, uint32_t *out, double sbound)
 {
     uint32_t prev = VP_DT_NONE;
     uint64_t budget = 16u + 4u * (uint64_t)dt->nalive;
@@ -225,10 +263,12 @@ static int walk(vp_dt_t *dt, const double *p, uint32_t t, uint32_t *out)
         r = lcg(dt);
         for (k = 0; k < 4; k++) {
             uint32_t i = (r + k) & 3u, nb = v[4 + i] >> 2;
+            const double *a = PT(dt, v[FI[i][0]]), *b = PT(dt, v[FI[i][1]]), *c = PT(dt, v[FI[i][2]]);
+            int s;
             if (nb == prev) continue;
-            if (vp_orient3d_fast(PT(dt, v[FI[i][0]]), PT(dt, v[FI[i][1]]), PT(dt, v[FI[i][2]]),
-                                 p) < 0)
-                break;
+            s = vp_orient3d_filter_b(a, b, c, p, sbound);
+            if (s == VP_PRED_UNSURE) s = vp_orient3d_tail(a, b, c, p);
+            if (s < 0) break;
         }
         if (k == 4) { *out = t; return VP_OK; }
         prev = t;
@@ -240,9 +280,16 @@ static int walk(vp_dt_t *dt, const double *p, uint32_t t, uint32_t *out)
 
 int vp_dt_locate(vp_dt_t *dt, const double p[3], uint32_t hint, uint32_t *tet)
 {
+    double lo[3], hi[3];
+    int k;
     if (!dt || !p || !tet || !finite_point(p)) return VP_EINVAL;
     if (dt->dim < 3) return VP_ESTATE;
-    return walk(dt, p, hint, tet);
+    /* p may lie outside the bounding box: the static bound of a box that holds it too */
+    for (k = 0; k < 3; k++) {
+        lo[k] = p[k] < dt->box_lo[k] ? p[k] : dt->box_lo[k];
+        hi[k] = p[k] > dt->box_hi[k] ? p[k] : dt->box_hi[k];
+    }
+    return walk(dt, p, hint, tet, vp_orient3d_static_bound(lo, hi));
 }
 
 /* ---- the cavity ---- */
@@ -316,6 +363,7 @@ static int dig_and_fill(vp_dt_t *dt, uint32_t vid, uint32_t start, uint32_t *dup
     uint32_t nk, nb = 0, q, i, nghost_killed = 0, nghost_new = 0, dim, reuse, from_free, extra;
     uint32_t dup = VP_DT_NONE;
     uint32_t *created, *killed, *kverts, *cfrom, *lv = NULL, *tbl = NULL;
+    double sbound = dt->sbound_is; /* p and every vertex lie in the box */
     ehash_t *eh = NULL;
     uint32_t hmask = 0;
     unsigned char *scratch_lo, *need_lo;
@@ -339,7 +387,7 @@ static int dig_and_fill(vp_dt_t *dt, uint32_t vid, uint32_t start, uint32_t *dup
             bfacet_t *b;
             if (uv[0] & MARK) continue; /* in the cavity: an inner facet */
             if (!(uv[1] & MARK)) {      /* not tested yet */
-                if (conflict(dt, uv, p, &dup)) {
+                if (conflict_b(dt, uv, p, &dup, sbound)) {
                     uv[0] |= MARK;
                     queue[nk++] = u;
                     PREFETCH(TET(dt, uv[4] >> 2));
@@ -552,7 +600,7 @@ static int build_first(vp_dt_t *dt, uint32_t last)
         uint32_t t;
         if (VREC(dt, v).tet != VP_DT_NONE || v == s[0] || v == s[1] || v == s[2] || v == s[3])
             continue;
-        st = walk(dt, PT(dt, v), dt->last_tet, &t);
+        st = walk(dt, PT(dt, v), dt->last_tet, &t, dt->sbound_o3);
         if (st == VP_OK) st = dig_and_fill(dt, v, t, &dup);
         if (st != VP_OK) {
             /* back to flat: no tets, every vertex pending */
@@ -613,6 +661,7 @@ static int append_vertex(vp_dt_t *dt, const double p[3], uint32_t *vid)
     if ((size_t)(gap_hi(dt) - gap_lo(dt)) < 2 * sizeof(vp_dt_vertex_t) + 64) return VP_ENOMEM;
     r = &VREC(dt, dt->nvert);
     r->xyz[0] = p[0]; r->xyz[1] = p[1]; r->xyz[2] = p[2];
+    box_add(dt, p);
     r->tet = VP_DT_NONE;
     r->aux = 0;
     *vid = dt->nvert++;
@@ -633,7 +682,7 @@ static int insert_record(vp_dt_t *dt, uint32_t vid, uint32_t start, int located,
     }
     if (!located) {
         const uint32_t *v;
-        st = walk(dt, p, start, &start);
+        st = walk(dt, p, start, &start, dt->sbound_o3);
         if (st != VP_OK) return st;
         v = TET(dt, start);
         if (v[3] != VP_DT_GHOST) {
@@ -703,6 +752,7 @@ static int insert_chunk(vp_dt_t *dt, const double *xyz, uint32_t n, uint32_t *id
         r->xyz[0] = p[0]; r->xyz[1] = p[1]; r->xyz[2] = p[2];
         r->tet = VP_DT_NONE;
         r->aux = id0 + order[k];
+        box_add(dt, p);
         if (ids) ids[id0 + order[k]] = base + k;
     }
     dt->nvert = base + n;

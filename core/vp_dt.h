@@ -55,6 +55,8 @@ typedef struct vp_dt {
     uint32_t rng;                    /* walk randomisation (a local LCG, deterministic) */
     int dim;                         /* -1 empty, 0..2 pending (flat so far), 3 tetrahedralised */
     uint32_t span[4];                /* pending mode: vertices spanning the current dimension */
+    double box_lo[3], box_hi[3];     /* bounding box of every vertex record ever appended */
+    double sbound_o3, sbound_is;     /* static filter bounds for that box (vp_pred.h) */
     size_t high_water;               /* most bytes of the arena ever in use */
     uint64_t walk_steps;             /* statistics: tets visited by walks */
 } vp_dt_t;

@@ -989,6 +989,36 @@ int vp_insphere(const double *a, const double *b, const double *c, const double 
 }
 
 /* ------------------------------------------------------------------------------------------
+ * Static filter bounds (see vp_pred.h): the semi-static bounds with the box extents as the
+ * maxima. A computed extent is at least (1 - eps) times the exact one, as a computed maximum
+ * of differences is, so the derivation is unchanged.
+ */
+static int box_extents(const double lo[3], const double hi[3], double s[3])
+{
+    int k;
+    for (k = 0; k < 3; k++) {
+        s[k] = hi[k] - lo[k];
+        if (!(s[k] >= VP_PRED_FILTER_LO && s[k] <= VP_PRED_FILTER_HI)) return 0;
+    }
+    return 1;
+}
+
+double vp_orient3d_static_bound(const double lo[3], const double hi[3])
+{
+    double s[3];
+    if (!box_extents(lo, hi, s)) return HUGE_VAL;
+    return VP_PRED_FILTER_O3 * ((s[0] * s[1]) * s[2]);
+}
+
+double vp_insphere_static_bound(const double lo[3], const double hi[3])
+{
+    double s[3];
+    if (!box_extents(lo, hi, s)) return HUGE_VAL;
+    return VP_PRED_FILTER_IS * ((((s[0] * s[0] + s[1] * s[1]) + s[2] * s[2]) *
+                                 ((s[0] * s[1]) * s[2])));
+}
+
+/* ------------------------------------------------------------------------------------------
  * Symbolic perturbation. Let M be the 5x5 matrix with rows (x, y, z, |q|^2, 1) for q = a..e.
  * Subtracting e's row and then 2 e_x (resp. y, z) times the x (y, z) column from the lift
  * column leaves rows (q - e, |q - e|^2, 0) and (e, |e|^2, 1): det M = det4(rows (X, w_X)) = -D'.

@@ -104,18 +104,23 @@ int vp_cmp_dist_stats(const double *p, const double *q, const double *r,
  * monomial vanishes), NaN or Inf gives UNSURE.
  */
 #define VP_PRED_UNSURE 2
+#if defined(__GNUC__) && !defined(__OPTIMIZE_SIZE__)
+#define VP_PRED_INLINE static inline __attribute__((always_inline))
+#else
+#define VP_PRED_INLINE static inline
+#endif
 #define VP_PRED_FILTER_O3 (48.5 * 0x1p-53)
 #define VP_PRED_FILTER_IS (385.0 * 0x1p-53)
 #define VP_PRED_FILTER_LO 0x1p-190
 #define VP_PRED_FILTER_HI 0x1p190
 
-static inline double vp_pred_max3_(double a, double b, double c)
+VP_PRED_INLINE double vp_pred_max3_(double a, double b, double c)
 {
     double m = a > b ? a : b;
     return m > c ? m : c;
 }
 
-static inline int vp_pred_in_filter_window_(double mx, double my, double mz)
+VP_PRED_INLINE int vp_pred_in_filter_window_(double mx, double my, double mz)
 {
     double lo = mx < my ? mx : my, hi = mx > my ? mx : my;
     lo = lo < mz ? lo : mz;
@@ -123,17 +128,24 @@ static inline int vp_pred_in_filter_window_(double mx, double my, double mz)
     return lo >= VP_PRED_FILTER_LO && hi <= VP_PRED_FILTER_HI;
 }
 
-static inline int vp_orient3d_filter(const double *a, const double *b, const double *c,
-                                     const double *d)
+/* The filters with a static bound first: `bound` = vp_orient3d_static_bound /
+ * vp_insphere_static_bound of a box that holds every input point, or HUGE_VAL for none. The
+ * static bound is the semi-static one with the box extents in place of the maxima (every
+ * difference is at most the extent), so it costs one comparison; when it cannot decide, the
+ * semi-static bound (tighter for small simplices) is tried. */
+VP_PRED_INLINE int vp_orient3d_filter_b(const double *a, const double *b, const double *c,
+                                       const double *d, double static_bound)
 {
     double ux = b[0] - a[0], uy = b[1] - a[1], uz = b[2] - a[2];
     double vx = c[0] - a[0], vy = c[1] - a[1], vz = c[2] - a[2];
     double wx = d[0] - a[0], wy = d[1] - a[1], wz = d[2] - a[2];
     double det = (wz * (ux * vy - uy * vx) + vz * (uy * wx - ux * wy)) + uz * (vx * wy - vy * wx);
-    double mx = vp_pred_max3_(fabs(ux), fabs(vx), fabs(wx));
-    double my = vp_pred_max3_(fabs(uy), fabs(vy), fabs(wy));
-    double mz = vp_pred_max3_(fabs(uz), fabs(vz), fabs(wz));
-    double bound;
+    double mx, my, mz, bound;
+    if (det > static_bound) return 1;
+    if (-det > static_bound) return -1;
+    mx = vp_pred_max3_(fabs(ux), fabs(vx), fabs(wx));
+    my = vp_pred_max3_(fabs(uy), fabs(vy), fabs(wy));
+    mz = vp_pred_max3_(fabs(uz), fabs(vz), fabs(wz));
     if (!vp_pred_in_filter_window_(mx, my, mz)) return VP_PRED_UNSURE;
     bound = VP_PRED_FILTER_O3 * ((mx * my) * mz);
     if (det > bound) return 1;
@@ -141,8 +153,8 @@ static inline int vp_orient3d_filter(const double *a, const double *b, const dou
     return VP_PRED_UNSURE;
 }
 
-static inline int vp_insphere_filter(const double *a, const double *b, const double *c,
-                                     const double *d, const double *e)
+VP_PRED_INLINE int vp_insphere_filter_b(const double *a, const double *b, const double *c,
+                                       const double *d, const double *e, double static_bound)
 {
     double aex = a[0] - e[0], aey = a[1] - e[1], aez = a[2] - e[2];
     double bex = b[0] - e[0], bey = b[1] - e[1], bez = b[2] - e[2];
@@ -159,16 +171,35 @@ static inline int vp_insphere_filter(const double *a, const double *b, const dou
     double cl = (cex * cex + cey * cey) + cez * cez;
     double dl = (dex * dex + dey * dey) + dez * dez;
     double det = (al * bcd - bl * acd) + (cl * abd - dl * abc);
-    double mx = vp_pred_max3_(vp_pred_max3_(fabs(aex), fabs(bex), fabs(cex)), fabs(dex), 0.0);
-    double my = vp_pred_max3_(vp_pred_max3_(fabs(aey), fabs(bey), fabs(cey)), fabs(dey), 0.0);
-    double mz = vp_pred_max3_(vp_pred_max3_(fabs(aez), fabs(bez), fabs(cez)), fabs(dez), 0.0);
-    double bound;
+    double mx, my, mz, bound;
+    if (det > static_bound) return 1;
+    if (-det > static_bound) return -1;
+    mx = vp_pred_max3_(vp_pred_max3_(fabs(aex), fabs(bex), fabs(cex)), fabs(dex), 0.0);
+    my = vp_pred_max3_(vp_pred_max3_(fabs(aey), fabs(bey), fabs(cey)), fabs(dey), 0.0);
+    mz = vp_pred_max3_(vp_pred_max3_(fabs(aez), fabs(bez), fabs(cez)), fabs(dez), 0.0);
     if (!vp_pred_in_filter_window_(mx, my, mz)) return VP_PRED_UNSURE;
     bound = VP_PRED_FILTER_IS * ((((mx * mx + my * my) + mz * mz) * ((mx * my) * mz)));
     if (det > bound) return 1;
     if (-det > bound) return -1;
     return VP_PRED_UNSURE;
 }
+
+static inline int vp_orient3d_filter(const double *a, const double *b, const double *c,
+                                     const double *d)
+{
+    return vp_orient3d_filter_b(a, b, c, d, HUGE_VAL);
+}
+
+static inline int vp_insphere_filter(const double *a, const double *b, const double *c,
+                                     const double *d, const double *e)
+{
+    return vp_insphere_filter_b(a, b, c, d, e, HUGE_VAL);
+}
+
+/* Static bounds for the points of the box lo[k] <= x_k <= hi[k]; HUGE_VAL when an extent
+ * hi - lo is outside [2^-190, 2^190] (or the box is empty or not finite). */
+double vp_orient3d_static_bound(const double lo[3], const double hi[3]);
+double vp_insphere_static_bound(const double lo[3], const double hi[3]);
 
 /* Exact signs: the inline filter, then the out-of-line stages. */
 static inline int vp_orient3d_fast(const double *a, const double *b, const double *c,

@@ -468,6 +468,28 @@ static long run_class(const struct gen_class *g)
             CHECKF(vp_insphere_tail(P[0], P[1], P[2], P[3], P[4]) == want, "%s insphere tail", g->name);
             checks += 2;
         }
+        {
+            /* static bounds from the box of the five points (sometimes a larger box) */
+            double lo[3], hi[3], sb;
+            int i, k, f;
+            for (k = 0; k < 3; k++) {
+                lo[k] = hi[k] = P[0][k];
+                for (i = 1; i < 5; i++) {
+                    if (P[i][k] < lo[k]) lo[k] = P[i][k];
+                    if (P[i][k] > hi[k]) hi[k] = P[i][k];
+                }
+                if (n % 4 == 3) hi[k] += (hi[k] - lo[k]) * 0.5;
+            }
+            sb = vp_insphere_static_bound(lo, hi);
+            f = vp_insphere_filter_b(P[0], P[1], P[2], P[3], P[4], sb);
+            CHECKF(f == VP_PRED_UNSURE || f == want, "%s insphere static filter %d want %d", g->name, f, want);
+            if (f != VP_PRED_UNSURE && f != want) dump_case((const double (*)[3])P);
+            sb = vp_orient3d_static_bound(lo, hi);
+            f = vp_orient3d_filter_b(P[4], P[2], P[1], P[3], sb);
+            want = ref_orient3d((const double (*)[3])P, 4, 2, 1, 3);
+            CHECKF(f == VP_PRED_UNSURE || f == want, "%s orient3d static filter %d want %d", g->name, f, want);
+            checks += 2;
+        }
         got = vp_orient2d_proj_stats(P[0], P[1], P[2], drop, &st_o2);
         want = ref_orient2d((const double (*)[3])P, drop);
         CHECKF(got == want, "%s orient2d got %d want %d", g->name, got, want);
