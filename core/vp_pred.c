@@ -344,34 +344,39 @@ static int rescale(const double *const *p, int np, int lo, int hi, double (*out)
 }
 
 /* ------------------------------------------------------------------------------------------
- * Exactness certificate (stage A'): when every difference p_i - o is computed exactly and is an
- * integer multiple of 2^s with |difference| < 2^(s + bits), every product and sum of the
- * floating-point evaluation is an integer multiple of 2^(k s) (k <= its degree) below
- * 2^(53 + k s) in magnitude as long as the polynomial's monomials keep the bound (checked per
- * predicate below), so the evaluation has no rounding at all and its sign is exact; zero
- * included. Typical for integer grids, where the filters cannot decide exact zeros.
- * 2^(s + bits) is the power of two just above the largest |difference|; inputs are in the
- * predicate's window, so k s >= -1074 (no subnormal loss) and 2^-s is a normal double.
+ * Exactness certificate (stage A', tried first by the tails): when every coordinate is an
+ * integer multiple of 2^s and every computed difference p_i - o is below 2^(s + bits) in
+ * magnitude, the differences are exact (an exact difference is a multiple of 2^s, and it is
+ * below 2^(s + bits) because rounding is monotone), and every product and sum of a
+ * floating-point evaluation of a degree-k polynomial in them is an integer multiple of
+ * 2^(j s), j <= k, whose magnitude the caller's choice of `bits` keeps below 2^(53 + j s):
+ * no rounding anywhere, so the sign is exact, zero included. Typical of integer grids, where
+ * filters cannot decide exact zeros. 2^(s + bits) is the power of two just above the largest
+ * |difference|; s is limited so that k s >= -1074 (no subnormal loss) and 2^(k (s + bits) + 7)
+ * stays below 2^1023 (no overflow).
  */
-static int small_integer_diffs(const double *const *p, int np, const double *o, int bits)
+static int small_integers(const double *const *p, int np, const double *o, int bits, int k)
 {
     double m = 0.0, inv;
-    int i, k;
+    int i, j, s;
     for (i = 0; i < np; i++)
-        for (k = 0; k < 3; k++) {
-            double t = fabs(p[i][k] - o[k]);
+        for (j = 0; j < 3; j++) {
+            double t = fabs(p[i][j] - o[j]);
             if (t > m) m = t;
         }
-    if (!(m > 0.0)) return 0;
-    inv = pow2(bits - 1 - exponent_of(m)); /* 2^-s */
-    for (i = 0; i < np; i++)
-        for (k = 0; k < 3; k++) {
-            double d, t, x;
-            two_diff(p[i][k], o[k], &d, &t);
-            if (t != 0.0) return 0;
-            x = d * inv; /* |x| < 2^bits <= 2^51: adding 1.5 * 2^52 rounds x to an integer */
-            if ((x + 0x1.8p52) - 0x1.8p52 != x) return 0;
+    if (!(m > 0.0 && m <= 0x1.fffffffffffffp1023)) return 0;
+    s = exponent_of(m) + 1 - bits;
+    if (k * s < -1074 || k * (s + bits) + 7 > 1023) return 0;
+    inv = pow2(-s);
+    for (i = 0; i <= np; i++) {
+        const double *q = i < np ? p[i] : o;
+        for (j = 0; j < 3; j++) {
+            double t = q[j] * inv; /* exact when |t| >= 1 */
+            if (!(fabs(t) < 0x1p51)) return 0;
+            if (q[j] != 0.0 && !(fabs(t) >= 1.0)) return 0;
+            if ((t + 0x1.8p52) - 0x1.8p52 != t) return 0; /* t is an integer */
         }
+    }
     return 1;
 }
 
@@ -721,17 +726,6 @@ static int orient3d_fp(const double *a, const double *b, const double *c, const 
         COUNT(st, stage[VP_STAGE_FILTER]);
         return det > 0.0 ? 1 : (det < 0.0 ? -1 : 0);
     }
-    {
-        /* 16 bits: minors < 2^33, terms < 2^49, det < 3 * 2^49 */
-        const double *q[3];
-        q[0] = b;
-        q[1] = c;
-        q[2] = d;
-        if (small_integer_diffs(q, 3, a, 16)) {
-            COUNT(st, stage[VP_STAGE_EXACTDIFF]);
-            return det > 0.0 ? 1 : (det < 0.0 ? -1 : 0);
-        }
-    }
     r = orient3d_dd(a, b, c, d, perm);
     if (r != UNDECIDED) {
         COUNT(st, stage[VP_STAGE_DD]);
@@ -755,6 +749,15 @@ static int orient3d_tail(const double *a, const double *b, const double *c, cons
     p[1] = b;
     p[2] = c;
     p[3] = d;
+    /* 16 bits: minors < 2^33, terms < 2^49, det < 3 * 2^49 */
+    if (small_integers(p + 1, 3, a, 16, 3)) {
+        double ux = b[0] - a[0], uy = b[1] - a[1], uz = b[2] - a[2];
+        double vx = c[0] - a[0], vy = c[1] - a[1], vz = c[2] - a[2];
+        double wx = d[0] - a[0], wy = d[1] - a[1], wz = d[2] - a[2];
+        double det = (wz * (ux * vy - uy * vx) + vz * (uy * wx - ux * wy)) + uz * (vx * wy - vy * wx);
+        COUNT(st, stage[VP_STAGE_EXACTDIFF]);
+        return det > 0.0 ? 1 : (det < 0.0 ? -1 : 0);
+    }
     if (!in_window(p, 4, 0x1p-248, 0x1p320)) {
         if (!all_finite(p, 4)) return 0;
         if (!rescale(p, 4, W3_LO, W3_HI, sc)) {
@@ -917,18 +920,6 @@ static int insphere_fp(const double *a, const double *b, const double *c, const 
         COUNT(st, stage[VP_STAGE_FILTER]);
         return det > 0.0 ? 1 : (det < 0.0 ? -1 : 0);
     }
-    {
-        /* 9 bits: minors < 2^19, det3 < 6 * 2^27, lifts < 3 * 2^18, det < 72 * 2^45 */
-        const double *q[4];
-        q[0] = a;
-        q[1] = b;
-        q[2] = c;
-        q[3] = d;
-        if (small_integer_diffs(q, 4, e, 9)) {
-            COUNT(st, stage[VP_STAGE_EXACTDIFF]);
-            return det > 0.0 ? 1 : (det < 0.0 ? -1 : 0);
-        }
-    }
     r = insphere_dd(a, b, c, d, e, perm);
     if (r != UNDECIDED) {
         COUNT(st, stage[VP_STAGE_DD]);
@@ -953,6 +944,22 @@ static int insphere_tail(const double *a, const double *b, const double *c, cons
     p[2] = c;
     p[3] = d;
     p[4] = e;
+    /* 9 bits: minors < 2^19, det3 < 6 * 2^27, lifts < 3 * 2^18, det < 72 * 2^45 */
+    if (small_integers(p, 4, e, 9, 5)) {
+        double aex = a[0] - e[0], aey = a[1] - e[1], aez = a[2] - e[2];
+        double bex = b[0] - e[0], bey = b[1] - e[1], bez = b[2] - e[2];
+        double cex = c[0] - e[0], cey = c[1] - e[1], cez = c[2] - e[2];
+        double dex = d[0] - e[0], dey = d[1] - e[1], dez = d[2] - e[2];
+        double ab = aex * bey - bex * aey, ac = aex * cey - cex * aey, ad = aex * dey - dex * aey;
+        double bc = bex * cey - cex * bey, bd = bex * dey - dex * bey, cd = cex * dey - dex * cey;
+        double bcd = (bez * cd - cez * bd) + dez * bc, acd = (aez * cd - cez * ad) + dez * ac;
+        double abd = (aez * bd - bez * ad) + dez * ab, abc = (aez * bc - bez * ac) + cez * ab;
+        double al = (aex * aex + aey * aey) + aez * aez, bl = (bex * bex + bey * bey) + bez * bez;
+        double cl = (cex * cex + cey * cey) + cez * cez, dl = (dex * dex + dey * dey) + dez * dez;
+        double det = (al * bcd - bl * acd) + (cl * abd - dl * abc);
+        COUNT(st, stage[VP_STAGE_EXACTDIFF]);
+        return det > 0.0 ? 1 : (det < 0.0 ? -1 : 0);
+    }
     if (!in_window(p, 5, 0x1p-128, 0x1p190)) {
         if (!all_finite(p, 5)) return 0;
         if (!rescale(p, 5, W5_LO, W5_HI, sc)) {
@@ -1034,30 +1041,40 @@ double vp_insphere_static_bound(const double lo[3], const double hi[3])
  * points coincide (then det M(delta) is identically 0: two equal rows).
  */
 
+static int lex_cmp(const double *a, const double *b)
+{
+    if (a[0] != b[0]) return a[0] < b[0] ? -1 : 1;
+    if (a[1] != b[1]) return a[1] < b[1] ? -1 : 1;
+    if (a[2] != b[2]) return a[2] < b[2] ? -1 : 1;
+    return 0;
+}
+
 static int insphere_perturbed(const double *a, const double *b, const double *c,
                               const double *d, const double *e, struct vp_pred_stats *st)
 {
     const double *p[5];
-    int order[5], i, j;
+    int used[5] = { 0, 0, 0, 0, 0 }, i, j;
     p[0] = a;
     p[1] = b;
     p[2] = c;
     p[3] = d;
     p[4] = e;
-    /* indices by decreasing lexicographic order (insertion sort) */
+    /* points by decreasing lexicographic order, selected one at a time: usually the first
+     * decides. Coincident points give 0 (the perturbation cannot separate them): while the
+     * largest remaining point q has a twin, C_q' = 0 for every q' before it (the twins are
+     * both among the other four), and selecting q compares it with its twin. */
     for (i = 0; i < 5; i++) {
-        int v = i;
-        for (j = i; j > 0; j--) {
-            int cmp = vp_lex_cmp(p[order[j - 1]], p[v]);
-            if (cmp == 0) return 0; /* coincident points */
-            if (cmp > 0) break;
-            order[j] = order[j - 1];
-        }
-        order[j] = v;
-    }
-    for (i = 0; i < 5; i++) {
-        int q = order[i], k, n = 0, o;
+        int q = -1, k, n = 0, o;
         const double *r[4];
+        for (j = 0; j < 5; j++) {
+            int cmp;
+            if (used[j]) continue;
+            if (q < 0) { q = j; continue; }
+            cmp = lex_cmp(p[j], p[q]);
+            if (cmp == 0) return 0; /* coincident points */
+            if (cmp > 0) q = j;
+        }
+        used[q] = 1;
         for (k = 0; k < 5; k++)
             if (k != q) r[n++] = p[k];
         o = vp_orient3d_fast(r[0], r[1], r[2], r[3]);
