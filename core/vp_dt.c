@@ -311,10 +311,12 @@ static uint32_t ehash_slot(uint32_t a, uint32_t b, uint32_t mask)
 }
 
 /* Gives each vertex of the boundary facets a local id (the ghost is 0) for the gluing table,
- * kept in its record's tet word while the cavity is filled (all of those words are rewritten
- * by the fill). lv receives (vertex, old tet word) per id. Returns 0 if more than `cap` ids
- * are needed (cannot happen for a cavity bounded by a sphere; the words are restored). */
-static int local_ids(vp_dt_t *dt, bfacet_t *bf, uint32_t nb, uint32_t *lv, uint32_t cap)
+ * kept in its record's tet word until the fill rewrites all of those words. lv receives
+ * (vertex, old tet word, first boundary facet holding it) per id, from id 1; *nid the number
+ * of ids. Returns 0 if more than `cap` ids are needed (cannot happen for a cavity bounded by
+ * a sphere; the words are restored). */
+static int local_ids(vp_dt_t *dt, bfacet_t *bf, uint32_t nb, uint32_t *lv, uint32_t cap,
+                     uint32_t *nid)
 {
     uint32_t q, k, n = 1;
     for (q = 0; q < nb; q++) {
@@ -330,12 +332,13 @@ static int local_ids(vp_dt_t *dt, bfacet_t *bf, uint32_t nb, uint32_t *lv, uint3
                     id = w & ~VTAG;
                 } else {
                     if (n == cap) {
-                        for (k = 1; k < n; k++) VREC(dt, lv[2 * k]).tet = lv[2 * k + 1];
+                        for (k = 1; k < n; k++) VREC(dt, lv[3 * k]).tet = lv[3 * k + 1];
                         return 0;
                     }
                     id = n++;
-                    lv[2 * id] = x;
-                    lv[2 * id + 1] = w;
+                    lv[3 * id] = x;
+                    lv[3 * id + 1] = w;
+                    lv[3 * id + 2] = q;
                     VREC(dt, x).tet = VTAG | id;
                 }
             }
@@ -343,6 +346,7 @@ static int local_ids(vp_dt_t *dt, bfacet_t *bf, uint32_t nb, uint32_t *lv, uint3
         }
         bf[q].lid = lid;
     }
+    *nid = n;
     return 1;
 }
 
@@ -365,7 +369,7 @@ static int dig_and_fill(vp_dt_t *dt, uint32_t vid, uint32_t start, uint32_t *dup
     uint32_t *created, *killed, *kverts, *cfrom, *lv = NULL, *tbl = NULL;
     double sbound = dt->sbound_is; /* p and every vertex lie in the box */
     ehash_t *eh = NULL;
-    uint32_t hmask = 0;
+    uint32_t hmask = 0, nid = 0;
     unsigned char *scratch_lo, *need_lo;
 
     /* dig: breadth-first from start over tets in conflict, recording the boundary */
@@ -421,7 +425,7 @@ static int dig_and_fill(vp_dt_t *dt, uint32_t vid, uint32_t start, uint32_t *dup
     dim = nb / 2 + 3; /* a cavity bounded by a sphere has nb / 2 + 2 boundary vertices */
     scratch_lo = NULL;
     if (dim <= LID_MAX) {
-        lv = cfrom - 2 * (size_t)dim;
+        lv = cfrom - 3 * (size_t)dim;
         tbl = lv - (size_t)dim * dim;
         scratch_lo = (unsigned char *)tbl;
     }
@@ -443,7 +447,7 @@ static int dig_and_fill(vp_dt_t *dt, uint32_t vid, uint32_t start, uint32_t *dup
             return VP_ENOMEM;
         }
     }
-    if (tbl && !local_ids(dt, bf, nb, lv, dim)) {
+    if (tbl && !local_ids(dt, bf, nb, lv, dim, &nid)) {
         /* the cavity is not bounded by a sphere: impossible unless the structure is broken */
         unmark_cavity(dt, queue, nk, bf, nb);
         return VP_EDEGEN;
@@ -472,7 +476,8 @@ static int dig_and_fill(vp_dt_t *dt, uint32_t vid, uint32_t start, uint32_t *dup
         uint32_t t = created[q], *w = TET(dt, t), out = bf[q].outside, *ow = TET(dt, out >> 2);
         uint32_t a = bf[q].v[0], b = bf[q].v[1], c = bf[q].v[2], g, e;
         const unsigned char *pos;
-        g = a == VP_DT_GHOST ? 1u : b == VP_DT_GHOST ? 2u : c == VP_DT_GHOST ? 3u : 0u;
+        if (tbl) g = bf[q].lid >> (3 * LID_BITS);
+        else g = a == VP_DT_GHOST ? 1u : b == VP_DT_GHOST ? 2u : c == VP_DT_GHOST ? 3u : 0u;
         pos = POS[g];
         nghost_new += g != 0;
         w[pos[0]] = a;
@@ -484,9 +489,6 @@ static int dig_and_fill(vp_dt_t *dt, uint32_t vid, uint32_t start, uint32_t *dup
         ow[4 + (out & 3u)] = 4u * t + pos[3];
         ow[1] &= VMASK;
         cfrom[q] = bf[q].from;
-        if (a != VP_DT_GHOST) VREC(dt, a).tet = t;
-        if (b != VP_DT_GHOST) VREC(dt, b).tet = t;
-        if (c != VP_DT_GHOST) VREC(dt, c).tet = t;
         if (tbl) {
             /* the facet opposite vertex e contains p and the half-edge (e+1 -> e+2) */
             uint32_t lid = bf[q].lid, m = LID_MAX - 1u;
@@ -496,6 +498,9 @@ static int dig_and_fill(vp_dt_t *dt, uint32_t vid, uint32_t start, uint32_t *dup
             tbl[la * dim + lb] = 4u * t + pos[2];
         } else {
             uint32_t vv[3];
+            if (a != VP_DT_GHOST) VREC(dt, a).tet = t;
+            if (b != VP_DT_GHOST) VREC(dt, b).tet = t;
+            if (c != VP_DT_GHOST) VREC(dt, c).tet = t;
             vv[0] = a; vv[1] = b; vv[2] = c;
             for (e = 0; e < 3; e++) {
                 uint32_t x = vv[(e + 1) % 3], y = vv[(e + 2) % 3], h;
@@ -522,6 +527,8 @@ static int dig_and_fill(vp_dt_t *dt, uint32_t vid, uint32_t start, uint32_t *dup
             w[4 + pos[1]] = tbl[la * dim + lc];
             w[4 + pos[2]] = tbl[lb * dim + la];
         }
+        /* each boundary vertex: the new tet on the first boundary facet holding it */
+        for (q = 1; q < nid; q++) VREC(dt, lv[3 * q]).tet = created[lv[3 * q + 2]];
     }
     VREC(dt, vid).tet = created[0];
     dt->nalive += nb - nk;

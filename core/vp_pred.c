@@ -995,6 +995,17 @@ int vp_insphere(const double *a, const double *b, const double *c, const double 
     return vp_insphere_fast(a, b, c, d, e);
 }
 
+int vp_orient3d_filter_ss(const double *a, const double *b, const double *c, const double *d)
+{
+    return vp_orient3d_filter(a, b, c, d);
+}
+
+int vp_insphere_filter_ss(const double *a, const double *b, const double *c, const double *d,
+                          const double *e)
+{
+    return vp_insphere_filter(a, b, c, d, e);
+}
+
 /* ------------------------------------------------------------------------------------------
  * Static filter bounds (see vp_pred.h): the semi-static bounds with the box extents as the
  * maxima. A computed extent is at least (1 - eps) times the exact one, as a computed maximum

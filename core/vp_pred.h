@@ -128,24 +128,17 @@ VP_PRED_INLINE int vp_pred_in_filter_window_(double mx, double my, double mz)
     return lo >= VP_PRED_FILTER_LO && hi <= VP_PRED_FILTER_HI;
 }
 
-/* The filters with a static bound first: `bound` = vp_orient3d_static_bound /
- * vp_insphere_static_bound of a box that holds every input point, or HUGE_VAL for none. The
- * static bound is the semi-static one with the box extents in place of the maxima (every
- * difference is at most the extent), so it costs one comparison; when it cannot decide, the
- * semi-static bound (tighter for small simplices) is tried. */
-VP_PRED_INLINE int vp_orient3d_filter_b(const double *a, const double *b, const double *c,
-                                       const double *d, double static_bound)
+static inline int vp_orient3d_filter(const double *a, const double *b, const double *c,
+                                     const double *d)
 {
     double ux = b[0] - a[0], uy = b[1] - a[1], uz = b[2] - a[2];
     double vx = c[0] - a[0], vy = c[1] - a[1], vz = c[2] - a[2];
     double wx = d[0] - a[0], wy = d[1] - a[1], wz = d[2] - a[2];
     double det = (wz * (ux * vy - uy * vx) + vz * (uy * wx - ux * wy)) + uz * (vx * wy - vy * wx);
-    double mx, my, mz, bound;
-    if (det > static_bound) return 1;
-    if (-det > static_bound) return -1;
-    mx = vp_pred_max3_(fabs(ux), fabs(vx), fabs(wx));
-    my = vp_pred_max3_(fabs(uy), fabs(vy), fabs(wy));
-    mz = vp_pred_max3_(fabs(uz), fabs(vz), fabs(wz));
+    double mx = vp_pred_max3_(fabs(ux), fabs(vx), fabs(wx));
+    double my = vp_pred_max3_(fabs(uy), fabs(vy), fabs(wy));
+    double mz = vp_pred_max3_(fabs(uz), fabs(vz), fabs(wz));
+    double bound;
     if (!vp_pred_in_filter_window_(mx, my, mz)) return VP_PRED_UNSURE;
     bound = VP_PRED_FILTER_O3 * ((mx * my) * mz);
     if (det > bound) return 1;
@@ -153,8 +146,8 @@ VP_PRED_INLINE int vp_orient3d_filter_b(const double *a, const double *b, const 
     return VP_PRED_UNSURE;
 }
 
-VP_PRED_INLINE int vp_insphere_filter_b(const double *a, const double *b, const double *c,
-                                       const double *d, const double *e, double static_bound)
+static inline int vp_insphere_filter(const double *a, const double *b, const double *c,
+                                     const double *d, const double *e)
 {
     double aex = a[0] - e[0], aey = a[1] - e[1], aez = a[2] - e[2];
     double bex = b[0] - e[0], bey = b[1] - e[1], bez = b[2] - e[2];
@@ -171,12 +164,10 @@ VP_PRED_INLINE int vp_insphere_filter_b(const double *a, const double *b, const 
     double cl = (cex * cex + cey * cey) + cez * cez;
     double dl = (dex * dex + dey * dey) + dez * dez;
     double det = (al * bcd - bl * acd) + (cl * abd - dl * abc);
-    double mx, my, mz, bound;
-    if (det > static_bound) return 1;
-    if (-det > static_bound) return -1;
-    mx = vp_pred_max3_(vp_pred_max3_(fabs(aex), fabs(bex), fabs(cex)), fabs(dex), 0.0);
-    my = vp_pred_max3_(vp_pred_max3_(fabs(aey), fabs(bey), fabs(cey)), fabs(dey), 0.0);
-    mz = vp_pred_max3_(vp_pred_max3_(fabs(aez), fabs(bez), fabs(cez)), fabs(dez), 0.0);
+    double mx = vp_pred_max3_(vp_pred_max3_(fabs(aex), fabs(bex), fabs(cex)), fabs(dex), 0.0);
+    double my = vp_pred_max3_(vp_pred_max3_(fabs(aey), fabs(bey), fabs(cey)), fabs(dey), 0.0);
+    double mz = vp_pred_max3_(vp_pred_max3_(fabs(aez), fabs(bez), fabs(cez)), fabs(dez), 0.0);
+    double bound;
     if (!vp_pred_in_filter_window_(mx, my, mz)) return VP_PRED_UNSURE;
     bound = VP_PRED_FILTER_IS * ((((mx * mx + my * my) + mz * mz) * ((mx * my) * mz)));
     if (det > bound) return 1;
@@ -184,16 +175,49 @@ VP_PRED_INLINE int vp_insphere_filter_b(const double *a, const double *b, const 
     return VP_PRED_UNSURE;
 }
 
-static inline int vp_orient3d_filter(const double *a, const double *b, const double *c,
-                                     const double *d)
+/* The semi-static filters out of line (for the static ones below, when they cannot decide). */
+int vp_orient3d_filter_ss(const double *a, const double *b, const double *c, const double *d);
+int vp_insphere_filter_ss(const double *a, const double *b, const double *c, const double *d,
+                          const double *e);
+
+/* Static filters: `static_bound` = vp_orient3d_static_bound / vp_insphere_static_bound of a
+ * box that holds every input point (HUGE_VAL: none). That bound is the semi-static one with
+ * the box extents in place of the maxima (every difference is at most the extent), so it
+ * costs one comparison; when it cannot decide, the semi-static filter (tighter for small
+ * simplices) runs out of line. Same answers as vp_*_filter. */
+VP_PRED_INLINE int vp_orient3d_filter_b(const double *a, const double *b, const double *c,
+                                        const double *d, double static_bound)
 {
-    return vp_orient3d_filter_b(a, b, c, d, HUGE_VAL);
+    double ux = b[0] - a[0], uy = b[1] - a[1], uz = b[2] - a[2];
+    double vx = c[0] - a[0], vy = c[1] - a[1], vz = c[2] - a[2];
+    double wx = d[0] - a[0], wy = d[1] - a[1], wz = d[2] - a[2];
+    double det = (wz * (ux * vy - uy * vx) + vz * (uy * wx - ux * wy)) + uz * (vx * wy - vy * wx);
+    if (det > static_bound) return 1;
+    if (-det > static_bound) return -1;
+    return vp_orient3d_filter_ss(a, b, c, d);
 }
 
-static inline int vp_insphere_filter(const double *a, const double *b, const double *c,
-                                     const double *d, const double *e)
+VP_PRED_INLINE int vp_insphere_filter_b(const double *a, const double *b, const double *c,
+                                        const double *d, const double *e, double static_bound)
 {
-    return vp_insphere_filter_b(a, b, c, d, e, HUGE_VAL);
+    double aex = a[0] - e[0], aey = a[1] - e[1], aez = a[2] - e[2];
+    double bex = b[0] - e[0], bey = b[1] - e[1], bez = b[2] - e[2];
+    double cex = c[0] - e[0], cey = c[1] - e[1], cez = c[2] - e[2];
+    double dex = d[0] - e[0], dey = d[1] - e[1], dez = d[2] - e[2];
+    double al = (aex * aex + aey * aey) + aez * aez;
+    double bl = (bex * bex + bey * bey) + bez * bez;
+    double cl = (cex * cex + cey * cey) + cez * cez;
+    double dl = (dex * dex + dey * dey) + dez * dez;
+    double ab = aex * bey - bex * aey, ac = aex * cey - cex * aey, ad = aex * dey - dex * aey;
+    double bc = bex * cey - cex * bey, bd = bex * dey - dex * bey, cd = cex * dey - dex * cey;
+    double bcd = (bez * cd - cez * bd) + dez * bc;
+    double acd = (aez * cd - cez * ad) + dez * ac;
+    double abd = (aez * bd - bez * ad) + dez * ab;
+    double abc = (aez * bc - bez * ac) + cez * ab;
+    double det = (al * bcd - bl * acd) + (cl * abd - dl * abc);
+    if (det > static_bound) return 1;
+    if (-det > static_bound) return -1;
+    return vp_insphere_filter_ss(a, b, c, d, e);
 }
 
 /* Static bounds for the points of the box lo[k] <= x_k <= hi[k]; HUGE_VAL when an extent
