@@ -45,8 +45,13 @@ typedef struct bfacet {
     uint32_t v[3];    /* oriented so that the cavity (and p) is on its positive side */
     uint32_t outside; /* 4 * tet + facet of the tet that stays */
     uint32_t from;    /* 4 * killed tet + facet */
-    uint32_t lid;     /* gluing: local ids of v[0..2] (7 bits each) and the ghost case (2 bits) */
+    uint32_t lid;     /* gluing: local ids of v[0..2] (7 bits each), the ghost case (2 bits),
+                       * which of v[0..2] got their id here (3 bits) */
+    uint32_t old[3];  /* for those: the vertex record's tet word before the tag */
 } bfacet_t;
+
+#define LID_GHOST_SHIFT (3u * LID_BITS)
+#define LID_NEW_SHIFT (3u * LID_BITS + 2u)
 
 /* edge hash entry used to glue the new tets of a large cavity to each other */
 typedef struct ehash {
@@ -294,60 +299,90 @@ int vp_dt_locate(vp_dt_t *dt, const double p[3], uint32_t hint, uint32_t *tet)
 
 /* ---- the cavity ---- */
 
+/* Puts back the vertex records' tet words that local ids replaced (bf[0..nb)). */
+static void untag_vertices(vp_dt_t *dt, const bfacet_t *bf, uint32_t nb)
+{
+    uint32_t q, k;
+    for (q = 0; q < nb; q++) {
+        uint32_t fresh = bf[q].lid >> LID_NEW_SHIFT;
+        if (!fresh) continue;
+        for (k = 0; k < 3; k++)
+            if (fresh & (1u << k)) VREC(dt, bf[q].v[k]).tet = bf[q].old[k];
+    }
+}
+
 /* Clears the marks of a cavity being abandoned: queue[0..nk) in the cavity, the outside tets
- * of the boundary facets bf[0..nb) tested not in conflict. */
+ * of the boundary facets bf[0..nb) tested not in conflict; and the local-id tags. */
 static void unmark_cavity(vp_dt_t *dt, const uint32_t *queue, uint32_t nk, const bfacet_t *bf,
                           uint32_t nb)
 {
     uint32_t q;
     for (q = 0; q < nk; q++) TET(dt, queue[q])[0] &= VMASK;
     for (q = 0; q < nb; q++) TET(dt, bf[q].outside >> 2)[1] &= VMASK;
+    untag_vertices(dt, bf, nb);
+}
+
+/* Local id of vertex x (boundary facet b, slot k) for the gluing table: the ghost is 0, other
+ * vertices are numbered from 1 in order of appearance; the id is kept as a tag in the vertex
+ * record's tet word (the fill rewrites all of those words; failures put them back). Past
+ * LID_MAX - 1 ids, *nid becomes LID_MAX + 1 and the edge hash glues instead. */
+ALWAYS_INLINE uint32_t local_id(vp_dt_t *dt, uint32_t x, bfacet_t *b, unsigned k, uint32_t *nid)
+{
+    uint32_t w, id;
+    if (x == VP_DT_GHOST) return (k + 1u) << LID_GHOST_SHIFT;
+    w = VREC(dt, x).tet;
+    if (w & VTAG) return (w & (LID_MAX - 1u)) << (LID_BITS * k);
+    if (*nid >= LID_MAX) {
+        *nid = LID_MAX + 1u;
+        return 0;
+    }
+    id = (*nid)++;
+    b->old[k] = w;
+    VREC(dt, x).tet = VTAG | id;
+    return (id << (LID_BITS * k)) | (1u << (LID_NEW_SHIFT + k));
+}
+
+/* One facet i of cavity tet t (record v) during the digging: the neighbour joins the cavity,
+ * or the facet is recorded as a boundary facet. Returns 1 when p is a vertex (*dup). */
+ALWAYS_INLINE int dig_facet(vp_dt_t *dt, const uint32_t *v, uint32_t t, unsigned i,
+                            const double *p, double sbound, uint32_t *queue, uint32_t *nk,
+                            bfacet_t *bftop, uint32_t *nb, uint32_t *nid, uint32_t *dup)
+{
+    uint32_t ref = v[4 + i], u = ref >> 2, x0, x1, x2;
+    uint32_t *uv = TET(dt, u);
+    bfacet_t *b;
+    if (uv[0] & MARK) return 0; /* in the cavity: an inner facet */
+    if (!(uv[1] & MARK)) {      /* not tested yet */
+        if (conflict_b(dt, uv, p, dup, sbound)) {
+            uv[0] |= MARK;
+            queue[(*nk)++] = u;
+            PREFETCH(TET(dt, uv[4] >> 2));
+            PREFETCH(TET(dt, uv[5] >> 2));
+            PREFETCH(TET(dt, uv[6] >> 2));
+            PREFETCH(TET(dt, uv[7] >> 2));
+            return 0;
+        }
+        if (*dup != VP_DT_NONE) return 1;
+        uv[1] |= MARK;
+    }
+    b = bftop - ++*nb;
+    x0 = v[FI[i][0]] & VMASK;
+    x1 = v[FI[i][1]] & VMASK;
+    x2 = v[FI[i][2]] & VMASK;
+    b->v[0] = x0;
+    b->v[1] = x1;
+    b->v[2] = x2;
+    b->outside = ref;
+    b->from = 4u * t + i;
+    b->lid = local_id(dt, x0, b, 0, nid) | local_id(dt, x1, b, 1, nid) |
+             local_id(dt, x2, b, 2, nid);
+    return 0;
 }
 
 static uint32_t ehash_slot(uint32_t a, uint32_t b, uint32_t mask)
 {
     uint64_t k = ((uint64_t)a << 32) | b;
     return (uint32_t)((k * 0x9E3779B97F4A7C15ull) >> 40) & mask;
-}
-
-/* Gives each vertex of the boundary facets a local id (the ghost is 0) for the gluing table,
- * kept in its record's tet word until the fill rewrites all of those words. lv receives
- * (vertex, old tet word, first boundary facet holding it) per id, from id 1; *nid the number
- * of ids. Returns 0 if more than `cap` ids are needed (cannot happen for a cavity bounded by
- * a sphere; the words are restored). */
-static int local_ids(vp_dt_t *dt, bfacet_t *bf, uint32_t nb, uint32_t *lv, uint32_t cap,
-                     uint32_t *nid)
-{
-    uint32_t q, k, n = 1;
-    for (q = 0; q < nb; q++) {
-        uint32_t lid = 0;
-        for (k = 0; k < 3; k++) {
-            uint32_t x = bf[q].v[k], id;
-            if (x == VP_DT_GHOST) {
-                id = 0;
-                lid |= (k + 1) << (3 * LID_BITS);
-            } else {
-                uint32_t w = VREC(dt, x).tet;
-                if (w & VTAG) {
-                    id = w & ~VTAG;
-                } else {
-                    if (n == cap) {
-                        for (k = 1; k < n; k++) VREC(dt, lv[3 * k]).tet = lv[3 * k + 1];
-                        return 0;
-                    }
-                    id = n++;
-                    lv[3 * id] = x;
-                    lv[3 * id + 1] = w;
-                    lv[3 * id + 2] = q;
-                    VREC(dt, x).tet = VTAG | id;
-                }
-            }
-            lid |= id << (LID_BITS * k);
-        }
-        bf[q].lid = lid;
-    }
-    *nid = n;
-    return 1;
 }
 
 /* Inserts vertex record vid (already appended, not yet in the triangulation) given a tet
@@ -364,12 +399,12 @@ static int dig_and_fill(vp_dt_t *dt, uint32_t vid, uint32_t start, uint32_t *dup
     unsigned char *lo = gap_lo(dt), *hi = gap_hi(dt);
     uint32_t *queue = (uint32_t *)lo;
     bfacet_t *bftop = (bfacet_t *)((uintptr_t)hi & ~(uintptr_t)7u), *bf;
-    uint32_t nk, nb = 0, q, i, nghost_killed = 0, nghost_new = 0, dim, reuse, from_free, extra;
+    uint32_t nk, nb = 0, q, nghost_killed = 0, nghost_new = 0, dim, reuse, from_free, extra;
     uint32_t dup = VP_DT_NONE;
-    uint32_t *created, *killed, *kverts, *cfrom, *lv = NULL, *tbl = NULL;
+    uint32_t *created, *killed, *kverts, *cfrom, *tbl = NULL;
     double sbound = dt->sbound_is; /* p and every vertex lie in the box */
     ehash_t *eh = NULL;
-    uint32_t hmask = 0, nid = 0;
+    uint32_t hmask = 0, nid = 1;
     unsigned char *scratch_lo, *need_lo;
 
     /* dig: breadth-first from start over tets in conflict, recording the boundary */
@@ -385,34 +420,13 @@ static int dig_and_fill(vp_dt_t *dt, uint32_t vid, uint32_t start, uint32_t *dup
             return VP_ENOMEM;
         }
         nghost_killed += v[3] == VP_DT_GHOST;
-        for (i = 0; i < 4; i++) {
-            uint32_t ref = v[4 + i], u = ref >> 2;
-            uint32_t *uv = TET(dt, u);
-            bfacet_t *b;
-            if (uv[0] & MARK) continue; /* in the cavity: an inner facet */
-            if (!(uv[1] & MARK)) {      /* not tested yet */
-                if (conflict_b(dt, uv, p, &dup, sbound)) {
-                    uv[0] |= MARK;
-                    queue[nk++] = u;
-                    PREFETCH(TET(dt, uv[4] >> 2));
-                    PREFETCH(TET(dt, uv[5] >> 2));
-                    PREFETCH(TET(dt, uv[6] >> 2));
-                    PREFETCH(TET(dt, uv[7] >> 2));
-                    continue;
-                }
-                if (dup != VP_DT_NONE) {
-                    unmark_cavity(dt, queue, nk, bftop - nb, nb);
-                    *dupv = dup;
-                    return VP_EDUP;
-                }
-                uv[1] |= MARK;
-            }
-            b = bftop - ++nb;
-            b->v[0] = v[FI[i][0]] & VMASK;
-            b->v[1] = v[FI[i][1]] & VMASK;
-            b->v[2] = v[FI[i][2]] & VMASK;
-            b->outside = ref;
-            b->from = 4u * t + i;
+        if (dig_facet(dt, v, t, 0, p, sbound, queue, &nk, bftop, &nb, &nid, &dup) ||
+            dig_facet(dt, v, t, 1, p, sbound, queue, &nk, bftop, &nb, &nid, &dup) ||
+            dig_facet(dt, v, t, 2, p, sbound, queue, &nk, bftop, &nb, &nid, &dup) ||
+            dig_facet(dt, v, t, 3, p, sbound, queue, &nk, bftop, &nb, &nid, &dup)) {
+            unmark_cavity(dt, queue, nk, bftop - nb, nb);
+            *dupv = dup;
+            return VP_EDUP;
         }
     }
     bf = bftop - nb;
@@ -424,9 +438,8 @@ static int dig_and_fill(vp_dt_t *dt, uint32_t vid, uint32_t start, uint32_t *dup
     cfrom = created - nb;
     dim = nb / 2 + 3; /* a cavity bounded by a sphere has nb / 2 + 2 boundary vertices */
     scratch_lo = NULL;
-    if (dim <= LID_MAX) {
-        lv = cfrom - 3 * (size_t)dim;
-        tbl = lv - (size_t)dim * dim;
+    if (nid <= LID_MAX && nid <= dim) { /* unless the cavity is huge (or not a ball) */
+        tbl = cfrom - (size_t)dim * dim;
         scratch_lo = (unsigned char *)tbl;
     }
     reuse = nb < nk ? nb : nk;
@@ -437,20 +450,17 @@ static int dig_and_fill(vp_dt_t *dt, uint32_t vid, uint32_t start, uint32_t *dup
     if (!scratch_lo || (uintptr_t)scratch_lo < (uintptr_t)need_lo ||
         (uintptr_t)scratch_lo > (uintptr_t)bf) {
         uint32_t hbits;
+        untag_vertices(dt, bf, nb);
+        nid = 0;
         for (hbits = 4; (1u << hbits) < 3u * nb; hbits++) {}
         hmask = (1u << hbits) - 1u;
         tbl = NULL;
         eh = (ehash_t *)((uintptr_t)cfrom & ~(uintptr_t)7u) - (hmask + 1u);
         scratch_lo = (unsigned char *)eh;
         if ((uintptr_t)scratch_lo < (uintptr_t)need_lo || (uintptr_t)scratch_lo > (uintptr_t)bf) {
-            unmark_cavity(dt, queue, nk, bf, nb);
+            unmark_cavity(dt, queue, nk, bf, nb); /* the tags are gone already */
             return VP_ENOMEM;
         }
-    }
-    if (tbl && !local_ids(dt, bf, nb, lv, dim, &nid)) {
-        /* the cavity is not bounded by a sphere: impossible unless the structure is broken */
-        unmark_cavity(dt, queue, nk, bf, nb);
-        return VP_EDEGEN;
     }
     /* nothing can fail from here on */
 
@@ -476,8 +486,7 @@ static int dig_and_fill(vp_dt_t *dt, uint32_t vid, uint32_t start, uint32_t *dup
         uint32_t t = created[q], *w = TET(dt, t), out = bf[q].outside, *ow = TET(dt, out >> 2);
         uint32_t a = bf[q].v[0], b = bf[q].v[1], c = bf[q].v[2], g, e;
         const unsigned char *pos;
-        if (tbl) g = bf[q].lid >> (3 * LID_BITS);
-        else g = a == VP_DT_GHOST ? 1u : b == VP_DT_GHOST ? 2u : c == VP_DT_GHOST ? 3u : 0u;
+        g = a == VP_DT_GHOST ? 1u : b == VP_DT_GHOST ? 2u : c == VP_DT_GHOST ? 3u : 0u;
         pos = POS[g];
         nghost_new += g != 0;
         w[pos[0]] = a;
@@ -491,11 +500,17 @@ static int dig_and_fill(vp_dt_t *dt, uint32_t vid, uint32_t start, uint32_t *dup
         cfrom[q] = bf[q].from;
         if (tbl) {
             /* the facet opposite vertex e contains p and the half-edge (e+1 -> e+2) */
-            uint32_t lid = bf[q].lid, m = LID_MAX - 1u;
+            uint32_t lid = bf[q].lid, m = LID_MAX - 1u, fresh = lid >> LID_NEW_SHIFT;
             uint32_t la = lid & m, lb = (lid >> LID_BITS) & m, lc = (lid >> (2 * LID_BITS)) & m;
             tbl[lb * dim + lc] = 4u * t + pos[0];
             tbl[lc * dim + la] = 4u * t + pos[1];
             tbl[la * dim + lb] = 4u * t + pos[2];
+            /* each boundary vertex: the new tet on the boundary facet that numbered it */
+            if (fresh) {
+                if (fresh & 1u) VREC(dt, a).tet = t;
+                if (fresh & 2u) VREC(dt, b).tet = t;
+                if (fresh & 4u) VREC(dt, c).tet = t;
+            }
         } else {
             uint32_t vv[3];
             if (a != VP_DT_GHOST) VREC(dt, a).tet = t;
@@ -522,13 +537,11 @@ static int dig_and_fill(vp_dt_t *dt, uint32_t vid, uint32_t start, uint32_t *dup
         for (q = 0; q < nb; q++) {
             uint32_t *w = TET(dt, created[q]), lid = bf[q].lid, m = LID_MAX - 1u;
             uint32_t la = lid & m, lb = (lid >> LID_BITS) & m, lc = (lid >> (2 * LID_BITS)) & m;
-            const unsigned char *pos = POS[lid >> (3 * LID_BITS)];
+            const unsigned char *pos = POS[(lid >> LID_GHOST_SHIFT) & 3u];
             w[4 + pos[0]] = tbl[lc * dim + lb];
             w[4 + pos[1]] = tbl[la * dim + lc];
             w[4 + pos[2]] = tbl[lb * dim + la];
         }
-        /* each boundary vertex: the new tet on the first boundary facet holding it */
-        for (q = 1; q < nid; q++) VREC(dt, lv[3 * q]).tet = created[lv[3 * q + 2]];
     }
     VREC(dt, vid).tet = created[0];
     dt->nalive += nb - nk;
