@@ -197,6 +197,48 @@ VP_PRED_INLINE int vp_orient3d_filter_b(const double *a, const double *b, const 
     return vp_orient3d_filter_ss(a, b, c, d);
 }
 
+#if defined(__GNUC__) && (defined(__x86_64__) || defined(__aarch64__)) && \
+    !defined(__OPTIMIZE_SIZE__) && !defined(VP_PRED_NO_SIMD)
+/* Two-lane evaluation of the same determinant, Laplace-expanded along the (x, y) and
+ * (z, lift) column pairs: D' = sum over the 3 splits {ij, kl} of the 4 points of
+ * +-(m_ij n_kl + m_kl n_ij), m_ij = x_i y_j - x_j y_i, n_ij = l_i z_j - l_j z_i (relative to
+ * e). Lanes hold (a, c) and (b, d). The 72 monomials and their bound are those of the scalar
+ * form; a monomial's path has 5 differences, a lift (3), its n (product, difference), its m
+ * (product, difference), the product m n and 3 sums: 16 roundings, as in the scalar form, so
+ * the same bounds hold. Vector operations round each lane like the scalar ones (no FMA). */
+typedef double vp_pred_v2d_ __attribute__((vector_size(16)));
+#define VP_PRED_SWAP_(v) __builtin_shufflevector((v), (v), 1, 0)
+#define VP_PRED_LO_(u, w) __builtin_shufflevector((u), (w), 0, 2)
+#define VP_PRED_HI_(u, w) __builtin_shufflevector((u), (w), 1, 3)
+
+VP_PRED_INLINE int vp_insphere_filter_b(const double *a, const double *b, const double *c,
+                                        const double *d, const double *e, double static_bound)
+{
+    vp_pred_v2d_ ex = { e[0], e[0] }, ey = { e[1], e[1] }, ez = { e[2], e[2] };
+    vp_pred_v2d_ ux = (vp_pred_v2d_){ a[0], c[0] } - ex, wx = (vp_pred_v2d_){ b[0], d[0] } - ex;
+    vp_pred_v2d_ uy = (vp_pred_v2d_){ a[1], c[1] } - ey, wy = (vp_pred_v2d_){ b[1], d[1] } - ey;
+    vp_pred_v2d_ uz = (vp_pred_v2d_){ a[2], c[2] } - ez, wz = (vp_pred_v2d_){ b[2], d[2] } - ez;
+    vp_pred_v2d_ ul = (ux * ux + uy * uy) + uz * uz, wl = (wx * wx + wy * wy) + wz * wz;
+    /* splits {ab, cd}: lanes (a, c) x (b, d) */
+    vp_pred_v2d_ m1 = ux * wy - wx * uy, n1 = ul * wz - wl * uz;
+    /* splits {ad, cb}: lanes (a, c) x (d, b) */
+    vp_pred_v2d_ sx = VP_PRED_SWAP_(wx), sy = VP_PRED_SWAP_(wy), sz = VP_PRED_SWAP_(wz);
+    vp_pred_v2d_ sl = VP_PRED_SWAP_(wl);
+    vp_pred_v2d_ m2 = ux * sy - sx * uy, n2 = ul * sz - sl * uz;
+    /* splits {ac, bd}: lanes (a, b) x (c, d) */
+    vp_pred_v2d_ lx = VP_PRED_LO_(ux, wx), hx = VP_PRED_HI_(ux, wx);
+    vp_pred_v2d_ ly = VP_PRED_LO_(uy, wy), hy = VP_PRED_HI_(uy, wy);
+    vp_pred_v2d_ lz = VP_PRED_LO_(uz, wz), hz = VP_PRED_HI_(uz, wz);
+    vp_pred_v2d_ ll = VP_PRED_LO_(ul, wl), hl = VP_PRED_HI_(ul, wl);
+    vp_pred_v2d_ m3 = lx * hy - hx * ly, n3 = ll * hz - hl * lz;
+    /* (m_ab n_cd + m_cd n_ab) - (m_ad n_cb + m_cb n_ad) - (m_ac n_bd + m_bd n_ac) */
+    vp_pred_v2d_ t = (m1 * VP_PRED_SWAP_(n1) - m2 * VP_PRED_SWAP_(n2)) - m3 * VP_PRED_SWAP_(n3);
+    double det = t[0] + t[1];
+    if (det > static_bound) return 1;
+    if (-det > static_bound) return -1;
+    return vp_insphere_filter_ss(a, b, c, d, e);
+}
+#else
 VP_PRED_INLINE int vp_insphere_filter_b(const double *a, const double *b, const double *c,
                                         const double *d, const double *e, double static_bound)
 {
@@ -219,6 +261,7 @@ VP_PRED_INLINE int vp_insphere_filter_b(const double *a, const double *b, const 
     if (-det > static_bound) return -1;
     return vp_insphere_filter_ss(a, b, c, d, e);
 }
+#endif
 
 /* Static bounds for the points of the box lo[k] <= x_k <= hi[k]; HUGE_VAL when an extent
  * hi - lo is outside [2^-190, 2^190] (or the box is empty or not finite). */
