@@ -109,20 +109,34 @@ int vp_dt_init(vp_dt_t *dt, void *mem, size_t bytes, size_t payload_bytes)
         dt->box_hi[k] = -HUGE_VAL;
     }
     dt->sbound_o3 = dt->sbound_is = HUGE_VAL;
+    dt->lowbit = VP_DT_LOWBIT_NONE;
     return VP_OK;
 }
 
-/* Grows the bounding box to hold p (finite) and updates the static filter bounds. */
+/* Grows the bounding box to hold p (finite) and updates the static filter bounds: 0 while
+ * every coordinate is a multiple of 2^lowbit and the box is small enough in those units for
+ * the filters' floating-point determinants to be exact (integer grids). Extents only grow
+ * and lowbit only drops, so once neither filter is exact, lowbit is no longer tracked. */
 static void box_add(vp_dt_t *dt, const double *p)
 {
     int k, grown = 0;
     for (k = 0; k < 3; k++) {
         if (p[k] < dt->box_lo[k]) { dt->box_lo[k] = p[k]; grown = 1; }
         if (p[k] > dt->box_hi[k]) { dt->box_hi[k] = p[k]; grown = 1; }
+        if (dt->lowbit != VP_DT_LOWBIT_OFF && p[k] != 0.0) {
+            int b = vp_lowest_bit(p[k]);
+            if (b < dt->lowbit) { dt->lowbit = b; grown = 1; }
+        }
     }
     if (grown) {
-        dt->sbound_o3 = vp_orient3d_static_bound(dt->box_lo, dt->box_hi);
-        dt->sbound_is = vp_insphere_static_bound(dt->box_lo, dt->box_hi);
+        int xo = 0, xi = 0;
+        if (dt->lowbit != VP_DT_LOWBIT_OFF) {
+            xo = vp_orient3d_box_exact(dt->box_lo, dt->box_hi, dt->lowbit);
+            xi = vp_insphere_box_exact(dt->box_lo, dt->box_hi, dt->lowbit);
+            if (!xo && !xi) dt->lowbit = VP_DT_LOWBIT_OFF;
+        }
+        dt->sbound_o3 = xo ? 0.0 : vp_orient3d_static_bound(dt->box_lo, dt->box_hi);
+        dt->sbound_is = xi ? 0.0 : vp_insphere_static_bound(dt->box_lo, dt->box_hi);
     }
 }
 
@@ -160,18 +174,24 @@ static int same_point(const double *a, const double *b)
     return a[0] == b[0] && a[1] == b[1] && a[2] == b[2];
 }
 
+/* The conflict test when insphere(a,b,c,d,p) is exactly 0: p on a vertex, or the
+ * perturbation decides. */
+static int conflict_zero(const uint32_t *v, const double *a, const double *b, const double *c,
+                         const double *d, const double *p, uint32_t *dup, double sb_o3)
+{
+    if (same_point(a, p)) { *dup = v[0] & VMASK; return 0; }
+    if (same_point(b, p)) { *dup = v[1] & VMASK; return 0; }
+    if (same_point(c, p)) { *dup = v[2]; return 0; }
+    if (same_point(d, p)) { *dup = v[3]; return 0; }
+    return vp_insphere_sos_zero_b(a, b, c, d, p, sb_o3) > 0;
+}
+
 /* The rare part of the conflict test: the filter could not decide insphere(a,b,c,d,p). */
 static int conflict_exact(const uint32_t *v, const double *a, const double *b, const double *c,
-                          const double *d, const double *p, uint32_t *dup)
+                          const double *d, const double *p, uint32_t *dup, double sb_o3)
 {
     int s = vp_insphere_tail(a, b, c, d, p);
-    if (s == 0) {
-        if (same_point(a, p)) { *dup = v[0] & VMASK; return 0; }
-        if (same_point(b, p)) { *dup = v[1] & VMASK; return 0; }
-        if (same_point(c, p)) { *dup = v[2]; return 0; }
-        if (same_point(d, p)) { *dup = v[3]; return 0; }
-        s = vp_insphere_sos_zero(a, b, c, d, p);
-    }
+    if (s == 0) return conflict_zero(v, a, b, c, d, p, dup, sb_o3);
     return s > 0;
 }
 
@@ -180,10 +200,11 @@ static int conflict_ghost(const vp_dt_t *dt, const uint32_t *v, const double *p,
 /* Conflict test of tet record v with p. For a finite tet: p inside the circumsphere under the
  * symbolic perturbation. For a ghost tet: p strictly beyond its hull facet, or on the facet's
  * plane and in conflict with the finite tet behind the facet (its circle test). When p lands
- * exactly on a vertex, *dup receives it and the answer is 0. sbound: the static insphere
- * bound when p lies in the bounding box (dt->sbound_is), else HUGE_VAL. */
+ * exactly on a vertex, *dup receives it and the answer is 0. sbound, sb_o3: the static
+ * insphere and orient3d bounds when p lies in the bounding box (dt->sbound_is, sbound_o3),
+ * else HUGE_VAL. */
 ALWAYS_INLINE int conflict_b(const vp_dt_t *dt, const uint32_t *v, const double *p,
-                             uint32_t *dup, double sbound)
+                             uint32_t *dup, double sbound, double sb_o3)
 {
     const double *a, *b, *c, *d;
     int s;
@@ -194,19 +215,20 @@ ALWAYS_INLINE int conflict_b(const vp_dt_t *dt, const uint32_t *v, const double 
     d = PT(dt, v[3]);
     s = vp_insphere_filter_b(a, b, c, d, p, sbound);
     if (s != VP_PRED_UNSURE) return s > 0;
-    return conflict_exact(v, a, b, c, d, p, dup);
+    if (sbound == 0.0) return conflict_zero(v, a, b, c, d, p, dup, sb_o3); /* exact: det 0 */
+    return conflict_exact(v, a, b, c, d, p, dup, sb_o3);
 }
 
 static int conflict_ghost(const vp_dt_t *dt, const uint32_t *v, const double *p, uint32_t *dup)
 {
     int s = vp_orient3d_fast(PT(dt, v[0] & VMASK), PT(dt, v[1] & VMASK), PT(dt, v[2]), p);
     if (s) return s > 0;
-    return conflict_b(dt, TET(dt, v[7] >> 2), p, dup, HUGE_VAL);
+    return conflict_b(dt, TET(dt, v[7] >> 2), p, dup, HUGE_VAL, HUGE_VAL);
 }
 
 static int conflict(const vp_dt_t *dt, const uint32_t *v, const double *p, uint32_t *dup)
 {
-    return conflict_b(dt, v, p, dup, HUGE_VAL);
+    return conflict_b(dt, v, p, dup, HUGE_VAL, HUGE_VAL);
 }
 
 int vp_dt_in_conflict(const vp_dt_t *dt, uint32_t t, const double p[3])
@@ -272,7 +294,7 @@ static int walk(vp_dt_t *dt, const double *p, uint32_t t, uint32_t *out, double 
             int s;
             if (nb == prev) continue;
             s = vp_orient3d_filter_b(a, b, c, p, sbound);
-            if (s == VP_PRED_UNSURE) s = vp_orient3d_tail(a, b, c, p);
+            if (s == VP_PRED_UNSURE) s = sbound == 0.0 ? 0 : vp_orient3d_tail(a, b, c, p);
             if (s < 0) break;
         }
         if (k == 4) { *out = t; return VP_OK; }
@@ -353,7 +375,7 @@ ALWAYS_INLINE int dig_facet(vp_dt_t *dt, const uint32_t *v, uint32_t t, unsigned
     bfacet_t *b;
     if (uv[0] & MARK) return 0; /* in the cavity: an inner facet */
     if (!(uv[1] & MARK)) {      /* not tested yet */
-        if (conflict_b(dt, uv, p, dup, sbound)) {
+        if (conflict_b(dt, uv, p, dup, sbound, dt->sbound_o3)) {
             uv[0] |= MARK;
             queue[(*nk)++] = u;
             PREFETCH(TET(dt, uv[4] >> 2));

@@ -352,32 +352,69 @@ static int rescale(const double *const *p, int np, int lo, int hi, double (*out)
  * 2^(j s), j <= k, whose magnitude the caller's choice of `bits` keeps below 2^(53 + j s):
  * no rounding anywhere, so the sign is exact, zero included. Typical of integer grids, where
  * filters cannot decide exact zeros. 2^(s + bits) is the power of two just above the largest
- * |difference|; s is limited so that k s >= -1074 (no subnormal loss) and 2^(k (s + bits) + 7)
- * stays below 2^1023 (no overflow).
+ * |difference|. Only s <= 0 is tried (grids with unit or finer spacing relative to their
+ * extent): then q / 2^s cannot underflow, and k s >= -1074 keeps subnormals out; no overflow,
+ * as 2^(k bits + 7) is small.
  */
-static int small_integers(const double *const *p, int np, const double *o, int bits, int k)
+/* largest |q - o| so far */
+static inline double si_span(double m, const double *q, const double *o)
 {
-    double m = 0.0, inv;
-    int i, j, s;
-    for (i = 0; i < np; i++)
-        for (j = 0; j < 3; j++) {
-            double t = fabs(p[i][j] - o[j]);
-            if (t > m) m = t;
-        }
-    if (!(m > 0.0 && m <= 0x1.fffffffffffffp1023)) return 0;
+    double dx = fabs(q[0] - o[0]), dy = fabs(q[1] - o[1]), dz = fabs(q[2] - o[2]);
+    m = m > dx ? m : dx;
+    m = m > dy ? m : dy;
+    return m > dz ? m : dz;
+}
+
+/* q / 2^s: accumulates the distance to the nearest integers (for |t| < 2^51,
+ * (t + 1.5 * 2^52) - 1.5 * 2^52 is t rounded to an integer; no cancellation in the sum) and
+ * the largest |t| */
+static inline void si_check(const double *q, double inv, double *err, double *big)
+{
+    double t0 = q[0] * inv, t1 = q[1] * inv, t2 = q[2] * inv;
+    double r0 = (t0 + 0x1.8p52) - 0x1.8p52, r1 = (t1 + 0x1.8p52) - 0x1.8p52;
+    double r2 = (t2 + 0x1.8p52) - 0x1.8p52, a0 = fabs(t0), a1 = fabs(t1), a2 = fabs(t2), m;
+    *err += (fabs(t0 - r0) + fabs(t1 - r1)) + fabs(t2 - r2);
+    m = a0 > a1 ? a0 : a1;
+    m = m > a2 ? m : a2;
+    *big = *big > m ? *big : m;
+}
+
+/* inv = 2^-s for the largest difference m, or 0 when s would be positive or too small */
+static double si_scale(double m, int bits, int k)
+{
+    int s;
+    if (!(m > 0.0 && m <= 0x1.fffffffffffffp1023)) return 0.0;
     s = exponent_of(m) + 1 - bits;
-    if (k * s < -1074 || k * (s + bits) + 7 > 1023) return 0;
-    inv = pow2(-s);
-    for (i = 0; i <= np; i++) {
-        const double *q = i < np ? p[i] : o;
-        for (j = 0; j < 3; j++) {
-            double t = q[j] * inv; /* exact when |t| >= 1 */
-            if (!(fabs(t) < 0x1p51)) return 0;
-            if (q[j] != 0.0 && !(fabs(t) >= 1.0)) return 0;
-            if ((t + 0x1.8p52) - 0x1.8p52 != t) return 0; /* t is an integer */
-        }
-    }
-    return 1;
+    if (s > 0 || k * s < -1074) return 0.0;
+    return pow2(-s); /* >= 1: q * inv is exact or overflows */
+}
+
+/* the certificate for insphere(a, b, c, d, e): differences from e, 9 bits, degree 5 */
+static int small_integers5(const double *a, const double *b, const double *c, const double *d,
+                           const double *e)
+{
+    double err = 0.0, big = 0.0;
+    double inv = si_scale(si_span(si_span(si_span(si_span(0.0, a, e), b, e), c, e), d, e), 9, 5);
+    if (inv == 0.0) return 0;
+    si_check(a, inv, &err, &big);
+    si_check(b, inv, &err, &big);
+    si_check(c, inv, &err, &big);
+    si_check(d, inv, &err, &big);
+    si_check(e, inv, &err, &big);
+    return big < 0x1p51 && err == 0.0;
+}
+
+/* the certificate for orient3d(a, b, c, d): differences from a, 16 bits, degree 3 */
+static int small_integers4(const double *a, const double *b, const double *c, const double *d)
+{
+    double err = 0.0, big = 0.0;
+    double inv = si_scale(si_span(si_span(si_span(0.0, b, a), c, a), d, a), 16, 3);
+    if (inv == 0.0) return 0;
+    si_check(a, inv, &err, &big);
+    si_check(b, inv, &err, &big);
+    si_check(c, inv, &err, &big);
+    si_check(d, inv, &err, &big);
+    return big < 0x1p51 && err == 0.0;
 }
 
 /* ------------------------------------------------------------------------------------------
@@ -750,7 +787,7 @@ static int orient3d_tail(const double *a, const double *b, const double *c, cons
     p[2] = c;
     p[3] = d;
     /* 16 bits: minors < 2^33, terms < 2^49, det < 3 * 2^49 */
-    if (small_integers(p + 1, 3, a, 16, 3)) {
+    if (small_integers4(a, b, c, d)) {
         double ux = b[0] - a[0], uy = b[1] - a[1], uz = b[2] - a[2];
         double vx = c[0] - a[0], vy = c[1] - a[1], vz = c[2] - a[2];
         double wx = d[0] - a[0], wy = d[1] - a[1], wz = d[2] - a[2];
@@ -945,7 +982,7 @@ static int insphere_tail(const double *a, const double *b, const double *c, cons
     p[3] = d;
     p[4] = e;
     /* 9 bits: minors < 2^19, det3 < 6 * 2^27, lifts < 3 * 2^18, det < 72 * 2^45 */
-    if (small_integers(p, 4, e, 9, 5)) {
+    if (small_integers5(a, b, c, d, e)) {
         double aex = a[0] - e[0], aey = a[1] - e[1], aez = a[2] - e[2];
         double bex = b[0] - e[0], bey = b[1] - e[1], bez = b[2] - e[2];
         double cex = c[0] - e[0], cey = c[1] - e[1], cez = c[2] - e[2];
@@ -1036,6 +1073,40 @@ double vp_insphere_static_bound(const double lo[3], const double hi[3])
                                  ((s[0] * s[1]) * s[2])));
 }
 
+int vp_lowest_bit(double x)
+{
+    uint64_t m;
+    int e;
+    dbl_parts(x, &m, &e);
+    return e + exponent_of((double)(m & (~m + 1u))); /* the lowest set bit, exactly */
+}
+
+/* Extents below 2^(lowbit + bits) with 2^lowbit a unit every coordinate is a multiple of:
+ * the differences are integers below 2^bits units, computed exactly (their exact values are
+ * representable). orient3d (bits 16): minors < 2^33, scaled < 2^49, det < 3 * 2^49 units.
+ * insphere (bits 9), scalar form: minors < 2^19, det3 < 3 * 2^28, lifts < 3 * 2^18,
+ * det < 36 * 2^46; two-lane form: m < 2^19, n < 3 * 2^28, m n < 3 * 2^47, det < 18 * 2^47.
+ * All below 2^53 units, units (2^(k lowbit), k <= degree) are >= 2^-1074, and values stay
+ * below 2^(degree (lowbit + bits) + 7) <= 2^1023: no rounding, no overflow. */
+static int box_exact(const double lo[3], const double hi[3], int lowbit, int bits, int degree)
+{
+    int k;
+    if (degree * lowbit < -1074 || degree * (lowbit + bits) + 7 > 1023) return 0;
+    for (k = 0; k < 3; k++)
+        if (!(hi[k] - lo[k] < pow2(lowbit + bits))) return 0;
+    return 1;
+}
+
+int vp_orient3d_box_exact(const double lo[3], const double hi[3], int lowbit)
+{
+    return box_exact(lo, hi, lowbit, 16, 3);
+}
+
+int vp_insphere_box_exact(const double lo[3], const double hi[3], int lowbit)
+{
+    return box_exact(lo, hi, lowbit, 9, 5);
+}
+
 /* ------------------------------------------------------------------------------------------
  * Symbolic perturbation. Let M be the 5x5 matrix with rows (x, y, z, |q|^2, 1) for q = a..e.
  * Subtracting e's row and then 2 e_x (resp. y, z) times the x (y, z) column from the lift
@@ -1061,10 +1132,15 @@ static int lex_cmp(const double *a, const double *b)
 }
 
 static int insphere_perturbed(const double *a, const double *b, const double *c,
-                              const double *d, const double *e, struct vp_pred_stats *st)
+                              const double *d, const double *e, struct vp_pred_stats *st,
+                              double o3b)
 {
+    static const unsigned char others[5][4] = {
+        { 1, 2, 3, 4 }, { 0, 2, 3, 4 }, { 0, 1, 3, 4 }, { 0, 1, 2, 4 }, { 0, 1, 2, 3 }
+    };
     const double *p[5];
-    int used[5] = { 0, 0, 0, 0, 0 }, i, j;
+    unsigned used = 0;
+    int i, j;
     p[0] = a;
     p[1] = b;
     p[2] = c;
@@ -1075,20 +1151,25 @@ static int insphere_perturbed(const double *a, const double *b, const double *c,
      * largest remaining point q has a twin, C_q' = 0 for every q' before it (the twins are
      * both among the other four), and selecting q compares it with its twin. */
     for (i = 0; i < 5; i++) {
-        int q = -1, k, n = 0, o;
-        const double *r[4];
+        int q = -1, o;
+        const unsigned char *r;
         for (j = 0; j < 5; j++) {
             int cmp;
-            if (used[j]) continue;
+            if (used & (1u << j)) continue;
             if (q < 0) { q = j; continue; }
             cmp = lex_cmp(p[j], p[q]);
             if (cmp == 0) return 0; /* coincident points */
             if (cmp > 0) q = j;
         }
-        used[q] = 1;
-        for (k = 0; k < 5; k++)
-            if (k != q) r[n++] = p[k];
-        o = vp_orient3d_fast(r[0], r[1], r[2], r[3]);
+        used |= 1u << q;
+        r = others[q];
+        if (o3b == HUGE_VAL) {
+            o = vp_orient3d_fast(p[r[0]], p[r[1]], p[r[2]], p[r[3]]);
+        } else {
+            o = vp_orient3d_filter_b(p[r[0]], p[r[1]], p[r[2]], p[r[3]], o3b);
+            if (o == VP_PRED_UNSURE)
+                o = o3b == 0.0 ? 0 : vp_orient3d_tail(p[r[0]], p[r[1]], p[r[2]], p[r[3]]);
+        }
         if (q & 1) o = -o; /* rows 2 and 4 (b, d) take a minus sign */
         if (o != 0) {
             COUNT(st, sos);
@@ -1102,20 +1183,26 @@ int vp_insphere_sos_stats(const double *a, const double *b, const double *c, con
                           const double *e, struct vp_pred_stats *st)
 {
     int s = vp_insphere_stats(a, b, c, d, e, st);
-    return s != 0 ? s : insphere_perturbed(a, b, c, d, e, st);
+    return s != 0 ? s : insphere_perturbed(a, b, c, d, e, st, HUGE_VAL);
 }
 
 int vp_insphere_sos_zero(const double *a, const double *b, const double *c, const double *d,
                          const double *e)
 {
-    return insphere_perturbed(a, b, c, d, e, 0);
+    return insphere_perturbed(a, b, c, d, e, 0, HUGE_VAL);
+}
+
+int vp_insphere_sos_zero_b(const double *a, const double *b, const double *c, const double *d,
+                           const double *e, double o3_static_bound)
+{
+    return insphere_perturbed(a, b, c, d, e, 0, o3_static_bound);
 }
 
 int vp_insphere_sos(const double *a, const double *b, const double *c, const double *d,
                     const double *e)
 {
     int s = vp_insphere_fast(a, b, c, d, e);
-    return s != 0 ? s : insphere_perturbed(a, b, c, d, e, 0);
+    return s != 0 ? s : insphere_perturbed(a, b, c, d, e, 0, HUGE_VAL);
 }
 
 /* ------------------------------------------------------------------------------------------

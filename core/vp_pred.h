@@ -33,6 +33,10 @@ int vp_insphere_sos(const double *a, const double *b, const double *c, const dou
  * perturbation is evaluated (0 when two of the points coincide). */
 int vp_insphere_sos_zero(const double *a, const double *b, const double *c, const double *d,
                          const double *e);
+/* The same with the orient3d static bound for a box holding the five points (see
+ * vp_orient3d_filter_b; 0 for a box where vp_orient3d_box_exact holds; HUGE_VAL: none). */
+int vp_insphere_sos_zero_b(const double *a, const double *b, const double *c, const double *d,
+                           const double *e, double o3_static_bound);
 
 /* The exact stages that follow the inline filters below: same results as vp_orient3d and
  * vp_insphere, for callers that already ran vp_*_filter and got VP_PRED_UNSURE. */
@@ -194,6 +198,7 @@ VP_PRED_INLINE int vp_orient3d_filter_b(const double *a, const double *b, const 
     double det = (wz * (ux * vy - uy * vx) + vz * (uy * wx - ux * wy)) + uz * (vx * wy - vy * wx);
     if (det > static_bound) return 1;
     if (-det > static_bound) return -1;
+    if (det == 0.0) return VP_PRED_UNSURE; /* the semi-static bound cannot decide it either */
     return vp_orient3d_filter_ss(a, b, c, d);
 }
 
@@ -236,6 +241,7 @@ VP_PRED_INLINE int vp_insphere_filter_b(const double *a, const double *b, const 
     double det = t[0] + t[1];
     if (det > static_bound) return 1;
     if (-det > static_bound) return -1;
+    if (det == 0.0) return VP_PRED_UNSURE; /* the semi-static bound cannot decide it either */
     return vp_insphere_filter_ss(a, b, c, d, e);
 }
 #else
@@ -259,6 +265,7 @@ VP_PRED_INLINE int vp_insphere_filter_b(const double *a, const double *b, const 
     double det = (al * bcd - bl * acd) + (cl * abd - dl * abc);
     if (det > static_bound) return 1;
     if (-det > static_bound) return -1;
+    if (det == 0.0) return VP_PRED_UNSURE; /* the semi-static bound cannot decide it either */
     return vp_insphere_filter_ss(a, b, c, d, e);
 }
 #endif
@@ -267,6 +274,18 @@ VP_PRED_INLINE int vp_insphere_filter_b(const double *a, const double *b, const 
  * hi - lo is outside [2^-190, 2^190] (or the box is empty or not finite). */
 double vp_orient3d_static_bound(const double lo[3], const double hi[3]);
 double vp_insphere_static_bound(const double lo[3], const double hi[3]);
+
+/* Exponent of the lowest set bit of x (x = odd * 2^result), for finite nonzero x. */
+int vp_lowest_bit(double x);
+
+/* 1 when the determinants vp_orient3d_filter_b / vp_insphere_filter_b compute are exact for
+ * all points in the box whose coordinates are integer multiples of 2^lowbit (an integer
+ * grid, say): every extent is below 2^(lowbit + 16) (orient3d) or 2^(lowbit + 9) (insphere),
+ * so every difference is an exact integer number of units below that and every intermediate
+ * value stays an integer below 2^53 units (see vp_pred.c). A static bound of 0 is then valid:
+ * the filters decide every nonzero case, and VP_PRED_UNSURE means an exact zero. */
+int vp_orient3d_box_exact(const double lo[3], const double hi[3], int lowbit);
+int vp_insphere_box_exact(const double lo[3], const double hi[3], int lowbit);
 
 /* Exact signs: the inline filter, then the out-of-line stages. */
 static inline int vp_orient3d_fast(const double *a, const double *b, const double *c,

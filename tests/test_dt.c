@@ -208,6 +208,34 @@ static void test_grid_unique(void)
     free(xyz);
 }
 
+/* The same grid scaled by powers of two (exactly) and translated: the filters' exact-box
+ * shortcut applies to some of these and not to others; all give the same triangulation. */
+static void test_grid_scaled(void)
+{
+    static const double scales[] = { 1.0, 0x1p-30, 0x1p150, 0x1p600, 0x1p-600 };
+    static const double shifts[] = { 0.0, 1e9, -3.5 };
+    size_t n, i, m, j;
+    double *xyz, *q;
+    char err[128];
+    uint32_t ref_tets = 0;
+    vp_pointgen_grid(6, 5, &xyz, &n, err, sizeof err);
+    q = xmalloc(3 * n * sizeof *q);
+    for (m = 0; m < sizeof scales / sizeof scales[0]; m++)
+        for (j = 0; j < sizeof shifts / sizeof shifts[0]; j++) {
+            tri_t t;
+            for (i = 0; i < 3 * n; i++) q[i] = xyz[i] * scales[m] + shifts[j] * scales[m];
+            tri_open(&t, 4u << 20, 0);
+            CHECK(vp_dt_insert_batch(&t.dt, q, (uint32_t)n, NULL) == VP_OK);
+            CHECKF(vp_dt_check(&t.dt) == VP_OK, "scale %g shift %g", scales[m], shifts[j]);
+            if (!ref_tets) ref_tets = vp_dt_num_finite_tets(&t.dt);
+            CHECKF(vp_dt_num_finite_tets(&t.dt) == ref_tets, "scale %g shift %g: %u tets, want %u",
+                   scales[m], shifts[j], vp_dt_num_finite_tets(&t.dt), ref_tets);
+            tri_close(&t);
+        }
+    free(q);
+    free(xyz);
+}
+
 /* All integer points on the sphere of radius 15: exactly cospherical, plus the centre. */
 static void test_cospherical(void)
 {
@@ -653,6 +681,7 @@ int main(void)
 {
     test_random_sequential_vs_batch();
     test_grid_unique();
+    test_grid_scaled();
     test_cospherical();
     test_flat_start();
     test_bad_input();

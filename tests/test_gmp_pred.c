@@ -428,6 +428,7 @@ struct gen_class {
 };
 
 static struct vp_pred_stats st_o3, st_is, st_o2, st_cd;
+static long exact_boxes;
 
 static void dump_case(const double (*P)[3])
 {
@@ -484,11 +485,31 @@ static long run_class(const struct gen_class *g)
             f = vp_insphere_filter_b(P[0], P[1], P[2], P[3], P[4], sb);
             CHECKF(f == VP_PRED_UNSURE || f == want, "%s insphere static filter %d want %d", g->name, f, want);
             if (f != VP_PRED_UNSURE && f != want) dump_case((const double (*)[3])P);
+            {
+                /* exact boxes (grids): bound 0, UNSURE exactly for zeros */
+                int lb = 100000, xi, xo;
+                for (i = 0; i < 5; i++)
+                    for (k = 0; k < 3; k++)
+                        if (P[i][k] != 0.0 && vp_lowest_bit(P[i][k]) < lb) lb = vp_lowest_bit(P[i][k]);
+                xi = lb < 100000 && vp_insphere_box_exact(lo, hi, lb);
+                xo = lb < 100000 && vp_orient3d_box_exact(lo, hi, lb);
+                if (xi) {
+                    f = vp_insphere_filter_b(P[0], P[1], P[2], P[3], P[4], 0.0);
+                    CHECKF(f == (want ? want : VP_PRED_UNSURE), "%s insphere exact box %d want %d",
+                           g->name, f, want);
+                    exact_boxes++;
+                }
+                want = ref_orient3d((const double (*)[3])P, 4, 2, 1, 3);
+                if (xo) {
+                    f = vp_orient3d_filter_b(P[4], P[2], P[1], P[3], 0.0);
+                    CHECKF(f == (want ? want : VP_PRED_UNSURE), "%s orient3d exact box %d want %d",
+                           g->name, f, want);
+                }
+            }
             sb = vp_orient3d_static_bound(lo, hi);
             f = vp_orient3d_filter_b(P[4], P[2], P[1], P[3], sb);
-            want = ref_orient3d((const double (*)[3])P, 4, 2, 1, 3);
             CHECKF(f == VP_PRED_UNSURE || f == want, "%s orient3d static filter %d want %d", g->name, f, want);
-            checks += 2;
+            checks += 4;
         }
         got = vp_orient2d_proj_stats(P[0], P[1], P[2], drop, &st_o2);
         want = ref_orient2d((const double (*)[3])P, drop);
@@ -574,9 +595,26 @@ static long check_sos(long cases, gen_fn gen, const char *name, struct vp_pred_s
         if (dup) want = 0;
         CHECKF(s == want, "%s sos got %d want %d", name, s, want);
         if (s != want) dump_case((const double (*)[3])P);
-        if (vp_insphere(P[0], P[1], P[2], P[3], P[4]) == 0)
+        if (vp_insphere(P[0], P[1], P[2], P[3], P[4]) == 0) {
+            double lo[3], hi[3];
+            int lb = 100000;
             CHECKF(vp_insphere_sos_zero(P[0], P[1], P[2], P[3], P[4]) == want,
                    "%s sos_zero differs", name);
+            for (k = 0; k < 3; k++) {
+                lo[k] = hi[k] = P[0][k];
+                for (i = 0; i < 5; i++) {
+                    if (P[i][k] < lo[k]) lo[k] = P[i][k];
+                    if (P[i][k] > hi[k]) hi[k] = P[i][k];
+                    if (P[i][k] != 0.0 && vp_lowest_bit(P[i][k]) < lb) lb = vp_lowest_bit(P[i][k]);
+                }
+            }
+            CHECKF(vp_insphere_sos_zero_b(P[0], P[1], P[2], P[3], P[4],
+                                          vp_orient3d_static_bound(lo, hi)) == want,
+                   "%s sos_zero_b (static) differs", name);
+            if (lb < 100000 && vp_orient3d_box_exact(lo, hi, lb))
+                CHECKF(vp_insphere_sos_zero_b(P[0], P[1], P[2], P[3], P[4], 0.0) == want,
+                       "%s sos_zero_b (exact box) differs", name);
+        }
         o = vp_orient3d(P[0], P[1], P[2], P[3]);
         if (o != 0 && !dup) CHECKF(s != 0, "%s sos returned 0 for a proper tetrahedron", name);
         for (i = 0; i < 6; i++) {
@@ -753,6 +791,8 @@ int main(int argc, char **argv)
         total += k;
         printf("%-16s %8ld cases %9ld checks %6.2fs\n", g.name, g.cases, k, now() - t1);
     }
+    printf("exact-box cases: %ld\n", exact_boxes);
+    CHECK(exact_boxes > 1000);
     print_stats("orient3d", &st_o3);
     print_stats("insphere", &st_is);
     print_stats("orient2d", &st_o2);
