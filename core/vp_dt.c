@@ -791,6 +791,7 @@ static int insert_chunk(vp_dt_t *dt, const double *xyz, uint32_t n, uint32_t *id
     for (k = 0; k < n; k++) {
         vp_dt_vertex_t *r = &VREC(dt, base + k);
         const double *p = xyz + 3 * (size_t)order[k];
+        if (k + 16 < n) PREFETCH(xyz + 3 * (size_t)order[k + 16]);
         r->xyz[0] = p[0]; r->xyz[1] = p[1]; r->xyz[2] = p[2];
         r->tet = VP_DT_NONE;
         r->aux = id0 + order[k];
