@@ -272,7 +272,17 @@ static uint32_t lcg(vp_dt_t *dt)
 /* Visibility walk: step through any facet that has p strictly on its far side. Ends in the
  * finite tet whose closure contains p, or in the ghost tet of a hull facet p is beyond.
  * Terminates in a Delaunay triangulation (acyclicity of the in-front relation); the step
- * budget only guards against a corrupted structure. */
+ * budget only guards against a corrupted structure.
+ *
+ * The four facet orientations of a tet come from the differences d_k = v_k - p and two cross
+ * products: with c01 = d0 x d1 and c23 = d2 x d3, orient3d(facet i, p) = -D_i for
+ *   D_3 = c01 . d2, D_2 = -(c01 . d3), D_1 = c23 . d0, D_0 = -(c23 . d1)
+ * (orient3d(a, b, c, p) = -det(a - p, b - p, c - p); facet i as in FI). Each D_i has the six
+ * monomials of orient3d, products of one x, one y and one z difference, along paths of 8
+ * roundings (3 differences, cross product and difference, dot product and 2 sums), so the
+ * static orient3d bound (vp_pred.h) certifies its sign, and an exact box makes it exact
+ * (values below 3 * 2^49 units, as in vp_orient3d_box_exact). Uncertain facets get the exact
+ * predicate. */
 static int walk(vp_dt_t *dt, const double *p, uint32_t t, uint32_t *out, double sbound)
 {
     uint32_t prev = VP_DT_NONE;
@@ -285,17 +295,31 @@ static int walk(vp_dt_t *dt, const double *p, uint32_t t, uint32_t *out, double 
     if (TET(dt, t)[3] == VP_DT_GHOST) t = TET(dt, t)[7] >> 2;
     while (budget--) {
         const uint32_t *v = TET(dt, t);
+        const double *q0, *q1, *q2, *q3;
+        double d0x, d0y, d0z, d1x, d1y, d1z, d2x, d2y, d2z, d3x, d3y, d3z, D[4];
+        double ax, ay, az, bx, by, bz;
         uint32_t r, k;
         if (v[3] == VP_DT_GHOST) { *out = t; return VP_OK; }
+        q0 = PT(dt, v[0]); q1 = PT(dt, v[1]); q2 = PT(dt, v[2]); q3 = PT(dt, v[3]);
+        d0x = q0[0] - p[0]; d0y = q0[1] - p[1]; d0z = q0[2] - p[2];
+        d1x = q1[0] - p[0]; d1y = q1[1] - p[1]; d1z = q1[2] - p[2];
+        d2x = q2[0] - p[0]; d2y = q2[1] - p[1]; d2z = q2[2] - p[2];
+        d3x = q3[0] - p[0]; d3y = q3[1] - p[1]; d3z = q3[2] - p[2];
+        ax = d0y * d1z - d0z * d1y; ay = d0z * d1x - d0x * d1z; az = d0x * d1y - d0y * d1x;
+        bx = d2y * d3z - d2z * d3y; by = d2z * d3x - d2x * d3z; bz = d2x * d3y - d2y * d3x;
+        D[3] = (ax * d2x + ay * d2y) + az * d2z;
+        D[2] = -((ax * d3x + ay * d3y) + az * d3z);
+        D[1] = (bx * d0x + by * d0y) + bz * d0z;
+        D[0] = -((bx * d1x + by * d1y) + bz * d1z);
         r = lcg(dt);
         for (k = 0; k < 4; k++) {
-            uint32_t i = (r + k) & 3u, nb = v[4 + i] >> 2;
-            const double *a = PT(dt, v[FI[i][0]]), *b = PT(dt, v[FI[i][1]]), *c = PT(dt, v[FI[i][2]]);
-            int s;
-            if (nb == prev) continue;
-            s = vp_orient3d_filter_b(a, b, c, p, sbound);
-            if (s == VP_PRED_UNSURE) s = sbound == 0.0 ? 0 : vp_orient3d_tail(a, b, c, p);
-            if (s < 0) break;
+            uint32_t i = (r + k) & 3u;
+            if ((v[4 + i] >> 2) == prev) continue;
+            if (D[i] > sbound) break;                   /* p strictly beyond facet i */
+            if (sbound != 0.0 && !(D[i] < -sbound) &&   /* uncertain (NaN: overflow) */
+                vp_orient3d_fast(PT(dt, v[FI[i][0]]), PT(dt, v[FI[i][1]]), PT(dt, v[FI[i][2]]),
+                                 p) < 0)
+                break;
         }
         if (k == 4) { *out = t; return VP_OK; }
         prev = t;
@@ -348,10 +372,11 @@ static void unmark_cavity(vp_dt_t *dt, const uint32_t *queue, uint32_t nk, const
  * vertices are numbered from 1 in order of appearance; the id is kept as a tag in the vertex
  * record's tet word (the fill rewrites all of those words; failures put them back). Past
  * LID_MAX - 1 ids, *nid becomes LID_MAX + 1 and the edge hash glues instead. */
-ALWAYS_INLINE uint32_t local_id(vp_dt_t *dt, uint32_t x, bfacet_t *b, unsigned k, uint32_t *nid)
+ALWAYS_INLINE uint32_t local_id(vp_dt_t *dt, uint32_t x, bfacet_t *b, unsigned k, uint32_t *nid,
+                                int may_be_ghost)
 {
     uint32_t w, id;
-    if (x == VP_DT_GHOST) return (k + 1u) << LID_GHOST_SHIFT;
+    if (may_be_ghost && x == VP_DT_GHOST) return (k + 1u) << LID_GHOST_SHIFT;
     w = VREC(dt, x).tet;
     if (w & VTAG) return (w & (LID_MAX - 1u)) << (LID_BITS * k);
     if (*nid >= LID_MAX) {
@@ -368,7 +393,8 @@ ALWAYS_INLINE uint32_t local_id(vp_dt_t *dt, uint32_t x, bfacet_t *b, unsigned k
  * or the facet is recorded as a boundary facet. Returns 1 when p is a vertex (*dup). */
 ALWAYS_INLINE int dig_facet(vp_dt_t *dt, const uint32_t *v, uint32_t t, unsigned i,
                             const double *p, double sbound, uint32_t *queue, uint32_t *nk,
-                            bfacet_t *bftop, uint32_t *nb, uint32_t *nid, uint32_t *dup)
+                            bfacet_t *bftop, uint32_t *nb, uint32_t *nid, uint32_t *dup,
+                            int ghost_tet)
 {
     uint32_t ref = v[4 + i], u = ref >> 2, x0, x1, x2;
     uint32_t *uv = TET(dt, u);
@@ -396,8 +422,10 @@ ALWAYS_INLINE int dig_facet(vp_dt_t *dt, const uint32_t *v, uint32_t t, unsigned
     b->v[2] = x2;
     b->outside = ref;
     b->from = 4u * t + i;
-    b->lid = local_id(dt, x0, b, 0, nid) | local_id(dt, x1, b, 1, nid) |
-             local_id(dt, x2, b, 2, nid);
+    /* in a ghost tet the ghost is v[3]: only where FI[i][k] == 3 */
+    b->lid = local_id(dt, x0, b, 0, nid, ghost_tet && FI[i][0] == 3) |
+             local_id(dt, x1, b, 1, nid, ghost_tet && FI[i][1] == 3) |
+             local_id(dt, x2, b, 2, nid, ghost_tet && FI[i][2] == 3);
     return 0;
 }
 
@@ -441,11 +469,16 @@ static int dig_and_fill(vp_dt_t *dt, uint32_t vid, uint32_t start, uint32_t *dup
             unmark_cavity(dt, queue, nk, bftop - nb, nb);
             return VP_ENOMEM;
         }
-        nghost_killed += v[3] == VP_DT_GHOST;
-        if (dig_facet(dt, v, t, 0, p, sbound, queue, &nk, bftop, &nb, &nid, &dup) ||
-            dig_facet(dt, v, t, 1, p, sbound, queue, &nk, bftop, &nb, &nid, &dup) ||
-            dig_facet(dt, v, t, 2, p, sbound, queue, &nk, bftop, &nb, &nid, &dup) ||
-            dig_facet(dt, v, t, 3, p, sbound, queue, &nk, bftop, &nb, &nid, &dup)) {
+        if (v[3] != VP_DT_GHOST ?
+            dig_facet(dt, v, t, 0, p, sbound, queue, &nk, bftop, &nb, &nid, &dup, 0) ||
+            dig_facet(dt, v, t, 1, p, sbound, queue, &nk, bftop, &nb, &nid, &dup, 0) ||
+            dig_facet(dt, v, t, 2, p, sbound, queue, &nk, bftop, &nb, &nid, &dup, 0) ||
+            dig_facet(dt, v, t, 3, p, sbound, queue, &nk, bftop, &nb, &nid, &dup, 0) :
+            (nghost_killed++,
+             dig_facet(dt, v, t, 0, p, sbound, queue, &nk, bftop, &nb, &nid, &dup, 1) ||
+             dig_facet(dt, v, t, 1, p, sbound, queue, &nk, bftop, &nb, &nid, &dup, 1) ||
+             dig_facet(dt, v, t, 2, p, sbound, queue, &nk, bftop, &nb, &nid, &dup, 1) ||
+             dig_facet(dt, v, t, 3, p, sbound, queue, &nk, bftop, &nb, &nid, &dup, 1))) {
             unmark_cavity(dt, queue, nk, bftop - nb, nb);
             *dupv = dup;
             return VP_EDUP;
@@ -500,15 +533,15 @@ static int dig_and_fill(vp_dt_t *dt, uint32_t vid, uint32_t start, uint32_t *dup
     if (eh) memset(eh, 0xFF, (size_t)(hmask + 1u) * sizeof *eh);
 
     /* slots for the new tets: the killed ones first */
-    for (q = 0; q < nb; q++) created[q] = q < nk ? killed[q] : tet_take(dt);
     for (q = nb; q < nk; q++) tet_release(dt, killed[q]);
 
     /* fill: tet (a,b,c,p) on each boundary facet (a,b,c) */
     for (q = 0; q < nb; q++) {
-        uint32_t t = created[q], *w = TET(dt, t), out = bf[q].outside, *ow = TET(dt, out >> 2);
+        uint32_t t = q < nk ? killed[q] : tet_take(dt), *w = TET(dt, t), out = bf[q].outside;
+        uint32_t *ow = TET(dt, out >> 2);
         uint32_t a = bf[q].v[0], b = bf[q].v[1], c = bf[q].v[2], g, e;
         const unsigned char *pos;
-        g = a == VP_DT_GHOST ? 1u : b == VP_DT_GHOST ? 2u : c == VP_DT_GHOST ? 3u : 0u;
+        g = (bf[q].lid >> LID_GHOST_SHIFT) & 3u; /* set while digging, whatever the gluing */
         pos = POS[g];
         nghost_new += g != 0;
         w[pos[0]] = a;
@@ -520,6 +553,7 @@ static int dig_and_fill(vp_dt_t *dt, uint32_t vid, uint32_t start, uint32_t *dup
         ow[4 + (out & 3u)] = 4u * t + pos[3];
         ow[1] &= VMASK;
         cfrom[q] = bf[q].from;
+        created[q] = t;
         if (tbl) {
             /* the facet opposite vertex e contains p and the half-edge (e+1 -> e+2) */
             uint32_t lid = bf[q].lid, m = LID_MAX - 1u, fresh = lid >> LID_NEW_SHIFT;
