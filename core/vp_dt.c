@@ -462,6 +462,13 @@ static int dig_and_fill(vp_dt_t *dt, uint32_t vid, uint32_t start, uint32_t *dup
     TET(dt, start)[0] |= MARK;
     queue[0] = start;
     nk = 1;
+    {
+        const uint32_t *sv = TET(dt, start);
+        PREFETCH(TET(dt, sv[4] >> 2));
+        PREFETCH(TET(dt, sv[5] >> 2));
+        PREFETCH(TET(dt, sv[6] >> 2));
+        PREFETCH(TET(dt, sv[7] >> 2));
+    }
     for (q = 0; q < nk; q++) {
         uint32_t t = queue[q];
         const uint32_t *v = TET(dt, t);
