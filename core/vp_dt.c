@@ -28,11 +28,16 @@
 
 #if defined(__GNUC__) && !defined(__OPTIMIZE_SIZE__)
 #define ALWAYS_INLINE static inline __attribute__((always_inline))
+#define NOINLINE __attribute__((noinline))
 #else
 #define ALWAYS_INLINE static inline
+#define NOINLINE
 #endif
 
 #define TET(dt, t) ((dt)->tets + (size_t)(t) * (dt)->stride)
+/* The same through local copies (tets_, stride_) in the hot loops: a store through a
+ * uint32_t pointer may alias dt->stride, so TET() would reload it after every store. */
+#define TETS(t) (tets_ + (size_t)(t) * stride_)
 #define PT(dt, v) ((dt)->vtop[-(ptrdiff_t)(v)].xyz)
 #define VREC(dt, v) ((dt)->vtop[-(ptrdiff_t)(v)])
 
@@ -285,16 +290,17 @@ static uint32_t lcg(vp_dt_t *dt)
  * predicate. */
 static int walk(vp_dt_t *dt, const double *p, uint32_t t, uint32_t *out, double sbound)
 {
-    uint32_t prev = VP_DT_NONE;
+    uint32_t prev = VP_DT_NONE, *const tets_ = dt->tets;
+    const size_t stride_ = dt->stride;
     uint64_t budget = 16u + 4u * (uint64_t)dt->nalive;
     if (!vp_dt_alive(dt, t)) t = dt->last_tet;
     if (!vp_dt_alive(dt, t)) {
         for (t = 0; t < dt->ntet_slots && !vp_dt_alive(dt, t); t++) {}
         if (t == dt->ntet_slots) return VP_ESTATE;
     }
-    if (TET(dt, t)[3] == VP_DT_GHOST) t = TET(dt, t)[7] >> 2;
+    if (TETS(t)[3] == VP_DT_GHOST) t = TETS(t)[7] >> 2;
     while (budget--) {
-        const uint32_t *v = TET(dt, t);
+        const uint32_t *v = TETS(t);
         const double *q0, *q1, *q2, *q3;
         double d0x, d0y, d0z, d1x, d1y, d1z, d2x, d2y, d2z, d3x, d3y, d3z, D[4];
         double ax, ay, az, bx, by, bz;
@@ -394,20 +400,20 @@ ALWAYS_INLINE uint32_t local_id(vp_dt_t *dt, uint32_t x, bfacet_t *b, unsigned k
 ALWAYS_INLINE int dig_facet(vp_dt_t *dt, const uint32_t *v, uint32_t t, unsigned i,
                             const double *p, double sbound, uint32_t *queue, uint32_t *nk,
                             bfacet_t *bftop, uint32_t *nb, uint32_t *nid, uint32_t *dup,
-                            int ghost_tet)
+                            int ghost_tet, uint32_t *tets_, size_t stride_)
 {
     uint32_t ref = v[4 + i], u = ref >> 2, x0, x1, x2;
-    uint32_t *uv = TET(dt, u);
+    uint32_t *uv = TETS(u);
     bfacet_t *b;
     if (uv[0] & MARK) return 0; /* in the cavity: an inner facet */
     if (!(uv[1] & MARK)) {      /* not tested yet */
         if (conflict_b(dt, uv, p, dup, sbound, dt->sbound_o3)) {
             uv[0] |= MARK;
             queue[(*nk)++] = u;
-            PREFETCH(TET(dt, uv[4] >> 2));
-            PREFETCH(TET(dt, uv[5] >> 2));
-            PREFETCH(TET(dt, uv[6] >> 2));
-            PREFETCH(TET(dt, uv[7] >> 2));
+            PREFETCH(TETS(uv[4] >> 2));
+            PREFETCH(TETS(uv[5] >> 2));
+            PREFETCH(TETS(uv[6] >> 2));
+            PREFETCH(TETS(uv[7] >> 2));
             return 0;
         }
         if (*dup != VP_DT_NONE) return 1;
@@ -435,6 +441,57 @@ static uint32_t ehash_slot(uint32_t a, uint32_t b, uint32_t mask)
     return (uint32_t)((k * 0x9E3779B97F4A7C15ull) >> 40) & mask;
 }
 
+/* The fill with the gluing table: tet (a,b,c,p) on each boundary facet (a,b,c); vertex e goes
+ * to slot e ^ x, with x = 0 without the ghost and x = 3, 2, 1 when the ghost is a, b, c (the
+ * slots of POS). Returns the number of new ghost tets. */
+static NOINLINE uint32_t fill_glued(vp_dt_t *dt, uint32_t vid, bfacet_t *bf, uint32_t nb,
+                                    const uint32_t *killed, uint32_t nk, uint32_t *created,
+                                    uint32_t *cfrom, uint32_t *tbl, uint32_t dim)
+{
+    uint32_t q, nghost_new = 0, *const tets_ = dt->tets;
+    const size_t stride_ = dt->stride;
+    for (q = 0; q < nb; q++) {
+        uint32_t t = q < nk ? killed[q] : tet_take(dt), *w = TETS(t), out = bf[q].outside;
+        uint32_t *ow = TETS(out >> 2), lid = bf[q].lid, m = LID_MAX - 1u, t4 = 4u * t;
+        uint32_t g = (lid >> LID_GHOST_SHIFT) & 3u, x = (4u - g) & 3u;
+        uint32_t la = lid & m, lb = (lid >> LID_BITS) & m, lc = (lid >> (2 * LID_BITS)) & m;
+        uint32_t ra = la * dim, rb = lb * dim, rc = lc * dim, fresh = lid >> LID_NEW_SHIFT;
+        nghost_new += g != 0;
+        w[x] = bf[q].v[0];
+        w[1u ^ x] = bf[q].v[1];
+        w[2u ^ x] = bf[q].v[2];
+        w[3u ^ x] = vid;
+        /* facet opposite p: the outside neighbour (whose "tested" mark goes now) */
+        w[4u + (3u ^ x)] = out;
+        ow[4u + (out & 3u)] = t4 + (3u ^ x);
+        ow[1] &= VMASK;
+        cfrom[q] = bf[q].from;
+        created[q] = t;
+        /* the facet opposite vertex e contains p and the half-edge (e+1 -> e+2); its
+         * neighbour is read from the half-edge the other way round in the second pass
+         * (the read positions are kept in old[], whose contents are no longer needed) */
+        tbl[rb + lc] = t4 + x;
+        tbl[rc + la] = t4 + (1u ^ x);
+        tbl[ra + lb] = t4 + (2u ^ x);
+        bf[q].old[0] = rc + lb;
+        bf[q].old[1] = ra + lc;
+        bf[q].old[2] = rb + la;
+        /* each boundary vertex: the new tet on the boundary facet that numbered it */
+        if (fresh) {
+            if (fresh & 1u) VREC(dt, bf[q].v[0]).tet = t;
+            if (fresh & 2u) VREC(dt, bf[q].v[1]).tet = t;
+            if (fresh & 4u) VREC(dt, bf[q].v[2]).tet = t;
+        }
+    }
+    for (q = 0; q < nb; q++) {
+        uint32_t *w = TETS(created[q]), x = (4u - ((bf[q].lid >> LID_GHOST_SHIFT) & 3u)) & 3u;
+        w[4u + x] = tbl[bf[q].old[0]];
+        w[4u + (1u ^ x)] = tbl[bf[q].old[1]];
+        w[4u + (2u ^ x)] = tbl[bf[q].old[2]];
+    }
+    return nghost_new;
+}
+
 /* Inserts vertex record vid (already appended, not yet in the triangulation) given a tet
  * `start` known to be in conflict with it.
  *
@@ -453,39 +510,41 @@ static int dig_and_fill(vp_dt_t *dt, uint32_t vid, uint32_t start, uint32_t *dup
     uint32_t dup = VP_DT_NONE;
     uint32_t *created, *killed, *kverts, *cfrom, *tbl = NULL;
     double sbound = dt->sbound_is; /* p and every vertex lie in the box */
+    uint32_t *const tets_ = dt->tets;
+    const size_t stride_ = dt->stride;
     ehash_t *eh = NULL;
     uint32_t hmask = 0, nid = 1;
     unsigned char *scratch_lo, *need_lo;
 
     /* dig: breadth-first from start over tets in conflict, recording the boundary */
     if ((unsigned char *)(queue + 8) > (unsigned char *)(bftop - 8)) return VP_ENOMEM;
-    TET(dt, start)[0] |= MARK;
+    TETS(start)[0] |= MARK;
     queue[0] = start;
     nk = 1;
     {
-        const uint32_t *sv = TET(dt, start);
-        PREFETCH(TET(dt, sv[4] >> 2));
-        PREFETCH(TET(dt, sv[5] >> 2));
-        PREFETCH(TET(dt, sv[6] >> 2));
-        PREFETCH(TET(dt, sv[7] >> 2));
+        const uint32_t *sv = TETS(start);
+        PREFETCH(TETS(sv[4] >> 2));
+        PREFETCH(TETS(sv[5] >> 2));
+        PREFETCH(TETS(sv[6] >> 2));
+        PREFETCH(TETS(sv[7] >> 2));
     }
     for (q = 0; q < nk; q++) {
         uint32_t t = queue[q];
-        const uint32_t *v = TET(dt, t);
+        const uint32_t *v = TETS(t);
         if ((unsigned char *)(queue + nk + 4) > (unsigned char *)(bftop - nb - 4)) {
             unmark_cavity(dt, queue, nk, bftop - nb, nb);
             return VP_ENOMEM;
         }
         if (v[3] != VP_DT_GHOST ?
-            dig_facet(dt, v, t, 0, p, sbound, queue, &nk, bftop, &nb, &nid, &dup, 0) ||
-            dig_facet(dt, v, t, 1, p, sbound, queue, &nk, bftop, &nb, &nid, &dup, 0) ||
-            dig_facet(dt, v, t, 2, p, sbound, queue, &nk, bftop, &nb, &nid, &dup, 0) ||
-            dig_facet(dt, v, t, 3, p, sbound, queue, &nk, bftop, &nb, &nid, &dup, 0) :
+            dig_facet(dt, v, t, 0, p, sbound, queue, &nk, bftop, &nb, &nid, &dup, 0, tets_, stride_) ||
+            dig_facet(dt, v, t, 1, p, sbound, queue, &nk, bftop, &nb, &nid, &dup, 0, tets_, stride_) ||
+            dig_facet(dt, v, t, 2, p, sbound, queue, &nk, bftop, &nb, &nid, &dup, 0, tets_, stride_) ||
+            dig_facet(dt, v, t, 3, p, sbound, queue, &nk, bftop, &nb, &nid, &dup, 0, tets_, stride_) :
             (nghost_killed++,
-             dig_facet(dt, v, t, 0, p, sbound, queue, &nk, bftop, &nb, &nid, &dup, 1) ||
-             dig_facet(dt, v, t, 1, p, sbound, queue, &nk, bftop, &nb, &nid, &dup, 1) ||
-             dig_facet(dt, v, t, 2, p, sbound, queue, &nk, bftop, &nb, &nid, &dup, 1) ||
-             dig_facet(dt, v, t, 3, p, sbound, queue, &nk, bftop, &nb, &nid, &dup, 1))) {
+             dig_facet(dt, v, t, 0, p, sbound, queue, &nk, bftop, &nb, &nid, &dup, 1, tets_, stride_) ||
+             dig_facet(dt, v, t, 1, p, sbound, queue, &nk, bftop, &nb, &nid, &dup, 1, tets_, stride_) ||
+             dig_facet(dt, v, t, 2, p, sbound, queue, &nk, bftop, &nb, &nid, &dup, 1, tets_, stride_) ||
+             dig_facet(dt, v, t, 3, p, sbound, queue, &nk, bftop, &nb, &nid, &dup, 1, tets_, stride_))) {
             unmark_cavity(dt, queue, nk, bftop - nb, nb);
             *dupv = dup;
             return VP_EDUP;
@@ -529,7 +588,7 @@ static int dig_and_fill(vp_dt_t *dt, uint32_t vid, uint32_t start, uint32_t *dup
     /* the killed tets, as they were, before any slot is overwritten */
     for (q = 0; q < nk; q++) {
         uint32_t t = queue[q];
-        const uint32_t *v = TET(dt, t);
+        const uint32_t *v = TETS(t);
         uint32_t *kv = kverts + 4 * (size_t)q;
         killed[q] = t;
         kv[0] = v[0] & VMASK;
@@ -543,39 +602,27 @@ static int dig_and_fill(vp_dt_t *dt, uint32_t vid, uint32_t start, uint32_t *dup
     for (q = nb; q < nk; q++) tet_release(dt, killed[q]);
 
     /* fill: tet (a,b,c,p) on each boundary facet (a,b,c) */
-    for (q = 0; q < nb; q++) {
-        uint32_t t = q < nk ? killed[q] : tet_take(dt), *w = TET(dt, t), out = bf[q].outside;
-        uint32_t *ow = TET(dt, out >> 2);
-        uint32_t a = bf[q].v[0], b = bf[q].v[1], c = bf[q].v[2], g, e;
-        const unsigned char *pos;
-        g = (bf[q].lid >> LID_GHOST_SHIFT) & 3u; /* set while digging, whatever the gluing */
-        pos = POS[g];
-        nghost_new += g != 0;
-        w[pos[0]] = a;
-        w[pos[1]] = b;
-        w[pos[2]] = c;
-        w[pos[3]] = vid;
-        /* facet opposite p: the outside neighbour (whose "tested" mark goes now) */
-        w[4 + pos[3]] = out;
-        ow[4 + (out & 3u)] = 4u * t + pos[3];
-        ow[1] &= VMASK;
-        cfrom[q] = bf[q].from;
-        created[q] = t;
-        if (tbl) {
-            /* the facet opposite vertex e contains p and the half-edge (e+1 -> e+2) */
-            uint32_t lid = bf[q].lid, m = LID_MAX - 1u, fresh = lid >> LID_NEW_SHIFT;
-            uint32_t la = lid & m, lb = (lid >> LID_BITS) & m, lc = (lid >> (2 * LID_BITS)) & m;
-            tbl[lb * dim + lc] = 4u * t + pos[0];
-            tbl[lc * dim + la] = 4u * t + pos[1];
-            tbl[la * dim + lb] = 4u * t + pos[2];
-            /* each boundary vertex: the new tet on the boundary facet that numbered it */
-            if (fresh) {
-                if (fresh & 1u) VREC(dt, a).tet = t;
-                if (fresh & 2u) VREC(dt, b).tet = t;
-                if (fresh & 4u) VREC(dt, c).tet = t;
-            }
-        } else {
-            uint32_t vv[3];
+    if (tbl) {
+        nghost_new = fill_glued(dt, vid, bf, nb, killed, nk, created, cfrom, tbl, dim);
+    } else {
+        /* a very large cavity: glued through the edge hash */
+        for (q = 0; q < nb; q++) {
+            uint32_t t = q < nk ? killed[q] : tet_take(dt), *w = TETS(t), out = bf[q].outside;
+            uint32_t *ow = TETS(out >> 2);
+            uint32_t a = bf[q].v[0], b = bf[q].v[1], c = bf[q].v[2], g, e, vv[3];
+            const unsigned char *pos;
+            g = (bf[q].lid >> LID_GHOST_SHIFT) & 3u; /* set while digging, whatever the gluing */
+            pos = POS[g];
+            nghost_new += g != 0;
+            w[pos[0]] = a;
+            w[pos[1]] = b;
+            w[pos[2]] = c;
+            w[pos[3]] = vid;
+            w[4 + pos[3]] = out;
+            ow[4 + (out & 3u)] = 4u * t + pos[3];
+            ow[1] &= VMASK;
+            cfrom[q] = bf[q].from;
+            created[q] = t;
             if (a != VP_DT_GHOST) VREC(dt, a).tet = t;
             if (b != VP_DT_GHOST) VREC(dt, b).tet = t;
             if (c != VP_DT_GHOST) VREC(dt, c).tet = t;
@@ -590,20 +637,9 @@ static int dig_and_fill(vp_dt_t *dt, uint32_t vid, uint32_t start, uint32_t *dup
                 } else {
                     uint32_t o = eh[h].ref;
                     w[4 + pos[e]] = o;
-                    TET(dt, o >> 2)[4 + (o & 3u)] = 4u * t + pos[e];
+                    TETS(o >> 2)[4 + (o & 3u)] = 4u * t + pos[e];
                 }
             }
-        }
-    }
-    if (tbl) {
-        /* each new tet reads its three neighbours: the half-edges the other way round */
-        for (q = 0; q < nb; q++) {
-            uint32_t *w = TET(dt, created[q]), lid = bf[q].lid, m = LID_MAX - 1u;
-            uint32_t la = lid & m, lb = (lid >> LID_BITS) & m, lc = (lid >> (2 * LID_BITS)) & m;
-            const unsigned char *pos = POS[(lid >> LID_GHOST_SHIFT) & 3u];
-            w[4 + pos[0]] = tbl[lc * dim + lb];
-            w[4 + pos[1]] = tbl[la * dim + lc];
-            w[4 + pos[2]] = tbl[lb * dim + la];
         }
     }
     VREC(dt, vid).tet = created[0];
