@@ -443,51 +443,49 @@ static uint32_t ehash_slot(uint32_t a, uint32_t b, uint32_t mask)
 
 /* The fill with the gluing table: tet (a,b,c,p) on each boundary facet (a,b,c); vertex e goes
  * to slot e ^ x, with x = 0 without the ghost and x = 3, 2, 1 when the ghost is a, b, c (the
- * slots of POS). Returns the number of new ghost tets. */
+ * slots of POS). The facet opposite vertex e contains p and the half-edge (e+1 -> e+2): the
+ * first pass files each new tet under its three half-edges, the second reads each tet's
+ * neighbours from the half-edges the other way round (positions kept in old[], no longer
+ * needed). Returns the number of new ghost tets. */
 static NOINLINE uint32_t fill_glued(vp_dt_t *dt, uint32_t vid, bfacet_t *bf, uint32_t nb,
-                                    const uint32_t *killed, uint32_t nk, uint32_t *created,
-                                    uint32_t *cfrom, uint32_t *tbl, uint32_t dim)
+                                    const uint32_t *created, uint32_t *tbl, uint32_t dim)
 {
     uint32_t q, nghost_new = 0, *const tets_ = dt->tets;
     const size_t stride_ = dt->stride;
     for (q = 0; q < nb; q++) {
-        uint32_t t = q < nk ? killed[q] : tet_take(dt), *w = TETS(t), out = bf[q].outside;
-        uint32_t *ow = TETS(out >> 2), lid = bf[q].lid, m = LID_MAX - 1u, t4 = 4u * t;
-        uint32_t g = (lid >> LID_GHOST_SHIFT) & 3u, x = (4u - g) & 3u;
-        uint32_t la = lid & m, lb = (lid >> LID_BITS) & m, lc = (lid >> (2 * LID_BITS)) & m;
-        uint32_t ra = la * dim, rb = lb * dim, rc = lc * dim, fresh = lid >> LID_NEW_SHIFT;
-        nghost_new += g != 0;
-        w[x] = bf[q].v[0];
-        w[1u ^ x] = bf[q].v[1];
-        w[2u ^ x] = bf[q].v[2];
+        bfacet_t *b = bf + q;
+        uint32_t t = created[q], lid = b->lid, out = b->outside, t4 = 4u * t;
+        uint32_t x = (4u - ((lid >> LID_GHOST_SHIFT) & 3u)) & 3u, fresh = lid >> LID_NEW_SHIFT;
+        uint32_t ra = (lid & (LID_MAX - 1u)) * dim, la = lid & (LID_MAX - 1u);
+        uint32_t rb = ((lid >> LID_BITS) & (LID_MAX - 1u)) * dim, lb = (lid >> LID_BITS) & (LID_MAX - 1u);
+        uint32_t lc = (lid >> (2 * LID_BITS)) & (LID_MAX - 1u), rc = lc * dim;
+        uint32_t *w = TETS(t), *ow = TETS(out >> 2);
+        nghost_new += x != 0;
+        w[x] = b->v[0];
+        w[1u ^ x] = b->v[1];
+        w[2u ^ x] = b->v[2];
         w[3u ^ x] = vid;
-        /* facet opposite p: the outside neighbour (whose "tested" mark goes now) */
-        w[4u + (3u ^ x)] = out;
+        w[4u + (3u ^ x)] = out; /* facet opposite p: the outside neighbour */
         ow[4u + (out & 3u)] = t4 + (3u ^ x);
-        ow[1] &= VMASK;
-        cfrom[q] = bf[q].from;
-        created[q] = t;
-        /* the facet opposite vertex e contains p and the half-edge (e+1 -> e+2); its
-         * neighbour is read from the half-edge the other way round in the second pass
-         * (the read positions are kept in old[], whose contents are no longer needed) */
+        ow[1] &= VMASK;         /* its "tested" mark goes */
         tbl[rb + lc] = t4 + x;
         tbl[rc + la] = t4 + (1u ^ x);
         tbl[ra + lb] = t4 + (2u ^ x);
-        bf[q].old[0] = rc + lb;
-        bf[q].old[1] = ra + lc;
-        bf[q].old[2] = rb + la;
-        /* each boundary vertex: the new tet on the boundary facet that numbered it */
-        if (fresh) {
-            if (fresh & 1u) VREC(dt, bf[q].v[0]).tet = t;
-            if (fresh & 2u) VREC(dt, bf[q].v[1]).tet = t;
-            if (fresh & 4u) VREC(dt, bf[q].v[2]).tet = t;
+        b->old[0] = rc + lb;
+        b->old[1] = ra + lc;
+        b->old[2] = rb + la;
+        if (fresh) { /* each boundary vertex: the new tet on the facet that numbered it */
+            if (fresh & 1u) VREC(dt, b->v[0]).tet = t;
+            if (fresh & 2u) VREC(dt, b->v[1]).tet = t;
+            if (fresh & 4u) VREC(dt, b->v[2]).tet = t;
         }
     }
     for (q = 0; q < nb; q++) {
-        uint32_t *w = TETS(created[q]), x = (4u - ((bf[q].lid >> LID_GHOST_SHIFT) & 3u)) & 3u;
-        w[4u + x] = tbl[bf[q].old[0]];
-        w[4u + (1u ^ x)] = tbl[bf[q].old[1]];
-        w[4u + (2u ^ x)] = tbl[bf[q].old[2]];
+        const bfacet_t *b = bf + q;
+        uint32_t *w = TETS(created[q]), x = (4u - ((b->lid >> LID_GHOST_SHIFT) & 3u)) & 3u;
+        w[4u + x] = tbl[b->old[0]];
+        w[4u + (1u ^ x)] = tbl[b->old[1]];
+        w[4u + (2u ^ x)] = tbl[b->old[2]];
     }
     return nghost_new;
 }
@@ -603,7 +601,11 @@ static int dig_and_fill(vp_dt_t *dt, uint32_t vid, uint32_t start, uint32_t *dup
 
     /* fill: tet (a,b,c,p) on each boundary facet (a,b,c) */
     if (tbl) {
-        nghost_new = fill_glued(dt, vid, bf, nb, killed, nk, created, cfrom, tbl, dim);
+        for (q = 0; q < nb; q++) {
+            created[q] = q < nk ? killed[q] : tet_take(dt);
+            cfrom[q] = bf[q].from;
+        }
+        nghost_new = fill_glued(dt, vid, bf, nb, created, tbl, dim);
     } else {
         /* a very large cavity: glued through the edge hash */
         for (q = 0; q < nb; q++) {
