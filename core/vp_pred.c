@@ -43,6 +43,14 @@
 #define EPS 0x1p-53
 #define UNDECIDED 2
 
+/* the error-free transformations and double-double steps are small: inline them into the
+ * stages (not when optimising for size) */
+#if defined(__GNUC__) && !defined(__OPTIMIZE_SIZE__)
+#define EFT_INLINE static inline __attribute__((always_inline))
+#else
+#define EFT_INLINE static inline
+#endif
+
 #define COUNT(st, field) do { if (st) (st)->field++; } while (0)
 
 /* Filter constants: c >= (n eps + O(eps^2)) / (1 - eps), n = roundings along the longest path
@@ -69,7 +77,7 @@
  */
 
 /* x = fl(a + b), x + y = a + b exactly. */
-static void two_sum(double a, double b, double *x, double *y)
+EFT_INLINE void two_sum(double a, double b, double *x, double *y)
 {
     double s = a + b;
     double bv = s - a;
@@ -79,7 +87,7 @@ static void two_sum(double a, double b, double *x, double *y)
 }
 
 /* x = fl(a - b), x + y = a - b exactly. */
-static void two_diff(double a, double b, double *x, double *y)
+EFT_INLINE void two_diff(double a, double b, double *x, double *y)
 {
     double s = a - b;
     double bv = a - s;
@@ -89,7 +97,7 @@ static void two_diff(double a, double b, double *x, double *y)
 }
 
 /* Veltkamp: a = hi + lo, each half fits in 26 bits. */
-static void split(double a, double *hi, double *lo)
+EFT_INLINE void split(double a, double *hi, double *lo)
 {
     double c = 134217729.0 * a; /* 2^27 + 1 */
     double big = c - a;
@@ -98,7 +106,7 @@ static void split(double a, double *hi, double *lo)
 }
 
 /* Dekker: x = fl(a * b), x + y = a * b exactly. */
-static void two_prod(double a, double b, double *x, double *y)
+EFT_INLINE void two_prod(double a, double b, double *x, double *y)
 {
     double ah, al, bh, bl, p = a * b;
     split(a, &ah, &al);
@@ -235,14 +243,14 @@ struct dd {
     double hi, lo;
 };
 
-static struct dd dd_diff(double a, double b)
+EFT_INLINE struct dd dd_diff(double a, double b)
 {
     struct dd z;
     two_diff(a, b, &z.hi, &z.lo);
     return z;
 }
 
-static struct dd dd_mul(struct dd x, struct dd y)
+EFT_INLINE struct dd dd_mul(struct dd x, struct dd y)
 {
     double ph, pl, c;
     struct dd z;
@@ -252,7 +260,7 @@ static struct dd dd_mul(struct dd x, struct dd y)
     return z;
 }
 
-static struct dd dd_add(struct dd x, struct dd y)
+EFT_INLINE struct dd dd_add(struct dd x, struct dd y)
 {
     double sh, sl;
     struct dd z;
@@ -261,7 +269,7 @@ static struct dd dd_add(struct dd x, struct dd y)
     return z;
 }
 
-static struct dd dd_sub(struct dd x, struct dd y)
+EFT_INLINE struct dd dd_sub(struct dd x, struct dd y)
 {
     y.hi = -y.hi;
     y.lo = -y.lo;
@@ -269,7 +277,7 @@ static struct dd dd_sub(struct dd x, struct dd y)
 }
 
 /* [xy] minor of two dd 3-vectors: x0 y1 - x1 y0 */
-static struct dd dd_minor(const struct dd *x, const struct dd *y)
+EFT_INLINE struct dd dd_minor(const struct dd *x, const struct dd *y)
 {
     return dd_sub(dd_mul(x[0], y[1]), dd_mul(x[1], y[0]));
 }
@@ -396,11 +404,12 @@ static int small_integers5(const double *a, const double *b, const double *c, co
     double err = 0.0, big = 0.0;
     double inv = si_scale(si_span(si_span(si_span(si_span(0.0, a, e), b, e), c, e), d, e), 9, 5);
     if (inv == 0.0) return 0;
+    si_check(e, inv, &err, &big); /* most inputs that fail, fail here */
+    if (err != 0.0) return 0;
     si_check(a, inv, &err, &big);
     si_check(b, inv, &err, &big);
     si_check(c, inv, &err, &big);
     si_check(d, inv, &err, &big);
-    si_check(e, inv, &err, &big);
     return big < 0x1p51 && err == 0.0;
 }
 
@@ -411,6 +420,7 @@ static int small_integers4(const double *a, const double *b, const double *c, co
     double inv = si_scale(si_span(si_span(si_span(0.0, b, a), c, a), d, a), 16, 3);
     if (inv == 0.0) return 0;
     si_check(a, inv, &err, &big);
+    if (err != 0.0) return 0;
     si_check(b, inv, &err, &big);
     si_check(c, inv, &err, &big);
     si_check(d, inv, &err, &big);
