@@ -1,13 +1,21 @@
 /* vp_dt — incremental 3D Delaunay triangulation (Bowyer-Watson) in a caller-given arena.
  *
  * Insertion of p: find one tet in conflict with p (visibility walk, or given by the caller),
- * dig the cavity (all tets whose circumsphere contains p, found breadth-first from it), then
- * fill it with one new tet per cavity boundary facet joined to p. Nothing in the triangulation
- * is written until the cavity is known and the memory for the new tets is reserved, so every
- * failure leaves the triangulation as it was.
+ * dig the cavity (all tets whose circumsphere contains p, found breadth-first from it,
+ * recording the boundary facets as they are met), then fill it with one new tet per cavity
+ * boundary facet joined to p. The new tets are glued to each other through a table indexed by
+ * local ids of the boundary vertices (half-edge a -> b meets b -> a), or an edge hash for very
+ * large cavities. Only marks and local-id tags are written before the cavity is known and the
+ * memory for the new tets is reserved, and every failure undoes them, so the triangulation is
+ * left as it was.
  *
  * Marks live in spare bits of the vertex words: bit 31 of word 0 = "in the cavity", bit 31 of
- * word 1 = "tested, not in conflict". Both are cleared before an insertion returns.
+ * word 1 = "tested, not in conflict". Local ids live in the vertex records' tet words (bit 31
+ * set) until the fill rewrites those words. All are cleared before an insertion returns.
+ *
+ * Predicates: the inline filters of vp_pred.h with static bounds for the bounding box of all
+ * vertex records (p included), so most tests cost a determinant and one comparison; the exact
+ * stages run only when a filter cannot decide.
  */
 #include <math.h>
 #include <string.h>

@@ -1,6 +1,11 @@
 /* vp_pred.c — exact geometric predicates (see vp_pred.h for the conventions).
  *
  * Each predicate is the sign of a polynomial in coordinate differences. Stages, in order:
+ *   F  (vp_pred.h, inline) static filter (bound from a bounding box, for vp_dt) and
+ *      semi-static filter (bound from the largest differences); for an integer grid whose
+ *      box makes the evaluation exact, the static bound is 0 (vp_*_box_exact).
+ *   A' exactness certificate (small integer differences at a common power-of-two scale): the
+ *      floating-point value is exact, zero included. Tried first by the tails.
  *   A  floating-point evaluation; the answer stands when |det| exceeds c * permanent, c a
  *      compile-time constant derived below for each predicate (rounding-error count).
  *   B  orient3d and insphere: double-double evaluation on the exact differences (each one a
@@ -28,9 +33,10 @@
  * and the error bounds (which multiply permanents by >= 2^-100) never underflow. The upper end
  * keeps every value, including Veltkamp's 2^27 * a, below 2^1020.
  *
- * Worst-case stack, gcc 12 -fstack-usage summed along the deepest call chain
- * (vp_insphere_sos -> vp_insphere_stats -> insphere_big -> big_det3 -> big_minor -> big_diff):
- *   x86-64 -O2: 4568 bytes; Cortex-M4 -mthumb -Os: 4160 bytes (+ libgcc soft-float helpers).
+ * Worst-case stack, gcc 12 -fstack-usage summed along the deepest call chain (vp_insphere_sos
+ * -> vp_insphere_tail -> insphere_tail -> insphere_big -> big_det3 -> big_minor -> big_diff ->
+ * big_load): x86-64 -O2: 4360 bytes; Cortex-M4 -mthumb -Os: 3944 bytes (+ libgcc soft-float
+ * helpers).
  * insphere_big's limb arrays (790 x 4 bytes, sized for the widest possible input) dominate;
  * orient3d alone: 2.9 KB / 2.5 KB. No recursion, no heap, no writable static data.
  */
