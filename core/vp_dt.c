@@ -310,11 +310,28 @@ static int walk(vp_dt_t *dt, const double *p, uint32_t t, uint32_t *out, double 
     while (budget--) {
         const uint32_t *v = TETS(t);
         const double *q0, *q1, *q2, *q3;
-        double d0x, d0y, d0z, d1x, d1y, d1z, d2x, d2y, d2z, d3x, d3y, d3z, D[4];
-        double ax, ay, az, bx, by, bz;
+        double D[4];
         uint32_t r, k;
         if (v[3] == VP_DT_GHOST) { *out = t; return VP_OK; }
         q0 = PT(dt, v[0]); q1 = PT(dt, v[1]); q2 = PT(dt, v[2]); q3 = PT(dt, v[3]);
+#ifdef VP_PRED_HAVE_V2D
+        {
+            /* the same expressions, lanes (d0, d2) x (d1, d3): (c01, c23) at once */
+            vp_pred_v2d_ px = { p[0], p[0] }, py = { p[1], p[1] }, pz = { p[2], p[2] };
+            vp_pred_v2d_ ux = (vp_pred_v2d_){ q0[0], q2[0] } - px, vx = (vp_pred_v2d_){ q1[0], q3[0] } - px;
+            vp_pred_v2d_ uy = (vp_pred_v2d_){ q0[1], q2[1] } - py, vy = (vp_pred_v2d_){ q1[1], q3[1] } - py;
+            vp_pred_v2d_ uz = (vp_pred_v2d_){ q0[2], q2[2] } - pz, vz = (vp_pred_v2d_){ q1[2], q3[2] } - pz;
+            vp_pred_v2d_ cx = uy * vz - uz * vy, cy = uz * vx - ux * vz, cz = ux * vy - uy * vx;
+            vp_pred_v2d_ e = (cx * VP_PRED_SWAP_(ux) + cy * VP_PRED_SWAP_(uy)) + cz * VP_PRED_SWAP_(uz);
+            vp_pred_v2d_ f = (cx * VP_PRED_SWAP_(vx) + cy * VP_PRED_SWAP_(vy)) + cz * VP_PRED_SWAP_(vz);
+            D[3] = e[0];
+            D[1] = e[1];
+            D[2] = -f[0];
+            D[0] = -f[1];
+        }
+#else
+        {
+        double d0x, d0y, d0z, d1x, d1y, d1z, d2x, d2y, d2z, d3x, d3y, d3z, ax, ay, az, bx, by, bz;
         d0x = q0[0] - p[0]; d0y = q0[1] - p[1]; d0z = q0[2] - p[2];
         d1x = q1[0] - p[0]; d1y = q1[1] - p[1]; d1z = q1[2] - p[2];
         d2x = q2[0] - p[0]; d2y = q2[1] - p[1]; d2z = q2[2] - p[2];
@@ -325,6 +342,8 @@ static int walk(vp_dt_t *dt, const double *p, uint32_t t, uint32_t *out, double 
         D[2] = -((ax * d3x + ay * d3y) + az * d3z);
         D[1] = (bx * d0x + by * d0y) + bz * d0z;
         D[0] = -((bx * d1x + by * d1y) + bz * d1z);
+        }
+#endif
         r = lcg(dt);
         for (k = 0; k < 4; k++) {
             uint32_t i = (r + k) & 3u;

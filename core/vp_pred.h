@@ -212,6 +212,7 @@ VP_PRED_INLINE int vp_orient3d_filter_b(const double *a, const double *b, const 
  * (product, difference), the product m n and 3 sums: 16 roundings, as in the scalar form, so
  * the same bounds hold. Vector operations round each lane like the scalar ones (no FMA). */
 typedef double vp_pred_v2d_ __attribute__((vector_size(16)));
+#define VP_PRED_HAVE_V2D 1 /* vp_pred_v2d_ and the shuffles below are available */
 #define VP_PRED_SWAP_(v) __builtin_shufflevector((v), (v), 1, 0)
 #define VP_PRED_LO_(u, w) __builtin_shufflevector((u), (w), 0, 2)
 #define VP_PRED_HI_(u, w) __builtin_shufflevector((u), (w), 1, 3)
