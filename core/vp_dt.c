@@ -213,11 +213,10 @@ static int conflict_ghost(const vp_dt_t *dt, const uint32_t *v, const double *p,
 /* Conflict test of tet record v with p. For a finite tet: p inside the circumsphere under the
  * symbolic perturbation. For a ghost tet: p strictly beyond its hull facet, or on the facet's
  * plane and in conflict with the finite tet behind the facet (its circle test). When p lands
- * exactly on a vertex, *dup receives it and the answer is 0. sbound, sb_o3: the static
- * insphere and orient3d bounds when p lies in the bounding box (dt->sbound_is, sbound_o3),
- * else HUGE_VAL. */
+ * exactly on a vertex, *dup receives it and the answer is 0. in_box: p lies in the bounding
+ * box, and sbound is dt->sbound_is (else HUGE_VAL; the orient3d bound follows). */
 ALWAYS_INLINE int conflict_b(const vp_dt_t *dt, const uint32_t *v, const double *p,
-                             uint32_t *dup, double sbound, double sb_o3)
+                             uint32_t *dup, double sbound, int in_box)
 {
     const double *a, *b, *c, *d;
     int s;
@@ -228,20 +227,21 @@ ALWAYS_INLINE int conflict_b(const vp_dt_t *dt, const uint32_t *v, const double 
     d = PT(dt, v[3]);
     s = vp_insphere_filter_b(a, b, c, d, p, sbound);
     if (s != VP_PRED_UNSURE) return s > 0;
-    if (sbound == 0.0) return conflict_zero(v, a, b, c, d, p, dup, sb_o3); /* exact: det 0 */
-    return conflict_exact(v, a, b, c, d, p, dup, sb_o3);
+    if (sbound == 0.0) /* exact box: det is 0 */
+        return conflict_zero(v, a, b, c, d, p, dup, in_box ? dt->sbound_o3 : HUGE_VAL);
+    return conflict_exact(v, a, b, c, d, p, dup, in_box ? dt->sbound_o3 : HUGE_VAL);
 }
 
 static int conflict_ghost(const vp_dt_t *dt, const uint32_t *v, const double *p, uint32_t *dup)
 {
     int s = vp_orient3d_fast(PT(dt, v[0] & VMASK), PT(dt, v[1] & VMASK), PT(dt, v[2]), p);
     if (s) return s > 0;
-    return conflict_b(dt, TET(dt, v[7] >> 2), p, dup, HUGE_VAL, HUGE_VAL);
+    return conflict_b(dt, TET(dt, v[7] >> 2), p, dup, HUGE_VAL, 0);
 }
 
 static int conflict(const vp_dt_t *dt, const uint32_t *v, const double *p, uint32_t *dup)
 {
-    return conflict_b(dt, v, p, dup, HUGE_VAL, HUGE_VAL);
+    return conflict_b(dt, v, p, dup, HUGE_VAL, 0);
 }
 
 int vp_dt_in_conflict(const vp_dt_t *dt, uint32_t t, const double p[3])
@@ -434,7 +434,7 @@ ALWAYS_INLINE int dig_facet(vp_dt_t *dt, const uint32_t *v, uint32_t t, unsigned
     bfacet_t *b;
     if (uv[0] & MARK) return 0; /* in the cavity: an inner facet */
     if (!(uv[1] & MARK)) {      /* not tested yet */
-        if (conflict_b(dt, uv, p, dup, sbound, dt->sbound_o3)) {
+        if (conflict_b(dt, uv, p, dup, sbound, 1)) {
             uv[0] |= MARK;
             queue[(*nk)++] = u;
             PREFETCH(TETS(uv[4] >> 2));
