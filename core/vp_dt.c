@@ -1,13 +1,21 @@
 /* vp_dt — incremental 3D Delaunay triangulation (Bowyer-Watson) in a caller-given arena.
  *
  * Insertion of p: find one tet in conflict with p (visibility walk, or given by the caller),
- * dig the cavity (all tets whose circumsphere contains p, found breadth-first from it), then
- * fill it with one new tet per cavity boundary facet joined to p. Nothing in the triangulation
- * is written until the cavity is known and the memory for the new tets is reserved, so every
- * failure leaves the triangulation as it was.
+ * dig the cavity (all tets whose circumsphere contains p, found breadth-first from it,
+ * recording the boundary facets as they are met), then fill it with one new tet per cavity
+ * boundary facet joined to p. The new tets are glued to each other through a table indexed by
+ * local ids of the boundary vertices (half-edge a -> b meets b -> a), or an edge hash for very
+ * large cavities. Only marks and local-id tags are written before the cavity is known and the
+ * memory for the new tets is reserved, and every failure undoes them, so the triangulation is
+ * left as it was.
  *
  * Marks live in spare bits of the vertex words: bit 31 of word 0 = "in the cavity", bit 31 of
- * word 1 = "tested, not in conflict". Both are cleared before an insertion returns.
+ * word 1 = "tested, not in conflict". Local ids live in the vertex records' tet words (bit 31
+ * set) until the fill rewrites those words. All are cleared before an insertion returns.
+ *
+ * Predicates: the inline filters of vp_pred.h with static bounds for the bounding box of all
+ * vertex records (p included), so most tests cost a determinant and one comparison; the exact
+ * stages run only when a filter cannot decide.
  */
 #include <math.h>
 #include <string.h>
@@ -20,7 +28,24 @@
 #define DEAD 0xFFFFFFFFu
 #define VDUP 0xFFFFFFFEu /* vertex record of a duplicate point: never inserted */
 
+#if defined(__GNUC__) && !defined(VP_NO_PREFETCH)
+#define PREFETCH(addr) __builtin_prefetch(addr)
+#else
+#define PREFETCH(addr) ((void)0)
+#endif
+
+#if defined(__GNUC__) && !defined(__OPTIMIZE_SIZE__)
+#define ALWAYS_INLINE static inline __attribute__((always_inline))
+#define NOINLINE __attribute__((noinline))
+#else
+#define ALWAYS_INLINE static inline
+#define NOINLINE
+#endif
+
 #define TET(dt, t) ((dt)->tets + (size_t)(t) * (dt)->stride)
+/* The same through local copies (tets_, stride_) in the hot loops: a store through a
+ * uint32_t pointer may alias dt->stride, so TET() would reload it after every store. */
+#define TETS(t) (tets_ + (size_t)(t) * stride_)
 #define PT(dt, v) ((dt)->vtop[-(ptrdiff_t)(v)].xyz)
 #define VREC(dt, v) ((dt)->vtop[-(ptrdiff_t)(v)])
 
@@ -28,17 +53,34 @@
 const unsigned char vp_dt_facet_index[4][3] = { { 1, 3, 2 }, { 0, 2, 3 }, { 0, 3, 1 }, { 0, 1, 2 } };
 #define FI vp_dt_facet_index
 
-/* one boundary facet of the cavity: its vertices (oriented towards p) and the outside neighbour */
+/* One boundary facet of the cavity, recorded while digging. */
 typedef struct bfacet {
-    uint32_t v[3];
+    uint32_t v[3];    /* oriented so that the cavity (and p) is on its positive side */
     uint32_t outside; /* 4 * tet + facet of the tet that stays */
+    uint32_t from;    /* 4 * killed tet + facet */
+    uint32_t lid;     /* gluing: local ids of v[0..2] (7 bits each), the ghost case (2 bits),
+                       * which of v[0..2] got their id here (3 bits) */
+    uint32_t old[3];  /* for those: the vertex record's tet word before the tag */
 } bfacet_t;
 
-/* edge hash entry used to glue the new tets to each other */
+#define LID_GHOST_SHIFT (3u * LID_BITS)
+#define LID_NEW_SHIFT (3u * LID_BITS + 2u)
+
+/* edge hash entry used to glue the new tets of a large cavity to each other */
 typedef struct ehash {
     uint32_t a, b;    /* edge (a < b); a == VP_DT_NONE: empty */
     uint32_t ref;     /* 4 * new tet + facet opposite the edge's third vertex */
 } ehash_t;
+
+/* New tet (a,b,c,p) from boundary facet (a,b,c): slot of a, b, c, p. With the ghost among
+ * a, b, c (case 1 + its index) an even permutation moves it to slot 3. */
+static const unsigned char POS[4][4] = {
+    { 0, 1, 2, 3 }, { 3, 2, 1, 0 }, { 2, 3, 0, 1 }, { 1, 0, 3, 2 }
+};
+
+#define LID_BITS 7u
+#define LID_MAX (1u << LID_BITS) /* local vertex ids for the gluing table */
+#define VTAG 0x80000000u         /* vertex record's tet word holds a local id (never a tet) */
 
 static unsigned char *gap_lo(const vp_dt_t *dt)
 {
@@ -60,6 +102,7 @@ static void note_high_water(vp_dt_t *dt, size_t scratch)
 int vp_dt_init(vp_dt_t *dt, void *mem, size_t bytes, size_t payload_bytes)
 {
     uintptr_t lo, hi;
+    int k;
     if (!dt || !mem || payload_bytes > 1024) return VP_EINVAL;
     lo = ((uintptr_t)mem + 7u) & ~(uintptr_t)7u;
     hi = ((uintptr_t)mem + bytes) & ~(uintptr_t)7u;
@@ -74,7 +117,40 @@ int vp_dt_init(vp_dt_t *dt, void *mem, size_t bytes, size_t payload_bytes)
     dt->last_tet = VP_DT_NONE;
     dt->dim = -1;
     dt->rng = 0x2545F491u;
+    for (k = 0; k < 3; k++) {
+        dt->box_lo[k] = HUGE_VAL;
+        dt->box_hi[k] = -HUGE_VAL;
+    }
+    dt->sbound_o3 = dt->sbound_is = HUGE_VAL;
+    dt->lowbit = VP_DT_LOWBIT_NONE;
     return VP_OK;
+}
+
+/* Grows the bounding box to hold p (finite) and updates the static filter bounds: 0 while
+ * every coordinate is a multiple of 2^lowbit and the box is small enough in those units for
+ * the filters' floating-point determinants to be exact (integer grids). Extents only grow
+ * and lowbit only drops, so once neither filter is exact, lowbit is no longer tracked. */
+static void box_add(vp_dt_t *dt, const double *p)
+{
+    int k, grown = 0;
+    for (k = 0; k < 3; k++) {
+        if (p[k] < dt->box_lo[k]) { dt->box_lo[k] = p[k]; grown = 1; }
+        if (p[k] > dt->box_hi[k]) { dt->box_hi[k] = p[k]; grown = 1; }
+        if (dt->lowbit != VP_DT_LOWBIT_OFF && p[k] != 0.0) {
+            int b = vp_lowest_bit(p[k]);
+            if (b < dt->lowbit) { dt->lowbit = b; grown = 1; }
+        }
+    }
+    if (grown) {
+        int xo = 0, xi = 0;
+        if (dt->lowbit != VP_DT_LOWBIT_OFF) {
+            xo = vp_orient3d_box_exact(dt->box_lo, dt->box_hi, dt->lowbit);
+            xi = vp_insphere_box_exact(dt->box_lo, dt->box_hi, dt->lowbit);
+            if (!xo && !xi) dt->lowbit = VP_DT_LOWBIT_OFF;
+        }
+        dt->sbound_o3 = xo ? 0.0 : vp_orient3d_static_bound(dt->box_lo, dt->box_hi);
+        dt->sbound_is = xi ? 0.0 : vp_insphere_static_bound(dt->box_lo, dt->box_hi);
+    }
 }
 
 int vp_dt_alive(const vp_dt_t *dt, uint32_t t)
@@ -111,32 +187,61 @@ static int same_point(const double *a, const double *b)
     return a[0] == b[0] && a[1] == b[1] && a[2] == b[2];
 }
 
+/* The conflict test when insphere(a,b,c,d,p) is exactly 0: p on a vertex, or the
+ * perturbation decides. */
+static int conflict_zero(const uint32_t *v, const double *a, const double *b, const double *c,
+                         const double *d, const double *p, uint32_t *dup, double sb_o3)
+{
+    if (same_point(a, p)) { *dup = v[0] & VMASK; return 0; }
+    if (same_point(b, p)) { *dup = v[1] & VMASK; return 0; }
+    if (same_point(c, p)) { *dup = v[2]; return 0; }
+    if (same_point(d, p)) { *dup = v[3]; return 0; }
+    return vp_insphere_sos_zero_b(a, b, c, d, p, sb_o3) > 0;
+}
+
+/* The rare part of the conflict test: the filter could not decide insphere(a,b,c,d,p). */
+static int conflict_exact(const uint32_t *v, const double *a, const double *b, const double *c,
+                          const double *d, const double *p, uint32_t *dup, double sb_o3)
+{
+    int s = vp_insphere_tail(a, b, c, d, p);
+    if (s == 0) return conflict_zero(v, a, b, c, d, p, dup, sb_o3);
+    return s > 0;
+}
+
+static int conflict_ghost(const vp_dt_t *dt, const uint32_t *v, const double *p, uint32_t *dup);
+
 /* Conflict test of tet record v with p. For a finite tet: p inside the circumsphere under the
  * symbolic perturbation. For a ghost tet: p strictly beyond its hull facet, or on the facet's
  * plane and in conflict with the finite tet behind the facet (its circle test). When p lands
- * exactly on a vertex, *dup receives it and the answer is 0. */
-static int conflict(const vp_dt_t *dt, const uint32_t *v, const double *p, uint32_t *dup)
+ * exactly on a vertex, *dup receives it and the answer is 0. in_box: p lies in the bounding
+ * box, and sbound is dt->sbound_is (else HUGE_VAL; the orient3d bound follows). */
+ALWAYS_INLINE int conflict_b(const vp_dt_t *dt, const uint32_t *v, const double *p,
+                             uint32_t *dup, double sbound, int in_box)
 {
     const double *a, *b, *c, *d;
     int s;
-    if (v[3] == VP_DT_GHOST) {
-        s = vp_orient3d(PT(dt, v[0] & VMASK), PT(dt, v[1] & VMASK), PT(dt, v[2]), p);
-        if (s) return s > 0;
-        v = TET(dt, v[7] >> 2);
-    }
+    if (v[3] == VP_DT_GHOST) return conflict_ghost(dt, v, p, dup);
     a = PT(dt, v[0] & VMASK);
     b = PT(dt, v[1] & VMASK);
     c = PT(dt, v[2]);
     d = PT(dt, v[3]);
-    s = vp_insphere(a, b, c, d, p);
-    if (s == 0) {
-        if (same_point(a, p)) { *dup = v[0] & VMASK; return 0; }
-        if (same_point(b, p)) { *dup = v[1] & VMASK; return 0; }
-        if (same_point(c, p)) { *dup = v[2]; return 0; }
-        if (same_point(d, p)) { *dup = v[3]; return 0; }
-        s = vp_insphere_sos(a, b, c, d, p);
-    }
-    return s > 0;
+    s = vp_insphere_filter_b(a, b, c, d, p, sbound);
+    if (s != VP_PRED_UNSURE) return s > 0;
+    if (sbound == 0.0) /* exact box: det is 0 */
+        return conflict_zero(v, a, b, c, d, p, dup, in_box ? dt->sbound_o3 : HUGE_VAL);
+    return conflict_exact(v, a, b, c, d, p, dup, in_box ? dt->sbound_o3 : HUGE_VAL);
+}
+
+static int conflict_ghost(const vp_dt_t *dt, const uint32_t *v, const double *p, uint32_t *dup)
+{
+    int s = vp_orient3d_fast(PT(dt, v[0] & VMASK), PT(dt, v[1] & VMASK), PT(dt, v[2]), p);
+    if (s) return s > 0;
+    return conflict_b(dt, TET(dt, v[7] >> 2), p, dup, HUGE_VAL, 0);
+}
+
+static int conflict(const vp_dt_t *dt, const uint32_t *v, const double *p, uint32_t *dup)
+{
+    return conflict_b(dt, v, p, dup, HUGE_VAL, 0);
 }
 
 int vp_dt_in_conflict(const vp_dt_t *dt, uint32_t t, const double p[3])
@@ -180,26 +285,73 @@ static uint32_t lcg(vp_dt_t *dt)
 /* Visibility walk: step through any facet that has p strictly on its far side. Ends in the
  * finite tet whose closure contains p, or in the ghost tet of a hull facet p is beyond.
  * Terminates in a Delaunay triangulation (acyclicity of the in-front relation); the step
- * budget only guards against a corrupted structure. */
-static int walk(vp_dt_t *dt, const double *p, uint32_t t, uint32_t *out)
+ * budget only guards against a corrupted structure.
+ *
+ * The four facet orientations of a tet come from the differences d_k = v_k - p and two cross
+ * products: with c01 = d0 x d1 and c23 = d2 x d3, orient3d(facet i, p) = -D_i for
+ *   D_3 = c01 . d2, D_2 = -(c01 . d3), D_1 = c23 . d0, D_0 = -(c23 . d1)
+ * (orient3d(a, b, c, p) = -det(a - p, b - p, c - p); facet i as in FI). Each D_i has the six
+ * monomials of orient3d, products of one x, one y and one z difference, along paths of 8
+ * roundings (3 differences, cross product and difference, dot product and 2 sums), so the
+ * static orient3d bound (vp_pred.h) certifies its sign, and an exact box makes it exact
+ * (values below 3 * 2^49 units, as in vp_orient3d_box_exact). Uncertain facets get the exact
+ * predicate. */
+static int walk(vp_dt_t *dt, const double *p, uint32_t t, uint32_t *out, double sbound)
 {
-    uint32_t prev = VP_DT_NONE;
+    uint32_t prev = VP_DT_NONE, *const tets_ = dt->tets;
+    const size_t stride_ = dt->stride;
     uint64_t budget = 16u + 4u * (uint64_t)dt->nalive;
     if (!vp_dt_alive(dt, t)) t = dt->last_tet;
     if (!vp_dt_alive(dt, t)) {
         for (t = 0; t < dt->ntet_slots && !vp_dt_alive(dt, t); t++) {}
         if (t == dt->ntet_slots) return VP_ESTATE;
     }
-    if (TET(dt, t)[3] == VP_DT_GHOST) t = TET(dt, t)[7] >> 2;
+    if (TETS(t)[3] == VP_DT_GHOST) t = TETS(t)[7] >> 2;
     while (budget--) {
-        const uint32_t *v = TET(dt, t);
+        const uint32_t *v = TETS(t);
+        const double *q0, *q1, *q2, *q3;
+        double D[4];
         uint32_t r, k;
         if (v[3] == VP_DT_GHOST) { *out = t; return VP_OK; }
+        q0 = PT(dt, v[0]); q1 = PT(dt, v[1]); q2 = PT(dt, v[2]); q3 = PT(dt, v[3]);
+#ifdef VP_PRED_HAVE_V2D
+        {
+            /* the same expressions, lanes (d0, d2) x (d1, d3): (c01, c23) at once */
+            vp_pred_v2d_ px = { p[0], p[0] }, py = { p[1], p[1] }, pz = { p[2], p[2] };
+            vp_pred_v2d_ ux = (vp_pred_v2d_){ q0[0], q2[0] } - px, vx = (vp_pred_v2d_){ q1[0], q3[0] } - px;
+            vp_pred_v2d_ uy = (vp_pred_v2d_){ q0[1], q2[1] } - py, vy = (vp_pred_v2d_){ q1[1], q3[1] } - py;
+            vp_pred_v2d_ uz = (vp_pred_v2d_){ q0[2], q2[2] } - pz, vz = (vp_pred_v2d_){ q1[2], q3[2] } - pz;
+            vp_pred_v2d_ cx = uy * vz - uz * vy, cy = uz * vx - ux * vz, cz = ux * vy - uy * vx;
+            vp_pred_v2d_ e = (cx * VP_PRED_SWAP_(ux) + cy * VP_PRED_SWAP_(uy)) + cz * VP_PRED_SWAP_(uz);
+            vp_pred_v2d_ f = (cx * VP_PRED_SWAP_(vx) + cy * VP_PRED_SWAP_(vy)) + cz * VP_PRED_SWAP_(vz);
+            D[3] = e[0];
+            D[1] = e[1];
+            D[2] = -f[0];
+            D[0] = -f[1];
+        }
+#else
+        {
+        double d0x, d0y, d0z, d1x, d1y, d1z, d2x, d2y, d2z, d3x, d3y, d3z, ax, ay, az, bx, by, bz;
+        d0x = q0[0] - p[0]; d0y = q0[1] - p[1]; d0z = q0[2] - p[2];
+        d1x = q1[0] - p[0]; d1y = q1[1] - p[1]; d1z = q1[2] - p[2];
+        d2x = q2[0] - p[0]; d2y = q2[1] - p[1]; d2z = q2[2] - p[2];
+        d3x = q3[0] - p[0]; d3y = q3[1] - p[1]; d3z = q3[2] - p[2];
+        ax = d0y * d1z - d0z * d1y; ay = d0z * d1x - d0x * d1z; az = d0x * d1y - d0y * d1x;
+        bx = d2y * d3z - d2z * d3y; by = d2z * d3x - d2x * d3z; bz = d2x * d3y - d2y * d3x;
+        D[3] = (ax * d2x + ay * d2y) + az * d2z;
+        D[2] = -((ax * d3x + ay * d3y) + az * d3z);
+        D[1] = (bx * d0x + by * d0y) + bz * d0z;
+        D[0] = -((bx * d1x + by * d1y) + bz * d1z);
+        }
+#endif
         r = lcg(dt);
         for (k = 0; k < 4; k++) {
-            uint32_t i = (r + k) & 3u, nb = v[4 + i] >> 2;
-            if (nb == prev) continue;
-            if (vp_orient3d(PT(dt, v[FI[i][0]]), PT(dt, v[FI[i][1]]), PT(dt, v[FI[i][2]]), p) < 0)
+            uint32_t i = (r + k) & 3u;
+            if ((v[4 + i] >> 2) == prev) continue;
+            if (D[i] > sbound) break;                   /* p strictly beyond facet i */
+            if (sbound != 0.0 && !(D[i] < -sbound) &&   /* uncertain (NaN: overflow) */
+                vp_orient3d_fast(PT(dt, v[FI[i][0]]), PT(dt, v[FI[i][1]]), PT(dt, v[FI[i][2]]),
+                                 p) < 0)
                 break;
         }
         if (k == 4) { *out = t; return VP_OK; }
@@ -212,24 +364,102 @@ static int walk(vp_dt_t *dt, const double *p, uint32_t t, uint32_t *out)
 
 int vp_dt_locate(vp_dt_t *dt, const double p[3], uint32_t hint, uint32_t *tet)
 {
+    double lo[3], hi[3];
+    int k;
     if (!dt || !p || !tet || !finite_point(p)) return VP_EINVAL;
     if (dt->dim < 3) return VP_ESTATE;
-    return walk(dt, p, hint, tet);
+    /* p may lie outside the bounding box: the static bound of a box that holds it too */
+    for (k = 0; k < 3; k++) {
+        lo[k] = p[k] < dt->box_lo[k] ? p[k] : dt->box_lo[k];
+        hi[k] = p[k] > dt->box_hi[k] ? p[k] : dt->box_hi[k];
+    }
+    return walk(dt, p, hint, tet, vp_orient3d_static_bound(lo, hi));
 }
 
 /* ---- the cavity ---- */
 
-static void unmark_cavity(vp_dt_t *dt, const uint32_t *killed_top, uint32_t nk)
+/* Puts back the vertex records' tet words that local ids replaced (bf[0..nb)). */
+static void untag_vertices(vp_dt_t *dt, const bfacet_t *bf, uint32_t nb)
 {
-    uint32_t q, i;
-    for (q = 0; q < nk; q++) {
-        uint32_t *v = TET(dt, killed_top[-1 - (ptrdiff_t)q]);
-        v[0] &= VMASK;
+    uint32_t q, k;
+    for (q = 0; q < nb; q++) {
+        uint32_t fresh = bf[q].lid >> LID_NEW_SHIFT;
+        if (!fresh) continue;
+        for (k = 0; k < 3; k++)
+            if (fresh & (1u << k)) VREC(dt, bf[q].v[k]).tet = bf[q].old[k];
     }
-    for (q = 0; q < nk; q++) {
-        uint32_t *v = TET(dt, killed_top[-1 - (ptrdiff_t)q]);
-        for (i = 0; i < 4; i++) TET(dt, v[4 + i] >> 2)[1] &= VMASK;
+}
+
+/* Clears the marks of a cavity being abandoned: queue[0..nk) in the cavity, the outside tets
+ * of the boundary facets bf[0..nb) tested not in conflict; and the local-id tags. */
+static void unmark_cavity(vp_dt_t *dt, const uint32_t *queue, uint32_t nk, const bfacet_t *bf,
+                          uint32_t nb)
+{
+    uint32_t q;
+    for (q = 0; q < nk; q++) TET(dt, queue[q])[0] &= VMASK;
+    for (q = 0; q < nb; q++) TET(dt, bf[q].outside >> 2)[1] &= VMASK;
+    untag_vertices(dt, bf, nb);
+}
+
+/* Local id of vertex x (boundary facet b, slot k) for the gluing table: the ghost is 0, other
+ * vertices are numbered from 1 in order of appearance; the id is kept as a tag in the vertex
+ * record's tet word (the fill rewrites all of those words; failures put them back). Past
+ * LID_MAX - 1 ids, *nid becomes LID_MAX + 1 and the edge hash glues instead. */
+ALWAYS_INLINE uint32_t local_id(vp_dt_t *dt, uint32_t x, bfacet_t *b, unsigned k, uint32_t *nid,
+                                int may_be_ghost)
+{
+    uint32_t w, id;
+    if (may_be_ghost && x == VP_DT_GHOST) return (k + 1u) << LID_GHOST_SHIFT;
+    w = VREC(dt, x).tet;
+    if (w & VTAG) return (w & (LID_MAX - 1u)) << (LID_BITS * k);
+    if (*nid >= LID_MAX) {
+        *nid = LID_MAX + 1u;
+        return 0;
     }
+    id = (*nid)++;
+    b->old[k] = w;
+    VREC(dt, x).tet = VTAG | id;
+    return (id << (LID_BITS * k)) | (1u << (LID_NEW_SHIFT + k));
+}
+
+/* One facet i of cavity tet t (record v) during the digging: the neighbour joins the cavity,
+ * or the facet is recorded as a boundary facet. Returns 1 when p is a vertex (*dup). */
+ALWAYS_INLINE int dig_facet(vp_dt_t *dt, const uint32_t *v, uint32_t t, unsigned i,
+                            const double *p, double sbound, uint32_t *queue, uint32_t *nk,
+                            bfacet_t *bftop, uint32_t *nb, uint32_t *nid, uint32_t *dup,
+                            int ghost_tet, uint32_t *tets_, size_t stride_)
+{
+    uint32_t ref = v[4 + i], u = ref >> 2, x0, x1, x2;
+    uint32_t *uv = TETS(u);
+    bfacet_t *b;
+    if (uv[0] & MARK) return 0; /* in the cavity: an inner facet */
+    if (!(uv[1] & MARK)) {      /* not tested yet */
+        if (conflict_b(dt, uv, p, dup, sbound, 1)) {
+            uv[0] |= MARK;
+            queue[(*nk)++] = u;
+            PREFETCH(TETS(uv[4] >> 2));
+            PREFETCH(TETS(uv[5] >> 2));
+            PREFETCH(TETS(uv[6] >> 2));
+            PREFETCH(TETS(uv[7] >> 2));
+            return 0;
+        }
+        if (*dup != VP_DT_NONE) return 1;
+        uv[1] |= MARK;
+    }
+    b = bftop - ++*nb;
+    x0 = v[FI[i][0]] & VMASK;
+    x1 = v[FI[i][1]] & VMASK;
+    x2 = v[FI[i][2]] & VMASK;
+    b->v[0] = x0;
+    b->v[1] = x1;
+    b->v[2] = x2;
+    b->outside = ref;
+    b->from = 4u * t + i;
+    /* in a ghost tet the ghost is v[3]: only where FI[i][k] == 3 */
+    b->lid = local_id(dt, x0, b, 0, nid, ghost_tet && FI[i][0] == 3) |
+             local_id(dt, x1, b, 1, nid, ghost_tet && FI[i][1] == 3) |
+             local_id(dt, x2, b, 2, nid, ghost_tet && FI[i][2] == 3);
+    return 0;
 }
 
 static uint32_t ehash_slot(uint32_t a, uint32_t b, uint32_t mask)
@@ -238,135 +468,210 @@ static uint32_t ehash_slot(uint32_t a, uint32_t b, uint32_t mask)
     return (uint32_t)((k * 0x9E3779B97F4A7C15ull) >> 40) & mask;
 }
 
+/* The fill with the gluing table: tet (a,b,c,p) on each boundary facet (a,b,c); vertex e goes
+ * to slot e ^ x, with x = 0 without the ghost and x = 3, 2, 1 when the ghost is a, b, c (the
+ * slots of POS). The facet opposite vertex e contains p and the half-edge (e+1 -> e+2): the
+ * first pass files each new tet under its three half-edges, the second reads each tet's
+ * neighbours from the half-edges the other way round (positions kept in old[], no longer
+ * needed). Returns the number of new ghost tets. */
+static NOINLINE uint32_t fill_glued(vp_dt_t *dt, uint32_t vid, bfacet_t *bf, uint32_t nb,
+                                    const uint32_t *created, uint32_t *tbl, uint32_t dim)
+{
+    uint32_t q, nghost_new = 0, *const tets_ = dt->tets;
+    const size_t stride_ = dt->stride;
+    for (q = 0; q < nb; q++) {
+        bfacet_t *b = bf + q;
+        uint32_t t = created[q], lid = b->lid, out = b->outside, t4 = 4u * t;
+        uint32_t x = (4u - ((lid >> LID_GHOST_SHIFT) & 3u)) & 3u, fresh = lid >> LID_NEW_SHIFT;
+        uint32_t ra = (lid & (LID_MAX - 1u)) * dim, la = lid & (LID_MAX - 1u);
+        uint32_t rb = ((lid >> LID_BITS) & (LID_MAX - 1u)) * dim, lb = (lid >> LID_BITS) & (LID_MAX - 1u);
+        uint32_t lc = (lid >> (2 * LID_BITS)) & (LID_MAX - 1u), rc = lc * dim;
+        uint32_t *w = TETS(t), *ow = TETS(out >> 2);
+        nghost_new += x != 0;
+        w[x] = b->v[0];
+        w[1u ^ x] = b->v[1];
+        w[2u ^ x] = b->v[2];
+        w[3u ^ x] = vid;
+        w[4u + (3u ^ x)] = out; /* facet opposite p: the outside neighbour */
+        ow[4u + (out & 3u)] = t4 + (3u ^ x);
+        ow[1] &= VMASK;         /* its "tested" mark goes */
+        tbl[rb + lc] = t4 + x;
+        tbl[rc + la] = t4 + (1u ^ x);
+        tbl[ra + lb] = t4 + (2u ^ x);
+        b->old[0] = rc + lb;
+        b->old[1] = ra + lc;
+        b->old[2] = rb + la;
+        if (fresh) { /* each boundary vertex: the new tet on the facet that numbered it */
+            if (fresh & 1u) VREC(dt, b->v[0]).tet = t;
+            if (fresh & 2u) VREC(dt, b->v[1]).tet = t;
+            if (fresh & 4u) VREC(dt, b->v[2]).tet = t;
+        }
+    }
+    for (q = 0; q < nb; q++) {
+        const bfacet_t *b = bf + q;
+        uint32_t *w = TETS(created[q]), x = (4u - ((b->lid >> LID_GHOST_SHIFT) & 3u)) & 3u;
+        w[4u + x] = tbl[b->old[0]];
+        w[4u + (1u ^ x)] = tbl[b->old[1]];
+        w[4u + (2u ^ x)] = tbl[b->old[2]];
+    }
+    return nghost_new;
+}
+
 /* Inserts vertex record vid (already appended, not yet in the triangulation) given a tet
- * `start` known to be in conflict with it. */
+ * `start` known to be in conflict with it.
+ *
+ * Scratch, in the free space between the tets (lo) and the vertex records (hi): while digging,
+ * the queue of cavity tets grows up from lo and the boundary facets grow down from hi. Then,
+ * below the boundary facets: the killed list, the killed tets' vertices, the created list,
+ * created_from (the lists the planner reads after the insertion), and the gluing table (or an
+ * edge hash for very large cavities). New tet slots beyond the old ones grow over the queue. */
 static int dig_and_fill(vp_dt_t *dt, uint32_t vid, uint32_t start, uint32_t *dupv)
 {
     const double *p = PT(dt, vid);
     unsigned char *lo = gap_lo(dt), *hi = gap_hi(dt);
-    uint32_t *ktop = (uint32_t *)((uintptr_t)hi & ~(uintptr_t)7u); /* killed list grows down */
-    uint32_t nk = 0, q, i, nb = 0, nghost_killed = 0, nghost_new = 0, hbits, hmask;
-    uint32_t reuse, from_free, extra;
+    uint32_t *queue = (uint32_t *)lo;
+    bfacet_t *bftop = (bfacet_t *)((uintptr_t)hi & ~(uintptr_t)7u), *bf;
+    uint32_t nk, nb = 0, q, nghost_killed = 0, nghost_new = 0, dim, reuse, from_free, extra;
     uint32_t dup = VP_DT_NONE;
-    bfacet_t *bf;
-    ehash_t *eh;
-    uint32_t *created, *killed, *kverts, *cfrom;
-    unsigned char *need_lo;
+    uint32_t *created, *killed, *kverts, *cfrom, *tbl = NULL;
+    double sbound = dt->sbound_is; /* p and every vertex lie in the box */
+    uint32_t *const tets_ = dt->tets;
+    const size_t stride_ = dt->stride;
+    ehash_t *eh = NULL;
+    uint32_t hmask = 0, nid = 1;
+    unsigned char *scratch_lo, *need_lo;
 
-    /* dig: breadth-first from start over tets in conflict */
-    if ((unsigned char *)(ktop - 1) < lo) return VP_ENOMEM;
-    TET(dt, start)[0] |= MARK;
-    ktop[-1] = start;
+    /* dig: breadth-first from start over tets in conflict, recording the boundary */
+    if ((unsigned char *)(queue + 8) > (unsigned char *)(bftop - 8)) return VP_ENOMEM;
+    TETS(start)[0] |= MARK;
+    queue[0] = start;
     nk = 1;
+    {
+        const uint32_t *sv = TETS(start);
+        PREFETCH(TETS(sv[4] >> 2));
+        PREFETCH(TETS(sv[5] >> 2));
+        PREFETCH(TETS(sv[6] >> 2));
+        PREFETCH(TETS(sv[7] >> 2));
+    }
     for (q = 0; q < nk; q++) {
-        const uint32_t *v = TET(dt, ktop[-1 - (ptrdiff_t)q]);
-        if (v[3] == VP_DT_GHOST) nghost_killed++;
-        for (i = 0; i < 4; i++) {
-            uint32_t u = v[4 + i] >> 2;
-            uint32_t *uv = TET(dt, u);
-            if ((uv[0] | uv[1]) & MARK) continue; /* in the cavity, or known not to be */
-            if (conflict(dt, uv, p, &dup)) {
-                if ((unsigned char *)(ktop - nk - 1) < lo) {
-                    unmark_cavity(dt, ktop, nk);
-                    return VP_ENOMEM;
-                }
-                uv[0] |= MARK;
-                ktop[-1 - (ptrdiff_t)nk] = u;
-                nk++;
-            } else {
-                if (dup != VP_DT_NONE) {
-                    unmark_cavity(dt, ktop, nk);
-                    *dupv = dup;
-                    return VP_EDUP;
-                }
-                uv[1] |= MARK;
-            }
+        uint32_t t = queue[q];
+        const uint32_t *v = TETS(t);
+        if ((unsigned char *)(queue + nk + 4) > (unsigned char *)(bftop - nb - 4)) {
+            unmark_cavity(dt, queue, nk, bftop - nb, nb);
+            return VP_ENOMEM;
+        }
+        if (v[3] != VP_DT_GHOST ?
+            dig_facet(dt, v, t, 0, p, sbound, queue, &nk, bftop, &nb, &nid, &dup, 0, tets_, stride_) ||
+            dig_facet(dt, v, t, 1, p, sbound, queue, &nk, bftop, &nb, &nid, &dup, 0, tets_, stride_) ||
+            dig_facet(dt, v, t, 2, p, sbound, queue, &nk, bftop, &nb, &nid, &dup, 0, tets_, stride_) ||
+            dig_facet(dt, v, t, 3, p, sbound, queue, &nk, bftop, &nb, &nid, &dup, 0, tets_, stride_) :
+            (nghost_killed++,
+             dig_facet(dt, v, t, 0, p, sbound, queue, &nk, bftop, &nb, &nid, &dup, 1, tets_, stride_) ||
+             dig_facet(dt, v, t, 1, p, sbound, queue, &nk, bftop, &nb, &nid, &dup, 1, tets_, stride_) ||
+             dig_facet(dt, v, t, 2, p, sbound, queue, &nk, bftop, &nb, &nid, &dup, 1, tets_, stride_) ||
+             dig_facet(dt, v, t, 3, p, sbound, queue, &nk, bftop, &nb, &nid, &dup, 1, tets_, stride_))) {
+            unmark_cavity(dt, queue, nk, bftop - nb, nb);
+            *dupv = dup;
+            return VP_EDUP;
         }
     }
-    /* count boundary facets: neighbours outside the cavity */
-    for (q = 0; q < nk; q++) {
-        const uint32_t *v = TET(dt, ktop[-1 - (ptrdiff_t)q]);
-        for (i = 0; i < 4; i++) nb += !(TET(dt, v[4 + i] >> 2)[0] & MARK);
-    }
-    /* reserve: boundary facets, edge hash, created list below the killed list; new slots */
-    for (hbits = 4; (1u << hbits) < 3u * nb; hbits++) {}
-    hmask = (1u << hbits) - 1u;
-    killed = ktop - nk;
+    bf = bftop - nb;
+
+    /* reserve the lists and the gluing scratch below the boundary facets, new slots above lo */
+    killed = (uint32_t *)bf - nk;
     kverts = killed - 4 * (size_t)nk;
     created = kverts - nb;
     cfrom = created - nb;
-    eh = (ehash_t *)((uintptr_t)(cfrom) & ~(uintptr_t)7u) - (hmask + 1u);
-    bf = (bfacet_t *)eh - nb;
+    dim = nb / 2 + 3; /* a cavity bounded by a sphere has nb / 2 + 2 boundary vertices */
+    scratch_lo = NULL;
+    if (nid <= LID_MAX && nid <= dim) { /* unless the cavity is huge (or not a ball) */
+        tbl = cfrom - (size_t)dim * dim;
+        scratch_lo = (unsigned char *)tbl;
+    }
     reuse = nb < nk ? nb : nk;
     from_free = nb - reuse < dt->nfree ? nb - reuse : dt->nfree;
     extra = nb - reuse - from_free;
     need_lo = lo + (size_t)extra * dt->stride * sizeof(uint32_t);
-    if ((uintptr_t)need_lo > (uintptr_t)bf || (unsigned char *)bf < lo) {
-        unmark_cavity(dt, ktop, nk);
-        return VP_ENOMEM;
+    if (need_lo < (unsigned char *)(queue + nk)) need_lo = (unsigned char *)(queue + nk);
+    if (!scratch_lo || (uintptr_t)scratch_lo < (uintptr_t)need_lo ||
+        (uintptr_t)scratch_lo > (uintptr_t)bf) {
+        uint32_t hbits;
+        untag_vertices(dt, bf, nb);
+        nid = 0;
+        for (hbits = 4; (1u << hbits) < 3u * nb; hbits++) {}
+        hmask = (1u << hbits) - 1u;
+        tbl = NULL;
+        eh = (ehash_t *)((uintptr_t)cfrom & ~(uintptr_t)7u) - (hmask + 1u);
+        scratch_lo = (unsigned char *)eh;
+        if ((uintptr_t)scratch_lo < (uintptr_t)need_lo || (uintptr_t)scratch_lo > (uintptr_t)bf) {
+            unmark_cavity(dt, queue, nk, bf, nb); /* the tags are gone already */
+            return VP_ENOMEM;
+        }
     }
-    /* record the boundary (vertices oriented towards p) and the killed tets' vertices before
-     * any slot is overwritten */
-    nb = 0;
+    /* nothing can fail from here on */
+
+    /* the killed tets, as they were, before any slot is overwritten */
     for (q = 0; q < nk; q++) {
-        const uint32_t *v = TET(dt, ktop[-1 - (ptrdiff_t)q]);
-        uint32_t *kv = kverts + 4 * (size_t)(nk - 1 - q); /* killed[] runs the other way */
+        uint32_t t = queue[q];
+        const uint32_t *v = TETS(t);
+        uint32_t *kv = kverts + 4 * (size_t)q;
+        killed[q] = t;
         kv[0] = v[0] & VMASK;
         kv[1] = v[1] & VMASK;
         kv[2] = v[2];
         kv[3] = v[3];
-        for (i = 0; i < 4; i++) {
-            uint32_t *uv = TET(dt, v[4 + i] >> 2);
-            if (uv[0] & MARK) continue;
-            uv[1] &= VMASK;
-            bf[nb].v[0] = v[FI[i][0]] & VMASK;
-            bf[nb].v[1] = v[FI[i][1]] & VMASK;
-            bf[nb].v[2] = v[FI[i][2]] & VMASK;
-            bf[nb].outside = v[4 + i];
-            cfrom[nb] = 4u * ktop[-1 - (ptrdiff_t)q] + i;
-            nb++;
-        }
     }
-    /* slots for the new tets: the killed ones first (same order as the killed list) */
-    for (q = 0; q < nb; q++)
-        created[q] = q < nk ? ktop[-1 - (ptrdiff_t)q] : tet_take(dt);
-    for (q = nb; q < nk; q++) tet_release(dt, ktop[-1 - (ptrdiff_t)q]);
-    memset(eh, 0xFF, (size_t)(hmask + 1u) * sizeof *eh);
+    if (eh) memset(eh, 0xFF, (size_t)(hmask + 1u) * sizeof *eh);
 
-    /* fill: tet (a,b,c,p); with the ghost among a,b,c an even permutation moves it to slot 3 */
-    for (q = 0; q < nb; q++) {
-        uint32_t t = created[q], *w = TET(dt, t), pos[4], vv[4], e;
-        vv[0] = bf[q].v[0]; vv[1] = bf[q].v[1]; vv[2] = bf[q].v[2]; vv[3] = vid;
-        if (vv[0] == VP_DT_GHOST)      { pos[0] = 3; pos[1] = 2; pos[2] = 1; pos[3] = 0; }
-        else if (vv[1] == VP_DT_GHOST) { pos[0] = 2; pos[1] = 3; pos[2] = 0; pos[3] = 1; }
-        else if (vv[2] == VP_DT_GHOST) { pos[0] = 1; pos[1] = 0; pos[2] = 3; pos[3] = 2; }
-        else                           { pos[0] = 0; pos[1] = 1; pos[2] = 2; pos[3] = 3; }
-        nghost_new += pos[3] != 3;
-        for (e = 0; e < 4; e++) w[pos[e]] = vv[e];
-        /* facet opposite p: the outside neighbour */
-        w[4 + pos[3]] = bf[q].outside;
-        TET(dt, bf[q].outside >> 2)[4 + (bf[q].outside & 3u)] = 4u * t + pos[3];
-        /* facet opposite vv[e] (e < 3) contains p and the edge of the other two */
-        for (e = 0; e < 3; e++) {
-            uint32_t x = vv[(e + 1) % 3], y = vv[(e + 2) % 3], h;
-            if (x > y) { uint32_t tmp = x; x = y; y = tmp; }
-            h = ehash_slot(x, y, hmask);
-            while (eh[h].a != VP_DT_NONE && (eh[h].a != x || eh[h].b != y)) h = (h + 1) & hmask;
-            if (eh[h].a == VP_DT_NONE) {
-                eh[h].a = x; eh[h].b = y; eh[h].ref = 4u * t + pos[e];
-            } else {
-                uint32_t o = eh[h].ref;
-                w[4 + pos[e]] = o;
-                TET(dt, o >> 2)[4 + (o & 3u)] = 4u * t + pos[e];
+    /* slots for the new tets: the killed ones first */
+    for (q = nb; q < nk; q++) tet_release(dt, killed[q]);
+
+    /* fill: tet (a,b,c,p) on each boundary facet (a,b,c) */
+    if (tbl) {
+        for (q = 0; q < nb; q++) {
+            created[q] = q < nk ? killed[q] : tet_take(dt);
+            cfrom[q] = bf[q].from;
+        }
+        nghost_new = fill_glued(dt, vid, bf, nb, created, tbl, dim);
+    } else {
+        /* a very large cavity: glued through the edge hash */
+        for (q = 0; q < nb; q++) {
+            uint32_t t = q < nk ? killed[q] : tet_take(dt), *w = TETS(t), out = bf[q].outside;
+            uint32_t *ow = TETS(out >> 2);
+            uint32_t a = bf[q].v[0], b = bf[q].v[1], c = bf[q].v[2], g, e, vv[3];
+            const unsigned char *pos;
+            g = (bf[q].lid >> LID_GHOST_SHIFT) & 3u; /* set while digging, whatever the gluing */
+            pos = POS[g];
+            nghost_new += g != 0;
+            w[pos[0]] = a;
+            w[pos[1]] = b;
+            w[pos[2]] = c;
+            w[pos[3]] = vid;
+            w[4 + pos[3]] = out;
+            ow[4 + (out & 3u)] = 4u * t + pos[3];
+            ow[1] &= VMASK;
+            cfrom[q] = bf[q].from;
+            created[q] = t;
+            if (a != VP_DT_GHOST) VREC(dt, a).tet = t;
+            if (b != VP_DT_GHOST) VREC(dt, b).tet = t;
+            if (c != VP_DT_GHOST) VREC(dt, c).tet = t;
+            vv[0] = a; vv[1] = b; vv[2] = c;
+            for (e = 0; e < 3; e++) {
+                uint32_t x = vv[(e + 1) % 3], y = vv[(e + 2) % 3], h;
+                if (x > y) { uint32_t tmp = x; x = y; y = tmp; }
+                h = ehash_slot(x, y, hmask);
+                while (eh[h].a != VP_DT_NONE && (eh[h].a != x || eh[h].b != y)) h = (h + 1) & hmask;
+                if (eh[h].a == VP_DT_NONE) {
+                    eh[h].a = x; eh[h].b = y; eh[h].ref = 4u * t + pos[e];
+                } else {
+                    uint32_t o = eh[h].ref;
+                    w[4 + pos[e]] = o;
+                    TETS(o >> 2)[4 + (o & 3u)] = 4u * t + pos[e];
+                }
             }
         }
     }
-    for (q = 0; q < nb; q++) {
-        uint32_t t = created[q], e;
-        const uint32_t *w = TET(dt, t);
-        for (e = 0; e < 4; e++)
-            if (w[e] != VP_DT_GHOST) VREC(dt, w[e]).tet = t;
-    }
+    VREC(dt, vid).tet = created[0];
     dt->nalive += nb - nk;
     dt->nghost += nghost_new - nghost_killed;
     dt->killed = killed;
@@ -376,7 +681,7 @@ static int dig_and_fill(vp_dt_t *dt, uint32_t vid, uint32_t start, uint32_t *dup
     dt->nkilled = nk;
     dt->ncreated = nb;
     dt->last_tet = created[0];
-    note_high_water(dt, (size_t)(gap_hi(dt) - (unsigned char *)bf));
+    note_high_water(dt, (size_t)(gap_hi(dt) - scratch_lo));
     return VP_OK;
 }
 
@@ -443,7 +748,7 @@ static int build_first(vp_dt_t *dt, uint32_t last)
         uint32_t t;
         if (VREC(dt, v).tet != VP_DT_NONE || v == s[0] || v == s[1] || v == s[2] || v == s[3])
             continue;
-        st = walk(dt, PT(dt, v), dt->last_tet, &t);
+        st = walk(dt, PT(dt, v), dt->last_tet, &t, dt->sbound_o3);
         if (st == VP_OK) st = dig_and_fill(dt, v, t, &dup);
         if (st != VP_OK) {
             /* back to flat: no tets, every vertex pending */
@@ -504,6 +809,7 @@ static int append_vertex(vp_dt_t *dt, const double p[3], uint32_t *vid)
     if ((size_t)(gap_hi(dt) - gap_lo(dt)) < 2 * sizeof(vp_dt_vertex_t) + 64) return VP_ENOMEM;
     r = &VREC(dt, dt->nvert);
     r->xyz[0] = p[0]; r->xyz[1] = p[1]; r->xyz[2] = p[2];
+    box_add(dt, p);
     r->tet = VP_DT_NONE;
     r->aux = 0;
     *vid = dt->nvert++;
@@ -524,7 +830,7 @@ static int insert_record(vp_dt_t *dt, uint32_t vid, uint32_t start, int located,
     }
     if (!located) {
         const uint32_t *v;
-        st = walk(dt, p, start, &start);
+        st = walk(dt, p, start, &start, dt->sbound_o3);
         if (st != VP_OK) return st;
         v = TET(dt, start);
         if (v[3] != VP_DT_GHOST) {
@@ -591,9 +897,11 @@ static int insert_chunk(vp_dt_t *dt, const double *xyz, uint32_t n, uint32_t *id
     for (k = 0; k < n; k++) {
         vp_dt_vertex_t *r = &VREC(dt, base + k);
         const double *p = xyz + 3 * (size_t)order[k];
+        if (k + 16 < n) PREFETCH(xyz + 3 * (size_t)order[k + 16]);
         r->xyz[0] = p[0]; r->xyz[1] = p[1]; r->xyz[2] = p[2];
         r->tet = VP_DT_NONE;
         r->aux = id0 + order[k];
+        box_add(dt, p);
         if (ids) ids[id0 + order[k]] = base + k;
     }
     dt->nvert = base + n;

@@ -29,6 +29,8 @@
 #define VP_DT_GHOST 0x3FFFFFFFu /* the infinite vertex */
 #define VP_DT_NONE  0xFFFFFFFFu /* no tet / no vertex */
 #define VP_DT_MAX_VERTICES 0x3FFFFFF0u
+#define VP_DT_LOWBIT_NONE 100000   /* lowbit before any nonzero coordinate */
+#define VP_DT_LOWBIT_OFF (-100000) /* lowbit no longer tracked */
 
 /* One vertex record: 32 bytes. */
 typedef struct vp_dt_vertex {
@@ -55,6 +57,11 @@ typedef struct vp_dt {
     uint32_t rng;                    /* walk randomisation (a local LCG, deterministic) */
     int dim;                         /* -1 empty, 0..2 pending (flat so far), 3 tetrahedralised */
     uint32_t span[4];                /* pending mode: vertices spanning the current dimension */
+    double box_lo[3], box_hi[3];     /* bounding box of every vertex record ever appended */
+    double sbound_o3, sbound_is;     /* static filter bounds for that box (vp_pred.h); 0 when
+                                      * the box and lowbit make the filters exact */
+    int lowbit;                      /* every coordinate so far is a multiple of 2^lowbit;
+                                      * VP_DT_LOWBIT_OFF once that can no longer help */
     size_t high_water;               /* most bytes of the arena ever in use */
     uint64_t walk_steps;             /* statistics: tets visited by walks */
 } vp_dt_t;

@@ -1,6 +1,11 @@
 /* vp_pred.c — exact geometric predicates (see vp_pred.h for the conventions).
  *
  * Each predicate is the sign of a polynomial in coordinate differences. Stages, in order:
+ *   F  (vp_pred.h, inline) static filter (bound from a bounding box, for vp_dt) and
+ *      semi-static filter (bound from the largest differences); for an integer grid whose
+ *      box makes the evaluation exact, the static bound is 0 (vp_*_box_exact).
+ *   A' exactness certificate (small integer differences at a common power-of-two scale): the
+ *      floating-point value is exact, zero included. Tried first by the tails.
  *   A  floating-point evaluation; the answer stands when |det| exceeds c * permanent, c a
  *      compile-time constant derived below for each predicate (rounding-error count).
  *   B  orient3d and insphere: double-double evaluation on the exact differences (each one a
@@ -28,9 +33,10 @@
  * and the error bounds (which multiply permanents by >= 2^-100) never underflow. The upper end
  * keeps every value, including Veltkamp's 2^27 * a, below 2^1020.
  *
- * Worst-case stack, gcc 12 -fstack-usage summed along the deepest call chain
- * (vp_insphere_sos -> vp_insphere_stats -> insphere_big -> big_det3 -> big_minor -> big_diff):
- *   x86-64 -O2: 4568 bytes; Cortex-M4 -mthumb -Os: 4160 bytes (+ libgcc soft-float helpers).
+ * Worst-case stack, gcc 12 -fstack-usage summed along the deepest call chain (vp_insphere_sos
+ * -> vp_insphere_tail -> insphere_tail -> insphere_big -> big_det3 -> big_minor -> big_diff ->
+ * big_load): x86-64 -O2: 4360 bytes; Cortex-M4 -mthumb -Os: 3944 bytes (+ libgcc soft-float
+ * helpers).
  * insphere_big's limb arrays (790 x 4 bytes, sized for the widest possible input) dominate;
  * orient3d alone: 2.9 KB / 2.5 KB. No recursion, no heap, no writable static data.
  */
@@ -42,6 +48,14 @@
 
 #define EPS 0x1p-53
 #define UNDECIDED 2
+
+/* the error-free transformations and double-double steps are small: inline them into the
+ * stages (not when optimising for size) */
+#if defined(__GNUC__) && !defined(__OPTIMIZE_SIZE__)
+#define EFT_INLINE static inline __attribute__((always_inline))
+#else
+#define EFT_INLINE static inline
+#endif
 
 #define COUNT(st, field) do { if (st) (st)->field++; } while (0)
 
@@ -69,7 +83,7 @@
  */
 
 /* x = fl(a + b), x + y = a + b exactly. */
-static void two_sum(double a, double b, double *x, double *y)
+EFT_INLINE void two_sum(double a, double b, double *x, double *y)
 {
     double s = a + b;
     double bv = s - a;
@@ -79,7 +93,7 @@ static void two_sum(double a, double b, double *x, double *y)
 }
 
 /* x = fl(a - b), x + y = a - b exactly. */
-static void two_diff(double a, double b, double *x, double *y)
+EFT_INLINE void two_diff(double a, double b, double *x, double *y)
 {
     double s = a - b;
     double bv = a - s;
@@ -89,7 +103,7 @@ static void two_diff(double a, double b, double *x, double *y)
 }
 
 /* Veltkamp: a = hi + lo, each half fits in 26 bits. */
-static void split(double a, double *hi, double *lo)
+EFT_INLINE void split(double a, double *hi, double *lo)
 {
     double c = 134217729.0 * a; /* 2^27 + 1 */
     double big = c - a;
@@ -98,7 +112,7 @@ static void split(double a, double *hi, double *lo)
 }
 
 /* Dekker: x = fl(a * b), x + y = a * b exactly. */
-static void two_prod(double a, double b, double *x, double *y)
+EFT_INLINE void two_prod(double a, double b, double *x, double *y)
 {
     double ah, al, bh, bl, p = a * b;
     split(a, &ah, &al);
@@ -235,14 +249,14 @@ struct dd {
     double hi, lo;
 };
 
-static struct dd dd_diff(double a, double b)
+EFT_INLINE struct dd dd_diff(double a, double b)
 {
     struct dd z;
     two_diff(a, b, &z.hi, &z.lo);
     return z;
 }
 
-static struct dd dd_mul(struct dd x, struct dd y)
+EFT_INLINE struct dd dd_mul(struct dd x, struct dd y)
 {
     double ph, pl, c;
     struct dd z;
@@ -252,7 +266,7 @@ static struct dd dd_mul(struct dd x, struct dd y)
     return z;
 }
 
-static struct dd dd_add(struct dd x, struct dd y)
+EFT_INLINE struct dd dd_add(struct dd x, struct dd y)
 {
     double sh, sl;
     struct dd z;
@@ -261,7 +275,7 @@ static struct dd dd_add(struct dd x, struct dd y)
     return z;
 }
 
-static struct dd dd_sub(struct dd x, struct dd y)
+EFT_INLINE struct dd dd_sub(struct dd x, struct dd y)
 {
     y.hi = -y.hi;
     y.lo = -y.lo;
@@ -269,7 +283,7 @@ static struct dd dd_sub(struct dd x, struct dd y)
 }
 
 /* [xy] minor of two dd 3-vectors: x0 y1 - x1 y0 */
-static struct dd dd_minor(const struct dd *x, const struct dd *y)
+EFT_INLINE struct dd dd_minor(const struct dd *x, const struct dd *y)
 {
     return dd_sub(dd_mul(x[0], y[1]), dd_mul(x[1], y[0]));
 }
@@ -341,6 +355,82 @@ static int rescale(const double *const *p, int np, int lo, int hi, double (*out)
     for (i = 0; i < np; i++)
         for (k = 0; k < 3; k++) out[i][k] = p[i][k] * f;
     return 1;
+}
+
+/* ------------------------------------------------------------------------------------------
+ * Exactness certificate (stage A', tried first by the tails): when every coordinate is an
+ * integer multiple of 2^s and every computed difference p_i - o is below 2^(s + bits) in
+ * magnitude, the differences are exact (an exact difference is a multiple of 2^s, and it is
+ * below 2^(s + bits) because rounding is monotone), and every product and sum of a
+ * floating-point evaluation of a degree-k polynomial in them is an integer multiple of
+ * 2^(j s), j <= k, whose magnitude the caller's choice of `bits` keeps below 2^(53 + j s):
+ * no rounding anywhere, so the sign is exact, zero included. Typical of integer grids, where
+ * filters cannot decide exact zeros. 2^(s + bits) is the power of two just above the largest
+ * |difference|. Only s <= 0 is tried (grids with unit or finer spacing relative to their
+ * extent): then q / 2^s cannot underflow, and k s >= -1074 keeps subnormals out; no overflow,
+ * as 2^(k bits + 7) is small.
+ */
+/* largest |q - o| so far */
+static inline double si_span(double m, const double *q, const double *o)
+{
+    double dx = fabs(q[0] - o[0]), dy = fabs(q[1] - o[1]), dz = fabs(q[2] - o[2]);
+    m = m > dx ? m : dx;
+    m = m > dy ? m : dy;
+    return m > dz ? m : dz;
+}
+
+/* q / 2^s: accumulates the distance to the nearest integers (for |t| < 2^51,
+ * (t + 1.5 * 2^52) - 1.5 * 2^52 is t rounded to an integer; no cancellation in the sum) and
+ * the largest |t| */
+static inline void si_check(const double *q, double inv, double *err, double *big)
+{
+    double t0 = q[0] * inv, t1 = q[1] * inv, t2 = q[2] * inv;
+    double r0 = (t0 + 0x1.8p52) - 0x1.8p52, r1 = (t1 + 0x1.8p52) - 0x1.8p52;
+    double r2 = (t2 + 0x1.8p52) - 0x1.8p52, a0 = fabs(t0), a1 = fabs(t1), a2 = fabs(t2), m;
+    *err += (fabs(t0 - r0) + fabs(t1 - r1)) + fabs(t2 - r2);
+    m = a0 > a1 ? a0 : a1;
+    m = m > a2 ? m : a2;
+    *big = *big > m ? *big : m;
+}
+
+/* inv = 2^-s for the largest difference m, or 0 when s would be positive or too small */
+static double si_scale(double m, int bits, int k)
+{
+    int s;
+    if (!(m > 0.0 && m <= 0x1.fffffffffffffp1023)) return 0.0;
+    s = exponent_of(m) + 1 - bits;
+    if (s > 0 || k * s < -1074) return 0.0;
+    return pow2(-s); /* >= 1: q * inv is exact or overflows */
+}
+
+/* the certificate for insphere(a, b, c, d, e): differences from e, 9 bits, degree 5 */
+static int small_integers5(const double *a, const double *b, const double *c, const double *d,
+                           const double *e)
+{
+    double err = 0.0, big = 0.0;
+    double inv = si_scale(si_span(si_span(si_span(si_span(0.0, a, e), b, e), c, e), d, e), 9, 5);
+    if (inv == 0.0) return 0;
+    si_check(e, inv, &err, &big); /* most inputs that fail, fail here */
+    if (err != 0.0) return 0;
+    si_check(a, inv, &err, &big);
+    si_check(b, inv, &err, &big);
+    si_check(c, inv, &err, &big);
+    si_check(d, inv, &err, &big);
+    return big < 0x1p51 && err == 0.0;
+}
+
+/* the certificate for orient3d(a, b, c, d): differences from a, 16 bits, degree 3 */
+static int small_integers4(const double *a, const double *b, const double *c, const double *d)
+{
+    double err = 0.0, big = 0.0;
+    double inv = si_scale(si_span(si_span(si_span(0.0, b, a), c, a), d, a), 16, 3);
+    if (inv == 0.0) return 0;
+    si_check(a, inv, &err, &big);
+    if (err != 0.0) return 0;
+    si_check(b, inv, &err, &big);
+    si_check(c, inv, &err, &big);
+    si_check(d, inv, &err, &big);
+    return big < 0x1p51 && err == 0.0;
 }
 
 /* ------------------------------------------------------------------------------------------
@@ -703,8 +793,8 @@ static int orient3d_fp(const double *a, const double *b, const double *c, const 
     return orient3d_big(a, b, c, d);
 }
 
-int vp_orient3d_stats(const double *a, const double *b, const double *c, const double *d,
-                      struct vp_pred_stats *st)
+static int orient3d_tail(const double *a, const double *b, const double *c, const double *d,
+                         struct vp_pred_stats *st)
 {
     const double *p[4];
     double sc[4][3];
@@ -712,6 +802,15 @@ int vp_orient3d_stats(const double *a, const double *b, const double *c, const d
     p[1] = b;
     p[2] = c;
     p[3] = d;
+    /* 16 bits: minors < 2^33, terms < 2^49, det < 3 * 2^49 */
+    if (small_integers4(a, b, c, d)) {
+        double ux = b[0] - a[0], uy = b[1] - a[1], uz = b[2] - a[2];
+        double vx = c[0] - a[0], vy = c[1] - a[1], vz = c[2] - a[2];
+        double wx = d[0] - a[0], wy = d[1] - a[1], wz = d[2] - a[2];
+        double det = (wz * (ux * vy - uy * vx) + vz * (uy * wx - ux * wy)) + uz * (vx * wy - vy * wx);
+        COUNT(st, stage[VP_STAGE_EXACTDIFF]);
+        return det > 0.0 ? 1 : (det < 0.0 ? -1 : 0);
+    }
     if (!in_window(p, 4, 0x1p-248, 0x1p320)) {
         if (!all_finite(p, 4)) return 0;
         if (!rescale(p, 4, W3_LO, W3_HI, sc)) {
@@ -724,9 +823,25 @@ int vp_orient3d_stats(const double *a, const double *b, const double *c, const d
     return orient3d_fp(a, b, c, d, st);
 }
 
+int vp_orient3d_stats(const double *a, const double *b, const double *c, const double *d,
+                      struct vp_pred_stats *st)
+{
+    int r = vp_orient3d_filter(a, b, c, d);
+    if (r != VP_PRED_UNSURE) {
+        COUNT(st, stage[VP_STAGE_FILTER]);
+        return r;
+    }
+    return orient3d_tail(a, b, c, d, st);
+}
+
+int vp_orient3d_tail(const double *a, const double *b, const double *c, const double *d)
+{
+    return orient3d_tail(a, b, c, d, 0);
+}
+
 int vp_orient3d(const double *a, const double *b, const double *c, const double *d)
 {
-    return vp_orient3d_stats(a, b, c, d, 0);
+    return vp_orient3d_fast(a, b, c, d);
 }
 
 /* ------------------------------------------------------------------------------------------
@@ -872,8 +987,8 @@ static int insphere_fp(const double *a, const double *b, const double *c, const 
     return insphere_big(a, b, c, d, e);
 }
 
-int vp_insphere_stats(const double *a, const double *b, const double *c, const double *d,
-                      const double *e, struct vp_pred_stats *st)
+static int insphere_tail(const double *a, const double *b, const double *c, const double *d,
+                         const double *e, struct vp_pred_stats *st)
 {
     const double *p[5];
     double sc[5][3];
@@ -882,6 +997,22 @@ int vp_insphere_stats(const double *a, const double *b, const double *c, const d
     p[2] = c;
     p[3] = d;
     p[4] = e;
+    /* 9 bits: minors < 2^19, det3 < 6 * 2^27, lifts < 3 * 2^18, det < 72 * 2^45 */
+    if (small_integers5(a, b, c, d, e)) {
+        double aex = a[0] - e[0], aey = a[1] - e[1], aez = a[2] - e[2];
+        double bex = b[0] - e[0], bey = b[1] - e[1], bez = b[2] - e[2];
+        double cex = c[0] - e[0], cey = c[1] - e[1], cez = c[2] - e[2];
+        double dex = d[0] - e[0], dey = d[1] - e[1], dez = d[2] - e[2];
+        double ab = aex * bey - bex * aey, ac = aex * cey - cex * aey, ad = aex * dey - dex * aey;
+        double bc = bex * cey - cex * bey, bd = bex * dey - dex * bey, cd = cex * dey - dex * cey;
+        double bcd = (bez * cd - cez * bd) + dez * bc, acd = (aez * cd - cez * ad) + dez * ac;
+        double abd = (aez * bd - bez * ad) + dez * ab, abc = (aez * bc - bez * ac) + cez * ab;
+        double al = (aex * aex + aey * aey) + aez * aez, bl = (bex * bex + bey * bey) + bez * bez;
+        double cl = (cex * cex + cey * cey) + cez * cez, dl = (dex * dex + dey * dey) + dez * dez;
+        double det = (al * bcd - bl * acd) + (cl * abd - dl * abc);
+        COUNT(st, stage[VP_STAGE_EXACTDIFF]);
+        return det > 0.0 ? 1 : (det < 0.0 ? -1 : 0);
+    }
     if (!in_window(p, 5, 0x1p-128, 0x1p190)) {
         if (!all_finite(p, 5)) return 0;
         if (!rescale(p, 5, W5_LO, W5_HI, sc)) {
@@ -894,10 +1025,102 @@ int vp_insphere_stats(const double *a, const double *b, const double *c, const d
     return insphere_fp(a, b, c, d, e, st);
 }
 
+int vp_insphere_stats(const double *a, const double *b, const double *c, const double *d,
+                      const double *e, struct vp_pred_stats *st)
+{
+    int r = vp_insphere_filter(a, b, c, d, e);
+    if (r != VP_PRED_UNSURE) {
+        COUNT(st, stage[VP_STAGE_FILTER]);
+        return r;
+    }
+    return insphere_tail(a, b, c, d, e, st);
+}
+
+int vp_insphere_tail(const double *a, const double *b, const double *c, const double *d,
+                     const double *e)
+{
+    return insphere_tail(a, b, c, d, e, 0);
+}
+
 int vp_insphere(const double *a, const double *b, const double *c, const double *d,
                 const double *e)
 {
-    return vp_insphere_stats(a, b, c, d, e, 0);
+    return vp_insphere_fast(a, b, c, d, e);
+}
+
+int vp_orient3d_filter_ss(const double *a, const double *b, const double *c, const double *d)
+{
+    return vp_orient3d_filter(a, b, c, d);
+}
+
+int vp_insphere_filter_ss(const double *a, const double *b, const double *c, const double *d,
+                          const double *e)
+{
+    return vp_insphere_filter(a, b, c, d, e);
+}
+
+/* ------------------------------------------------------------------------------------------
+ * Static filter bounds (see vp_pred.h): the semi-static bounds with the box extents as the
+ * maxima. A computed extent is at least (1 - eps) times the exact one, as a computed maximum
+ * of differences is, so the derivation is unchanged.
+ */
+static int box_extents(const double lo[3], const double hi[3], double s[3])
+{
+    int k;
+    for (k = 0; k < 3; k++) {
+        s[k] = hi[k] - lo[k];
+        if (!(s[k] >= VP_PRED_FILTER_LO && s[k] <= VP_PRED_FILTER_HI)) return 0;
+    }
+    return 1;
+}
+
+double vp_orient3d_static_bound(const double lo[3], const double hi[3])
+{
+    double s[3];
+    if (!box_extents(lo, hi, s)) return HUGE_VAL;
+    return VP_PRED_FILTER_O3 * ((s[0] * s[1]) * s[2]);
+}
+
+double vp_insphere_static_bound(const double lo[3], const double hi[3])
+{
+    double s[3];
+    if (!box_extents(lo, hi, s)) return HUGE_VAL;
+    return VP_PRED_FILTER_IS * ((((s[0] * s[0] + s[1] * s[1]) + s[2] * s[2]) *
+                                 ((s[0] * s[1]) * s[2])));
+}
+
+int vp_lowest_bit(double x)
+{
+    uint64_t m;
+    int e;
+    dbl_parts(x, &m, &e);
+    return e + exponent_of((double)(m & (~m + 1u))); /* the lowest set bit, exactly */
+}
+
+/* Extents below 2^(lowbit + bits) with 2^lowbit a unit every coordinate is a multiple of:
+ * the differences are integers below 2^bits units, computed exactly (their exact values are
+ * representable). orient3d (bits 16): minors < 2^33, scaled < 2^49, det < 3 * 2^49 units.
+ * insphere (bits 9), scalar form: minors < 2^19, det3 < 3 * 2^28, lifts < 3 * 2^18,
+ * det < 36 * 2^46; two-lane form: m < 2^19, n < 3 * 2^28, m n < 3 * 2^47, det < 18 * 2^47.
+ * All below 2^53 units, units (2^(k lowbit), k <= degree) are >= 2^-1074, and values stay
+ * below 2^(degree (lowbit + bits) + 7) <= 2^1023: no rounding, no overflow. */
+static int box_exact(const double lo[3], const double hi[3], int lowbit, int bits, int degree)
+{
+    int k;
+    if (degree * lowbit < -1074 || degree * (lowbit + bits) + 7 > 1023) return 0;
+    for (k = 0; k < 3; k++)
+        if (!(hi[k] - lo[k] < pow2(lowbit + bits))) return 0;
+    return 1;
+}
+
+int vp_orient3d_box_exact(const double lo[3], const double hi[3], int lowbit)
+{
+    return box_exact(lo, hi, lowbit, 16, 3);
+}
+
+int vp_insphere_box_exact(const double lo[3], const double hi[3], int lowbit)
+{
+    return box_exact(lo, hi, lowbit, 9, 5);
 }
 
 /* ------------------------------------------------------------------------------------------
@@ -916,35 +1139,53 @@ int vp_insphere(const double *a, const double *b, const double *c, const double 
  * points coincide (then det M(delta) is identically 0: two equal rows).
  */
 
-int vp_insphere_sos_stats(const double *a, const double *b, const double *c, const double *d,
-                          const double *e, struct vp_pred_stats *st)
+static int lex_cmp(const double *a, const double *b)
 {
+    if (a[0] != b[0]) return a[0] < b[0] ? -1 : 1;
+    if (a[1] != b[1]) return a[1] < b[1] ? -1 : 1;
+    if (a[2] != b[2]) return a[2] < b[2] ? -1 : 1;
+    return 0;
+}
+
+static int insphere_perturbed(const double *a, const double *b, const double *c,
+                              const double *d, const double *e, struct vp_pred_stats *st,
+                              double o3b)
+{
+    static const unsigned char others[5][4] = {
+        { 1, 2, 3, 4 }, { 0, 2, 3, 4 }, { 0, 1, 3, 4 }, { 0, 1, 2, 4 }, { 0, 1, 2, 3 }
+    };
     const double *p[5];
-    int order[5], i, j, s;
-    s = vp_insphere_stats(a, b, c, d, e, st);
-    if (s != 0) return s;
+    unsigned used = 0;
+    int i, j;
     p[0] = a;
     p[1] = b;
     p[2] = c;
     p[3] = d;
     p[4] = e;
-    /* indices by decreasing lexicographic order (insertion sort) */
+    /* points by decreasing lexicographic order, selected one at a time: usually the first
+     * decides. Coincident points give 0 (the perturbation cannot separate them): while the
+     * largest remaining point q has a twin, C_q' = 0 for every q' before it (the twins are
+     * both among the other four), and selecting q compares it with its twin. */
     for (i = 0; i < 5; i++) {
-        int v = i;
-        for (j = i; j > 0; j--) {
-            int cmp = vp_lex_cmp(p[order[j - 1]], p[v]);
+        int q = -1, o;
+        const unsigned char *r;
+        for (j = 0; j < 5; j++) {
+            int cmp;
+            if (used & (1u << j)) continue;
+            if (q < 0) { q = j; continue; }
+            cmp = lex_cmp(p[j], p[q]);
             if (cmp == 0) return 0; /* coincident points */
-            if (cmp > 0) break;
-            order[j] = order[j - 1];
+            if (cmp > 0) q = j;
         }
-        order[j] = v;
-    }
-    for (i = 0; i < 5; i++) {
-        int q = order[i], k, n = 0, o;
-        const double *r[4];
-        for (k = 0; k < 5; k++)
-            if (k != q) r[n++] = p[k];
-        o = vp_orient3d(r[0], r[1], r[2], r[3]);
+        used |= 1u << q;
+        r = others[q];
+        if (o3b == HUGE_VAL) {
+            o = vp_orient3d_fast(p[r[0]], p[r[1]], p[r[2]], p[r[3]]);
+        } else {
+            o = vp_orient3d_filter_b(p[r[0]], p[r[1]], p[r[2]], p[r[3]], o3b);
+            if (o == VP_PRED_UNSURE)
+                o = o3b == 0.0 ? 0 : vp_orient3d_tail(p[r[0]], p[r[1]], p[r[2]], p[r[3]]);
+        }
         if (q & 1) o = -o; /* rows 2 and 4 (b, d) take a minus sign */
         if (o != 0) {
             COUNT(st, sos);
@@ -954,10 +1195,30 @@ int vp_insphere_sos_stats(const double *a, const double *b, const double *c, con
     return 0;
 }
 
+int vp_insphere_sos_stats(const double *a, const double *b, const double *c, const double *d,
+                          const double *e, struct vp_pred_stats *st)
+{
+    int s = vp_insphere_stats(a, b, c, d, e, st);
+    return s != 0 ? s : insphere_perturbed(a, b, c, d, e, st, HUGE_VAL);
+}
+
+int vp_insphere_sos_zero(const double *a, const double *b, const double *c, const double *d,
+                         const double *e)
+{
+    return insphere_perturbed(a, b, c, d, e, 0, HUGE_VAL);
+}
+
+int vp_insphere_sos_zero_b(const double *a, const double *b, const double *c, const double *d,
+                           const double *e, double o3_static_bound)
+{
+    return insphere_perturbed(a, b, c, d, e, 0, o3_static_bound);
+}
+
 int vp_insphere_sos(const double *a, const double *b, const double *c, const double *d,
                     const double *e)
 {
-    return vp_insphere_sos_stats(a, b, c, d, e, 0);
+    int s = vp_insphere_fast(a, b, c, d, e);
+    return s != 0 ? s : insphere_perturbed(a, b, c, d, e, 0, HUGE_VAL);
 }
 
 /* ------------------------------------------------------------------------------------------

@@ -403,6 +403,22 @@ static void gen_window_edge(double (*P)[3])
     }
 }
 
+/* at the edges of the inline filters' window (maxima of the differences near 2^-190 and
+ * 2^190), with some differences tiny enough that their products underflow, near-degenerate
+ * (grid points nudged by an ulp) */
+static void gen_filter_edge(double (*P)[3])
+{
+    int i, k, e = (rnd() & 1) ? rint_in(-196, -184) : rint_in(184, 196);
+    double s = pow2i(e), tiny = pow2i(rint_in(-1074, -900));
+    for (i = 0; i < 5; i++)
+        for (k = 0; k < 3; k++) {
+            int mode = rint_in(0, 5);
+            if (mode == 0) P[i][k] = tiny * rint_in(-3, 3);
+            else if (mode == 1) P[i][k] = s * srand1();
+            else P[i][k] = nudge(s * rint_in(-2, 2), rint_in(-1, 1));
+        }
+}
+
 /* ---------------------------------------------------------------- checks */
 
 struct gen_class {
@@ -412,6 +428,7 @@ struct gen_class {
 };
 
 static struct vp_pred_stats st_o3, st_is, st_o2, st_cd;
+static long exact_boxes;
 
 static void dump_case(const double (*P)[3])
 {
@@ -431,6 +448,12 @@ static long run_class(const struct gen_class *g)
         want = ref_orient3d((const double (*)[3])P, 0, 1, 2, 3);
         CHECKF(got == want, "%s orient3d got %d want %d", g->name, got, want);
         if (got != want) dump_case((const double (*)[3])P);
+        {
+            int f = vp_orient3d_filter(P[0], P[1], P[2], P[3]);
+            CHECKF(f == VP_PRED_UNSURE || f == want, "%s orient3d filter %d want %d", g->name, f, want);
+            CHECKF(vp_orient3d_tail(P[0], P[1], P[2], P[3]) == want, "%s orient3d tail", g->name);
+            checks += 2;
+        }
         got = vp_orient3d_stats(P[4], P[2], P[1], P[3], &st_o3);
         want = ref_orient3d((const double (*)[3])P, 4, 2, 1, 3);
         CHECKF(got == want, "%s orient3d(4213) got %d want %d", g->name, got, want);
@@ -438,6 +461,56 @@ static long run_class(const struct gen_class *g)
         want = ref_insphere((const double (*)[3])P);
         CHECKF(got == want, "%s insphere got %d want %d", g->name, got, want);
         if (got != want) dump_case((const double (*)[3])P);
+        {
+            /* the inline filter answers right or not at all; the tail is exact */
+            int f = vp_insphere_filter(P[0], P[1], P[2], P[3], P[4]);
+            CHECKF(f == VP_PRED_UNSURE || f == want, "%s insphere filter %d want %d", g->name, f, want);
+            if (f != VP_PRED_UNSURE && f != want) dump_case((const double (*)[3])P);
+            CHECKF(vp_insphere_tail(P[0], P[1], P[2], P[3], P[4]) == want, "%s insphere tail", g->name);
+            checks += 2;
+        }
+        {
+            /* static bounds from the box of the five points (sometimes a larger box) */
+            double lo[3], hi[3], sb;
+            int i, k, f;
+            for (k = 0; k < 3; k++) {
+                lo[k] = hi[k] = P[0][k];
+                for (i = 1; i < 5; i++) {
+                    if (P[i][k] < lo[k]) lo[k] = P[i][k];
+                    if (P[i][k] > hi[k]) hi[k] = P[i][k];
+                }
+                if (n % 4 == 3) hi[k] += (hi[k] - lo[k]) * 0.5;
+            }
+            sb = vp_insphere_static_bound(lo, hi);
+            f = vp_insphere_filter_b(P[0], P[1], P[2], P[3], P[4], sb);
+            CHECKF(f == VP_PRED_UNSURE || f == want, "%s insphere static filter %d want %d", g->name, f, want);
+            if (f != VP_PRED_UNSURE && f != want) dump_case((const double (*)[3])P);
+            {
+                /* exact boxes (grids): bound 0, UNSURE exactly for zeros */
+                int lb = 100000, xi, xo;
+                for (i = 0; i < 5; i++)
+                    for (k = 0; k < 3; k++)
+                        if (P[i][k] != 0.0 && vp_lowest_bit(P[i][k]) < lb) lb = vp_lowest_bit(P[i][k]);
+                xi = lb < 100000 && vp_insphere_box_exact(lo, hi, lb);
+                xo = lb < 100000 && vp_orient3d_box_exact(lo, hi, lb);
+                if (xi) {
+                    f = vp_insphere_filter_b(P[0], P[1], P[2], P[3], P[4], 0.0);
+                    CHECKF(f == (want ? want : VP_PRED_UNSURE), "%s insphere exact box %d want %d",
+                           g->name, f, want);
+                    exact_boxes++;
+                }
+                want = ref_orient3d((const double (*)[3])P, 4, 2, 1, 3);
+                if (xo) {
+                    f = vp_orient3d_filter_b(P[4], P[2], P[1], P[3], 0.0);
+                    CHECKF(f == (want ? want : VP_PRED_UNSURE), "%s orient3d exact box %d want %d",
+                           g->name, f, want);
+                }
+            }
+            sb = vp_orient3d_static_bound(lo, hi);
+            f = vp_orient3d_filter_b(P[4], P[2], P[1], P[3], sb);
+            CHECKF(f == VP_PRED_UNSURE || f == want, "%s orient3d static filter %d want %d", g->name, f, want);
+            checks += 4;
+        }
         got = vp_orient2d_proj_stats(P[0], P[1], P[2], drop, &st_o2);
         want = ref_orient2d((const double (*)[3])P, drop);
         CHECKF(got == want, "%s orient2d got %d want %d", g->name, got, want);
@@ -522,6 +595,26 @@ static long check_sos(long cases, gen_fn gen, const char *name, struct vp_pred_s
         if (dup) want = 0;
         CHECKF(s == want, "%s sos got %d want %d", name, s, want);
         if (s != want) dump_case((const double (*)[3])P);
+        if (vp_insphere(P[0], P[1], P[2], P[3], P[4]) == 0) {
+            double lo[3], hi[3];
+            int lb = 100000;
+            CHECKF(vp_insphere_sos_zero(P[0], P[1], P[2], P[3], P[4]) == want,
+                   "%s sos_zero differs", name);
+            for (k = 0; k < 3; k++) {
+                lo[k] = hi[k] = P[0][k];
+                for (i = 0; i < 5; i++) {
+                    if (P[i][k] < lo[k]) lo[k] = P[i][k];
+                    if (P[i][k] > hi[k]) hi[k] = P[i][k];
+                    if (P[i][k] != 0.0 && vp_lowest_bit(P[i][k]) < lb) lb = vp_lowest_bit(P[i][k]);
+                }
+            }
+            CHECKF(vp_insphere_sos_zero_b(P[0], P[1], P[2], P[3], P[4],
+                                          vp_orient3d_static_bound(lo, hi)) == want,
+                   "%s sos_zero_b (static) differs", name);
+            if (lb < 100000 && vp_orient3d_box_exact(lo, hi, lb))
+                CHECKF(vp_insphere_sos_zero_b(P[0], P[1], P[2], P[3], P[4], 0.0) == want,
+                       "%s sos_zero_b (exact box) differs", name);
+        }
         o = vp_orient3d(P[0], P[1], P[2], P[3]);
         if (o != 0 && !dup) CHECKF(s != 0, "%s sos returned 0 for a proper tetrahedron", name);
         for (i = 0; i < 6; i++) {
@@ -680,6 +773,7 @@ int main(int argc, char **argv)
         { "wide-degenerate", gen_wide_degenerate, 20000 },
         { "extreme-grid", gen_extreme_grid, 50000 },
         { "window-edge", gen_window_edge, 50000 },
+        { "filter-edge", gen_filter_edge, 30000 },
     };
     double scale = 1.0, t0 = now();
     long total = 0;
@@ -697,6 +791,8 @@ int main(int argc, char **argv)
         total += k;
         printf("%-16s %8ld cases %9ld checks %6.2fs\n", g.name, g.cases, k, now() - t1);
     }
+    printf("exact-box cases: %ld\n", exact_boxes);
+    CHECK(exact_boxes > 1000);
     print_stats("orient3d", &st_o3);
     print_stats("insphere", &st_is);
     print_stats("orient2d", &st_o2);
@@ -709,6 +805,7 @@ int main(int argc, char **argv)
         k += check_sos((long)(20000 * scale), gen_extreme_grid, "extreme-grid", &st_sos);
         k += check_sos((long)(20000 * scale), gen_window_edge, "window-edge", &st_sos);
         k += check_sos((long)(20000 * scale), gen_sphere, "sphere", &st_sos);
+        k += check_sos((long)(20000 * scale), gen_filter_edge, "filter-edge", &st_sos);
         long kf = check_facets((long)(200000 * scale));
         total += k + kf;
         printf("%-16s %8s       %9ld checks %6.2fs (+ %ld shared-facet checks)\n", "sos", "", k,
