@@ -89,7 +89,7 @@ int main(void)
     CHECK(!strcmp(b.camera.backend, "v4l2") && !strcmp(b.camera.device, "/dev/video0") && b.camera.exposure_us == 1000);
     CHECK(b.camera.format == VP_FOURCC('G', 'R', 'E', 'Y') && b.cam_model.fx == 350 && b.cam_model.fy == 350);
     CHECK(b.min_range == 10 && b.max_range == 400 && !b.calibrated && b.tri.max_range > b.tri.min_range);
-    CHECK(b.omega_kind == VP_OMEGA_BALL && b.omega_radius == 80 && b.eps == 20 && b.start[2] == 232);
+    CHECK(b.omega_kind == VP_OMEGA_BALL && b.omega_radius == 80 && b.eps == 16 && b.start[2] == 232);
     CHECK(!strcmp(b.sim_surface, "ellipsoid*50@200,150,150"));
     CHECK(b.near_measure == 0 && !b.calibration[0] && b.have_fixture && b.cal_target[0] == 300 && b.cal_stations == 20);
     CHECK(b.sim_cam.pos[1] == b.cam_model.pos[1] && b.sim_cam.rot[0] == b.cam_model.rot[0]);
@@ -201,7 +201,7 @@ int main(void)
     t = edit("[board]", "[board]\n[board]");
     snprintf(loc, sizeof loc, "rpi4.ini:%d: ", line_of(t, "[board]") + 1);
     bad(t, loc, "[board]: section repeated (first at line 7)");
-    t = edit("eps = 20 ", "eps = 0 ");
+    t = edit("eps = 16 ", "eps = 0 ");
     bad(t, LOC("eps = 0"), "[omega] eps: 0 must be positive");
     /* with io = sim the pins and the e-stop are not needed */
     t = edit("io = gpiod", "io = sim");

@@ -670,7 +670,8 @@ int vp_cmd_scan(int argc, char **argv)
             printf("warning: the planner said DONE but the mesh is not closed (%zu boundary edges): the planner leaves open "
                    "what its probes could not see (%llu too-close results%s, %llu Voronoi edges occluded from dOmega)\n",
                    mc.boundary_edges, (unsigned long long)ps.too_close,
-                   o.near ? "" : ": --near-spots measure reports near spots as hits", (unsigned long long)ps.occluded);
+                   o.near || !ps.too_close ? "" : ": --near-spots measure reports near spots as hits",
+                   (unsigned long long)ps.occluded);
             rc = 4;
         }
         if (o.dry) {
