@@ -33,13 +33,13 @@ for c in $CASES; do
   s=${c%%:*}; e=${c#*:}
   : >"$D/sim.txt"
   i=0; while [ $i -lt "$RUNS" ]; do
-    "$VP" sim --surface "$s" --eps "$e" --quiet --json --hausdorff 0 --out "$D/$s-$e" | tail -1 >>"$D/sim.txt"; i=$((i+1)); done
+    "$VP" sim --surface "$s" --eps "$e" --quiet --json --hausdorff 0 --no-log --out "$D/$s-$e" | tail -1 >>"$D/sim.txt"; i=$((i+1)); done
   line=$(head -1 "$D/sim.txt")
   vs=$(field total_seconds <"$D/sim.txt" | median)
   v=$(echo "$line" | field vertices); p=$(echo "$line" | field probes); h=$(echo "$line" | field hits)
   tr=$(echo "$line" | field travel); co=$(echo "$line" | field collisions); ab=$(echo "$line" | field arena_bytes_peak)
   cm=$(echo "$line" | field closed_manifold); g=$(echo "$line" | field genus)
-  pap=$("$VP" sim --surface "$s" --eps "$e" --quiet --json --hausdorff 0 --paper --out "$D/$s-$e-paper" | tail -1)
+  pap=$("$VP" sim --surface "$s" --eps "$e" --quiet --json --hausdorff 0 --no-log --paper --out "$D/$s-$e-paper" | tail -1)
   pp=$(echo "$pap" | field probes); pv=$(echo "$pap" | field vertices); pt=$(echo "$pap" | field travel)
   cs=""; cv=""; src=""
   if [ -n "$cgal" ]; then

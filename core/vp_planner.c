@@ -955,11 +955,29 @@ static int exhaustive(const vp_planner_t *pl)
     return (pl->cfg.flags & VP_PLAN_PAPER) || pl->exhaustive;
 }
 
+/* A task is live while its tet is and its side is marked queued. A tet killed by an
+ * insertion leaves its tasks behind (its slot may hold a new tet, whose sides start
+ * unqueued, and any task pushed for that new tet lies above the old ones on the stack and is
+ * popped first, clearing the mark): dropped here when the stack is full, skipped when popped. */
+static int task_live(const vp_planner_t *pl, const vp_task_t *k)
+{
+    return vp_dt_alive(&pl->dt, k->tet) && (side_get(pl, k->tet, k->facet) & SIDE_QUEUED);
+}
+
+static void task_compact(vp_planner_t *pl)
+{
+    uint32_t i, n = 0;
+    for (i = 0; i < pl->ntask; i++)
+        if (task_live(pl, &pl->task[i])) pl->task[n++] = pl->task[i];
+    pl->ntask = n;
+}
+
 static int task_push(vp_planner_t *pl, uint32_t t, int f, int forced)
 {
     unsigned s = side_get(pl, t, f);
     vp_task_t *k;
     if (s & SIDE_QUEUED) return VP_OK;
+    if (pl->ntask >= pl->cap_task) task_compact(pl);
     if (pl->ntask >= pl->cap_task) return VP_ENOMEM;
     k = &pl->task[pl->ntask++];
     k->tet = t;
@@ -1046,7 +1064,7 @@ static int task_start(vp_planner_t *pl, vp_task_t *k)
     edgegeom_t g;
     double o[3], range;
     uint32_t goal = NONE;
-    if (!vp_dt_alive(&pl->dt, t)) return 0;
+    if (!task_live(pl, k)) return 0;
     side_set(pl, t, f, s & ~(SIDE_QUEUED | SIDE_FORCED));
     if ((s & SIDE_MASK) != SIDE_UNKNOWN && (s & SIDE_MASK) != SIDE_BEHIND) return 0;
     w = vp_dt_tet(&pl->dt, t);
@@ -1443,6 +1461,7 @@ static int refine(vp_planner_t *pl)
     uint32_t k = choose_ball(pl), t, v = NONE, fv[3];
     int fi, st;
     double c[3];
+    if (pl->ntask + 256 > pl->cap_task) task_compact(pl);
     if (!pools_have_room(pl)) return VP_ENOMEM;
     memcpy(fv, pl->frec[k].v, sizeof fv);
     memcpy(c, pl->frec[k].c, sizeof c);
@@ -1857,17 +1876,17 @@ int vp_planner_init(vp_planner_t *pl, void *arena, size_t bytes, const vp_planne
     cur = pl->arena;
     end = pl->arena + bytes;
     /* the split, per 100 units, from the peaks measured per output vertex (README): the
-     * triangulation 34, records 34, free edges 11, facets 9, hash 3, path search 3, paths 1,
-     * tasks 1, heap 1, route 1 */
+     * triangulation 30, records 30, free edges 8, facets 8, tasks 8, hash 2-4, path search and
+     * hole scratch 9, paths 1, heap 1, route 1 */
     unit = bytes / 100;
     if (bytes < 64 * 1024) return VP_ENOMEM;
-    pl->cap_vrec = (uint32_t)(34 * unit / sizeof(vp_vrec_t));
-    pl->cap_frec = (uint32_t)(9 * unit / sizeof(vp_frec_t));
-    pl->cap_fedge = (uint32_t)(11 * unit / 16);
-    for (hwords = 1; (size_t)hwords * 2 * 4 <= 3 * unit; hwords <<= 1) {}
-    pl->cap_astar = (uint32_t)(3 * unit / 4);
+    pl->cap_vrec = (uint32_t)(30 * unit / sizeof(vp_vrec_t));
+    pl->cap_frec = (uint32_t)(8 * unit / sizeof(vp_frec_t));
+    pl->cap_fedge = (uint32_t)(8 * unit / 16);
+    for (hwords = 1; (size_t)hwords * 2 * 4 <= 4 * unit; hwords <<= 1) {}
+    pl->cap_astar = (uint32_t)(9 * unit / 4);
     pl->cap_path = (uint32_t)(unit / 4);
-    pl->cap_task = (uint32_t)(unit / sizeof(vp_task_t));
+    pl->cap_task = (uint32_t)(8 * unit / sizeof(vp_task_t));
     pl->cap_heap = (uint32_t)(unit / 4);
     pl->cap_route = (uint32_t)(unit / 24);
     if (pl->cap_route > 4096) pl->cap_route = 4096;
@@ -1959,7 +1978,14 @@ int vp_planner_next(vp_planner_t *pl, vp_cmd_t *cmd)
             break;
         case PH_RUN:
             st = VP_OK;
-            if (pl->ntask > 0) {
+            if (pl->nheap > 0 && !exhaustive(pl) &&
+                !(pl->ntask > 0 && pl->task[pl->ntask - 1].off > 0.0)) {
+                /* a known bad ball is refined at once: the probes still queued around it
+                 * would mostly test facets that its insertion kills (the published rule
+                 * finishes detect_access first). A range-limited probe in progress goes on
+                 * first: the device stands at the end of its free part. */
+                st = refine(pl);
+            } else if (pl->ntask > 0) {
                 vp_task_t k = pl->task[--pl->ntask];
                 if (task_start(pl, &k)) pl->probe_ready = 1;
                 if (pl->sc_pending) pl->iroute = pl->nroute; /* hold the route: shortcut first */

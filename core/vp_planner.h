@@ -74,11 +74,12 @@ typedef struct vp_probe_result {
 typedef struct vp_planner_stats {
     uint64_t probes, hits, misses, moves, reprobes;
     uint64_t insertions, stale_balls, routes, astar_fallbacks, astar_expansions;
-    uint64_t shortcut_probes, direct_routes;
-    uint64_t escalations;
+    uint64_t shortcut_probes;  /* probes of a straight way to save a detour */
+    uint64_t direct_routes;
+    uint64_t escalations;      /* holes closed by probing every edge of every active vertex */
     uint64_t too_close;        /* probes that saw a surface nearer than the minimum range */
     uint64_t occluded;         /* body mode: the line met S before the edge */
-    uint64_t reseeds;          /* samples added on components the seeds had missed */      /* holes closed by probing every edge of every active vertex */  /* probes of a straight way to save a detour */
+    uint64_t reseeds;          /* samples added on components the seeds had missed */
     double travel;             /* length of all MOVEs */
     double travel_prev_chains; /* what the same moves cost along prev chains (the paper's
                                   paths); equal to travel with VP_PLAN_PREV_CHAINS */

@@ -306,22 +306,22 @@ static void test_enomem(void)
 
 /* 2 KB of arena per output vertex is enough (the split of the arena follows the measured
  * peaks of each pool). */
-static void test_arena_per_vertex(void)
+static void test_arena_per_vertex(const char *surface, double eps_rel)
 {
     vp_sim_options_t o;
     vp_sim_t s;
     char err[512];
     unsigned nv;
-    quiet_options(&o, "genus2", 0.012);
+    quiet_options(&o, surface, eps_rel);
     CHECK(vp_sim_open(&s, &o, err, sizeof err) == VP_OK);
     CHECK(vp_sim_run(&s, NULL) == VP_OK);
     nv = vp_planner_dt(s.pl)->ninserted;
     vp_sim_close(&s);
     o.arena = (size_t)2048 * nv;
     CHECK(vp_sim_open(&s, &o, err, sizeof err) == VP_OK);
-    CHECKF(vp_sim_run(&s, NULL) == VP_OK, "%u vertices in %zu bytes", nv, o.arena);
+    CHECKF(vp_sim_run(&s, NULL) == VP_OK, "%s: %u vertices in %zu bytes", surface, nv, o.arena);
     CHECK(vp_planner_dt(s.pl)->ninserted == nv);
-    printf("genus2: %u vertices scanned in a %zu-byte arena (2 KB per vertex)\n", nv, o.arena);
+    printf("%s: %u vertices scanned in a %zu-byte arena (2 KB per vertex)\n", surface, nv, o.arena);
     vp_sim_close(&s);
 }
 
@@ -334,7 +334,11 @@ int main(void)
     test_surfaces();
     test_paper_mode();
     test_noise();
-    test_arena_per_vertex();
+    test_arena_per_vertex("genus2", 0.012);
+    if (!quick) {
+        test_arena_per_vertex("torus", 0.012);
+        test_arena_per_vertex("genus5", 0.02);
+    }
     test_angle_bound();
     test_min_range();
     test_clearance();
