@@ -10,7 +10,7 @@
 #include "vp_planner.h"
 
 #ifndef VP_M4_ARENA_BYTES
-#define VP_M4_ARENA_BYTES (448u * 1024u)   /* see link.ld: the planner needs about 400 KB */
+#define VP_M4_ARENA_BYTES (448u * 1024u)   /* see link.ld: this scan needs 272 KB */
 #endif
 #ifndef VP_M4_EPS
 #define VP_M4_EPS 0.35             /* on a unit sphere: about 80 vertices */
