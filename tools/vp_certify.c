@@ -285,8 +285,10 @@ static int check_h2(const vp_mesh_t *m, const vp_cert_config_t *cfg, vp_cert_t *
         }
         if (comp == UINT32_MAX) {
             c->h2_missing++;
-            if (rep) fprintf(rep, "H2 fails: interior point o_%u (%.9g %.9g %.9g) is enclosed by no mesh component: "
-                             "its component of S has no vertex\n", i, o[0], o[1], o[2]);
+            if (rep) fprintf(rep, "H2 fails: interior point o_%u (%.9g %.9g %.9g) is enclosed by no mesh component: %s\n",
+                             i, o[0], o[1], o[2],
+                             c->boundary_edges > 0 ? "the mesh around it is still open (see the boundary edges)"
+                                                   : "its component of S has no vertex");
         }
     }
     c->h2 = c->h2_missing == 0;
