@@ -84,6 +84,14 @@ for bytes in 777 20000 123457; do
 done
 echo "power cuts at 777, 20000, 123457 bytes (then another one): resumed to the uncut mesh"
 
+# the note keeps a long mesh path with spaces whole: a resumed off: scan is the uncut one
+d="$tmp/a folder whose name is long enough to pass sixty-four characters/and more"
+mkdir -p "$d" && cp "$tmp/sphere.off" "$d/the object.off"
+"$VP" sim --surface "off:$d/the object.off" --eps-rel 0.08 --out "$tmp/lp" $S >/dev/null 2>&1 || bad "sim of an off: mesh at a long path"
+"$VP" sim --surface "off:$d/the object.off" --eps-rel 0.08 --out "$tmp/lpc" $S --stop-after 400 >/dev/null 2>&1
+"$VP" sim --resume "$tmp/lpc.vplog" $S >"$tmp/lp.txt" 2>&1 || { bad "resume of an off: scan at a long path"; tail -3 "$tmp/lp.txt"; }
+cmp -s "$tmp/lp.ply" "$tmp/lpc.ply" || bad "off: scan at a long path: resumed mesh differs"
+
 # a pause is resumable too
 "$VP" sim --surface torus --eps-rel 0.05 --noise 0.0005 --dropout 0.1 --out "$tmp/pa" $S --stop-after 3000 >/dev/null 2>&1
 "$VP" log dump "$tmp/pa.vplog" | tail -1 | grep -q "EVENT pause" || bad "--stop-after wrote no PAUSE event"

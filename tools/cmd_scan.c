@@ -6,9 +6,9 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/stat.h>
 #include "vp_cli.h"
 #include "vp_log.h"
+#include "vp_note.h"
 #include "vp_logfile.h"
 #include "vp_meshcheck.h"
 #include "vp_meshio.h"
@@ -151,85 +151,24 @@ static int scan_option(scan_opts_t *o, int argc, char **argv, int *i, int from_n
 
 /* ---------- the log's note: the options that make the scan ---------- */
 
-static void put_tok(char *buf, size_t n, size_t *len, const char *tok)
-{
-    size_t k;
-    int quote = *tok == 0;
-    for (k = 0; tok[k]; k++)
-        if (tok[k] == ' ' || tok[k] == '\'' || tok[k] == '\\' || tok[k] == '\t' || tok[k] == '\n') quote = 1;
-    if (*len && *len + 1 < n) buf[(*len)++] = ' ';
-    if (quote && *len + 1 < n) buf[(*len)++] = '\'';
-    for (k = 0; tok[k] && *len + 2 < n; k++) {
-        if (tok[k] == '\'' || tok[k] == '\\') buf[(*len)++] = '\\';
-        buf[(*len)++] = tok[k];
-    }
-    if (quote && *len + 1 < n) buf[(*len)++] = '\'';
-    buf[*len < n ? *len : n - 1] = 0;
-}
-
-static void put_num(char *buf, size_t n, size_t *len, const char *name, double x)
-{
-    char v[40];
-    int p;
-    for (p = 15; p <= 17; p++) {
-        snprintf(v, sizeof v, "%.*g", p, x);
-        if (strtod(v, NULL) == x) break;
-    }
-    put_tok(buf, n, len, name);
-    put_tok(buf, n, len, v);
-}
-
 static void scan_note(const scan_opts_t *o, const char *board, double eps, const char *surface, char *buf, size_t n)
 {
-    char v[64];
     size_t len = 0;
     buf[0] = 0;
-    put_tok(buf, n, &len, "scan");
-    put_tok(buf, n, &len, "--board");
-    put_tok(buf, n, &len, board);
-    put_num(buf, n, &len, "--eps", eps);
-    snprintf(v, sizeof v, "%zu", o->arena);
-    put_tok(buf, n, &len, "--arena");
-    put_tok(buf, n, &len, v);
-    put_num(buf, n, &len, "--noise-tol", o->noise_tol);
-    snprintf(v, sizeof v, "%d", o->confirm);
-    put_tok(buf, n, &len, "--confirm");
-    put_tok(buf, n, &len, v);
-    put_tok(buf, n, &len, "--near-spots");
-    put_tok(buf, n, &len, o->near ? "measure" : "too-close");
-    if (o->calib) { put_tok(buf, n, &len, "--calib"); put_tok(buf, n, &len, o->calib); }
+    vp_note_put(buf, n, &len, "scan");
+    vp_note_put_str(buf, n, &len, "--board", board);
+    vp_note_put_num(buf, n, &len, "--eps", eps);
+    vp_note_put_opt(buf, n, &len, "--arena", "%zu", o->arena);
+    vp_note_put_num(buf, n, &len, "--noise-tol", o->noise_tol);
+    vp_note_put_opt(buf, n, &len, "--confirm", "%d", o->confirm);
+    vp_note_put_str(buf, n, &len, "--near-spots", o->near ? "measure" : "too-close");
+    if (o->calib) vp_note_put_str(buf, n, &len, "--calib", o->calib);
     if (o->dry) {
-        put_tok(buf, n, &len, "--dry-run");
-        put_tok(buf, n, &len, "--surface");
-        put_tok(buf, n, &len, surface);
-        snprintf(v, sizeof v, "%llu", o->seed);
-        put_tok(buf, n, &len, "--seed");
-        put_tok(buf, n, &len, v);
+        vp_note_put(buf, n, &len, "--dry-run");
+        vp_note_put_str(buf, n, &len, "--surface", surface);
+        vp_note_put_opt(buf, n, &len, "--seed", "%llu", o->seed);
     }
-    snprintf(v, sizeof v, "%08lx", o->board_crc);
-    put_tok(buf, n, &len, "--board-crc");
-    put_tok(buf, n, &len, v);
-}
-
-static int split_note(char *buf, char **tok, int cap)
-{
-    char *r = buf, *w = buf;
-    int n = 0;
-    while (*r) {
-        int quoted = 0;
-        while (*r == ' ') r++;
-        if (!*r) break;
-        if (n == cap) return -1;
-        tok[n++] = w;
-        while (*r && (quoted || *r != ' ')) {
-            if (*r == '\'') { quoted = !quoted; r++; continue; }
-            if (*r == '\\' && r[1]) r++;
-            *w++ = *r++;
-        }
-        if (*r) r++;
-        *w++ = 0;
-    }
-    return n;
+    vp_note_put_opt(buf, n, &len, "--board-crc", "%08lx", o->board_crc);
 }
 
 static int file_crc(const char *path, unsigned long *crc)
@@ -242,21 +181,6 @@ static int file_crc(const char *path, unsigned long *crc)
     while ((k = fread(buf, 1, sizeof buf, f)) > 0) c = vp_log_crc32(c, buf, k);
     fclose(f);
     *crc = c;
-    return 0;
-}
-
-static int mkdirs_for(const char *path)
-{
-    char dir[1100];
-    size_t i, n = strlen(path);
-    if (n >= sizeof dir) return -1;
-    memcpy(dir, path, n + 1);
-    for (i = 1; i < n; i++)
-        if (dir[i] == '/') {
-            dir[i] = 0;
-            if (mkdir(dir, 0777) != 0 && errno != EEXIST) return -1;
-            dir[i] = '/';
-        }
     return 0;
 }
 
@@ -306,7 +230,7 @@ static int write_mesh(const vp_planner_t *pl, const char *prefix, vp_mesh_t *mes
     char path[1100];
     int st = vp_session_mesh(pl, mesh);
     if (st != VP_OK) { snprintf(err, n, "mesh: %s", vp_strerror(st)); return st; }
-    if (mkdirs_for(prefix) != 0) { snprintf(err, n, "cannot create the folder of %s", prefix); return VP_EIO; }
+    if (vp_mkdirs_for(prefix) != 0) { snprintf(err, n, "cannot create the folder of %s", prefix); return VP_EIO; }
     snprintf(path, sizeof path, "%s.ply", prefix);
     if ((st = vp_mesh_write_file(mesh, path, VP_MESH_PLY_BIN)) != VP_OK) { snprintf(err, n, "cannot write %s", path); return st; }
     snprintf(path, sizeof path, "%s.off", prefix);
@@ -363,7 +287,7 @@ int vp_cmd_scan(int argc, char **argv)
         if (st != VP_OK) { fprintf(stderr, "scan: %s\n", err); return 1; }
         have_L = 1;
         memcpy(notebuf, L.header.note, sizeof notebuf);
-        nt = split_note(notebuf, tok, 64);
+        nt = vp_note_split(notebuf, tok, 64);
         if (nt < 1 || strcmp(tok[0], "scan") != 0) {
             fprintf(stderr, "scan: %s was not written by `scan`%s\n", cl.log,
                     nt >= 1 && !strcmp(tok[0], "sim") ? " but by `sim`: resume it with `voroprobe sim --resume`" : "");
@@ -553,7 +477,7 @@ int vp_cmd_scan(int argc, char **argv)
         vp_log_header_t h;
         scan_note(&o, board_path, o.eps, surface, note, sizeof note);
         vp_log_header_init(&h, &cfg, (uint64_t)o.arena, VP_LOG_UNITS_MM, b.name, note);
-        if (mkdirs_for(o.log) != 0) { fprintf(stderr, "scan: cannot create the folder of %s: %s\n", o.log, strerror(errno)); goto done; }
+        if (vp_mkdirs_for(o.log) != 0) { fprintf(stderr, "scan: cannot create the folder of %s: %s\n", o.log, strerror(errno)); goto done; }
         st = vp_logfile_create(&run.w.file, o.log, &h, &o.sync);
         if (st == VP_OK)
             st = vp_logfile_event(&run.w.file, VP_LOG_EV_START, 0, o.dry ? "voroprobe scan (dry run on host-sim)" : "voroprobe scan");

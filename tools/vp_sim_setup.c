@@ -1,10 +1,9 @@
-#include <errno.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/stat.h>
 #include "vp_sim_setup.h"
 #include "vp_meshio.h"
+#include "vp_note.h"
 
 void vp_sim_options_default(vp_sim_options_t *o)
 {
@@ -220,26 +219,6 @@ int vp_sim_run(vp_sim_t *s, FILE *progress)
     return vp_session_run(s->pl, &ops, s->hooks, 0, progress, &s->run);
 }
 
-static int mkdir_for(const char *prefix)
-{
-    char dir[1024];
-    const char *slash = strrchr(prefix, '/');
-    size_t n, i;
-    if (!slash) return 0;
-    n = (size_t)(slash - prefix);
-    if (n == 0 || n >= sizeof dir) return 0;
-    memcpy(dir, prefix, n);
-    dir[n] = 0;
-    for (i = 1; i <= n; i++)
-        if (dir[i] == '/' || dir[i] == 0) {
-            char c = dir[i];
-            dir[i] = 0;
-            if (mkdir(dir, 0777) != 0 && errno != EEXIST) return -1;
-            dir[i] = c;
-        }
-    return 0;
-}
-
 int vp_sim_finish(vp_sim_t *s, const vp_sim_options_t *o, char *err, size_t errlen)
 {
     int st = vp_session_mesh(s->pl, &s->mesh);
@@ -250,7 +229,7 @@ int vp_sim_finish(vp_sim_t *s, const vp_sim_options_t *o, char *err, size_t errl
         s->have_haus = 1;
     if (o->out) {
         char path[1100];
-        if (mkdir_for(o->out) != 0) { snprintf(err, errlen, "cannot create the folder of %s", o->out); return VP_EIO; }
+        if (vp_mkdirs_for(o->out) != 0) { snprintf(err, errlen, "cannot create the folder of %s", o->out); return VP_EIO; }
         snprintf(path, sizeof path, "%s.ply", o->out);
         if ((st = vp_mesh_write_file(&s->mesh, path, VP_MESH_PLY_BIN)) != VP_OK) {
             snprintf(err, errlen, "cannot write %s", path);

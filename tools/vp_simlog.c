@@ -1,10 +1,9 @@
 /* vp_simlog — see vp_simlog.h. */
 #include <errno.h>
 #include <math.h>
-#include <stdarg.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/stat.h>
+#include "vp_note.h"
 #include "vp_simlog.h"
 
 void vp_simlog_init(vp_simlog_t *g)
@@ -50,91 +49,28 @@ int vp_simlog_parse_option(vp_simlog_t *g, int argc, char **argv, int *i, char *
 
 /* ---------- the options as text: the log's note ---------- */
 
-static void put_tok(char *buf, size_t n, size_t *len, const char *tok)
-{
-    size_t k;
-    int quote = *tok == 0;
-    for (k = 0; tok[k]; k++)
-        if (tok[k] == ' ' || tok[k] == '\'' || tok[k] == '\\' || tok[k] == '\t' || tok[k] == '\n') quote = 1;
-    if (*len && *len + 1 < n) buf[(*len)++] = ' ';
-    if (quote && *len + 1 < n) buf[(*len)++] = '\'';
-    for (k = 0; tok[k] && *len + 2 < n; k++) {
-        if (tok[k] == '\'' || tok[k] == '\\') buf[(*len)++] = '\\';
-        buf[(*len)++] = tok[k];
-    }
-    if (quote && *len + 1 < n) buf[(*len)++] = '\'';
-    buf[*len < n ? *len : n - 1] = 0;
-}
-
-static void put_opt(char *buf, size_t n, size_t *len, const char *name, const char *fmt, ...)
-{
-    char v[64];
-    va_list ap;
-    put_tok(buf, n, len, name);
-    if (!fmt) return;
-    va_start(ap, fmt);
-    vsnprintf(v, sizeof v, fmt, ap);
-    va_end(ap);
-    put_tok(buf, n, len, v);
-}
-
-/* The shortest of %.15g..%.17g that reads back as the same double. */
-static void put_num(char *buf, size_t n, size_t *len, const char *name, double x)
-{
-    char v[40];
-    int p;
-    for (p = 15; p <= 17; p++) {
-        snprintf(v, sizeof v, "%.*g", p, x);
-        if (strtod(v, NULL) == x) break;
-    }
-    put_tok(buf, n, len, name);
-    put_tok(buf, n, len, v);
-}
-
 void vp_simlog_note(const vp_sim_options_t *o, char *buf, size_t n)
 {
     size_t len = 0;
     buf[0] = 0;
-    put_tok(buf, n, &len, "sim");
-    put_opt(buf, n, &len, "--surface", "%s", o->surface ? o->surface : "");
-    if (o->eps > 0) put_num(buf, n, &len, "--eps", o->eps);
-    else put_num(buf, n, &len, "--eps-rel", o->eps_rel);
-    put_num(buf, n, &len, "--noise", o->noise);
-    put_num(buf, n, &len, "--dropout", o->dropout);
-    if (o->confirm >= 0) put_opt(buf, n, &len, "--confirm", "%d", o->confirm);
-    put_num(buf, n, &len, "--clearance", o->clearance);
-    put_num(buf, n, &len, "--max-range", o->max_range);
-    if (o->min_range > 0) put_num(buf, n, &len, "--min-range", o->min_range);
-    if (o->min_angle > 0) put_num(buf, n, &len, "--angle", o->min_angle);
-    put_opt(buf, n, &len, "--arena", "%zu", o->arena);
-    put_opt(buf, n, &len, "--omega", "%s", o->omega_ball ? "ball" : "box");
-    put_num(buf, n, &len, "--margin", o->omega_margin);
-    put_opt(buf, n, &len, "--seed", "%llu", o->seed);
-    if ((o->flags & VP_PLAN_PAPER) != 0) put_opt(buf, n, &len, "--paper", NULL);
-    if ((o->flags & VP_PLAN_LARGEST) != 0) put_opt(buf, n, &len, "--largest", NULL);
-    if ((o->flags & VP_PLAN_PREV_CHAINS) != 0) put_opt(buf, n, &len, "--prev-chains", NULL);
-}
-
-/* Splits the note back into tokens (in place in buf); returns the count. */
-static int split_note(char *buf, char **tok, int cap)
-{
-    char *r = buf, *w = buf;
-    int n = 0;
-    while (*r) {
-        int quoted = 0;
-        while (*r == ' ') r++;
-        if (!*r) break;
-        if (n == cap) return -1;
-        tok[n++] = w;
-        while (*r && (quoted || *r != ' ')) {
-            if (*r == '\'') { quoted = !quoted; r++; continue; }
-            if (*r == '\\' && r[1]) r++;
-            *w++ = *r++;
-        }
-        if (*r) r++;
-        *w++ = 0;
-    }
-    return n;
+    vp_note_put(buf, n, &len, "sim");
+    vp_note_put_str(buf, n, &len, "--surface", o->surface ? o->surface : "");
+    if (o->eps > 0) vp_note_put_num(buf, n, &len, "--eps", o->eps);
+    else vp_note_put_num(buf, n, &len, "--eps-rel", o->eps_rel);
+    vp_note_put_num(buf, n, &len, "--noise", o->noise);
+    vp_note_put_num(buf, n, &len, "--dropout", o->dropout);
+    if (o->confirm >= 0) vp_note_put_opt(buf, n, &len, "--confirm", "%d", o->confirm);
+    vp_note_put_num(buf, n, &len, "--clearance", o->clearance);
+    vp_note_put_num(buf, n, &len, "--max-range", o->max_range);
+    if (o->min_range > 0) vp_note_put_num(buf, n, &len, "--min-range", o->min_range);
+    if (o->min_angle > 0) vp_note_put_num(buf, n, &len, "--angle", o->min_angle);
+    vp_note_put_opt(buf, n, &len, "--arena", "%zu", o->arena);
+    vp_note_put_str(buf, n, &len, "--omega", o->omega_ball ? "ball" : "box");
+    vp_note_put_num(buf, n, &len, "--margin", o->omega_margin);
+    vp_note_put_opt(buf, n, &len, "--seed", "%llu", o->seed);
+    if ((o->flags & VP_PLAN_PAPER) != 0) vp_note_put(buf, n, &len, "--paper");
+    if ((o->flags & VP_PLAN_LARGEST) != 0) vp_note_put(buf, n, &len, "--largest");
+    if ((o->flags & VP_PLAN_PREV_CHAINS) != 0) vp_note_put(buf, n, &len, "--prev-chains");
 }
 
 int vp_simlog_options(vp_simlog_t *g, vp_sim_options_t *o, int argc, char **argv, char *err,
@@ -147,7 +83,7 @@ int vp_simlog_options(vp_simlog_t *g, vp_sim_options_t *o, int argc, char **argv
     if (st != VP_OK) return st;
     g->have_L = 1;
     memcpy(note, g->L.header.note, sizeof g->note);
-    n = split_note(note, tok, 128);
+    n = vp_note_split(note, tok, 128);
     if (n < 1 || strcmp(tok[0], "sim") != 0) {
         snprintf(err, errlen, "%s was not written by `sim` (its note does not start with 'sim'): "
                  "resume it with the program that wrote it", g->resume);
@@ -198,22 +134,6 @@ static int copy_prefix(const char *to, const unsigned char *data, size_t n, char
     return VP_OK;
 }
 
-/* Creates the folders above path. */
-static int mkdirs_for(const char *path)
-{
-    char dir[1100];
-    size_t i, n = strlen(path);
-    if (n >= sizeof dir) return -1;
-    memcpy(dir, path, n + 1);
-    for (i = 1; i < n; i++)
-        if (dir[i] == '/') {
-            dir[i] = 0;
-            if (mkdir(dir, 0777) != 0 && errno != EEXIST) return -1;
-            dir[i] = '/';
-        }
-    return 0;
-}
-
 int vp_simlog_begin(vp_simlog_t *g, vp_sim_t *s, const vp_sim_options_t *o, FILE *msg,
                     char *err, size_t errlen)
 {
@@ -225,7 +145,7 @@ int vp_simlog_begin(vp_simlog_t *g, vp_sim_t *s, const vp_sim_options_t *o, FILE
     else if (g->resume) snprintf(g->path, sizeof g->path, "%s", g->resume);
     else if (o->out) snprintf(g->path, sizeof g->path, "%s.vplog", o->out);
     else return VP_OK;
-    if (mkdirs_for(g->path) != 0) {
+    if (vp_mkdirs_for(g->path) != 0) {
         snprintf(err, errlen, "cannot create the folder of %s: %s", g->path, strerror(errno));
         return VP_EIO;
     }
