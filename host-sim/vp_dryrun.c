@@ -102,11 +102,7 @@ int vp_dryrun_open(const vp_board_t *b, const vp_dryrun_options_t *o, vp_dryrun_
     if (st != VP_OK) { vp_surface_close(d->surf); free(d); return st; }
     cam = vp_camsim_cam(d->cs);
     vp_board_step_config(b, &sc);
-    memset(&mc, 0, sizeof mc);
-    mc.settle_ns = (uint32_t)llround(b->settle_ms * 1e6);
-    mc.timeout_ms = b->timeout_ms;
-    mc.use_laser_line = b->laser.chip[0] != 0;
-    mc.spot.band = b->band;
+    vp_board_machine_config(b, &mc);
     st = vp_machine_init(&d->m, &kc, &sc, &io, &cam, &b->tri, &mc);
     if (st != VP_OK) {
         snprintf(err, errlen, "%s: the machine configuration is refused", b->path);

@@ -697,36 +697,36 @@ int vp_surface_segment_collides(const vp_surface_t *s, const double a[3], const 
     return 0;
 }
 
-double vp_surface_closest(const vp_surface_t *s, const double p[3], double q[3])
+/* The term nearest p (*term), its distance and, when q is given, its nearest point (world). */
+static double nearest_term(const vp_surface_t *s, const double p[3], double q[3], int *term)
 {
     double best = DBL_MAX, bq[3] = { 0, 0, 0 };
-    int t;
+    int t, bt = 0;
     for (t = 0; t < s->nterm; t++) {
         const vp_term_t *T = &s->term[t];
         double l[3], lq[3], d;
         if (vp_box_dist(T->lo, T->hi, p) >= best) continue;
         vp_to_local(T, p, l);
         d = vp_term_closest_local(T, l, lq) * T->scale;
-        if (d < best) { best = d; vp_to_world(T, lq, bq); }
+        if (d < best) { best = d; bt = t; if (q) vp_to_world(T, lq, bq); }
     }
     if (q) memcpy(q, bq, sizeof bq);
+    if (term) *term = bt;
     return best;
+}
+
+double vp_surface_closest(const vp_surface_t *s, const double p[3], double q[3])
+{
+    return nearest_term(s, p, q, NULL);
 }
 
 double vp_surface_distance(const vp_surface_t *s, const double p[3]) { return vp_surface_closest(s, p, NULL); }
 
 void vp_surface_normal(const vp_surface_t *s, const double p[3], double n[3])
 {
-    double best = DBL_MAX, nn;
-    int t, k, bt = 0;
-    for (t = 0; t < s->nterm; t++) {
-        const vp_term_t *T = &s->term[t];
-        double l[3], lq[3], d;
-        if (vp_box_dist(T->lo, T->hi, p) >= best) continue;
-        vp_to_local(T, p, l);
-        d = vp_term_closest_local(T, l, lq) * T->scale;
-        if (d < best) { best = d; bt = t; }
-    }
+    double nn;
+    int k, bt;
+    nearest_term(s, p, NULL, &bt);
     {
         const vp_term_t *T = &s->term[bt];
         double l[3];

@@ -809,6 +809,31 @@ void vp_board_kin_config(const vp_board_t *b, vp_kin_config_t *k)
     k->origin_tol = b->origin_tol;
 }
 
+void vp_board_machine_config(const vp_board_t *b, vp_machine_config_t *m)
+{
+    memset(m, 0, sizeof *m);
+    m->settle_ns = (uint32_t)llround(b->settle_ms * 1e6);
+    m->timeout_ms = b->timeout_ms;
+    m->use_laser_line = b->laser.chip[0] != 0;
+    m->spot.band = b->band;
+}
+
+void vp_board_planner_config(const vp_board_t *b, vp_planner_config_t *c)
+{
+    memset(c, 0, sizeof *c);
+    c->omega_kind = b->omega_kind;
+    memcpy(c->omega_lo, b->omega_lo, sizeof c->omega_lo);
+    memcpy(c->omega_hi, b->omega_hi, sizeof c->omega_hi);
+    memcpy(c->omega_center, b->omega_center, sizeof c->omega_center);
+    c->omega_radius = b->omega_radius;
+    memcpy(c->interior[0], b->interior, sizeof c->interior[0]);
+    c->ninterior = 1;
+    c->eps = b->eps;
+    memcpy(c->start, b->start, sizeof c->start);
+    c->max_range = b->tri.max_range;
+    c->clearance = b->clearance;
+}
+
 void vp_board_gpiod_config(const vp_board_t *b, vp_gpiod_config_t *g)
 {
     int a;

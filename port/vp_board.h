@@ -15,6 +15,8 @@
 #include "vp_gpiod.h"
 #include "vp_kin.h"
 #include "vp_laser.h"
+#include "vp_machine.h"
+#include "vp_planner.h"
 #include "vp_step.h"
 
 #define VP_BOARD_AXES 5
@@ -100,5 +102,9 @@ int  vp_board_calibration_write(const char *path, const vp_board_t *b, const vp_
 void vp_board_step_config(const vp_board_t *b, vp_step_config_t *c);
 void vp_board_kin_config(const vp_board_t *b, vp_kin_config_t *k);
 void vp_board_gpiod_config(const vp_board_t *b, vp_gpiod_config_t *g);
+void vp_board_machine_config(const vp_board_t *b, vp_machine_config_t *m);
+/* The planner's scan: Omega, the interior point, eps, the start, the rangefinder's range and the
+ * device clearance from the board; noise_tol and confirm_misses 0 (the caller's to set). */
+void vp_board_planner_config(const vp_board_t *b, vp_planner_config_t *c);
 
 #endif

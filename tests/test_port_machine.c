@@ -68,20 +68,9 @@ static void scan(const char *board, long cap, scan_out_t *o)
     m = vp_dryrun_machine(d);
     CHECK(vp_machine_home(m) == VP_OK);
     CHECK(vp_machine_goto(m, b.start) == VP_OK);
-    memset(&cfg, 0, sizeof cfg);
-    cfg.omega_kind = b.omega_kind;
-    memcpy(cfg.omega_lo, b.omega_lo, sizeof cfg.omega_lo);
-    memcpy(cfg.omega_hi, b.omega_hi, sizeof cfg.omega_hi);
-    memcpy(cfg.omega_center, b.omega_center, sizeof cfg.omega_center);
-    cfg.omega_radius = b.omega_radius;
-    memcpy(cfg.interior[0], b.interior, sizeof cfg.interior[0]);
-    cfg.ninterior = 1;
-    cfg.eps = b.eps;
-    memcpy(cfg.start, b.start, sizeof cfg.start);
-    cfg.max_range = b.tri.max_range;
+    vp_board_planner_config(&b, &cfg);
     cfg.noise_tol = 2;
     cfg.confirm_misses = 2;
-    cfg.clearance = b.clearance;
     CHECK(vp_planner_init(pl, arena, arena_bytes, &cfg) == VP_OK);
     for (n = 0; n < cap; n++) {
         vp_cmd_t c;

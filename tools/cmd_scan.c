@@ -366,20 +366,10 @@ int vp_cmd_scan(int argc, char **argv)
     dev.near_measure = o.near;
 
     /* ---- the planner's configuration: the board's scan volume, eps and rangefinder ---- */
-    memset(&cfg, 0, sizeof cfg);
-    cfg.omega_kind = b.omega_kind;
-    memcpy(cfg.omega_lo, b.omega_lo, sizeof cfg.omega_lo);
-    memcpy(cfg.omega_hi, b.omega_hi, sizeof cfg.omega_hi);
-    memcpy(cfg.omega_center, b.omega_center, sizeof cfg.omega_center);
-    cfg.omega_radius = b.omega_radius;
-    memcpy(cfg.interior[0], b.interior, sizeof cfg.interior[0]);
-    cfg.ninterior = 1;
+    vp_board_planner_config(&b, &cfg);
     cfg.eps = o.eps;
-    memcpy(cfg.start, b.start, sizeof cfg.start);
-    cfg.max_range = b.tri.max_range;
     cfg.noise_tol = o.noise_tol;
     cfg.confirm_misses = (uint32_t)o.confirm;
-    cfg.clearance = b.clearance;
     if (o.dry) {
         /* the simulated object must lie in Omega; the board's interior point must be inside it
          * (else the object's own interior points stand in for it) */

@@ -141,11 +141,7 @@ int vp_scan_open(vp_scan_dev_t *d, const vp_board_t *b, int dry, const char *sur
         }
         vp_board_kin_config(b, &kc);
         vp_board_step_config(b, &sc);
-        memset(&mc, 0, sizeof mc);
-        mc.settle_ns = (uint32_t)llround(b->settle_ms * 1e6);
-        mc.timeout_ms = b->timeout_ms;
-        mc.use_laser_line = b->laser.chip[0] != 0;
-        mc.spot.band = b->band;
+        vp_board_machine_config(b, &mc);
         io = vp_gpiod_io(d->gpio);
         st = vp_machine_init(&d->hw, &kc, &sc, &io, &cam, &b->tri, &mc);
         if (st != VP_OK) {
