@@ -871,6 +871,12 @@ static int route_full(vp_planner_t *pl, uint32_t a, uint32_t b)
 
 /* Plans the device's route from where it stands to record b, or to the outside point gp when
  * b == NONE (a record is then made there). Sets pl->at to the destination record. */
+/* 1 if one probe from a reaches b: no farther than the rangefinder's maximum range */
+static int in_reach(const vp_planner_t *pl, const double *a, const double *b)
+{
+    return !(pl->cfg.max_range > 0.0) || dist3(a, b) <= pl->cfg.max_range;
+}
+
 static int plan_route(vp_planner_t *pl, uint32_t b, const double *gp)
 {
     double tl = 0.0, al = 0.0;
@@ -910,7 +916,8 @@ static int plan_route(vp_planner_t *pl, uint32_t b, const double *gp)
         }
     }
     if (!(pl->cfg.flags & VP_PLAN_PREV_CHAINS)) {
-        int cheap = b != NONE && !(pl->cfg.flags & VP_PLAN_PAPER);
+        /* a shortcut is one probe along the straight way: only within the rangefinder's reach */
+        int cheap = b != NONE && !(pl->cfg.flags & VP_PLAN_PAPER) && in_reach(pl, pl->vrec[pl->at].p, pl->vrec[b].p);
         st = astar_path(pl, pl->at, b, gp, &al, cheap ? SEARCH_LOCAL : SEARCH_FULL);
         if (st != VP_OK && cheap) {
             /* no short way in the free graph: probe the straight line first; the full search
@@ -930,7 +937,8 @@ static int plan_route(vp_planner_t *pl, uint32_t b, const double *gp)
          * many moves); the route found stays the plan if the probe hits */
         double d = dist3(pl->vrec[pl->at].p, pl->vrec[b].p);
         double known = st == VP_OK ? al : 1e300;
-        if (known > 3.0 * d + 2.0 * pl->cfg.eps && d > 0.0) pl->shortcut = b;
+        if (known > 3.0 * d + 2.0 * pl->cfg.eps && d > 0.0 && in_reach(pl, pl->vrec[pl->at].p, pl->vrec[b].p))
+            pl->shortcut = b;
     }
     if (st != VP_OK) {
         /* the prev chains: always a way (and the only one with VP_PLAN_PREV_CHAINS) */
@@ -1194,6 +1202,7 @@ static int task_finish(vp_planner_t *pl, const vp_probe_result_t *res)
         st = rec_link(pl, e, pl->probe_origin_rec, 0, &r);
         if (st != VP_OK) return st;
         k->off += pl->probe_range;
+        pl->st.travel_prev_chains += pl->probe_range; /* the same step under either rule */
         pl->nroute = pl->iroute = 0;
         st = route_push(pl, e);
         if (st != VP_OK) return st;
@@ -1586,6 +1595,7 @@ static int close_holes(vp_planner_t *pl)
 }
 
 static int seed_issue(vp_planner_t *pl, const double *dir, double range);
+static int seed_miss_on(vp_planner_t *pl);
 static double omega_exit(const vp_planner_config_t *c, const double *p, const double *u);
 static int pools_have_room(const vp_planner_t *pl);
 
@@ -1668,7 +1678,13 @@ static int reseed_feed(vp_planner_t *pl, const vp_probe_result_t *res)
     uint32_t v;
     int k, st;
     pl->phase = PH_COMPONENTS;
-    if (res->hit != 1) return VP_OK;
+    if (res->hit != 1) {
+        /* a dropout or the end of the rangefinder's reach: probe again, or walk on */
+        int w = res->hit == VP_PROBE_TOO_CLOSE ? 0 : seed_miss_on(pl);
+        if (w < 0) return w;
+        if (w) pl->phase = PH_RESEED;
+        return VP_OK;
+    }
     for (k = 0; k < 3; k++) h[k] = pl->probe_origin[k] + res->dist * pl->probe_dir[k];
     if (!pools_have_room(pl)) return VP_ENOMEM;
     st = vp_dt_insert(&pl->dt, h, VP_DT_NONE, &v);
@@ -1684,13 +1700,53 @@ static int reseed_feed(vp_planner_t *pl, const vp_probe_result_t *res)
 
 /* ---------- seeds: the persistent facet and a fourth point per component ---------- */
 
+static double clamp_range(const vp_planner_t *pl, double range)
+{
+    return pl->cfg.max_range > 0.0 && range > pl->cfg.max_range ? pl->cfg.max_range : range;
+}
+
 static int seed_issue(vp_planner_t *pl, const double *dir, double range)
 {
     memcpy(pl->probe_origin, pl->vrec[pl->at].p, sizeof pl->probe_origin);
     memcpy(pl->probe_dir, dir, sizeof pl->probe_dir);
-    pl->probe_range = pl->probe_full = range;
+    pl->probe_full = range;
+    pl->probe_range = clamp_range(pl, range);
+    pl->seed_miss = 0;
     pl->probe_ready = 1;
     return VP_OK;
+}
+
+/* A seed probe towards o_i that met nothing. Where a hit is certain (o_i is inside the object)
+ * a miss is re-probed first (a dropout), up to twice confirm_misses. A confirmed miss within
+ * the rangefinder's reach proves its segment free: the device walks to its end and probes on
+ * along the same ray (not with a body: that device stays outside Omega). 1: re-probing or
+ * walking on; 0: the whole ray is free, so o_i is not inside the object; < 0: an error. */
+static int seed_miss_on(vp_planner_t *pl)
+{
+    double e[3];
+    uint32_t r;
+    int k, st;
+    if (pl->seed_miss < 2u * pl->cfg.confirm_misses) {
+        pl->seed_miss++;
+        pl->st.reprobes++;
+        pl->probe_ready = 1;
+        return 1;
+    }
+    if (!(pl->probe_range < pl->probe_full - 1e-12 * (1.0 + pl->probe_full)) || pl->cfg.clearance > 0.0)
+        return 0;
+    for (k = 0; k < 3; k++) e[k] = pl->probe_origin[k] + pl->probe_range * pl->probe_dir[k];
+    if ((st = rec_link(pl, e, pl->at, 0, &r)) != VP_OK) return st;
+    pl->st.travel_prev_chains += pl->probe_range;
+    pl->nroute = pl->iroute = 0;
+    if ((st = route_push(pl, e)) != VP_OK) return st;
+    pl->at = r;
+    memcpy(pl->probe_origin, e, sizeof e);
+    memcpy(pl->seed_q, e, sizeof e);
+    pl->probe_full -= pl->probe_range;
+    pl->probe_range = clamp_range(pl, pl->probe_full);
+    pl->seed_miss = 0;
+    pl->probe_ready = 1;
+    return 1;
 }
 
 /* exit distance from p along unit u out of Omega */
@@ -1770,9 +1826,14 @@ static int seed_feed(vp_planner_t *pl, const vp_probe_result_t *res_in)
     if (r.hit == VP_PROBE_TOO_CLOSE) r.hit = 0; /* no usable sample: like a miss */
     if (res->hit)
         for (k = 0; k < 3; k++) h[k] = pl->probe_origin[k] + res->dist * pl->probe_dir[k];
+    if (!res->hit && pl->seed_step != 1 && pl->seed_step != 2) {
+        /* towards o_i: a hit is certain unless o_i is outside the object */
+        int w = res_in->hit == VP_PROBE_TOO_CLOSE ? 0 : seed_miss_on(pl);
+        if (w < 0) return w;
+        return w ? VP_OK : VP_ERANGE;
+    }
     switch (pl->seed_step) {
     case 0:
-        if (!res->hit) return VP_ERANGE; /* o_i is not inside the object */
         memcpy(pl->seed_pts[pl->nseed_pts++], h, sizeof h);
         pl->seed_step = 1;
         pl->seed_try = 0;
@@ -1809,7 +1870,6 @@ static int seed_feed(vp_planner_t *pl, const vp_probe_result_t *res_in)
         pl->seed_step = 1;
         return VP_OK;
     default:
-        if (!res->hit) return VP_ERANGE;
         memcpy(pl->seed_pts[pl->nseed_pts++], h, sizeof h);
         pl->seed++;
         pl->seed_step = 0;

@@ -122,6 +122,7 @@ typedef struct vp_planner {
     uint32_t at;             /* record the device stands at (VP_DT_NONE between) */
     double pos[3];
     uint32_t seed, seed_step, seed_try;
+    uint32_t seed_miss;      /* misses of the current seed probe (dropouts are re-probed) */
     double seed_pts[4 * VP_PLANNER_MAX_SEEDS][3];
     uint32_t nseed_pts;
     double seed_q[3], seed_dir[3];

@@ -94,7 +94,9 @@ int vp_cmd_sim(int argc, char **argv)
     if (st == VP_EABORT && g.stop_after)
         ; /* paused on purpose: said by vp_simlog_end */
     else if (st != VP_OK && st != VP_ENOMEM)
-        fprintf(stderr, "sim: the scan stopped: %s\n", vp_strerror(st));
+        fprintf(stderr, "sim: the scan stopped: %s\n",
+                st == VP_ERANGE ? "the probe towards an interior point found no surface along its whole ray "
+                                  "(the point is not inside the object)" : vp_strerror(st));
     else if (st == VP_ENOMEM)
         fprintf(stderr, "sim: the arena is full (--arena): the mesh so far is written\n");
     st = vp_sim_finish(&sim, &o, err, sizeof err);

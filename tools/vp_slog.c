@@ -70,12 +70,15 @@ static int index_records(vp_slog_t *L, char *err, size_t errlen)
 
 int vp_slog_load_buf(vp_slog_t *L, const void *buf, size_t len, char *err, size_t errlen)
 {
+    int st;
     memset(L, 0, sizeof *L);
     L->data = malloc(len ? len : 1);
     if (!L->data) { snprintf(err, errlen, "out of memory"); return VP_ENOMEM; }
     if (len) memcpy(L->data, buf, len);
     L->size = len;
-    return index_records(L, err, errlen);
+    st = index_records(L, err, errlen);
+    if (st != VP_OK) vp_slog_free(L);
+    return st;
 }
 
 int vp_slog_load(vp_slog_t *L, const char *path, char *err, size_t errlen)
@@ -109,7 +112,10 @@ int vp_slog_load(vp_slog_t *L, const char *path, char *err, size_t errlen)
     L->data = p;
     L->size = n;
     st = index_records(L, sub, sizeof sub);
-    if (st != VP_OK) snprintf(err, errlen, "%s: %s", path, sub);
+    if (st != VP_OK) {
+        snprintf(err, errlen, "%s: %s", path, sub);
+        vp_slog_free(L);
+    }
     return st;
 }
 
