@@ -1198,10 +1198,17 @@ static int task_finish(vp_planner_t *pl, const vp_probe_result_t *res)
         /* range-limited: the free part ends here; walk there and probe on */
         double e[3];
         uint32_t r;
+        if (pl->cfg.clearance > 0.0) {
+            /* a device with a body stays outside Omega: the rest of the line is unseen */
+            side_set(pl, t, f, side_get(pl, t, f) | SIDE_BLOCKED);
+            pl->st.occluded++;
+            return VP_OK;
+        }
         for (q = 0; q < 3; q++) e[q] = pl->probe_origin[q] + pl->probe_range * pl->probe_dir[q];
         st = rec_link(pl, e, pl->probe_origin_rec, 0, &r);
         if (st != VP_OK) return st;
         k->off += pl->probe_range;
+        k->tries = 0; /* the next part of the ray is a new probe: its misses are confirmed anew */
         pl->st.travel_prev_chains += pl->probe_range; /* the same step under either rule */
         pl->nroute = pl->iroute = 0;
         st = route_push(pl, e);
@@ -1347,10 +1354,12 @@ static int after_insert(vp_planner_t *pl, uint32_t pv)
             edge_free = 1;
             reach_from_k = 1;
         } else if (r != NONE && sU == SIDE_HIT) {
-            /* the old hit seen from U is cut off: U's side is free up to past P_n (with the
-             * noise tolerance to spare) */
-            if (c_ok && (vp_dt_is_ghost(&pl->dt, U) ||
-                         (tet_point(pl, U, pu) == VP_OK && dist3(pu, c) <= dist3(pu, oldc) - tol))) {
+            /* the old hit seen from U is cut off: U's side is free up to past P_n, with the
+             * noise tolerance to spare (measured from U's vertex, or for a hull ray from where
+             * the probe entered Omega: the hit may be off by the noise either way) */
+            int from_u = vp_dt_is_ghost(&pl->dt, U) ? entry_point(pl, n, jn, pu)
+                                                      : tet_point(pl, U, pu) == VP_OK;
+            if (c_ok && from_u && dist3(pu, c) <= dist3(pu, oldc) - tol) {
                 sn = sU = SIDE_FREE;
                 edge_free = 1;
             } else {
@@ -1716,8 +1725,9 @@ static int seed_issue(vp_planner_t *pl, const double *dir, double range)
     return VP_OK;
 }
 
-/* A seed probe towards o_i that met nothing. Where a hit is certain (o_i is inside the object)
- * a miss is re-probed first (a dropout), up to twice confirm_misses. A confirmed miss within
+/* A seed probe towards o_i that met nothing. A hit is certain somewhere along the ray (o_i is
+ * inside the object), so a miss is re-probed first (a dropout): confirm_misses times, twice that
+ * where the probe reaches o_i. A confirmed miss within
  * the rangefinder's reach proves its segment free: the device walks to its end and probes on
  * along the same ray (not with a body: that device stays outside Omega). 1: re-probing or
  * walking on; 0: the whole ray is free, so o_i is not inside the object; < 0: an error. */
@@ -1725,15 +1735,15 @@ static int seed_miss_on(vp_planner_t *pl)
 {
     double e[3];
     uint32_t r;
-    int k, st;
-    if (pl->seed_miss < 2u * pl->cfg.confirm_misses) {
+    int k, st, limited = pl->probe_range < pl->probe_full - 1e-12 * (1.0 + pl->probe_full);
+    /* twice where the surface must lie within this probe's range */
+    if (pl->seed_miss < (limited ? 1u : 2u) * pl->cfg.confirm_misses) {
         pl->seed_miss++;
         pl->st.reprobes++;
         pl->probe_ready = 1;
         return 1;
     }
-    if (!(pl->probe_range < pl->probe_full - 1e-12 * (1.0 + pl->probe_full)) || pl->cfg.clearance > 0.0)
-        return 0;
+    if (!limited || pl->cfg.clearance > 0.0) return 0;
     for (k = 0; k < 3; k++) e[k] = pl->probe_origin[k] + pl->probe_range * pl->probe_dir[k];
     if ((st = rec_link(pl, e, pl->at, 0, &r)) != VP_OK) return st;
     pl->st.travel_prev_chains += pl->probe_range;

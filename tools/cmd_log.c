@@ -432,13 +432,14 @@ static int log_check(const char *path, int replay)
     char err[1400], stop[600];
     int st = vp_slog_load(&L, path, err, sizeof err), rc;
     uint32_t i, last_event = 0;
+    int32_t last_code = 0;
     if (st != VP_OK) {
         printf("%s: NOT usable: %s\n", path, err);
         return 1;
     }
     for (i = 0; i < L.n; i++) {
         vp_log_record_t r;
-        if (vp_slog_record(&L, i, &r) == VP_OK && r.type == VP_LOG_EVENT) last_event = r.event;
+        if (vp_slog_record(&L, i, &r) == VP_OK && r.type == VP_LOG_EVENT) { last_event = r.event; last_code = r.code; }
     }
     vp_slog_stop_text(&L, stop, sizeof stop);
     printf("%s: format version %u, board '%s', %llu bytes\n", path, L.header.version, L.header.board,
@@ -455,6 +456,9 @@ static int log_check(const char *path, int replay)
         if (st == VP_OK) st = vp_replay_run(&R, &L, L.n, err, sizeof err);
         if (st == VP_OK)
             printf("replay: the planner reissues all %u commands bit for bit\n", (unsigned)(L.probes + L.moves));
+        else if (st != VP_ECORRUPT && last_event == VP_LOG_EV_FAULT && last_code == st)
+            printf("replay: the planner reissues every command bit for bit and stops where the session stopped: %s\n",
+                   err);
         else {
             printf("replay: FAILED: %s\n", err);
             rc = 1;

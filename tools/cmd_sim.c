@@ -95,8 +95,12 @@ int vp_cmd_sim(int argc, char **argv)
         ; /* paused on purpose: said by vp_simlog_end */
     else if (st != VP_OK && st != VP_ENOMEM)
         fprintf(stderr, "sim: the scan stopped: %s\n",
-                st == VP_ERANGE ? "the probe towards an interior point found no surface along its whole ray "
-                                  "(the point is not inside the object)" : vp_strerror(st));
+                st != VP_ERANGE ? vp_strerror(st)
+                : o.clearance > 0 && o.max_range > 0
+                    ? "the probe from dOmega towards an interior point found no surface within the rangefinder's "
+                      "reach (a device with a body does not enter Omega: raise --max-range)"
+                    : "the probe towards an interior point found no surface along its whole ray "
+                      "(the point is not inside the object)");
     else if (st == VP_ENOMEM)
         fprintf(stderr, "sim: the arena is full (--arena): the mesh so far is written\n");
     st = vp_sim_finish(&sim, &o, err, sizeof err);

@@ -54,13 +54,17 @@ int vp_session_run(vp_planner_t *pl, const vp_device_ops_t *dev, const vp_sessio
             if (st == VP_OK && hooks && hooks->after) st = hooks->after(hooks->ctx, &cmd, NULL);
             if (st != VP_OK) break;
         } else {
+            int hst = VP_OK;
             st = dev->probe(dev->ctx, &cmd, &res);
             if (st != VP_OK) break;
+            /* the measurement is logged before the planner judges it: nothing measured is lost,
+             * even when the planner then stops (a replay stops at the same record) */
+            if (hooks && hooks->after) hst = hooks->after(hooks->ctx, &cmd, &res);
             c0 = vp_cpu_seconds();
             st = vp_planner_feed(pl, &res);
             cpu += vp_cpu_seconds() - c0;
+            if (st == VP_OK) st = hst;
             if (st != VP_OK) break;
-            if (hooks && hooks->after && (st = hooks->after(hooks->ctx, &cmd, &res)) != VP_OK) break;
         }
         if (max_commands && ++n >= max_commands) break;
         if (progress && (n & 1023u) == 0 && vp_wall_seconds() > next_report) {
