@@ -1163,8 +1163,11 @@ static int task_finish(vp_planner_t *pl, const vp_probe_result_t *res)
         return VP_OK;
     }
     if (res->hit && res->dist <= pl->probe_range + tol) {
-        double h[3], d = res->dist;
-        if (d > pl->probe_range) d = pl->probe_range;
+        /* the ball centre stays strictly inside the edge: a centre on a Voronoi vertex (a hit
+         * at 0 or past the end, within the noise) would put a fourth sample on its sphere */
+        double h[3], d = res->dist, inset = 1e-9 * pl->probe_range;
+        if (d > pl->probe_range - inset) d = pl->probe_range - inset;
+        if (d < inset) d = inset;
         for (q = 0; q < 3; q++) h[q] = pl->probe_origin[q] + d * pl->probe_dir[q];
         pl->st.hits++;
         vp_dt_facet(&pl->dt, t, f, fv);
@@ -1218,6 +1221,13 @@ static int task_finish(vp_planner_t *pl, const vp_probe_result_t *res)
         pl->task[pl->ntask++] = *k;
         side_set(pl, t, f, side_get(pl, t, f) | SIDE_QUEUED);
         return VP_OK;
+    }
+    /* the whole edge is free: a hit seen from the other end lay within the noise of this end
+     * (S passes by the vertex here): the edge does not cross S once, its facet goes */
+    vp_dt_facet(&pl->dt, t, f, fv);
+    if ((fr = frec_lookup(pl, fv)) != NONE) {
+        frec_delete(pl, fr);
+        pl->st.noise_drops++;
     }
     side_set(pl, t, f, SIDE_FREE);
     side_set(pl, u, (int)j, (side_get(pl, u, (int)j) & ~SIDE_MASK) | SIDE_FREE);

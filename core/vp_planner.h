@@ -80,6 +80,8 @@ typedef struct vp_planner_stats {
     uint64_t too_close;        /* probes that saw a surface nearer than the minimum range */
     uint64_t occluded;         /* body mode: the line met S before the edge */
     uint64_t reseeds;          /* samples added on components the seeds had missed */
+    uint64_t noise_drops;      /* hits that a full miss from the edge's other end contradicted
+                                  (S within the noise of that end): the facet dropped */
     double travel;             /* length of all MOVEs */
     double travel_prev_chains; /* what the same moves cost along prev chains (the paper's
                                   paths); equal to travel with VP_PLAN_PREV_CHAINS */
