@@ -275,6 +275,35 @@ static int route_push(vp_planner_t *pl, const double *p)
     return VP_OK;
 }
 
+/* A probe's range within the rangefinder's reach. */
+static double clamp_range(const vp_planner_t *pl, double range)
+{
+    return pl->cfg.max_range > 0.0 && range > pl->cfg.max_range ? pl->cfg.max_range : range;
+}
+
+/* 1 if the current probe was cut short by the rangefinder's reach */
+static int probe_limited(const vp_planner_t *pl)
+{
+    return pl->probe_range < pl->probe_full - 1e-12 * (1.0 + pl->probe_full);
+}
+
+static int rec_link(vp_planner_t *pl, const double *p, uint32_t prev, uint32_t flags, uint32_t *out);
+
+/* A range-limited probe missed: its segment is free. The device walks from record `from` to the
+ * segment's end (a new record, pl->at) to probe on; the step costs the same under either rule. */
+static int walk_on(vp_planner_t *pl, uint32_t from, double e[3])
+{
+    uint32_t r;
+    int k, st;
+    for (k = 0; k < 3; k++) e[k] = pl->probe_origin[k] + pl->probe_range * pl->probe_dir[k];
+    if ((st = rec_link(pl, e, from, 0, &r)) != VP_OK) return st;
+    pl->st.travel_prev_chains += pl->probe_range;
+    pl->nroute = pl->iroute = 0;
+    if ((st = route_push(pl, e)) != VP_OK) return st;
+    pl->at = r;
+    return VP_OK;
+}
+
 /* Moves m (the midpoint of a chord with unit direction u) out of Omega: along the part of
  * (m - centre) perpendicular to the chord, to delta beyond dOmega. */
 static void push_out(const vp_planner_config_t *c, double *m, const double *u, double delta)
@@ -869,14 +898,14 @@ static int route_full(vp_planner_t *pl, uint32_t a, uint32_t b)
     return tree_path(pl, a, b, NULL, 1, &l);
 }
 
-/* Plans the device's route from where it stands to record b, or to the outside point gp when
- * b == NONE (a record is then made there). Sets pl->at to the destination record. */
 /* 1 if one probe from a reaches b: no farther than the rangefinder's maximum range */
 static int in_reach(const vp_planner_t *pl, const double *a, const double *b)
 {
     return !(pl->cfg.max_range > 0.0) || dist3(a, b) <= pl->cfg.max_range;
 }
 
+/* Plans the device's route from where it stands to record b, or to the outside point gp when
+ * b == NONE (a record is then made there). Sets pl->at to the destination record. */
 static int plan_route(vp_planner_t *pl, uint32_t b, const double *gp)
 {
     double tl = 0.0, al = 0.0;
@@ -1118,7 +1147,7 @@ static int task_start(vp_planner_t *pl, vp_task_t *k)
         goal = pl->at; /* the device was left there */
     }
     pl->probe_full = range;
-    if (pl->cfg.max_range > 0.0 && range > pl->cfg.max_range) range = pl->cfg.max_range;
+    range = clamp_range(pl, range);
     if (goal != NONE) st = plan_route(pl, goal, NULL);
     else st = plan_route(pl, NONE, o);
     if (st != VP_OK) { pl->error = st; return 0; }
@@ -1197,26 +1226,18 @@ static int task_finish(vp_planner_t *pl, const vp_probe_result_t *res)
         side_set(pl, t, f, side_get(pl, t, f) | SIDE_QUEUED);
         return VP_OK;
     }
-    if (pl->probe_range < pl->probe_full - 1e-12 * (1.0 + pl->probe_full)) {
+    if (probe_limited(pl)) {
         /* range-limited: the free part ends here; walk there and probe on */
         double e[3];
-        uint32_t r;
         if (pl->cfg.clearance > 0.0) {
             /* a device with a body stays outside Omega: the rest of the line is unseen */
             side_set(pl, t, f, side_get(pl, t, f) | SIDE_BLOCKED);
             pl->st.occluded++;
             return VP_OK;
         }
-        for (q = 0; q < 3; q++) e[q] = pl->probe_origin[q] + pl->probe_range * pl->probe_dir[q];
-        st = rec_link(pl, e, pl->probe_origin_rec, 0, &r);
-        if (st != VP_OK) return st;
+        if ((st = walk_on(pl, pl->probe_origin_rec, e)) != VP_OK) return st;
         k->off += pl->probe_range;
         k->tries = 0; /* the next part of the ray is a new probe: its misses are confirmed anew */
-        pl->st.travel_prev_chains += pl->probe_range; /* the same step under either rule */
-        pl->nroute = pl->iroute = 0;
-        st = route_push(pl, e);
-        if (st != VP_OK) return st;
-        pl->at = r;
         if (pl->ntask >= pl->cap_task) return VP_ENOMEM;
         pl->task[pl->ntask++] = *k;
         side_set(pl, t, f, side_get(pl, t, f) | SIDE_QUEUED);
@@ -1719,11 +1740,6 @@ static int reseed_feed(vp_planner_t *pl, const vp_probe_result_t *res)
 
 /* ---------- seeds: the persistent facet and a fourth point per component ---------- */
 
-static double clamp_range(const vp_planner_t *pl, double range)
-{
-    return pl->cfg.max_range > 0.0 && range > pl->cfg.max_range ? pl->cfg.max_range : range;
-}
-
 static int seed_issue(vp_planner_t *pl, const double *dir, double range)
 {
     memcpy(pl->probe_origin, pl->vrec[pl->at].p, sizeof pl->probe_origin);
@@ -1737,15 +1753,14 @@ static int seed_issue(vp_planner_t *pl, const double *dir, double range)
 
 /* A seed probe towards o_i that met nothing. A hit is certain somewhere along the ray (o_i is
  * inside the object), so a miss is re-probed first (a dropout): confirm_misses times, twice that
- * where the probe reaches o_i. A confirmed miss within
- * the rangefinder's reach proves its segment free: the device walks to its end and probes on
- * along the same ray (not with a body: that device stays outside Omega). 1: re-probing or
- * walking on; 0: the whole ray is free, so o_i is not inside the object; < 0: an error. */
+ * where the probe reaches o_i. A confirmed miss within the rangefinder's reach proves its
+ * segment free: the device walks to its end and probes on along the same ray (not with a body:
+ * that device stays outside Omega). 1: re-probing or walking on; 0: the whole ray is free, so
+ * o_i is not inside the object; < 0: an error. */
 static int seed_miss_on(vp_planner_t *pl)
 {
     double e[3];
-    uint32_t r;
-    int k, st, limited = pl->probe_range < pl->probe_full - 1e-12 * (1.0 + pl->probe_full);
+    int st, limited = probe_limited(pl);
     /* twice where the surface must lie within this probe's range */
     if (pl->seed_miss < (limited ? 1u : 2u) * pl->cfg.confirm_misses) {
         pl->seed_miss++;
@@ -1754,12 +1769,7 @@ static int seed_miss_on(vp_planner_t *pl)
         return 1;
     }
     if (!limited || pl->cfg.clearance > 0.0) return 0;
-    for (k = 0; k < 3; k++) e[k] = pl->probe_origin[k] + pl->probe_range * pl->probe_dir[k];
-    if ((st = rec_link(pl, e, pl->at, 0, &r)) != VP_OK) return st;
-    pl->st.travel_prev_chains += pl->probe_range;
-    pl->nroute = pl->iroute = 0;
-    if ((st = route_push(pl, e)) != VP_OK) return st;
-    pl->at = r;
+    if ((st = walk_on(pl, pl->at, e)) != VP_OK) return st;
     memcpy(pl->probe_origin, e, sizeof e);
     memcpy(pl->seed_q, e, sizeof e);
     pl->probe_full -= pl->probe_range;
