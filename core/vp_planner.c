@@ -61,6 +61,7 @@ struct vp_vrec {
     uint32_t flags;
     uint32_t stamp, from; /* path search bookkeeping */
     uint32_t hpos;        /* place in the search's open heap, NONE when closed */
+    uint32_t proof;       /* the proof that the segment from prev to here is free */
 };
 
 struct vp_frec {
@@ -70,6 +71,7 @@ struct vp_frec {
     uint32_t hint;     /* a tet that had the facet (checked before use) */
     double c[3];       /* ball centre (the hit) */
     double r;          /* ball radius */
+    uint32_t proof;    /* the probe that found the ball: free up to its centre, less the noise */
 };
 
 
@@ -166,7 +168,111 @@ static int omega_clip(const vp_planner_config_t *c, const double *a, const doubl
     return 1;
 }
 
-/* ---------- tet payload: word 0 = record, word 1 = four side bytes ---------- */
+/* 1 if segment [a, b] enters Omega (more than rounding) */
+static int seg_enters_omega(const vp_planner_config_t *c, const double *a, const double *b)
+{
+    double d[3], len, t0, t1;
+    sub3(d, b, a);
+    len = sqrt(dot3(d, d));
+    if (!(len > 0.0)) return omega_inside(c, a);
+    d[0] /= len; d[1] /= len; d[2] /= len;
+    return omega_clip(c, a, d, len, &t0, &t1) && t1 - t0 > 1e-12 * (1.0 + len);
+}
+
+/* ---------- proofs of free space ----------
+ * The device moves only along a segment that names its proof: the free part of a probe (a
+ * chain of probes along one ray, for a range-limited rangefinder), or PROOF_OUTSIDE (outside
+ * Omega, assumption A2). Every free-graph edge and every route step carries one, checked
+ * geometrically when the edge is made and again when the MOVE is issued. The paper's
+ * inferences (a shrunken Voronoi edge stays free, a kept ball) only propose a proof: on
+ * objects where they fail (flat faces, sharp edges: one crossing per edge no longer holds)
+ * the check refuses the segment, and it is never travelled. */
+#define PROOF_NONE      0xFFFFFFFFu
+#define PROOF_OUTSIDE   0xFFFFFFFDu
+#define PROOF_CHAIN_MAX 64u /* pieces of one walked ray looked at */
+/* free-graph edges: FEDGE_WORDS words each: a, b, next at a, next at b, proof */
+#define FEDGE_WORDS 5u
+#define KPAY 6u /* payload words of a tet: record, sides, four side proofs */
+#define PROOF_SHARE 16u /* of the arena's 100 units: the proofs (one per probe that proved something) */
+
+static int proof_new(vp_planner_t *pl, const double *o, const double *d, double len, uint32_t prev,
+                     uint32_t *out)
+{
+    vp_proof_t *q;
+    *out = PROOF_NONE;
+    if (!(len > 0.0)) return VP_OK;
+    if (pl->nproof >= pl->cap_proof) return VP_ENOMEM;
+    q = &pl->proof[pl->nproof];
+    memcpy(q->o, o, sizeof q->o);
+    memcpy(q->d, d, sizeof q->d);
+    q->len = len;
+    q->prev = prev;
+    *out = pl->nproof++;
+    return VP_OK;
+}
+
+/* 1 if proof id shows every point of [a, b] free: within pl->ptol of the ray and of its free
+ * part (the union of the pieces of its chain), or the whole segment outside Omega. */
+static int proof_covers(const vp_planner_t *pl, uint32_t id, const double *a, const double *b)
+{
+    double lo[PROOF_CHAIN_MAX], hi[PROOF_CHAIN_MAX], sa, sb, need0, need1, cur, x[3], tol = pl->ptol;
+    const vp_proof_t *p;
+    uint32_t n = 0, i, j;
+    int k;
+    if (id == PROOF_OUTSIDE) return !seg_enters_omega(&pl->cfg, a, b);
+    if (id >= pl->nproof) return 0;
+    p = &pl->proof[id];
+    /* both ends on the ray's line */
+    sub3(x, a, p->o);
+    sa = dot3(x, p->d);
+    for (k = 0; k < 3; k++) x[k] -= sa * p->d[k];
+    if (!(dot3(x, x) <= tol * tol)) return 0;
+    sub3(x, b, p->o);
+    sb = dot3(x, p->d);
+    for (k = 0; k < 3; k++) x[k] -= sb * p->d[k];
+    if (!(dot3(x, x) <= tol * tol)) return 0;
+    need0 = sa < sb ? sa : sb;
+    need1 = sa < sb ? sb : sa;
+    /* the free intervals of the chain on that line */
+    for (i = id; i != PROOF_NONE && i < pl->nproof && n < PROOF_CHAIN_MAX; i = pl->proof[i].prev) {
+        const vp_proof_t *q = &pl->proof[i];
+        double s0;
+        if (!(dot3(q->d, p->d) > 1.0 - 1e-12)) break;
+        sub3(x, q->o, p->o);
+        s0 = dot3(x, p->d);
+        for (k = 0; k < 3; k++) x[k] -= s0 * p->d[k];
+        if (!(dot3(x, x) <= tol * tol)) break;
+        /* insertion by start */
+        for (j = n; j > 0 && lo[j - 1] > s0; j--) { lo[j] = lo[j - 1]; hi[j] = hi[j - 1]; }
+        lo[j] = s0;
+        hi[j] = s0 + q->len;
+        n++;
+    }
+    cur = need0;
+    for (i = 0; i < n; i++) {
+        if (lo[i] > cur + tol) break;
+        if (hi[i] > cur) cur = hi[i];
+    }
+    return n > 0 && lo[0] <= need0 + tol && cur >= need1 - tol;
+}
+
+/* The proof made by the current probe's result (once per probe): the free part of its ray. */
+static int probe_proof(vp_planner_t *pl, const vp_probe_result_t *res, uint32_t *out)
+{
+    double len;
+    int st;
+    if (pl->cur_proof != PROOF_NONE) { *out = pl->cur_proof; return VP_OK; }
+    *out = PROOF_NONE;
+    if (res->hit == VP_PROBE_TOO_CLOSE) return VP_OK;
+    len = res->hit ? res->dist - pl->cfg.noise_tol : pl->iss_range;
+    if (res->hit && len > pl->iss_range) len = pl->iss_range;
+    st = proof_new(pl, pl->iss_o, pl->iss_d, len, pl->chain_proof, out);
+    if (st == VP_OK) pl->cur_proof = *out;
+    return st;
+}
+
+/* ---------- tet payload: word 0 = record, word 1 = four side bytes, words 2-5 the proof of
+ * each free side ---------- */
 
 static uint32_t *pay(const vp_planner_t *pl, uint32_t t) { return (uint32_t *)vp_dt_payload(&pl->dt, t); }
 static uint32_t tet_rec(const vp_planner_t *pl, uint32_t t) { return pay(pl, t)[0]; }
@@ -178,6 +284,13 @@ static void side_set(vp_planner_t *pl, uint32_t t, int f, unsigned s)
     *w = (*w & ~(0xFFu << (8 * f))) | ((uint32_t)(s & 0xFFu) << (8 * f));
 }
 static int tet_active(const vp_planner_t *pl, uint32_t t) { return tet_rec(pl, t) != NONE; }
+/* side f of t (its whole Voronoi edge) proven free by `proof`; other flags kept */
+static void side_free(vp_planner_t *pl, uint32_t t, int f, uint32_t proof)
+{
+    side_set(pl, t, f, (side_get(pl, t, f) & ~SIDE_MASK) | SIDE_FREE);
+    pay(pl, t)[2 + f] = proof;
+}
+static uint32_t side_proof(const vp_planner_t *pl, uint32_t t, int f) { return pay(pl, t)[2 + f]; }
 
 /* ---------- arena ---------- */
 
@@ -200,7 +313,7 @@ static void note_peak(vp_planner_t *pl)
     if (pl->nroute > pl->peak_route) pl->peak_route = pl->nroute;
     while (hash_need < 2u * pl->nfacets + 16u) hash_need <<= 1;
     used = vp_dt_bytes_used(&pl->dt) + (size_t)pl->nvrec * sizeof(vp_vrec_t) +
-           (size_t)pl->nfedge * 16u + (size_t)pl->nfrec * sizeof(vp_frec_t) + (size_t)hash_need * 4u +
+           (size_t)pl->nfedge * 4u * FEDGE_WORDS + (size_t)pl->nproof * sizeof(vp_proof_t) + (size_t)pl->nfrec * sizeof(vp_frec_t) + (size_t)hash_need * 4u +
            (size_t)pl->peak_heap * 4u + (size_t)pl->peak_task * sizeof(vp_task_t) +
            (size_t)pl->peak_route * 24u + (size_t)pl->peak_astar * 4u + (size_t)pl->peak_path * 4u;
     if (used > pl->st.arena_peak) pl->st.arena_peak = used;
@@ -221,56 +334,80 @@ static int rec_new(vp_planner_t *pl, const double *p, uint32_t prev, uint32_t fl
     r->stamp = 0;
     r->from = NONE;
     r->g = 0.0;
+    r->proof = PROOF_NONE;
     *out = pl->nvrec++;
     return VP_OK;
 }
 
-static int edge_add(vp_planner_t *pl, uint32_t a, uint32_t b)
+
+/* Joins records a and b by a free edge when `proof` covers the segment between them; a
+ * segment it does not cover is counted and left out (never travelled). */
+static int edge_add(vp_planner_t *pl, uint32_t a, uint32_t b, uint32_t proof)
 {
-    uint32_t e;
+    uint32_t e, *w;
     if (a == b) return VP_OK;
+    if (!proof_covers(pl, proof, pl->vrec[a].p, pl->vrec[b].p)) {
+        pl->st.unproven++;
+        return VP_OK;
+    }
     if (pl->nfedge >= pl->cap_fedge) return VP_ENOMEM;
     e = pl->nfedge++;
-    pl->fedge[4 * e] = a;
-    pl->fedge[4 * e + 1] = b;
-    pl->fedge[4 * e + 2] = pl->vrec[a].adj;
-    pl->fedge[4 * e + 3] = pl->vrec[b].adj;
+    w = pl->fedge + FEDGE_WORDS * e;
+    w[0] = a;
+    w[1] = b;
+    w[2] = pl->vrec[a].adj;
+    w[3] = pl->vrec[b].adj;
+    w[4] = proof;
     pl->vrec[a].adj = e;
     pl->vrec[b].adj = e;
     return VP_OK;
 }
 
-/* A record reached from `prev` along a proven-free segment. */
-static int rec_link(vp_planner_t *pl, const double *p, uint32_t prev, uint32_t flags, uint32_t *out)
+/* A record reached from `prev` along the segment `proof` shows free. *out = NONE (and nothing
+ * made) when the proof does not cover it. */
+static int rec_link(vp_planner_t *pl, const double *p, uint32_t prev, uint32_t flags, uint32_t proof,
+                    uint32_t *out)
 {
-    int st = rec_new(pl, p, prev, flags, out);
+    int st;
+    *out = NONE;
+    if (prev != NONE && !proof_covers(pl, proof, pl->vrec[prev].p, p)) {
+        pl->st.unproven++;
+        return VP_OK;
+    }
+    st = rec_new(pl, p, prev, flags, out);
     if (st != VP_OK) return st;
     if (prev != NONE) {
-        st = edge_add(pl, prev, *out);
-        if (st != VP_OK) { pl->nvrec--; return st; }
+        pl->vrec[*out].proof = proof;
+        st = edge_add(pl, prev, *out, proof);
+        if (st != VP_OK) { pl->nvrec--; *out = NONE; return st; }
     }
     return VP_OK;
 }
 
-/* ---------- routes outside Omega ---------- */
-
-static int seg_enters_omega(const vp_planner_config_t *c, const double *a, const double *b)
+/* the proof of a free edge between records a and b that covers them, or PROOF_NONE */
+static uint32_t edge_proof(const vp_planner_t *pl, uint32_t a, uint32_t b)
 {
-    double d[3], len, t0, t1;
-    sub3(d, b, a);
-    len = sqrt(dot3(d, d));
-    if (!(len > 0.0)) return omega_inside(c, a);
-    d[0] /= len; d[1] /= len; d[2] /= len;
-    return omega_clip(c, a, d, len, &t0, &t1) && t1 - t0 > 1e-12 * (1.0 + len);
+    uint32_t e;
+    for (e = pl->vrec[a].adj; e != NONE;) {
+        const uint32_t *w = pl->fedge + FEDGE_WORDS * e;
+        int isa = w[0] == a;
+        if ((isa ? w[1] : w[0]) == b) return w[4];
+        e = isa ? w[2] : w[3];
+    }
+    return PROOF_NONE;
 }
 
-static int route_push(vp_planner_t *pl, const double *p)
+/* ---------- routes outside Omega ---------- */
+
+/* Appends a step to the route, with its proof of freedom. */
+static int route_push(vp_planner_t *pl, const double *p, uint32_t proof)
 {
     double *q;
     if (pl->nroute >= pl->cap_route) return VP_ENOMEM;
     q = pl->route + 3 * (size_t)pl->nroute;
     if (pl->nroute > 0 && q[-3] == p[0] && q[-2] == p[1] && q[-1] == p[2]) return VP_OK;
     q[0] = p[0]; q[1] = p[1]; q[2] = p[2];
+    pl->route_proof[pl->nroute] = proof;
     pl->nroute++;
     return VP_OK;
 }
@@ -287,19 +424,19 @@ static int probe_limited(const vp_planner_t *pl)
     return pl->probe_range < pl->probe_full - 1e-12 * (1.0 + pl->probe_full);
 }
 
-static int rec_link(vp_planner_t *pl, const double *p, uint32_t prev, uint32_t flags, uint32_t *out);
-
-/* A range-limited probe missed: its segment is free. The device walks from record `from` to the
- * segment's end (a new record, pl->at) to probe on; the step costs the same under either rule. */
-static int walk_on(vp_planner_t *pl, uint32_t from, double e[3])
+/* A range-limited probe missed: its segment is free (proof). The device walks from record
+ * `from` to the segment's end (a new record, pl->at) to probe on; the step costs the same
+ * under either rule. */
+static int walk_on(vp_planner_t *pl, uint32_t from, uint32_t proof, double e[3])
 {
     uint32_t r;
     int k, st;
     for (k = 0; k < 3; k++) e[k] = pl->probe_origin[k] + pl->probe_range * pl->probe_dir[k];
-    if ((st = rec_link(pl, e, from, 0, &r)) != VP_OK) return st;
+    if ((st = rec_link(pl, e, from, 0, proof, &r)) != VP_OK) return st;
+    if (r == NONE) return VP_EUNSAFE; /* the probe's own end: never */
     pl->st.travel_prev_chains += pl->probe_range;
     pl->nroute = pl->iroute = 0;
-    if ((st = route_push(pl, e)) != VP_OK) return st;
+    if ((st = route_push(pl, e, proof)) != VP_OK) return st;
     pl->at = r;
     return VP_OK;
 }
@@ -355,12 +492,12 @@ static int sphere_route(vp_planner_t *pl, const double *a, const double *b, int 
             normalize3(w);
             for (k = 0; k < 3; k++) w[k] = c[k] + r * w[k];
             *len += dist3(prev, w);
-            if (!dry && (st = route_push(pl, w)) != VP_OK) return st;
+            if (!dry && (st = route_push(pl, w, PROOF_OUTSIDE)) != VP_OK) return st;
             prev[0] = w[0]; prev[1] = w[1]; prev[2] = w[2];
         }
     }
     *len += dist3(prev, b);
-    return dry ? VP_OK : route_push(pl, b);
+    return dry ? VP_OK : route_push(pl, b, PROOF_OUTSIDE);
 }
 
 /* Appends a path between two points on or outside dOmega that stays outside Omega: the
@@ -383,7 +520,7 @@ static int outside_route(vp_planner_t *pl, const double *a, const double *b, int
         int d = depth[n - 1], k;
         if (!seg_enters_omega(&pl->cfg, cur, y)) {
             *len += dist3(cur, y);
-            if (!dry && (st = route_push(pl, y)) != VP_OK) return st;
+            if (!dry && (st = route_push(pl, y, PROOF_OUTSIDE)) != VP_OK) return st;
             memcpy(cur, y, sizeof cur);
             n--;
             continue;
@@ -563,7 +700,7 @@ static int facet_too_sharp(const vp_planner_t *pl, const uint32_t *v)
 /* Adds facet fv (any order) with ball centre c; `outside` is a point on the probe's side, so
  * the facet is stored facing it. A facet already known keeps its first ball. */
 static int frec_add(vp_planner_t *pl, const uint32_t *fv, const double *c, const double *outside,
-                    uint32_t tet, uint32_t *out)
+                    uint32_t tet, uint32_t proof, uint32_t *out)
 {
     uint32_t v[3], k, h;
     int found;
@@ -585,6 +722,7 @@ static int frec_add(vp_planner_t *pl, const uint32_t *fv, const double *c, const
     f->heap = NONE;
     f->flags = 0;
     f->hint = tet;
+    f->proof = proof;
     f->c[0] = c[0]; f->c[1] = c[1]; f->c[2] = c[2];
     a = vp_dt_point(&pl->dt, v[0]);
     f->r = dist3(c, a);
@@ -687,7 +825,7 @@ static int tree_path(vp_planner_t *pl, uint32_t a, uint32_t b, const double *gp,
         while (pl->vrec[x].prev != x) {
             uint32_t p = pl->vrec[x].prev;
             l += dist3(pl->vrec[x].p, pl->vrec[p].p);
-            if (route && (st = route_push(pl, pl->vrec[p].p)) != VP_OK) return st;
+            if (route && (st = route_push(pl, pl->vrec[p].p, pl->vrec[x].proof)) != VP_OK) return st;
             x = p;
         }
         st = outside_route(pl, pl->vrec[x].p, gp, !route, &ol);
@@ -698,7 +836,7 @@ static int tree_path(vp_planner_t *pl, uint32_t a, uint32_t b, const double *gp,
     while (pl->vrec[x].depth > pl->vrec[y].depth) {
         uint32_t p = pl->vrec[x].prev;
         l += dist3(pl->vrec[x].p, pl->vrec[p].p);
-        if (route && (st = route_push(pl, pl->vrec[p].p)) != VP_OK) return st;
+        if (route && (st = route_push(pl, pl->vrec[p].p, pl->vrec[x].proof)) != VP_OK) return st;
         x = p;
     }
     while (pl->vrec[y].depth > pl->vrec[x].depth) {
@@ -709,7 +847,7 @@ static int tree_path(vp_planner_t *pl, uint32_t a, uint32_t b, const double *gp,
     while (x != y && !(pl->vrec[x].prev == x && pl->vrec[y].prev == y)) {
         uint32_t p = pl->vrec[x].prev;
         l += dist3(pl->vrec[x].p, pl->vrec[p].p);
-        if (route && (st = route_push(pl, pl->vrec[p].p)) != VP_OK) return st;
+        if (route && (st = route_push(pl, pl->vrec[p].p, pl->vrec[x].proof)) != VP_OK) return st;
         x = p;
         if (ny >= pl->cap_path) return VP_ENOMEM;
         pl->path[ny++] = y;
@@ -725,7 +863,7 @@ static int tree_path(vp_planner_t *pl, uint32_t a, uint32_t b, const double *gp,
     for (i = ny; i-- > 0;) {
         l += dist3(last, pl->vrec[pl->path[i]].p);
         last = pl->vrec[pl->path[i]].p;
-        if (route && (st = route_push(pl, last)) != VP_OK) return st;
+        if (route && (st = route_push(pl, last, pl->vrec[pl->path[i]].proof)) != VP_OK) return st;
     }
     *len = l;
     return VP_OK;
@@ -829,11 +967,12 @@ static int astar_path(vp_planner_t *pl, uint32_t a, uint32_t b, const double *gp
         if (cur == b) { node = b; break; }
         if (++expansions > budget) return VP_ENOMEM;
         for (e = pl->vrec[cur].adj; e != NONE;) {
-            int isa = pl->fedge[4 * e] == cur;
-            uint32_t nb = isa ? pl->fedge[4 * e + 1] : pl->fedge[4 * e];
+            const uint32_t *w = pl->fedge + FEDGE_WORDS * e;
+            int isa = w[0] == cur;
+            uint32_t nb = isa ? w[1] : w[0];
             st = astar_relax(&s, cur, nb, pl->vrec[cur].g + dist3(pl->vrec[cur].p, pl->vrec[nb].p), 0);
             if (st != VP_OK) return st;
-            e = isa ? pl->fedge[4 * e + 2] : pl->fedge[4 * e + 3];
+            e = isa ? w[2] : w[3];
         }
         if (pl->vrec[cur].flags & REC_OUT) {
             if (b == NONE) {
@@ -866,7 +1005,7 @@ static int astar_path(vp_planner_t *pl, uint32_t a, uint32_t b, const double *gp
                 st = outside_route(pl, last, pl->vrec[r].p, 0, &ol);
                 l += ol;
             } else {
-                st = route_push(pl, pl->vrec[r].p);
+                st = route_push(pl, pl->vrec[r].p, edge_proof(pl, pl->path[i + 1], r));
                 l += dist3(last, pl->vrec[r].p);
             }
             if (st != VP_OK) return st;
@@ -935,13 +1074,14 @@ static int plan_route(vp_planner_t *pl, uint32_t b, const double *gp)
         /* the goal one free edge away: no search */
         uint32_t e, cur = pl->at;
         for (e = pl->vrec[cur].adj; e != NONE;) {
-            int isa = pl->fedge[4 * e] == cur;
-            if ((isa ? pl->fedge[4 * e + 1] : pl->fedge[4 * e]) == b) {
+            const uint32_t *w = pl->fedge + FEDGE_WORDS * e;
+            int isa = w[0] == cur;
+            if ((isa ? w[1] : w[0]) == b) {
                 pl->at = b;
                 pl->st.direct_routes++;
-                return route_push(pl, pl->vrec[b].p);
+                return route_push(pl, pl->vrec[b].p, w[4]);
             }
-            e = isa ? pl->fedge[4 * e + 2] : pl->fedge[4 * e + 3];
+            e = isa ? w[2] : w[3];
         }
     }
     if (!(pl->cfg.flags & VP_PLAN_PREV_CHAINS)) {
@@ -1021,6 +1161,7 @@ static int task_push(vp_planner_t *pl, uint32_t t, int f, int forced)
     k->facet = (uint8_t)f;
     k->kind = TASK_PROBE;
     k->tries = 0;
+    k->proof = PROOF_NONE;
     k->off = 0.0;
     side_set(pl, t, f, s | SIDE_QUEUED | (forced ? SIDE_FORCED : 0u));
     return VP_OK;
@@ -1090,6 +1231,15 @@ static int expect_hit(const vp_planner_t *pl, uint32_t t, int f, const double *o
     return s > 0.0 && s < range;
 }
 
+/* A side that cannot be probed from this end (no usable edge: a degenerate tet, or no place to
+ * probe from): marked so that no rule asks for it again, which bounds the work of closing. */
+static int task_unprobeable(vp_planner_t *pl, uint32_t t, int f)
+{
+    side_set(pl, t, f, side_get(pl, t, f) | SIDE_BLOCKED);
+    pl->st.stalls++;
+    return 0;
+}
+
 /* Prepares the probe of task k: the route to its origin and the ray. Returns 1 when a probe
  * is ready, 0 when the task resolved without probing. */
 static int task_start(vp_planner_t *pl, vp_task_t *k)
@@ -1111,11 +1261,13 @@ static int task_start(vp_planner_t *pl, vp_task_t *k)
         return 0;
     if (!tet_active(pl, t)) return 0;
     st = edge_geom(pl, t, f, &g);
-    if (st != VP_OK) return 0; /* degenerate: no usable edge */
+    if (st != VP_OK) return task_unprobeable(pl, t, f); /* degenerate: no usable edge */
     if (!(g.t0 < g.t1) || k->off >= g.t1 - g.t0 - 1e-12 * (1.0 + g.t1)) {
-        /* the edge lies outside Omega (or is already proven free): free */
-        side_set(pl, t, f, SIDE_FREE);
-        side_set(pl, u, (int)j, (side_get(pl, u, (int)j) & ~SIDE_MASK) | SIDE_FREE);
+        /* the edge lies outside Omega (or is already proven free by the walked ray): free */
+        uint32_t pf = k->off > 0.0 ? k->proof : PROOF_OUTSIDE;
+        side_set(pl, t, f, SIDE_UNKNOWN);
+        side_free(pl, t, f, pf);
+        side_free(pl, u, (int)j, pf);
         return 0;
     }
     pl->standoff = 0.0;
@@ -1125,19 +1277,29 @@ static int task_start(vp_planner_t *pl, vp_task_t *k)
         double back[3], t0b, t1b;
         int q;
         for (q = 0; q < 3; q++) back[q] = -g.dir[q];
-        if (!omega_clip(&pl->cfg, g.a, back, 1e300, &t0b, &t1b)) return 0;
+        if (!omega_clip(&pl->cfg, g.a, back, 1e300, &t0b, &t1b)) return task_unprobeable(pl, t, f);
         for (q = 0; q < 3; q++) o[q] = g.a[q] - t1b * g.dir[q];
         range = t1b + g.t1;
         pl->standoff = t1b;
     } else if (g.a_inside) {
         goal = tet_rec(pl, t);
-        if (goal == VREC_OUT || goal == NONE) return 0;
+        if (goal == VREC_OUT || goal == NONE) return task_unprobeable(pl, t, f);
         o[0] = g.a[0]; o[1] = g.a[1]; o[2] = g.a[2];
         range = g.t1;
     } else {
-        int q;
+        int q, tries;
+        double back = 0.0;
         for (q = 0; q < 3; q++) o[q] = g.a[q] + g.t0 * g.dir[q];
         range = g.t1 - g.t0;
+        /* where the edge enters Omega, from a far Voronoi vertex (a nearly flat tet): rounding
+         * can put it inside Omega; the device waits outside, so step back along the line */
+        for (tries = 0; omega_inside(&pl->cfg, o) && tries < 16; tries++) {
+            double step = back > 0.0 ? back : 4e-16 * (fabs(g.t0) + sqrt(dot3(g.a, g.a))) + pl->ptol;
+            for (q = 0; q < 3; q++) o[q] -= step * g.dir[q];
+            range += step;
+            back += step;
+        }
+        if (omega_inside(&pl->cfg, o)) return task_unprobeable(pl, t, f);
     }
     if (k->off > 0.0) {
         /* resume a range-limited probe from the end of its free part */
@@ -1155,6 +1317,7 @@ static int task_start(vp_planner_t *pl, vp_task_t *k)
     memcpy(pl->probe_dir, g.dir, sizeof g.dir);
     pl->probe_range = range;
     pl->probe_origin_rec = pl->at;
+    pl->chain_proof = k->off > 0.0 ? k->proof : PROOF_NONE;
     pl->curtask = *k;
     side_set(pl, t, f, side_get(pl, t, f) | SIDE_QUEUED);
     if (pl->shortcut != NONE) {
@@ -1202,7 +1365,9 @@ static int task_finish(vp_planner_t *pl, const vp_probe_result_t *res)
         vp_dt_facet(&pl->dt, t, f, fv);
         {
             unsigned su = side_get(pl, u, (int)j) & SIDE_MASK;
-            st = frec_add(pl, fv, h, pl->probe_origin, t, &fr);
+            uint32_t pf;
+            if ((st = probe_proof(pl, res, &pf)) != VP_OK) return st;
+            st = frec_add(pl, fv, h, pl->probe_origin, t, pf, &fr);
             if (st != VP_OK) return st;
             side_set(pl, t, f, SIDE_HIT);
             if (su == SIDE_HIT) {
@@ -1226,6 +1391,11 @@ static int task_finish(vp_planner_t *pl, const vp_probe_result_t *res)
         side_set(pl, t, f, side_get(pl, t, f) | SIDE_QUEUED);
         return VP_OK;
     }
+    {
+        uint32_t pf;
+        if ((st = probe_proof(pl, res, &pf)) != VP_OK) return st;
+        k->proof = pf;
+    }
     if (probe_limited(pl)) {
         /* range-limited: the free part ends here; walk there and probe on */
         double e[3];
@@ -1235,7 +1405,7 @@ static int task_finish(vp_planner_t *pl, const vp_probe_result_t *res)
             pl->st.occluded++;
             return VP_OK;
         }
-        if ((st = walk_on(pl, pl->probe_origin_rec, e)) != VP_OK) return st;
+        if ((st = walk_on(pl, pl->probe_origin_rec, k->proof, e)) != VP_OK) return st;
         k->off += pl->probe_range;
         k->tries = 0; /* the next part of the ray is a new probe: its misses are confirmed anew */
         if (pl->ntask >= pl->cap_task) return VP_ENOMEM;
@@ -1250,19 +1420,20 @@ static int task_finish(vp_planner_t *pl, const vp_probe_result_t *res)
         frec_delete(pl, fr);
         pl->st.noise_drops++;
     }
-    side_set(pl, t, f, SIDE_FREE);
-    side_set(pl, u, (int)j, (side_get(pl, u, (int)j) & ~SIDE_MASK) | SIDE_FREE);
+    side_set(pl, t, f, SIDE_UNKNOWN);
+    side_free(pl, t, f, k->proof);
+    side_free(pl, u, (int)j, k->proof);
     if (!tet_active(pl, u)) {
         double c[3];
         uint32_t r;
         if (vp_dt_is_ghost(&pl->dt, u) || tet_point(pl, u, c) != VP_OK || !omega_inside(&pl->cfg, c))
             return activate(pl, u, VREC_OUT);
-        st = rec_link(pl, c, pl->probe_origin_rec, 0, &r);
-        if (st != VP_OK) return st;
+        st = rec_link(pl, c, pl->probe_origin_rec, 0, k->proof, &r);
+        if (st != VP_OK || r == NONE) return st;
         return activate(pl, u, r);
     }
     if (tet_rec(pl, u) != VREC_OUT && pl->probe_origin_rec != NONE)
-        return edge_add(pl, pl->probe_origin_rec, tet_rec(pl, u));
+        return edge_add(pl, pl->probe_origin_rec, tet_rec(pl, u), k->proof);
     return VP_OK;
 }
 
@@ -1298,15 +1469,14 @@ static int after_insert(vp_planner_t *pl, uint32_t pv)
     const double *P = vp_dt_point(&pl->dt, pv);
     int st, i;
 
-    if (3u * nk + nc > pl->cap_astar) return VP_ENOMEM;
-    if (3u * nk + nc > pl->peak_astar) pl->peak_astar = 3u * nk + nc;
+    if (KPAY * nk + nk + nc > pl->cap_astar) return VP_ENOMEM;
+    if (KPAY * nk + nk + nc > pl->peak_astar) pl->peak_astar = KPAY * nk + nk + nc;
     kpay = pl->astar;
-    kbound = kpay + 2 * nk;
+    kbound = kpay + KPAY * nk;
     ckidx = kbound + nk;
     /* the killed tets' payloads, before created tets overwrite their slots */
     for (q = 0; q < nk; q++) {
-        kpay[2 * q] = pay(pl, killed[q])[0];
-        kpay[2 * q + 1] = pay(pl, killed[q])[1];
+        memcpy(kpay + KPAY * q, pay(pl, killed[q]), KPAY * sizeof(uint32_t));
         kbound[q] = 0;
     }
     for (q = 0; q < nc; q++) {
@@ -1319,11 +1489,9 @@ static int after_insert(vp_planner_t *pl, uint32_t pv)
     /* facets inside the cavity are gone: so are their balls */
     for (ki = 0; ki < nk; ki++)
         for (i = 0; i < 4; i++) {
-            unsigned s = (kpay[2 * ki + 1] >> (8 * i)) & SIDE_MASK;
             uint32_t fv[3], r;
             int m = 0, x;
             if ((kbound[ki] >> i) & 1u) continue;
-            (void)s;
             for (x = 0; x < 4; x++)
                 if (x != i) fv[m++] = kverts[4 * ki + (uint32_t)x];
             r = frec_lookup(pl, fv);
@@ -1341,12 +1509,14 @@ static int after_insert(vp_planner_t *pl, uint32_t pv)
         unsigned sU, sK, sn;
         int valid = 0, reach_from_k = 0, edge_free = 0, c_ok = 0;
         double c[3], oldc[3], pu[3], tol = pl->cfg.noise_tol;
+        uint32_t pfree = PROOF_NONE, pk = PROOF_NONE; /* proofs proposed: of the edge, of [P_k, P_n] */
+        uint32_t oldproof = PROOF_NONE;
         ki = ckidx[q];
         U = w[4 + jn] >> 2;
         jj = w[4 + jn] & 3u;
         sU = side_get(pl, U, (int)jj) & SIDE_MASK;
-        sK = (kpay[2 * ki + 1] >> (8 * fi)) & SIDE_MASK;
-        krec = kpay[2 * ki];
+        sK = (kpay[KPAY * ki + 1] >> (8 * fi)) & SIDE_MASK;
+        krec = kpay[KPAY * ki];
         if (vp_dt_is_ghost(&pl->dt, n)) {
             pay(pl, n)[0] = VREC_OUT;
         } else if (tet_point(pl, n, c) != VP_OK || !omega_inside(&pl->cfg, c)) {
@@ -1360,6 +1530,7 @@ static int after_insert(vp_planner_t *pl, uint32_t pv)
         if (r != NONE) {
             int dbl = (pl->frec[r].flags & FREC_DOUBLE) != 0;
             memcpy(oldc, pl->frec[r].c, sizeof oldc);
+            oldproof = pl->frec[r].proof;
             valid = vp_cmp_dist(pl->frec[r].c, P, vp_dt_point(&pl->dt, fv[0])) >= 0;
             if (!valid) frec_delete(pl, r);
             if (dbl) {
@@ -1378,12 +1549,14 @@ static int after_insert(vp_planner_t *pl, uint32_t pv)
                 /* [P_kold, c) was free; P_n lies on it, clear of c by the noise tolerance */
                 reach_from_k = krec != NONE && krec != VREC_OUT && c_ok &&
                                dist3(pl->vrec[krec].p, c) <= dist3(pl->vrec[krec].p, pl->frec[r].c) - tol;
+                pk = pl->frec[r].proof;
             }
             else { sn = SIDE_UNKNOWN; }
         } else if (sU == SIDE_FREE || sK == SIDE_FREE) {
             sn = sU = SIDE_FREE;
             edge_free = 1;
             reach_from_k = 1;
+            pfree = pk = sK == SIDE_FREE ? kpay[KPAY * ki + 2 + fi] : side_proof(pl, U, (int)jj);
         } else if (r != NONE && sU == SIDE_HIT) {
             /* the old hit seen from U is cut off: U's side is free up to past P_n, with the
              * noise tolerance to spare (measured from U's vertex, or for a hull ray from where
@@ -1393,6 +1566,7 @@ static int after_insert(vp_planner_t *pl, uint32_t pv)
             if (c_ok && from_u && dist3(pu, c) <= dist3(pu, oldc) - tol) {
                 sn = sU = SIDE_FREE;
                 edge_free = 1;
+                pfree = oldproof;
             } else {
                 sn = sU = SIDE_UNKNOWN;
             }
@@ -1401,6 +1575,10 @@ static int after_insert(vp_planner_t *pl, uint32_t pv)
         }
         side_set(pl, n, jn, sn);
         side_set(pl, U, (int)jj, (side_get(pl, U, (int)jj) & ~SIDE_MASK) | sU);
+        if (sn == SIDE_FREE) {
+            side_free(pl, n, jn, pfree);
+            side_free(pl, U, (int)jj, pfree);
+        }
         /* activation through the free boundary edge (the paper's v' rule), or along the
          * former edge from the killed tet's record */
         if (pay(pl, n)[0] != NONE) continue;
@@ -1414,15 +1592,16 @@ static int after_insert(vp_planner_t *pl, uint32_t pv)
                     if (!entry_point(pl, n, jn, e)) continue;
                     st = rec_new(pl, e, NONE, REC_OUT, &er);
                     if (st != VP_OK) return st;
-                    st = rec_link(pl, c, er, 0, &nr);
+                    st = rec_link(pl, c, er, 0, pfree, &nr);
                 } else {
-                    st = rec_link(pl, c, urec, 0, &nr);
+                    st = rec_link(pl, c, urec, 0, pfree, &nr);
                 }
                 /* the rest of the old edge, towards the former vertex, is free too */
-                if (st == VP_OK && k_ok) st = edge_add(pl, nr, krec);
+                if (st == VP_OK && k_ok && nr != NONE) st = edge_add(pl, nr, krec, pk);
                 if (st != VP_OK) return st;
-            } else if (k_ok) {
-                st = rec_link(pl, c, krec, 0, &nr);
+            }
+            if (nr == NONE && k_ok) {
+                st = rec_link(pl, c, krec, 0, pk, &nr);
                 if (st != VP_OK) return st;
             }
             if (nr != NONE) pay(pl, n)[0] = nr;
@@ -1748,6 +1927,7 @@ static int seed_issue(vp_planner_t *pl, const double *dir, double range)
     pl->probe_range = clamp_range(pl, range);
     pl->seed_miss = 0;
     pl->probe_ready = 1;
+    pl->chain_proof = PROOF_NONE;
     return VP_OK;
 }
 
@@ -1769,7 +1949,13 @@ static int seed_miss_on(vp_planner_t *pl)
         return 1;
     }
     if (!limited || pl->cfg.clearance > 0.0) return 0;
-    if ((st = walk_on(pl, pl->at, e)) != VP_OK) return st;
+    {
+        vp_probe_result_t miss = { 0, 0.0 };
+        uint32_t pf;
+        if ((st = probe_proof(pl, &miss, &pf)) != VP_OK) return st;
+        if ((st = walk_on(pl, pl->at, pf, e)) != VP_OK) return st;
+        pl->chain_proof = pf;
+    }
     memcpy(pl->probe_origin, e, sizeof e);
     memcpy(pl->seed_q, e, sizeof e);
     pl->probe_full -= pl->probe_range;
@@ -1966,41 +2152,48 @@ int vp_planner_init(vp_planner_t *pl, void *arena, size_t bytes, const vp_planne
     cur = pl->arena;
     end = pl->arena + bytes;
     /* the split, per 100 units, from the peaks measured per output vertex (README): the
-     * triangulation 30, records 30, free edges 8, facets 8, tasks 8, hash 2-4, path search and
-     * hole scratch 9, paths 1, heap 1, route 1 */
+     * triangulation at least 29, records 20, proofs 16, free edges 6, facets 7, tasks 7, hash
+     * 2-4, path search and hole scratch 8, paths 1, heap 1, route 1 */
     unit = bytes / 100;
     if (bytes < 64 * 1024) return VP_ENOMEM;
-    pl->cap_vrec = (uint32_t)(30 * unit / sizeof(vp_vrec_t));
-    pl->cap_frec = (uint32_t)(8 * unit / sizeof(vp_frec_t));
-    pl->cap_fedge = (uint32_t)(8 * unit / 16);
+    pl->cap_vrec = (uint32_t)(20 * unit / sizeof(vp_vrec_t));
+    pl->cap_frec = (uint32_t)(7 * unit / sizeof(vp_frec_t));
+    pl->cap_fedge = (uint32_t)(6 * unit / (4 * FEDGE_WORDS));
     for (hwords = 1; (size_t)hwords * 2 * 4 <= 4 * unit; hwords <<= 1) {}
-    pl->cap_astar = (uint32_t)(9 * unit / 4);
+    pl->cap_astar = (uint32_t)(8 * unit / 4);
     pl->cap_path = (uint32_t)(unit / 4);
-    pl->cap_task = (uint32_t)(8 * unit / sizeof(vp_task_t));
+    pl->cap_task = (uint32_t)(7 * unit / sizeof(vp_task_t));
     pl->cap_heap = (uint32_t)(unit / 4);
     pl->cap_route = (uint32_t)(unit / 24);
     if (pl->cap_route > 4096) pl->cap_route = 4096;
     pl->vrec = carve(&cur, end, (size_t)pl->cap_vrec * sizeof(vp_vrec_t));
     pl->frec = carve(&cur, end, (size_t)pl->cap_frec * sizeof(vp_frec_t));
-    pl->fedge = carve(&cur, end, (size_t)pl->cap_fedge * 16);
+    pl->fedge = carve(&cur, end, (size_t)pl->cap_fedge * 4 * FEDGE_WORDS);
     pl->fhash = carve(&cur, end, (size_t)hwords * 4);
     pl->astar = carve(&cur, end, (size_t)pl->cap_astar * 4);
     pl->path = carve(&cur, end, (size_t)pl->cap_path * 4);
     pl->task = carve(&cur, end, (size_t)pl->cap_task * sizeof(vp_task_t));
     pl->heap = carve(&cur, end, (size_t)pl->cap_heap * 4);
     pl->route = carve(&cur, end, (size_t)pl->cap_route * 24);
+    pl->route_proof = carve(&cur, end, (size_t)pl->cap_route * 4);
+    pl->cap_proof = (uint32_t)(PROOF_SHARE * unit / sizeof(vp_proof_t));
+    pl->proof = carve(&cur, end, (size_t)pl->cap_proof * sizeof(vp_proof_t));
+    if (!pl->route_proof || !pl->proof || pl->cap_proof < 64) return VP_ENOMEM;
     if (!pl->vrec || !pl->frec || !pl->fedge || !pl->fhash || !pl->astar || !pl->path ||
         !pl->task || !pl->heap || !pl->route || pl->cap_vrec < 64 || pl->cap_frec < 64 ||
         pl->cap_task < 64 || pl->cap_route < 64 || pl->cap_astar < 1024)
         return VP_ENOMEM;
     dtb = (size_t)(end - cur);
-    if (dtb < 30 * unit) return VP_ENOMEM;
-    st = vp_dt_init(&pl->dt, cur, dtb, 8);
+    if (dtb < 29 * unit) return VP_ENOMEM;
+    st = vp_dt_init(&pl->dt, cur, dtb, KPAY * 4);
     if (st != VP_OK) return st == VP_EINVAL ? VP_ENOMEM : st;
     pl->hash_mask = hwords - 1;
     for (i = 0; i < hwords; i++) pl->fhash[i] = HASH_EMPTY;
     pl->frec_free = NONE;
     pl->last_vertex = NONE;
+    pl->cur_proof = pl->chain_proof = PROOF_NONE;
+    /* the slack of a proof: rounding of constructed points, far below any physical size */
+    pl->ptol = 1e-10 * (1.0 + omega_circumradius(cfg));
     pl->phase = PH_SEED;
     {
         /* sin of the angle bound by its Taylor series (|x| <= pi/6: error below 1e-9) */
@@ -2014,16 +2207,42 @@ int vp_planner_init(vp_planner_t *pl, void *arena, size_t bytes, const vp_planne
     return VP_OK;
 }
 
+/* A PROBE goes out: what its result will prove is measured from this ray. */
+static void issue_probe(vp_planner_t *pl, const vp_cmd_t *cmd)
+{
+    memcpy(pl->iss_o, cmd->from, sizeof pl->iss_o);
+    memcpy(pl->iss_d, cmd->dir, sizeof pl->iss_d);
+    pl->iss_range = cmd->range;
+    pl->cur_proof = PROOF_NONE;
+}
+
+/* internal steps one vp_planner_next call may take without a command (plus 4 per task slot):
+ * far above any real need, so hitting it means a rule loops */
+#define STEP_BUDGET (1u << 20)
+
 int vp_planner_next(vp_planner_t *pl, vp_cmd_t *cmd)
 {
     int st;
+    uint64_t budget;
     if (!pl || !cmd) return VP_EINVAL;
     if (pl->awaiting) return VP_ESTATE;
     if (pl->error) return pl->error;
     memset(cmd, 0, sizeof *cmd);
-    for (;;) {
+    for (budget = STEP_BUDGET + 4u * (uint64_t)pl->cap_task;; budget--) {
+        if (budget == 0) {
+            /* bounded work per call: a loop that issues nothing is reported, never spun */
+            pl->st.stalls++;
+            pl->error = VP_ESTALL;
+            return VP_ESTALL;
+        }
         if (pl->iroute < pl->nroute) {
-            const double *to = pl->route + 3 * (size_t)pl->iroute++;
+            const double *to = pl->route + 3 * (size_t)pl->iroute;
+            /* the one promise: a MOVE only along a segment with a proof of freedom */
+            if (!proof_covers(pl, pl->route_proof[pl->iroute], pl->pos, to)) {
+                pl->error = VP_EUNSAFE;
+                return VP_EUNSAFE;
+            }
+            pl->iroute++;
             cmd->kind = VP_CMD_MOVE;
             memcpy(cmd->from, pl->pos, sizeof cmd->from);
             memcpy(cmd->to, to, sizeof cmd->to);
@@ -2044,6 +2263,8 @@ int vp_planner_next(vp_planner_t *pl, vp_cmd_t *cmd)
             memcpy(cmd->from, a->p, sizeof cmd->from);
             memcpy(cmd->dir, d, sizeof cmd->dir);
             cmd->range = len;
+            pl->chain_proof = PROOF_NONE;
+            issue_probe(pl, cmd);
             pl->st.probes++;
             pl->st.shortcut_probes++;
             return VP_OK;
@@ -2055,6 +2276,7 @@ int vp_planner_next(vp_planner_t *pl, vp_cmd_t *cmd)
             memcpy(cmd->from, pl->probe_origin, sizeof cmd->from);
             memcpy(cmd->dir, pl->probe_dir, sizeof cmd->dir);
             cmd->range = pl->probe_range;
+            issue_probe(pl, cmd);
             pl->st.probes++;
             return VP_OK;
         }
@@ -2087,6 +2309,15 @@ int vp_planner_next(vp_planner_t *pl, vp_cmd_t *cmd)
             }
             break;
         case PH_CLOSE:
+            /* closing again with nothing probed or inserted since the last try cannot do
+             * better: the holes stay (certify names them) */
+            if (pl->close_mark == pl->st.probes + pl->st.insertions + 1) {
+                pl->st.stalls++;
+                pl->phase = PH_COMPONENTS;
+                st = VP_OK;
+                break;
+            }
+            pl->close_mark = pl->st.probes + pl->st.insertions + 1;
             st = close_holes(pl);
             pl->phase = st > 0 ? PH_RUN : PH_COMPONENTS;
             if (st > 0) st = VP_OK;
@@ -2134,12 +2365,16 @@ int vp_planner_feed(vp_planner_t *pl, const vp_probe_result_t *res)
             return VP_OK;
         }
         /* the straight way is free: take it */
-        pl->route_deferred = 0;
-        st = edge_add(pl, pl->sc_from, pl->shortcut);
-        if (st != VP_OK) { pl->error = st; return st; }
-        pl->nroute = pl->iroute = 0;
-        st = route_push(pl, pl->vrec[pl->shortcut].p);
-        if (st != VP_OK) { pl->error = st; return st; }
+        {
+            uint32_t pf;
+            pl->route_deferred = 0;
+            st = probe_proof(pl, res, &pf);
+            if (st == VP_OK) st = edge_add(pl, pl->sc_from, pl->shortcut, pf);
+            if (st != VP_OK) { pl->error = st; return st; }
+            pl->nroute = pl->iroute = 0;
+            st = route_push(pl, pl->vrec[pl->shortcut].p, pf);
+            if (st != VP_OK) { pl->error = st; return st; }
+        }
         return VP_OK;
     }
     if (pl->phase == PH_SEED) st = seed_feed(pl, res);

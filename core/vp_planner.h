@@ -82,6 +82,9 @@ typedef struct vp_planner_stats {
     uint64_t reseeds;          /* samples added on components the seeds had missed */
     uint64_t noise_drops;      /* hits that a full miss from the edge's other end contradicted
                                   (S within the noise of that end): the facet dropped */
+    uint64_t unproven;         /* segments an inference took for free that no probe covers:
+                                  never added to the free graph */
+    uint64_t stalls;           /* steps that made no progress (bounded: see VP_ESTALL) */
     double travel;             /* length of all MOVEs */
     double travel_prev_chains; /* what the same moves cost along prev chains (the paper's
                                   paths); equal to travel with VP_PLAN_PREV_CHAINS */
@@ -99,8 +102,16 @@ typedef struct vp_task {
     uint32_t tet;
     uint8_t facet, kind;
     uint16_t tries;
+    uint32_t proof;    /* with off > 0: the proof of the ray's last free piece */
     double off;        /* already proven free from the origin (a range-limited probe) */
 } vp_task_t;
+
+/* A proof of free space: the free part of one probe, [o, o + len * d] (d unit), and the proof
+ * of the piece before it on the same ray (a range-limited probe walked on), or none. */
+typedef struct vp_proof {
+    double o[3], d[3], len;
+    uint32_t prev;
+} vp_proof_t;
 
 typedef struct vp_planner {
     vp_planner_config_t cfg;
@@ -117,6 +128,13 @@ typedef struct vp_planner {
     vp_task_t *task; uint32_t ntask, cap_task;        /* pending probes (a stack) */
     uint32_t *path; uint32_t npath, cap_path, ipath;  /* current route: waypoint records */
     double *route; uint32_t nroute, iroute, cap_route;/* current route as points */
+    uint32_t *route_proof;                            /* each route step's proof of freedom */
+    vp_proof_t *proof; uint32_t nproof, cap_proof;    /* free parts of probes, as proven */
+    uint32_t cur_proof;      /* the proof made from the current probe's result (or none) */
+    uint32_t chain_proof;    /* the current probe continues this proof's ray (or none) */
+    double iss_o[3], iss_d[3], iss_range; /* the PROBE issued last */
+    double ptol;             /* slack of a proof check (rounding of constructed points) */
+    uint64_t close_mark;     /* probes + insertions + 1 when holes were last closed */
     uint32_t *astar; uint32_t cap_astar;              /* scratch of the path search */
     /* state machine */
     int phase;

@@ -16,6 +16,8 @@ const char *vp_strerror(int status)
     case VP_ENODEV:   return "no such device";
     case VP_ETIMEOUT: return "timed out";
     case VP_EABORT:   return "aborted";
+    case VP_EUNSAFE:  return "move refused: no proof that its segment is free";
+    case VP_ESTALL:   return "no progress: the scan cannot go on";
     default:          return status >= 0 ? "ok" : "unknown error";
     }
 }

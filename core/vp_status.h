@@ -17,7 +17,9 @@ enum vp_status {
     VP_EIO      = -9,  /* port: the device or file refused (errno kept by the port) */
     VP_ENODEV   = -10, /* port: hardware not present */
     VP_ETIMEOUT = -11, /* port: no answer in time */
-    VP_EABORT   = -12  /* stopped by e-stop or user; the session stays resumable */
+    VP_EABORT   = -12, /* stopped by e-stop or user; the session stays resumable */
+    VP_EUNSAFE  = -13, /* a move with no proof of free space: refused, nothing moved */
+    VP_ESTALL   = -14  /* no progress within the planner's work bound: stopped */
 };
 
 /* Short constant text for a status, for messages. */
