@@ -5,6 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "vp_cli.h"
+#include "vp_logverify.h"
 #include "vp_meshcheck.h"
 #include "vp_meshio.h"
 #include "vp_session.h"
@@ -257,12 +258,25 @@ static void log_usage(FILE *f)
     fprintf(f,
         "usage: voroprobe log dump LOG [--jsonl | --csv]\n"
         "       voroprobe log check LOG [--no-replay]\n"
+        "       voroprobe log verify LOG [--json]\n"
         "dump   prints the header and every valid record: text (default), JSON lines (one\n"
         "       object per line: the header first), or CSV (one row per record). Numbers are\n"
         "       printed with 17 significant digits (exact doubles).\n"
         "check  verifies the header, every record's length, CRC and sequence number, replays\n"
         "       the planner over the valid records (unless --no-replay), and says what is\n"
-        "       recoverable. Exit status 0: intact; 1: damaged (the valid part is named).\n");
+        "       recoverable. Exit status 0: intact; 1: damaged (the valid part is named).\n"
+        "verify checks from the log alone, without the planner, that the device moved only\n"
+        "       through space proven free before each move: outside Omega (dOmega included),\n"
+        "       or on the free part of an earlier probe fired from where the device stood (a\n"
+        "       hit frees origin .. dist - noise_tol, a miss origin .. range, too close nothing).\n"
+        "       The device starts at the header's start; events do not move it. Names each\n"
+        "       move not proven free (record number, seq, from, to, the unproven part; the first\n"
+        "       20) and each probe fired from elsewhere; a damaged or torn log is verified up to\n"
+        "       its last good record. Tolerance: 1e-9 x Omega's diameter. --json ends with\n"
+        "       {moves, probes, unproven_moves, first_unproven_record, probes_off_position,\n"
+        "       records, ok, ...}. Exit status 0: every move proven free and every probe from\n"
+        "       the device's position; 1: not (a violation named); 3: the log cannot be read\n"
+        "       (no file, not a session log, damaged header, newer version).\n");
 }
 
 static void json_str(FILE *f, const char *s)
@@ -477,6 +491,112 @@ static int log_check(const char *path, int replay)
     return rc;
 }
 
+static void vec_text(const double *v)
+{
+    printf("%.9g %.9g %.9g", v[0], v[1], v[2]);
+}
+
+static int log_verify(const char *path, int json)
+{
+    vp_slog_t L;
+    vp_logverify_t *v;
+    vp_logverify_result_t *res;
+    char err[1400], stop[600];
+    uint32_t i;
+    int st = vp_slog_load(&L, path, err, sizeof err);
+    if (st != VP_OK) {
+        fprintf(stderr, "log verify: %s\n", err);
+        if (json) printf("{\"ok\":false,\"error\":\"unreadable\"}\n");
+        return 3;
+    }
+    v = malloc(sizeof *v);
+    res = malloc(sizeof *res);
+    if (!v || !res) { free(v); free(res); vp_slog_free(&L); fprintf(stderr, "log verify: out of memory\n"); return 3; }
+    st = vp_logverify_begin(v, &L.header);
+    if (st != VP_OK) {
+        fprintf(stderr, "log verify: %s: the header's Omega is not usable (not finite or empty)\n", path);
+        free(v); free(res); vp_slog_free(&L);
+        if (json) printf("{\"ok\":false,\"error\":\"bad omega\"}\n");
+        return 3;
+    }
+    for (i = 0; i < L.n && st == VP_OK; i++) {
+        vp_log_record_t r;
+        st = vp_slog_record(&L, i, &r);
+        if (st == VP_OK) st = vp_logverify_add(v, &r);
+    }
+    vp_logverify_end(v, res);
+    free(v);
+    if (st != VP_OK) {
+        fprintf(stderr, "log verify: %s: record %u: %s\n", path, i - 1, vp_strerror(st));
+        free(res); vp_slog_free(&L);
+        if (json) printf("{\"ok\":false,\"error\":\"%s\"}\n", vp_strerror(st));
+        return 3;
+    }
+    for (i = 0; i < res->nmoves_listed; i++) {
+        const vp_logverify_move_t *m = &res->move[i];
+        printf("record %u (seq %u, move %llu): MOVE from ", m->record, m->seq, (unsigned long long)m->move);
+        vec_text(m->from);
+        printf(" to ");
+        vec_text(m->to);
+        printf(": %.6g of its length %.6g NOT proven free", m->unproven, m->length);
+        printf("; first unproven part s %.6g..%.6g (", m->gap_s0, m->gap_s1);
+        vec_text(m->gap_from);
+        printf(" .. ");
+        vec_text(m->gap_to);
+        printf(")");
+        if (m->gaps > 1) printf(", %u unproven parts", m->gaps);
+        printf("; %u earlier probe(s) on its line\n", m->probes_on_line);
+    }
+    if (res->unproven_moves > res->nmoves_listed)
+        printf("... %llu more unproven moves\n", (unsigned long long)(res->unproven_moves - res->nmoves_listed));
+    for (i = 0; i < res->nprobes_listed; i++) {
+        const vp_logverify_probe_t *p = &res->probe[i];
+        printf("record %u (seq %u): PROBE from ", p->record, p->seq);
+        vec_text(p->origin);
+        printf(", but the device was at ");
+        vec_text(p->pos);
+        printf(" (%.6g away): fired from a position never moved to; it proves nothing\n", p->off);
+    }
+    if (res->probes_off_position > res->nprobes_listed)
+        printf("... %llu more probes off the device's position\n",
+               (unsigned long long)(res->probes_off_position - res->nprobes_listed));
+    if (L.status != VP_OK) {
+        vp_slog_stop_text(&L, stop, sizeof stop);
+        if (L.n) printf("verify: %s: %s; verified records 0..%u only\n", path, stop, L.n - 1);
+        else printf("verify: %s: %s; no record to verify\n", path, stop);
+    }
+    if (res->unproven_moves == 0)
+        printf("verify: %llu moves, %llu probes: all moves proven free", (unsigned long long)res->moves,
+               (unsigned long long)res->probes);
+    else
+        printf("verify: %llu of %llu moves NOT proven free (first: record %u, seq %u, move %llu; %.6g unproven in all)",
+               (unsigned long long)res->unproven_moves, (unsigned long long)res->moves, res->move[0].record,
+               res->move[0].seq, (unsigned long long)res->move[0].move, res->unproven_length);
+    if (res->probes_off_position)
+        printf("; %llu of %llu probes NOT from the device's position (first: record %u)",
+               (unsigned long long)res->probes_off_position, (unsigned long long)res->probes, res->probe[0].record);
+    if (res->probes_bad) printf("; %llu probe(s) with a zero direction (prove nothing)", (unsigned long long)res->probes_bad);
+    printf("\n");
+    if (json) {
+        printf("{\"moves\":%llu,\"probes\":%llu,\"unproven_moves\":%llu,\"first_unproven_record\":",
+               (unsigned long long)res->moves, (unsigned long long)res->probes, (unsigned long long)res->unproven_moves);
+        if (res->unproven_moves) printf("%u", res->move[0].record); else printf("null");
+        printf(",\"probes_off_position\":%llu,\"first_off_position_record\":", (unsigned long long)res->probes_off_position);
+        if (res->probes_off_position) printf("%u", res->probe[0].record); else printf("null");
+        printf(",\"records\":%llu,\"events\":%llu,\"moves_outside_omega\":%llu,\"unproven_length\":",
+               (unsigned long long)res->records, (unsigned long long)res->events, (unsigned long long)res->moves_outside);
+        json_num(stdout, res->unproven_length);
+        printf(",\"tol\":");
+        json_num(stdout, res->tol);
+        printf(",\"index_fallbacks\":%llu", (unsigned long long)res->scans);
+        printf(",\"log_complete\":%s,\"ok\":%s}\n", L.status == VP_OK ? "true" : "false", res->ok ? "true" : "false");
+    }
+    st = res->ok ? 0 : 1;
+    free(res);
+    vp_slog_free(&L);
+    return st;
+}
+
 int vp_cmd_log(int argc, char **argv)
 {
     const char *sub, *path = NULL;
@@ -486,8 +606,8 @@ int vp_cmd_log(int argc, char **argv)
         return argc < 2 ? 2 : 0;
     }
     sub = argv[1];
-    if (strcmp(sub, "dump") && strcmp(sub, "check")) {
-        fprintf(stderr, "log: unknown sub-command '%s' (dump or check; see --help)\n", sub);
+    if (strcmp(sub, "dump") && strcmp(sub, "check") && strcmp(sub, "verify")) {
+        fprintf(stderr, "log: unknown sub-command '%s' (dump, check or verify; see --help)\n", sub);
         return 2;
     }
     for (i = 2; i < argc; i++) {
@@ -496,10 +616,12 @@ int vp_cmd_log(int argc, char **argv)
         if (!strcmp(sub, "dump") && !strcmp(a, "--jsonl")) mode = 1;
         else if (!strcmp(sub, "dump") && !strcmp(a, "--csv")) mode = 2;
         else if (!strcmp(sub, "check") && !strcmp(a, "--no-replay")) replay = 0;
+        else if (!strcmp(sub, "verify") && !strcmp(a, "--json")) mode = 1;
         else if (a[0] == '-' && a[1]) { fprintf(stderr, "log %s: unknown option %s (see --help)\n", sub, a); return 2; }
         else if (path) { fprintf(stderr, "log %s: one log at a time\n", sub); return 2; }
         else path = a;
     }
     if (!path) { fprintf(stderr, "log %s: give a LOG file (see --help)\n", sub); return 2; }
+    if (!strcmp(sub, "verify")) return log_verify(path, mode);
     return !strcmp(sub, "dump") ? log_dump(path, mode) : log_check(path, replay);
 }

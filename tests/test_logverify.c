@@ -1,0 +1,487 @@
+/* vp_logverify, the proof check of a session log, on crafted logs written with core's encoder
+ * and read back through the log reader: each kind of unproven move (through Omega with no
+ * probe, 1% past a miss's range, past a hit, along a too-close probe, before its covering
+ * probe, parallel to a probed line 1e-6 away, a chord of a ball Omega) and a probe from where
+ * the device never moved are named with their record number; legitimate moves (outside Omega,
+ * along dOmega, covered end to end by two collinear probes and the outside part, a tangent to a
+ * ball Omega, across a PAUSE/RESUME) pass; a torn tail is verified up to its last good record;
+ * a synthetic 500k-record log runs in seconds.
+ *
+ *   test_logverify              the checks above
+ *   test_logverify DIR          also writes each crafted log as DIR/NAME.vplog and the
+ *                               expectations as DIR/expect.txt ("NAME EXIT FIRST_UNPROVEN
+ *                               FIRST_OFF_POSITION", -1 for none) for tests/t_log_verify.sh
+ *   test_logverify --mutate IN OUT   copies the log IN to OUT with one MOVE's target (the first
+ *                               MOVE inside Omega after the middle of the log) moved to the
+ *                               header's first interior point, CRC re-encoded; prints the record
+ */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+#include "vp_log.h"
+#include "vp_logverify.h"
+#include "vp_slog.h"
+#include "vp_test.h"
+
+#define MAXREC 64
+
+typedef struct crafted {
+    vp_log_header_t h;
+    vp_log_record_t r[MAXREC];
+    size_t n;
+} crafted_t;
+
+static void box_header(crafted_t *c, double noise_tol, double sx, double sy, double sz)
+{
+    vp_planner_config_t cfg;
+    int k;
+    memset(&cfg, 0, sizeof cfg);
+    cfg.omega_kind = VP_OMEGA_BOX;
+    for (k = 0; k < 3; k++) { cfg.omega_lo[k] = -1.0; cfg.omega_hi[k] = 1.0; }
+    cfg.ninterior = 1;
+    cfg.eps = 0.1;
+    cfg.start[0] = sx; cfg.start[1] = sy; cfg.start[2] = sz;
+    cfg.noise_tol = noise_tol;
+    memset(c, 0, sizeof *c);
+    vp_log_header_init(&c->h, &cfg, 1u << 20, VP_LOG_UNITS_NONE, "test", "crafted by test_logverify");
+}
+
+static void ball_header(crafted_t *c)
+{
+    vp_planner_config_t cfg;
+    memset(&cfg, 0, sizeof cfg);
+    cfg.omega_kind = VP_OMEGA_BALL;
+    cfg.omega_radius = 1.0;
+    cfg.ninterior = 1;
+    cfg.eps = 0.1;
+    cfg.start[2] = 2.0;
+    memset(c, 0, sizeof *c);
+    vp_log_header_init(&c->h, &cfg, 1u << 20, VP_LOG_UNITS_NONE, "test", "crafted by test_logverify (ball)");
+}
+
+static uint32_t ev(crafted_t *c, uint32_t event)
+{
+    vp_log_record_event(&c->r[c->n], (uint32_t)c->n, event, 0, "crafted");
+    return (uint32_t)c->n++;
+}
+
+static uint32_t mv(crafted_t *c, double x, double y, double z)
+{
+    vp_cmd_t cmd;
+    memset(&cmd, 0, sizeof cmd);
+    cmd.kind = VP_CMD_MOVE;
+    cmd.to[0] = x; cmd.to[1] = y; cmd.to[2] = z;
+    vp_log_record_move(&c->r[c->n], (uint32_t)c->n, &cmd);
+    return (uint32_t)c->n++;
+}
+
+/* a probe from o along d (normalised here) */
+static uint32_t pb(crafted_t *c, double ox, double oy, double oz, double dx, double dy, double dz, double range,
+                   int hit, double dist)
+{
+    vp_cmd_t cmd;
+    vp_probe_result_t res;
+    double l = sqrt(dx * dx + dy * dy + dz * dz);
+    memset(&cmd, 0, sizeof cmd);
+    cmd.kind = VP_CMD_PROBE;
+    cmd.from[0] = ox; cmd.from[1] = oy; cmd.from[2] = oz;
+    cmd.dir[0] = dx / l; cmd.dir[1] = dy / l; cmd.dir[2] = dz / l;
+    cmd.range = range;
+    res.hit = hit;
+    res.dist = dist;
+    vp_log_record_probe(&c->r[c->n], (uint32_t)c->n, &cmd, &res, dist);
+    return (uint32_t)c->n++;
+}
+
+/* Encodes the log into a buffer (header + records). */
+static unsigned char *encode(const crafted_t *c, size_t *len)
+{
+    size_t cap = VP_LOG_MAX_HEADER + (c->n + 1) * VP_LOG_MAX_RECORD, n;
+    unsigned char *b = malloc(cap);
+    size_t i;
+    int k;
+    if (!b) return NULL;
+    k = vp_log_header_encode(&c->h, b, cap);
+    CHECK(k > 0);
+    if (k <= 0) { free(b); return NULL; }
+    n = (size_t)k;
+    for (i = 0; i < c->n; i++) {
+        k = vp_log_record_encode(&c->r[i], b + n, cap - n);
+        CHECK(k > 0);
+        if (k <= 0) { free(b); return NULL; }
+        n += (size_t)k;
+    }
+    *len = n;
+    return b;
+}
+
+/* Verifies c's encoded bytes (cut to `cut` bytes when cut != 0) through the reader; the same
+ * as verifying the records directly when nothing is cut. */
+static int verify_bytes(const crafted_t *c, size_t cut, vp_logverify_result_t *res, uint32_t *valid)
+{
+    vp_slog_t L;
+    vp_logverify_t *v = malloc(sizeof *v);
+    char err[400];
+    size_t len = 0;
+    unsigned char *b = encode(c, &len);
+    uint32_t i;
+    int st;
+    if (!b || !v) { free(b); free(v); return VP_ENOMEM; }
+    st = vp_slog_load_buf(&L, b, cut ? cut : len, err, sizeof err);
+    free(b);
+    if (st != VP_OK) { free(v); return st; }
+    *valid = L.n;
+    st = vp_logverify_begin(v, &L.header);
+    for (i = 0; st == VP_OK && i < L.n; i++) {
+        vp_log_record_t r;
+        st = vp_slog_record(&L, i, &r);
+        if (st == VP_OK) st = vp_logverify_add(v, &r);
+    }
+    vp_logverify_end(v, res);
+    free(v);
+    vp_slog_free(&L);
+    return st;
+}
+
+static FILE *expect_file;
+static const char *out_dir;
+
+static void write_log(const crafted_t *c, const char *name, int exit_code, long first, long off)
+{
+    char path[1024];
+    size_t len = 0;
+    unsigned char *b;
+    FILE *f;
+    if (!out_dir) return;
+    b = encode(c, &len);
+    if (!b) return;
+    snprintf(path, sizeof path, "%s/%s.vplog", out_dir, name);
+    f = fopen(path, "wb");
+    CHECKF(f != NULL, "cannot write %s", path);
+    if (f) { CHECK(fwrite(b, 1, len, f) == len); fclose(f); }
+    free(b);
+    if (expect_file) fprintf(expect_file, "%s %d %ld %ld\n", name, exit_code, first, off);
+}
+
+/* Verifies c both ways and checks: the number of unproven moves, the first one's record (-1:
+ * none), the number of off-position probes and the first one's record. */
+static void expect(const crafted_t *c, const char *name, uint64_t unproven, long first, uint64_t off, long first_off)
+{
+    vp_logverify_result_t a, b;
+    uint32_t valid = 0;
+    int st = vp_logverify_run(&c->h, c->r, c->n, &a);
+    CHECKF(st == VP_OK, "%s: run %d", name, st);
+    st = verify_bytes(c, 0, &b, &valid);
+    CHECKF(st == VP_OK, "%s: through the reader %d", name, st);
+    CHECKF(valid == c->n, "%s: %u of %zu records read back", name, valid, c->n);
+    CHECKF(a.unproven_moves == unproven, "%s: %llu unproven moves, expected %llu", name,
+           (unsigned long long)a.unproven_moves, (unsigned long long)unproven);
+    CHECKF(first < 0 ? a.nmoves_listed == 0 : a.nmoves_listed > 0 && a.move[0].record == (uint32_t)first,
+           "%s: first unproven record %ld expected, got %ld", name, first,
+           a.nmoves_listed ? (long)a.move[0].record : -1L);
+    CHECKF(a.probes_off_position == off, "%s: %llu probes off position, expected %llu", name,
+           (unsigned long long)a.probes_off_position, (unsigned long long)off);
+    CHECKF(first_off < 0 ? a.nprobes_listed == 0 : a.nprobes_listed > 0 && a.probe[0].record == (uint32_t)first_off,
+           "%s: first off-position probe %ld expected", name, first_off);
+    CHECKF(a.ok == (unproven == 0 && off == 0), "%s: ok %d", name, a.ok);
+    CHECKF(a.records == c->n, "%s: %llu records verified", name, (unsigned long long)a.records);
+    /* the encoded and read-back log gives the same verdict */
+    CHECKF(b.unproven_moves == a.unproven_moves && b.probes_off_position == a.probes_off_position &&
+           b.moves == a.moves && b.probes == a.probes && b.ok == a.ok, "%s: reader round trip differs", name);
+    if (a.nmoves_listed && b.nmoves_listed)
+        CHECKF(a.move[0].record == b.move[0].record && a.move[0].gap_s0 == b.move[0].gap_s0 &&
+               a.move[0].gap_s1 == b.move[0].gap_s1, "%s: reader round trip: first move differs", name);
+    write_log(c, name, a.ok ? 0 : 1, first, first_off);
+}
+
+static void test_crafted(void)
+{
+    crafted_t c;
+    vp_logverify_result_t r;
+    uint32_t bad, valid;
+
+    /* a move through Omega with no probe */
+    box_header(&c, 0, 2, 0, 0);
+    ev(&c, VP_LOG_EV_START);
+    mv(&c, 1, 0, 0);                      /* outside, onto dOmega: free */
+    bad = mv(&c, 0, 0, 0);
+    expect(&c, "no_probe", 1, bad, 0, -1);
+    CHECK(vp_logverify_run(&c.h, c.r, c.n, &r) == VP_OK);
+    CHECK(r.moves == 2 && r.moves_outside == 1 && r.nmoves_listed == 1);
+    CHECK(r.move[0].seq == bad && r.move[0].move == 2 && r.move[0].gap_s0 == 0.0 && r.move[0].gap_s1 == 1.0);
+    CHECK(fabs(r.move[0].unproven - 1.0) < 1e-12 && r.move[0].probes_on_line == 0);
+
+    /* a torn tail: verified up to the last good record (the bad move is in the torn part) */
+    {
+        size_t len = 0;
+        unsigned char *b = encode(&c, &len);
+        free(b);
+        CHECK(verify_bytes(&c, len - 10, &r, &valid) == VP_OK);
+        CHECK(valid == c.n - 1 && r.records == c.n - 1 && r.ok && r.moves == 1);
+    }
+
+    /* a move 1% past a miss's range */
+    box_header(&c, 0, 2, 0, 0);
+    mv(&c, 1, 0, 0);
+    pb(&c, 1, 0, 0, -1, 0, 0, 0.5, 0, 0);
+    mv(&c, 0.5, 0, 0);                    /* exactly the miss's range: free */
+    mv(&c, 1, 0, 0);
+    bad = mv(&c, 1 - 0.505, 0, 0);        /* 1% further */
+    expect(&c, "past_miss", 1, bad, 0, -1);
+    CHECK(vp_logverify_run(&c.h, c.r, c.n, &r) == VP_OK);
+    CHECK(r.nmoves_listed == 1 && fabs(r.move[0].unproven - 0.005) < 1e-9 && r.move[0].probes_on_line == 1);
+    CHECK(fabs(r.move[0].gap_s0 - 0.5 / 0.505) < 1e-12 && r.move[0].gap_s1 == 1.0);
+
+    /* a move past a hit point (noise tolerance 0.01: free up to 0.59 of a hit at 0.6) */
+    box_header(&c, 0.01, 2, 0, 0);
+    mv(&c, 1, 0, 0);
+    pb(&c, 1, 0, 0, -1, 0, 0, 2, 1, 0.6);
+    mv(&c, 0.42, 0, 0);                   /* 0.58 along: free */
+    mv(&c, 1, 0, 0);
+    bad = mv(&c, 0.4, 0, 0);              /* onto the hit point: the last 0.01 is not proven */
+    mv(&c, 1, 0, 0);                      /* and back: its first 0.01 is not either */
+    mv(&c, 0.2, 0, 0);                    /* past it */
+    expect(&c, "past_hit", 3, bad, 0, -1);
+    CHECK(vp_logverify_run(&c.h, c.r, c.n, &r) == VP_OK);
+    CHECK(r.nmoves_listed == 3 && fabs(r.move[0].unproven - 0.01) < 1e-9 && fabs(r.move[1].unproven - 0.01) < 1e-9 &&
+          fabs(r.move[2].unproven - 0.21) < 1e-9);
+    CHECK(fabs(r.move[0].gap_s0 - 0.59 / 0.6) < 1e-12 && r.move[0].gap_s1 == 1.0 && r.move[1].gap_s0 == 0.0);
+
+    /* a move along a probe that was too close: nothing proven */
+    box_header(&c, 0, 2, 0, 0);
+    mv(&c, 1, 0, 0);
+    pb(&c, 1, 0, 0, -1, 0, 0, 2, VP_PROBE_TOO_CLOSE, 0);
+    bad = mv(&c, 0.9, 0, 0);
+    expect(&c, "too_close", 1, bad, 0, -1);
+
+    /* a move before its covering probe (the probe after it covers the move back) */
+    box_header(&c, 0, 2, 0, 0);
+    mv(&c, 1, 0, 0);
+    bad = mv(&c, 0.5, 0, 0);
+    pb(&c, 0.5, 0, 0, 1, 0, 0, 0.5, 0, 0);
+    mv(&c, 1, 0, 0);
+    mv(&c, 0.5, 0, 0);
+    expect(&c, "before_probe", 1, bad, 0, -1);
+
+    /* a move parallel to a probed line, 1e-6 away */
+    box_header(&c, 0, 2, 0, 0);
+    mv(&c, 1, 0, 0);
+    pb(&c, 1, 0, 0, -1, 0, 0, 1, 0, 0);
+    mv(&c, 1, 1e-6, 0);                   /* along dOmega (x = 1): free */
+    bad = mv(&c, 0.5, 1e-6, 0);
+    mv(&c, 1, 1e-6, 0);
+    mv(&c, 1, 0, 0);
+    mv(&c, 0.5, 0, 0);                    /* on the line itself: free */
+    expect(&c, "offset_1e-6", 2, bad, 0, -1);
+    CHECK(vp_logverify_run(&c.h, c.r, c.n, &r) == VP_OK);
+    CHECK(r.nmoves_listed == 2 && r.move[0].probes_on_line == 0 && r.move[1].record == bad + 1);
+
+    /* a probe from a position never moved to: counted, and it proves nothing */
+    box_header(&c, 0, 2, 0, 0);
+    mv(&c, 1, 0, 0);
+    bad = pb(&c, 1, 0.2, 0, -1, 0, 0, 1, 0, 0);
+    mv(&c, 1, 0.2, 0);                    /* along dOmega: free */
+    mv(&c, 0.5, 0.2, 0);                  /* would be covered by that probe */
+    expect(&c, "probe_elsewhere", 1, bad + 2, 1, bad);
+    CHECK(vp_logverify_run(&c.h, c.r, c.n, &r) == VP_OK);
+    CHECK(r.nprobes_listed == 1 && fabs(r.probe[0].off - 0.2) < 1e-12 && r.probe[0].pos[0] == 1.0);
+
+    /* the same probe where the device stood: no violation, and the move is proven */
+    box_header(&c, 0, 2, 0, 0);
+    mv(&c, 1, 0, 0);
+    mv(&c, 1, 0.2, 0);
+    pb(&c, 1, 0.2, 0, -1, 0, 0, 1, 0, 0);
+    mv(&c, 0.5, 0.2, 0);
+    expect(&c, "probe_here", 0, -1, 0, -1);
+
+    /* legitimate: one move covered by the outside part, two collinear probes end to end, and
+     * the outside part again; across a PAUSE and a RESUME (the position carries over) */
+    box_header(&c, 0.01, 2, 0, 0);
+    ev(&c, VP_LOG_EV_START);
+    mv(&c, 1, 0, 0);
+    pb(&c, 1, 0, 0, -1, 0, 0, 0.8, 0, 0);        /* free x in [0.2, 1] */
+    mv(&c, 0.2, 0, 0);
+    ev(&c, VP_LOG_EV_PAUSE);
+    ev(&c, VP_LOG_EV_RESUME);
+    pb(&c, 0.2, 0, 0, -1, 0, 0, 2, 1, 1.21);     /* hit at x = -1.01: free to x = -1.0 */
+    mv(&c, 1.5, 0, 0);                           /* back along both, out of Omega */
+    mv(&c, -1.5, 0, 0);                          /* outside, probe 1, probe 2, outside */
+    mv(&c, -1.5, 3, 0);                          /* outside */
+    mv(&c, 1.5, 3, 0);
+    mv(&c, 1, 0.999, 1);                         /* along dOmega */
+    mv(&c, 1, -1, -1);                           /* along a face of Omega */
+    mv(&c, 1, -1, -1);                           /* zero length */
+    ev(&c, VP_LOG_EV_DONE);
+    expect(&c, "legit", 0, -1, 0, -1);
+    CHECK(vp_logverify_run(&c.h, c.r, c.n, &r) == VP_OK);
+    CHECK(r.ok && r.moves == 9 && r.probes == 2 && r.events == 4);
+    CHECK(r.pos[0] == 1.0 && r.pos[1] == -1.0 && r.pos[2] == -1.0);
+
+    /* the same, but the two probes leave a gap of 1e-4 between them */
+    box_header(&c, 0.01, 2, 0, 0);
+    mv(&c, 1, 0, 0);
+    pb(&c, 1, 0, 0, -1, 0, 0, 0.8, 0, 0);
+    mv(&c, 0.2, 0, 0);
+    mv(&c, 0.1999, 0, 0);                        /* the gap itself */
+    bad = c.n - 1;
+    expect(&c, "gap_1e-4", 1, (long)bad, 0, -1);
+
+    /* a ball Omega: a tangent is outside, a chord is not */
+    ball_header(&c);
+    mv(&c, 0, 0, 1);                             /* from the start (0,0,2) onto dOmega */
+    mv(&c, 1, 0, 1);                             /* tangent at (0,0,1): outside */
+    mv(&c, 0, 0, 1);
+    bad = mv(&c, 1, 0, 0);                       /* a chord: inside */
+    pb(&c, 1, 0, 0, -1, 0, 1, sqrt(2.0), 0, 0);  /* back along the chord: free */
+    mv(&c, 0, 0, 1);
+    mv(&c, 1, 0, 0);
+    mv(&c, 2, 0, 0);                             /* out */
+    expect(&c, "ball_chord", 1, bad, 0, -1);
+    CHECK(vp_logverify_run(&c.h, c.r, c.n, &r) == VP_OK);
+    CHECK(r.nmoves_listed == 1 && fabs(r.move[0].unproven - sqrt(2.0)) < 1e-9);
+}
+
+/* A synthetic log of 250k probes and 250k moves, each move along the probe before it (all
+ * proven), then one not (offset 1e-6): linear-time, in seconds. */
+static void test_big(void)
+{
+    enum { N = 250000 };
+    vp_log_header_t h;
+    vp_planner_config_t cfg;
+    vp_logverify_t *v = malloc(sizeof *v);
+    vp_logverify_result_t r;
+    vp_log_record_t rec;
+    double pos[3] = { 1, 0, 0 }, t0, secs;
+    uint64_t s = 88172645463325252ull;
+    uint32_t seq = 0;
+    int i, k, st;
+    if (!v) { CHECK(0); return; }
+    memset(&cfg, 0, sizeof cfg);
+    cfg.omega_kind = VP_OMEGA_BOX;
+    for (k = 0; k < 3; k++) { cfg.omega_lo[k] = -1; cfg.omega_hi[k] = 1; }
+    cfg.ninterior = 1;
+    cfg.eps = 0.01;
+    cfg.start[0] = 1;
+    vp_log_header_init(&h, &cfg, 1u << 20, VP_LOG_UNITS_NONE, "test", "big");
+    t0 = (double)clock() / CLOCKS_PER_SEC;
+    st = vp_logverify_begin(v, &h);
+    CHECK(st == VP_OK);
+    for (i = 0; i < N && st == VP_OK; i++) {
+        vp_cmd_t cmd;
+        vp_probe_result_t res;
+        double d[3], l, len;
+        memset(&cmd, 0, sizeof cmd);
+        for (k = 0; k < 3; k++) {
+            s ^= s << 13; s ^= s >> 7; s ^= s << 17;
+            d[k] = (double)(s >> 11) / 9007199254740992.0 - 0.5;
+        }
+        l = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+        if (d[0] * pos[0] + d[1] * pos[1] + d[2] * pos[2] > 0) l = -l;   /* towards the centre */
+        cmd.kind = VP_CMD_PROBE;
+        for (k = 0; k < 3; k++) { cmd.from[k] = pos[k]; cmd.dir[k] = d[k] / l; }
+        cmd.range = 0.05;
+        res.hit = i % 2;
+        res.dist = 0.04;
+        len = res.hit ? 0.04 : 0.05;
+        vp_log_record_probe(&rec, seq++, &cmd, &res, res.dist);
+        st = vp_logverify_add(v, &rec);
+        cmd.kind = VP_CMD_MOVE;
+        /* half way along the free part; one move in 1000 only 1e-7 long (too short for the
+         * line index: the probe fired from its start proves it) */
+        for (k = 0; k < 3; k++) cmd.to[k] = pos[k] + (i % 1000 == 499 ? 1e-7 : 0.5 * len) * cmd.dir[k];
+        vp_log_record_move(&rec, seq++, &cmd);
+        if (st == VP_OK) st = vp_logverify_add(v, &rec);
+        if (i % 1000 == 999) {
+            /* then 1e-7 further: no probe was fired from either end, all probes are looked at */
+            for (k = 0; k < 3; k++) cmd.to[k] += 1e-7 * cmd.dir[k];
+            vp_log_record_move(&rec, seq++, &cmd);
+            if (st == VP_OK) st = vp_logverify_add(v, &rec);
+        }
+        memcpy(pos, cmd.to, sizeof pos);
+    }
+    /* one move 1e-6 off the last probe's line */
+    {
+        vp_cmd_t cmd;
+        memset(&cmd, 0, sizeof cmd);
+        cmd.kind = VP_CMD_MOVE;
+        memcpy(cmd.to, pos, sizeof pos);
+        cmd.to[0] += 0.01;
+        cmd.to[1] += 1e-6;
+        vp_log_record_move(&rec, seq++, &cmd);
+        if (st == VP_OK) st = vp_logverify_add(v, &rec);
+    }
+    vp_logverify_end(v, &r);
+    free(v);
+    secs = (double)clock() / CLOCKS_PER_SEC - t0;
+    CHECK(st == VP_OK);
+    CHECKF(r.records == 2u * N + N / 1000 + 1 && r.unproven_moves == 1 && r.nmoves_listed == 1 &&
+           r.move[0].record == 2u * N + N / 1000,
+           "%llu unproven, first %ld", (unsigned long long)r.unproven_moves, r.nmoves_listed ? (long)r.move[0].record : -1L);
+    CHECKF(secs < 20.0, "%.2f s", secs);
+    CHECKF(r.scans == N / 1000, "%llu index fallbacks", (unsigned long long)r.scans);
+    printf("synthetic log: %u records verified in %.2f s CPU (%llu index fallbacks)\n", seq, secs,
+           (unsigned long long)r.scans);
+}
+
+/* --mutate IN OUT */
+static int mutate(const char *in, const char *out)
+{
+    vp_slog_t L;
+    char err[1400];
+    uint32_t i, pick = UINT32_MAX;
+    FILE *f;
+    int st = vp_slog_load(&L, in, err, sizeof err), k;
+    if (st != VP_OK) { fprintf(stderr, "%s\n", err); return 2; }
+    for (i = L.n / 2; i < L.n && pick == UINT32_MAX; i++) {
+        vp_log_record_t r;
+        const vp_planner_config_t *c = &L.header.cfg;
+        int inside = 1;
+        if (vp_slog_record(&L, i, &r) != VP_OK || r.type != VP_LOG_MOVE) continue;
+        for (k = 0; k < 3; k++) {
+            if (c->omega_kind == VP_OMEGA_BOX && !(r.target[k] > c->omega_lo[k] && r.target[k] < c->omega_hi[k])) inside = 0;
+        }
+        if (c->omega_kind == VP_OMEGA_BALL) {
+            double d2 = 0;
+            for (k = 0; k < 3; k++) d2 += (r.target[k] - c->omega_center[k]) * (r.target[k] - c->omega_center[k]);
+            inside = d2 < c->omega_radius * c->omega_radius;
+        }
+        if (inside) pick = i;
+    }
+    if (pick == UINT32_MAX) { fprintf(stderr, "no MOVE inside Omega in the second half\n"); vp_slog_free(&L); return 2; }
+    f = fopen(out, "wb");
+    if (!f) { vp_slog_free(&L); return 2; }
+    fwrite(L.data, 1, L.off[pick], f);       /* the header and every record before it */
+    for (i = pick; i < L.n; i++) {
+        vp_log_record_t r;
+        unsigned char b[VP_LOG_MAX_RECORD];
+        int n;
+        if (vp_slog_record(&L, i, &r) != VP_OK) break;
+        if (i == pick) memcpy(r.target, L.header.cfg.interior[0], sizeof r.target);
+        n = vp_log_record_encode(&r, b, sizeof b);
+        if (n > 0) fwrite(b, 1, (size_t)n, f);
+    }
+    st = ferror(f);
+    fclose(f);
+    vp_slog_free(&L);
+    if (st) return 2;
+    printf("%u\n", pick);
+    return 0;
+}
+
+int main(int argc, char **argv)
+{
+    if (argc == 4 && !strcmp(argv[1], "--mutate")) return mutate(argv[2], argv[3]);
+    if (argc == 2) {
+        char path[1024];
+        out_dir = argv[1];
+        snprintf(path, sizeof path, "%s/expect.txt", out_dir);
+        expect_file = fopen(path, "w");
+        if (!expect_file) { fprintf(stderr, "cannot write %s\n", path); return 2; }
+    }
+    test_crafted();
+    if (expect_file) fclose(expect_file);
+    if (!out_dir) test_big();
+    return vp_test_done("test_logverify");
+}

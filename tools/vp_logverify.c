@@ -1,0 +1,523 @@
+/* vp_logverify — a proof check of a session log from the log alone (see vp_logverify.h).
+ * Nothing here comes from core/vp_planner.c: the free space is rebuilt from the records. */
+#include "vp_logverify.h"
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+struct vp_lv_probe {
+    double o[3], d[3];   /* origin relative to Omega's centre, unit direction */
+    double len;          /* the free part: o .. o + len d */
+    uint32_t record;
+};
+
+struct vp_lv_entry {
+    uint64_t key;        /* hash of the quantised line */
+    uint32_t probe, next;
+};
+
+#define LV_NONE UINT32_MAX
+/* Quantisation of a line: its unit direction in cells of LV_HU, the foot of the perpendicular
+ * from Omega's centre in cells of LV_HC x diameter. A move's line is known to within a bound
+ * that grows as the move gets shorter; a query visits every cell within that bound, and a
+ * move so short that this would be more than LV_MAX_CELLS cells looks at every probe. */
+#define LV_HU 1e-3
+#define LV_HC 1e-3
+#define LV_MAX_CELLS 4096
+/* Probes are also hashed on their origin (cells of LV_HO x diameter): a short move looks first
+ * at the probes fired from either of its ends, and scans them all only when those fall short. */
+#define LV_HO 1e-6
+#define LV_ORIGIN_SEED 0x6A09E667F3BCC909ull
+
+static double dot3(const double *a, const double *b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+
+static double dist3(const double *a, const double *b)
+{
+    double d[3] = { a[0] - b[0], a[1] - b[1], a[2] - b[2] };
+    return sqrt(dot3(d, d));
+}
+
+static int64_t cell(double x, double h)
+{
+    double c = floor(x / h);
+    if (c > 1e15) c = 1e15;
+    if (c < -1e15) c = -1e15;
+    return (int64_t)c;
+}
+
+static uint64_t mix(uint64_t h, int64_t v)
+{
+    h ^= (uint64_t)v + 0x9E3779B97F4A7C15ull + (h << 6) + (h >> 2);
+    h *= 0xBF58476D1CE4E5B9ull;
+    return h ^ (h >> 31);
+}
+
+static uint64_t key6(const int64_t *k)
+{
+    uint64_t h = 0x243F6A8885A308D3ull;
+    int i;
+    for (i = 0; i < 6; i++) h = mix(h, k[i]);
+    return h;
+}
+
+static uint64_t key3(const int64_t *k)
+{
+    uint64_t h = LV_ORIGIN_SEED;
+    int i;
+    for (i = 0; i < 3; i++) h = mix(h, k[i]);
+    return h;
+}
+
+/* the foot of the perpendicular from the origin onto the line through p along unit u */
+static void foot(const double *p, const double *u, double *c)
+{
+    double s = dot3(p, u);
+    int k;
+    for (k = 0; k < 3; k++) c[k] = p[k] - s * u[k];
+}
+
+static void line_cells(const vp_logverify_t *v, const double *u, const double *c, int64_t *k)
+{
+    int i;
+    for (i = 0; i < 3; i++) {
+        k[i] = cell(u[i], v->hu);
+        k[3 + i] = cell(c[i], v->hc);
+    }
+}
+
+static int rehash(vp_logverify_t *v, size_t slots)
+{
+    uint32_t *h = malloc(slots * sizeof *h);
+    size_t i;
+    if (!h) return VP_ENOMEM;
+    for (i = 0; i < slots; i++) h[i] = LV_NONE;
+    for (i = 0; i < v->nent; i++) {
+        size_t s = (size_t)(v->ent[i].key & (slots - 1));
+        v->ent[i].next = h[s];
+        h[s] = (uint32_t)i;
+    }
+    free(v->head);
+    v->head = h;
+    v->mask = slots - 1;
+    return VP_OK;
+}
+
+static int grow(void **p, size_t *cap, size_t need, size_t size)
+{
+    size_t c = *cap ? *cap : 1024;
+    void *q;
+    if (need <= *cap) return VP_OK;
+    while (c < need) c *= 2;
+    q = realloc(*p, c * size);
+    if (!q) return VP_ENOMEM;
+    *p = q;
+    *cap = c;
+    return VP_OK;
+}
+
+static int add_entry(vp_logverify_t *v, uint64_t key, uint32_t probe)
+{
+    size_t s;
+    int st;
+    if ((st = grow((void **)&v->ent, &v->cap_ent, v->nent + 1, sizeof *v->ent)) != VP_OK) return st;
+    if (!v->head || v->nent + 1 > (v->mask + 1) / 2)
+        if ((st = rehash(v, v->head ? 2 * (v->mask + 1) : 4096)) != VP_OK) return st;
+    s = (size_t)(key & v->mask);
+    v->ent[v->nent].key = key;
+    v->ent[v->nent].probe = probe;
+    v->ent[v->nent].next = v->head[s];
+    v->head[s] = (uint32_t)v->nent;
+    v->nent++;
+    return VP_OK;
+}
+
+int vp_logverify_begin(vp_logverify_t *v, const vp_log_header_t *h)
+{
+    const vp_planner_config_t *c = &h->cfg;
+    int k;
+    memset(v, 0, sizeof *v);
+    v->cfg = *c;
+    if (c->omega_kind == VP_OMEGA_BALL) {
+        if (!(c->omega_radius > 0.0) || !isfinite(c->omega_radius)) return VP_EINVAL;
+        for (k = 0; k < 3; k++) {
+            if (!isfinite(c->omega_center[k])) return VP_EINVAL;
+            v->centre[k] = c->omega_center[k];
+        }
+        v->diam = 2.0 * c->omega_radius;
+    } else if (c->omega_kind == VP_OMEGA_BOX) {
+        double e[3];
+        for (k = 0; k < 3; k++) {
+            if (!isfinite(c->omega_lo[k]) || !isfinite(c->omega_hi[k]) || !(c->omega_lo[k] < c->omega_hi[k]))
+                return VP_EINVAL;
+            v->centre[k] = 0.5 * c->omega_lo[k] + 0.5 * c->omega_hi[k];
+            e[k] = c->omega_hi[k] - c->omega_lo[k];
+        }
+        v->diam = sqrt(dot3(e, e));
+    } else {
+        return VP_EINVAL;
+    }
+    if (!isfinite(v->diam) || !(v->diam > 0.0)) return VP_EINVAL;
+    v->tol = VP_LOGVERIFY_TOL_REL * v->diam;
+    v->hu = LV_HU;
+    v->hc = LV_HC * v->diam;
+    v->ho = LV_HO * v->diam;
+    v->res.tol = v->tol;
+    memcpy(v->res.pos, c->start, sizeof v->res.pos);
+    v->res.ok = 1;
+    return VP_OK;
+}
+
+/* ---------- intervals of the segment p + s (q - p), s in [0,1] ---------- */
+
+static int push_iv(vp_logverify_t *v, size_t *n, double a, double b)
+{
+    if (a < 0.0) a = 0.0;
+    if (b > 1.0) b = 1.0;
+    if (!(a <= b)) return VP_OK;
+    if (grow((void **)&v->iv, &v->cap_iv, *n + 1, sizeof *v->iv) != VP_OK) return VP_ENOMEM;
+    v->iv[*n][0] = a;
+    v->iv[*n][1] = b;
+    (*n)++;
+    return VP_OK;
+}
+
+/* The part of [p,q] outside the open Omega (dOmega included): at most two intervals. */
+static int outside_part(vp_logverify_t *v, const double *p, const double *q, size_t *n)
+{
+    const vp_planner_config_t *c = &v->cfg;
+    if (c->omega_kind == VP_OMEGA_BOX) {
+        /* outside: some coordinate <= lo or >= hi; each such set is a prefix or a suffix */
+        double pre = -1.0, suf = 2.0;  /* [0,pre] and [suf,1] */
+        int k, b;
+        for (k = 0; k < 3; k++) {
+            for (b = 0; b < 2; b++) {
+                double w = b ? c->omega_hi[k] : c->omega_lo[k];
+                double a0 = b ? p[k] - w : w - p[k];   /* >= 0: p is on the outer side */
+                double a1 = b ? q[k] - w : w - q[k];
+                if (a0 >= 0.0 && a1 >= 0.0) { pre = 1.0; continue; }
+                if (a0 < 0.0 && a1 < 0.0) continue;
+                if (a0 >= 0.0) {               /* from p out to the crossing */
+                    double s = a0 / (a0 - a1);
+                    if (s > pre) pre = s;
+                } else {
+                    double s = -a0 / (a1 - a0);
+                    if (s < suf) suf = s;
+                }
+            }
+        }
+        if (pre >= 0.0 && push_iv(v, n, 0.0, pre) != VP_OK) return VP_ENOMEM;
+        if (suf <= 1.0 && push_iv(v, n, suf, 1.0) != VP_OK) return VP_ENOMEM;
+    } else {
+        /* |p - m + s w|^2 >= r^2 */
+        double w[3], a[3], A, B, C, D, r = c->omega_radius;
+        int k;
+        for (k = 0; k < 3; k++) {
+            w[k] = q[k] - p[k];
+            a[k] = p[k] - c->omega_center[k];
+        }
+        A = dot3(w, w);
+        B = 2.0 * dot3(a, w);
+        C = dot3(a, a) - r * r;
+        D = B * B - 4.0 * A * C;
+        if (A == 0.0) {
+            if (C >= 0.0) return push_iv(v, n, 0.0, 1.0);
+            return VP_OK;
+        }
+        if (D <= 0.0) return push_iv(v, n, 0.0, 1.0);
+        {
+            double sq = sqrt(D), t = B >= 0.0 ? -0.5 * (B + sq) : -0.5 * (B - sq);
+            double s1 = t / A, s2 = t != 0.0 ? C / t : -s1, x;
+            if (s1 > s2) { x = s1; s1 = s2; s2 = x; }
+            if (push_iv(v, n, 0.0, s1) != VP_OK || push_iv(v, n, s2, 1.0) != VP_OK) return VP_ENOMEM;
+        }
+    }
+    return VP_OK;
+}
+
+/* If the probe's line holds [p,q] (p, q relative to the centre), the interval its free part covers. */
+static int probe_part(vp_logverify_t *v, const vp_lv_probe_t *pr, const double *p, const double *q, size_t *n,
+                      uint32_t *on_line)
+{
+    double wp[3], wq[3], ap, aq, dp[3], dq[3], t2 = v->tol * v->tol;
+    int k;
+    for (k = 0; k < 3; k++) {
+        wp[k] = p[k] - pr->o[k];
+        wq[k] = q[k] - pr->o[k];
+    }
+    ap = dot3(wp, pr->d);
+    aq = dot3(wq, pr->d);
+    for (k = 0; k < 3; k++) {
+        dp[k] = wp[k] - ap * pr->d[k];
+        dq[k] = wq[k] - aq * pr->d[k];
+    }
+    if (dot3(dp, dp) > t2 || dot3(dq, dq) > t2) return VP_OK;
+    (*on_line)++;
+    if (aq == ap) return ap >= 0.0 && ap <= pr->len ? push_iv(v, n, 0.0, 1.0) : VP_OK;
+    {
+        double s0 = (0.0 - ap) / (aq - ap), s1 = (pr->len - ap) / (aq - ap), x;
+        if (s0 > s1) { x = s0; s0 = s1; s1 = x; }
+        return push_iv(v, n, s0, s1);
+    }
+}
+
+static int cmp_iv(const void *a, const void *b)
+{
+    const double *x = a, *y = b;
+    return x[0] < y[0] ? -1 : x[0] > y[0] ? 1 : 0;
+}
+
+static int visit(vp_logverify_t *v, uint32_t i, const double *p, const double *q, size_t *n, uint32_t *on_line)
+{
+    if (v->seen[i] == v->stamp) return VP_OK;
+    v->seen[i] = v->stamp;
+    return probe_part(v, &v->pr[i], p, q, n, on_line);
+}
+
+/* Sorts the intervals; the measure of [0,1] they leave uncovered, the number of gaps and the first. */
+static double uncovered(vp_logverify_t *v, size_t n, uint32_t *gaps, double *g0, double *g1)
+{
+    double at = 0.0, gap = 0.0;
+    size_t i;
+    qsort(v->iv, n, sizeof *v->iv, cmp_iv);
+    *gaps = 0;
+    for (i = 0; i <= n; i++) {
+        double s = i < n ? v->iv[i][0] : 1.0;
+        if (s > at) {
+            if (!*gaps) { *g0 = at; *g1 = s; }
+            (*gaps)++;
+            gap += s - at;
+        }
+        if (i < n && v->iv[i][1] > at) at = v->iv[i][1];
+    }
+    return gap;
+}
+
+/* The probes fired from within tol of x (cells of the origin hash). */
+static int origin_parts(vp_logverify_t *v, const double *x, const double *p, const double *q, size_t *n,
+                        uint32_t *on_line)
+{
+    int64_t k0[3], k1[3], k[3];
+    int i, st;
+    for (i = 0; i < 3; i++) {
+        k0[i] = cell(x[i] - v->tol, v->ho);
+        k1[i] = cell(x[i] + v->tol, v->ho);
+    }
+    for (k[0] = k0[0]; k[0] <= k1[0]; k[0]++)
+        for (k[1] = k0[1]; k[1] <= k1[1]; k[1]++)
+            for (k[2] = k0[2]; k[2] <= k1[2]; k[2]++) {
+                uint64_t key = key3(k);
+                uint32_t e;
+                for (e = v->head[key & v->mask]; e != LV_NONE; e = v->ent[e].next)
+                    if (v->ent[e].key == key && (st = visit(v, v->ent[e].probe, p, q, n, on_line)) != VP_OK) return st;
+            }
+    return VP_OK;
+}
+
+/* The earlier probes whose line may hold [p,q]: the cells within the bound of its line. */
+static int probe_parts(vp_logverify_t *v, const double *p, const double *q, double len, size_t *n,
+                       uint32_t *on_line)
+{
+    double u[3], c[3], eu, ec, lo[6], hi[6];
+    int64_t k0[6], k1[6], k[6];
+    double cells = 1.0;
+    int i, st;
+    if (v->npr == 0) return VP_OK;
+    if (++v->stamp == 0) {
+        memset(v->seen, 0, v->npr * sizeof *v->seen);
+        v->stamp = 1;
+    }
+    /* both ends within tol of the probe's line: the directions differ by at most
+     * 2 sin(theta/2) <= sqrt(2) sin(theta) <= sqrt(2) 2 tol / len (up to sign), the feet by at
+     * most tol + 2 |p| (that difference); rounding on top */
+    eu = 3.0 * v->tol / len + 1e-12;
+    for (i = 0; i < 3; i++) u[i] = (q[i] - p[i]) / len;
+    foot(p, u, c);
+    ec = v->tol + 2.0 * sqrt(dot3(p, p)) * eu + 1e-12 * (sqrt(dot3(p, p)) + v->diam);
+    for (i = 0; i < 3; i++) {
+        lo[i] = u[i] - eu; hi[i] = u[i] + eu;
+        lo[3 + i] = c[i] - ec; hi[3 + i] = c[i] + ec;
+    }
+    for (i = 0; i < 6; i++) {
+        double h = i < 3 ? v->hu : v->hc;
+        k0[i] = cell(lo[i], h);
+        k1[i] = cell(hi[i], h);
+        cells *= (double)(k1[i] - k0[i] + 1);
+    }
+    if (eu >= 0.5 || cells > LV_MAX_CELLS) {
+        size_t j;
+        uint32_t gaps;
+        double g0, g1;
+        if ((st = origin_parts(v, p, p, q, n, on_line)) != VP_OK || (st = origin_parts(v, q, p, q, n, on_line)) != VP_OK)
+            return st;
+        if (!(uncovered(v, *n, &gaps, &g0, &g1) * len > v->tol)) return VP_OK;
+        v->res.scans++;
+        for (j = 0; j < v->npr; j++)
+            if ((st = visit(v, (uint32_t)j, p, q, n, on_line)) != VP_OK) return st;
+        return VP_OK;
+    }
+    memcpy(k, k0, sizeof k);
+    for (;;) {
+        uint64_t key = key6(k);
+        uint32_t e;
+        for (e = v->head[key & v->mask]; e != LV_NONE; e = v->ent[e].next)
+            if (v->ent[e].key == key && (st = visit(v, v->ent[e].probe, p, q, n, on_line)) != VP_OK) return st;
+        for (i = 0; i < 6 && k[i] == k1[i]; i++) k[i] = k0[i];
+        if (i == 6) break;
+        k[i]++;
+    }
+    return VP_OK;
+}
+
+static void lerp(const double *p, const double *q, double s, double *x)
+{
+    int k;
+    for (k = 0; k < 3; k++) x[k] = p[k] + s * (q[k] - p[k]);
+}
+
+static int check_move(vp_logverify_t *v, const vp_log_record_t *r)
+{
+    vp_logverify_result_t *R = &v->res;
+    double p[3], q[3], pr[3], qr[3], len, gap, g0 = 0.0, g1 = 0.0;
+    size_t n = 0;
+    uint32_t gaps = 0, on_line = 0;
+    int k, st;
+    memcpy(p, R->pos, sizeof p);
+    memcpy(q, r->target, sizeof q);
+    memcpy(R->pos, q, sizeof R->pos);
+    R->moves++;
+    len = dist3(p, q);
+    if (len <= v->tol) return VP_OK;   /* shorter than the tolerance: nothing to cover */
+    if ((st = outside_part(v, p, q, &n)) != VP_OK) return st;
+    if (n > 0 && uncovered(v, n, &gaps, &g0, &g1) == 0.0) { R->moves_outside++; return VP_OK; }
+    if (isfinite(len)) {
+        for (k = 0; k < 3; k++) {
+            pr[k] = p[k] - v->centre[k];
+            qr[k] = q[k] - v->centre[k];
+        }
+        if ((st = probe_parts(v, pr, qr, len, &n, &on_line)) != VP_OK) return st;
+    }
+    gap = uncovered(v, n, &gaps, &g0, &g1);
+    if (!(gap * len > v->tol)) return VP_OK;
+    R->unproven_moves++;
+    R->unproven_length += gap * len;
+    if (R->nmoves_listed < VP_LOGVERIFY_LIST) {
+        vp_logverify_move_t *m = &R->move[R->nmoves_listed++];
+        m->record = v->index;
+        m->seq = r->seq;
+        m->move = R->moves;
+        memcpy(m->from, p, sizeof m->from);
+        memcpy(m->to, q, sizeof m->to);
+        m->length = len;
+        m->unproven = gap * len;
+        m->gap_s0 = g0;
+        m->gap_s1 = g1;
+        lerp(p, q, g0, m->gap_from);
+        lerp(p, q, g1, m->gap_to);
+        m->gaps = gaps;
+        m->probes_on_line = on_line;
+    }
+    return VP_OK;
+}
+
+static int add_probe(vp_logverify_t *v, const vp_log_record_t *r)
+{
+    vp_logverify_result_t *R = &v->res;
+    vp_lv_probe_t *P;
+    double off = dist3(r->origin, R->pos), dl, len, u[3], c[3], nu[3];
+    int64_t k[6];
+    uint32_t id;
+    int i, st;
+    R->probes++;
+    if (!(off <= v->tol)) {
+        R->probes_off_position++;
+        if (R->nprobes_listed < VP_LOGVERIFY_LIST) {
+            vp_logverify_probe_t *x = &R->probe[R->nprobes_listed++];
+            x->record = v->index;
+            x->seq = r->seq;
+            memcpy(x->origin, r->origin, sizeof x->origin);
+            memcpy(x->pos, R->pos, sizeof x->pos);
+            x->off = off;
+        }
+        return VP_OK;   /* fired from where the device was not: proves nothing */
+    }
+    dl = sqrt(dot3(r->dir, r->dir));
+    if (!(dl > 0.0) || !isfinite(dl)) { R->probes_bad++; return VP_OK; }
+    if (r->hit == 1) {
+        double nt = v->cfg.noise_tol > 0.0 ? v->cfg.noise_tol : 0.0;
+        len = r->dist - nt;
+        if (len > r->range) len = r->range;
+    } else if (r->hit == 0) {
+        len = r->range;
+    } else {
+        return VP_OK;   /* too close: nothing measured, nothing free */
+    }
+    if (!(len > 0.0) || !isfinite(len)) return VP_OK;
+    if (v->npr + 1 > v->cap_pr) {
+        /* the probes and their per-move stamps grow together */
+        size_t cap = v->cap_pr;
+        uint32_t *s;
+        if ((st = grow((void **)&v->pr, &cap, v->npr + 1, sizeof *v->pr)) != VP_OK) return st;
+        s = realloc(v->seen, cap * sizeof *s);
+        if (!s) return VP_ENOMEM;   /* pr grew already: harmless, cap_pr still the old one */
+        memset(s + v->cap_pr, 0, (cap - v->cap_pr) * sizeof *s);
+        v->seen = s;
+        v->cap_pr = cap;
+    }
+    id = (uint32_t)v->npr;
+    P = &v->pr[id];
+    for (i = 0; i < 3; i++) {
+        u[i] = r->dir[i] / dl;
+        nu[i] = -u[i];
+        P->o[i] = r->origin[i] - v->centre[i];
+        P->d[i] = u[i];
+    }
+    P->len = len;
+    P->record = v->index;
+    foot(P->o, u, c);
+    line_cells(v, u, c, k);
+    if ((st = add_entry(v, key6(k), id)) != VP_OK) return st;
+    line_cells(v, nu, c, k);
+    if ((st = add_entry(v, key6(k), id)) != VP_OK) return st;
+    for (i = 0; i < 3; i++) k[i] = cell(P->o[i], v->ho);
+    if ((st = add_entry(v, key3(k), id)) != VP_OK) return st;
+    v->npr++;
+    return VP_OK;
+}
+
+int vp_logverify_add(vp_logverify_t *v, const vp_log_record_t *r)
+{
+    int st = VP_OK;
+    if (r->type == VP_LOG_MOVE) st = check_move(v, r);
+    else if (r->type == VP_LOG_PROBE) st = add_probe(v, r);
+    else v->res.events++;   /* START, PAUSE, RESUME, FAULT, DONE, ...: the device stays */
+    if (st != VP_OK) return st;
+    v->index++;
+    v->res.records++;
+    return VP_OK;
+}
+
+void vp_logverify_end(vp_logverify_t *v, vp_logverify_result_t *res)
+{
+    v->res.ok = v->res.unproven_moves == 0 && v->res.probes_off_position == 0;
+    if (res) *res = v->res;
+    free(v->pr);
+    free(v->ent);
+    free(v->head);
+    free(v->iv);
+    free(v->seen);
+    memset(v, 0, sizeof *v);
+}
+
+int vp_logverify_run(const vp_log_header_t *h, const vp_log_record_t *records, size_t n,
+                     vp_logverify_result_t *res)
+{
+    vp_logverify_t *v = malloc(sizeof *v);
+    size_t i;
+    int st;
+    if (!v) return VP_ENOMEM;
+    st = vp_logverify_begin(v, h);
+    for (i = 0; st == VP_OK && i < n; i++) st = vp_logverify_add(v, &records[i]);
+    vp_logverify_end(v, res);
+    free(v);
+    return st;
+}

@@ -1,0 +1,104 @@
+/* vp_logverify — a proof check of a session log, from the log alone: every MOVE must lie in
+ * space proven free before it was made. It shares no code with the planner's free-space
+ * bookkeeping (core/vp_planner.c): it replays the records only, never the planner.
+ *
+ * Rules of proof (doc/session-log.md, "Proof check"):
+ * - the device starts at the header's cfg.start; a MOVE goes from the current position to its
+ *   target; EVENTs (START, PAUSE, RESUME, ...) do not move it;
+ * - a PROBE (origin o, unit direction d, range R, result h, distance t) proves free the segment
+ *   o .. o + (t - noise_tol) d for a hit (nothing if t <= noise_tol; never beyond R), o .. o + R d
+ *   for a miss, and nothing for a too-close result; only probes logged before a move count,
+ *   and only probes fired from where the device stood (a probe whose origin is not the device
+ *   position is counted as a violation and proves nothing);
+ * - everything outside Omega (the header's box or ball) is free (assumption A2: Omega contains
+ *   the object); a point on dOmega counts as outside;
+ * - a move is proven when the segment parameter interval [0,1] is covered by its part outside
+ *   Omega and the free parts of earlier probes on its line (both its ends within tol of the
+ *   probe's line), the uncovered length adding up to at most tol.
+ *
+ * Streaming: vp_logverify_begin, vp_logverify_add for each record in log order,
+ * vp_logverify_end. Probes are kept in a hash on their quantised line (direction and foot
+ * point), so a move looks at the few probes whose line can contain it: O(n) expected.
+ */
+#ifndef VP_LOGVERIFY_H
+#define VP_LOGVERIFY_H
+
+#include <stddef.h>
+#include <stdint.h>
+#include "vp_log.h"
+
+/* Geometric tolerance, relative to Omega's diameter: a move end within tol of a probe's line
+ * is on it, and a move may leave up to tol of its length uncovered (rounding of the planner's
+ * arithmetic is ~1e-16 relative; an unproven stretch the tests care about is >= 1e-6). */
+#define VP_LOGVERIFY_TOL_REL 1e-9
+
+/* How many offending moves / probes the result lists (the counts are complete). */
+#define VP_LOGVERIFY_LIST 20
+
+typedef struct vp_logverify_move {
+    uint32_t record;           /* its index among the log's records (0-based) */
+    uint32_t seq;              /* its sequence number */
+    uint64_t move;             /* its number among the MOVE records (1-based) */
+    double from[3], to[3];
+    double length;             /* |to - from| */
+    double unproven;           /* total length of the parts not proven free */
+    double gap_s0, gap_s1;     /* the first unproven part, as segment parameters in [0,1] */
+    double gap_from[3], gap_to[3]; /* ... and as points */
+    uint32_t gaps;             /* unproven parts (maximal intervals) */
+    uint32_t probes_on_line;   /* earlier probes whose line contains the segment */
+} vp_logverify_move_t;
+
+typedef struct vp_logverify_probe {
+    uint32_t record, seq;
+    double origin[3];          /* where the log says it was fired from */
+    double pos[3];             /* where the device was */
+    double off;                /* |origin - pos| */
+} vp_logverify_probe_t;
+
+typedef struct vp_logverify_result {
+    uint64_t records;          /* records verified */
+    uint64_t moves, probes, events;
+    uint64_t unproven_moves;   /* moves not covered by proven-free space */
+    uint64_t probes_off_position; /* probes fired from where the device was not */
+    uint64_t probes_bad;       /* probes with a zero direction (prove nothing; also counted) */
+    uint64_t moves_outside;    /* moves wholly outside Omega */
+    uint64_t scans;            /* moves too short for the line index that the probes fired
+                                  from their ends did not prove (all probes scanned) */
+    double unproven_length;    /* summed over the unproven moves */
+    double tol;                /* the tolerance used (VP_LOGVERIFY_TOL_REL x Omega's diameter) */
+    double pos[3];             /* the device position after the last record */
+    uint32_t nmoves_listed;    /* first unproven moves, in log order */
+    vp_logverify_move_t move[VP_LOGVERIFY_LIST];
+    uint32_t nprobes_listed;   /* first off-position probes, in log order */
+    vp_logverify_probe_t probe[VP_LOGVERIFY_LIST];
+    int ok;                    /* 1: every move proven and every probe from the device position */
+} vp_logverify_result_t;
+
+/* The verifier's state (fields are private). */
+typedef struct vp_lv_probe vp_lv_probe_t;
+typedef struct vp_lv_entry vp_lv_entry_t;
+typedef struct vp_logverify {
+    vp_planner_config_t cfg;
+    double centre[3], diam, tol, hu, hc, ho;
+    vp_lv_probe_t *pr; size_t npr, cap_pr;      /* probes with a free part */
+    vp_lv_entry_t *ent; size_t nent, cap_ent;   /* hash entries (each probe on its line as +d
+                                                   and -d, and on its origin) */
+    uint32_t *head; size_t mask;                /* hash heads (UINT32_MAX: empty) */
+    double (*iv)[2]; size_t cap_iv;             /* per-move interval scratch */
+    uint32_t *seen; uint32_t stamp;             /* per-probe stamp: counted once per move */
+    uint32_t index;                             /* next record index */
+    vp_logverify_result_t res;
+} vp_logverify_t;
+
+/* VP_OK; VP_EINVAL when the header's Omega is unusable (not finite, empty). */
+int  vp_logverify_begin(vp_logverify_t *v, const vp_log_header_t *h);
+/* One record, in log order. VP_OK or VP_ENOMEM (the state stays valid; end still frees). */
+int  vp_logverify_add(vp_logverify_t *v, const vp_log_record_t *r);
+/* The result; frees the state. */
+void vp_logverify_end(vp_logverify_t *v, vp_logverify_result_t *res);
+
+/* All at once: header and records[0..n). VP_OK, VP_EINVAL, VP_ENOMEM. */
+int  vp_logverify_run(const vp_log_header_t *h, const vp_log_record_t *records, size_t n,
+                      vp_logverify_result_t *res);
+
+#endif
