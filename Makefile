@@ -5,6 +5,10 @@
 #   make demo       a full simulated scan
 #   make CROSS=aarch64-linux-gnu-   the device program for an ARM Linux board
 # BUILD=dir puts every output under another directory (default build/).
+# all, demo, check and bench first install the Debian packages they need (tools/install-deps.sh),
+# then run make again, which reads this file anew: the hardware libraries found by pkg-config
+# (libgpiod, libcamera) are then seen on the very first build. HAVE_GPIOD= HAVE_LIBCAMERA= on
+# the command line build without them (tests/t_backends.sh is checked against such a build).
 
 BUILD ?= build
 CROSS ?=
@@ -21,11 +25,17 @@ HOST_CFLAGS := $(WARN) $(OPT) $(FPFLAGS) -D_POSIX_C_SOURCE=200809L -D_DEFAULT_SO
                -Icore -Ihost-sim -Iport -Itools $(EXTRA_CFLAGS)
 LDLIBS := -lm
 
-# Optional hardware libraries: used when present for the build target.
+# Optional hardware libraries: used when present for the build target (a cross build: when
+# given, e.g. HAVE_GPIOD=1 with the target's libgpiod-dev installed).
 ifeq ($(CROSS),)
 HAVE_GPIOD := $(shell pkg-config --exists libgpiod 2>/dev/null && echo 1)
 HAVE_LIBCAMERA := $(shell pkg-config --exists libcamera 2>/dev/null && echo 1)
 HAVE_GMP := $(shell test -f /usr/include/gmp.h -o -f /usr/include/x86_64-linux-gnu/gmp.h && echo 1)
+ifeq ($(shell command -v pkg-config 2>/dev/null),)
+ifneq ($(wildcard /usr/include/gpiod.h /usr/include/libcamera/libcamera/camera_manager.h),)
+$(warning pkg-config is missing: building without libgpiod and libcamera (make deps installs it))
+endif
+endif
 endif
 ifeq ($(HAVE_GPIOD),1)
 HOST_CFLAGS += -DVP_HAVE_GPIOD=1
@@ -56,21 +66,51 @@ TEST_BIN := $(TEST_SRC:tests/%.c=$(BUILD)/tests/%)
 LIBCORE := $(BUILD)/libvpcore.a
 LIBHOST := $(BUILD)/libvphost.a
 PROG    := $(BUILD)/voroprobe
+CXXFLAGS_PORT := -std=c++17 $(OPT) -Wall -Wextra -Werror $(if $(PORT_CXX_SRC),$(shell pkg-config --cflags libcamera)) -Icore -Iport
 
-.PHONY: all tests check bench demo clean deps fuzz
+# $(BUILD)/config.mk: what this build was configured with. Rewritten only when it changes, and
+# every object and program depends on it, so a build directory made before libgpiod-dev or
+# libcamera-dev was installed (or with other flags) is rebuilt with them.
+CONFIG := $(BUILD)/config.mk
+define CONFIG_TEXT
+# written by the Makefile: the configuration of $(BUILD); a change rebuilds everything in it
+CROSS = $(CROSS)
+CC = $(CC)
+CXX = $(CXX)
+HAVE_GPIOD = $(HAVE_GPIOD)
+HAVE_LIBCAMERA = $(HAVE_LIBCAMERA)
+CORE_CFLAGS = $(CORE_CFLAGS)
+HOST_CFLAGS = $(HOST_CFLAGS)
+CXXFLAGS_PORT = $(CXXFLAGS_PORT)
+PORT_LIBS = $(PORT_LIBS)
+LDLIBS = $(LDLIBS)
+endef
+
+.PHONY: all tests check bench demo clean deps deps-build deps-bench fuzz FORCE
+# The targets a user types install the packages first, then make again (re-reading this file).
+ifeq ($(CROSS),)
+all: deps-build
+	@$(MAKE) --no-print-directory $(PROG)
+else
 all: $(PROG)
+endif
 
-$(BUILD)/core/%.o: core/%.c $(wildcard core/*.h) Makefile
+$(CONFIG): FORCE
+	$(shell mkdir -p $(@D))$(file >$@.new,$(CONFIG_TEXT))
+	@if cmp -s $@.new $@; then rm -f $@.new; else mv -f $@.new $@; \
+	  echo "$(BUILD): GPIO libgpiod $(if $(HAVE_GPIOD),yes,no), camera libcamera $(if $(HAVE_LIBCAMERA),yes,no) (configuration in $@)"; fi
+
+$(BUILD)/core/%.o: core/%.c $(wildcard core/*.h) Makefile $(CONFIG)
 	@mkdir -p $(@D)
 	$(CC) $(CORE_CFLAGS) -c $< -o $@
 
-$(BUILD)/%.o: %.c $(wildcard core/*.h host-sim/*.h port/*.h tools/*.h) Makefile
+$(BUILD)/%.o: %.c $(wildcard core/*.h host-sim/*.h port/*.h tools/*.h) Makefile $(CONFIG)
 	@mkdir -p $(@D)
 	$(CC) $(HOST_CFLAGS) -c $< -o $@
 
-$(BUILD)/port/%.o: port/%.cpp $(wildcard core/*.h port/*.h) Makefile
+$(BUILD)/port/%.o: port/%.cpp $(wildcard core/*.h port/*.h) Makefile $(CONFIG)
 	@mkdir -p $(@D)
-	$(CXX) -std=c++17 $(OPT) -Wall -Wextra -Werror $(shell pkg-config --cflags libcamera) -Icore -Iport -c $< -o $@
+	$(CXX) $(CXXFLAGS_PORT) -c $< -o $@
 
 $(LIBCORE): $(CORE_OBJ)
 	@rm -f $@
@@ -80,31 +120,38 @@ $(LIBHOST): $(SIM_OBJ) $(PORT_OBJ) $(TOOL_OBJ)
 	@rm -f $@
 	$(AR) rcs $@ $^
 
-$(PROG): $(BUILD)/tools/main.o $(LIBHOST) $(LIBCORE)
+$(PROG): $(BUILD)/tools/main.o $(LIBHOST) $(LIBCORE) $(CONFIG)
 	$(CC) $(OPT) -o $@ $< $(LIBHOST) $(LIBCORE) $(PORT_LIBS) $(LDLIBS)
 
-$(BUILD)/tests/test_gmp_%: tests/test_gmp_%.c tests/vp_test.h $(LIBHOST) $(LIBCORE)
+$(BUILD)/tests/test_gmp_%: tests/test_gmp_%.c tests/vp_test.h $(LIBHOST) $(LIBCORE) $(CONFIG)
 	@mkdir -p $(@D)
 	$(CC) $(HOST_CFLAGS) -Itests -o $@ $< $(LIBHOST) $(LIBCORE) $(PORT_LIBS) -lgmp $(LDLIBS)
 
-$(BUILD)/tests/%: tests/%.c tests/vp_test.h $(LIBHOST) $(LIBCORE)
+$(BUILD)/tests/%: tests/%.c tests/vp_test.h $(LIBHOST) $(LIBCORE) $(CONFIG)
 	@mkdir -p $(@D)
 	$(CC) $(HOST_CFLAGS) -Itests -o $@ $< $(LIBHOST) $(LIBCORE) $(PORT_LIBS) $(LDLIBS)
 
 tests: $(PROG) $(TEST_BIN)
 
+# tools/install-deps.sh GROUP: build (compiler, pkg-config, libgpiod-dev, libcamera-dev),
+# check (build + every tool a test calls), bench (check + CGAL).
 deps:
-	@sh tools/install-deps.sh
+	@sh tools/install-deps.sh check
+deps-build:
+	@sh tools/install-deps.sh build
+deps-bench:
+	@sh tools/install-deps.sh bench
 
 check: deps
 	@$(MAKE) --no-print-directory tests
 	@sh tests/run.sh $(BUILD)
 
-bench: deps
+bench: deps-bench
 	@$(MAKE) --no-print-directory $(PROG)
 	@sh bench/run.sh $(BUILD)
 
-demo: $(PROG)
+demo: deps-build
+	@$(MAKE) --no-print-directory $(PROG)
 	@sh tools/demo.sh $(BUILD)
 
 clean:

@@ -192,6 +192,8 @@ void vp_gpiod_close(vp_gpiod_t *g)
     free(g);
 }
 
+const char *vp_gpiod_version(void) { return gpiod_version_string(); }
+
 #else /* no libgpiod */
 
 struct vp_gpiod { int unused; };
@@ -214,5 +216,6 @@ vp_io_t vp_gpiod_io(vp_gpiod_t *g)
 
 void vp_gpiod_stats(const vp_gpiod_t *g, vp_rt_stats_t *st) { (void)g; memset(st, 0, sizeof *st); }
 void vp_gpiod_close(vp_gpiod_t *g) { free(g); }
+const char *vp_gpiod_version(void) { return NULL; }
 
 #endif

@@ -38,5 +38,7 @@ int     vp_gpiod_open(const vp_gpiod_config_t *cfg, vp_gpiod_t **out, char *err,
 vp_io_t vp_gpiod_io(vp_gpiod_t *g);
 void    vp_gpiod_stats(const vp_gpiod_t *g, vp_rt_stats_t *st);
 void    vp_gpiod_close(vp_gpiod_t *g);   /* outputs low, lines released */
+/* The version of the libgpiod linked in, asked of the library ("1.6.3"); NULL when built without. */
+const char *vp_gpiod_version(void);
 
 #endif

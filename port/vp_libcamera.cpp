@@ -204,3 +204,8 @@ extern "C" int vp_libcamera_open(const vp_libcamera_config_t *cfg, vp_cam_t *out
     out->name = "libcamera";
     return VP_OK;
 }
+
+extern "C" const char *vp_libcamera_version(void)
+{
+    return CameraManager::version().c_str();
+}

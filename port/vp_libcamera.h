@@ -19,6 +19,8 @@ extern "C" {
 #endif
 /* VP_ENODEV (no camera, unknown id), VP_EIO (busy, no usable format, start failed). */
 int vp_libcamera_open(const vp_libcamera_config_t *cfg, vp_cam_t *cam, char *err, size_t errlen);
+/* The version of the libcamera linked in, asked of the library ("v0.0.3"). */
+const char *vp_libcamera_version(void);
 #ifdef __cplusplus
 }
 #endif

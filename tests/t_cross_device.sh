@@ -8,10 +8,11 @@ B=${BUILD:-build}
 VP=${VP:-$B/voroprobe}
 command -v aarch64-linux-gnu-gcc >/dev/null || { echo "aarch64-linux-gnu-gcc missing (make deps)"; exit 1; }
 command -v qemu-aarch64 >/dev/null || { echo "qemu-aarch64 missing (make deps)"; exit 1; }
+command -v readelf >/dev/null || { echo "readelf missing (binutils: make deps)"; exit 1; }
 C="$B/cross"
 make --no-print-directory -s BUILD="$C" CROSS=aarch64-linux-gnu- "$C/voroprobe" >"$B/cross-build.log" 2>&1 || {
   tail -20 "$B/cross-build.log"; echo "cross build failed"; exit 1; }
-file "$C/voroprobe" 2>/dev/null | grep -q "ARM aarch64" || { echo "$C/voroprobe is not an aarch64 program"; exit 1; }
+readelf -h "$C/voroprobe" 2>/dev/null | grep -q "Machine: *AArch64" || { echo "$C/voroprobe is not an aarch64 program"; readelf -h "$C/voroprobe" | grep Machine; exit 1; }
 tmp=$(mktemp -d) || exit 1
 trap 'rm -rf "$tmp"' EXIT
 fail=0
@@ -19,9 +20,10 @@ bad() { echo "FAIL: $*"; fail=1; }
 ARM="qemu-aarch64 -L /usr/aarch64-linux-gnu $C/voroprobe"
 
 $ARM scan --help >/dev/null || bad "scan --help under qemu"
-t0=$(date +%s.%N)
+t0=$(date +%s%N)
 $ARM scan --board boards/sim.ini --dry-run --eps 40 --log "$tmp/arm.vplog" --quiet --sync close >"$tmp/arm.txt" 2>"$tmp/arm.err"; rc=$?
-secs=$(echo "$(date +%s.%N) - $t0" | bc)
+ms=$(( ($(date +%s%N) - t0) / 1000000 ))
+secs=$(printf '%d.%03d' $((ms / 1000)) $((ms % 1000)))
 [ $rc -eq 0 ] || { bad "qemu dry run: exit $rc"; tail -5 "$tmp/arm.err"; }
 grep -q "^scan: DONE" "$tmp/arm.txt" || bad "qemu dry run: not DONE"
 grep -q "closed 2-manifold" "$tmp/arm.txt" || bad "qemu dry run: mesh not closed"

@@ -6,6 +6,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include "vp_backends.h"
 #include "vp_cli.h"
 #include "vp_log.h"
 #include "vp_note.h"
@@ -56,6 +57,11 @@ static void scan_usage(FILE *f)
         "command N of this run).\n"
         "Exit status: 0 DONE (closed mesh), 1 failed or stopped by a fault, 2 usage, 3 paused, 4 DONE but\n"
         "the mesh is not closed.\n");
+    {
+        char b[256];
+        vp_backends_describe(b, sizeof b);
+        fprintf(f, "Hardware backends built in: %s.\n", b);
+    }
 }
 
 typedef struct scan_opts {

@@ -8,3 +8,5 @@ echo "voroprobe demo: scanning a simulated genus-2 object (probe moves only thro
 echo
 echo "The mesh is in out/demo/genus2.ply (binary PLY) and out/demo/genus2.off."
 echo "Open it in MeshLab, CloudCompare or Open3D; run '$B/voroprobe sim --help' for other objects."
+v=$("$B/voroprobe" --version)
+echo "This build ($B/voroprobe --version): $(echo "$v" | head -n 1); hardware backends: $(echo "$v" | sed -n 2p)"

@@ -1,7 +1,10 @@
 /* build/voroprobe: the command-line front end of the scanner. */
 #include <stdio.h>
 #include <string.h>
+#include "vp_backends.h"
 #include "vp_cli.h"
+
+#define VP_VERSION "0.1.0"
 
 static const struct vp_cli_cmd commands[] = {
     { "sim", vp_cmd_sim, "scan a simulated object (host-sim) and write the mesh" },
@@ -17,7 +20,8 @@ static const struct vp_cli_cmd commands[] = {
 static void usage(FILE *f)
 {
     size_t i;
-    fprintf(f, "usage: voroprobe COMMAND [options]   (voroprobe COMMAND --help for details)\n\n");
+    fprintf(f, "usage: voroprobe COMMAND [options]   (voroprobe COMMAND --help for details)\n"
+               "       voroprobe --version              (the version and the hardware backends built in)\n\n");
     for (i = 0; i < sizeof commands / sizeof commands[0]; i++)
         fprintf(f, "  %-16s %s\n", commands[i].name, commands[i].summary);
 }
@@ -28,6 +32,12 @@ int main(int argc, char **argv)
     if (argc < 2) { usage(stderr); return 2; }
     if (!strcmp(argv[1], "--help") || !strcmp(argv[1], "-h") || !strcmp(argv[1], "help")) {
         usage(stdout);
+        return 0;
+    }
+    if (!strcmp(argv[1], "--version") || !strcmp(argv[1], "-V") || !strcmp(argv[1], "version")) {
+        char b[256];
+        vp_backends_describe(b, sizeof b);
+        printf("voroprobe %s\n%s\n", VP_VERSION, b);
         return 0;
     }
     for (i = 0; i < sizeof commands / sizeof commands[0]; i++)
