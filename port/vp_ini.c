@@ -2,6 +2,7 @@
 #include <errno.h>
 #include <stdio.h>
 #include <string.h>
+#include "vp_file.h"
 #include "vp_ini.h"
 #include "vp_status.h"
 
@@ -71,20 +72,37 @@ int vp_ini_parse_file(const char *path, vp_ini_fn fn, void *user, char *err, siz
     FILE *f;
     int rc = VP_OK;
     if (!path || !fn) return VP_EINVAL;
-    f = fopen(path, "r");
-    if (!f) { snprintf(err, errlen, "%s: %s", path, strerror(errno)); return VP_EIO; }
+    /* a regular file of bounded size: /dev/zero or a pipe would be read for ever */
+    f = vp_file_open_read(path, VP_INI_MAX_FILE, "board or calibration file", NULL, err, errlen);
+    if (!f) return VP_EIO;
     memset(&st, 0, sizeof st);
     st.name = path;
     st.fn = fn;
     st.user = user;
-    while (rc == VP_OK && fgets(buf, sizeof buf, f)) {
+    while (rc == VP_OK) {
+        size_t n = 0;
+        int c = EOF, nul = 0, any = 0;
+        while ((c = getc(f)) != EOF && c != '\n') {
+            any = 1;
+            if (c == 0) nul = 1;
+            if (n <= VP_INI_LINE) buf[n++] = (char)c;
+        }
+        if (!any && c == EOF) break;
         st.line++;
-        if (strlen(buf) > VP_INI_LINE && buf[strlen(buf) - 1] != '\n') {
+        if (nul) {
+            /* the value would end at the NUL: "steps_per_unit = 8<NUL>0" read as 8 */
+            snprintf(err, errlen, "%s:%d: a NUL byte inside the line (a damaged or binary file)", path, st.line);
+            rc = VP_EINVAL;
+            break;
+        }
+        if (n > VP_INI_LINE) {
             snprintf(err, errlen, "%s:%d: line longer than %d bytes", path, st.line, VP_INI_LINE);
             rc = VP_EINVAL;
             break;
         }
+        buf[n] = 0;
         rc = vp_ini_line(&st, buf, err, errlen);
+        if (c == EOF) break;
     }
     if (rc == VP_OK && ferror(f)) { snprintf(err, errlen, "%s: read error", path); rc = VP_EIO; }
     fclose(f);

@@ -1,11 +1,13 @@
 /* vp_meshio: round trips (PLY binary/ASCII, OFF), byte-identical rewrites, the reader variants
  * (float/double, extra properties, big endian, quads, comments, CRLF), and hostile input:
- * every truncation, huge counts, bad indices, random byte flips.
+ * every truncation, huge counts, bad indices, random byte flips, NUL bytes inside text; files that
+ * are not regular (/dev/zero), too large or without a header are refused at once.
  * With "--write-ply FILE" it writes a 12x8 torus grid (R=1, r=0.3) as binary PLY to FILE and
  * as ASCII PLY to FILE.ascii.ply, for tests/t_ply_open3d.sh. */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <fcntl.h>
 #include <unistd.h>
 #include "vp_meshgen.h"
 #include "vp_meshio.h"
@@ -184,6 +186,56 @@ static void hostile(void)
     vp_mesh_free(&m); vp_mesh_free(&ico);
 }
 
+static void expect_bad_n(const char *text, size_t n, const char *needle, const char *needle2)
+{
+    vp_mesh_t m;
+    char err[256] = "";
+    int st;
+    vp_mesh_init(&m);
+    st = vp_mesh_read_buf(text, n, &m, err, sizeof err);
+    CHECKF(st == VP_ECORRUPT, "accepted: %.60s", text);
+    CHECKF(strstr(err, needle) != NULL && strstr(err, needle2) != NULL, "message '%s' lacks '%s' or '%s'", err, needle, needle2);
+    CHECK(m.nv == 0 && m.xyz == NULL);
+    vp_mesh_free(&m);
+}
+
+/* A NUL byte inside text is refused, naming the line (it was read as the part before it:
+ * "-0.2986" became "-0."); files that are not regular, too large or without a header are
+ * refused before they are read (off:/dev/zero grew to gigabytes). */
+static void nul_and_files(void)
+{
+    char t[256], err[400], path[96];
+    vp_mesh_t m;
+    size_t n;
+    int fd;
+    const char *ply = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+                      "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
+    vp_mesh_init(&m);
+    n = (size_t)snprintf(t, sizeof t, "OFF\n3 1 0\n-0.2986 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
+    CHECK(read_str(t, &m, err, sizeof err) == VP_OK && m.xyz[0] == -0.2986);
+    t[strchr(t, '2') - t] = 0;          /* "-0.<NUL>986" */
+    expect_bad_n(t, n, "line 3", "NUL");
+    n = (size_t)snprintf(t, sizeof t, "%s", ply);
+    CHECK(read_str(t, &m, err, sizeof err) == VP_OK && m.nv == 3);
+    t[strstr(t, "1 0 0\n0 1 0") - t + 2] = 0;   /* a vertex line of the body: line 11 */
+    expect_bad_n(t, n, "line 11", "NUL");
+    n = (size_t)snprintf(t, sizeof t, "%s", ply);
+    t[strstr(t, "vertex 3") - t + 7] = 0;       /* "element vertex <NUL>": line 3 of the header */
+    expect_bad_n(t, n, "line 3", "NUL");
+    /* files: a device, a folder, a file of zeros, a file over the size bound */
+    CHECKF(vp_mesh_read_file("/dev/zero", &m, err, sizeof err) == VP_EIO && strstr(err, "not a regular file"), "%s", err);
+    CHECKF(vp_mesh_read_file("/tmp", &m, err, sizeof err) == VP_EIO && strstr(err, "not a regular file"), "%s", err);
+    snprintf(path, sizeof path, "/tmp/vp_test_meshio_z_%ld.off", (long)getpid());
+    fd = open(path, O_WRONLY | O_CREAT | O_TRUNC, 0600);
+    CHECK(fd >= 0 && ftruncate(fd, 1 << 20) == 0);            /* a megabyte of zeros */
+    CHECKF(vp_mesh_read_file(path, &m, err, sizeof err) == VP_ECORRUPT && strstr(err, "neither 'ply' nor 'OFF'"), "%s", err);
+    CHECK(ftruncate(fd, (off_t)VP_MESH_MAX_FILE + 1) == 0);   /* sparse: nothing is written */
+    CHECKF(vp_mesh_read_file(path, &m, err, sizeof err) == VP_EIO && strstr(err, "bytes, more than"), "%s", err);
+    close(fd);
+    remove(path);
+    vp_mesh_free(&m);
+}
+
 int main(int argc, char **argv)
 {
     if (argc == 3 && !strcmp(argv[1], "--write-ply")) {
@@ -199,5 +251,6 @@ int main(int argc, char **argv)
     round_trips();
     variants();
     hostile();
+    nul_and_files();
     return vp_test_done("test_meshio");
 }

@@ -6,6 +6,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include "vp_file.h"
 #include "vp_meshio.h"
 #include "vp_status.h"
 
@@ -289,7 +290,13 @@ int vp_mesh_read_off_buf(const void *buf, size_t len, vp_mesh_t *out, char *err,
     double *xyz = NULL;
     vp_trilist_t tl = { NULL, 0, 0 };
     int st, k;
+    unsigned long nul_line;
     if (!buf || !out) return VP_EINVAL;
+    /* OFF is text: a NUL byte would end a number early ("-0.2986" read as "-0.") */
+    if (vp_file_find_nul(buf, len, &nul_line)) {
+        vp_seterr(err, errlen, "line %lu: a NUL byte inside the text (a damaged or binary file)", nul_line);
+        return VP_ECORRUPT;
+    }
     lx.p = buf; lx.len = len; lx.pos = 0; lx.line = 1; lx.hash_comments = 1;
     k = vp_lex_token(&lx, tok, sizeof tok);
     if (k <= 0 || (strcmp(tok, "OFF") && strcmp(tok, "COFF") && strcmp(tok, "NOFF") && strcmp(tok, "CNOFF"))) {
@@ -454,12 +461,14 @@ static const char *vp_ply_where(const vp_ply_in_t *in, char *buf, size_t n)
     return buf;
 }
 
-/* Reads one header line into line[] (without the newline); returns 0 at end of buffer. */
+/* Reads one header line into line[] (without the newline); returns 0 at end of buffer, -1 for
+ * a line too long, -2 for a NUL byte in it. */
 static int vp_ply_header_line(const unsigned char *p, size_t len, size_t *pos, char *line, size_t linelen)
 {
     size_t n = 0;
     if (*pos >= len) return 0;
     while (*pos < len && p[*pos] != '\n') {
+        if (!p[*pos]) return -2;
         if (n + 1 < linelen) line[n++] = (char)p[*pos];
         else return -1;
         (*pos)++;
@@ -496,6 +505,7 @@ int vp_mesh_read_ply_buf(const void *buf, size_t len, vp_mesh_t *out, char *err,
         k = vp_ply_header_line(p, len, &pos, line, sizeof line);
         line_no++;
         if (k == 0) { vp_seterr(err, errlen, "line %lu: header ends before 'end_header'", (unsigned long)line_no); goto fail; }
+        if (k == -2) { vp_seterr(err, errlen, "line %lu: a NUL byte inside the header (a damaged file)", (unsigned long)line_no); goto fail; }
         if (k < 0) { vp_seterr(err, errlen, "line %lu: header line too long", (unsigned long)line_no); goto fail; }
         if (line_no == 1) {
             if (strcmp(line, "ply")) { vp_seterr(err, errlen, "line 1: not a PLY file (expected 'ply')"); goto fail; }
@@ -576,6 +586,15 @@ int vp_mesh_read_ply_buf(const void *buf, size_t len, vp_mesh_t *out, char *err,
         }
     }
 
+    if (format == 0) {
+        /* an ASCII body is text: a NUL byte would end a number early */
+        unsigned long nul_line;
+        if (vp_file_find_nul(p + pos, len - pos, &nul_line)) {
+            vp_seterr(err, errlen, "line %lu: a NUL byte inside the text (a damaged or binary file)",
+                      (unsigned long)line_no + nul_line);
+            goto fail;
+        }
+    }
     in.p = p; in.len = len; in.pos = pos;
     in.ascii = format == 0; in.big_endian = format == 2;
     in.lx.p = (const char *)p; in.lx.len = len; in.lx.pos = pos; in.lx.line = line_no + 1; in.lx.hash_comments = 0;
@@ -667,28 +686,33 @@ int vp_mesh_read_buf(const void *buf, size_t len, vp_mesh_t *out, char *err, siz
     return vp_mesh_read_off_buf(buf, len, out, err, errlen);
 }
 
+/* The first bytes of a mesh file: "ply", or "OFF" (COFF, NOFF, CNOFF) after blanks and comments. */
+static const char *vp_mesh_head(const unsigned char *p, size_t n)
+{
+    static const char *const kw[] = { "OFF", "COFF", "NOFF", "CNOFF" };
+    size_t i = 0, k, t;
+    if (n >= 3 && !memcmp(p, "ply", 3)) return NULL;
+    while (i < n) {
+        if (p[i] == '#') { while (i < n && p[i] != '\n') i++; }
+        else if (vp_is_space((char)p[i])) i++;
+        else break;
+    }
+    if (i == n) return NULL;   /* only blanks and comments so far: the reader decides */
+    for (t = i; t < n && p[t] && !vp_is_space((char)p[t]) && p[t] != '#'; t++) {}
+    if (t == n && n >= VP_FILE_HEAD) return NULL;   /* cut by the end of the head */
+    for (k = 0; k < sizeof kw / sizeof kw[0]; k++)
+        if (t - i == strlen(kw[k]) && !memcmp(p + i, kw[k], t - i)) return NULL;
+    return "it starts with neither 'ply' nor 'OFF'";
+}
+
 int vp_mesh_read_file(const char *path, vp_mesh_t *out, char *err, size_t errlen)
 {
-    FILE *f = fopen(path, "rb");
     unsigned char *data = NULL;
-    size_t n = 0, cap = 0;
+    size_t n = 0;
+    char sub[400];
     int st;
-    if (!f) { vp_seterr(err, errlen, "%s: %s", path, strerror(errno)); return VP_EIO; }
-    for (;;) {
-        size_t got;
-        if (n == cap) {
-            unsigned char *q;
-            cap = cap ? 2 * cap : 65536;
-            q = realloc(data, cap);
-            if (!q) { free(data); fclose(f); return VP_ENOMEM; }
-            data = q;
-        }
-        got = fread(data + n, 1, cap - n, f);
-        n += got;
-        if (got == 0) break;
-    }
-    if (ferror(f)) { free(data); fclose(f); vp_seterr(err, errlen, "%s: read error", path); return VP_EIO; }
-    fclose(f);
+    st = vp_file_read(path, VP_MESH_MAX_FILE, "mesh file", vp_mesh_head, &data, &n, sub, sizeof sub);
+    if (st < 0) { vp_seterr(err, errlen, "%s", sub); return st; }
     st = vp_mesh_read_buf(data, n, out, err, errlen);
     if (st < 0 && err && errlen) {
         char tmp[512];

@@ -4,6 +4,8 @@
  * Readers take a memory buffer (the file readers are thin wrappers) and never trust a count:
  * every count and index is checked against the bytes that remain, so hostile input gives
  * VP_ECORRUPT with a message naming the line (text) or byte offset (binary), never a crash.
+ * Text (OFF, an ASCII PLY's body, any PLY header) must not hold a NUL byte: refused, naming
+ * the line.
  * Polygons with more than 3 corners are split into a fan of triangles.
  */
 #ifndef VP_MESHIO_H
@@ -39,6 +41,9 @@ int  vp_mesh_read_off_buf(const void *buf, size_t len, vp_mesh_t *out, char *err
 int  vp_mesh_read_ply_buf(const void *buf, size_t len, vp_mesh_t *out, char *err, size_t errlen);
 /* Chooses by the first bytes ("ply" or "OFF"). */
 int  vp_mesh_read_buf(const void *buf, size_t len, vp_mesh_t *out, char *err, size_t errlen);
+/* A regular file of at most VP_MESH_MAX_FILE bytes (a device, a pipe or a folder is refused at
+ * once; so is a file whose first bytes are neither "ply" nor "OFF"). */
+#define VP_MESH_MAX_FILE (1ULL << 31)
 int  vp_mesh_read_file(const char *path, vp_mesh_t *out, char *err, size_t errlen);
 
 #endif

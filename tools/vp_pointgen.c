@@ -3,6 +3,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include "vp_file.h"
 #include "vp_pointgen.h"
 
 uint64_t vp_splitmix_next(uint64_t *state)
@@ -82,29 +83,52 @@ int vp_pointgen_sphere(size_t n, uint64_t seed, double **xyz, size_t *count, cha
     return 0;
 }
 
+/* One line of f into line[cap] (without the newline): 1, 0 at the end of the file, -1 for a
+ * line too long, -2 for a NUL byte in it (the rest of the line is consumed). */
+static int node_line(FILE *f, char *line, size_t cap)
+{
+    size_t n = 0;
+    int c = EOF, any = 0, nul = 0, longl = 0;
+    while ((c = getc(f)) != EOF && c != '\n') {
+        any = 1;
+        if (c == 0) nul = 1;
+        if (n + 1 < cap) line[n++] = (char)c;
+        else longl = 1;
+    }
+    line[n] = 0;
+    if (!any && c == EOF) return 0;
+    return nul ? -2 : longl ? -1 : 1;
+}
+
 int vp_pointgen_read_node(const char *path, double **xyz, size_t *count, char *err, size_t errlen)
 {
-    FILE *f = fopen(path, "r");
+    unsigned long long size = 0;
+    FILE *f = vp_file_open_read(path, VP_NODE_MAX_FILE, ".node file", &size, err, errlen);
     char line[512];
     long lineno = 0;
     size_t n = 0, i = 0;
-    int dim = 0, header = 0;
+    int dim = 0, header = 0, k;
     double *p = NULL;
-    if (!f) { snprintf(err, errlen, "%s: %s", path, strerror(errno)); return -1; }
-    while (fgets(line, sizeof line, f)) {
+    if (!f) return -1;
+    while ((k = node_line(f, line, sizeof line)) != 0) {
         char *s = line, *e;
         double v[4];
-        int k;
         lineno++;
+        if (k == -2) { snprintf(err, errlen, "%s:%ld: a NUL byte inside the line (a damaged or binary file)", path, lineno); goto fail; }
+        if (k == -1) { snprintf(err, errlen, "%s:%ld: line longer than %d bytes", path, lineno, (int)sizeof line - 1); goto fail; }
         while (*s == ' ' || *s == '\t') s++;
-        if (*s == '#' || *s == '\n' || *s == '\r' || !*s) continue;
+        if (*s == '#' || *s == '\r' || !*s) continue;
         if (!header) {
             long ln = strtol(s, &e, 10);
             if (e == s || ln < 0) goto bad;
             dim = (int)strtol(e, &e, 10);
             if (dim != 3) { snprintf(err, errlen, "%s:%ld: dimension %d, expected 3", path, lineno, dim); goto fail; }
             n = (size_t)ln;
-            if (n > ((size_t)1 << 31)) { snprintf(err, errlen, "%s:%ld: too many points", path, lineno); goto fail; }
+            /* each point takes a line of at least 8 bytes ("0 0 0 0\n") */
+            if (n > ((size_t)1 << 31) || (unsigned long long)n > size / 8 + 1) {
+                snprintf(err, errlen, "%s:%ld: %ld points: impossible for a file of %llu bytes", path, lineno, ln, size);
+                goto fail;
+            }
             p = alloc_points(n, err, errlen);
             if (!p) goto fail;
             header = 1;
@@ -122,6 +146,7 @@ int vp_pointgen_read_node(const char *path, double **xyz, size_t *count, char *e
         }
         i++;
     }
+    if (ferror(f)) { snprintf(err, errlen, "%s: read error", path); goto fail; }
     if (!header) { snprintf(err, errlen, "%s: empty file", path); goto fail; }
     if (i != n) { snprintf(err, errlen, "%s: header says %zu points, file has %zu", path, n, i); goto fail; }
     fclose(f);
