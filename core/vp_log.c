@@ -376,8 +376,10 @@ static int reader_step(vp_log_reader_t *r, vp_log_record_t *rec)
             return VP_LOG_NEED_MORE;
         }
         if (r->have == 16) {
+            /* the length and the CRC at its end keep their places in every version: a version
+             * above ours is believed only once the CRC says the header is intact (a damaged
+             * version byte is a damaged header, not a newer format) */
             uint32_t ver = get16(p + 8);
-            if (ver > VP_LOG_VERSION) return reader_fail(r, VP_EVERSION, VP_LOG_R_VERSION);
             n = get32(p + 12);
             if (ver == 0 || n < HDR_FIXED + 24u + 8u || n > VP_LOG_MAX_HEADER)
                 return reader_fail(r, VP_ECORRUPT, VP_LOG_R_HEADER);
@@ -386,6 +388,7 @@ static int reader_step(vp_log_reader_t *r, vp_log_record_t *rec)
         }
         n = r->need;
         if (vp_log_crc32(0, p, n - 4) != get32(p + n - 4)) return reader_fail(r, VP_ECORRUPT, VP_LOG_R_HEADER_CRC);
+        if (get16(p + 8) > VP_LOG_VERSION) return reader_fail(r, VP_EVERSION, VP_LOG_R_VERSION);
         if (!header_decode(p, n, &r->header)) return reader_fail(r, VP_ECORRUPT, VP_LOG_R_HEADER);
         r->have_header = 1;
         r->offset += n;

@@ -101,7 +101,7 @@ enum vp_log_reason {
     VP_LOG_R_OK = 0,
     VP_LOG_R_TRUNCATED,    /* the data ends inside the header or a record (a torn write) */
     VP_LOG_R_MAGIC,        /* not a voroprobe session log */
-    VP_LOG_R_VERSION,      /* written by a newer format version: refused */
+    VP_LOG_R_VERSION,      /* written by a newer format version (header CRC good): refused */
     VP_LOG_R_HEADER,       /* header length or a header field is invalid */
     VP_LOG_R_HEADER_CRC,   /* header CRC mismatch */
     VP_LOG_R_LENGTH,       /* record length impossible for its type */

@@ -3,6 +3,8 @@
 #include <fcntl.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/file.h>
+#include <sys/stat.h>
 #include <time.h>
 #include <unistd.h>
 #include "vp_logfile.h"
@@ -106,33 +108,88 @@ static void sync_dir_of(const char *path)
     close(fd);
 }
 
+/* Opens path to write and takes an exclusive lock on it for as long as it stays open, without
+ * changing a byte: a log another process is writing is left alone (f->busy, VP_EIO). */
+static int open_locked(vp_logfile_t *f, const char *path, int create)
+{
+    int fd = open(path, O_WRONLY | (create ? O_CREAT : 0), 0666), e;
+    if (fd < 0) return VP_EIO;
+    while (flock(fd, LOCK_EX | LOCK_NB) != 0) {
+        if (errno == EINTR) continue;
+        e = errno;
+        if (e == EWOULDBLOCK) f->busy = 1;
+        close(fd);
+        errno = e;
+        return VP_EIO;
+    }
+    f->fd = fd;
+    return VP_OK;
+}
+
 int vp_logfile_create(vp_logfile_t *f, const char *path, const vp_log_header_t *h,
                       const vp_logfile_config_t *cfg)
 {
     unsigned char buf[VP_LOG_MAX_HEADER];
-    int n = vp_log_header_encode(h, buf, sizeof buf), fd, st;
+    int n = vp_log_header_encode(h, buf, sizeof buf), st;
     start(f, -1, cfg);
     if (n < 0) return n;
-    fd = open(path, O_WRONLY | O_CREAT | O_TRUNC, 0666);
-    if (fd < 0) return VP_EIO;
-    f->fd = fd;
+    if ((st = open_locked(f, path, 1)) != VP_OK) return st;
+    if (ftruncate(f->fd, 0) != 0) return VP_EIO;   /* replaced only once it is ours */
     st = write_all(f, buf, (size_t)n);
     if (st == VP_OK && !f->dead) st = vp_logfile_sync(f);
     if (st == VP_OK) sync_dir_of(path);
     return st;
 }
 
+int vp_logfile_create_copy(vp_logfile_t *f, const char *path, const void *data, uint64_t n,
+                           uint32_t next_seq, const vp_logfile_config_t *cfg)
+{
+    const unsigned char *p = data;
+    uint64_t left = n;
+    int st;
+    start(f, -1, cfg);
+    if ((st = open_locked(f, path, 1)) != VP_OK) return st;
+    if (ftruncate(f->fd, 0) != 0) return VP_EIO;
+    /* the copied records are not part of the simulated power cut's count: appends are */
+    while (left > 0) {
+        ssize_t w = write(f->fd, p, left > (1u << 30) ? (size_t)1 << 30 : (size_t)left);
+        if (w < 0) {
+            if (errno == EINTR) continue;
+            return VP_EIO;
+        }
+        p += w;
+        left -= (uint64_t)w;
+    }
+    if (fdatasync(f->fd) != 0) return VP_EIO;
+    sync_dir_of(path);
+    f->bytes = n;
+    f->seq = next_seq;
+    return VP_OK;
+}
+
 int vp_logfile_open_append(vp_logfile_t *f, const char *path, uint64_t good_bytes,
                            uint32_t next_seq, const vp_logfile_config_t *cfg)
 {
-    int fd;
+    return vp_logfile_open_append_read(f, path, good_bytes, next_seq, UINT64_MAX, cfg);
+}
+
+int vp_logfile_open_append_read(vp_logfile_t *f, const char *path, uint64_t good_bytes, uint32_t next_seq,
+                                uint64_t read_size, const vp_logfile_config_t *cfg)
+{
+    struct stat sb;
+    int st;
     start(f, -1, cfg);
-    fd = open(path, O_WRONLY);
-    if (fd < 0) return VP_EIO;
-    f->fd = fd;
+    if ((st = open_locked(f, path, 0)) != VP_OK) return st;
+    if (read_size != UINT64_MAX && (fstat(f->fd, &sb) != 0 || (uint64_t)sb.st_size != read_size)) {
+        /* another writer added to it after it was read (and before the lock was ours) */
+        f->changed = 1;
+        close(f->fd);
+        f->fd = -1;
+        return VP_EIO;
+    }
     /* drop a torn or damaged tail: new records must follow the last valid one */
-    if (ftruncate(fd, (off_t)good_bytes) != 0 || lseek(fd, (off_t)good_bytes, SEEK_SET) < 0 ||
-        fdatasync(fd) != 0)
+    if (ftruncate(f->fd, (off_t)good_bytes) != 0 || lseek(f->fd, (off_t)good_bytes, SEEK_SET) < 0 ||
+        fdatasync(f->fd) != 0)
         return VP_EIO;
     f->bytes = good_bytes;
     f->seq = next_seq;

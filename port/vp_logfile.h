@@ -26,6 +26,8 @@ typedef struct vp_logfile {
     double first_unsynced;     /* monotonic seconds of the oldest unsynced record */
     unsigned long records, syncs;
     int dead;                  /* the simulated power cut happened */
+    int busy;                  /* create/open failed: another process is writing this log */
+    int changed;               /* open failed: the log is no longer the size it was read at */
 } vp_logfile_t;
 
 /* Every record synced: nothing acknowledged is ever lost. */
@@ -34,14 +36,27 @@ void vp_logfile_config_default(vp_logfile_config_t *c);
  * "close" (only on close). 0 or -1 (bad text). */
 int vp_logfile_parse_sync(const char *s, vp_logfile_config_t *c);
 
+/* A log being written is locked (flock, exclusive) from create or open until close: a second
+ * writer of the same file, in this process or another, gets VP_EIO with f->busy set, and the
+ * file is left exactly as it was. */
+
 /* Creates (or replaces) path with the header; the header is synced at once. cfg may be NULL
- * (default). VP_OK, VP_EINVAL, VP_EIO (errno kept). */
+ * (default). VP_OK, VP_EINVAL, VP_EIO (errno kept; f->busy: locked by another writer). */
 int vp_logfile_create(vp_logfile_t *f, const char *path, const vp_log_header_t *h,
                       const vp_logfile_config_t *cfg);
+/* Creates (or replaces) path with n bytes of another log (its header and valid records, as
+ * read) to append to, continuing with sequence number next_seq. */
+int vp_logfile_create_copy(vp_logfile_t *f, const char *path, const void *data, uint64_t n,
+                           uint32_t next_seq, const vp_logfile_config_t *cfg);
 /* Opens an existing log to append: cuts it back to good_bytes (the end of its last valid
  * record, from the reader) and continues with sequence number next_seq. */
 int vp_logfile_open_append(vp_logfile_t *f, const char *path, uint64_t good_bytes,
                            uint32_t next_seq, const vp_logfile_config_t *cfg);
+/* The same for a log read whole at read_size bytes: once the lock is ours the file must still
+ * be that long (else VP_EIO, f->changed, nothing cut: another writer added records after it was
+ * read). */
+int vp_logfile_open_append_read(vp_logfile_t *f, const char *path, uint64_t good_bytes, uint32_t next_seq,
+                                uint64_t read_size, const vp_logfile_config_t *cfg);
 /* Sets rec->seq, encodes and writes it, syncs when the policy says so. VP_EIO on a failed
  * write (or after the simulated power cut). */
 int vp_logfile_append(vp_logfile_t *f, vp_log_record_t *rec);

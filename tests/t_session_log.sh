@@ -114,9 +114,13 @@ cmp -s "$tmp/dmg.ply" "$tmp/half.ply" || bad "damaged log: mesh of the valid par
 cmp -s "$tmp/dmg.ply" "$tmp/torus.ply" || bad "damaged log resumed: mesh differs"
 echo "damaged log: record $((nrec / 2 - 1)) at byte $off named; the valid part replays and resumes"
 
-# ---- a newer format version is refused
+# ---- a newer format version is refused (the header intact: its CRC rewritten; the CRC-32 of
+# the header's first H-4 bytes is the one in gzip's trailer)
 cp "$L" "$tmp/new.vplog"
 printf '\002' | dd of="$tmp/new.vplog" bs=1 seek=8 conv=notrunc 2>/dev/null
+hl=$(od -An -tu4 -j12 -N4 "$tmp/new.vplog" | tr -d ' ')
+head -c $((hl - 4)) "$tmp/new.vplog" | gzip -c | tail -c 8 | head -c 4 |
+  dd of="$tmp/new.vplog" bs=1 seek=$((hl - 4)) conv=notrunc 2>/dev/null
 "$VP" replay "$tmp/new.vplog" --out "$tmp/new" 2>"$tmp/err.txt" && bad "a newer version was accepted"
 grep -q "newer format version" "$tmp/err.txt" || { bad "newer version message"; cat "$tmp/err.txt"; }
 "$VP" log check "$tmp/new.vplog" >/dev/null && bad "log check accepted a newer version"

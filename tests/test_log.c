@@ -229,8 +229,8 @@ static void test_bitflips(void)
             buf[at] ^= (unsigned char)(1u << bit);
             while (k < NREC && offs[k] + (size_t)vp_log_record_size(&recs[k]) <= at) k++;
             if (at < offs[0]) {
-                /* header damage: never a record, never a crash */
-                if (!(fin < 0 && n == 0 && r.bad_in_header)) bad++;
+                /* header damage: never a record, never a crash, never taken for a newer version */
+                if (!(fin == VP_ECORRUPT && n == 0 && r.bad_in_header)) bad++;
             } else {
                 /* the damaged record and nothing after it is rejected; all before are kept */
                 uint32_t i;
@@ -246,6 +246,14 @@ static void test_bitflips(void)
     CHECKF(bad == 0, "%d flips misreported", bad);
 }
 
+/* The header's CRC (its last 4 bytes) recomputed after an edit. */
+static void put_crc(unsigned char *buf, size_t hl)
+{
+    uint32_t c = vp_log_crc32(0, buf, hl - 4);
+    int k;
+    for (k = 0; k < 4; k++) buf[hl - 4 + (size_t)k] = (unsigned char)(c >> (8 * k));
+}
+
 static void test_errors(void)
 {
     static unsigned char buf[4096];
@@ -258,11 +266,23 @@ static void test_errors(void)
     vp_probe_result_t res;
     make_header(&h, 1);
     hl = (size_t)vp_log_header_encode(&h, buf, sizeof buf);
-    /* a newer version is refused, even with a valid CRC */
+    /* a newer version with a valid CRC is refused as newer */
     buf[8] = 2;
+    put_crc(buf, hl);
     vp_log_reader_init(&r);
     CHECK(vp_log_reader_push(&r, buf, hl, &used, &rec) == VP_EVERSION && r.reason == VP_LOG_R_VERSION);
     CHECK(vp_log_reader_push(&r, buf, hl, &used, &rec) == VP_EVERSION && used == 0);
+    /* a damaged version byte (version 257, the CRC no longer matches) is a damaged header, not a
+     * newer format; so is version 2 without the CRC fixed */
+    buf[8] = 1;
+    put_crc(buf, hl);
+    buf[9] = 1;
+    vp_log_reader_init(&r);
+    CHECK(vp_log_reader_push(&r, buf, hl, &used, &rec) == VP_ECORRUPT && r.reason == VP_LOG_R_HEADER_CRC && r.bad_in_header);
+    buf[9] = 0;
+    buf[8] = 2;
+    vp_log_reader_init(&r);
+    CHECK(vp_log_reader_push(&r, buf, hl, &used, &rec) == VP_ECORRUPT && r.reason == VP_LOG_R_HEADER_CRC);
     buf[8] = 1;
     /* not a log */
     vp_log_reader_init(&r);

@@ -3,7 +3,8 @@
  * from an integer hash of the probe number) logged through port/vp_logfile; the log replayed
  * through a fresh planner gives the same mesh bytes; the session cut at record boundaries and
  * at byte offsets (torn records), resumed, gives the same final mesh; damaged logs keep their
- * valid prefix; a changed configuration is caught by the replay; the host-sim device's noise
+ * valid prefix (a damaged header is not taken for a newer version); a log being written is
+ * locked against a second writer; a changed configuration is caught by the replay; the host-sim device's noise
  * is a function of (seed, probe number).
  * The printed fingerprints (log bytes, mesh bytes) must be the same on x86-64 and aarch64
  * (tests/t_aarch64.sh compares them): nothing here depends on libm. */
@@ -353,10 +354,24 @@ static void test_damage(void)
     CHECK(R.applied == k && !R.done);
     vp_replay_close(&R);
     vp_slog_free(&L);
-    /* a newer version is refused with a clear message */
+    /* a newer version (its header intact) is refused with a clear message; a damaged version
+     * byte is a damaged header (it said "newer format version (257)") */
     memcpy(bad, log0, nlog0);
     bad[8] = 2;
-    CHECK(vp_slog_load_buf(&L, bad, nlog0, err, sizeof err) == VP_EVERSION && strstr(err, "newer") != NULL);
+    {
+        size_t hl = (size_t)bad[12] | (size_t)bad[13] << 8 | (size_t)bad[14] << 16 | (size_t)bad[15] << 24;
+        uint32_t c = vp_log_crc32(0, bad, hl - 4);
+        int b;
+        for (b = 0; b < 4; b++) bad[hl - 4 + (size_t)b] = (unsigned char)(c >> (8 * b));
+    }
+    CHECKF(vp_slog_load_buf(&L, bad, nlog0, err, sizeof err) == VP_EVERSION && strstr(err, "newer format version (2;"),
+           "%s", err);
+    vp_slog_free(&L);
+    memcpy(bad, log0, nlog0);
+    bad[9] = 1;
+    CHECKF(vp_slog_load_buf(&L, bad, nlog0, err, sizeof err) == VP_ECORRUPT && strstr(err, "header is damaged") &&
+           strstr(err, "CRC") && strstr(err, "reads 257, not a newer format") && !strstr(err, "newer format version"),
+           "%s", err);
     vp_slog_free(&L);
     /* not a log at all */
     CHECK(vp_slog_load_buf(&L, "OFF\n3 1 0\n", 10, err, sizeof err) == VP_ECORRUPT && strstr(err, "magic") != NULL);
@@ -381,6 +396,60 @@ static void test_damage(void)
     }
     vp_slog_free(&L0);
     free(bad);
+}
+
+/* ---------- the writer's lock ---------- */
+
+/* A log being written is locked: a second writer (here another open file of this process,
+ * which flock treats like another process) is refused with busy set and the file keeps every
+ * byte; once the first writer closes, the log can be written again. Two runs writing the same
+ * log both reported success and corrupted it. */
+static void test_lock(void)
+{
+    vp_planner_config_t c;
+    vp_log_header_t h;
+    vp_logfile_t a, b;
+    char path[300], other[300];
+    unsigned char *before, *after;
+    size_t nb, na;
+    config(&c);
+    vp_log_header_init(&h, &c, ARENA, VP_LOG_UNITS_MM, "test", "test_slog: lock");
+    snprintf(path, sizeof path, "%s/lock.vplog", dir);
+    snprintf(other, sizeof other, "%s/lock2.vplog", dir);
+    CHECK(vp_logfile_create(&a, path, &h, &nosync) == VP_OK && !a.busy);
+    CHECK(vp_logfile_event(&a, VP_LOG_EV_START, 0, "first writer") == VP_OK && vp_logfile_sync(&a) == VP_OK);
+    CHECK(read_file(path, &before, &nb) == 0);
+    CHECK(vp_logfile_create(&b, path, &h, &nosync) == VP_EIO && b.busy && b.fd < 0);
+    CHECK(vp_logfile_open_append(&b, path, nb, 1, &nosync) == VP_EIO && b.busy && b.fd < 0);
+    CHECK(vp_logfile_create_copy(&b, path, before, 16, 0, &nosync) == VP_EIO && b.busy && b.fd < 0);
+    CHECK(read_file(path, &after, &na) == 0 && na == nb && memcmp(before, after, nb) == 0);
+    free(after);
+    /* the first writer goes on undisturbed */
+    CHECK(vp_logfile_event(&a, VP_LOG_EV_PAUSE, 0, "still mine") == VP_OK && vp_logfile_close(&a) == VP_OK);
+    /* closed: the lock is gone; but a log that grew after it was read (nb bytes) is not cut back */
+    CHECK(read_file(path, &after, &na) == 0 && na > nb);
+    free(after);
+    CHECK(vp_logfile_open_append_read(&b, path, nb, 1, nb, &nosync) == VP_EIO && b.changed && !b.busy && b.fd < 0);
+    CHECK(read_file(path, &after, &na) == 0 && na > nb && memcmp(before, after, nb) == 0);
+    free(after);
+    CHECK(vp_logfile_open_append_read(&b, path, nb, 1, na, &nosync) == VP_OK && !b.busy && !b.changed);
+    CHECK(vp_logfile_close(&b) == VP_OK);
+    /* a copy to another file is locked the same way, and appends after the copied bytes */
+    CHECK(vp_logfile_create_copy(&a, other, before, nb, 1, &nosync) == VP_OK && a.bytes == nb && a.seq == 1);
+    CHECK(vp_logfile_create(&b, other, &h, &nosync) == VP_EIO && b.busy);
+    CHECK(vp_logfile_event(&a, VP_LOG_EV_RESUME, 0, "copied") == VP_OK && vp_logfile_close(&a) == VP_OK);
+    CHECK(read_file(other, &after, &na) == 0 && na > nb && memcmp(before, after, nb) == 0);
+    {
+        vp_slog_t L;
+        char err[300];
+        CHECKF(vp_slog_load_buf(&L, after, na, err, sizeof err) == VP_OK && L.status == VP_OK && L.n == 2 &&
+               L.events == 2, "%s", err);
+        vp_slog_free(&L);
+    }
+    free(after);
+    free(before);
+    unlink(path);
+    unlink(other);
 }
 
 /* ---------- the writer's power cut and sync policy ---------- */
@@ -467,6 +536,7 @@ int main(void)
     test_resume();
     test_damage();
     test_powercut();
+    test_lock();
     test_simdev_restore();
     {
         char p[300];

@@ -3,6 +3,7 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include "vp_file.h"
 #include "vp_slog.h"
 
 const char *vp_slog_event_name(uint32_t event)
@@ -59,7 +60,25 @@ static int index_records(vp_slog_t *L, char *err, size_t errlen)
             snprintf(err, errlen, "the log was written by a newer format version (%u; this build reads up to %u): "
                      "use a newer voroprobe", (unsigned)(L->size >= 10 ? L->data[8] | L->data[9] << 8 : 0),
                      VP_LOG_VERSION);
-        else
+        else if (r->reason == VP_LOG_R_HEADER_CRC || r->reason == VP_LOG_R_HEADER) {
+            /* the version field is believed only in an intact header */
+            unsigned ver = (unsigned)(L->size >= 10 ? L->data[8] | L->data[9] << 8 : 0);
+            unsigned long hl = L->size >= 16 ? (unsigned long)L->data[12] | (unsigned long)L->data[13] << 8 |
+                                               (unsigned long)L->data[14] << 16 | (unsigned long)L->data[15] << 24 : 0;
+            char why[200] = "";
+            if (ver > VP_LOG_VERSION && r->reason == VP_LOG_R_HEADER_CRC)
+                snprintf(why, sizeof why, "; its version field reads %u, not a newer format: a newer log's header "
+                         "would be intact", ver);
+            else if (ver > VP_LOG_VERSION)
+                snprintf(why, sizeof why, "; its version field reads %u (this build reads up to %u): damaged, or a "
+                         "newer format whose header this build cannot check", ver, VP_LOG_VERSION);
+            if (r->reason == VP_LOG_R_HEADER_CRC)
+                snprintf(err, errlen, "unusable header: the header is damaged (header CRC mismatch over bytes 0..%lu)%s",
+                         hl - 1, why);
+            else
+                snprintf(err, errlen, "unusable header: the header is damaged (an invalid length, version or field)%s",
+                         why);
+        } else
             snprintf(err, errlen, "unusable header: %s", vp_log_reason_text(r->reason));
         free(r);
         return vst;
@@ -81,34 +100,27 @@ int vp_slog_load_buf(vp_slog_t *L, const void *buf, size_t len, char *err, size_
     return st;
 }
 
+/* The first bytes of a log: its magic (a shorter file is left to the reader: truncated). */
+static const char *slog_head(const unsigned char *p, size_t n)
+{
+    if (n >= VP_LOG_MAGIC_LEN && memcmp(p, vp_log_magic, VP_LOG_MAGIC_LEN) != 0)
+        return "bad magic (a voroprobe session log starts with \"VPLOG\")";
+    return NULL;
+}
+
 int vp_slog_load(vp_slog_t *L, const char *path, char *err, size_t errlen)
 {
-    FILE *f = fopen(path, "rb");
-    size_t cap = 1 << 16, n = 0;
-    unsigned char *p;
+    unsigned char *p = NULL;
+    size_t n = 0;
     char sub[400];
     int st;
     memset(L, 0, sizeof *L);
-    if (!f) { snprintf(err, errlen, "cannot open %s: %s", path, strerror(errno)); return VP_EIO; }
-    p = malloc(cap);
-    while (p) {
-        size_t k = fread(p + n, 1, cap - n, f);
-        n += k;
-        if (n < cap) break;
-        {
-            unsigned char *q = realloc(p, cap * 2);
-            if (!q) { free(p); p = NULL; break; }
-            p = q;
-            cap *= 2;
-        }
+    /* a regular file of bounded size (a device would be read until memory runs out) */
+    st = vp_file_read(path, VP_SLOG_MAX_FILE, "session log", slog_head, &p, &n, sub, sizeof sub);
+    if (st != VP_OK) {
+        snprintf(err, errlen, "%s", sub);
+        return st == VP_ECORRUPT ? VP_ECORRUPT : VP_EIO;
     }
-    if (!p || ferror(f)) {
-        fclose(f);
-        free(p);
-        snprintf(err, errlen, "cannot read %s", path);
-        return VP_EIO;
-    }
-    fclose(f);
     L->data = p;
     L->size = n;
     st = index_records(L, sub, sizeof sub);

@@ -25,9 +25,10 @@ typedef struct vp_slog {
 } vp_slog_t;
 
 /* Loads path. Fails (err set) only when the file cannot be read or its header is unusable
- * (not a log, newer version, damaged header); damage after the header is kept in
+ * (not a regular file, not a log, newer version, damaged header); damage after the header is kept in
  * status/reason and the records before it are loaded. A failed load holds nothing (no
  * vp_slog_free needed); a loaded one is freed with vp_slog_free. */
+#define VP_SLOG_MAX_FILE (1ULL << 33)   /* a larger file is refused (it is read whole) */
 int  vp_slog_load(vp_slog_t *L, const char *path, char *err, size_t errlen);
 int  vp_slog_load_buf(vp_slog_t *L, const void *buf, size_t len, char *err, size_t errlen);
 void vp_slog_free(vp_slog_t *L);
