@@ -5,6 +5,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 #include "vp_board.h"
 #include "vp_ini.h"
 #include "vp_logfile.h"
@@ -611,19 +612,17 @@ static int vp_board_calib_key(vp_bctx_t *c, char *err, size_t el)
 {
     vp_board_t *b = c->b;
     const char *slash = strrchr(c->name, '/');
-    char path[512], sub[400];
-    FILE *f;
+    char path[VP_BOARD_PATH_MAX], sub[400];
     int rc, n;
     if (!b->calibration[0]) return VP_OK;
     if (b->calibration[0] == '/' || !slash) n = snprintf(path, sizeof path, "%s", b->calibration);
     else n = snprintf(path, sizeof path, "%.*s/%s", (int)(slash - c->name), c->name, b->calibration);
     if (n < 0 || (size_t)n >= sizeof path) return vp_bad(c, S_RANGE, "calibration", err, el, "path too long");
-    if (!(f = fopen(path, "r"))) {
+    if (access(path, F_OK) != 0) {   /* not opened to look: a pipe would wait for a writer */
         b->calib_missing = 1;
         snprintf(b->calib_path, sizeof b->calib_path, "%s", path);
         return VP_OK;
     }
-    fclose(f);
     rc = vp_board_calibration_load(b, path, NULL, sub, sizeof sub);
     if (rc != VP_OK) return vp_bad(c, S_RANGE, "calibration", err, el, "%s", sub);
     return VP_OK;
@@ -659,6 +658,11 @@ int vp_board_load(const char *path, vp_board_t *b, char *err, size_t errlen)
     c.b = b;
     c.name = path;
     c.sec = -1;
+    if (strlen(path) >= sizeof b->path) {
+        snprintf(err, errlen, "the board path %.48s... is too long (%lu bytes, at most %lu)", path,
+                 (unsigned long)strlen(path), (unsigned long)sizeof b->path - 1);
+        return VP_EINVAL;
+    }
     snprintf(b->path, sizeof b->path, "%s", path);
     return vp_board_finish(&c, vp_ini_parse_file(path, vp_board_key, &c, err, errlen), err, errlen);
 }
@@ -726,6 +730,11 @@ int vp_board_calibration_load(vp_board_t *b, const char *path, vp_board_calib_t 
     double len;
     int rc;
     if (!b || !path) return VP_EINVAL;
+    if (strlen(path) >= sizeof b->calib_path) {
+        snprintf(err, errlen, "the calibration path %.48s... is too long (%lu bytes, at most %lu)", path,
+                 (unsigned long)strlen(path), (unsigned long)sizeof b->calib_path - 1);
+        return VP_EINVAL;
+    }
     memset(&c, 0, sizeof c);
     memset(&scratch, 0, sizeof scratch);
     c.info = info ? info : &scratch;

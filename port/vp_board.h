@@ -9,6 +9,7 @@
  * See boards/rpi4-gantry.ini for every key with a comment. */
 #ifndef VP_BOARD_H
 #define VP_BOARD_H
+#include <limits.h>
 #include <stddef.h>
 #include <stdint.h>
 #include "vp_cam.h"
@@ -20,6 +21,11 @@
 #include "vp_step.h"
 
 #define VP_BOARD_AXES 5
+#ifdef PATH_MAX
+#define VP_BOARD_PATH_MAX PATH_MAX   /* bytes of a file's path, with the NUL */
+#else
+#define VP_BOARD_PATH_MAX 4096
+#endif
 enum { VP_BOARD_IO_SIM = 0, VP_BOARD_IO_GPIOD = 1 };
 
 typedef struct vp_board_axis {
@@ -29,7 +35,7 @@ typedef struct vp_board_axis {
 
 typedef struct vp_board {
     char name[64];
-    char path[256];
+    char path[VP_BOARD_PATH_MAX];        /* the board file (a longer path is refused) */
     int io;                              /* VP_BOARD_IO_*: gpiod needs pins and an e-stop */
     char log_sync[32];                   /* session log sync policy (vp_logfile_parse_sync; "" default) */
     vp_board_axis_t axis[VP_BOARD_AXES]; /* x y z pan tilt (index = vp_kin joint) */
@@ -54,7 +60,7 @@ typedef struct vp_board {
     int near_measure;                    /* a spot nearer than min_range: 1 a hit at the model's
                                             extrapolated distance, 0 VP_PROBE_TOO_CLOSE */
     char calibration[256];               /* [rangefinder] calibration = FILE (as written) */
-    char calib_path[512];                /* that file relative to the board's folder ("" none) */
+    char calib_path[VP_BOARD_PATH_MAX];  /* that file relative to the board's folder ("" none) */
     int calib_missing;                   /* the key names a file that does not exist (yet) */
     /* [calibrate]: the calibration fixture, a flat target across +x */
     int have_fixture;

@@ -1,9 +1,11 @@
 /* Board files: boards/rpi4-gantry.ini and boards/sim.ini parse into the expected machine;
  * broken variants are refused with the file, the right line, the section, the key and the
- * reason; the module configurations derived from a board are accepted by those modules. */
+ * reason; the module configurations derived from a board are accepted by those modules; a NUL
+ * byte in a line, a device and a folder are refused; long board paths are kept whole. */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <unistd.h>
 #include "vp_board.h"
 #include "vp_iorec.h"
@@ -256,7 +258,54 @@ int main(void)
         remove(bpath);
         rmdir(dir);
     }
+    /* ---- a NUL byte inside a value is refused naming the line (it was read as the part before
+     * it: "steps_per_unit = 8<NUL>0" gave 8); a device or a folder is refused at once (a board
+     * at /dev/zero was read for ever); a board path of any length is kept whole ---- */
+    {
+        char dir[] = "/tmp/vp_nul_XXXXXX", bpath[1200], want[64];
+        const char *at;
+        FILE *f;
+        size_t n, k;
+        CHECK(mkdtemp(dir) != NULL);
+        CHECK(load_text("boards/rpi4-gantry.ini"));
+        at = strstr(text, "steps_per_unit = 80\n");
+        CHECK(at != NULL);
+        snprintf(bpath, sizeof bpath, "%s/board.ini", dir);
+        f = fopen(bpath, "wb");
+        n = strlen(text);
+        k = (size_t)(at - text) + strlen("steps_per_unit = 8");
+        CHECK(f && fwrite(text, 1, k, f) == k && fputc(0, f) == 0 && fwrite(text + k, 1, n - k, f) == n - k && fclose(f) == 0);
+        rc = vp_board_load(bpath, &b, err, sizeof err);
+        snprintf(want, sizeof want, "board.ini:%d: ", line_of(text, "steps_per_unit = 80\n"));
+        CHECKF(rc == VP_EINVAL && strstr(err, want) && strstr(err, "NUL"), "%s (wanted %s)", err, want);
+        remove(bpath);
+        rc = vp_board_load("/dev/zero", &b, err, sizeof err);
+        CHECKF(rc == VP_EIO && strstr(err, "/dev/zero is not a regular file"), "%s", err);
+        rc = vp_board_load(dir, &b, err, sizeof err);
+        CHECKF(rc == VP_EIO && strstr(err, "not a regular file (a folder)"), "%s", err);
+        /* a long path: 4 folders of 200 characters */
+        n = strlen(dir);
+        for (k = 0; k < 4; k++) {
+            memset(bpath + n, 'b', 201);
+            bpath[n] = '/';
+            n += 201;
+            bpath[n] = 0;
+            CHECK(mkdir(bpath, 0700) == 0);
+        }
+        strcpy(bpath + n, "/board.ini");
+        f = fopen(bpath, "w");
+        CHECK(f && fputs(text, f) >= 0 && fclose(f) == 0);
+        rc = vp_board_load(bpath, &b, err, sizeof err);
+        CHECKF(rc == VP_OK && !strcmp(b.path, bpath), "%s", err);
+        remove(bpath);
+        for (k = 0; k < 4; k++) {
+            bpath[n] = 0;
+            rmdir(bpath);
+            n -= 201;
+        }
+        rmdir(dir);
+    }
     printf("2 boards parsed; %d broken variants refused with file, line, section, key and reason; calibration files "
-           "written, read back, broken ones named\n", nbad);
+           "written, read back, broken ones named; NUL bytes, devices and folders refused\n", nbad);
     return vp_test_done("test_port_board");
 }

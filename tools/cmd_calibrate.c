@@ -5,6 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "vp_cli.h"
+#include "vp_note.h"
 #include "vp_scan.h"
 
 static void calibrate_usage(FILE *f)
@@ -73,7 +74,7 @@ int vp_cmd_calibrate(int argc, char **argv)
     vp_tri_model_t fit;
     vp_tri_fit_report_t rep;
     vp_board_calib_t info;
-    char err[1200], path[600];
+    char err[1200], path[VP_PATH_MAX];
     for (i = 1; i < argc; i++) {
         const char *a = argv[i], *val = i + 1 < argc ? argv[i + 1] : NULL;
         char *e;
@@ -131,14 +132,17 @@ int vp_cmd_calibrate(int argc, char **argv)
         fprintf(stderr, "calibrate: stations (at least 4) x frames must be at most %d\n", VP_MACHINE_MAX_CALIB);
         return 2;
     }
-    if (out) snprintf(path, sizeof path, "%s", out);
-    else if (b.calib_path[0]) snprintf(path, sizeof path, "%s", b.calib_path);
+    if (out) st = vp_path_cat(path, sizeof path, out, "", err, sizeof err);
+    else if (b.calib_path[0]) st = vp_path_cat(path, sizeof path, b.calib_path, "", err, sizeof err);
     else {
+        /* BOARD.ini -> BOARD.calib */
         size_t len = strlen(board);
-        snprintf(path, sizeof path, "%s", board);
-        if (len > 4 && len < sizeof path && !strcmp(path + len - 4, ".ini")) path[len - 4] = 0;
-        snprintf(path + strlen(path), sizeof path - strlen(path), ".calib");
+        char stem[VP_PATH_MAX];
+        st = vp_path_cat(stem, sizeof stem, board, "", err, sizeof err);
+        if (st == VP_OK && len > 4 && !strcmp(stem + len - 4, ".ini")) stem[len - 4] = 0;
+        if (st == VP_OK) st = vp_path_cat(path, sizeof path, stem, ".calib", err, sizeof err);
     }
+    if (st != VP_OK) { fprintf(stderr, "calibrate: %s\n", err); return 2; }
 
     st = vp_scan_open(&dev, &b, dry, NULL, plan.target_x, seed, err, sizeof err);
     if (st != VP_OK) { fprintf(stderr, "calibrate: %s\n", err); return 1; }

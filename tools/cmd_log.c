@@ -8,6 +8,7 @@
 #include "vp_logverify.h"
 #include "vp_meshcheck.h"
 #include "vp_meshio.h"
+#include "vp_note.h"
 #include "vp_session.h"
 #include "vp_sim_setup.h"
 #include "vp_slog.h"
@@ -74,10 +75,22 @@ static int job_option(logjob_t *j, int argc, char **argv, int *i, const char *cm
     return 0;
 }
 
+/* PREFIX + the longest extension fits a path: 0, or 2 (usage) after saying why. */
+static int check_out(const char *prefix, const char *ext, const char *cmd)
+{
+    char path[VP_PATH_MAX], err[300];
+    if (vp_path_cat(path, sizeof path, prefix, ext, err, sizeof err) == VP_OK) return 0;
+    fprintf(stderr, "%s: %s\n", cmd, err);
+    return 2;
+}
+
 static int write_mesh(const vp_mesh_t *m, const char *prefix, const char *ext, int format, const char *cmd)
 {
-    char path[1200];
-    snprintf(path, sizeof path, "%s%s", prefix, ext);
+    char path[VP_PATH_MAX], err[300];
+    if (vp_path_cat(path, sizeof path, prefix, ext, err, sizeof err) != VP_OK) {
+        fprintf(stderr, "%s: %s\n", cmd, err);
+        return 1;
+    }
     if (vp_mesh_write_file(m, path, format) != VP_OK) {
         fprintf(stderr, "%s: cannot write %s: %s\n", cmd, path, strerror(errno));
         return 1;
@@ -115,6 +128,7 @@ int vp_cmd_replay(int argc, char **argv)
         if (rc > 0) { fprintf(stderr, "replay: unknown option %s (see --help)\n", argv[i]); return 2; }
     }
     if (!j.log || !j.out) { fprintf(stderr, "replay: give LOG and --out PREFIX (see --help)\n"); return 2; }
+    if (check_out(j.out, ".ply", "replay")) return 2;
     rc = load_and_replay(&j, "replay");
     if (rc == 0) rc = write_mesh(&j.mesh, j.out, ".ply", VP_MESH_PLY_BIN, "replay") ||
                       write_mesh(&j.mesh, j.out, ".off", VP_MESH_OFF, "replay");
@@ -210,15 +224,16 @@ int vp_cmd_mesh(int argc, char **argv)
         if (rc > 0) { fprintf(stderr, "mesh: unknown option %s (see --help)\n", a); return 2; }
     }
     if (!j.log || !j.out) { fprintf(stderr, "mesh: give LOG and --out PREFIX (see --help)\n"); return 2; }
+    if (check_out(j.out, points ? ".points.ply" : ".ply", "mesh")) return 2;
     rc = load_and_replay(&j, "mesh");
     if (rc == 0) rc = write_mesh(&j.mesh, j.out, ".ply", ascii ? VP_MESH_PLY_ASCII : VP_MESH_PLY_BIN, "mesh");
     if (rc == 0 && off) rc = write_mesh(&j.mesh, j.out, ".off", VP_MESH_OFF, "mesh");
     if (rc == 0) {
         vp_meshcheck_t c;
         size_t npts = 0;
-        char path[1200];
+        char path[VP_PATH_MAX], perr[300];
         if (points) {
-            snprintf(path, sizeof path, "%s.points.ply", j.out);
+            vp_path_cat(path, sizeof path, j.out, ".points.ply", perr, sizeof perr);   /* checked above */
             if (write_points(&j.L, j.R.applied, path, ascii, &npts) != VP_OK) {
                 fprintf(stderr, "mesh: cannot write %s: %s\n", path, strerror(errno));
                 rc = 1;

@@ -233,14 +233,14 @@ static int scan_after(void *ctx, const vp_cmd_t *cmd, const vp_probe_result_t *r
 
 static int write_mesh(const vp_planner_t *pl, const char *prefix, vp_mesh_t *mesh, char *err, size_t n)
 {
-    char path[1100];
+    char path[VP_PATH_MAX];
     int st = vp_session_mesh(pl, mesh);
     if (st != VP_OK) { snprintf(err, n, "mesh: %s", vp_strerror(st)); return st; }
-    if (vp_mkdirs_for(prefix) != 0) { snprintf(err, n, "cannot create the folder of %s", prefix); return VP_EIO; }
-    snprintf(path, sizeof path, "%s.ply", prefix);
-    if ((st = vp_mesh_write_file(mesh, path, VP_MESH_PLY_BIN)) != VP_OK) { snprintf(err, n, "cannot write %s", path); return st; }
-    snprintf(path, sizeof path, "%s.off", prefix);
-    if ((st = vp_mesh_write_file(mesh, path, VP_MESH_OFF)) != VP_OK) { snprintf(err, n, "cannot write %s", path); return st; }
+    if ((st = vp_path_cat(path, sizeof path, prefix, ".ply", err, n)) != VP_OK) return st;
+    if (vp_mkdirs_for(prefix) != 0) { snprintf(err, n, "cannot create the folder of %s: %s", prefix, strerror(errno)); return VP_EIO; }
+    if ((st = vp_mesh_write_file(mesh, path, VP_MESH_PLY_BIN)) != VP_OK) { snprintf(err, n, "cannot write %.1400s: %s", path, strerror(errno)); return st; }
+    if ((st = vp_path_cat(path, sizeof path, prefix, ".off", err, n)) != VP_OK) return st;
+    if ((st = vp_mesh_write_file(mesh, path, VP_MESH_OFF)) != VP_OK) { snprintf(err, n, "cannot write %.1400s: %s", path, strerror(errno)); return st; }
     return VP_OK;
 }
 
@@ -262,8 +262,8 @@ int vp_cmd_scan(int argc, char **argv)
     scan_run_t run;
     vp_session_result_t res;
     vp_mesh_t mesh;
-    char err[1600], sub[600], note[VP_LOG_NOTE_MAX + 1], notebuf[VP_LOG_NOTE_MAX + 1], surface[600] = "";
-    char prefix[1100], text[VP_LOG_TEXT_MAX + 1], board_path[600];
+    char err[1600], sub[600], note[VP_LOG_NOTE_MAX + 1], notebuf[VP_LOG_NOTE_MAX + 1], surface[VP_PATH_MAX] = "";
+    char prefix[VP_PATH_MAX], text[VP_LOG_TEXT_MAX + 1], board_path[VP_PATH_MAX];
     int st, i, have_L = 0, dev_open = 0, log_open = 0, rc = 1, k, nint = 1;
     uint32_t replayed = 0;
     double wall0 = vp_wall_seconds();
@@ -356,13 +356,22 @@ int vp_cmd_scan(int argc, char **argv)
         vp_logfile_config_default(&o.sync);
         if (b.log_sync[0]) vp_logfile_parse_sync(b.log_sync, &o.sync);
     }
-    if (o.out) snprintf(prefix, sizeof prefix, "%s", o.out);
+    /* the log and mesh paths are checked before anything is written */
+    if (o.out) st = vp_path_cat(prefix, sizeof prefix, o.out, "", err, sizeof err);
     else {
         size_t len = strlen(o.log);
-        snprintf(prefix, sizeof prefix, "%s", o.log);
-        if (len > 6 && len < sizeof prefix && !strcmp(prefix + len - 6, ".vplog")) prefix[len - 6] = 0;
-        else snprintf(prefix, sizeof prefix, "%s.mesh", o.log);
+        if (len > 6 && !strcmp(o.log + len - 6, ".vplog")) {
+            st = vp_path_cat(prefix, sizeof prefix, o.log, "", err, sizeof err);
+            if (st == VP_OK) prefix[len - 6] = 0;
+        } else
+            st = vp_path_cat(prefix, sizeof prefix, o.log, ".mesh", err, sizeof err);
     }
+    {
+        char chk[VP_PATH_MAX];
+        if (st == VP_OK) st = vp_path_cat(chk, sizeof chk, prefix, ".ply", err, sizeof err);
+        if (st == VP_OK) st = vp_path_cat(chk, sizeof chk, o.log, "", err, sizeof err);
+    }
+    if (st != VP_OK) { fprintf(stderr, "scan: %s\n", err); rc = 2; goto done; }
 
     /* ---- the machine ---- */
     st = vp_scan_open(&dev, &b, o.dry, o.dry ? surface : NULL, 0, o.seed, err, sizeof err);
@@ -464,7 +473,7 @@ int vp_cmd_scan(int argc, char **argv)
             rc = 0;
             goto done;
         }
-        st = vp_logfile_open_append(&run.w.file, o.log, L.good_bytes, L.n, &o.sync);
+        st = vp_logfile_open_append_read(&run.w.file, o.log, L.good_bytes, L.n, (uint64_t)L.size, &o.sync);
         if (st == VP_OK) {
             snprintf(text, sizeof text, "resumed after record %d", (int)L.n - 1);
             st = vp_logfile_event(&run.w.file, VP_LOG_EV_RESUME, 0, text);
@@ -488,7 +497,17 @@ int vp_cmd_scan(int argc, char **argv)
         ev.value[0] = t->a; ev.value[1] = t->b; ev.value[2] = t->c; ev.value[3] = t->max_range;
         st = vp_logfile_append(&run.w.file, &ev);
     }
-    if (st != VP_OK) { fprintf(stderr, "scan: cannot write the session log %s: %s\n", o.log, strerror(errno)); goto done; }
+    if (st != VP_OK) {
+        if (run.w.file.busy)
+            fprintf(stderr, "scan: log %s is being written by another process: it is left as it is (wait for that "
+                    "scan to end, or give another --log)\n", o.log);
+        else if (run.w.file.changed)
+            fprintf(stderr, "scan: log %s was written by another process while it was read: it is left as it is "
+                    "(resume again)\n", o.log);
+        else
+            fprintf(stderr, "scan: cannot write the session log %s: %s\n", o.log, strerror(errno));
+        goto done;
+    }
     log_open = 1;
 
     /* ---- home, the start, back to where a resumed scan stopped ---- */

@@ -22,7 +22,7 @@ static void sim_usage(FILE *f)
         "  --surface SPEC     sphere, torus, genus2, ellipsoid, genus5, blobby, off:FILE, ply:FILE,\n"
         "                     or several joined by '+' (see below)\n"
         "  --eps E            largest surface Delaunay ball radius (same units as the object)\n"
-        "  --eps-rel R        eps as a fraction of the object's bounding-box diagonal\n"
+        "  --eps-rel R        eps as a fraction of the object's bounding-box diagonal (not with --eps)\n"
         "  --out PREFIX       write PREFIX.ply, PREFIX.off and the session log PREFIX.vplog\n"
         "                     (default: out/scan)\n"
         "  --log FILE         write the session log to FILE instead of PREFIX.vplog\n"
@@ -33,8 +33,8 @@ static void sim_usage(FILE *f)
         "                     records), Tms (every T ms), N,Tms, close (only at the end)\n"
         "  --stop-after N     pause the session after N commands (a PAUSE event; resumable)\n"
         "  --power-cut BYTES  simulate a power cut once the log reaches BYTES bytes (torn write)\n"
-        "  --noise S          Gaussian noise of each hit distance (standard deviation)\n"
-        "  --dropout P        probability that a real hit reports a miss\n"
+        "  --noise S          Gaussian noise of each hit distance (standard deviation; at most eps/16)\n"
+        "  --dropout P        probability that a real hit reports a miss (at most 0.5)\n"
         "  --confirm N        re-probes of a miss where a hit is expected (default 2 with\n"
         "                     --dropout, else 0)\n"
         "  --clearance C      device radius: the device then stays outside Omega (grown to keep 2C from\n"
@@ -72,8 +72,8 @@ int vp_cmd_sim(int argc, char **argv)
         st = vp_simlog_parse_option(&g, argc, argv, &i, err, sizeof err);
         if (st == 1) st = vp_sim_parse_option(&o, argc, argv, &i, err, sizeof err);
         if (st == 0) continue;
-        fprintf(stderr, "sim: %s\n", st < 0 ? err : "unknown option");
-        if (st > 0) { fprintf(stderr, "sim: unknown option %s (see --help)\n", a); }
+        if (st < 0) fprintf(stderr, "sim: %s\n", err);
+        else fprintf(stderr, "sim: unknown option %s (see --help)\n", a);
         return 2;
     }
     if (vp_simlog_options(&g, &o, argc, argv, err, sizeof err) != VP_OK) {
@@ -83,6 +83,12 @@ int vp_cmd_sim(int argc, char **argv)
     }
     if (!o.surface) { fprintf(stderr, "sim: --surface is required (see --help)\n"); return 2; }
     if (!(o.eps > 0.0) && !(o.eps_rel > 0.0)) { fprintf(stderr, "sim: give --eps or --eps-rel (see --help)\n"); return 2; }
+    /* every output path is checked before anything is scanned or written */
+    if (vp_sim_check_out(&o, err, sizeof err) != VP_OK || vp_simlog_set_path(&g, &o, err, sizeof err) != VP_OK) {
+        fprintf(stderr, "sim: %s\n", err);
+        vp_simlog_free(&g);
+        return 2;
+    }
     st = vp_sim_open(&sim, &o, err, sizeof err);
     if (st == VP_OK) st = vp_simlog_begin(&g, &sim, &o, o.quiet ? NULL : stderr, err, sizeof err);
     if (st != VP_OK) { fprintf(stderr, "sim: %s\n", err); vp_sim_close(&sim); vp_simlog_free(&g); return 1; }

@@ -6,6 +6,7 @@
 #include <string.h>
 #include <sys/stat.h>
 #include "vp_note.h"
+#include "vp_status.h"
 
 void vp_note_put(char *buf, size_t n, size_t *len, const char *tok)
 {
@@ -73,9 +74,32 @@ int vp_note_split(char *buf, char **tok, int cap)
     return n;
 }
 
+int vp_path_cat(char *buf, size_t n, const char *prefix, const char *ext, char *err, size_t errlen)
+{
+    size_t lp = strlen(prefix), le = strlen(ext), i, start = 0;
+    if (lp + le >= n) {
+        snprintf(err, errlen, "the path %.48s...%s is too long: %lu bytes, at most %lu", prefix, ext,
+                 (unsigned long)(lp + le), (unsigned long)n - 1);
+        return VP_EINVAL;
+    }
+    memcpy(buf, prefix, lp);
+    memcpy(buf + lp, ext, le + 1);
+    for (i = 0; i <= lp + le; i++)
+        if (buf[i] == '/' || buf[i] == 0) {
+            if (i - start > VP_NAME_MAX) {
+                snprintf(err, errlen, "the name %.32s... in the path %.48s... is too long: %lu bytes, at most %d",
+                         buf + start, buf, (unsigned long)(i - start), VP_NAME_MAX);
+                buf[0] = 0;
+                return VP_EINVAL;
+            }
+            start = i + 1;
+        }
+    return VP_OK;
+}
+
 int vp_mkdirs_for(const char *path)
 {
-    char dir[1100];
+    char dir[VP_PATH_MAX];
     size_t i, n = strlen(path);
     if (n >= sizeof dir) { errno = ENAMETOOLONG; return -1; }
     memcpy(dir, path, n + 1);

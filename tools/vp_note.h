@@ -8,6 +8,7 @@
  */
 #ifndef VP_NOTE_H
 #define VP_NOTE_H
+#include <limits.h>
 #include <stddef.h>
 
 void vp_note_put(char *buf, size_t n, size_t *len, const char *tok);
@@ -21,7 +22,20 @@ void vp_note_put_num(char *buf, size_t n, size_t *len, const char *name, double 
  * there are more than cap. */
 int vp_note_split(char *buf, char **tok, int cap);
 
-/* Creates the folders above a file's path (for PREFIX.ply, LOG); 0 or -1 (errno set). */
+/* Creates the folders above a file's path (for PREFIX.ply, LOG); 0 or -1 (errno set, also for
+ * a path of VP_PATH_MAX bytes or more). */
 int vp_mkdirs_for(const char *path);
+
+/* Paths of output files: any length the system takes (PATH_MAX bytes with the NUL). */
+#ifdef PATH_MAX
+#define VP_PATH_MAX PATH_MAX
+#else
+#define VP_PATH_MAX 4096
+#endif
+#define VP_NAME_MAX 255   /* bytes of one file or folder name */
+/* buf[n] = prefix followed by ext (ext may be ""), checked: the whole path shorter than n and
+ * every name in it at most VP_NAME_MAX bytes. VP_OK, or VP_EINVAL with a message in err
+ * naming the path (nothing is cut short). */
+int vp_path_cat(char *buf, size_t n, const char *prefix, const char *ext, char *err, size_t errlen);
 
 #endif

@@ -1,3 +1,4 @@
+#include <errno.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -69,9 +70,11 @@ int vp_sim_parse_option(vp_sim_options_t *o, int argc, char **argv, int *i, char
     if (!num(val, &v)) { snprintf(err, errlen, "%s: not a number: '%s'", a, val); return -1; }
     if (!strcmp(a, "--eps")) {
         if (!(v > 0)) { snprintf(err, errlen, "--eps must be > 0"); return -1; }
+        if (o->eps_rel > 0) { snprintf(err, errlen, "--eps and --eps-rel both set eps: give one of them"); return -1; }
         o->eps = v;
     } else if (!strcmp(a, "--eps-rel")) {
         if (!(v > 0 && v < 1)) { snprintf(err, errlen, "--eps-rel must be in (0, 1)"); return -1; }
+        if (o->eps > 0) { snprintf(err, errlen, "--eps and --eps-rel both set eps: give one of them"); return -1; }
         o->eps_rel = v;
     } else if (!strcmp(a, "--noise")) {
         if (!(v >= 0)) { snprintf(err, errlen, "--noise must be >= 0"); return -1; }
@@ -140,6 +143,69 @@ int vp_sim_config(const vp_surface_t *surf, double eps, int ball, double margin,
     return VP_OK;
 }
 
+/* Up to 3 significant digits, rounded up (a value printed as the smallest accepted one must be
+ * accepted when given back). */
+static double up3(double v)
+{
+    double p;
+    if (!(v > 0) || !isfinite(v)) return v;
+    p = pow(10.0, floor(log10(v)) - 2.0);
+    return ceil(v / p * (1.0 - 1e-12)) * p;
+}
+
+int vp_sim_check_ranges(const vp_planner_config_t *cfg, double diag, const vp_sim_options_t *o, char *err,
+                        size_t errlen)
+{
+    double od = 0.0, big = 0.0, min_eps, nmax;
+    int k;
+    /* eps against Omega: the planner's constructions (Voronoi vertices, probe hits, ball radii)
+     * are rounded to double; far below the size of Omega and the magnitude of its coordinates
+     * they are noise, and the scan stops on a consistency check */
+    if (cfg->omega_kind == VP_OMEGA_BALL) {
+        od = 2.0 * cfg->omega_radius;
+        for (k = 0; k < 3; k++) big = fmax(big, fabs(cfg->omega_center[k]) + cfg->omega_radius);
+    } else {
+        for (k = 0; k < 3; k++) {
+            od += (cfg->omega_hi[k] - cfg->omega_lo[k]) * (cfg->omega_hi[k] - cfg->omega_lo[k]);
+            big = fmax(big, fmax(fabs(cfg->omega_lo[k]), fabs(cfg->omega_hi[k])));
+        }
+        od = sqrt(od);
+    }
+    min_eps = up3(fmax(VP_SIM_EPS_MIN_OMEGA * od, VP_SIM_EPS_MIN_COORD * big));
+    if (!(cfg->eps >= min_eps * (1.0 - 1e-9))) {
+        snprintf(err, errlen, "eps %.6g is too small for this object: the planner computes in double precision, "
+                 "so eps must be at least %g of Omega's diagonal (%.6g) and %g of its largest coordinate (%.6g); "
+                 "the smallest accepted is --eps %.3g (--eps-rel %.3g)", cfg->eps, VP_SIM_EPS_MIN_OMEGA, od,
+                 VP_SIM_EPS_MIN_COORD, big, min_eps, diag > 0 ? up3(min_eps / diag) : 0.0);
+        return VP_EINVAL;
+    }
+    /* the rangefinder: the planner trusts a hit to 4 sigma and makes its first facet of hits
+     * within eps/4 of each other; a miss is trusted after repeated misses on the ray */
+    nmax = cfg->eps * VP_SIM_NOISE_MAX_REL;
+    if (o->noise > nmax) {
+        snprintf(err, errlen, "--noise %.6g is out of the range the planner supports: 0 to eps/%g (%.3g at eps %.6g): "
+                 "it trusts a hit to 4 standard deviations and builds its first facet from hits within eps/4",
+                 o->noise, 1.0 / VP_SIM_NOISE_MAX_REL, nmax, cfg->eps);
+        return VP_EINVAL;
+    }
+    if (o->dropout > VP_SIM_DROPOUT_MAX) {
+        snprintf(err, errlen, "--dropout %.6g is out of the range the planner supports: 0 to %g (a miss is "
+                 "trusted only after repeated misses on the same ray; above %g the seed probes fail)",
+                 o->dropout, VP_SIM_DROPOUT_MAX, VP_SIM_DROPOUT_MAX);
+        return VP_EINVAL;
+    }
+    return VP_OK;
+}
+
+int vp_sim_check_out(const vp_sim_options_t *o, char *err, size_t errlen)
+{
+    char path[VP_PATH_MAX];
+    int st;
+    if (!o->out) return VP_OK;
+    if ((st = vp_path_cat(path, sizeof path, o->out, ".ply", err, errlen)) != VP_OK) return st;
+    return vp_path_cat(path, sizeof path, o->out, ".off", err, errlen);
+}
+
 int vp_sim_open(vp_sim_t *s, const vp_sim_options_t *o, char *err, size_t errlen)
 {
     vp_simdev_config_t dc;
@@ -160,6 +226,7 @@ int vp_sim_open(vp_sim_t *s, const vp_sim_options_t *o, char *err, size_t errlen
                            ? 2.0 * o->clearance / s->diag : o->omega_margin,
                        &s->cfg, err, errlen);
     if (st != VP_OK) return st;
+    if ((st = vp_sim_check_ranges(&s->cfg, s->diag, o, err, errlen)) != VP_OK) return st;
     s->cfg.noise_tol = 4.0 * o->noise;
     /* with dropouts, trust a miss once a false one is unlikely: p^(c+1) <= 1e-6 */
     s->cfg.confirm_misses = (uint32_t)(o->confirm >= 0 ? o->confirm
@@ -228,18 +295,23 @@ int vp_sim_finish(vp_sim_t *s, const vp_sim_options_t *o, char *err, size_t errl
         vp_meshcheck_hausdorff(&s->mesh, s->surf, o->hausdorff, 7, &s->haus) == VP_OK)
         s->have_haus = 1;
     if (o->out) {
-        char path[1100];
-        if (vp_mkdirs_for(o->out) != 0) { snprintf(err, errlen, "cannot create the folder of %s", o->out); return VP_EIO; }
-        snprintf(path, sizeof path, "%s.ply", o->out);
+        char path[VP_PATH_MAX];
+        if ((st = vp_sim_check_out(o, err, errlen)) != VP_OK) return st;
+        if (vp_mkdirs_for(o->out) != 0) {
+            snprintf(err, errlen, "cannot create the folder of %s: %s", o->out, strerror(errno));
+            return VP_EIO;
+        }
+        vp_path_cat(path, sizeof path, o->out, ".ply", err, errlen);
         if ((st = vp_mesh_write_file(&s->mesh, path, VP_MESH_PLY_BIN)) != VP_OK) {
-            snprintf(err, errlen, "cannot write %s", path);
+            snprintf(err, errlen, "cannot write %s: %s", path, strerror(errno));
             return st;
         }
-        snprintf(path, sizeof path, "%s.off", o->out);
+        vp_path_cat(path, sizeof path, o->out, ".off", err, errlen);
         if ((st = vp_mesh_write_file(&s->mesh, path, VP_MESH_OFF)) != VP_OK) {
-            snprintf(err, errlen, "cannot write %s", path);
+            snprintf(err, errlen, "cannot write %s: %s", path, strerror(errno));
             return st;
         }
+        s->written = 1;
     }
     return VP_OK;
 }
@@ -266,7 +338,7 @@ void vp_sim_report(const vp_sim_t *s, const vp_sim_options_t *o, FILE *f)
         fprintf(f, "; planner %.3f s, total %.3f s, arena peak %zu bytes (%.0f per vertex)\n",
                 s->run.planner_seconds, s->run.total_seconds, st.arena_peak,
                 nv ? (double)st.arena_peak / nv : 0.0);
-        if (o->out) fprintf(f, "wrote %s.ply and %s.off\n", o->out, o->out);
+        if (o->out && s->written) fprintf(f, "wrote %s.ply and %s.off\n", o->out, o->out);
     }
     if (o->json) {
         fprintf(f, "{\"surface\":\"%s\",\"eps\":%.9g,\"status\":\"%s\",\"vertices\":%u,\"facets\":%u,"

@@ -42,6 +42,7 @@ typedef struct vp_sim {
     double min_angle;
     const vp_session_hooks_t *hooks; /* passed to vp_session_run (the session log); may be NULL */
     double raw;                      /* the last probe's raw reading (NaN: no return) */
+    int written;                     /* vp_sim_finish wrote PREFIX.ply and PREFIX.off */
 } vp_sim_t;
 
 void vp_sim_options_default(vp_sim_options_t *o);
@@ -50,7 +51,22 @@ int vp_sim_parse_option(vp_sim_options_t *o, int argc, char **argv, int *i, char
 /* Size with an optional K/M/G suffix; -1 on error. */
 int vp_parse_size(const char *s, size_t *out);
 
-/* Opens the object, derives the planner configuration, creates device and planner. */
+/* What the planner supports (checked by vp_sim_open): eps at least VP_SIM_EPS_MIN_OMEGA of
+ * Omega's diagonal and VP_SIM_EPS_MIN_COORD of its largest coordinate (double precision), noise
+ * at most eps * VP_SIM_NOISE_MAX_REL, dropout at most VP_SIM_DROPOUT_MAX. */
+#define VP_SIM_EPS_MIN_OMEGA 1e-9
+#define VP_SIM_EPS_MIN_COORD 1e-12
+#define VP_SIM_NOISE_MAX_REL (1.0 / 16.0)
+#define VP_SIM_DROPOUT_MAX   0.5
+/* VP_OK, or VP_EINVAL with a message naming the option, its range and the smallest or largest
+ * accepted value (diag: the object's bounding-box diagonal, for --eps-rel). */
+int vp_sim_check_ranges(const vp_planner_config_t *cfg, double diag, const vp_sim_options_t *o, char *err,
+                        size_t errlen);
+/* PREFIX.ply and PREFIX.off fit a path (VP_EINVAL and a message when they do not). */
+int vp_sim_check_out(const vp_sim_options_t *o, char *err, size_t errlen);
+
+/* Opens the object, derives the planner configuration, creates device and planner (after
+ * vp_sim_check_ranges). */
 int vp_sim_open(vp_sim_t *s, const vp_sim_options_t *o, char *err, size_t errlen);
 /* The scan (until DONE or an error); s->run gets the figures. */
 int vp_sim_run(vp_sim_t *s, FILE *progress);

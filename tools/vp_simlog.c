@@ -111,10 +111,12 @@ int vp_simlog_options(vp_simlog_t *g, vp_sim_options_t *o, int argc, char **argv
     if (!has_out) {
         /* the mesh goes beside the log: LOG minus .vplog */
         size_t len = strlen(g->resume);
-        if (len >= sizeof g->prefix) { snprintf(err, errlen, "log path too long"); return VP_EINVAL; }
-        memcpy(g->prefix, g->resume, len + 1);
-        if (len > 6 && !strcmp(g->prefix + len - 6, ".vplog")) g->prefix[len - 6] = 0;
-        else snprintf(g->prefix + len, sizeof g->prefix - len, ".resumed");
+        if (len > 6 && !strcmp(g->resume + len - 6, ".vplog")) {
+            st = vp_path_cat(g->prefix, sizeof g->prefix, g->resume, "", err, errlen);
+            if (st == VP_OK) g->prefix[len - 6] = 0;
+        } else
+            st = vp_path_cat(g->prefix, sizeof g->prefix, g->resume, ".resumed", err, errlen);
+        if (st != VP_OK) return st;
         o->out = g->prefix;
     }
     return VP_OK;
@@ -122,15 +124,13 @@ int vp_simlog_options(vp_simlog_t *g, vp_sim_options_t *o, int argc, char **argv
 
 /* ---------- begin / end ---------- */
 
-static int copy_prefix(const char *to, const unsigned char *data, size_t n, char *err, size_t errlen)
+int vp_simlog_set_path(vp_simlog_t *g, const vp_sim_options_t *o, char *err, size_t errlen)
 {
-    FILE *f = fopen(to, "wb");
-    if (!f || fwrite(data, 1, n, f) != n || fflush(f) != 0) {
-        snprintf(err, errlen, "cannot write %s: %s", to, strerror(errno));
-        if (f) fclose(f);
-        return VP_EIO;
-    }
-    fclose(f);
+    g->path[0] = 0;
+    if (g->no_log && !g->resume) return VP_OK;
+    if (g->log) return vp_path_cat(g->path, sizeof g->path, g->log, "", err, errlen);
+    if (g->resume) return vp_path_cat(g->path, sizeof g->path, g->resume, "", err, errlen);
+    if (o->out) return vp_path_cat(g->path, sizeof g->path, o->out, ".vplog", err, errlen);
     return VP_OK;
 }
 
@@ -141,10 +141,8 @@ int vp_simlog_begin(vp_simlog_t *g, vp_sim_t *s, const vp_sim_options_t *o, FILE
     int st;
     s->raw = NAN;
     if (g->no_log && !g->resume) return VP_OK;
-    if (g->log) snprintf(g->path, sizeof g->path, "%s", g->log);
-    else if (g->resume) snprintf(g->path, sizeof g->path, "%s", g->resume);
-    else if (o->out) snprintf(g->path, sizeof g->path, "%s.vplog", o->out);
-    else return VP_OK;
+    if ((st = vp_simlog_set_path(g, o, err, errlen)) != VP_OK) return st;
+    if (!g->path[0]) return VP_OK;
     if (vp_mkdirs_for(g->path) != 0) {
         snprintf(err, errlen, "cannot create the folder of %s: %s", g->path, strerror(errno));
         return VP_EIO;
@@ -169,11 +167,18 @@ int vp_simlog_begin(vp_simlog_t *g, vp_sim_t *s, const vp_sim_options_t *o, FILE
                          R.applied, (unsigned long long)R.probes, (unsigned long long)R.moves,
                          R.pos[0], R.pos[1], R.pos[2], g->complete ? "; the session is already complete" : "");
         if (g->no_log) return VP_OK;
-        if (strcmp(g->path, g->resume) != 0 &&
-            (st = copy_prefix(g->path, g->L.data, (size_t)g->L.good_bytes, err, errlen)) != VP_OK)
-            return st;
-        if (g->complete) return VP_OK;   /* nothing to append */
-        st = vp_logfile_open_append(&g->w.file, g->path, g->L.good_bytes, g->L.n, &g->fcfg);
+        if (strcmp(g->path, g->resume) != 0) {
+            /* --log elsewhere: the valid part of the resumed log, then the new records */
+            st = vp_logfile_create_copy(&g->w.file, g->path, g->L.data, g->L.good_bytes, g->L.n, &g->fcfg);
+            if (st == VP_OK && g->complete) {  /* nothing to append */
+                st = vp_logfile_close(&g->w.file);
+                if (st == VP_OK) return VP_OK;
+            }
+        } else if (g->complete)
+            return VP_OK;   /* nothing to append */
+        else
+            st = vp_logfile_open_append_read(&g->w.file, g->path, g->L.good_bytes, g->L.n, (uint64_t)g->L.size,
+                                             &g->fcfg);
         if (st == VP_OK) {
             snprintf(why, sizeof why, "resumed after record %d", (int)g->L.n - 1);
             st = vp_logfile_event(&g->w.file, VP_LOG_EV_RESUME, 0, why);
@@ -188,7 +193,14 @@ int vp_simlog_begin(vp_simlog_t *g, vp_sim_t *s, const vp_sim_options_t *o, FILE
     }
     if (st != VP_OK) {
         if (g->w.file.dead) { g->active = 1; g->w.failed = 1; return VP_OK; } /* cut at once */
-        snprintf(err, errlen, "cannot write the session log %s: %s", g->path, strerror(errno));
+        if (g->w.file.busy)
+            snprintf(err, errlen, "log %s is being written by another process: it is left as it is (wait for "
+                     "that scan to end, or give another --out or --log)", g->path);
+        else if (g->w.file.changed)
+            snprintf(err, errlen, "log %s was written by another process while it was read: it is left as it "
+                     "is (resume again)", g->path);
+        else
+            snprintf(err, errlen, "cannot write the session log %s: %s", g->path, strerror(errno));
         return st;
     }
     g->active = 1;

@@ -4,6 +4,7 @@
 #ifndef VP_SIMLOG_H
 #define VP_SIMLOG_H
 #include <stdio.h>
+#include "vp_note.h"
 #include "vp_sim_setup.h"
 #include "vp_slog.h"
 
@@ -14,7 +15,7 @@ typedef struct vp_simlog {
     vp_logfile_config_t fcfg;    /* --sync, --power-cut */
     unsigned long stop_after;    /* --stop-after N */
     /* state */
-    char path[1100], prefix[1100];
+    char path[VP_PATH_MAX], prefix[VP_PATH_MAX];
     char note[VP_LOG_NOTE_MAX + 1];  /* the resumed log's options (o points into it) */
     vp_slog_t L;                 /* the resumed log */
     int have_L, active, complete;
@@ -30,6 +31,9 @@ int  vp_simlog_parse_option(vp_simlog_t *g, int argc, char **argv, int *i, char 
  * the log, then the command line's (which win). Without: nothing. */
 int  vp_simlog_options(vp_simlog_t *g, vp_sim_options_t *o, int argc, char **argv, char *err,
                        size_t errlen);
+/* The log's path (--log, the resumed log, or PREFIX.vplog; none with --no-log) into g->path,
+ * checked before anything is written: VP_EINVAL (err) when it is too long. */
+int  vp_simlog_set_path(vp_simlog_t *g, const vp_sim_options_t *o, char *err, size_t errlen);
 /* After vp_sim_open: creates the log, or replays the resumed one into s->pl (the configuration
  * must be the logged one bit for bit), puts the device where the log left it and reopens the
  * log to append. Sets s->hooks. msg: progress notes (may be NULL). */
