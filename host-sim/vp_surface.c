@@ -538,7 +538,12 @@ int vp_surface_open(const char *spec, vp_surface_t **out, char *err, size_t errl
             T = &s->term[s->nterm++];
             memset(T, 0, sizeof *T);
             T->scale = 1;
-            if (n >= VP_TERM_TEXT) { vp_seterr(err, errlen, "term %d of the spec is too long", s->nterm); st = VP_EINVAL; goto fail; }
+            if (n >= VP_TERM_TEXT) {
+                vp_seterr(err, errlen, "term %d of the spec is too long: %lu characters, at most %d (a mesh in a "
+                          "deep folder: give a shorter path or a link to it)", s->nterm, (unsigned long)n, VP_TERM_TEXT - 1);
+                st = VP_EINVAL;
+                goto fail;
+            }
             memcpy(text, spec + start, n); text[n] = 0;
             snprintf(T->text, sizeof T->text, "term %d '%s'", s->nterm, text);
             nl = vp_name_at(text, &kind);

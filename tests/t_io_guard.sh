@@ -49,6 +49,8 @@ if [ -f boards/sim.ini ]; then
 fi
 "$VP" sim --surface sphere --eps 0.3 --out "$tmp/$(printf '%0260d' 0)" $S >"$tmp/o.txt" 2>&1 && bad "a 260-byte file name was accepted"
 grep -q "in the path .* is too long: 26[0-9] bytes, at most 255" "$tmp/o.txt" || { bad "260-byte name message"; cat "$tmp/o.txt"; }
+"$VP" sim --surface "off:$p.off" --eps-rel 0.3 --out "$tmp/s" $S --no-log >"$tmp/o.txt" 2>&1 && bad "a 1233-character surface term accepted"
+grep -q "term 1 of the spec is too long: 1237 characters, at most 255" "$tmp/o.txt" || { bad "long surface term message"; cat "$tmp/o.txt"; }
 echo "paths: a 1229-character --out written whole; over PATH_MAX or NAME_MAX refused, nothing written"
 
 # ---- 2. NUL bytes inside text are refused, naming the line
