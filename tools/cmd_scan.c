@@ -13,6 +13,7 @@
 #include "vp_logfile.h"
 #include "vp_meshcheck.h"
 #include "vp_meshio.h"
+#include "vp_outcome.h"
 #include "vp_scan.h"
 #include "vp_session.h"
 #include "vp_sim_setup.h"
@@ -56,7 +57,7 @@ static void scan_usage(FILE *f)
         "Tests: --stop-after N (Ctrl-C after N commands), --estop-at N (dry run: e-stop during\n"
         "command N of this run).\n"
         "Exit status: 0 DONE (closed mesh), 1 failed or stopped by a fault, 2 usage, 3 paused, 4 DONE but\n"
-        "the mesh is not closed.\n");
+        "the mesh is not closed (or misses a component), 5 a dry run moved through the object.\n");
     {
         char b[256];
         vp_backends_describe(b, sizeof b);
@@ -333,6 +334,19 @@ int vp_cmd_scan(int argc, char **argv)
         fprintf(stderr, "scan: %s\n", err);
         goto done;
     }
+    if (!(b.clearance > 0.0)) {
+        /* a camera rangefinder's "no spot" is not a proof of free space: an occluded spot, a dark
+         * or shiny surface read the same. Inside Omega the head would move on such misses. */
+        if (!o.dry) {
+            fprintf(stderr, "scan: %s: [omega] clearance = 0 lets the head into Omega, where it moves along rays its "
+                    "rangefinder reported free; a camera rangefinder reports an occluded, dark or shiny spot as no spot, "
+                    "which proves nothing (a dry run of a cube moved through it 1878 times): set clearance to the head's "
+                    "radius, so that the head stays outside Omega\n", o.board);
+            goto done;
+        }
+        fprintf(stderr, "scan: warning: clearance 0 (dry run only): the head enters Omega and trusts every \"no spot\" "
+                "as free space; moves through the object are counted and end the run with exit 5\n");
+    }
     {
         unsigned long crc = 0;
         file_crc(o.board, &crc);
@@ -545,7 +559,7 @@ int vp_cmd_scan(int argc, char **argv)
         snprintf(text, sizeof text, "paused after %lu commands (Ctrl-C)", run.n);
         vp_logfile_event(&run.w.file, VP_LOG_EV_PAUSE, 0, text);
         fprintf(stderr, "scan: %s; resume with: voroprobe scan --log %s --resume\n", text, o.log);
-        rc = 3;
+        rc = VP_EXIT_STOPPED;
     } else if (st == VP_OK) {
         rc = 0;
     } else if (dev.fault) {
@@ -611,7 +625,17 @@ int vp_cmd_scan(int argc, char **argv)
                    mc.boundary_edges, (unsigned long long)ps.too_close,
                    o.near || !ps.too_close ? "" : ": --near-spots measure reports near spots as hits",
                    (unsigned long long)ps.occluded);
-            rc = 4;
+            rc = VP_EXIT_NOT_CLOSED;
+        }
+        if (rc == 0 && ps.missing_components > 0) {
+            printf("warning: the planner said DONE but %u interior point(s) are not enclosed by the mesh (H2): "
+                   "certify names them\n", ps.missing_components);
+            rc = VP_EXIT_NOT_CLOSED;
+        }
+        if (o.dry && dev.through > 0) {
+            printf("SAFETY: %lu moves of this dry run went through the object: on the machine that is a crash "
+                   "into the part (voroprobe log verify %s names the first unproven move)\n", dev.through, o.log);
+            rc = VP_EXIT_COLLISION;
         }
         if (o.dry) {
             vp_hausdorff_t hd;

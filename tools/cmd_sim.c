@@ -1,5 +1,6 @@
 /* voroprobe sim: a full scan of a simulated object (host-sim device), mesh out, figures out. */
 #include <errno.h>
+#include <signal.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -8,11 +9,20 @@
 #include "vp_cli.h"
 #include "vp_meshcheck.h"
 #include "vp_meshio.h"
+#include "vp_outcome.h"
 #include "vp_session.h"
 #include "vp_simdev.h"
 #include "vp_surface.h"
 #include "vp_sim_setup.h"
 #include "vp_simlog.h"
+
+/* Ctrl-C or SIGTERM: the scan pauses after the current command (a PAUSE event in the log) */
+static volatile sig_atomic_t sim_stop;
+static void sim_on_signal(int sig)
+{
+    (void)sig;
+    sim_stop = 1;
+}
 
 static void sim_usage(FILE *f)
 {
@@ -44,7 +54,7 @@ static void sim_usage(FILE *f)
         "  --max-range R      rangefinder range (0: unlimited)\n"
         "  --min-range R      the rangefinder cannot measure nearer than R (reported as too close)\n"
         "  --angle DEG        also refine facets with an angle below DEG (at most 30)\n"
-        "  --arena BYTES      memory given to the planner (default 256M; K, M, G suffixes)\n"
+        "  --arena BYTES      memory given to the planner (default 512M; K, M, G suffixes)\n"
         "  --omega box|ball   the known region containing the object (default box: the bounding box\n"
         "                     grown by 10%% of its diagonal)\n"
         "  --paper            the published algorithm: probe every edge, prev-chain travel,\n"
@@ -54,7 +64,12 @@ static void sim_usage(FILE *f)
         "  --seed N           seed of the simulated noise and dropouts (default 1)\n"
         "  --hausdorff N      surface samples for the Hausdorff measurement (default 20000, 0: skip)\n"
         "  --json             print one JSON object as the last line\n"
-        "  --quiet            no progress line\n\n%s\n", vp_surface_help());
+        "  --quiet            no progress line\n\n"
+        "Exit status (the JSON's \"status\" says the same): 0 closed (DONE, a closed 2-manifold\n"
+        "around every component), 1 error (the scan stopped; the mesh so far is written), 2 usage,\n"
+        "3 stopped (--stop-after, Ctrl-C or SIGTERM: a PAUSE event, resumable), 4 not_closed (DONE but\n"
+        "the mesh is open or misses a component: run certify), 5 collision (a move touched the object).\n\n"
+        "%s\n", vp_surface_help());
 }
 
 int vp_cmd_sim(int argc, char **argv)
@@ -95,9 +110,20 @@ int vp_cmd_sim(int argc, char **argv)
     if (!o.quiet)
         fprintf(stderr, "voroprobe sim: %s, eps %.6g, %d component(s), arena %zu bytes\n",
                 o.surface, sim.cfg.eps, sim.components, o.arena);
+    {
+        struct sigaction sa;
+        memset(&sa, 0, sizeof sa);
+        sa.sa_handler = sim_on_signal;
+        sigemptyset(&sa.sa_mask);
+        sa.sa_flags = SA_RESETHAND; /* a second one ends the process at once */
+        sigaction(SIGINT, &sa, NULL);
+        sigaction(SIGTERM, &sa, NULL);
+        g.w.stop_flag = &sim_stop;
+    }
     st = g.complete ? VP_OK : vp_sim_run(&sim, o.quiet ? NULL : stderr);
     if (vp_simlog_end(&g, &sim, stderr)) { vp_sim_close(&sim); vp_simlog_free(&g); return 1; }
-    if (st == VP_EABORT && g.stop_after)
+    sim.paused = st == VP_EABORT && g.w.stopped;
+    if (sim.paused)
         ; /* paused on purpose: said by vp_simlog_end */
     else if (st != VP_OK && st != VP_ENOMEM)
         fprintf(stderr, "sim: the scan stopped: %s\n",
@@ -113,7 +139,7 @@ int vp_cmd_sim(int argc, char **argv)
     if (st != VP_OK) fprintf(stderr, "sim: %s\n", err);
     if (!o.quiet || !o.json) vp_simlog_report(&g, stdout);
     vp_sim_report(&sim, &o, stdout);
-    i = sim.run.status == VP_OK && st == VP_OK ? 0 : 1;
+    i = st != VP_OK ? VP_EXIT_ERROR : vp_sim_exit(&sim);
     vp_sim_close(&sim);
     vp_simlog_free(&g);
     return i;

@@ -3,6 +3,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "vp_sim_setup.h"
+#include "vp_outcome.h"
 #include "vp_meshio.h"
 #include "vp_note.h"
 
@@ -11,7 +12,7 @@ void vp_sim_options_default(vp_sim_options_t *o)
     memset(o, 0, sizeof *o);
     o->out = "out/scan";
     o->confirm = -1;
-    o->arena = (size_t)256 << 20;
+    o->arena = (size_t)512 << 20;
     o->omega_margin = 0.1;
     o->seed = 1;
     o->hausdorff = 20000;
@@ -316,13 +317,32 @@ int vp_sim_finish(vp_sim_t *s, const vp_sim_options_t *o, char *err, size_t errl
     return VP_OK;
 }
 
+int vp_sim_exit(const vp_sim_t *s)
+{
+    vp_outcome_in_t in;
+    vp_planner_stats_t st;
+    vp_simdev_stats_t ds;
+    vp_planner_get_stats(s->pl, &st);
+    vp_simdev_stats(s->dev, &ds);
+    in.run_status = s->run.status;
+    in.paused = s->paused;
+    in.collisions = ds.collisions;
+    in.closed_manifold = s->have_check && s->check.closed_manifold;
+    in.missing_components = st.missing_components;
+    return vp_outcome(&in);
+}
+
 void vp_sim_report(const vp_sim_t *s, const vp_sim_options_t *o, FILE *f)
 {
+    int ex = vp_sim_exit(s), closed = s->have_check && s->check.closed_manifold;
+    char genus[16];
     vp_planner_stats_t st;
     vp_simdev_stats_t ds;
     unsigned nv = (unsigned)s->mesh.nv;
     vp_planner_get_stats(s->pl, &st);
     vp_simdev_stats(s->dev, &ds);
+    if (closed) snprintf(genus, sizeof genus, "%d", s->check.genus);
+    else snprintf(genus, sizeof genus, "null");
     if (!o->quiet || !o->json) {
         fprintf(f, "mesh: %u vertices, %u facets; %s, %d component(s), genus %d, smallest angle %.1f deg\n",
                 nv, (unsigned)s->mesh.nt,
@@ -339,28 +359,38 @@ void vp_sim_report(const vp_sim_t *s, const vp_sim_options_t *o, FILE *f)
                 s->run.planner_seconds, s->run.total_seconds, st.arena_peak,
                 nv ? (double)st.arena_peak / nv : 0.0);
         if (o->out && s->written) fprintf(f, "wrote %s.ply and %s.off\n", o->out, o->out);
+        if (st.unproven || st.stalls)
+            fprintf(f, "safety: %llu segments an inference proposed were not proven free (never travelled); "
+                    "%llu sides could not be probed\n", (unsigned long long)st.unproven, (unsigned long long)st.stalls);
+        fprintf(f, "result: %s (exit %d)%s\n", vp_outcome_name(ex), ex,
+                ex == VP_EXIT_NOT_CLOSED ? ": the mesh is not closed around every component; certify names where" :
+                ex == VP_EXIT_COLLISION ? ": a move touched the object" :
+                ex == VP_EXIT_ERROR ? ": the scan stopped on an error; the mesh so far is written" : "");
     }
     if (o->json) {
-        fprintf(f, "{\"surface\":\"%s\",\"eps\":%.9g,\"status\":\"%s\",\"vertices\":%u,\"facets\":%u,"
+        fprintf(f, "{\"surface\":\"%s\",\"eps\":%.9g,\"status\":\"%s\",\"exit\":%d,\"planner_status\":\"%s\","
+                "\"vertices\":%u,\"facets\":%u,"
                 "\"probes\":%llu,\"hits\":%llu,\"misses\":%llu,\"reprobes\":%llu,\"moves\":%llu,"
                 "\"travel\":%.6g,\"travel_prev_chains\":%.6g,\"collisions\":%lu,"
-                "\"closed_manifold\":%s,\"components\":%d,\"genus\":%d,\"max_ball_radius\":%.9g,"
+                "\"closed_manifold\":%s,\"components\":%d,\"genus\":%s,\"max_ball_radius\":%.9g,"
                 "\"hausdorff\":%.6g,\"min_angle_deg\":%.3f,\"planner_seconds\":%.4f,"
                 "\"total_seconds\":%.4f,\"arena_bytes_peak\":%zu,\"insertions\":%llu,\"routes\":%llu,"
                 "\"astar_expansions\":%llu,\"astar_fallbacks\":%llu,\"shortcut_probes\":%llu,"
-                "\"escalations\":%llu,\"reseeds\":%llu,\"missing_components\":%u}\n",
-                o->surface, s->cfg.eps, vp_strerror(s->run.status), nv, (unsigned)s->mesh.nt,
+                "\"escalations\":%llu,\"reseeds\":%llu,\"missing_components\":%u,\"unproven\":%llu,"
+                "\"stalls\":%llu}\n",
+                o->surface, s->cfg.eps, vp_outcome_name(ex), ex, vp_strerror(s->run.status), nv, (unsigned)s->mesh.nt,
                 (unsigned long long)st.probes, (unsigned long long)st.hits,
                 (unsigned long long)st.misses, (unsigned long long)st.reprobes,
                 (unsigned long long)st.moves, st.travel, st.travel_prev_chains, ds.collisions,
                 s->have_check && s->check.closed_manifold ? "true" : "false",
-                s->have_check ? s->check.components : -1, s->have_check ? s->check.genus : -1,
+                s->have_check ? s->check.components : -1, genus,
                 st.max_ball, s->have_haus ? s->haus.hausdorff : -1.0,
                 s->have_check ? s->check.min_angle_deg : 0.0, s->run.planner_seconds,
                 s->run.total_seconds, st.arena_peak, (unsigned long long)st.insertions,
                 (unsigned long long)st.routes, (unsigned long long)st.astar_expansions,
                 (unsigned long long)st.astar_fallbacks, (unsigned long long)st.shortcut_probes,
-                (unsigned long long)st.escalations, (unsigned long long)st.reseeds, st.missing_components);
+                (unsigned long long)st.escalations, (unsigned long long)st.reseeds, st.missing_components,
+                (unsigned long long)st.unproven, (unsigned long long)st.stalls);
     }
 }
 

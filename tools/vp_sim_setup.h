@@ -42,6 +42,7 @@ typedef struct vp_sim {
     double min_angle;
     const vp_session_hooks_t *hooks; /* passed to vp_session_run (the session log); may be NULL */
     double raw;                      /* the last probe's raw reading (NaN: no return) */
+    int paused;                      /* stopped on purpose (resumable) */
     int written;                     /* vp_sim_finish wrote PREFIX.ply and PREFIX.off */
 } vp_sim_t;
 
@@ -72,6 +73,8 @@ int vp_sim_open(vp_sim_t *s, const vp_sim_options_t *o, char *err, size_t errlen
 int vp_sim_run(vp_sim_t *s, FILE *progress);
 /* Builds the mesh, analyses it, measures Hausdorff and writes PREFIX.ply / PREFIX.off. */
 int vp_sim_finish(vp_sim_t *s, const vp_sim_options_t *o, char *err, size_t errlen);
+/* The exit status of the scan (vp_outcome.h): closed, error, stopped, not_closed, collision. */
+int vp_sim_exit(const vp_sim_t *s);
 /* Human summary, and with o->json one JSON object as the last line. */
 void vp_sim_report(const vp_sim_t *s, const vp_sim_options_t *o, FILE *f);
 void vp_sim_close(vp_sim_t *s);

@@ -223,9 +223,10 @@ int vp_simlog_end(vp_simlog_t *g, vp_sim_t *s, FILE *msg)
         return 1;
     }
     if (!g->w.failed) {
-        if (st == VP_EABORT && g->stop_after) {
+        if (st == VP_EABORT && g->w.stopped) {
             char t[80];
-            snprintf(t, sizeof t, "paused after %lu commands (--stop-after)", g->w.commands);
+            snprintf(t, sizeof t, "paused after %lu commands (%s)", g->w.commands,
+                     g->w.stop_flag && *g->w.stop_flag ? "a signal" : "--stop-after");
             vp_logfile_event(&g->w.file, VP_LOG_EV_PAUSE, 0, t);
             if (msg) fprintf(msg, "sim: %s; the mesh so far is written; resume with --resume %s\n", t, g->path);
         } else if (st != VP_OK) {

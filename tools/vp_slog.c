@@ -308,6 +308,10 @@ int vp_slog_after(void *ctx, const vp_cmd_t *cmd, const vp_probe_result_t *res)
     st = vp_logfile_append(&w->file, &rec);
     if (st != VP_OK) { w->failed = 1; return st; }
     w->commands++;
-    if (w->stop_after && w->commands >= w->stop_after && cmd->kind != VP_CMD_DONE) return VP_EABORT;
+    if (cmd->kind != VP_CMD_DONE &&
+        ((w->stop_after && w->commands >= w->stop_after) || (w->stop_flag && *w->stop_flag))) {
+        w->stopped = 1;
+        return VP_EABORT;
+    }
     return VP_OK;
 }

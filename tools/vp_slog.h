@@ -4,6 +4,7 @@
 #ifndef VP_SLOG_H
 #define VP_SLOG_H
 #include <stddef.h>
+#include <signal.h>
 #include <stdio.h>
 #include "vp_log.h"
 #include "vp_logfile.h"
@@ -70,6 +71,8 @@ typedef struct vp_slog_writer {
     const double *raw;         /* the device's raw reading of its last probe (NULL: NaN) */
     unsigned long commands;    /* commands logged by this writer */
     unsigned long stop_after;  /* pause after this many commands (0: never): VP_EABORT */
+    const volatile sig_atomic_t *stop_flag; /* set by a signal: pause after this command */
+    int stopped;               /* paused (stop_after or stop_flag) */
     int failed;                /* a write failed (or the simulated power cut happened) */
 } vp_slog_writer_t;
 int  vp_slog_after(void *ctx, const vp_cmd_t *cmd, const vp_probe_result_t *res);

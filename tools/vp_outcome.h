@@ -1,0 +1,30 @@
+/* vp_outcome — what a scan came to, said the same way by sim and scan: the exit status, the
+ * JSON "status" and the summary line agree.
+ *
+ *   0  closed     the planner said DONE; the mesh is a closed 2-manifold around every o_i
+ *   1  error      the scan stopped on an error (planner, device, I/O): the mesh so far is written
+ *   2  usage      bad options (nothing scanned)
+ *   3  stopped    paused on purpose (--stop-after, Ctrl-C, SIGTERM): resumable from the log
+ *   4  not_closed DONE, but the mesh is not closed or misses a component (certify says where)
+ *   5  collision  a move touched the object (simulator or dry run): the one promise broken
+ */
+#ifndef VP_OUTCOME_H
+#define VP_OUTCOME_H
+
+enum vp_exit {
+    VP_EXIT_CLOSED = 0, VP_EXIT_ERROR = 1, VP_EXIT_USAGE = 2, VP_EXIT_STOPPED = 3,
+    VP_EXIT_NOT_CLOSED = 4, VP_EXIT_COLLISION = 5
+};
+
+typedef struct vp_outcome_in {
+    int run_status;         /* the session loop's status (VP_OK after DONE) */
+    int paused;             /* stopped on purpose */
+    unsigned long collisions;
+    int closed_manifold;    /* the mesh, checked */
+    unsigned missing_components;
+} vp_outcome_in_t;
+
+int vp_outcome(const vp_outcome_in_t *in);   /* the exit status */
+const char *vp_outcome_name(int exit_status); /* "closed", "error", ... */
+
+#endif
