@@ -6,6 +6,9 @@ BUILD=${1:-build}
 export VP_TEST_QUICK=${VP_TEST_QUICK:-0} BUILD VP="$BUILD/voroprobe"
 pass=0; fail=0; skip=0; failed=""
 logdir="$BUILD/test-logs"; mkdir -p "$logdir"
+# every sim and scan keeps a copy of its session log here; all are proof-checked at the end
+VP_AUDIT_DIR="$(pwd)/$BUILD/sessions"; export VP_AUDIT_DIR
+rm -rf "$VP_AUDIT_DIR"; mkdir -p "$VP_AUDIT_DIR"
 run_one() {
   name=$1; shift
   t0=$(date +%s%N)
@@ -29,6 +32,7 @@ for s in tests/t_*.sh; do
   [ -f "$s" ] || continue
   run_one "$(basename "$s" .sh)" sh "$s"
 done
+run_one session_proofs sh tests/verify_sessions.sh "$VP_AUDIT_DIR"
 [ -n "$failed" ] && echo "failed:$failed"
 echo "$pass passed, $fail failed, $skip skipped"
 [ "$fail" -eq 0 ]

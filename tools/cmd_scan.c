@@ -14,6 +14,7 @@
 #include "vp_meshcheck.h"
 #include "vp_meshio.h"
 #include "vp_outcome.h"
+#include "vp_audit.h"
 #include "vp_scan.h"
 #include "vp_session.h"
 #include "vp_sim_setup.h"
@@ -588,6 +589,7 @@ int vp_cmd_scan(int argc, char **argv)
     }
     vp_logfile_close(&run.w.file);
     log_open = 0;
+    vp_audit_keep(o.log); /* for an independent proof check (VP_AUDIT_DIR) */
 
     /* ---- the mesh and the figures ---- */
     st = write_mesh(pl, prefix, &mesh, err, sizeof err);

@@ -6,6 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include "vp_audit.h"
 #include "vp_cli.h"
 #include "vp_meshcheck.h"
 #include "vp_meshio.h"
@@ -121,7 +122,9 @@ int vp_cmd_sim(int argc, char **argv)
         g.w.stop_flag = &sim_stop;
     }
     st = g.complete ? VP_OK : vp_sim_run(&sim, o.quiet ? NULL : stderr);
-    if (vp_simlog_end(&g, &sim, stderr)) { vp_sim_close(&sim); vp_simlog_free(&g); return 1; }
+    i = vp_simlog_end(&g, &sim, stderr);
+    if (g.active) vp_audit_keep(g.path); /* for an independent proof check (VP_AUDIT_DIR) */
+    if (i) { vp_sim_close(&sim); vp_simlog_free(&g); return 1; }
     sim.paused = st == VP_EABORT && g.w.stopped;
     if (sim.paused)
         ; /* paused on purpose: said by vp_simlog_end */

@@ -19,12 +19,12 @@ BUILD_PKGS="build-essential pkg-config libgpiod-dev libcamera-dev"
 # qemu-user: t_aarch64, t_cross_device, t_session_log; libgmp-dev: test_gmp_pred; binutils
 # (nm, readelf): t_core_symbols, t_backends, t_cross_device; python3-open3d + python3-numpy:
 # t_ply_open3d, t_mesh_open3d, t_session_log; libv4l-dev, libinih-dev, libpng-dev: kept for
-# port/ (nothing links them at present).
+# port/ (nothing links them at present); libcgal-dev (with libgmp-dev, libmpfr-dev): the exact
+# segment/mesh checker of t_safety (tests/cgal_moves.cpp) and bench/cgal_*.cpp.
 CHECK_PKGS="$BUILD_PKGS clang libclang-rt-14-dev llvm gcc-arm-none-eabi libnewlib-arm-none-eabi \
 gcc-aarch64-linux-gnu libc6-dev-arm64-cross qemu-user libgmp-dev libv4l-dev libinih-dev libpng-dev \
-python3 python3-numpy python3-open3d binutils"
-# libcgal-dev (with libgmp-dev, libmpfr-dev): bench/cgal_*.cpp
-BENCH_PKGS="$CHECK_PKGS libcgal-dev"
+python3 python3-numpy python3-open3d binutils libcgal-dev"
+BENCH_PKGS="$CHECK_PKGS"
 case $GROUP in
   build) PKGS=$BUILD_PKGS;;
   check) PKGS=$CHECK_PKGS;;
