@@ -99,6 +99,22 @@ cmp -s "$tmp/lp.ply" "$tmp/lpc.ply" || bad "off: scan at a long path: resumed me
 "$VP" log dump "$tmp/pa.vplog" | tail -1 | grep -q "EVENT pause" || bad "--stop-after wrote no PAUSE event"
 "$VP" sim --resume "$tmp/pa.vplog" $S >/dev/null 2>&1 || bad "resume after a pause"
 cmp -s "$tmp/pa.ply" "$tmp/torus.ply" || bad "paused + resumed mesh differs"
+# --stop-after exits 3 (stopped), not 0 or 1
+"$VP" sim --surface sphere --eps-rel 0.05 --out "$tmp/pb" $S --stop-after 50 >/dev/null 2>&1; rc=$?
+[ $rc -eq 3 ] || bad "--stop-after: exit $rc (3 expected)"
+
+# SIGTERM (a supervisor stopping the scan): a PAUSE event after the current command, exit 3,
+# and the resumed session ends with the same mesh as an uncut one
+"$VP" sim --surface genus2 --eps 0.02 --out "$tmp/sig" $S --json >"$tmp/sig.txt" 2>&1 &
+pid=$!
+i=0; while [ $i -lt 100 ] && [ "$(wc -c <"$tmp/sig.vplog" 2>/dev/null || echo 0)" -lt 200000 ]; do sleep 0.05; i=$((i+1)); done
+kill -TERM $pid; wait $pid; rc=$?
+[ $rc -eq 3 ] || bad "SIGTERM: exit $rc (3 expected)"
+tail -n 1 "$tmp/sig.txt" | grep -q '"status":"stopped","exit":3' || bad "SIGTERM: the JSON does not say stopped"
+"$VP" log dump "$tmp/sig.vplog" | tail -1 | grep -q "EVENT pause" || bad "SIGTERM wrote no PAUSE event"
+"$VP" sim --resume "$tmp/sig.vplog" $S >/dev/null 2>&1 || bad "resume after SIGTERM: exit $?"
+"$VP" sim --surface genus2 --eps 0.02 --out "$tmp/nosig" $S >/dev/null 2>&1 || bad "genus2 0.02 uncut"
+cmp -s "$tmp/sig.ply" "$tmp/nosig.ply" || bad "SIGTERM + resume: mesh differs from the uncut scan"
 
 # ---- damage: a flipped byte in the middle
 off=$(sed -n "$((nrec / 2))p" "$tmp/offsets")
