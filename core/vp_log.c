@@ -1,6 +1,7 @@
 /* vp_log — see vp_log.h; the byte layout is in doc/session-log.md. */
 #include <string.h>
 #include "vp_log.h"
+#include "vp_vec3.h"
 
 const unsigned char vp_log_magic[VP_LOG_MAGIC_LEN] = { 'V', 'P', 'L', 'O', 'G', '\r', '\n', 0x1a };
 
@@ -51,9 +52,8 @@ static uint64_t get64(const unsigned char *p) { return (uint64_t)get32(p) | (uin
 static double getd(const unsigned char *p) { uint64_t u = get64(p); double d; memcpy(&d, &u, 8); return d; }
 static void getd3(const unsigned char *p, double *v) { v[0] = getd(p); v[1] = getd(p + 8); v[2] = getd(p + 16); }
 
-/* finite without libm: exponent bits not all ones */
-static int finite_d(double d) { return ((dbits(d) >> 52) & 0x7FFu) != 0x7FFu; }
-static int finite3(const double *v) { return finite_d(v[0]) && finite_d(v[1]) && finite_d(v[2]); }
+
+
 
 static size_t bounded_len(const char *s, size_t max)
 {
@@ -178,13 +178,13 @@ static int header_decode(const unsigned char *p, uint32_t n, vp_log_header_t *h)
     memcpy(h->note, q, nl);
     h->note[nl] = 0;
     /* every number the planner needs must be finite; embedded NULs are not text */
-    if (!finite_d(c->eps) || !finite3(c->omega_lo) || !finite3(c->omega_hi) ||
-        !finite3(c->omega_center) || !finite_d(c->omega_radius) || !finite3(c->start) ||
-        !finite_d(c->max_range) || !finite_d(c->noise_tol) || !finite_d(c->clearance) ||
-        !finite_d(c->min_angle))
+    if (!vp_finite(c->eps) || !vp_finite3(c->omega_lo) || !vp_finite3(c->omega_hi) ||
+        !vp_finite3(c->omega_center) || !vp_finite(c->omega_radius) || !vp_finite3(c->start) ||
+        !vp_finite(c->max_range) || !vp_finite(c->noise_tol) || !vp_finite(c->clearance) ||
+        !vp_finite(c->min_angle))
         return 0;
     for (i = 0; i < c->ninterior; i++)
-        if (!finite3(c->interior[i])) return 0;
+        if (!vp_finite3(c->interior[i])) return 0;
     if (bounded_len(h->board, bl) != bl || bounded_len(h->note, nl) != nl) return 0;
     return 1;
 }
@@ -286,14 +286,14 @@ static int record_decode(const unsigned char *p, uint32_t n, vp_log_record_t *r)
         r->dist = getd(p + 68);
         r->raw = getd(p + 76);
         hit = get32(p + 84);
-        if (hit > 2 || !finite3(r->origin) || !finite3(r->dir) || !finite_d(r->range) ||
-            !finite_d(r->dist))
+        if (hit > 2 || !vp_finite3(r->origin) || !vp_finite3(r->dir) || !vp_finite(r->range) ||
+            !vp_finite(r->dist))
             return VP_LOG_R_FIELD;
         r->hit = (int)hit;
     } else if (type == VP_LOG_MOVE) {
         if (n != VP_LOG_MOVE_SIZE) return VP_LOG_R_LENGTH;
         getd3(p + 12, r->target);
-        if (!finite3(r->target)) return VP_LOG_R_FIELD;
+        if (!vp_finite3(r->target)) return VP_LOG_R_FIELD;
     } else if (type == VP_LOG_EVENT) {
         if (n < VP_LOG_EVENT_BASE) return VP_LOG_R_LENGTH;
         r->event = get32(p + 12);

@@ -24,6 +24,7 @@
 #include <string.h>
 #include "vp_planner.h"
 #include "vp_pred.h"
+#include "vp_vec3.h"
 
 #define NONE VP_DT_NONE
 #define VREC_OUT 0xFFFFFFFEu /* active, outside Omega or infinite: no record needed */
@@ -75,35 +76,6 @@ struct vp_frec {
 };
 
 
-/* ---------- small vector helpers ---------- */
-
-static double dot3(const double *a, const double *b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
-static void sub3(double *o, const double *a, const double *b)
-{ o[0] = a[0] - b[0]; o[1] = a[1] - b[1]; o[2] = a[2] - b[2]; }
-static double dist3(const double *a, const double *b)
-{
-    double d[3];
-    sub3(d, a, b);
-    return sqrt(dot3(d, d));
-}
-static void cross3(double *o, const double *a, const double *b)
-{
-    o[0] = a[1] * b[2] - a[2] * b[1];
-    o[1] = a[2] * b[0] - a[0] * b[2];
-    o[2] = a[0] * b[1] - a[1] * b[0];
-}
-static int finite3(const double *p)
-{
-    return p[0] - p[0] == 0.0 && p[1] - p[1] == 0.0 && p[2] - p[2] == 0.0;
-}
-static int normalize3(double *v)
-{
-    double n = sqrt(dot3(v, v));
-    if (!(n > 0.0) || !(n < 1e300)) return 0;
-    v[0] /= n; v[1] /= n; v[2] /= n;
-    return 1;
-}
-
 /* ---------- Omega ---------- */
 
 static void omega_center(const vp_planner_config_t *c, double *o)
@@ -126,8 +98,8 @@ static int omega_inside(const vp_planner_config_t *c, const double *p)
 {
     if (c->omega_kind == VP_OMEGA_BALL) {
         double d[3];
-        sub3(d, p, c->omega_center);
-        return dot3(d, d) < c->omega_radius * c->omega_radius;
+        vp_sub3(d, p, c->omega_center);
+        return vp_dot3(d, d) < c->omega_radius * c->omega_radius;
     }
     return p[0] > c->omega_lo[0] && p[0] < c->omega_hi[0] && p[1] > c->omega_lo[1] &&
            p[1] < c->omega_hi[1] && p[2] > c->omega_lo[2] && p[2] < c->omega_hi[2];
@@ -141,9 +113,9 @@ static int omega_clip(const vp_planner_config_t *c, const double *a, const doubl
     double lo = 0.0, hi = len;
     if (c->omega_kind == VP_OMEGA_BALL) {
         double d[3], b, cc, disc, sq;
-        sub3(d, a, c->omega_center);
-        b = dot3(d, dir);
-        cc = dot3(d, d) - c->omega_radius * c->omega_radius;
+        vp_sub3(d, a, c->omega_center);
+        b = vp_dot3(d, dir);
+        cc = vp_dot3(d, d) - c->omega_radius * c->omega_radius;
         disc = b * b - cc;
         if (!(disc > 0.0)) return 0;
         sq = sqrt(disc);
@@ -172,8 +144,8 @@ static int omega_clip(const vp_planner_config_t *c, const double *a, const doubl
 static int seg_enters_omega(const vp_planner_config_t *c, const double *a, const double *b)
 {
     double d[3], len, t0, t1;
-    sub3(d, b, a);
-    len = sqrt(dot3(d, d));
+    vp_sub3(d, b, a);
+    len = sqrt(vp_dot3(d, d));
     if (!(len > 0.0)) return omega_inside(c, a);
     d[0] /= len; d[1] /= len; d[2] /= len;
     return omega_clip(c, a, d, len, &t0, &t1) && t1 - t0 > 1e-12 * (1.0 + len);
@@ -223,25 +195,25 @@ static int proof_covers(const vp_planner_t *pl, uint32_t id, const double *a, co
     if (id >= pl->nproof) return 0;
     p = &pl->proof[id];
     /* both ends on the ray's line */
-    sub3(x, a, p->o);
-    sa = dot3(x, p->d);
+    vp_sub3(x, a, p->o);
+    sa = vp_dot3(x, p->d);
     for (k = 0; k < 3; k++) x[k] -= sa * p->d[k];
-    if (!(dot3(x, x) <= tol * tol)) return 0;
-    sub3(x, b, p->o);
-    sb = dot3(x, p->d);
+    if (!(vp_dot3(x, x) <= tol * tol)) return 0;
+    vp_sub3(x, b, p->o);
+    sb = vp_dot3(x, p->d);
     for (k = 0; k < 3; k++) x[k] -= sb * p->d[k];
-    if (!(dot3(x, x) <= tol * tol)) return 0;
+    if (!(vp_dot3(x, x) <= tol * tol)) return 0;
     need0 = sa < sb ? sa : sb;
     need1 = sa < sb ? sb : sa;
     /* the free intervals of the chain on that line */
     for (i = id; i != PROOF_NONE && i < pl->nproof && n < PROOF_CHAIN_MAX; i = pl->proof[i].prev) {
         const vp_proof_t *q = &pl->proof[i];
         double s0;
-        if (!(dot3(q->d, p->d) > 1.0 - 1e-12)) break;
-        sub3(x, q->o, p->o);
-        s0 = dot3(x, p->d);
+        if (!(vp_dot3(q->d, p->d) > 1.0 - 1e-12)) break;
+        vp_sub3(x, q->o, p->o);
+        s0 = vp_dot3(x, p->d);
         for (k = 0; k < 3; k++) x[k] -= s0 * p->d[k];
-        if (!(dot3(x, x) <= tol * tol)) break;
+        if (!(vp_dot3(x, x) <= tol * tol)) break;
         /* insertion by start */
         for (j = n; j > 0 && lo[j - 1] > s0; j--) { lo[j] = lo[j - 1]; hi[j] = hi[j - 1]; }
         lo[j] = s0;
@@ -448,14 +420,14 @@ static void push_out(const vp_planner_config_t *c, double *m, const double *u, d
     double o[3], d[3], t0, t1, s;
     int k;
     omega_center(c, o);
-    sub3(d, m, o);
-    s = dot3(d, u);
+    vp_sub3(d, m, o);
+    s = vp_dot3(d, u);
     for (k = 0; k < 3; k++) d[k] -= s * u[k];
-    if (!normalize3(d)) {
+    if (!vp_normalize3(d)) {
         double t[3] = { 0, 0, 1 };
         if (fabs(u[2]) > 0.8) { t[0] = 1; t[2] = 0; }
-        cross3(d, u, t);
-        normalize3(d);
+        vp_cross3(d, u, t);
+        vp_normalize3(d);
     }
     if (!omega_clip(c, m, d, 1e300, &t0, &t1)) return;
     for (k = 0; k < 3; k++) m[k] += (t1 + delta) * d[k];
@@ -469,19 +441,19 @@ static int sphere_route(vp_planner_t *pl, const double *a, const double *b, int 
     int i, k, st, half;
     omega_center(&pl->cfg, c);
     rs = 1.01 * omega_circumradius(&pl->cfg);
-    sub3(ua, a, c);
-    sub3(ub, b, c);
-    ra = sqrt(dot3(ua, ua));
-    rb = sqrt(dot3(ub, ub));
-    if (!normalize3(ua) || !normalize3(ub)) return VP_EDEGEN;
+    vp_sub3(ua, a, c);
+    vp_sub3(ub, b, c);
+    ra = sqrt(vp_dot3(ua, ua));
+    rb = sqrt(vp_dot3(ub, ub));
+    if (!vp_normalize3(ua) || !vp_normalize3(ub)) return VP_EDEGEN;
     if (ra < rs) ra = rs;
     if (rb < rs) rb = rs;
     for (k = 0; k < 3; k++) um[k] = ua[k] + ub[k];
-    if (!normalize3(um)) {
+    if (!vp_normalize3(um)) {
         double t[3] = { 1, 0, 0 };
         if (fabs(ua[0]) > 0.9) { t[0] = 0; t[1] = 1; }
-        cross3(um, ua, t);
-        normalize3(um);
+        vp_cross3(um, ua, t);
+        vp_normalize3(um);
     }
     prev[0] = a[0]; prev[1] = a[1]; prev[2] = a[2];
     for (half = 0; half < 2; half++) {
@@ -489,14 +461,14 @@ static int sphere_route(vp_planner_t *pl, const double *a, const double *b, int 
         for (i = half; i <= 8; i++) {
             double s = i / 8.0, w[3], r = ra + (rb - ra) * 0.5 * (half + s);
             for (k = 0; k < 3; k++) w[k] = (1.0 - s) * u0[k] + s * u1[k];
-            normalize3(w);
+            vp_normalize3(w);
             for (k = 0; k < 3; k++) w[k] = c[k] + r * w[k];
-            *len += dist3(prev, w);
+            *len += vp_dist3(prev, w);
             if (!dry && (st = route_push(pl, w, PROOF_OUTSIDE)) != VP_OK) return st;
             prev[0] = w[0]; prev[1] = w[1]; prev[2] = w[2];
         }
     }
-    *len += dist3(prev, b);
+    *len += vp_dist3(prev, b);
     return dry ? VP_OK : route_push(pl, b, PROOF_OUTSIDE);
 }
 
@@ -519,7 +491,7 @@ static int outside_route(vp_planner_t *pl, const double *a, const double *b, int
         double *y = stack[n - 1], m[3], u[3];
         int d = depth[n - 1], k;
         if (!seg_enters_omega(&pl->cfg, cur, y)) {
-            *len += dist3(cur, y);
+            *len += vp_dist3(cur, y);
             if (!dry && (st = route_push(pl, y, PROOF_OUTSIDE)) != VP_OK) return st;
             memcpy(cur, y, sizeof cur);
             n--;
@@ -530,8 +502,8 @@ static int outside_route(vp_planner_t *pl, const double *a, const double *b, int
             *len = 0.0;
             return sphere_route(pl, a, b, dry, len);
         }
-        sub3(u, y, cur);
-        normalize3(u);
+        vp_sub3(u, y, cur);
+        vp_normalize3(u);
         for (k = 0; k < 3; k++) m[k] = 0.5 * (cur[k] + y[k]);
         push_out(&pl->cfg, m, u, delta);
         depth[n - 1] = d + 1;
@@ -686,10 +658,10 @@ static int facet_too_sharp(const vp_planner_t *pl, const uint32_t *v)
     double ab[3], ac[3], bc[3], n[3], la, lb, lc, lmin, area2, r;
     if (!(pl->sin_angle > 0.0)) return 0;
     a = vp_dt_point(&pl->dt, v[0]); b = vp_dt_point(&pl->dt, v[1]); c = vp_dt_point(&pl->dt, v[2]);
-    sub3(ab, b, a); sub3(ac, c, a); sub3(bc, c, b);
-    la = sqrt(dot3(bc, bc)); lb = sqrt(dot3(ac, ac)); lc = sqrt(dot3(ab, ab));
-    cross3(n, ab, ac);
-    area2 = sqrt(dot3(n, n));
+    vp_sub3(ab, b, a); vp_sub3(ac, c, a); vp_sub3(bc, c, b);
+    la = sqrt(vp_dot3(bc, bc)); lb = sqrt(vp_dot3(ac, ac)); lc = sqrt(vp_dot3(ab, ab));
+    vp_cross3(n, ab, ac);
+    area2 = sqrt(vp_dot3(n, n));
     if (!(area2 > 0.0)) return 1;
     r = la * lb * lc / (2.0 * area2);
     lmin = la < lb ? la : lb;
@@ -725,7 +697,7 @@ static int frec_add(vp_planner_t *pl, const uint32_t *fv, const double *c, const
     f->proof = proof;
     f->c[0] = c[0]; f->c[1] = c[1]; f->c[2] = c[2];
     a = vp_dt_point(&pl->dt, v[0]);
-    f->r = dist3(c, a);
+    f->r = vp_dist3(c, a);
     if (vp_orient3d(a, vp_dt_point(&pl->dt, v[1]), vp_dt_point(&pl->dt, v[2]), outside) < 0)
         f->flags |= FREC_FLIP;
     if (pl->fhash[h] == HASH_TOMB && pl->ntomb > 0) pl->ntomb--;
@@ -741,7 +713,7 @@ static int frec_add(vp_planner_t *pl, const uint32_t *fv, const double *c, const
 static void frec_set_ball(vp_planner_t *pl, uint32_t k, const double *c)
 {
     vp_frec_t *f = &pl->frec[k];
-    double r = dist3(c, vp_dt_point(&pl->dt, f->v[0]));
+    double r = vp_dist3(c, vp_dt_point(&pl->dt, f->v[0]));
     f->flags |= FREC_DOUBLE;
     if (!(r > f->r)) return;
     f->c[0] = c[0]; f->c[1] = c[1]; f->c[2] = c[2];
@@ -774,7 +746,7 @@ static int edge_geom(const vp_planner_t *pl, uint32_t t, int f, edgegeom_t *g)
     if (st != VP_OK) return st;
     if (!e.is_ray) {
         for (k = 0; k < 3; k++) { g->a[k] = e.from[k]; g->dir[k] = e.to[k] - e.from[k]; }
-        g->len = sqrt(dot3(g->dir, g->dir));
+        g->len = sqrt(vp_dot3(g->dir, g->dir));
         if (!(g->len > 0.0)) { g->t0 = g->t1 = 0.0; g->a_inside = omega_inside(&pl->cfg, g->a); return VP_OK; }
         for (k = 0; k < 3; k++) g->dir[k] /= g->len;
     } else if (!tg) {
@@ -785,11 +757,11 @@ static int edge_geom(const vp_planner_t *pl, uint32_t t, int f, edgegeom_t *g)
         /* ghost tet: from a point far out on the ray, back in to the finite vertex */
         double c[3], back;
         omega_center(&pl->cfg, c);
-        back = dist3(e.from, c) + 4.0 * omega_circumradius(&pl->cfg) + 1.0;
+        back = vp_dist3(e.from, c) + 4.0 * omega_circumradius(&pl->cfg) + 1.0;
         for (k = 0; k < 3; k++) { g->a[k] = e.from[k] + back * e.dir[k]; g->dir[k] = -e.dir[k]; }
         g->len = back;
     }
-    if (!finite3(g->a) || !finite3(g->dir)) return VP_EDEGEN;
+    if (!vp_finite3(g->a) || !vp_finite3(g->dir)) return VP_EDEGEN;
     if (!omega_clip(&pl->cfg, g->a, g->dir, g->len, &g->t0, &g->t1)) g->t0 = g->t1 = 0.0;
     g->a_inside = !tg && omega_inside(&pl->cfg, g->a);
     return VP_OK;
@@ -824,7 +796,7 @@ static int tree_path(vp_planner_t *pl, uint32_t a, uint32_t b, const double *gp,
     if (b == NONE) {
         while (pl->vrec[x].prev != x) {
             uint32_t p = pl->vrec[x].prev;
-            l += dist3(pl->vrec[x].p, pl->vrec[p].p);
+            l += vp_dist3(pl->vrec[x].p, pl->vrec[p].p);
             if (route && (st = route_push(pl, pl->vrec[p].p, pl->vrec[x].proof)) != VP_OK) return st;
             x = p;
         }
@@ -835,7 +807,7 @@ static int tree_path(vp_planner_t *pl, uint32_t a, uint32_t b, const double *gp,
     /* climb to the common ancestor; y's half is kept to be walked downwards */
     while (pl->vrec[x].depth > pl->vrec[y].depth) {
         uint32_t p = pl->vrec[x].prev;
-        l += dist3(pl->vrec[x].p, pl->vrec[p].p);
+        l += vp_dist3(pl->vrec[x].p, pl->vrec[p].p);
         if (route && (st = route_push(pl, pl->vrec[p].p, pl->vrec[x].proof)) != VP_OK) return st;
         x = p;
     }
@@ -846,7 +818,7 @@ static int tree_path(vp_planner_t *pl, uint32_t a, uint32_t b, const double *gp,
     }
     while (x != y && !(pl->vrec[x].prev == x && pl->vrec[y].prev == y)) {
         uint32_t p = pl->vrec[x].prev;
-        l += dist3(pl->vrec[x].p, pl->vrec[p].p);
+        l += vp_dist3(pl->vrec[x].p, pl->vrec[p].p);
         if (route && (st = route_push(pl, pl->vrec[p].p, pl->vrec[x].proof)) != VP_OK) return st;
         x = p;
         if (ny >= pl->cap_path) return VP_ENOMEM;
@@ -861,7 +833,7 @@ static int tree_path(vp_planner_t *pl, uint32_t a, uint32_t b, const double *gp,
         last = pl->vrec[y].p;
     }
     for (i = ny; i-- > 0;) {
-        l += dist3(last, pl->vrec[pl->path[i]].p);
+        l += vp_dist3(last, pl->vrec[pl->path[i]].p);
         last = pl->vrec[pl->path[i]].p;
         if (route && (st = route_push(pl, last, pl->vrec[pl->path[i]].proof)) != VP_OK) return st;
     }
@@ -928,7 +900,7 @@ static int astar_relax(astar_t *s, uint32_t from, uint32_t nb, double g, uint32_
         r->hpos = NONE;
     }
     r->g = g;
-    r->f = g + dist3(r->p, s->goal);
+    r->f = g + vp_dist3(r->p, s->goal);
     r->from = from | virt;
     if (r->hpos == NONE) {
         if (s->nopen >= s->pl->cap_astar) return VP_ENOMEM;
@@ -955,7 +927,7 @@ static int astar_path(vp_planner_t *pl, uint32_t a, uint32_t b, const double *gp
     s.goal = b != NONE ? pl->vrec[b].p : gp;
     pl->vrec[a].stamp = s.stamp;
     pl->vrec[a].g = 0.0;
-    pl->vrec[a].f = dist3(pl->vrec[a].p, s.goal);
+    pl->vrec[a].f = vp_dist3(pl->vrec[a].p, s.goal);
     pl->vrec[a].from = NONE;
     pl->vrec[a].hpos = 0;
     s.open[s.nopen++] = a;
@@ -970,7 +942,7 @@ static int astar_path(vp_planner_t *pl, uint32_t a, uint32_t b, const double *gp
             const uint32_t *w = pl->fedge + FEDGE_WORDS * e;
             int isa = w[0] == cur;
             uint32_t nb = isa ? w[1] : w[0];
-            st = astar_relax(&s, cur, nb, pl->vrec[cur].g + dist3(pl->vrec[cur].p, pl->vrec[nb].p), 0);
+            st = astar_relax(&s, cur, nb, pl->vrec[cur].g + vp_dist3(pl->vrec[cur].p, pl->vrec[nb].p), 0);
             if (st != VP_OK) return st;
             e = isa ? w[2] : w[3];
         }
@@ -1006,7 +978,7 @@ static int astar_path(vp_planner_t *pl, uint32_t a, uint32_t b, const double *gp
                 l += ol;
             } else {
                 st = route_push(pl, pl->vrec[r].p, edge_proof(pl, pl->path[i + 1], r));
-                l += dist3(last, pl->vrec[r].p);
+                l += vp_dist3(last, pl->vrec[r].p);
             }
             if (st != VP_OK) return st;
             last = pl->vrec[r].p;
@@ -1040,7 +1012,7 @@ static int route_full(vp_planner_t *pl, uint32_t a, uint32_t b)
 /* 1 if one probe from a reaches b: no farther than the rangefinder's maximum range */
 static int in_reach(const vp_planner_t *pl, const double *a, const double *b)
 {
-    return !(pl->cfg.max_range > 0.0) || dist3(a, b) <= pl->cfg.max_range;
+    return !(pl->cfg.max_range > 0.0) || vp_dist3(a, b) <= pl->cfg.max_range;
 }
 
 /* Plans the device's route from where it stands to record b, or to the outside point gp when
@@ -1104,7 +1076,7 @@ static int plan_route(vp_planner_t *pl, uint32_t b, const double *gp)
     if (!(pl->cfg.flags & (VP_PLAN_PREV_CHAINS | VP_PLAN_PAPER)) && b != NONE) {
         /* a long detour to a near target: first probe the straight way (one probe can save
          * many moves); the route found stays the plan if the probe hits */
-        double d = dist3(pl->vrec[pl->at].p, pl->vrec[b].p);
+        double d = vp_dist3(pl->vrec[pl->at].p, pl->vrec[b].p);
         double known = st == VP_OK ? al : 1e300;
         if (known > 3.0 * d + 2.0 * pl->cfg.eps && d > 0.0 && in_reach(pl, pl->vrec[pl->at].p, pl->vrec[b].p))
             pl->shortcut = b;
@@ -1206,15 +1178,15 @@ static int facet_circumcenter(const vp_planner_t *pl, const uint32_t *fv, double
                  *c = vp_dt_point(&pl->dt, fv[2]);
     double ab[3], ac[3], n[3], t1[3], t2[3], d;
     int k;
-    sub3(ab, b, a);
-    sub3(ac, c, a);
-    cross3(n, ab, ac);
-    d = 2.0 * dot3(n, n);
+    vp_sub3(ab, b, a);
+    vp_sub3(ac, c, a);
+    vp_cross3(n, ab, ac);
+    d = 2.0 * vp_dot3(n, n);
     if (!(d > 0.0)) return 0;
-    cross3(t1, n, ab);
-    cross3(t2, ac, n);
-    for (k = 0; k < 3; k++) m[k] = a[k] + (dot3(ac, ac) * t1[k] + dot3(ab, ab) * t2[k]) / d;
-    return finite3(m);
+    vp_cross3(t1, n, ab);
+    vp_cross3(t2, ac, n);
+    for (k = 0; k < 3; k++) m[k] = a[k] + (vp_dot3(ac, ac) * t1[k] + vp_dot3(ab, ab) * t2[k]) / d;
+    return vp_finite3(m);
 }
 
 /* A miss is suspicious when the edge passes through its own facet's circumcentre: the facet is
@@ -1226,8 +1198,8 @@ static int expect_hit(const vp_planner_t *pl, uint32_t t, int f, const double *o
     double m[3], d[3], s;
     vp_dt_facet(&pl->dt, t, f, fv);
     if (!facet_circumcenter(pl, fv, m)) return 0;
-    sub3(d, m, origin);
-    s = dot3(d, dir);
+    vp_sub3(d, m, origin);
+    s = vp_dot3(d, dir);
     return s > 0.0 && s < range;
 }
 
@@ -1294,7 +1266,7 @@ static int task_start(vp_planner_t *pl, vp_task_t *k)
         /* where the edge enters Omega, from a far Voronoi vertex (a nearly flat tet): rounding
          * can put it inside Omega; the device waits outside, so step back along the line */
         for (tries = 0; omega_inside(&pl->cfg, o) && tries < 16; tries++) {
-            double step = back > 0.0 ? back : 4e-16 * (fabs(g.t0) + sqrt(dot3(g.a, g.a))) + pl->ptol;
+            double step = back > 0.0 ? back : 4e-16 * (fabs(g.t0) + sqrt(vp_dot3(g.a, g.a))) + pl->ptol;
             for (q = 0; q < 3; q++) o[q] -= step * g.dir[q];
             range += step;
             back += step;
@@ -1548,7 +1520,7 @@ static int after_insert(vp_planner_t *pl, uint32_t pv)
                 sU = SIDE_BEHIND;
                 /* [P_kold, c) was free; P_n lies on it, clear of c by the noise tolerance */
                 reach_from_k = krec != NONE && krec != VREC_OUT && c_ok &&
-                               dist3(pl->vrec[krec].p, c) <= dist3(pl->vrec[krec].p, pl->frec[r].c) - tol;
+                               vp_dist3(pl->vrec[krec].p, c) <= vp_dist3(pl->vrec[krec].p, pl->frec[r].c) - tol;
                 pk = pl->frec[r].proof;
             }
             else { sn = SIDE_UNKNOWN; }
@@ -1563,7 +1535,7 @@ static int after_insert(vp_planner_t *pl, uint32_t pv)
              * the probe entered Omega: the hit may be off by the noise either way) */
             int from_u = vp_dt_is_ghost(&pl->dt, U) ? entry_point(pl, n, jn, pu)
                                                       : tet_point(pl, U, pu) == VP_OK;
-            if (c_ok && from_u && dist3(pu, c) <= dist3(pu, oldc) - tol) {
+            if (c_ok && from_u && vp_dist3(pu, c) <= vp_dist3(pu, oldc) - tol) {
                 sn = sU = SIDE_FREE;
                 edge_free = 1;
                 pfree = oldproof;
@@ -1672,12 +1644,12 @@ static uint32_t choose_ball(const vp_planner_t *pl)
     if ((pl->cfg.flags & VP_PLAN_LARGEST) || pl->nheap < 2) return best;
     /* among the balls at least 70% of the largest, the nearest to the device */
     rmin = 0.7 * pl->frec[best].r;
-    bestd = dist3(pl->pos, pl->frec[best].c);
+    bestd = vp_dist3(pl->pos, pl->frec[best].c);
     for (i = 1; i < pl->nheap; i++) {
         const vp_frec_t *f = &pl->frec[pl->heap[i]];
         double d;
         if (f->r < rmin) continue;
-        d = dist3(pl->pos, f->c);
+        d = vp_dist3(pl->pos, f->c);
         if (d < bestd) { bestd = d; best = pl->heap[i]; }
     }
     return best;
@@ -1834,18 +1806,18 @@ static int mesh_encloses(const vp_planner_t *pl, const double *o)
         a = vp_dt_point(&pl->dt, f->v[0]);
         b = vp_dt_point(&pl->dt, f->v[1]);
         c = vp_dt_point(&pl->dt, f->v[2]);
-        sub3(e1, b, a);
-        sub3(e2, c, a);
-        cross3(p, dir, e2);
-        det = dot3(e1, p);
+        vp_sub3(e1, b, a);
+        vp_sub3(e2, c, a);
+        vp_cross3(p, dir, e2);
+        det = vp_dot3(e1, p);
         if (det == 0.0) continue;
-        sub3(t, o, a);
-        u = dot3(t, p) / det;
+        vp_sub3(t, o, a);
+        u = vp_dot3(t, p) / det;
         if (u < 0.0 || u > 1.0) continue;
-        cross3(q, t, e1);
-        v = dot3(dir, q) / det;
+        vp_cross3(q, t, e1);
+        v = vp_dot3(dir, q) / det;
         if (v < 0.0 || u + v > 1.0) continue;
-        w = dot3(e2, q) / det;
+        w = vp_dot3(e2, q) / det;
         if (w > 0.0) crossings++;
     }
     return (int)(crossings & 1u);
@@ -1861,7 +1833,7 @@ static void reseed_dir(uint32_t attempt, double *d)
         { 1, 0, 1 }, { -1, 0, -1 }, { 1, 0, -1 }, { -1, 0, 1 }, { 0, 1, 1 }, { 0, -1, -1 },
         { 0, 1, -1 }, { 0, -1, 1 } };
     d[0] = D[attempt % 26][0]; d[1] = D[attempt % 26][1]; d[2] = D[attempt % 26][2];
-    normalize3(d);
+    vp_normalize3(d);
 }
 
 #define RESEED_TRIES 26u
@@ -1978,9 +1950,9 @@ static void seed_axes(const double *u, int turn, double *w1, double *w2)
     double t[3] = { 0, 0, 1 }, a[3], b[3];
     int k;
     if (fabs(u[2]) > 0.8) { t[0] = 1; t[2] = 0; }
-    cross3(a, u, t);
-    normalize3(a);
-    cross3(b, u, a);
+    vp_cross3(a, u, t);
+    vp_normalize3(a);
+    vp_cross3(b, u, a);
     /* turn the pair by 30 degrees per retry (cos, sin of 30 deg multiples by rotation) */
     for (k = 0; k < turn % 6; k++) {
         double c30 = 0.8660254037844386, s30 = 0.5, na[3], nb[3];
@@ -2003,8 +1975,8 @@ static int seed_next(vp_planner_t *pl)
     int k, st;
     if (pl->seed >= pl->cfg.ninterior) return 1; /* all seeds probed */
     o = pl->cfg.interior[pl->seed];
-    sub3(u, pl->cfg.start, o);
-    if (!normalize3(u)) { u[0] = 0; u[1] = 0; u[2] = 1; }
+    vp_sub3(u, pl->cfg.start, o);
+    if (!vp_normalize3(u)) { u[0] = 0; u[1] = 0; u[2] = 1; }
     memcpy(pl->seed_dir, u, sizeof u);
     switch (pl->seed_step) {
     case 0: /* from dOmega towards o */
@@ -2015,12 +1987,12 @@ static int seed_next(vp_planner_t *pl)
         return seed_issue(pl, d, te);
     case 1:
     case 2: /* two directions very close to [q, a): the persistent facet */
-        th = pl->cfg.eps / (8.0 * dist3(pl->seed_q, pl->seed_pts[pl->nseed_pts - 1])) /
+        th = pl->cfg.eps / (8.0 * vp_dist3(pl->seed_q, pl->seed_pts[pl->nseed_pts - 1])) /
              (double)(1u << (2 * (pl->seed_try / 2)));
         seed_axes(u, (int)pl->seed_try, w1, w2);
         for (k = 0; k < 3; k++) d[k] = -u[k] + th * (pl->seed_step == 1 ? w1[k] : w2[k]);
-        normalize3(d);
-        return seed_issue(pl, d, 2.0 * dist3(pl->seed_q, o) + pl->cfg.eps);
+        vp_normalize3(d);
+        return seed_issue(pl, d, 2.0 * vp_dist3(pl->seed_q, o) + pl->cfg.eps);
     default: /* a fourth point, from the other side of Omega */
         for (k = 0; k < 3; k++) d[k] = -u[k];
         te = omega_exit(&pl->cfg, o, d);
@@ -2056,17 +2028,17 @@ static int seed_feed(vp_planner_t *pl, const vp_probe_result_t *res_in)
         return VP_OK;
     case 1:
     case 2:
-        if (res->hit && dist3(h, pl->seed_pts[pl->nseed_pts - pl->seed_step]) <= pl->cfg.eps / 4.0) {
+        if (res->hit && vp_dist3(h, pl->seed_pts[pl->nseed_pts - pl->seed_step]) <= pl->cfg.eps / 4.0) {
             memcpy(pl->seed_pts[pl->nseed_pts++], h, sizeof h);
             if (pl->seed_step == 2) {
                 /* legs short and the triangle not flat, else try other axes, smaller angles */
                 const double *a = pl->seed_pts[pl->nseed_pts - 3], *b = pl->seed_pts[pl->nseed_pts - 2];
                 double ab[3], ac[3], n[3], area2, l2;
-                sub3(ab, b, a);
-                sub3(ac, h, a);
-                cross3(n, ab, ac);
-                area2 = sqrt(dot3(n, n));
-                l2 = dot3(ab, ab) > dot3(ac, ac) ? dot3(ab, ab) : dot3(ac, ac);
+                vp_sub3(ab, b, a);
+                vp_sub3(ac, h, a);
+                vp_cross3(n, ab, ac);
+                area2 = sqrt(vp_dot3(n, n));
+                l2 = vp_dot3(ab, ab) > vp_dot3(ac, ac) ? vp_dot3(ab, ab) : vp_dot3(ac, ac);
                 if (!(area2 > 0.2 * l2) && pl->seed_try < 12) {
                     pl->nseed_pts -= 2;
                     pl->seed_try++;
@@ -2127,10 +2099,10 @@ int vp_planner_init(vp_planner_t *pl, void *arena, size_t bytes, const vp_planne
     int k, st;
     if (!pl || !arena || !cfg) return VP_EINVAL;
     if (cfg->omega_kind == VP_OMEGA_BALL) {
-        if (!finite3(cfg->omega_center) || !(cfg->omega_radius > 0.0) || !(cfg->omega_radius < 1e150))
+        if (!vp_finite3(cfg->omega_center) || !(cfg->omega_radius > 0.0) || !(cfg->omega_radius < 1e150))
             return VP_EINVAL;
     } else if (cfg->omega_kind == VP_OMEGA_BOX) {
-        if (!finite3(cfg->omega_lo) || !finite3(cfg->omega_hi)) return VP_EINVAL;
+        if (!vp_finite3(cfg->omega_lo) || !vp_finite3(cfg->omega_hi)) return VP_EINVAL;
         for (k = 0; k < 3; k++)
             if (!(cfg->omega_lo[k] < cfg->omega_hi[k])) return VP_EINVAL;
     } else {
@@ -2139,8 +2111,8 @@ int vp_planner_init(vp_planner_t *pl, void *arena, size_t bytes, const vp_planne
     if (!(cfg->eps > 0.0) || !(cfg->eps < 1e150)) return VP_EINVAL;
     if (cfg->ninterior < 1 || cfg->ninterior > VP_PLANNER_MAX_SEEDS) return VP_EINVAL;
     for (i = 0; i < cfg->ninterior; i++)
-        if (!finite3(cfg->interior[i]) || !omega_inside(cfg, cfg->interior[i])) return VP_EINVAL;
-    if (!finite3(cfg->start) || omega_inside(cfg, cfg->start)) return VP_EINVAL;
+        if (!vp_finite3(cfg->interior[i]) || !omega_inside(cfg, cfg->interior[i])) return VP_EINVAL;
+    if (!vp_finite3(cfg->start) || omega_inside(cfg, cfg->start)) return VP_EINVAL;
     if (!(cfg->min_angle >= 0.0) || cfg->min_angle > 30.0) return VP_EINVAL;
     if (!(cfg->max_range >= 0.0) || !(cfg->noise_tol >= 0.0) || !(cfg->clearance >= 0.0) ||
         cfg->max_range > 1e150 || cfg->noise_tol > 1e150 || cfg->clearance > 1e150)
@@ -2246,7 +2218,7 @@ int vp_planner_next(vp_planner_t *pl, vp_cmd_t *cmd)
             cmd->kind = VP_CMD_MOVE;
             memcpy(cmd->from, pl->pos, sizeof cmd->from);
             memcpy(cmd->to, to, sizeof cmd->to);
-            pl->st.travel += dist3(pl->pos, to);
+            pl->st.travel += vp_dist3(pl->pos, to);
             pl->st.moves++;
             memcpy(pl->pos, to, sizeof pl->pos);
             return VP_OK;
@@ -2254,8 +2226,8 @@ int vp_planner_next(vp_planner_t *pl, vp_cmd_t *cmd)
         if (pl->sc_pending == 1) {
             const vp_vrec_t *a = &pl->vrec[pl->sc_from], *b = &pl->vrec[pl->shortcut];
             double d[3], len;
-            sub3(d, b->p, a->p);
-            len = sqrt(dot3(d, d));
+            vp_sub3(d, b->p, a->p);
+            len = sqrt(vp_dot3(d, d));
             d[0] /= len; d[1] /= len; d[2] /= len;
             pl->sc_pending = 2;
             pl->awaiting = 1;
