@@ -139,6 +139,10 @@ if [ -n "$small" ]; then
   "$VP" sim --surface sphere --eps "$small" --out "$tmp/small" --stop-after 50 $S >/dev/null 2>"$tmp/e2.txt"
   grep -q "too small" "$tmp/e2.txt" && bad "the smallest accepted eps ($small) is refused"
 else bad "eps message names no smallest value"; fi
+# scan says the same for a board (and writes no log)
+"$VP" scan --board boards/sim.ini --dry-run --log "$tmp/e16.vplog" --eps 1e-16 >/dev/null 2>"$tmp/e.txt" && bad "scan --eps 1e-16 accepted"
+grep -q "eps 1e-16 is too small for this object.*the smallest accepted is --eps [0-9.e-]*$" "$tmp/e.txt" || { bad "scan eps message"; cat "$tmp/e.txt"; }
+[ -e "$tmp/e16.vplog" ] && bad "scan --eps 1e-16 wrote a log"
 m --eps 0.1 --dropout 0.8 && bad "--dropout 0.8 accepted"
 grep -q "\-\-dropout 0.8 is out of the range the planner supports: 0 to 0.5" "$tmp/e.txt" || { bad "dropout message"; cat "$tmp/e.txt"; }
 m --eps 0.1 --noise 1 && bad "--noise 1 accepted"

@@ -400,6 +400,15 @@ int vp_cmd_scan(int argc, char **argv)
     cfg.eps = o.eps;
     cfg.noise_tol = o.noise_tol;
     cfg.confirm_misses = (uint32_t)o.confirm;
+    {
+        /* eps within what the planner can resolve in double precision (as sim says it) */
+        vp_sim_options_t none;
+        memset(&none, 0, sizeof none);
+        if (vp_sim_check_ranges(&cfg, 0.0, &none, err, sizeof err) != VP_OK) {
+            fprintf(stderr, "scan: %s\n", err);
+            goto done;
+        }
+    }
     if (o.dry) {
         /* the simulated object must lie in Omega; the board's interior point must be inside it
          * (else the object's own interior points stand in for it) */

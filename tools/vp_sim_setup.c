@@ -174,10 +174,12 @@ int vp_sim_check_ranges(const vp_planner_config_t *cfg, double diag, const vp_si
     }
     min_eps = up3(fmax(VP_SIM_EPS_MIN_OMEGA * od, VP_SIM_EPS_MIN_COORD * big));
     if (!(cfg->eps >= min_eps * (1.0 - 1e-9))) {
+        char rel[48] = "";
+        if (diag > 0) snprintf(rel, sizeof rel, " (--eps-rel %.3g)", up3(min_eps / diag));
         snprintf(err, errlen, "eps %.6g is too small for this object: the planner computes in double precision, "
                  "so eps must be at least %g of Omega's diagonal (%.6g) and %g of its largest coordinate (%.6g); "
-                 "the smallest accepted is --eps %.3g (--eps-rel %.3g)", cfg->eps, VP_SIM_EPS_MIN_OMEGA, od,
-                 VP_SIM_EPS_MIN_COORD, big, min_eps, diag > 0 ? up3(min_eps / diag) : 0.0);
+                 "the smallest accepted is --eps %.3g%s", cfg->eps, VP_SIM_EPS_MIN_OMEGA, od,
+                 VP_SIM_EPS_MIN_COORD, big, min_eps, rel);
         return VP_EINVAL;
     }
     /* the rangefinder: the planner trusts a hit to 4 sigma and makes its first facet of hits
