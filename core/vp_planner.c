@@ -50,8 +50,6 @@
 /* phases */
 enum { PH_SEED = 0, PH_START, PH_RUN, PH_CLOSE, PH_COMPONENTS, PH_RESEED, PH_DONE };
 
-/* task kinds */
-#define TASK_PROBE 1u
 
 struct vp_vrec {
     double p[3];
@@ -173,13 +171,13 @@ static int proof_new(vp_planner_t *pl, const double *o, const double *d, double 
     vp_proof_t *q;
     *out = PROOF_NONE;
     if (!(len > 0.0)) return VP_OK;
-    if (pl->nproof >= pl->cap_proof) return VP_ENOMEM;
-    q = &pl->proof[pl->nproof];
+    if (pl->pool.nproof >= pl->pool.cap_proof) return VP_ENOMEM;
+    q = &pl->pool.proof[pl->pool.nproof];
     memcpy(q->o, o, sizeof q->o);
     memcpy(q->d, d, sizeof q->d);
     q->len = len;
     q->prev = prev;
-    *out = pl->nproof++;
+    *out = pl->pool.nproof++;
     return VP_OK;
 }
 
@@ -192,8 +190,8 @@ static int proof_covers(const vp_planner_t *pl, uint32_t id, const double *a, co
     uint32_t n = 0, i, j;
     int k;
     if (id == PROOF_OUTSIDE) return !seg_enters_omega(&pl->cfg, a, b);
-    if (id >= pl->nproof) return 0;
-    p = &pl->proof[id];
+    if (id >= pl->pool.nproof) return 0;
+    p = &pl->pool.proof[id];
     /* both ends on the ray's line */
     vp_sub3(x, a, p->o);
     sa = vp_dot3(x, p->d);
@@ -206,8 +204,8 @@ static int proof_covers(const vp_planner_t *pl, uint32_t id, const double *a, co
     need0 = sa < sb ? sa : sb;
     need1 = sa < sb ? sb : sa;
     /* the free intervals of the chain on that line */
-    for (i = id; i != PROOF_NONE && i < pl->nproof && n < PROOF_CHAIN_MAX; i = pl->proof[i].prev) {
-        const vp_proof_t *q = &pl->proof[i];
+    for (i = id; i != PROOF_NONE && i < pl->pool.nproof && n < PROOF_CHAIN_MAX; i = pl->pool.proof[i].prev) {
+        const vp_proof_t *q = &pl->pool.proof[i];
         double s0;
         if (!(vp_dot3(q->d, p->d) > 1.0 - 1e-12)) break;
         vp_sub3(x, q->o, p->o);
@@ -233,13 +231,13 @@ static int probe_proof(vp_planner_t *pl, const vp_probe_result_t *res, uint32_t 
 {
     double len;
     int st;
-    if (pl->cur_proof != PROOF_NONE) { *out = pl->cur_proof; return VP_OK; }
+    if (pl->probe.cur_proof != PROOF_NONE) { *out = pl->probe.cur_proof; return VP_OK; }
     *out = PROOF_NONE;
     if (res->hit == VP_PROBE_TOO_CLOSE) return VP_OK;
-    len = res->hit ? res->dist - pl->cfg.noise_tol : pl->iss_range;
-    if (res->hit && len > pl->iss_range) len = pl->iss_range;
-    st = proof_new(pl, pl->iss_o, pl->iss_d, len, pl->chain_proof, out);
-    if (st == VP_OK) pl->cur_proof = *out;
+    len = res->hit ? res->dist - pl->cfg.noise_tol : pl->dev.iss_range;
+    if (res->hit && len > pl->dev.iss_range) len = pl->dev.iss_range;
+    st = proof_new(pl, pl->dev.iss_o, pl->dev.iss_d, len, pl->probe.chain_proof, out);
+    if (st == VP_OK) pl->probe.cur_proof = *out;
     return st;
 }
 
@@ -280,14 +278,14 @@ static void note_peak(vp_planner_t *pl)
 {
     size_t used;
     uint32_t hash_need = 1;
-    if (pl->ntask > pl->peak_task) pl->peak_task = pl->ntask;
-    if (pl->nheap > pl->peak_heap) pl->peak_heap = pl->nheap;
-    if (pl->nroute > pl->peak_route) pl->peak_route = pl->nroute;
-    while (hash_need < 2u * pl->nfacets + 16u) hash_need <<= 1;
-    used = vp_dt_bytes_used(&pl->dt) + (size_t)pl->nvrec * sizeof(vp_vrec_t) +
-           (size_t)pl->nfedge * 4u * FEDGE_WORDS + (size_t)pl->nproof * sizeof(vp_proof_t) + (size_t)pl->nfrec * sizeof(vp_frec_t) + (size_t)hash_need * 4u +
-           (size_t)pl->peak_heap * 4u + (size_t)pl->peak_task * sizeof(vp_task_t) +
-           (size_t)pl->peak_route * 24u + (size_t)pl->peak_astar * 4u + (size_t)pl->peak_path * 4u;
+    if (pl->pool.ntask > pl->peak.task) pl->peak.task = pl->pool.ntask;
+    if (pl->pool.nheap > pl->peak.heap) pl->peak.heap = pl->pool.nheap;
+    if (pl->route.n > pl->peak.route) pl->peak.route = pl->route.n;
+    while (hash_need < 2u * pl->pool.nfacets + 16u) hash_need <<= 1;
+    used = vp_dt_bytes_used(&pl->dt) + (size_t)pl->pool.nvrec * sizeof(vp_vrec_t) +
+           (size_t)pl->pool.nfedge * 4u * FEDGE_WORDS + (size_t)pl->pool.nproof * sizeof(vp_proof_t) + (size_t)pl->pool.nfrec * sizeof(vp_frec_t) + (size_t)hash_need * 4u +
+           (size_t)pl->peak.heap * 4u + (size_t)pl->peak.task * sizeof(vp_task_t) +
+           (size_t)pl->peak.route * 24u + (size_t)pl->peak.astar * 4u + (size_t)pl->peak.path * 4u;
     if (used > pl->st.arena_peak) pl->st.arena_peak = used;
 }
 
@@ -296,18 +294,18 @@ static void note_peak(vp_planner_t *pl)
 static int rec_new(vp_planner_t *pl, const double *p, uint32_t prev, uint32_t flags, uint32_t *out)
 {
     vp_vrec_t *r;
-    if (pl->nvrec >= pl->cap_vrec) return VP_ENOMEM;
-    r = &pl->vrec[pl->nvrec];
+    if (pl->pool.nvrec >= pl->pool.cap_vrec) return VP_ENOMEM;
+    r = &pl->pool.vrec[pl->pool.nvrec];
     r->p[0] = p[0]; r->p[1] = p[1]; r->p[2] = p[2];
-    r->prev = prev == NONE ? pl->nvrec : prev;
+    r->prev = prev == NONE ? pl->pool.nvrec : prev;
     r->adj = NONE;
-    r->depth = prev == NONE ? 0 : pl->vrec[prev].depth + 1;
+    r->depth = prev == NONE ? 0 : pl->pool.vrec[prev].depth + 1;
     r->flags = flags;
     r->stamp = 0;
     r->from = NONE;
     r->g = 0.0;
     r->proof = PROOF_NONE;
-    *out = pl->nvrec++;
+    *out = pl->pool.nvrec++;
     return VP_OK;
 }
 
@@ -318,20 +316,20 @@ static int edge_add(vp_planner_t *pl, uint32_t a, uint32_t b, uint32_t proof)
 {
     uint32_t e, *w;
     if (a == b) return VP_OK;
-    if (!proof_covers(pl, proof, pl->vrec[a].p, pl->vrec[b].p)) {
+    if (!proof_covers(pl, proof, pl->pool.vrec[a].p, pl->pool.vrec[b].p)) {
         pl->st.unproven++;
         return VP_OK;
     }
-    if (pl->nfedge >= pl->cap_fedge) return VP_ENOMEM;
-    e = pl->nfedge++;
-    w = pl->fedge + FEDGE_WORDS * e;
+    if (pl->pool.nfedge >= pl->pool.cap_fedge) return VP_ENOMEM;
+    e = pl->pool.nfedge++;
+    w = pl->pool.fedge + FEDGE_WORDS * e;
     w[0] = a;
     w[1] = b;
-    w[2] = pl->vrec[a].adj;
-    w[3] = pl->vrec[b].adj;
+    w[2] = pl->pool.vrec[a].adj;
+    w[3] = pl->pool.vrec[b].adj;
     w[4] = proof;
-    pl->vrec[a].adj = e;
-    pl->vrec[b].adj = e;
+    pl->pool.vrec[a].adj = e;
+    pl->pool.vrec[b].adj = e;
     return VP_OK;
 }
 
@@ -342,16 +340,16 @@ static int rec_link(vp_planner_t *pl, const double *p, uint32_t prev, uint32_t f
 {
     int st;
     *out = NONE;
-    if (prev != NONE && !proof_covers(pl, proof, pl->vrec[prev].p, p)) {
+    if (prev != NONE && !proof_covers(pl, proof, pl->pool.vrec[prev].p, p)) {
         pl->st.unproven++;
         return VP_OK;
     }
     st = rec_new(pl, p, prev, flags, out);
     if (st != VP_OK) return st;
     if (prev != NONE) {
-        pl->vrec[*out].proof = proof;
+        pl->pool.vrec[*out].proof = proof;
         st = edge_add(pl, prev, *out, proof);
-        if (st != VP_OK) { pl->nvrec--; *out = NONE; return st; }
+        if (st != VP_OK) { pl->pool.nvrec--; *out = NONE; return st; }
     }
     return VP_OK;
 }
@@ -360,8 +358,8 @@ static int rec_link(vp_planner_t *pl, const double *p, uint32_t prev, uint32_t f
 static uint32_t edge_proof(const vp_planner_t *pl, uint32_t a, uint32_t b)
 {
     uint32_t e;
-    for (e = pl->vrec[a].adj; e != NONE;) {
-        const uint32_t *w = pl->fedge + FEDGE_WORDS * e;
+    for (e = pl->pool.vrec[a].adj; e != NONE;) {
+        const uint32_t *w = pl->pool.fedge + FEDGE_WORDS * e;
         int isa = w[0] == a;
         if ((isa ? w[1] : w[0]) == b) return w[4];
         e = isa ? w[2] : w[3];
@@ -375,12 +373,12 @@ static uint32_t edge_proof(const vp_planner_t *pl, uint32_t a, uint32_t b)
 static int route_push(vp_planner_t *pl, const double *p, uint32_t proof)
 {
     double *q;
-    if (pl->nroute >= pl->cap_route) return VP_ENOMEM;
-    q = pl->route + 3 * (size_t)pl->nroute;
-    if (pl->nroute > 0 && q[-3] == p[0] && q[-2] == p[1] && q[-1] == p[2]) return VP_OK;
+    if (pl->route.n >= pl->route.cap) return VP_ENOMEM;
+    q = pl->route.pts + 3 * (size_t)pl->route.n;
+    if (pl->route.n > 0 && q[-3] == p[0] && q[-2] == p[1] && q[-1] == p[2]) return VP_OK;
     q[0] = p[0]; q[1] = p[1]; q[2] = p[2];
-    pl->route_proof[pl->nroute] = proof;
-    pl->nroute++;
+    pl->route.proof[pl->route.n] = proof;
+    pl->route.n++;
     return VP_OK;
 }
 
@@ -393,23 +391,23 @@ static double clamp_range(const vp_planner_t *pl, double range)
 /* 1 if the current probe was cut short by the rangefinder's reach */
 static int probe_limited(const vp_planner_t *pl)
 {
-    return pl->probe_range < pl->probe_full - 1e-12 * (1.0 + pl->probe_full);
+    return pl->probe.range < pl->probe.full - 1e-12 * (1.0 + pl->probe.full);
 }
 
 /* A range-limited probe missed: its segment is free (proof). The device walks from record
- * `from` to the segment's end (a new record, pl->at) to probe on; the step costs the same
+ * `from` to the segment's end (a new record, pl->dev.at) to probe on; the step costs the same
  * under either rule. */
 static int walk_on(vp_planner_t *pl, uint32_t from, uint32_t proof, double e[3])
 {
     uint32_t r;
     int k, st;
-    for (k = 0; k < 3; k++) e[k] = pl->probe_origin[k] + pl->probe_range * pl->probe_dir[k];
+    for (k = 0; k < 3; k++) e[k] = pl->probe.origin[k] + pl->probe.range * pl->probe.dir[k];
     if ((st = rec_link(pl, e, from, 0, proof, &r)) != VP_OK) return st;
     if (r == NONE) return VP_EUNSAFE; /* the probe's own end: never */
-    pl->st.travel_prev_chains += pl->probe_range;
-    pl->nroute = pl->iroute = 0;
+    pl->st.travel_prev_chains += pl->probe.range;
+    pl->route.n = pl->route.i = 0;
     if ((st = route_push(pl, e, proof)) != VP_OK) return st;
-    pl->at = r;
+    pl->dev.at = r;
     return VP_OK;
 }
 
@@ -482,7 +480,7 @@ static int outside_route(vp_planner_t *pl, const double *a, const double *b, int
 {
     double stack[ROUTE_DEPTH + 2][3], cur[3], delta = 0.01 * omega_circumradius(&pl->cfg);
     int depth[ROUTE_DEPTH + 2], n = 0, st;
-    uint32_t nroute0 = pl->nroute;
+    uint32_t nroute0 = pl->route.n;
     *len = 0.0;
     memcpy(cur, a, sizeof cur);
     memcpy(stack[n], b, sizeof stack[n]);
@@ -498,7 +496,7 @@ static int outside_route(vp_planner_t *pl, const double *a, const double *b, int
             continue;
         }
         if (d >= ROUTE_DEPTH) {
-            pl->nroute = nroute0;
+            pl->route.n = nroute0;
             *len = 0.0;
             return sphere_route(pl, a, b, dry, len);
         }
@@ -537,20 +535,20 @@ static uint32_t key_hash(const uint32_t *v)
 /* slot of key v (sorted) in the hash, or of the first free place when absent (*found = 0) */
 static uint32_t fhash_find(const vp_planner_t *pl, const uint32_t *v, int *found)
 {
-    uint32_t h = key_hash(v) & pl->hash_mask, first_free = NONE;
+    uint32_t h = key_hash(v) & pl->pool.hash_mask, first_free = NONE;
     for (;;) {
-        uint32_t e = pl->fhash[h];
+        uint32_t e = pl->pool.fhash[h];
         if (e == HASH_EMPTY) {
             *found = 0;
             return first_free != NONE ? first_free : h;
         }
         if (e == HASH_TOMB) {
             if (first_free == NONE) first_free = h;
-        } else if (pl->frec[e].v[0] == v[0] && pl->frec[e].v[1] == v[1] && pl->frec[e].v[2] == v[2]) {
+        } else if (pl->pool.frec[e].v[0] == v[0] && pl->pool.frec[e].v[1] == v[1] && pl->pool.frec[e].v[2] == v[2]) {
             *found = 1;
             return h;
         }
-        h = (h + 1) & pl->hash_mask;
+        h = (h + 1) & pl->pool.hash_mask;
     }
 }
 
@@ -562,24 +560,24 @@ static uint32_t frec_lookup(const vp_planner_t *pl, const uint32_t *fv)
     v[0] = fv[0]; v[1] = fv[1]; v[2] = fv[2];
     sort3(v);
     h = fhash_find(pl, v, &found);
-    return found ? pl->fhash[h] : NONE;
+    return found ? pl->pool.fhash[h] : NONE;
 }
 
 /* ---------- the bad-ball heap (max on radius) ---------- */
 
 static void heap_swap(vp_planner_t *pl, uint32_t i, uint32_t j)
 {
-    uint32_t a = pl->heap[i], b = pl->heap[j];
-    pl->heap[i] = b; pl->heap[j] = a;
-    pl->frec[b].heap = i;
-    pl->frec[a].heap = j;
+    uint32_t a = pl->pool.heap[i], b = pl->pool.heap[j];
+    pl->pool.heap[i] = b; pl->pool.heap[j] = a;
+    pl->pool.frec[b].heap = i;
+    pl->pool.frec[a].heap = j;
 }
 
 static void heap_up(vp_planner_t *pl, uint32_t i)
 {
     while (i > 0) {
         uint32_t p = (i - 1) / 2;
-        if (!(pl->frec[pl->heap[p]].r < pl->frec[pl->heap[i]].r)) break;
+        if (!(pl->pool.frec[pl->pool.heap[p]].r < pl->pool.frec[pl->pool.heap[i]].r)) break;
         heap_swap(pl, i, p);
         i = p;
     }
@@ -589,8 +587,8 @@ static void heap_down(vp_planner_t *pl, uint32_t i)
 {
     for (;;) {
         uint32_t l = 2 * i + 1, r = l + 1, m = i;
-        if (l < pl->nheap && pl->frec[pl->heap[l]].r > pl->frec[pl->heap[m]].r) m = l;
-        if (r < pl->nheap && pl->frec[pl->heap[r]].r > pl->frec[pl->heap[m]].r) m = r;
+        if (l < pl->pool.nheap && pl->pool.frec[pl->pool.heap[l]].r > pl->pool.frec[pl->pool.heap[m]].r) m = l;
+        if (r < pl->pool.nheap && pl->pool.frec[pl->pool.heap[r]].r > pl->pool.frec[pl->pool.heap[m]].r) m = r;
         if (m == i) break;
         heap_swap(pl, i, m);
         i = m;
@@ -599,24 +597,24 @@ static void heap_down(vp_planner_t *pl, uint32_t i)
 
 static int heap_push(vp_planner_t *pl, uint32_t k)
 {
-    if (pl->nheap >= pl->cap_heap) return VP_ENOMEM;
-    pl->heap[pl->nheap] = k;
-    pl->frec[k].heap = pl->nheap++;
-    heap_up(pl, pl->nheap - 1);
+    if (pl->pool.nheap >= pl->pool.cap_heap) return VP_ENOMEM;
+    pl->pool.heap[pl->pool.nheap] = k;
+    pl->pool.frec[k].heap = pl->pool.nheap++;
+    heap_up(pl, pl->pool.nheap - 1);
     return VP_OK;
 }
 
 static void heap_remove(vp_planner_t *pl, uint32_t k)
 {
-    uint32_t i = pl->frec[k].heap;
+    uint32_t i = pl->pool.frec[k].heap;
     if (i == NONE) return;
-    pl->nheap--;
-    if (i != pl->nheap) {
-        heap_swap(pl, i, pl->nheap);
+    pl->pool.nheap--;
+    if (i != pl->pool.nheap) {
+        heap_swap(pl, i, pl->pool.nheap);
         heap_down(pl, i);
         heap_up(pl, i);
     }
-    pl->frec[k].heap = NONE;
+    pl->pool.frec[k].heap = NONE;
 }
 
 /* ---------- facet records ---------- */
@@ -626,28 +624,28 @@ static void heap_remove(vp_planner_t *pl, uint32_t k)
 static void fhash_rebuild(vp_planner_t *pl)
 {
     uint32_t i;
-    for (i = 0; i <= pl->hash_mask; i++) pl->fhash[i] = HASH_EMPTY;
-    for (i = 0; i < pl->nfrec; i++) {
+    for (i = 0; i <= pl->pool.hash_mask; i++) pl->pool.fhash[i] = HASH_EMPTY;
+    for (i = 0; i < pl->pool.nfrec; i++) {
         int found;
-        if (pl->frec[i].v[0] == NONE) continue;
-        pl->fhash[fhash_find(pl, pl->frec[i].v, &found)] = i;
+        if (pl->pool.frec[i].v[0] == NONE) continue;
+        pl->pool.fhash[fhash_find(pl, pl->pool.frec[i].v, &found)] = i;
     }
-    pl->ntomb = 0;
+    pl->pool.ntomb = 0;
 }
 
 static void frec_delete(vp_planner_t *pl, uint32_t k)
 {
     int found;
-    uint32_t h = fhash_find(pl, pl->frec[k].v, &found);
+    uint32_t h = fhash_find(pl, pl->pool.frec[k].v, &found);
     if (found) {
-        pl->fhash[h] = HASH_TOMB;
-        if (++pl->ntomb > (pl->hash_mask + 1u) / 4u) pl->fhash_dirty = 1;
+        pl->pool.fhash[h] = HASH_TOMB;
+        if (++pl->pool.ntomb > (pl->pool.hash_mask + 1u) / 4u) pl->pool.fhash_dirty = 1;
     }
     heap_remove(pl, k);
-    pl->frec[k].v[0] = NONE;
-    pl->frec[k].v[1] = pl->frec_free;
-    pl->frec_free = k;
-    pl->nfacets--;
+    pl->pool.frec[k].v[0] = NONE;
+    pl->pool.frec[k].v[1] = pl->pool.frec_free;
+    pl->pool.frec_free = k;
+    pl->pool.nfacets--;
 }
 
 /* With an angle bound: the smallest angle of the triangle is below it, i.e. its shortest edge
@@ -681,15 +679,15 @@ static int frec_add(vp_planner_t *pl, const uint32_t *fv, const double *c, const
     v[0] = fv[0]; v[1] = fv[1]; v[2] = fv[2];
     sort3(v);
     h = fhash_find(pl, v, &found);
-    if (found) { *out = pl->fhash[h]; return VP_OK; }
-    if (pl->frec_free != NONE) {
-        k = pl->frec_free;
-        pl->frec_free = pl->frec[k].v[1];
+    if (found) { *out = pl->pool.fhash[h]; return VP_OK; }
+    if (pl->pool.frec_free != NONE) {
+        k = pl->pool.frec_free;
+        pl->pool.frec_free = pl->pool.frec[k].v[1];
     } else {
-        if (pl->nfrec >= pl->cap_frec) return VP_ENOMEM;
-        k = pl->nfrec++;
+        if (pl->pool.nfrec >= pl->pool.cap_frec) return VP_ENOMEM;
+        k = pl->pool.nfrec++;
     }
-    f = &pl->frec[k];
+    f = &pl->pool.frec[k];
     memcpy(f->v, v, sizeof v);
     f->heap = NONE;
     f->flags = 0;
@@ -700,9 +698,9 @@ static int frec_add(vp_planner_t *pl, const uint32_t *fv, const double *c, const
     f->r = vp_dist3(c, a);
     if (vp_orient3d(a, vp_dt_point(&pl->dt, v[1]), vp_dt_point(&pl->dt, v[2]), outside) < 0)
         f->flags |= FREC_FLIP;
-    if (pl->fhash[h] == HASH_TOMB && pl->ntomb > 0) pl->ntomb--;
-    pl->fhash[h] = k;
-    pl->nfacets++;
+    if (pl->pool.fhash[h] == HASH_TOMB && pl->pool.ntomb > 0) pl->pool.ntomb--;
+    pl->pool.fhash[h] = k;
+    pl->pool.nfacets++;
     *out = k;
     if (f->r > pl->cfg.eps || facet_too_sharp(pl, v)) return heap_push(pl, k);
     return VP_OK;
@@ -712,7 +710,7 @@ static int frec_add(vp_planner_t *pl, const uint32_t *fv, const double *c, const
  * record so that no free segment is inferred from it any more. */
 static void frec_set_ball(vp_planner_t *pl, uint32_t k, const double *c)
 {
-    vp_frec_t *f = &pl->frec[k];
+    vp_frec_t *f = &pl->pool.frec[k];
     double r = vp_dist3(c, vp_dt_point(&pl->dt, f->v[0]));
     f->flags |= FREC_DOUBLE;
     if (!(r > f->r)) return;
@@ -778,7 +776,7 @@ static int tet_point(const vp_planner_t *pl, uint32_t t, double *p)
 /* first record on the prev chain of r that lies outside Omega (the chain's root) */
 static uint32_t chain_root(const vp_planner_t *pl, uint32_t r)
 {
-    while (pl->vrec[r].prev != r) r = pl->vrec[r].prev;
+    while (pl->pool.vrec[r].prev != r) r = pl->pool.vrec[r].prev;
     return r;
 }
 
@@ -794,48 +792,48 @@ static int tree_path(vp_planner_t *pl, uint32_t a, uint32_t b, const double *gp,
     int st;
     *len = 0.0;
     if (b == NONE) {
-        while (pl->vrec[x].prev != x) {
-            uint32_t p = pl->vrec[x].prev;
-            l += vp_dist3(pl->vrec[x].p, pl->vrec[p].p);
-            if (route && (st = route_push(pl, pl->vrec[p].p, pl->vrec[x].proof)) != VP_OK) return st;
+        while (pl->pool.vrec[x].prev != x) {
+            uint32_t p = pl->pool.vrec[x].prev;
+            l += vp_dist3(pl->pool.vrec[x].p, pl->pool.vrec[p].p);
+            if (route && (st = route_push(pl, pl->pool.vrec[p].p, pl->pool.vrec[x].proof)) != VP_OK) return st;
             x = p;
         }
-        st = outside_route(pl, pl->vrec[x].p, gp, !route, &ol);
+        st = outside_route(pl, pl->pool.vrec[x].p, gp, !route, &ol);
         *len = l + ol;
         return st;
     }
     /* climb to the common ancestor; y's half is kept to be walked downwards */
-    while (pl->vrec[x].depth > pl->vrec[y].depth) {
-        uint32_t p = pl->vrec[x].prev;
-        l += vp_dist3(pl->vrec[x].p, pl->vrec[p].p);
-        if (route && (st = route_push(pl, pl->vrec[p].p, pl->vrec[x].proof)) != VP_OK) return st;
+    while (pl->pool.vrec[x].depth > pl->pool.vrec[y].depth) {
+        uint32_t p = pl->pool.vrec[x].prev;
+        l += vp_dist3(pl->pool.vrec[x].p, pl->pool.vrec[p].p);
+        if (route && (st = route_push(pl, pl->pool.vrec[p].p, pl->pool.vrec[x].proof)) != VP_OK) return st;
         x = p;
     }
-    while (pl->vrec[y].depth > pl->vrec[x].depth) {
-        if (ny >= pl->cap_path) return VP_ENOMEM;
-        pl->path[ny++] = y;
-        y = pl->vrec[y].prev;
+    while (pl->pool.vrec[y].depth > pl->pool.vrec[x].depth) {
+        if (ny >= pl->route.cap_path) return VP_ENOMEM;
+        pl->route.path[ny++] = y;
+        y = pl->pool.vrec[y].prev;
     }
-    while (x != y && !(pl->vrec[x].prev == x && pl->vrec[y].prev == y)) {
-        uint32_t p = pl->vrec[x].prev;
-        l += vp_dist3(pl->vrec[x].p, pl->vrec[p].p);
-        if (route && (st = route_push(pl, pl->vrec[p].p, pl->vrec[x].proof)) != VP_OK) return st;
+    while (x != y && !(pl->pool.vrec[x].prev == x && pl->pool.vrec[y].prev == y)) {
+        uint32_t p = pl->pool.vrec[x].prev;
+        l += vp_dist3(pl->pool.vrec[x].p, pl->pool.vrec[p].p);
+        if (route && (st = route_push(pl, pl->pool.vrec[p].p, pl->pool.vrec[x].proof)) != VP_OK) return st;
         x = p;
-        if (ny >= pl->cap_path) return VP_ENOMEM;
-        pl->path[ny++] = y;
-        y = pl->vrec[y].prev;
+        if (ny >= pl->route.cap_path) return VP_ENOMEM;
+        pl->route.path[ny++] = y;
+        y = pl->pool.vrec[y].prev;
     }
-    last = pl->vrec[x].p;
+    last = pl->pool.vrec[x].p;
     if (x != y) {
-        st = outside_route(pl, pl->vrec[x].p, pl->vrec[y].p, !route, &ol);
+        st = outside_route(pl, pl->pool.vrec[x].p, pl->pool.vrec[y].p, !route, &ol);
         if (st != VP_OK) return st;
         l += ol;
-        last = pl->vrec[y].p;
+        last = pl->pool.vrec[y].p;
     }
     for (i = ny; i-- > 0;) {
-        l += vp_dist3(last, pl->vrec[pl->path[i]].p);
-        last = pl->vrec[pl->path[i]].p;
-        if (route && (st = route_push(pl, last, pl->vrec[pl->path[i]].proof)) != VP_OK) return st;
+        l += vp_dist3(last, pl->pool.vrec[pl->route.path[i]].p);
+        last = pl->pool.vrec[pl->route.path[i]].p;
+        if (route && (st = route_push(pl, last, pl->pool.vrec[pl->route.path[i]].proof)) != VP_OK) return st;
     }
     *len = l;
     return VP_OK;
@@ -855,16 +853,16 @@ typedef struct astar {
 static void astar_place(astar_t *s, uint32_t i, uint32_t n)
 {
     s->open[i] = n;
-    s->pl->vrec[n].hpos = i;
+    s->pl->pool.vrec[n].hpos = i;
 }
 
 static void astar_sift_up(astar_t *s, uint32_t i)
 {
     uint32_t n = s->open[i];
-    double f = s->pl->vrec[n].f;
+    double f = s->pl->pool.vrec[n].f;
     while (i > 0) {
         uint32_t p = (i - 1) / 2;
-        if (!(f < s->pl->vrec[s->open[p]].f)) break;
+        if (!(f < s->pl->pool.vrec[s->open[p]].f)) break;
         astar_place(s, i, s->open[p]);
         i = p;
     }
@@ -874,15 +872,15 @@ static void astar_sift_up(astar_t *s, uint32_t i)
 static uint32_t astar_pop(astar_t *s)
 {
     uint32_t top = s->open[0], i = 0, last;
-    s->pl->vrec[top].hpos = NONE;
+    s->pl->pool.vrec[top].hpos = NONE;
     if (--s->nopen == 0) return top;
     last = s->open[s->nopen];
     for (;;) {
         uint32_t l = 2 * i + 1, r = l + 1, m;
-        double fm = s->pl->vrec[last].f;
+        double fm = s->pl->pool.vrec[last].f;
         m = NONE;
-        if (l < s->nopen && s->pl->vrec[s->open[l]].f < fm) { m = l; fm = s->pl->vrec[s->open[l]].f; }
-        if (r < s->nopen && s->pl->vrec[s->open[r]].f < fm) m = r;
+        if (l < s->nopen && s->pl->pool.vrec[s->open[l]].f < fm) { m = l; fm = s->pl->pool.vrec[s->open[l]].f; }
+        if (r < s->nopen && s->pl->pool.vrec[s->open[r]].f < fm) m = r;
         if (m == NONE) break;
         astar_place(s, i, s->open[m]);
         i = m;
@@ -893,7 +891,7 @@ static uint32_t astar_pop(astar_t *s)
 
 static int astar_relax(astar_t *s, uint32_t from, uint32_t nb, double g, uint32_t virt)
 {
-    vp_vrec_t *r = &s->pl->vrec[nb];
+    vp_vrec_t *r = &s->pl->pool.vrec[nb];
     if (r->stamp == s->stamp && !(g < r->g)) return VP_OK;
     if (r->stamp != s->stamp) {
         r->stamp = s->stamp;
@@ -903,10 +901,10 @@ static int astar_relax(astar_t *s, uint32_t from, uint32_t nb, double g, uint32_
     r->f = g + vp_dist3(r->p, s->goal);
     r->from = from | virt;
     if (r->hpos == NONE) {
-        if (s->nopen >= s->pl->cap_astar) return VP_ENOMEM;
+        if (s->nopen >= s->pl->pool.cap_astar) return VP_ENOMEM;
         r->hpos = s->nopen++;
         s->open[r->hpos] = nb;
-        if (s->nopen > s->pl->peak_astar) s->pl->peak_astar = s->nopen;
+        if (s->nopen > s->pl->peak.astar) s->pl->peak.astar = s->nopen;
     }
     astar_sift_up(s, r->hpos);
     return VP_OK;
@@ -917,44 +915,44 @@ static int astar_path(vp_planner_t *pl, uint32_t a, uint32_t b, const double *gp
 {
     astar_t s;
     uint32_t broot = b != NONE ? chain_root(pl, b) : NONE, best_out = NONE, node = NONE, i;
-    uint32_t expansions = 0, budget = pl->cap_astar > max_expansions ? max_expansions : pl->cap_astar;
+    uint32_t expansions = 0, budget = pl->pool.cap_astar > max_expansions ? max_expansions : pl->pool.cap_astar;
     double best_out_cost = 1e300, ol;
     int st;
     s.pl = pl;
-    s.open = pl->astar;
+    s.open = pl->pool.astar;
     s.nopen = 0;
     s.stamp = ++pl->stamp;
-    s.goal = b != NONE ? pl->vrec[b].p : gp;
-    pl->vrec[a].stamp = s.stamp;
-    pl->vrec[a].g = 0.0;
-    pl->vrec[a].f = vp_dist3(pl->vrec[a].p, s.goal);
-    pl->vrec[a].from = NONE;
-    pl->vrec[a].hpos = 0;
+    s.goal = b != NONE ? pl->pool.vrec[b].p : gp;
+    pl->pool.vrec[a].stamp = s.stamp;
+    pl->pool.vrec[a].g = 0.0;
+    pl->pool.vrec[a].f = vp_dist3(pl->pool.vrec[a].p, s.goal);
+    pl->pool.vrec[a].from = NONE;
+    pl->pool.vrec[a].hpos = 0;
     s.open[s.nopen++] = a;
     while (s.nopen > 0) {
         uint32_t e, cur;
-        if (best_out != NONE && best_out_cost <= pl->vrec[s.open[0]].f) break;
+        if (best_out != NONE && best_out_cost <= pl->pool.vrec[s.open[0]].f) break;
         cur = astar_pop(&s);
         pl->st.astar_expansions++;
         if (cur == b) { node = b; break; }
         if (++expansions > budget) return VP_ENOMEM;
-        for (e = pl->vrec[cur].adj; e != NONE;) {
-            const uint32_t *w = pl->fedge + FEDGE_WORDS * e;
+        for (e = pl->pool.vrec[cur].adj; e != NONE;) {
+            const uint32_t *w = pl->pool.fedge + FEDGE_WORDS * e;
             int isa = w[0] == cur;
             uint32_t nb = isa ? w[1] : w[0];
-            st = astar_relax(&s, cur, nb, pl->vrec[cur].g + vp_dist3(pl->vrec[cur].p, pl->vrec[nb].p), 0);
+            st = astar_relax(&s, cur, nb, pl->pool.vrec[cur].g + vp_dist3(pl->pool.vrec[cur].p, pl->pool.vrec[nb].p), 0);
             if (st != VP_OK) return st;
             e = isa ? w[2] : w[3];
         }
-        if (pl->vrec[cur].flags & REC_OUT) {
+        if (pl->pool.vrec[cur].flags & REC_OUT) {
             if (b == NONE) {
-                if (outside_route(pl, pl->vrec[cur].p, gp, 1, &ol) == VP_OK &&
-                    pl->vrec[cur].g + ol < best_out_cost) {
-                    best_out_cost = pl->vrec[cur].g + ol;
+                if (outside_route(pl, pl->pool.vrec[cur].p, gp, 1, &ol) == VP_OK &&
+                    pl->pool.vrec[cur].g + ol < best_out_cost) {
+                    best_out_cost = pl->pool.vrec[cur].g + ol;
                     best_out = cur;
                 }
-            } else if (broot != cur && outside_route(pl, pl->vrec[cur].p, pl->vrec[broot].p, 1, &ol) == VP_OK) {
-                st = astar_relax(&s, cur, broot, pl->vrec[cur].g + ol, VIRTUAL);
+            } else if (broot != cur && outside_route(pl, pl->pool.vrec[cur].p, pl->pool.vrec[broot].p, 1, &ol) == VP_OK) {
+                st = astar_relax(&s, cur, broot, pl->pool.vrec[cur].g + ol, VIRTUAL);
                 if (st != VP_OK) return st;
             }
         }
@@ -964,24 +962,24 @@ static int astar_path(vp_planner_t *pl, uint32_t a, uint32_t b, const double *gp
     {
         uint32_t n = node != NONE ? node : best_out, np = 0;
         double l = 0.0;
-        const double *last = pl->vrec[a].p;
+        const double *last = pl->pool.vrec[a].p;
         while (n != NONE) {
-            if (np >= pl->cap_path) return VP_ENOMEM;
-            pl->path[np++] = n;
-            if (np > pl->peak_path) pl->peak_path = np;
-            n = pl->vrec[n].from == NONE ? NONE : (pl->vrec[n].from & ~VIRTUAL);
+            if (np >= pl->route.cap_path) return VP_ENOMEM;
+            pl->route.path[np++] = n;
+            if (np > pl->peak.path) pl->peak.path = np;
+            n = pl->pool.vrec[n].from == NONE ? NONE : (pl->pool.vrec[n].from & ~VIRTUAL);
         }
         for (i = np - 1; i-- > 0;) {
-            uint32_t r = pl->path[i];
-            if (pl->vrec[r].from & VIRTUAL) {
-                st = outside_route(pl, last, pl->vrec[r].p, 0, &ol);
+            uint32_t r = pl->route.path[i];
+            if (pl->pool.vrec[r].from & VIRTUAL) {
+                st = outside_route(pl, last, pl->pool.vrec[r].p, 0, &ol);
                 l += ol;
             } else {
-                st = route_push(pl, pl->vrec[r].p, edge_proof(pl, pl->path[i + 1], r));
-                l += vp_dist3(last, pl->vrec[r].p);
+                st = route_push(pl, pl->pool.vrec[r].p, edge_proof(pl, pl->route.path[i + 1], r));
+                l += vp_dist3(last, pl->pool.vrec[r].p);
             }
             if (st != VP_OK) return st;
-            last = pl->vrec[r].p;
+            last = pl->pool.vrec[r].p;
         }
         if (node == NONE) {
             st = outside_route(pl, last, gp, 0, &ol);
@@ -1001,10 +999,10 @@ static int route_full(vp_planner_t *pl, uint32_t a, uint32_t b)
 {
     double l;
     int st;
-    pl->nroute = pl->iroute = 0;
+    pl->route.n = pl->route.i = 0;
     st = astar_path(pl, a, b, NULL, &l, SEARCH_FULL);
     if (st == VP_OK) return VP_OK;
-    pl->nroute = 0;
+    pl->route.n = 0;
     pl->st.astar_fallbacks++;
     return tree_path(pl, a, b, NULL, 1, &l);
 }
@@ -1016,74 +1014,74 @@ static int in_reach(const vp_planner_t *pl, const double *a, const double *b)
 }
 
 /* Plans the device's route from where it stands to record b, or to the outside point gp when
- * b == NONE (a record is then made there). Sets pl->at to the destination record. */
+ * b == NONE (a record is then made there). Sets pl->dev.at to the destination record. */
 static int plan_route(vp_planner_t *pl, uint32_t b, const double *gp)
 {
     double tl = 0.0, al = 0.0;
     int st;
-    pl->nroute = pl->iroute = 0;
+    pl->route.n = pl->route.i = 0;
     pl->st.routes++;
-    pl->route_from = pl->at;
-    pl->shortcut = NONE;
-    pl->route_deferred = 0;
-    if (b != NONE && b == pl->at) return VP_OK;
+    pl->route.from = pl->dev.at;
+    pl->sc.to = NONE;
+    pl->route.deferred = 0;
+    if (b != NONE && b == pl->dev.at) return VP_OK;
     if (pl->cfg.clearance > 0.0) {
         /* a device with a body never enters Omega: every probe starts on dOmega */
-        if (b != NONE && !(pl->vrec[b].flags & REC_OUT)) return VP_EDEGEN;
-        st = outside_route(pl, pl->vrec[pl->at].p, b != NONE ? pl->vrec[b].p : gp, 0, &tl);
+        if (b != NONE && !(pl->pool.vrec[b].flags & REC_OUT)) return VP_EDEGEN;
+        st = outside_route(pl, pl->pool.vrec[pl->dev.at].p, b != NONE ? pl->pool.vrec[b].p : gp, 0, &tl);
         if (st != VP_OK) return st;
         if (b == NONE && (st = rec_new(pl, gp, NONE, REC_OUT, &b)) != VP_OK) return st;
-        pl->at = b;
+        pl->dev.at = b;
         return VP_OK;
     }
     if (!(pl->cfg.flags & VP_PLAN_PREV_CHAINS)) {
         /* what the same move costs along prev chains (reported beside the travel) */
-        st = tree_path(pl, pl->at, b, gp, 0, &tl);
+        st = tree_path(pl, pl->dev.at, b, gp, 0, &tl);
         if (st != VP_OK) return st;
         pl->st.travel_prev_chains += tl;
     }
     if (!(pl->cfg.flags & VP_PLAN_PREV_CHAINS) && b != NONE) {
         /* the goal one free edge away: no search */
-        uint32_t e, cur = pl->at;
-        for (e = pl->vrec[cur].adj; e != NONE;) {
-            const uint32_t *w = pl->fedge + FEDGE_WORDS * e;
+        uint32_t e, cur = pl->dev.at;
+        for (e = pl->pool.vrec[cur].adj; e != NONE;) {
+            const uint32_t *w = pl->pool.fedge + FEDGE_WORDS * e;
             int isa = w[0] == cur;
             if ((isa ? w[1] : w[0]) == b) {
-                pl->at = b;
+                pl->dev.at = b;
                 pl->st.direct_routes++;
-                return route_push(pl, pl->vrec[b].p, w[4]);
+                return route_push(pl, pl->pool.vrec[b].p, w[4]);
             }
             e = isa ? w[2] : w[3];
         }
     }
     if (!(pl->cfg.flags & VP_PLAN_PREV_CHAINS)) {
         /* a shortcut is one probe along the straight way: only within the rangefinder's reach */
-        int cheap = b != NONE && !(pl->cfg.flags & VP_PLAN_PAPER) && in_reach(pl, pl->vrec[pl->at].p, pl->vrec[b].p);
-        st = astar_path(pl, pl->at, b, gp, &al, cheap ? SEARCH_LOCAL : SEARCH_FULL);
+        int cheap = b != NONE && !(pl->cfg.flags & VP_PLAN_PAPER) && in_reach(pl, pl->pool.vrec[pl->dev.at].p, pl->pool.vrec[b].p);
+        st = astar_path(pl, pl->dev.at, b, gp, &al, cheap ? SEARCH_LOCAL : SEARCH_FULL);
         if (st != VP_OK && cheap) {
             /* no short way in the free graph: probe the straight line first; the full search
              * runs only if that probe hits */
-            pl->nroute = 0;
-            pl->shortcut = b;
-            pl->route_deferred = 1;
-            pl->at = b;
+            pl->route.n = 0;
+            pl->sc.to = b;
+            pl->route.deferred = 1;
+            pl->dev.at = b;
             return VP_OK;
         }
-        if (st != VP_OK) { pl->nroute = 0; pl->st.astar_fallbacks++; }
+        if (st != VP_OK) { pl->route.n = 0; pl->st.astar_fallbacks++; }
     } else {
         st = VP_ENOMEM;
     }
     if (!(pl->cfg.flags & (VP_PLAN_PREV_CHAINS | VP_PLAN_PAPER)) && b != NONE) {
         /* a long detour to a near target: first probe the straight way (one probe can save
          * many moves); the route found stays the plan if the probe hits */
-        double d = vp_dist3(pl->vrec[pl->at].p, pl->vrec[b].p);
+        double d = vp_dist3(pl->pool.vrec[pl->dev.at].p, pl->pool.vrec[b].p);
         double known = st == VP_OK ? al : 1e300;
-        if (known > 3.0 * d + 2.0 * pl->cfg.eps && d > 0.0 && in_reach(pl, pl->vrec[pl->at].p, pl->vrec[b].p))
-            pl->shortcut = b;
+        if (known > 3.0 * d + 2.0 * pl->cfg.eps && d > 0.0 && in_reach(pl, pl->pool.vrec[pl->dev.at].p, pl->pool.vrec[b].p))
+            pl->sc.to = b;
     }
     if (st != VP_OK) {
         /* the prev chains: always a way (and the only one with VP_PLAN_PREV_CHAINS) */
-        st = tree_path(pl, pl->at, b, gp, 1, &tl);
+        st = tree_path(pl, pl->dev.at, b, gp, 1, &tl);
         if (st != VP_OK) return st;
         if (pl->cfg.flags & VP_PLAN_PREV_CHAINS) pl->st.travel_prev_chains += tl;
     }
@@ -1091,7 +1089,7 @@ static int plan_route(vp_planner_t *pl, uint32_t b, const double *gp)
         st = rec_new(pl, gp, NONE, REC_OUT, &b);
         if (st != VP_OK) return st;
     }
-    pl->at = b;
+    pl->dev.at = b;
     return VP_OK;
 }
 
@@ -1101,7 +1099,7 @@ static int plan_route(vp_planner_t *pl, uint32_t b, const double *gp)
  * VP_PLAN_PAPER, otherwise only while a hole could not be closed locally. */
 static int exhaustive(const vp_planner_t *pl)
 {
-    return (pl->cfg.flags & VP_PLAN_PAPER) || pl->exhaustive;
+    return (pl->cfg.flags & VP_PLAN_PAPER) || pl->close.exhaustive;
 }
 
 /* A task is live while its tet is and its side is marked queued. A tet killed by an
@@ -1116,9 +1114,9 @@ static int task_live(const vp_planner_t *pl, const vp_task_t *k)
 static void task_compact(vp_planner_t *pl)
 {
     uint32_t i, n = 0;
-    for (i = 0; i < pl->ntask; i++)
-        if (task_live(pl, &pl->task[i])) pl->task[n++] = pl->task[i];
-    pl->ntask = n;
+    for (i = 0; i < pl->pool.ntask; i++)
+        if (task_live(pl, &pl->pool.task[i])) pl->pool.task[n++] = pl->pool.task[i];
+    pl->pool.ntask = n;
 }
 
 static int task_push(vp_planner_t *pl, uint32_t t, int f, int forced)
@@ -1126,12 +1124,11 @@ static int task_push(vp_planner_t *pl, uint32_t t, int f, int forced)
     unsigned s = side_get(pl, t, f);
     vp_task_t *k;
     if (s & SIDE_QUEUED) return VP_OK;
-    if (pl->ntask >= pl->cap_task) task_compact(pl);
-    if (pl->ntask >= pl->cap_task) return VP_ENOMEM;
-    k = &pl->task[pl->ntask++];
+    if (pl->pool.ntask >= pl->pool.cap_task) task_compact(pl);
+    if (pl->pool.ntask >= pl->pool.cap_task) return VP_ENOMEM;
+    k = &pl->pool.task[pl->pool.ntask++];
     k->tet = t;
     k->facet = (uint8_t)f;
-    k->kind = TASK_PROBE;
     k->tries = 0;
     k->proof = PROOF_NONE;
     k->off = 0.0;
@@ -1242,7 +1239,7 @@ static int task_start(vp_planner_t *pl, vp_task_t *k)
         side_free(pl, u, (int)j, pf);
         return 0;
     }
-    pl->standoff = 0.0;
+    pl->probe.standoff = 0.0;
     if (g.a_inside && pl->cfg.clearance > 0.0) {
         /* a device with a body stays outside Omega: it probes the edge's line from where the
          * line leaves Omega behind the vertex; only a hit beyond the vertex is on the edge */
@@ -1252,7 +1249,7 @@ static int task_start(vp_planner_t *pl, vp_task_t *k)
         if (!omega_clip(&pl->cfg, g.a, back, 1e300, &t0b, &t1b)) return task_unprobeable(pl, t, f);
         for (q = 0; q < 3; q++) o[q] = g.a[q] - t1b * g.dir[q];
         range = t1b + g.t1;
-        pl->standoff = t1b;
+        pl->probe.standoff = t1b;
     } else if (g.a_inside) {
         goal = tet_rec(pl, t);
         if (goal == VREC_OUT || goal == NONE) return task_unprobeable(pl, t, f);
@@ -1278,25 +1275,25 @@ static int task_start(vp_planner_t *pl, vp_task_t *k)
         int q;
         for (q = 0; q < 3; q++) o[q] += k->off * g.dir[q];
         range -= k->off;
-        goal = pl->at; /* the device was left there */
+        goal = pl->dev.at; /* the device was left there */
     }
-    pl->probe_full = range;
+    pl->probe.full = range;
     range = clamp_range(pl, range);
     if (goal != NONE) st = plan_route(pl, goal, NULL);
     else st = plan_route(pl, NONE, o);
     if (st != VP_OK) { pl->error = st; return 0; }
-    memcpy(pl->probe_origin, o, sizeof o);
-    memcpy(pl->probe_dir, g.dir, sizeof g.dir);
-    pl->probe_range = range;
-    pl->probe_origin_rec = pl->at;
-    pl->chain_proof = k->off > 0.0 ? k->proof : PROOF_NONE;
-    pl->curtask = *k;
+    memcpy(pl->probe.origin, o, sizeof o);
+    memcpy(pl->probe.dir, g.dir, sizeof g.dir);
+    pl->probe.range = range;
+    pl->probe.origin_rec = pl->dev.at;
+    pl->probe.chain_proof = k->off > 0.0 ? k->proof : PROOF_NONE;
+    pl->probe.task = *k;
     side_set(pl, t, f, side_get(pl, t, f) | SIDE_QUEUED);
-    if (pl->shortcut != NONE) {
+    if (pl->sc.to != NONE) {
         /* the shortcut probe goes first, from where the device stands now */
-        pl->sc_from = pl->route_from;
-        pl->sc_tries = 0;
-        pl->sc_pending = 1;
+        pl->sc.from = pl->route.from;
+        pl->sc.tries = 0;
+        pl->sc.pending = 1;
         return 2;
     }
     return 1;
@@ -1305,7 +1302,7 @@ static int task_start(vp_planner_t *pl, vp_task_t *k)
 /* The result of the probe of the current task. */
 static int task_finish(vp_planner_t *pl, const vp_probe_result_t *res)
 {
-    vp_task_t *k = &pl->curtask;
+    vp_task_t *k = &pl->probe.task;
     uint32_t t = k->tet, u, j, fv[3], fr;
     int f = k->facet, st, q;
     const uint32_t *w = vp_dt_tet(&pl->dt, t);
@@ -1319,27 +1316,27 @@ static int task_finish(vp_planner_t *pl, const vp_probe_result_t *res)
         pl->st.too_close++;
         return VP_OK;
     }
-    if (res->hit && pl->standoff > 0.0 && res->dist < pl->standoff + tol) {
+    if (res->hit && pl->probe.standoff > 0.0 && res->dist < pl->probe.standoff + tol) {
         /* from a standoff: the line met S before reaching the vertex; the edge is unseen */
         side_set(pl, t, f, side_get(pl, t, f) | SIDE_BLOCKED);
         pl->st.hits++;
         pl->st.occluded++;
         return VP_OK;
     }
-    if (res->hit && res->dist <= pl->probe_range + tol) {
+    if (res->hit && res->dist <= pl->probe.range + tol) {
         /* the ball centre stays strictly inside the edge: a centre on a Voronoi vertex (a hit
          * at 0 or past the end, within the noise) would put a fourth sample on its sphere */
-        double h[3], d = res->dist, inset = 1e-9 * pl->probe_range;
-        if (d > pl->probe_range - inset) d = pl->probe_range - inset;
+        double h[3], d = res->dist, inset = 1e-9 * pl->probe.range;
+        if (d > pl->probe.range - inset) d = pl->probe.range - inset;
         if (d < inset) d = inset;
-        for (q = 0; q < 3; q++) h[q] = pl->probe_origin[q] + d * pl->probe_dir[q];
+        for (q = 0; q < 3; q++) h[q] = pl->probe.origin[q] + d * pl->probe.dir[q];
         pl->st.hits++;
         vp_dt_facet(&pl->dt, t, f, fv);
         {
             unsigned su = side_get(pl, u, (int)j) & SIDE_MASK;
             uint32_t pf;
             if ((st = probe_proof(pl, res, &pf)) != VP_OK) return st;
-            st = frec_add(pl, fv, h, pl->probe_origin, t, pf, &fr);
+            st = frec_add(pl, fv, h, pl->probe.origin, t, pf, &fr);
             if (st != VP_OK) return st;
             side_set(pl, t, f, SIDE_HIT);
             if (su == SIDE_HIT) {
@@ -1356,10 +1353,10 @@ static int task_finish(vp_planner_t *pl, const vp_probe_result_t *res)
      * confirm_misses more misses on the same ray (twice that where a hit is expected) */
     if (pl->cfg.confirm_misses > 0 &&
         k->tries < pl->cfg.confirm_misses *
-                       (expect_hit(pl, t, f, pl->probe_origin, pl->probe_dir, pl->probe_range) ? 2u : 1u)) {
+                       (expect_hit(pl, t, f, pl->probe.origin, pl->probe.dir, pl->probe.range) ? 2u : 1u)) {
         k->tries++;
         pl->st.reprobes++;
-        pl->probe_ready = 1;
+        pl->probe.ready = 1;
         side_set(pl, t, f, side_get(pl, t, f) | SIDE_QUEUED);
         return VP_OK;
     }
@@ -1377,11 +1374,11 @@ static int task_finish(vp_planner_t *pl, const vp_probe_result_t *res)
             pl->st.occluded++;
             return VP_OK;
         }
-        if ((st = walk_on(pl, pl->probe_origin_rec, k->proof, e)) != VP_OK) return st;
-        k->off += pl->probe_range;
+        if ((st = walk_on(pl, pl->probe.origin_rec, k->proof, e)) != VP_OK) return st;
+        k->off += pl->probe.range;
         k->tries = 0; /* the next part of the ray is a new probe: its misses are confirmed anew */
-        if (pl->ntask >= pl->cap_task) return VP_ENOMEM;
-        pl->task[pl->ntask++] = *k;
+        if (pl->pool.ntask >= pl->pool.cap_task) return VP_ENOMEM;
+        pl->pool.task[pl->pool.ntask++] = *k;
         side_set(pl, t, f, side_get(pl, t, f) | SIDE_QUEUED);
         return VP_OK;
     }
@@ -1400,12 +1397,12 @@ static int task_finish(vp_planner_t *pl, const vp_probe_result_t *res)
         uint32_t r;
         if (vp_dt_is_ghost(&pl->dt, u) || tet_point(pl, u, c) != VP_OK || !omega_inside(&pl->cfg, c))
             return activate(pl, u, VREC_OUT);
-        st = rec_link(pl, c, pl->probe_origin_rec, 0, k->proof, &r);
+        st = rec_link(pl, c, pl->probe.origin_rec, 0, k->proof, &r);
         if (st != VP_OK || r == NONE) return st;
         return activate(pl, u, r);
     }
-    if (tet_rec(pl, u) != VREC_OUT && pl->probe_origin_rec != NONE)
-        return edge_add(pl, pl->probe_origin_rec, tet_rec(pl, u), k->proof);
+    if (tet_rec(pl, u) != VREC_OUT && pl->probe.origin_rec != NONE)
+        return edge_add(pl, pl->probe.origin_rec, tet_rec(pl, u), k->proof);
     return VP_OK;
 }
 
@@ -1441,9 +1438,9 @@ static int after_insert(vp_planner_t *pl, uint32_t pv)
     const double *P = vp_dt_point(&pl->dt, pv);
     int st, i;
 
-    if (KPAY * nk + nk + nc > pl->cap_astar) return VP_ENOMEM;
-    if (KPAY * nk + nk + nc > pl->peak_astar) pl->peak_astar = KPAY * nk + nk + nc;
-    kpay = pl->astar;
+    if (KPAY * nk + nk + nc > pl->pool.cap_astar) return VP_ENOMEM;
+    if (KPAY * nk + nk + nc > pl->peak.astar) pl->peak.astar = KPAY * nk + nk + nc;
+    kpay = pl->pool.astar;
     kbound = kpay + KPAY * nk;
     ckidx = kbound + nk;
     /* the killed tets' payloads, before created tets overwrite their slots */
@@ -1500,10 +1497,10 @@ static int after_insert(vp_planner_t *pl, uint32_t pv)
         vp_dt_facet(&pl->dt, n, jn, fv);
         r = frec_lookup(pl, fv);
         if (r != NONE) {
-            int dbl = (pl->frec[r].flags & FREC_DOUBLE) != 0;
-            memcpy(oldc, pl->frec[r].c, sizeof oldc);
-            oldproof = pl->frec[r].proof;
-            valid = vp_cmp_dist(pl->frec[r].c, P, vp_dt_point(&pl->dt, fv[0])) >= 0;
+            int dbl = (pl->pool.frec[r].flags & FREC_DOUBLE) != 0;
+            memcpy(oldc, pl->pool.frec[r].c, sizeof oldc);
+            oldproof = pl->pool.frec[r].proof;
+            valid = vp_cmp_dist(pl->pool.frec[r].c, P, vp_dt_point(&pl->dt, fv[0])) >= 0;
             if (!valid) frec_delete(pl, r);
             if (dbl) {
                 /* two crossings: nothing about free parts can be inferred; look again */
@@ -1520,8 +1517,8 @@ static int after_insert(vp_planner_t *pl, uint32_t pv)
                 sU = SIDE_BEHIND;
                 /* [P_kold, c) was free; P_n lies on it, clear of c by the noise tolerance */
                 reach_from_k = krec != NONE && krec != VREC_OUT && c_ok &&
-                               vp_dist3(pl->vrec[krec].p, c) <= vp_dist3(pl->vrec[krec].p, pl->frec[r].c) - tol;
-                pk = pl->frec[r].proof;
+                               vp_dist3(pl->pool.vrec[krec].p, c) <= vp_dist3(pl->pool.vrec[krec].p, pl->pool.frec[r].c) - tol;
+                pk = pl->pool.frec[r].proof;
             }
             else { sn = SIDE_UNKNOWN; }
         } else if (sU == SIDE_FREE || sK == SIDE_FREE) {
@@ -1605,12 +1602,12 @@ static uint32_t find_facet_slow(vp_planner_t *pl, const uint32_t *fv, int *fi);
 static uint32_t find_facet(vp_planner_t *pl, const uint32_t *fv, int *fi)
 {
     uint32_t k = frec_lookup(pl, fv);
-    if (k != NONE && vp_dt_alive(&pl->dt, pl->frec[k].hint)) {
-        const uint32_t *w = vp_dt_tet(&pl->dt, pl->frec[k].hint);
+    if (k != NONE && vp_dt_alive(&pl->dt, pl->pool.frec[k].hint)) {
+        const uint32_t *w = vp_dt_tet(&pl->dt, pl->pool.frec[k].hint);
         int a = facet_index_of(w, fv[0]), b = facet_index_of(w, fv[1]), c = facet_index_of(w, fv[2]);
         if (a >= 0 && b >= 0 && c >= 0) {
             *fi = 6 - a - b - c;
-            return pl->frec[k].hint;
+            return pl->pool.frec[k].hint;
         }
     }
     return find_facet_slow(pl, fv, fi);
@@ -1618,13 +1615,13 @@ static uint32_t find_facet(vp_planner_t *pl, const uint32_t *fv, int *fi)
 
 static uint32_t find_facet_slow(vp_planner_t *pl, const uint32_t *fv, int *fi)
 {
-    int n = vp_dt_incident_tets(&pl->dt, fv[0], pl->astar, (int)(pl->cap_astar > 65536 ? 65536 : pl->cap_astar)), k;
+    int n = vp_dt_incident_tets(&pl->dt, fv[0], pl->pool.astar, (int)(pl->pool.cap_astar > 65536 ? 65536 : pl->pool.cap_astar)), k;
     for (k = 0; k < n; k++) {
-        const uint32_t *w = vp_dt_tet(&pl->dt, pl->astar[k]);
+        const uint32_t *w = vp_dt_tet(&pl->dt, pl->pool.astar[k]);
         int a = facet_index_of(w, fv[1]), b = facet_index_of(w, fv[2]), c = facet_index_of(w, fv[0]);
         if (a >= 0 && b >= 0) {
             *fi = 6 - a - b - c;
-            return pl->astar[k];
+            return pl->pool.astar[k];
         }
     }
     return NONE;
@@ -1632,39 +1629,39 @@ static uint32_t find_facet_slow(vp_planner_t *pl, const uint32_t *fv, int *fi)
 
 static int pools_have_room(const vp_planner_t *pl)
 {
-    return pl->nvrec + 512 <= pl->cap_vrec && pl->nfedge + 512 <= pl->cap_fedge &&
-           pl->nfrec + 256 <= pl->cap_frec && pl->ntask + 256 <= pl->cap_task &&
-           pl->nheap + 256 <= pl->cap_heap && 4u * (pl->nfacets + 256) < pl->hash_mask;
+    return pl->pool.nvrec + 512 <= pl->pool.cap_vrec && pl->pool.nfedge + 512 <= pl->pool.cap_fedge &&
+           pl->pool.nfrec + 256 <= pl->pool.cap_frec && pl->pool.ntask + 256 <= pl->pool.cap_task &&
+           pl->pool.nheap + 256 <= pl->pool.cap_heap && 4u * (pl->pool.nfacets + 256) < pl->pool.hash_mask;
 }
 
 static uint32_t choose_ball(const vp_planner_t *pl)
 {
-    uint32_t best = pl->heap[0], i;
+    uint32_t best = pl->pool.heap[0], i;
     double rmin, bestd;
-    if ((pl->cfg.flags & VP_PLAN_LARGEST) || pl->nheap < 2) return best;
+    if ((pl->cfg.flags & VP_PLAN_LARGEST) || pl->pool.nheap < 2) return best;
     /* among the balls at least 70% of the largest, the nearest to the device */
-    rmin = 0.7 * pl->frec[best].r;
-    bestd = vp_dist3(pl->pos, pl->frec[best].c);
-    for (i = 1; i < pl->nheap; i++) {
-        const vp_frec_t *f = &pl->frec[pl->heap[i]];
+    rmin = 0.7 * pl->pool.frec[best].r;
+    bestd = vp_dist3(pl->dev.pos, pl->pool.frec[best].c);
+    for (i = 1; i < pl->pool.nheap; i++) {
+        const vp_frec_t *f = &pl->pool.frec[pl->pool.heap[i]];
         double d;
         if (f->r < rmin) continue;
-        d = vp_dist3(pl->pos, f->c);
-        if (d < bestd) { bestd = d; best = pl->heap[i]; }
+        d = vp_dist3(pl->dev.pos, f->c);
+        if (d < bestd) { bestd = d; best = pl->pool.heap[i]; }
     }
     return best;
 }
 
 static int refine(vp_planner_t *pl)
 {
-    if (pl->fhash_dirty) { fhash_rebuild(pl); pl->fhash_dirty = 0; }
+    if (pl->pool.fhash_dirty) { fhash_rebuild(pl); pl->pool.fhash_dirty = 0; }
     uint32_t k = choose_ball(pl), t, v = NONE, fv[3];
     int fi, st;
     double c[3];
-    if (pl->ntask + 256 > pl->cap_task) task_compact(pl);
+    if (pl->pool.ntask + 256 > pl->pool.cap_task) task_compact(pl);
     if (!pools_have_room(pl)) return VP_ENOMEM;
-    memcpy(fv, pl->frec[k].v, sizeof fv);
-    memcpy(c, pl->frec[k].c, sizeof c);
+    memcpy(fv, pl->pool.frec[k].v, sizeof fv);
+    memcpy(c, pl->pool.frec[k].c, sizeof c);
     t = find_facet(pl, fv, &fi);
     if (t == NONE) {
         frec_delete(pl, k);
@@ -1679,13 +1676,12 @@ static int refine(vp_planner_t *pl)
     if (st != VP_OK) {
         /* cannot be refined (a duplicate within rounding): keep the facet, drop the ball */
         heap_remove(pl, k);
-        pl->frec[k].flags |= FREC_STUCK;
+        pl->pool.frec[k].flags |= FREC_STUCK;
         pl->st.stale_balls++;
         return VP_OK;
     }
     pl->st.insertions++;
-    pl->last_vertex = v;
-    pl->exhaustive = 0;
+    pl->close.exhaustive = 0;
     st = after_insert(pl, v);
     note_peak(pl);
     return st;
@@ -1730,12 +1726,12 @@ static int probe_around_edge(vp_planner_t *pl, uint32_t t0, uint32_t x, uint32_t
 static int close_holes(vp_planner_t *pl)
 {
     /* edge counts in a scratch hash: 3 words per slot (a, b, count) */
-    uint32_t slots = 1, i, *tab = pl->astar, pushed = 0, holes = 0;
-    while (slots < 4u * pl->nfacets + 16u) slots <<= 1;
-    if (3u * slots > pl->cap_astar) return 0; /* too big to check here: left to certify */
+    uint32_t slots = 1, i, *tab = pl->pool.astar, pushed = 0, holes = 0;
+    while (slots < 4u * pl->pool.nfacets + 16u) slots <<= 1;
+    if (3u * slots > pl->pool.cap_astar) return 0; /* too big to check here: left to certify */
     for (i = 0; i < 3u * slots; i++) tab[i] = NONE;
-    for (i = 0; i < pl->nfrec; i++) {
-        const vp_frec_t *f = &pl->frec[i];
+    for (i = 0; i < pl->pool.nfrec; i++) {
+        const vp_frec_t *f = &pl->pool.frec[i];
         int e;
         if (f->v[0] == NONE) continue;
         for (e = 0; e < 3; e++) {
@@ -1753,8 +1749,8 @@ static int close_holes(vp_planner_t *pl)
         if (a == NONE || tab[3 * i + 2] == 2) continue;
         /* a facet record with this edge gives a tet to turn around it from */
         t = NONE;
-        for (k = 0; k < pl->nfrec && t == NONE; k++) {
-            const vp_frec_t *f = &pl->frec[k];
+        for (k = 0; k < pl->pool.nfrec && t == NONE; k++) {
+            const vp_frec_t *f = &pl->pool.frec[k];
             int ha, hb;
             if (f->v[0] == NONE) continue;
             ha = f->v[0] == a || f->v[1] == a || f->v[2] == a;
@@ -1769,18 +1765,18 @@ static int close_holes(vp_planner_t *pl)
         pushed += (uint32_t)n;
         holes++;
     }
-    if (holes > 0 && pushed == 0 && !pl->exhaustive) {
+    if (holes > 0 && pushed == 0 && !pl->close.exhaustive) {
         /* no active vertex next to the holes: detect_access in full from every active vertex
          * until the next insertion */
         uint32_t tt;
         int st;
-        pl->exhaustive = 1;
+        pl->close.exhaustive = 1;
         pl->st.escalations++;
         for (tt = 0; tt < pl->dt.ntet_slots; tt++)
             if (vp_dt_alive(&pl->dt, tt) && tet_active(pl, tt)) {
                 if ((st = explore(pl, tt)) != VP_OK) return st;
             }
-        return (int)pl->ntask;
+        return (int)pl->pool.ntask;
     }
     return (int)pushed;
 }
@@ -1798,8 +1794,8 @@ static int mesh_encloses(const vp_planner_t *pl, const double *o)
 {
     static const double dir[3] = { 0.4469983318002897, 0.5384104567341229, 0.7144217014264011 };
     uint32_t i, crossings = 0;
-    for (i = 0; i < pl->nfrec; i++) {
-        const vp_frec_t *f = &pl->frec[i];
+    for (i = 0; i < pl->pool.nfrec; i++) {
+        const vp_frec_t *f = &pl->pool.frec[i];
         const double *a, *b, *c;
         double e1[3], e2[3], p[3], q[3], t[3], det, u, v, w;
         if (f->v[0] == NONE) continue;
@@ -1847,15 +1843,14 @@ static int check_components(vp_planner_t *pl)
         const double *o = pl->cfg.interior[i];
         double d[3], q[3], te;
         int k, st;
-        if (pl->h2_done & (1u << i)) continue;
-        if (mesh_encloses(pl, o)) { pl->h2_done |= 1u << i; continue; }
-        if (pl->h2_tries[i] >= RESEED_TRIES) continue; /* reported: not found */
-        reseed_dir(pl->h2_tries[i]++, d);
+        if (pl->close.h2_done & (1u << i)) continue;
+        if (mesh_encloses(pl, o)) { pl->close.h2_done |= 1u << i; continue; }
+        if (pl->close.h2_tries[i] >= RESEED_TRIES) continue; /* reported: not found */
+        reseed_dir(pl->close.h2_tries[i]++, d);
         te = omega_exit(&pl->cfg, o, d);
         for (k = 0; k < 3; k++) q[k] = o[k] + te * d[k];
         if ((st = plan_route(pl, NONE, q)) != VP_OK) return st;
         for (k = 0; k < 3; k++) d[k] = -d[k];
-        pl->reseed = i;
         pl->phase = PH_RESEED;
         return seed_issue(pl, d, te);
     }
@@ -1876,14 +1871,14 @@ static int reseed_feed(vp_planner_t *pl, const vp_probe_result_t *res)
         if (w) pl->phase = PH_RESEED;
         return VP_OK;
     }
-    for (k = 0; k < 3; k++) h[k] = pl->probe_origin[k] + res->dist * pl->probe_dir[k];
+    for (k = 0; k < 3; k++) h[k] = pl->probe.origin[k] + res->dist * pl->probe.dir[k];
     if (!pools_have_room(pl)) return VP_ENOMEM;
     st = vp_dt_insert(&pl->dt, h, VP_DT_NONE, &v);
     if (st == VP_EDUP) return VP_OK;
     if (st != VP_OK) return st;
     pl->st.insertions++;
     pl->st.reseeds++;
-    pl->exhaustive = 0;
+    pl->close.exhaustive = 0;
     st = after_insert(pl, v);
     pl->phase = PH_RUN;
     return st;
@@ -1893,13 +1888,13 @@ static int reseed_feed(vp_planner_t *pl, const vp_probe_result_t *res)
 
 static int seed_issue(vp_planner_t *pl, const double *dir, double range)
 {
-    memcpy(pl->probe_origin, pl->vrec[pl->at].p, sizeof pl->probe_origin);
-    memcpy(pl->probe_dir, dir, sizeof pl->probe_dir);
-    pl->probe_full = range;
-    pl->probe_range = clamp_range(pl, range);
-    pl->seed_miss = 0;
-    pl->probe_ready = 1;
-    pl->chain_proof = PROOF_NONE;
+    memcpy(pl->probe.origin, pl->pool.vrec[pl->dev.at].p, sizeof pl->probe.origin);
+    memcpy(pl->probe.dir, dir, sizeof pl->probe.dir);
+    pl->probe.full = range;
+    pl->probe.range = clamp_range(pl, range);
+    pl->seed.miss = 0;
+    pl->probe.ready = 1;
+    pl->probe.chain_proof = PROOF_NONE;
     return VP_OK;
 }
 
@@ -1914,10 +1909,10 @@ static int seed_miss_on(vp_planner_t *pl)
     double e[3];
     int st, limited = probe_limited(pl);
     /* twice where the surface must lie within this probe's range */
-    if (pl->seed_miss < (limited ? 1u : 2u) * pl->cfg.confirm_misses) {
-        pl->seed_miss++;
+    if (pl->seed.miss < (limited ? 1u : 2u) * pl->cfg.confirm_misses) {
+        pl->seed.miss++;
         pl->st.reprobes++;
-        pl->probe_ready = 1;
+        pl->probe.ready = 1;
         return 1;
     }
     if (!limited || pl->cfg.clearance > 0.0) return 0;
@@ -1925,15 +1920,15 @@ static int seed_miss_on(vp_planner_t *pl)
         vp_probe_result_t miss = { 0, 0.0 };
         uint32_t pf;
         if ((st = probe_proof(pl, &miss, &pf)) != VP_OK) return st;
-        if ((st = walk_on(pl, pl->at, pf, e)) != VP_OK) return st;
-        pl->chain_proof = pf;
+        if ((st = walk_on(pl, pl->dev.at, pf, e)) != VP_OK) return st;
+        pl->probe.chain_proof = pf;
     }
-    memcpy(pl->probe_origin, e, sizeof e);
-    memcpy(pl->seed_q, e, sizeof e);
-    pl->probe_full -= pl->probe_range;
-    pl->probe_range = clamp_range(pl, pl->probe_full);
-    pl->seed_miss = 0;
-    pl->probe_ready = 1;
+    memcpy(pl->probe.origin, e, sizeof e);
+    memcpy(pl->seed.q, e, sizeof e);
+    pl->probe.full -= pl->probe.range;
+    pl->probe.range = clamp_range(pl, pl->probe.full);
+    pl->seed.miss = 0;
+    pl->probe.ready = 1;
     return 1;
 }
 
@@ -1973,26 +1968,25 @@ static int seed_next(vp_planner_t *pl)
     const double *o;
     double u[3], d[3], w1[3], w2[3], te, th;
     int k, st;
-    if (pl->seed >= pl->cfg.ninterior) return 1; /* all seeds probed */
-    o = pl->cfg.interior[pl->seed];
+    if (pl->seed.cur >= pl->cfg.ninterior) return 1; /* all seeds probed */
+    o = pl->cfg.interior[pl->seed.cur];
     vp_sub3(u, pl->cfg.start, o);
     if (!vp_normalize3(u)) { u[0] = 0; u[1] = 0; u[2] = 1; }
-    memcpy(pl->seed_dir, u, sizeof u);
-    switch (pl->seed_step) {
+    switch (pl->seed.step) {
     case 0: /* from dOmega towards o */
         te = omega_exit(&pl->cfg, o, u);
-        for (k = 0; k < 3; k++) pl->seed_q[k] = o[k] + te * u[k];
-        if ((st = plan_route(pl, NONE, pl->seed_q)) != VP_OK) return st;
+        for (k = 0; k < 3; k++) pl->seed.q[k] = o[k] + te * u[k];
+        if ((st = plan_route(pl, NONE, pl->seed.q)) != VP_OK) return st;
         for (k = 0; k < 3; k++) d[k] = -u[k];
         return seed_issue(pl, d, te);
     case 1:
     case 2: /* two directions very close to [q, a): the persistent facet */
-        th = pl->cfg.eps / (8.0 * vp_dist3(pl->seed_q, pl->seed_pts[pl->nseed_pts - 1])) /
-             (double)(1u << (2 * (pl->seed_try / 2)));
-        seed_axes(u, (int)pl->seed_try, w1, w2);
-        for (k = 0; k < 3; k++) d[k] = -u[k] + th * (pl->seed_step == 1 ? w1[k] : w2[k]);
+        th = pl->cfg.eps / (8.0 * vp_dist3(pl->seed.q, pl->seed.pts[pl->seed.npts - 1])) /
+             (double)(1u << (2 * (pl->seed.attempt / 2)));
+        seed_axes(u, (int)pl->seed.attempt, w1, w2);
+        for (k = 0; k < 3; k++) d[k] = -u[k] + th * (pl->seed.step == 1 ? w1[k] : w2[k]);
         vp_normalize3(d);
-        return seed_issue(pl, d, 2.0 * vp_dist3(pl->seed_q, o) + pl->cfg.eps);
+        return seed_issue(pl, d, 2.0 * vp_dist3(pl->seed.q, o) + pl->cfg.eps);
     default: /* a fourth point, from the other side of Omega */
         for (k = 0; k < 3; k++) d[k] = -u[k];
         te = omega_exit(&pl->cfg, o, d);
@@ -2013,54 +2007,54 @@ static int seed_feed(vp_planner_t *pl, const vp_probe_result_t *res_in)
     const vp_probe_result_t *res = &r;
     if (r.hit == VP_PROBE_TOO_CLOSE) r.hit = 0; /* no usable sample: like a miss */
     if (res->hit)
-        for (k = 0; k < 3; k++) h[k] = pl->probe_origin[k] + res->dist * pl->probe_dir[k];
-    if (!res->hit && pl->seed_step != 1 && pl->seed_step != 2) {
+        for (k = 0; k < 3; k++) h[k] = pl->probe.origin[k] + res->dist * pl->probe.dir[k];
+    if (!res->hit && pl->seed.step != 1 && pl->seed.step != 2) {
         /* towards o_i: a hit is certain unless o_i is outside the object */
         int w = res_in->hit == VP_PROBE_TOO_CLOSE ? 0 : seed_miss_on(pl);
         if (w < 0) return w;
         return w ? VP_OK : VP_ERANGE;
     }
-    switch (pl->seed_step) {
+    switch (pl->seed.step) {
     case 0:
-        memcpy(pl->seed_pts[pl->nseed_pts++], h, sizeof h);
-        pl->seed_step = 1;
-        pl->seed_try = 0;
+        memcpy(pl->seed.pts[pl->seed.npts++], h, sizeof h);
+        pl->seed.step = 1;
+        pl->seed.attempt = 0;
         return VP_OK;
     case 1:
     case 2:
-        if (res->hit && vp_dist3(h, pl->seed_pts[pl->nseed_pts - pl->seed_step]) <= pl->cfg.eps / 4.0) {
-            memcpy(pl->seed_pts[pl->nseed_pts++], h, sizeof h);
-            if (pl->seed_step == 2) {
+        if (res->hit && vp_dist3(h, pl->seed.pts[pl->seed.npts - pl->seed.step]) <= pl->cfg.eps / 4.0) {
+            memcpy(pl->seed.pts[pl->seed.npts++], h, sizeof h);
+            if (pl->seed.step == 2) {
                 /* legs short and the triangle not flat, else try other axes, smaller angles */
-                const double *a = pl->seed_pts[pl->nseed_pts - 3], *b = pl->seed_pts[pl->nseed_pts - 2];
+                const double *a = pl->seed.pts[pl->seed.npts - 3], *b = pl->seed.pts[pl->seed.npts - 2];
                 double ab[3], ac[3], n[3], area2, l2;
                 vp_sub3(ab, b, a);
                 vp_sub3(ac, h, a);
                 vp_cross3(n, ab, ac);
                 area2 = sqrt(vp_dot3(n, n));
                 l2 = vp_dot3(ab, ab) > vp_dot3(ac, ac) ? vp_dot3(ab, ab) : vp_dot3(ac, ac);
-                if (!(area2 > 0.2 * l2) && pl->seed_try < 12) {
-                    pl->nseed_pts -= 2;
-                    pl->seed_try++;
-                    pl->seed_step = 1;
+                if (!(area2 > 0.2 * l2) && pl->seed.attempt < 12) {
+                    pl->seed.npts -= 2;
+                    pl->seed.attempt++;
+                    pl->seed.step = 1;
                     return VP_OK;
                 }
-                pl->seed_step = 3;
+                pl->seed.step = 3;
             } else {
-                pl->seed_step = 2;
+                pl->seed.step = 2;
             }
             return VP_OK;
         }
         /* a miss or a far hit (near a silhouette the ray lands elsewhere): retry */
-        if (pl->seed_try >= 12) return VP_ERANGE;
-        if (pl->seed_step == 2) pl->nseed_pts--;
-        pl->seed_try++;
-        pl->seed_step = 1;
+        if (pl->seed.attempt >= 12) return VP_ERANGE;
+        if (pl->seed.step == 2) pl->seed.npts--;
+        pl->seed.attempt++;
+        pl->seed.step = 1;
         return VP_OK;
     default:
-        memcpy(pl->seed_pts[pl->nseed_pts++], h, sizeof h);
-        pl->seed++;
-        pl->seed_step = 0;
+        memcpy(pl->seed.pts[pl->seed.npts++], h, sizeof h);
+        pl->seed.cur++;
+        pl->seed.step = 0;
         return VP_OK;
     }
 }
@@ -2070,8 +2064,8 @@ static int start_run(vp_planner_t *pl)
 {
     uint32_t i, t;
     int st;
-    for (i = 0; i < pl->nseed_pts; i++) {
-        st = vp_dt_insert(&pl->dt, pl->seed_pts[i], VP_DT_NONE, NULL);
+    for (i = 0; i < pl->seed.npts; i++) {
+        st = vp_dt_insert(&pl->dt, pl->seed.pts[i], VP_DT_NONE, NULL);
         if (st != VP_OK && st != VP_EDUP) return st;
     }
     if (pl->dt.dim < 3) return VP_EDEGEN;
@@ -2119,51 +2113,48 @@ int vp_planner_init(vp_planner_t *pl, void *arena, size_t bytes, const vp_planne
         return VP_EINVAL;
     memset(pl, 0, sizeof *pl);
     pl->cfg = *cfg;
-    pl->arena = (unsigned char *)arena;
-    pl->arena_bytes = bytes;
-    cur = pl->arena;
-    end = pl->arena + bytes;
+    cur = (unsigned char *)arena;
+    end = cur + bytes;
     /* the split, per 100 units, from the peaks measured per output vertex (README): the
      * triangulation at least 29, records 20, proofs 16, free edges 6, facets 7, tasks 7, hash
      * 2-4, path search and hole scratch 8, paths 1, heap 1, route 1 */
     unit = bytes / 100;
     if (bytes < 64 * 1024) return VP_ENOMEM;
-    pl->cap_vrec = (uint32_t)(20 * unit / sizeof(vp_vrec_t));
-    pl->cap_frec = (uint32_t)(7 * unit / sizeof(vp_frec_t));
-    pl->cap_fedge = (uint32_t)(6 * unit / (4 * FEDGE_WORDS));
+    pl->pool.cap_vrec = (uint32_t)(20 * unit / sizeof(vp_vrec_t));
+    pl->pool.cap_frec = (uint32_t)(7 * unit / sizeof(vp_frec_t));
+    pl->pool.cap_fedge = (uint32_t)(6 * unit / (4 * FEDGE_WORDS));
     for (hwords = 1; (size_t)hwords * 2 * 4 <= 4 * unit; hwords <<= 1) {}
-    pl->cap_astar = (uint32_t)(8 * unit / 4);
-    pl->cap_path = (uint32_t)(unit / 4);
-    pl->cap_task = (uint32_t)(7 * unit / sizeof(vp_task_t));
-    pl->cap_heap = (uint32_t)(unit / 4);
-    pl->cap_route = (uint32_t)(unit / 24);
-    if (pl->cap_route > 4096) pl->cap_route = 4096;
-    pl->vrec = carve(&cur, end, (size_t)pl->cap_vrec * sizeof(vp_vrec_t));
-    pl->frec = carve(&cur, end, (size_t)pl->cap_frec * sizeof(vp_frec_t));
-    pl->fedge = carve(&cur, end, (size_t)pl->cap_fedge * 4 * FEDGE_WORDS);
-    pl->fhash = carve(&cur, end, (size_t)hwords * 4);
-    pl->astar = carve(&cur, end, (size_t)pl->cap_astar * 4);
-    pl->path = carve(&cur, end, (size_t)pl->cap_path * 4);
-    pl->task = carve(&cur, end, (size_t)pl->cap_task * sizeof(vp_task_t));
-    pl->heap = carve(&cur, end, (size_t)pl->cap_heap * 4);
-    pl->route = carve(&cur, end, (size_t)pl->cap_route * 24);
-    pl->route_proof = carve(&cur, end, (size_t)pl->cap_route * 4);
-    pl->cap_proof = (uint32_t)(PROOF_SHARE * unit / sizeof(vp_proof_t));
-    pl->proof = carve(&cur, end, (size_t)pl->cap_proof * sizeof(vp_proof_t));
-    if (!pl->route_proof || !pl->proof || pl->cap_proof < 64) return VP_ENOMEM;
-    if (!pl->vrec || !pl->frec || !pl->fedge || !pl->fhash || !pl->astar || !pl->path ||
-        !pl->task || !pl->heap || !pl->route || pl->cap_vrec < 64 || pl->cap_frec < 64 ||
-        pl->cap_task < 64 || pl->cap_route < 64 || pl->cap_astar < 1024)
+    pl->pool.cap_astar = (uint32_t)(8 * unit / 4);
+    pl->route.cap_path = (uint32_t)(unit / 4);
+    pl->pool.cap_task = (uint32_t)(7 * unit / sizeof(vp_task_t));
+    pl->pool.cap_heap = (uint32_t)(unit / 4);
+    pl->route.cap = (uint32_t)(unit / 24);
+    if (pl->route.cap > 4096) pl->route.cap = 4096;
+    pl->pool.vrec = carve(&cur, end, (size_t)pl->pool.cap_vrec * sizeof(vp_vrec_t));
+    pl->pool.frec = carve(&cur, end, (size_t)pl->pool.cap_frec * sizeof(vp_frec_t));
+    pl->pool.fedge = carve(&cur, end, (size_t)pl->pool.cap_fedge * 4 * FEDGE_WORDS);
+    pl->pool.fhash = carve(&cur, end, (size_t)hwords * 4);
+    pl->pool.astar = carve(&cur, end, (size_t)pl->pool.cap_astar * 4);
+    pl->route.path = carve(&cur, end, (size_t)pl->route.cap_path * 4);
+    pl->pool.task = carve(&cur, end, (size_t)pl->pool.cap_task * sizeof(vp_task_t));
+    pl->pool.heap = carve(&cur, end, (size_t)pl->pool.cap_heap * 4);
+    pl->route.pts = carve(&cur, end, (size_t)pl->route.cap * 24);
+    pl->route.proof = carve(&cur, end, (size_t)pl->route.cap * 4);
+    pl->pool.cap_proof = (uint32_t)(PROOF_SHARE * unit / sizeof(vp_proof_t));
+    pl->pool.proof = carve(&cur, end, (size_t)pl->pool.cap_proof * sizeof(vp_proof_t));
+    if (!pl->route.proof || !pl->pool.proof || pl->pool.cap_proof < 64) return VP_ENOMEM;
+    if (!pl->pool.vrec || !pl->pool.frec || !pl->pool.fedge || !pl->pool.fhash || !pl->pool.astar || !pl->route.path ||
+        !pl->pool.task || !pl->pool.heap || !pl->route.pts || pl->pool.cap_vrec < 64 || pl->pool.cap_frec < 64 ||
+        pl->pool.cap_task < 64 || pl->route.cap < 64 || pl->pool.cap_astar < 1024)
         return VP_ENOMEM;
     dtb = (size_t)(end - cur);
     if (dtb < 29 * unit) return VP_ENOMEM;
     st = vp_dt_init(&pl->dt, cur, dtb, KPAY * 4);
     if (st != VP_OK) return st == VP_EINVAL ? VP_ENOMEM : st;
-    pl->hash_mask = hwords - 1;
-    for (i = 0; i < hwords; i++) pl->fhash[i] = HASH_EMPTY;
-    pl->frec_free = NONE;
-    pl->last_vertex = NONE;
-    pl->cur_proof = pl->chain_proof = PROOF_NONE;
+    pl->pool.hash_mask = hwords - 1;
+    for (i = 0; i < hwords; i++) pl->pool.fhash[i] = HASH_EMPTY;
+    pl->pool.frec_free = NONE;
+    pl->probe.cur_proof = pl->probe.chain_proof = PROOF_NONE;
     /* the slack of a proof: rounding of constructed points, far below any physical size */
     pl->ptol = 1e-10 * (1.0 + omega_circumradius(cfg));
     pl->phase = PH_SEED;
@@ -2172,8 +2163,8 @@ int vp_planner_init(vp_planner_t *pl, void *arena, size_t bytes, const vp_planne
         double x = cfg->min_angle * 0.017453292519943295, x2 = x * x;
         pl->sin_angle = x * (1.0 - x2 / 6.0 * (1.0 - x2 / 20.0 * (1.0 - x2 / 42.0 * (1.0 - x2 / 72.0))));
     }
-    memcpy(pl->pos, cfg->start, sizeof pl->pos);
-    st = rec_new(pl, cfg->start, NONE, REC_OUT, &pl->at);
+    memcpy(pl->dev.pos, cfg->start, sizeof pl->dev.pos);
+    st = rec_new(pl, cfg->start, NONE, REC_OUT, &pl->dev.at);
     if (st != VP_OK) return st;
     note_peak(pl);
     return VP_OK;
@@ -2182,10 +2173,10 @@ int vp_planner_init(vp_planner_t *pl, void *arena, size_t bytes, const vp_planne
 /* A PROBE goes out: what its result will prove is measured from this ray. */
 static void issue_probe(vp_planner_t *pl, const vp_cmd_t *cmd)
 {
-    memcpy(pl->iss_o, cmd->from, sizeof pl->iss_o);
-    memcpy(pl->iss_d, cmd->dir, sizeof pl->iss_d);
-    pl->iss_range = cmd->range;
-    pl->cur_proof = PROOF_NONE;
+    memcpy(pl->dev.iss_o, cmd->from, sizeof pl->dev.iss_o);
+    memcpy(pl->dev.iss_d, cmd->dir, sizeof pl->dev.iss_d);
+    pl->dev.iss_range = cmd->range;
+    pl->probe.cur_proof = PROOF_NONE;
 }
 
 /* internal steps one vp_planner_next call may take without a command (plus 4 per task slot):
@@ -2197,57 +2188,57 @@ int vp_planner_next(vp_planner_t *pl, vp_cmd_t *cmd)
     int st;
     uint64_t budget;
     if (!pl || !cmd) return VP_EINVAL;
-    if (pl->awaiting) return VP_ESTATE;
+    if (pl->dev.awaiting) return VP_ESTATE;
     if (pl->error) return pl->error;
     memset(cmd, 0, sizeof *cmd);
-    for (budget = STEP_BUDGET + 4u * (uint64_t)pl->cap_task;; budget--) {
+    for (budget = STEP_BUDGET + 4u * (uint64_t)pl->pool.cap_task;; budget--) {
         if (budget == 0) {
             /* bounded work per call: a loop that issues nothing is reported, never spun */
             pl->st.stalls++;
             pl->error = VP_ESTALL;
             return VP_ESTALL;
         }
-        if (pl->iroute < pl->nroute) {
-            const double *to = pl->route + 3 * (size_t)pl->iroute;
+        if (pl->route.i < pl->route.n) {
+            const double *to = pl->route.pts + 3 * (size_t)pl->route.i;
             /* the one promise: a MOVE only along a segment with a proof of freedom */
-            if (!proof_covers(pl, pl->route_proof[pl->iroute], pl->pos, to)) {
+            if (!proof_covers(pl, pl->route.proof[pl->route.i], pl->dev.pos, to)) {
                 pl->error = VP_EUNSAFE;
                 return VP_EUNSAFE;
             }
-            pl->iroute++;
+            pl->route.i++;
             cmd->kind = VP_CMD_MOVE;
-            memcpy(cmd->from, pl->pos, sizeof cmd->from);
+            memcpy(cmd->from, pl->dev.pos, sizeof cmd->from);
             memcpy(cmd->to, to, sizeof cmd->to);
-            pl->st.travel += vp_dist3(pl->pos, to);
+            pl->st.travel += vp_dist3(pl->dev.pos, to);
             pl->st.moves++;
-            memcpy(pl->pos, to, sizeof pl->pos);
+            memcpy(pl->dev.pos, to, sizeof pl->dev.pos);
             return VP_OK;
         }
-        if (pl->sc_pending == 1) {
-            const vp_vrec_t *a = &pl->vrec[pl->sc_from], *b = &pl->vrec[pl->shortcut];
+        if (pl->sc.pending == 1) {
+            const vp_vrec_t *a = &pl->pool.vrec[pl->sc.from], *b = &pl->pool.vrec[pl->sc.to];
             double d[3], len;
             vp_sub3(d, b->p, a->p);
             len = sqrt(vp_dot3(d, d));
             d[0] /= len; d[1] /= len; d[2] /= len;
-            pl->sc_pending = 2;
-            pl->awaiting = 1;
+            pl->sc.pending = 2;
+            pl->dev.awaiting = 1;
             cmd->kind = VP_CMD_PROBE;
             memcpy(cmd->from, a->p, sizeof cmd->from);
             memcpy(cmd->dir, d, sizeof cmd->dir);
             cmd->range = len;
-            pl->chain_proof = PROOF_NONE;
+            pl->probe.chain_proof = PROOF_NONE;
             issue_probe(pl, cmd);
             pl->st.probes++;
             pl->st.shortcut_probes++;
             return VP_OK;
         }
-        if (pl->probe_ready) {
-            pl->probe_ready = 0;
-            pl->awaiting = 1;
+        if (pl->probe.ready) {
+            pl->probe.ready = 0;
+            pl->dev.awaiting = 1;
             cmd->kind = VP_CMD_PROBE;
-            memcpy(cmd->from, pl->probe_origin, sizeof cmd->from);
-            memcpy(cmd->dir, pl->probe_dir, sizeof cmd->dir);
-            cmd->range = pl->probe_range;
+            memcpy(cmd->from, pl->probe.origin, sizeof cmd->from);
+            memcpy(cmd->dir, pl->probe.dir, sizeof cmd->dir);
+            cmd->range = pl->probe.range;
             issue_probe(pl, cmd);
             pl->st.probes++;
             return VP_OK;
@@ -2262,19 +2253,19 @@ int vp_planner_next(vp_planner_t *pl, vp_cmd_t *cmd)
             break;
         case PH_RUN:
             st = VP_OK;
-            if (pl->nheap > 0 && !exhaustive(pl) &&
-                !(pl->ntask > 0 && pl->task[pl->ntask - 1].off > 0.0)) {
+            if (pl->pool.nheap > 0 && !exhaustive(pl) &&
+                !(pl->pool.ntask > 0 && pl->pool.task[pl->pool.ntask - 1].off > 0.0)) {
                 /* a known bad ball is refined at once: the probes still queued around it
                  * would mostly test facets that its insertion kills (the published rule
                  * finishes detect_access first). A range-limited probe in progress goes on
                  * first: the device stands at the end of its free part. */
                 st = refine(pl);
-            } else if (pl->ntask > 0) {
-                vp_task_t k = pl->task[--pl->ntask];
-                if (task_start(pl, &k)) pl->probe_ready = 1;
-                if (pl->sc_pending) pl->iroute = pl->nroute; /* hold the route: shortcut first */
+            } else if (pl->pool.ntask > 0) {
+                vp_task_t k = pl->pool.task[--pl->pool.ntask];
+                if (task_start(pl, &k)) pl->probe.ready = 1;
+                if (pl->sc.pending) pl->route.i = pl->route.n; /* hold the route: shortcut first */
                 st = pl->error;
-            } else if (pl->nheap > 0) {
+            } else if (pl->pool.nheap > 0) {
                 st = refine(pl);
             } else {
                 pl->phase = PH_CLOSE;
@@ -2283,13 +2274,13 @@ int vp_planner_next(vp_planner_t *pl, vp_cmd_t *cmd)
         case PH_CLOSE:
             /* closing again with nothing probed or inserted since the last try cannot do
              * better: the holes stay (certify names them) */
-            if (pl->close_mark == pl->st.probes + pl->st.insertions + 1) {
+            if (pl->close.mark == pl->st.probes + pl->st.insertions + 1) {
                 pl->st.stalls++;
                 pl->phase = PH_COMPONENTS;
                 st = VP_OK;
                 break;
             }
-            pl->close_mark = pl->st.probes + pl->st.insertions + 1;
+            pl->close.mark = pl->st.probes + pl->st.insertions + 1;
             st = close_holes(pl);
             pl->phase = st > 0 ? PH_RUN : PH_COMPONENTS;
             if (st > 0) st = VP_OK;
@@ -2313,38 +2304,38 @@ int vp_planner_feed(vp_planner_t *pl, const vp_probe_result_t *res)
 {
     int st;
     if (!pl || !res) return VP_EINVAL;
-    if (!pl->awaiting) return VP_ESTATE;
+    if (!pl->dev.awaiting) return VP_ESTATE;
     if (res->hit < 0 || res->hit > VP_PROBE_TOO_CLOSE) return VP_EINVAL;
     if (res->hit == 1 && (!(res->dist >= 0.0) || !(res->dist < 1e300))) return VP_EINVAL;
-    pl->awaiting = 0;
-    if (pl->sc_pending == 2) {
-        pl->sc_pending = 0;
+    pl->dev.awaiting = 0;
+    if (pl->sc.pending == 2) {
+        pl->sc.pending = 0;
         if (res->hit) {
             pl->st.hits++;
-            if (pl->route_deferred) {
-                pl->route_deferred = 0;
-                st = route_full(pl, pl->sc_from, pl->shortcut);
+            if (pl->route.deferred) {
+                pl->route.deferred = 0;
+                st = route_full(pl, pl->sc.from, pl->sc.to);
                 if (st != VP_OK) { pl->error = st; return st; }
             }
-            pl->iroute = 0; /* the searched route stands */
+            pl->route.i = 0; /* the searched route stands */
             return VP_OK;
         }
         pl->st.misses++;
-        if (pl->sc_tries < pl->cfg.confirm_misses) {
-            pl->sc_tries++;
+        if (pl->sc.tries < pl->cfg.confirm_misses) {
+            pl->sc.tries++;
             pl->st.reprobes++;
-            pl->sc_pending = 1;
+            pl->sc.pending = 1;
             return VP_OK;
         }
         /* the straight way is free: take it */
         {
             uint32_t pf;
-            pl->route_deferred = 0;
+            pl->route.deferred = 0;
             st = probe_proof(pl, res, &pf);
-            if (st == VP_OK) st = edge_add(pl, pl->sc_from, pl->shortcut, pf);
+            if (st == VP_OK) st = edge_add(pl, pl->sc.from, pl->sc.to, pf);
             if (st != VP_OK) { pl->error = st; return st; }
-            pl->nroute = pl->iroute = 0;
-            st = route_push(pl, pl->vrec[pl->shortcut].p, pf);
+            pl->route.n = pl->route.i = 0;
+            st = route_push(pl, pl->pool.vrec[pl->sc.to].p, pf);
             if (st != VP_OK) { pl->error = st; return st; }
         }
         return VP_OK;
@@ -2356,15 +2347,15 @@ int vp_planner_feed(vp_planner_t *pl, const vp_probe_result_t *res)
     return st;
 }
 
-uint32_t vp_planner_facet_slots(const vp_planner_t *pl) { return pl->nfrec; }
-uint32_t vp_planner_num_facets(const vp_planner_t *pl) { return pl->nfacets; }
+uint32_t vp_planner_facet_slots(const vp_planner_t *pl) { return pl->pool.nfrec; }
+uint32_t vp_planner_num_facets(const vp_planner_t *pl) { return pl->pool.nfacets; }
 const vp_dt_t *vp_planner_dt(const vp_planner_t *pl) { return &pl->dt; }
 
 int vp_planner_facet(const vp_planner_t *pl, uint32_t i, uint32_t v[3], double *radius, double center[3])
 {
     const vp_frec_t *f;
-    if (i >= pl->nfrec) return 0;
-    f = &pl->frec[i];
+    if (i >= pl->pool.nfrec) return 0;
+    f = &pl->pool.frec[i];
     if (f->v[0] == NONE) return 0;
     v[0] = f->v[0];
     v[1] = (f->flags & FREC_FLIP) ? f->v[2] : f->v[1];
@@ -2378,14 +2369,14 @@ void vp_planner_get_stats(const vp_planner_t *pl, vp_planner_stats_t *st)
 {
     uint32_t i;
     *st = pl->st;
-    st->bad_balls = pl->nheap;
+    st->bad_balls = pl->pool.nheap;
     st->missing_components = 0;
     for (i = 0; i < pl->cfg.ninterior; i++)
-        st->missing_components += !(pl->h2_done & (1u << i));
-    st->records = pl->nvrec;
-    st->free_edges = pl->nfedge;
-    st->facet_records = pl->nfacets;
+        st->missing_components += !(pl->close.h2_done & (1u << i));
+    st->records = pl->pool.nvrec;
+    st->free_edges = pl->pool.nfedge;
+    st->facet_records = pl->pool.nfacets;
     st->max_ball = 0.0;
-    for (i = 0; i < pl->nfrec; i++)
-        if (pl->frec[i].v[0] != NONE && pl->frec[i].r > st->max_ball) st->max_ball = pl->frec[i].r;
+    for (i = 0; i < pl->pool.nfrec; i++)
+        if (pl->pool.frec[i].v[0] != NONE && pl->pool.frec[i].r > st->max_ball) st->max_ball = pl->pool.frec[i].r;
 }

@@ -95,12 +95,12 @@ typedef struct vp_planner_stats {
     size_t arena_peak;
 } vp_planner_stats_t;
 
-/* Internal records, declared for sizing only. */
+/* Internal records, declared for sizing only (core/planner/vp_planner_priv.h has the rest). */
 typedef struct vp_vrec vp_vrec_t;
 typedef struct vp_frec vp_frec_t;
 typedef struct vp_task {
     uint32_t tet;
-    uint8_t facet, kind;
+    uint8_t facet;
     uint16_t tries;
     uint32_t proof;    /* with off > 0: the proof of the ray's last free piece */
     double off;        /* already proven free from the origin (a range-limited probe) */
@@ -113,58 +113,100 @@ typedef struct vp_proof {
     uint32_t prev;
 } vp_proof_t;
 
-typedef struct vp_planner {
-    vp_planner_config_t cfg;
-    vp_dt_t dt;
-    unsigned char *arena;
-    size_t arena_bytes;
-    /* pools carved from the arena */
-    vp_vrec_t *vrec; uint32_t nvrec, cap_vrec;
-    uint32_t *fedge; uint32_t nfedge, cap_fedge;     /* 4 words: a, b, next_a, next_b */
-    vp_frec_t *frec; uint32_t nfrec, cap_frec, frec_free, nfacets;
-    uint32_t *fhash; uint32_t hash_mask, ntomb;       /* facet key -> frec index */
-    int fhash_dirty;
-    uint32_t *heap; uint32_t nheap, cap_heap;         /* bad balls, max-heap on radius */
-    vp_task_t *task; uint32_t ntask, cap_task;        /* pending probes (a stack) */
-    uint32_t *path; uint32_t npath, cap_path, ipath;  /* current route: waypoint records */
-    double *route; uint32_t nroute, iroute, cap_route;/* current route as points */
-    uint32_t *route_proof;                            /* each route step's proof of freedom */
-    vp_proof_t *proof; uint32_t nproof, cap_proof;    /* free parts of probes, as proven */
-    uint32_t cur_proof;      /* the proof made from the current probe's result (or none) */
-    uint32_t chain_proof;    /* the current probe continues this proof's ray (or none) */
-    double iss_o[3], iss_d[3], iss_range; /* the PROBE issued last */
-    double ptol;             /* slack of a proof check (rounding of constructed points) */
-    uint64_t close_mark;     /* probes + insertions + 1 when holes were last closed */
-    uint32_t *astar; uint32_t cap_astar;              /* scratch of the path search */
-    /* state machine */
-    int phase;
-    int awaiting;            /* 1: a PROBE was issued, feed() expected */
-    uint32_t at;             /* record the device stands at (VP_DT_NONE between) */
+/* The planner's state, in parts by role (like grbl's stepper.c). Each part says who writes it;
+ * the files are those of core/planner/. Nothing here is for the caller to read or write: use
+ * the functions below (cfg may be read). */
+
+/* The pools, carved from the arena once by vp_planner_init (planner.c) and never moved. */
+typedef struct vp_pl_pools {
+    vp_vrec_t *vrec; uint32_t nvrec, cap_vrec;        /* records: route.c (rec_new) */
+    uint32_t *fedge; uint32_t nfedge, cap_fedge;      /* free graph: route.c (edge_add) */
+    vp_frec_t *frec; uint32_t nfrec, cap_frec, frec_free, nfacets; /* facets.c */
+    uint32_t *fhash; uint32_t hash_mask, ntomb;       /* facet key -> frec index: facets.c */
+    int fhash_dirty;                                  /* facets.c: rebuild before a lookup */
+    uint32_t *heap; uint32_t nheap, cap_heap;         /* bad balls, max-heap on radius: facets.c */
+    vp_task_t *task; uint32_t ntask, cap_task;        /* pending probes (a stack): tasks.c */
+    vp_proof_t *proof; uint32_t nproof, cap_proof;    /* free parts of probes: proof.c */
+    uint32_t *astar; uint32_t cap_astar;              /* scratch, see VP_PL_SCRATCH in the
+                                                         private header for who owns it when */
+} vp_pl_pools_t;
+
+/* The current route: written by route.c (plan_route, route_push), consumed one MOVE at a time
+ * by vp_planner_next (planner.c). Done when i == n. */
+typedef struct vp_pl_route {
+    uint32_t *path; uint32_t cap_path;     /* waypoint records of a path search (route.c) */
+    double *pts; uint32_t n, i, cap;       /* the route as points; i: the next one to move to */
+    uint32_t *proof;                       /* each step's proof of freedom */
+    uint32_t from;                         /* the record the route starts at */
+    int deferred;                          /* the route waits for the shortcut probe's answer */
+} vp_pl_route_t;
+
+/* Where the device is and what it was last told: planner.c (next/feed). */
+typedef struct vp_pl_device {
     double pos[3];
-    uint32_t seed, seed_step, seed_try;
-    uint32_t seed_miss;      /* misses of the current seed probe (dropouts are re-probed) */
-    double seed_pts[4 * VP_PLANNER_MAX_SEEDS][3];
-    uint32_t nseed_pts;
-    double seed_q[3], seed_dir[3];
-    double probe_origin[3], probe_dir[3], probe_range, probe_full;
-    double standoff;         /* distance from the probe origin to the edge's vertex (body mode) */
-    int probe_ready;         /* a probe is prepared: issue it once the route is done */
-    uint32_t probe_origin_rec, misses_in_row;
-    uint32_t route_from;     /* where the current route starts */
-    uint32_t shortcut, sc_from, sc_tries; /* a straight shortcut being probed */
-    int sc_pending;          /* 1: to issue, 2: issued */
-    int route_deferred;      /* the route waits for the shortcut probe's answer */
-    uint32_t stamp;
-    uint32_t last_vertex;
-    uint32_t peak_task, peak_heap, peak_route, peak_astar, peak_path; /* high-water marks */
-    int error;
-    int exhaustive;          /* detect_access in full until the next insertion (closing) */
-    double sin_angle;        /* sin of the angle bound (0: none) */
+    uint32_t at;                           /* record it stands at (VP_DT_NONE between) */
+    int awaiting;                          /* 1: a PROBE was issued, feed() expected */
+    double iss_o[3], iss_d[3], iss_range;  /* the PROBE issued last */
+} vp_pl_device_t;
+
+/* The probe being carried out: prepared by task_start (tasks.c) or the seed/reseed steps
+ * (seed.c, close.c), issued by vp_planner_next, closed by task_finish. */
+typedef struct vp_pl_probe {
+    vp_task_t task;                        /* the task it carries out */
+    double origin[3], dir[3], range, full;
+    double standoff;                       /* origin to the edge's vertex (body mode) */
+    int ready;                             /* prepared: issue it once the route is done */
+    uint32_t origin_rec;
+    uint32_t cur_proof;                    /* the proof made from its result (or none): proof.c */
+    uint32_t chain_proof;                  /* it continues this proof's ray (or none) */
+} vp_pl_probe_t;
+
+/* A straight shortcut being probed instead of a detour: route.c proposes, planner.c issues
+ * and takes the answer. */
+typedef struct vp_pl_shortcut {
+    uint32_t to, from, tries;
+    int pending;                           /* 1: to issue, 2: issued */
+} vp_pl_shortcut_t;
+
+/* The seeds: seed.c only. */
+typedef struct vp_pl_seed {
+    uint32_t cur, step, attempt;
+    uint32_t miss;                         /* misses of the current seed probe (dropouts) */
+    double pts[4 * VP_PLANNER_MAX_SEEDS][3];
+    uint32_t npts;
+    double q[3];
+} vp_pl_seed_t;
+
+/* Closing holes and H2: close.c (and the exhaustive flag read by tasks.c). */
+typedef struct vp_pl_close {
+    uint64_t mark;           /* probes + insertions + 1 when holes were last closed */
+    int exhaustive;          /* detect_access in full until the next insertion */
     uint32_t h2_done;        /* bit i: o_i is enclosed by the mesh */
     uint8_t h2_tries[VP_PLANNER_MAX_SEEDS];
-    uint32_t reseed;
-    vp_task_t curtask;       /* the probe being carried out */
-    vp_planner_stats_t st;
+} vp_pl_close_t;
+
+/* High-water marks of the pools whose use goes up and down (for stats.arena_peak). */
+typedef struct vp_pl_peak {
+    uint32_t task, heap, route, astar, path;
+} vp_pl_peak_t;
+
+typedef struct vp_planner {
+    vp_planner_config_t cfg; /* the caller's, copied by init; read everywhere */
+    vp_dt_t dt;              /* the Delaunay triangulation of the samples (vp_dt) */
+    int phase;               /* PH_*: the phase machine of planner.c */
+    int error;               /* sticky: once < 0, next/feed return it */
+    uint32_t stamp;          /* path search generation (route.c) */
+    double ptol;             /* slack of a proof check (rounding of constructed points) */
+    double sin_angle;        /* sin of the angle bound (0: none) */
+    vp_pl_pools_t pool;
+    vp_pl_route_t route;
+    vp_pl_device_t dev;
+    vp_pl_probe_t probe;
+    vp_pl_shortcut_t sc;
+    vp_pl_seed_t seed;
+    vp_pl_close_t close;
+    vp_pl_peak_t peak;
+    vp_planner_stats_t st;   /* counters, written where things happen */
 } vp_planner_t;
 
 /* Checks the configuration (VP_EINVAL: bad Omega, eps <= 0 or NaN, no interior point, an
