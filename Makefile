@@ -48,7 +48,7 @@ PORT_CXX_SRC := $(sort $(wildcard port/*.cpp))
 PORT_LIBS += $(shell pkg-config --libs libcamera) -lstdc++
 endif
 
-CORE_SRC := $(sort $(wildcard core/*.c))
+CORE_SRC := $(sort $(wildcard core/*.c core/planner/*.c))
 SIM_SRC  := $(sort $(wildcard host-sim/*.c))
 PORT_SRC := $(sort $(wildcard port/*.c))
 TOOL_SRC := $(sort $(filter-out tools/main.c,$(wildcard tools/*.c)))
@@ -100,7 +100,7 @@ $(CONFIG): FORCE
 	@if cmp -s $@.new $@; then rm -f $@.new; else mv -f $@.new $@; \
 	  echo "$(BUILD): GPIO libgpiod $(if $(HAVE_GPIOD),yes,no), camera libcamera $(if $(HAVE_LIBCAMERA),yes,no) (configuration in $@)"; fi
 
-$(BUILD)/core/%.o: core/%.c $(wildcard core/*.h) Makefile $(CONFIG)
+$(BUILD)/core/%.o: core/%.c $(wildcard core/*.h core/planner/*.h) Makefile $(CONFIG)
 	@mkdir -p $(@D)
 	$(CC) $(CORE_CFLAGS) -c $< -o $@
 
