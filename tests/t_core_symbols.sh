@@ -4,10 +4,10 @@
 set -u
 B=${BUILD:-build}
 ALLOW="memcpy memset memmove memcmp sqrt fabs floor ceil"
-objs=$(ls "$B"/core/*.o 2>/dev/null)
+objs=$(ls "$B"/core/*.o "$B"/core/planner/*.o 2>/dev/null)
 [ -n "$objs" ] || { echo "no core objects in $B/core"; exit 1; }
 bad=0
-defined=$(nm "$B"/core/*.o | awk '$2 ~ /^[TtRrVW]$/ {print $3}' | sort -u)
+defined=$(nm $objs | awk '$2 ~ /^[TtRrVW]$/ {print $3}' | sort -u)
 for s in $(nm -u $objs | awk 'NF==2 && $1=="U" {print $2}' | sort -u); do
   case " $ALLOW " in *" $s "*) continue;; esac
   echo "$defined" | grep -qx "$s" && continue
@@ -20,7 +20,7 @@ if [ -n "$data" ]; then
   bad=1
 fi
 # the core sources themselves: no stdio, no heap
-if grep -nE '#include <(stdio|stdlib|malloc|unistd|time|pthread)\.h>' core/*.c core/*.h; then
+if grep -nE '#include <(stdio|stdlib|malloc|unistd|time|pthread)\.h>' core/*.c core/*.h core/planner/*.c core/planner/*.h; then
   echo "core includes an OS header"; bad=1
 fi
 [ $bad -eq 0 ] && echo "core symbols ok: $(echo $objs | wc -w) objects, references only: $(nm -u $objs | awk 'NF==2{print $2}' | sort -u | grep -vxF "$defined" | tr '\n' ' ')"

@@ -12,7 +12,8 @@ CF="-mcpu=cortex-m4 -mthumb -mfloat-abi=hard -mfpu=fpv4-sp-d16 -Os -ffreestandin
     -Wall -Wextra -Werror -Wmissing-prototypes -Wshadow -ffp-contract=off -fno-math-errno
     -ffunction-sections -fdata-sections -Icore"
 objs=""
-for c in core/*.c; do
+# the planner as one unit (core/planner/unity: its shared functions static, as in one file)
+for c in core/*.c core/planner/unity/vp_planner_unity.c; do
   o="$O/$(basename "$c" .c).o"
   arm-none-eabi-gcc $CF -c "$c" -o "$o"
   objs="$objs $o"
@@ -26,12 +27,12 @@ for f in vp_planner_init vp_planner_next vp_planner_feed vp_dt_insert; do
   arm-none-eabi-nm "$O/voroprobe-m4.elf" | grep -q " T $f\$" || { echo "$f is not linked into the image"; exit 1; }
 done
 text=$(arm-none-eabi-size -t $objs | awk 'END {print $1}')
-ptext=$(arm-none-eabi-size "$O/vp_planner.o" | awk 'NR==2 {print $1}')
+ptext=$(arm-none-eabi-size "$O/vp_planner_unity.o" | awk 'NR==2 {print $1}')
 arena=$(printf "%d" "0x$(arm-none-eabi-nm -S "$O/voroprobe-m4.elf" | awk '$4 == "arena" {print $2}')")
 set -- $(arm-none-eabi-size "$O/voroprobe-m4.elf" | awk 'NR==2 {print $1, $2, $3}')
 flash=$(( $1 + $2 )); ram=$(( $2 + $3 ))
 # the same loop on the build machine
-gcc -std=c99 -O2 -ffp-contract=off -DVP_M4_HOST -Icore boards/cortex-m4/firmware.c core/*.c -lm -o "$O/firmware-host"
+gcc -std=c99 -O2 -ffp-contract=off -DVP_M4_HOST -Icore boards/cortex-m4/firmware.c core/*.c core/planner/unity/vp_planner_unity.c -lm -o "$O/firmware-host"
 run=$("$O/firmware-host") || { echo "$run"; echo "the firmware's scan loop did not reach DONE"; exit 1; }
 echo "$run"
 echo "cortex-m4: core .text $text bytes ($(echo $objs | wc -w) objects, planner $ptext); image with the planner flash $flash bytes, RAM $ram bytes (static arena ${arena:-?} bytes included)"

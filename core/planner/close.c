@@ -1,0 +1,198 @@
+/* close.c — closing holes and H2. When no ball is bad, every edge of the mesh must have two
+ * facets (a closed surface); edges with one are probed around until they do. H2 (every
+ * component of S holds a sample): each interior point o_i must be enclosed by the mesh,
+ * otherwise a component was missed and is reseeded from dOmega towards o_i. */
+#include "vp_planner_priv.h"
+
+/* ---------- closing: every edge of the mesh must have exactly two facets ---------- */
+
+/* Queues forced probes around edge (x, y) of Del(E): from every active tet of the ring, each
+ * unknown facet. Returns the number of probes queued, or a negative status. */
+static int probe_around_edge(vp_planner_t *pl, uint32_t t0, uint32_t x, uint32_t y)
+{
+    uint32_t cur = t0, other, limit = 4096, pushed = 0;
+    const uint32_t *w = vp_dt_tet(&pl->dt, t0);
+    int k, ex = -1;
+    for (k = 0; k < 4; k++)
+        if (w[k] != x && w[k] != y) { ex = k; break; }
+    if (ex < 0) return 0;
+    other = w[ex];
+    do {
+        const uint32_t *c = vp_dt_tet(&pl->dt, cur);
+        int f, st, ix = -1;
+        if (tet_active(pl, cur))
+            for (f = 0; f < 4; f++) {
+                unsigned s = side_get(pl, cur, f);
+                if ((s & SIDE_MASK) != SIDE_UNKNOWN || (s & (SIDE_QUEUED | SIDE_BLOCKED)) ||
+                    vp_pl_facet_has_ghost(pl, cur, f))
+                    continue;
+                if ((st = vp_pl_task_push(pl, cur, f, 1)) != VP_OK) return st;
+                pushed++;
+            }
+        for (k = 0; k < 4; k++)
+            if (c[k] == other) ix = k;
+        if (ix < 0) break;
+        for (k = 0; k < 4; k++)
+            if (c[k] != x && c[k] != y && c[k] != other) break;
+        cur = c[4 + ix] >> 2;
+        other = c[k];
+    } while (cur != t0 && --limit);
+    return (int)pushed;
+}
+
+VP_PL_API int vp_pl_close_holes(vp_planner_t *pl)
+{
+    /* edge counts in a scratch hash: 3 words per slot (a, b, count) */
+    uint32_t slots = 1, i, *tab = pl->pool.astar, pushed = 0, holes = 0;
+    while (slots < 4u * pl->pool.nfacets + 16u) slots <<= 1;
+    if (3u * slots > pl->pool.cap_astar) return 0; /* too big to check here: left to certify */
+    for (i = 0; i < 3u * slots; i++) tab[i] = NONE;
+    for (i = 0; i < pl->pool.nfrec; i++) {
+        const vp_frec_t *f = &pl->pool.frec[i];
+        int e;
+        if (f->v[0] == NONE) continue;
+        for (e = 0; e < 3; e++) {
+            uint32_t a = f->v[e], b = f->v[(e + 1) % 3], h;
+            if (a > b) { uint32_t t = a; a = b; b = t; }
+            h = (uint32_t)(((uint64_t)a * 0x9E3779B97F4A7C15ull ^ b) * 0xBF58476D1CE4E5B9ull >> 40) & (slots - 1);
+            while (tab[3 * h] != NONE && (tab[3 * h] != a || tab[3 * h + 1] != b)) h = (h + 1) & (slots - 1);
+            if (tab[3 * h] == NONE) { tab[3 * h] = a; tab[3 * h + 1] = b; tab[3 * h + 2] = 0; }
+            tab[3 * h + 2]++;
+        }
+    }
+    for (i = 0; i < slots; i++) {
+        uint32_t fv[3], a = tab[3 * i], b = tab[3 * i + 1], t, k;
+        int fi, n;
+        if (a == NONE || tab[3 * i + 2] == 2) continue;
+        /* a facet record with this edge gives a tet to turn around it from */
+        t = NONE;
+        for (k = 0; k < pl->pool.nfrec && t == NONE; k++) {
+            const vp_frec_t *f = &pl->pool.frec[k];
+            int ha, hb;
+            if (f->v[0] == NONE) continue;
+            ha = f->v[0] == a || f->v[1] == a || f->v[2] == a;
+            hb = f->v[0] == b || f->v[1] == b || f->v[2] == b;
+            if (ha && hb) { memcpy(fv, f->v, sizeof fv); t = k; }
+        }
+        if (t == NONE) continue;
+        t = vp_pl_find_facet(pl, fv, &fi);
+        if (t == NONE) continue;
+        n = probe_around_edge(pl, t, a, b);
+        if (n < 0) return n;
+        pushed += (uint32_t)n;
+        holes++;
+    }
+    if (holes > 0 && pushed == 0 && !pl->close.exhaustive) {
+        /* no active vertex next to the holes: detect_access in full from every active vertex
+         * until the next insertion */
+        uint32_t tt;
+        int st;
+        pl->close.exhaustive = 1;
+        pl->st.escalations++;
+        for (tt = 0; tt < pl->dt.ntet_slots; tt++)
+            if (vp_dt_alive(&pl->dt, tt) && tet_active(pl, tt)) {
+                if ((st = vp_pl_explore(pl, tt)) != VP_OK) return st;
+            }
+        return (int)pl->pool.ntask;
+    }
+    return (int)pushed;
+}
+
+
+/* ---------- H2: a vertex on every component ---------- */
+
+/* 1 if point o is enclosed by the mesh: odd number of facets crossed by a ray from o. The
+ * ray's direction is fixed and irrational-looking so that it meets no edge in practice. */
+static int mesh_encloses(const vp_planner_t *pl, const double *o)
+{
+    static const double dir[3] = { 0.4469983318002897, 0.5384104567341229, 0.7144217014264011 };
+    uint32_t i, crossings = 0;
+    for (i = 0; i < pl->pool.nfrec; i++) {
+        const vp_frec_t *f = &pl->pool.frec[i];
+        const double *a, *b, *c;
+        double e1[3], e2[3], p[3], q[3], t[3], det, u, v, w;
+        if (f->v[0] == NONE) continue;
+        a = vp_dt_point(&pl->dt, f->v[0]);
+        b = vp_dt_point(&pl->dt, f->v[1]);
+        c = vp_dt_point(&pl->dt, f->v[2]);
+        vp_sub3(e1, b, a);
+        vp_sub3(e2, c, a);
+        vp_cross3(p, dir, e2);
+        det = vp_dot3(e1, p);
+        if (det == 0.0) continue;
+        vp_sub3(t, o, a);
+        u = vp_dot3(t, p) / det;
+        if (u < 0.0 || u > 1.0) continue;
+        vp_cross3(q, t, e1);
+        v = vp_dot3(dir, q) / det;
+        if (v < 0.0 || u + v > 1.0) continue;
+        w = vp_dot3(e2, q) / det;
+        if (w > 0.0) crossings++;
+    }
+    return (int)(crossings & 1u);
+}
+
+/* Directions tried, one after the other, to find a component the seeds missed. */
+static void reseed_dir(uint32_t attempt, double *d)
+{
+    static const signed char D[26][3] = {
+        { 0, 0, 1 }, { 0, 0, -1 }, { 1, 0, 0 }, { -1, 0, 0 }, { 0, 1, 0 }, { 0, -1, 0 },
+        { 1, 1, 1 }, { -1, -1, -1 }, { 1, -1, 1 }, { -1, 1, -1 }, { 1, 1, -1 }, { -1, -1, 1 },
+        { -1, 1, 1 }, { 1, -1, -1 }, { 1, 1, 0 }, { -1, -1, 0 }, { 1, -1, 0 }, { -1, 1, 0 },
+        { 1, 0, 1 }, { -1, 0, -1 }, { 1, 0, -1 }, { -1, 0, 1 }, { 0, 1, 1 }, { 0, -1, -1 },
+        { 0, 1, -1 }, { 0, -1, 1 } };
+    d[0] = D[attempt % 26][0]; d[1] = D[attempt % 26][1]; d[2] = D[attempt % 26][2];
+    vp_normalize3(d);
+}
+
+#define RESEED_TRIES 26u
+
+/* After the mesh closed: every o_i must be enclosed by it (H2). A missed component gets a new
+ * sample: a probe towards o_i from another side of Omega, inserted like a ball centre. */
+VP_PL_API int vp_pl_check_components(vp_planner_t *pl)
+{
+    uint32_t i;
+    for (i = 0; i < pl->cfg.ninterior; i++) {
+        const double *o = pl->cfg.interior[i];
+        double d[3], q[3], te;
+        int k, st;
+        if (pl->close.h2_done & (1u << i)) continue;
+        if (mesh_encloses(pl, o)) { pl->close.h2_done |= 1u << i; continue; }
+        if (pl->close.h2_tries[i] >= RESEED_TRIES) continue; /* reported: not found */
+        reseed_dir(pl->close.h2_tries[i]++, d);
+        te = vp_pl_omega_exit(&pl->cfg, o, d);
+        for (k = 0; k < 3; k++) q[k] = o[k] + te * d[k];
+        if ((st = vp_pl_plan_route(pl, NONE, q)) != VP_OK) return st;
+        for (k = 0; k < 3; k++) d[k] = -d[k];
+        pl->phase = PH_RESEED;
+        return vp_pl_seed_issue(pl, d, te);
+    }
+    pl->phase = PH_DONE;
+    return VP_OK;
+}
+
+VP_PL_API int vp_pl_reseed_feed(vp_planner_t *pl, const vp_probe_result_t *res)
+{
+    double h[3];
+    uint32_t v;
+    int k, st;
+    pl->phase = PH_COMPONENTS;
+    if (res->hit != 1) {
+        /* a dropout or the end of the rangefinder's reach: probe again, or walk on */
+        int w = res->hit == VP_PROBE_TOO_CLOSE ? 0 : vp_pl_seed_miss_on(pl);
+        if (w < 0) return w;
+        if (w) pl->phase = PH_RESEED;
+        return VP_OK;
+    }
+    for (k = 0; k < 3; k++) h[k] = pl->probe.origin[k] + res->dist * pl->probe.dir[k];
+    if (!vp_pl_pools_have_room(pl)) return VP_ENOMEM;
+    st = vp_dt_insert(&pl->dt, h, VP_DT_NONE, &v);
+    if (st == VP_EDUP) return VP_OK;
+    if (st != VP_OK) return st;
+    pl->st.insertions++;
+    pl->st.reseeds++;
+    pl->close.exhaustive = 0;
+    st = vp_pl_after_insert(pl, v);
+    pl->phase = PH_RUN;
+    return st;
+}

@@ -1,0 +1,328 @@
+/* planner.c — init, the arena, the phase machine and the public calls (vp_planner.h).
+ * The phase machine is drawn in vp_planner_priv.h. */
+#include "vp_planner_priv.h"
+
+/* ---------- arena ---------- */
+
+static void *carve(unsigned char **cur, unsigned char *end, size_t bytes)
+{
+    uintptr_t p = ((uintptr_t)*cur + 7u) & ~(uintptr_t)7u;
+    if (p + bytes > (uintptr_t)end || p + bytes < p) return NULL;
+    *cur = (unsigned char *)(p + bytes);
+    return (void *)p;
+}
+
+/* Arena in use at most: the triangulation's high-water mark plus every pool's. The planner's
+ * split of the arena is fixed, so a session needs each pool's peak to fit its share. */
+VP_PL_API void vp_pl_note_peak(vp_planner_t *pl)
+{
+    size_t used;
+    uint32_t hash_need = 1;
+    if (pl->pool.ntask > pl->peak.task) pl->peak.task = pl->pool.ntask;
+    if (pl->pool.nheap > pl->peak.heap) pl->peak.heap = pl->pool.nheap;
+    if (pl->route.n > pl->peak.route) pl->peak.route = pl->route.n;
+    while (hash_need < 2u * pl->pool.nfacets + 16u) hash_need <<= 1;
+    used = vp_dt_bytes_used(&pl->dt) + (size_t)pl->pool.nvrec * sizeof(vp_vrec_t) +
+           (size_t)pl->pool.nfedge * 4u * FEDGE_WORDS + (size_t)pl->pool.nproof * sizeof(vp_proof_t) + (size_t)pl->pool.nfrec * sizeof(vp_frec_t) + (size_t)hash_need * 4u +
+           (size_t)pl->peak.heap * 4u + (size_t)pl->peak.task * sizeof(vp_task_t) +
+           (size_t)pl->peak.route * 24u + (size_t)pl->peak.astar * 4u + (size_t)pl->peak.path * 4u;
+    if (used > pl->st.arena_peak) pl->st.arena_peak = used;
+}
+
+/* ---------- public ---------- */
+
+int vp_planner_init(vp_planner_t *pl, void *arena, size_t bytes, const vp_planner_config_t *cfg)
+{
+    unsigned char *cur, *end;
+    size_t dtb, unit;
+    uint32_t i, hwords;
+    int k, st;
+    if (!pl || !arena || !cfg) return VP_EINVAL;
+    if (cfg->omega_kind == VP_OMEGA_BALL) {
+        if (!vp_finite3(cfg->omega_center) || !(cfg->omega_radius > 0.0) || !(cfg->omega_radius < 1e150))
+            return VP_EINVAL;
+    } else if (cfg->omega_kind == VP_OMEGA_BOX) {
+        if (!vp_finite3(cfg->omega_lo) || !vp_finite3(cfg->omega_hi)) return VP_EINVAL;
+        for (k = 0; k < 3; k++)
+            if (!(cfg->omega_lo[k] < cfg->omega_hi[k])) return VP_EINVAL;
+    } else {
+        return VP_EINVAL;
+    }
+    if (!(cfg->eps > 0.0) || !(cfg->eps < 1e150)) return VP_EINVAL;
+    if (cfg->ninterior < 1 || cfg->ninterior > VP_PLANNER_MAX_SEEDS) return VP_EINVAL;
+    for (i = 0; i < cfg->ninterior; i++)
+        if (!vp_finite3(cfg->interior[i]) || !vp_pl_omega_inside(cfg, cfg->interior[i])) return VP_EINVAL;
+    if (!vp_finite3(cfg->start) || vp_pl_omega_inside(cfg, cfg->start)) return VP_EINVAL;
+    if (!(cfg->min_angle >= 0.0) || cfg->min_angle > 30.0) return VP_EINVAL;
+    if (!(cfg->max_range >= 0.0) || !(cfg->noise_tol >= 0.0) || !(cfg->clearance >= 0.0) ||
+        cfg->max_range > 1e150 || cfg->noise_tol > 1e150 || cfg->clearance > 1e150)
+        return VP_EINVAL;
+    memset(pl, 0, sizeof *pl);
+    pl->cfg = *cfg;
+    cur = (unsigned char *)arena;
+    end = cur + bytes;
+    /* the split, per 100 units, from the peaks measured per output vertex (README): the
+     * triangulation at least 29, records 20, proofs 16, free edges 6, facets 7, tasks 7, hash
+     * 2-4, path search and hole scratch 8, paths 1, heap 1, route 1 */
+    unit = bytes / 100;
+    if (bytes < 64 * 1024) return VP_ENOMEM;
+    pl->pool.cap_vrec = (uint32_t)(20 * unit / sizeof(vp_vrec_t));
+    pl->pool.cap_frec = (uint32_t)(7 * unit / sizeof(vp_frec_t));
+    pl->pool.cap_fedge = (uint32_t)(6 * unit / (4 * FEDGE_WORDS));
+    for (hwords = 1; (size_t)hwords * 2 * 4 <= 4 * unit; hwords <<= 1) {}
+    pl->pool.cap_astar = (uint32_t)(8 * unit / 4);
+    pl->route.cap_path = (uint32_t)(unit / 4);
+    pl->pool.cap_task = (uint32_t)(7 * unit / sizeof(vp_task_t));
+    pl->pool.cap_heap = (uint32_t)(unit / 4);
+    pl->route.cap = (uint32_t)(unit / 24);
+    if (pl->route.cap > 4096) pl->route.cap = 4096;
+    pl->pool.vrec = carve(&cur, end, (size_t)pl->pool.cap_vrec * sizeof(vp_vrec_t));
+    pl->pool.frec = carve(&cur, end, (size_t)pl->pool.cap_frec * sizeof(vp_frec_t));
+    pl->pool.fedge = carve(&cur, end, (size_t)pl->pool.cap_fedge * 4 * FEDGE_WORDS);
+    pl->pool.fhash = carve(&cur, end, (size_t)hwords * 4);
+    pl->pool.astar = carve(&cur, end, (size_t)pl->pool.cap_astar * 4);
+    pl->route.path = carve(&cur, end, (size_t)pl->route.cap_path * 4);
+    pl->pool.task = carve(&cur, end, (size_t)pl->pool.cap_task * sizeof(vp_task_t));
+    pl->pool.heap = carve(&cur, end, (size_t)pl->pool.cap_heap * 4);
+    pl->route.pts = carve(&cur, end, (size_t)pl->route.cap * 24);
+    pl->route.proof = carve(&cur, end, (size_t)pl->route.cap * 4);
+    pl->pool.cap_proof = (uint32_t)(PROOF_SHARE * unit / sizeof(vp_proof_t));
+    pl->pool.proof = carve(&cur, end, (size_t)pl->pool.cap_proof * sizeof(vp_proof_t));
+    if (!pl->route.proof || !pl->pool.proof || pl->pool.cap_proof < 64) return VP_ENOMEM;
+    if (!pl->pool.vrec || !pl->pool.frec || !pl->pool.fedge || !pl->pool.fhash || !pl->pool.astar || !pl->route.path ||
+        !pl->pool.task || !pl->pool.heap || !pl->route.pts || pl->pool.cap_vrec < 64 || pl->pool.cap_frec < 64 ||
+        pl->pool.cap_task < 64 || pl->route.cap < 64 || pl->pool.cap_astar < 1024)
+        return VP_ENOMEM;
+    dtb = (size_t)(end - cur);
+    if (dtb < 29 * unit) return VP_ENOMEM;
+    st = vp_dt_init(&pl->dt, cur, dtb, KPAY * 4);
+    if (st != VP_OK) return st == VP_EINVAL ? VP_ENOMEM : st;
+    pl->pool.hash_mask = hwords - 1;
+    for (i = 0; i < hwords; i++) pl->pool.fhash[i] = HASH_EMPTY;
+    pl->pool.frec_free = NONE;
+    pl->probe.cur_proof = pl->probe.chain_proof = PROOF_NONE;
+    /* the slack of a proof: rounding of constructed points, far below any physical size */
+    pl->ptol = 1e-10 * (1.0 + vp_pl_omega_circumradius(cfg));
+    pl->phase = PH_SEED;
+    {
+        /* sin of the angle bound by its Taylor series (|x| <= pi/6: error below 1e-9) */
+        double x = cfg->min_angle * 0.017453292519943295, x2 = x * x;
+        pl->sin_angle = x * (1.0 - x2 / 6.0 * (1.0 - x2 / 20.0 * (1.0 - x2 / 42.0 * (1.0 - x2 / 72.0))));
+    }
+    memcpy(pl->dev.pos, cfg->start, sizeof pl->dev.pos);
+    st = vp_pl_rec_new(pl, cfg->start, NONE, REC_OUT, &pl->dev.at);
+    if (st != VP_OK) return st;
+    vp_pl_note_peak(pl);
+    return VP_OK;
+}
+
+/* A PROBE goes out: what its result will prove is measured from this ray. */
+static void issue_probe(vp_planner_t *pl, const vp_cmd_t *cmd)
+{
+    memcpy(pl->dev.iss_o, cmd->from, sizeof pl->dev.iss_o);
+    memcpy(pl->dev.iss_d, cmd->dir, sizeof pl->dev.iss_d);
+    pl->dev.iss_range = cmd->range;
+    pl->probe.cur_proof = PROOF_NONE;
+}
+
+/* internal steps one vp_planner_next call may take without a command (plus 4 per task slot):
+ * far above any real need, so hitting it means a rule loops */
+#define STEP_BUDGET (1u << 20)
+
+int vp_planner_next(vp_planner_t *pl, vp_cmd_t *cmd)
+{
+    int st;
+    uint64_t budget;
+    if (!pl || !cmd) return VP_EINVAL;
+    if (pl->dev.awaiting) return VP_ESTATE;
+    if (pl->error) return pl->error;
+    memset(cmd, 0, sizeof *cmd);
+    for (budget = STEP_BUDGET + 4u * (uint64_t)pl->pool.cap_task;; budget--) {
+        if (budget == 0) {
+            /* bounded work per call: a loop that issues nothing is reported, never spun */
+            pl->st.stalls++;
+            pl->error = VP_ESTALL;
+            return VP_ESTALL;
+        }
+        if (pl->route.i < pl->route.n) {
+            const double *to = pl->route.pts + 3 * (size_t)pl->route.i;
+            /* the one promise: a MOVE only along a segment with a proof of freedom */
+            if (!vp_pl_proof_covers(pl, pl->route.proof[pl->route.i], pl->dev.pos, to)) {
+                pl->error = VP_EUNSAFE;
+                return VP_EUNSAFE;
+            }
+            pl->route.i++;
+            cmd->kind = VP_CMD_MOVE;
+            memcpy(cmd->from, pl->dev.pos, sizeof cmd->from);
+            memcpy(cmd->to, to, sizeof cmd->to);
+            pl->st.travel += vp_dist3(pl->dev.pos, to);
+            pl->st.moves++;
+            memcpy(pl->dev.pos, to, sizeof pl->dev.pos);
+            return VP_OK;
+        }
+        if (pl->sc.pending == 1) {
+            const vp_vrec_t *a = &pl->pool.vrec[pl->sc.from], *b = &pl->pool.vrec[pl->sc.to];
+            double d[3], len;
+            vp_sub3(d, b->p, a->p);
+            len = sqrt(vp_dot3(d, d));
+            d[0] /= len; d[1] /= len; d[2] /= len;
+            pl->sc.pending = 2;
+            pl->dev.awaiting = 1;
+            cmd->kind = VP_CMD_PROBE;
+            memcpy(cmd->from, a->p, sizeof cmd->from);
+            memcpy(cmd->dir, d, sizeof cmd->dir);
+            cmd->range = len;
+            pl->probe.chain_proof = PROOF_NONE;
+            issue_probe(pl, cmd);
+            pl->st.probes++;
+            pl->st.shortcut_probes++;
+            return VP_OK;
+        }
+        if (pl->probe.ready) {
+            pl->probe.ready = 0;
+            pl->dev.awaiting = 1;
+            cmd->kind = VP_CMD_PROBE;
+            memcpy(cmd->from, pl->probe.origin, sizeof cmd->from);
+            memcpy(cmd->dir, pl->probe.dir, sizeof cmd->dir);
+            cmd->range = pl->probe.range;
+            issue_probe(pl, cmd);
+            pl->st.probes++;
+            return VP_OK;
+        }
+        switch (pl->phase) {
+        case PH_SEED:
+            st = vp_pl_seed_next(pl);
+            if (st == 1) {
+                st = vp_pl_start_run(pl);
+                pl->phase = PH_RUN;
+            }
+            break;
+        case PH_RUN:
+            st = VP_OK;
+            if (pl->pool.nheap > 0 && !vp_pl_exhaustive(pl) &&
+                !(pl->pool.ntask > 0 && pl->pool.task[pl->pool.ntask - 1].off > 0.0)) {
+                /* a known bad ball is refined at once: the probes still queued around it
+                 * would mostly test facets that its insertion kills (the published rule
+                 * finishes detect_access first). A range-limited probe in progress goes on
+                 * first: the device stands at the end of its free part. */
+                st = vp_pl_refine(pl);
+            } else if (pl->pool.ntask > 0) {
+                vp_task_t k = pl->pool.task[--pl->pool.ntask];
+                if (vp_pl_task_start(pl, &k)) pl->probe.ready = 1;
+                if (pl->sc.pending) pl->route.i = pl->route.n; /* hold the route: shortcut first */
+                st = pl->error;
+            } else if (pl->pool.nheap > 0) {
+                st = vp_pl_refine(pl);
+            } else {
+                pl->phase = PH_CLOSE;
+            }
+            break;
+        case PH_CLOSE:
+            /* closing again with nothing probed or inserted since the last try cannot do
+             * better: the holes stay (certify names them) */
+            if (pl->close.mark == pl->st.probes + pl->st.insertions + 1) {
+                pl->st.stalls++;
+                pl->phase = PH_COMPONENTS;
+                st = VP_OK;
+                break;
+            }
+            pl->close.mark = pl->st.probes + pl->st.insertions + 1;
+            st = vp_pl_close_holes(pl);
+            pl->phase = st > 0 ? PH_RUN : PH_COMPONENTS;
+            if (st > 0) st = VP_OK;
+            break;
+        case PH_COMPONENTS:
+            st = vp_pl_check_components(pl);
+            break;
+        default:
+            cmd->kind = VP_CMD_DONE;
+            vp_pl_note_peak(pl);
+            return VP_OK;
+        }
+        if (st < 0) {
+            pl->error = st;
+            return st;
+        }
+    }
+}
+
+int vp_planner_feed(vp_planner_t *pl, const vp_probe_result_t *res)
+{
+    int st;
+    if (!pl || !res) return VP_EINVAL;
+    if (!pl->dev.awaiting) return VP_ESTATE;
+    if (res->hit < 0 || res->hit > VP_PROBE_TOO_CLOSE) return VP_EINVAL;
+    if (res->hit == 1 && (!(res->dist >= 0.0) || !(res->dist < 1e300))) return VP_EINVAL;
+    pl->dev.awaiting = 0;
+    if (pl->sc.pending == 2) {
+        pl->sc.pending = 0;
+        if (res->hit) {
+            pl->st.hits++;
+            if (pl->route.deferred) {
+                pl->route.deferred = 0;
+                st = vp_pl_route_full(pl, pl->sc.from, pl->sc.to);
+                if (st != VP_OK) { pl->error = st; return st; }
+            }
+            pl->route.i = 0; /* the searched route stands */
+            return VP_OK;
+        }
+        pl->st.misses++;
+        if (pl->sc.tries < pl->cfg.confirm_misses) {
+            pl->sc.tries++;
+            pl->st.reprobes++;
+            pl->sc.pending = 1;
+            return VP_OK;
+        }
+        /* the straight way is free: take it */
+        {
+            uint32_t pf;
+            pl->route.deferred = 0;
+            st = vp_pl_probe_proof(pl, res, &pf);
+            if (st == VP_OK) st = vp_pl_edge_add(pl, pl->sc.from, pl->sc.to, pf);
+            if (st != VP_OK) { pl->error = st; return st; }
+            pl->route.n = pl->route.i = 0;
+            st = vp_pl_route_push(pl, pl->pool.vrec[pl->sc.to].p, pf);
+            if (st != VP_OK) { pl->error = st; return st; }
+        }
+        return VP_OK;
+    }
+    if (pl->phase == PH_SEED) st = vp_pl_seed_feed(pl, res);
+    else if (pl->phase == PH_RESEED) st = vp_pl_reseed_feed(pl, res);
+    else st = vp_pl_task_finish(pl, res);
+    if (st < 0) pl->error = st;
+    return st;
+}
+
+uint32_t vp_planner_facet_slots(const vp_planner_t *pl) { return pl->pool.nfrec; }
+uint32_t vp_planner_num_facets(const vp_planner_t *pl) { return pl->pool.nfacets; }
+const vp_dt_t *vp_planner_dt(const vp_planner_t *pl) { return &pl->dt; }
+
+int vp_planner_facet(const vp_planner_t *pl, uint32_t i, uint32_t v[3], double *radius, double center[3])
+{
+    const vp_frec_t *f;
+    if (i >= pl->pool.nfrec) return 0;
+    f = &pl->pool.frec[i];
+    if (f->v[0] == NONE) return 0;
+    v[0] = f->v[0];
+    v[1] = (f->flags & FREC_FLIP) ? f->v[2] : f->v[1];
+    v[2] = (f->flags & FREC_FLIP) ? f->v[1] : f->v[2];
+    if (radius) *radius = f->r;
+    if (center) memcpy(center, f->c, sizeof f->c);
+    return 1;
+}
+
+void vp_planner_get_stats(const vp_planner_t *pl, vp_planner_stats_t *st)
+{
+    uint32_t i;
+    *st = pl->st;
+    st->bad_balls = pl->pool.nheap;
+    st->missing_components = 0;
+    for (i = 0; i < pl->cfg.ninterior; i++)
+        st->missing_components += !(pl->close.h2_done & (1u << i));
+    st->records = pl->pool.nvrec;
+    st->free_edges = pl->pool.nfedge;
+    st->facet_records = pl->pool.nfacets;
+    st->max_ball = 0.0;
+    for (i = 0; i < pl->pool.nfrec; i++)
+        if (pl->pool.frec[i].v[0] != NONE && pl->pool.frec[i].r > st->max_ball) st->max_ball = pl->pool.frec[i].r;
+}

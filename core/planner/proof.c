@@ -1,0 +1,92 @@
+/* proof.c — proofs of free space (the planner's safety rule; beyond the paper).
+ * The paper moves the probe only along "current or former Voronoi edges" it knows to be free;
+ * here every such segment names the free part of a probe that proves it (or "outside Omega",
+ * assumption A2), checked when a free-graph edge is made and again before each MOVE. */
+#include "vp_planner_priv.h"
+
+/* ---------- proofs of free space ----------
+ * The device moves only along a segment that names its proof: the free part of a probe (a
+ * chain of probes along one ray, for a range-limited rangefinder), or PROOF_OUTSIDE (outside
+ * Omega, assumption A2). Every free-graph edge and every route step carries one, checked
+ * geometrically when the edge is made and again when the MOVE is issued. The paper's
+ * inferences (a shrunken Voronoi edge stays free, a kept ball) only propose a proof: on
+ * objects where they fail (flat faces, sharp edges: one crossing per edge no longer holds)
+ * the check refuses the segment, and it is never travelled. */
+#define PROOF_CHAIN_MAX 64u /* pieces of one walked ray looked at */
+/* free-graph edges: FEDGE_WORDS words each: a, b, next at a, next at b, proof */
+
+static int proof_new(vp_planner_t *pl, const double *o, const double *d, double len, uint32_t prev,
+                     uint32_t *out)
+{
+    vp_proof_t *q;
+    *out = PROOF_NONE;
+    if (!(len > 0.0)) return VP_OK;
+    if (pl->pool.nproof >= pl->pool.cap_proof) return VP_ENOMEM;
+    q = &pl->pool.proof[pl->pool.nproof];
+    memcpy(q->o, o, sizeof q->o);
+    memcpy(q->d, d, sizeof q->d);
+    q->len = len;
+    q->prev = prev;
+    *out = pl->pool.nproof++;
+    return VP_OK;
+}
+
+/* 1 if proof id shows every point of [a, b] free: within pl->ptol of the ray and of its free
+ * part (the union of the pieces of its chain), or the whole segment outside Omega. */
+VP_PL_API int vp_pl_proof_covers(const vp_planner_t *pl, uint32_t id, const double *a, const double *b)
+{
+    double lo[PROOF_CHAIN_MAX], hi[PROOF_CHAIN_MAX], sa, sb, need0, need1, cur, x[3], tol = pl->ptol;
+    const vp_proof_t *p;
+    uint32_t n = 0, i, j;
+    int k;
+    if (id == PROOF_OUTSIDE) return !vp_pl_seg_enters_omega(&pl->cfg, a, b);
+    if (id >= pl->pool.nproof) return 0;
+    p = &pl->pool.proof[id];
+    /* both ends on the ray's line */
+    vp_sub3(x, a, p->o);
+    sa = vp_dot3(x, p->d);
+    for (k = 0; k < 3; k++) x[k] -= sa * p->d[k];
+    if (!(vp_dot3(x, x) <= tol * tol)) return 0;
+    vp_sub3(x, b, p->o);
+    sb = vp_dot3(x, p->d);
+    for (k = 0; k < 3; k++) x[k] -= sb * p->d[k];
+    if (!(vp_dot3(x, x) <= tol * tol)) return 0;
+    need0 = sa < sb ? sa : sb;
+    need1 = sa < sb ? sb : sa;
+    /* the free intervals of the chain on that line */
+    for (i = id; i != PROOF_NONE && i < pl->pool.nproof && n < PROOF_CHAIN_MAX; i = pl->pool.proof[i].prev) {
+        const vp_proof_t *q = &pl->pool.proof[i];
+        double s0;
+        if (!(vp_dot3(q->d, p->d) > 1.0 - 1e-12)) break;
+        vp_sub3(x, q->o, p->o);
+        s0 = vp_dot3(x, p->d);
+        for (k = 0; k < 3; k++) x[k] -= s0 * p->d[k];
+        if (!(vp_dot3(x, x) <= tol * tol)) break;
+        /* insertion by start */
+        for (j = n; j > 0 && lo[j - 1] > s0; j--) { lo[j] = lo[j - 1]; hi[j] = hi[j - 1]; }
+        lo[j] = s0;
+        hi[j] = s0 + q->len;
+        n++;
+    }
+    cur = need0;
+    for (i = 0; i < n; i++) {
+        if (lo[i] > cur + tol) break;
+        if (hi[i] > cur) cur = hi[i];
+    }
+    return n > 0 && lo[0] <= need0 + tol && cur >= need1 - tol;
+}
+
+/* The proof made by the current probe's result (once per probe): the free part of its ray. */
+VP_PL_API int vp_pl_probe_proof(vp_planner_t *pl, const vp_probe_result_t *res, uint32_t *out)
+{
+    double len;
+    int st;
+    if (pl->probe.cur_proof != PROOF_NONE) { *out = pl->probe.cur_proof; return VP_OK; }
+    *out = PROOF_NONE;
+    if (res->hit == VP_PROBE_TOO_CLOSE) return VP_OK;
+    len = res->hit ? res->dist - pl->cfg.noise_tol : pl->dev.iss_range;
+    if (res->hit && len > pl->dev.iss_range) len = pl->dev.iss_range;
+    st = proof_new(pl, pl->dev.iss_o, pl->dev.iss_d, len, pl->probe.chain_proof, out);
+    if (st == VP_OK) pl->probe.cur_proof = *out;
+    return st;
+}

@@ -1,0 +1,627 @@
+/* route.c — Omega, the free graph and the device's routes.
+ * Omega is the known region holding the object (A2: R^3 \ Omega is free). The records are the
+ * paper's active Voronoi vertices (current or former) with their prev links ("prev chains",
+ * the paper's paths back to R^3 \ Omega); the free graph joins records by proven-free
+ * segments. Routes: around Omega outside it, along prev chains (VP_PLAN_PREV_CHAINS, the
+ * paper), or by A* over the free graph with a straight shortcut probed when the search runs
+ * long. */
+#include "vp_planner_priv.h"
+
+/* ---------- Omega ---------- */
+
+VP_PL_API void vp_pl_omega_center(const vp_planner_config_t *c, double *o)
+{
+    int k;
+    for (k = 0; k < 3; k++)
+        o[k] = c->omega_kind == VP_OMEGA_BALL ? c->omega_center[k] : 0.5 * (c->omega_lo[k] + c->omega_hi[k]);
+}
+
+VP_PL_API double vp_pl_omega_circumradius(const vp_planner_config_t *c)
+{
+    if (c->omega_kind == VP_OMEGA_BALL) return c->omega_radius;
+    return 0.5 * sqrt((c->omega_hi[0] - c->omega_lo[0]) * (c->omega_hi[0] - c->omega_lo[0]) +
+                      (c->omega_hi[1] - c->omega_lo[1]) * (c->omega_hi[1] - c->omega_lo[1]) +
+                      (c->omega_hi[2] - c->omega_lo[2]) * (c->omega_hi[2] - c->omega_lo[2]));
+}
+
+/* strictly inside Omega */
+VP_PL_API int vp_pl_omega_inside(const vp_planner_config_t *c, const double *p)
+{
+    if (c->omega_kind == VP_OMEGA_BALL) {
+        double d[3];
+        vp_sub3(d, p, c->omega_center);
+        return vp_dot3(d, d) < c->omega_radius * c->omega_radius;
+    }
+    return p[0] > c->omega_lo[0] && p[0] < c->omega_hi[0] && p[1] > c->omega_lo[1] &&
+           p[1] < c->omega_hi[1] && p[2] > c->omega_lo[2] && p[2] < c->omega_hi[2];
+}
+
+/* The parameter interval [*t0, *t1] of a + s*dir (unit dir, s in [0, len]) inside Omega.
+ * Returns 0 when the line misses Omega there. */
+VP_PL_API int vp_pl_omega_clip(const vp_planner_config_t *c, const double *a, const double *dir, double len,
+                      double *t0, double *t1)
+{
+    double lo = 0.0, hi = len;
+    if (c->omega_kind == VP_OMEGA_BALL) {
+        double d[3], b, cc, disc, sq;
+        vp_sub3(d, a, c->omega_center);
+        b = vp_dot3(d, dir);
+        cc = vp_dot3(d, d) - c->omega_radius * c->omega_radius;
+        disc = b * b - cc;
+        if (!(disc > 0.0)) return 0;
+        sq = sqrt(disc);
+        if (-b - sq > lo) lo = -b - sq;
+        if (-b + sq < hi) hi = -b + sq;
+    } else {
+        int k;
+        for (k = 0; k < 3; k++) {
+            if (dir[k] == 0.0) {
+                if (!(a[k] > c->omega_lo[k] && a[k] < c->omega_hi[k])) return 0;
+            } else {
+                double s0 = (c->omega_lo[k] - a[k]) / dir[k], s1 = (c->omega_hi[k] - a[k]) / dir[k];
+                if (s0 > s1) { double t = s0; s0 = s1; s1 = t; }
+                if (s0 > lo) lo = s0;
+                if (s1 < hi) hi = s1;
+            }
+        }
+    }
+    if (!(lo < hi)) return 0;
+    *t0 = lo;
+    *t1 = hi;
+    return 1;
+}
+
+/* 1 if segment [a, b] enters Omega (more than rounding) */
+VP_PL_API int vp_pl_seg_enters_omega(const vp_planner_config_t *c, const double *a, const double *b)
+{
+    double d[3], len, t0, t1;
+    vp_sub3(d, b, a);
+    len = sqrt(vp_dot3(d, d));
+    if (!(len > 0.0)) return vp_pl_omega_inside(c, a);
+    d[0] /= len; d[1] /= len; d[2] /= len;
+    return vp_pl_omega_clip(c, a, d, len, &t0, &t1) && t1 - t0 > 1e-12 * (1.0 + len);
+}
+
+/* ---------- records and the free graph ---------- */
+
+VP_PL_API int vp_pl_rec_new(vp_planner_t *pl, const double *p, uint32_t prev, uint32_t flags, uint32_t *out)
+{
+    vp_vrec_t *r;
+    if (pl->pool.nvrec >= pl->pool.cap_vrec) return VP_ENOMEM;
+    r = &pl->pool.vrec[pl->pool.nvrec];
+    r->p[0] = p[0]; r->p[1] = p[1]; r->p[2] = p[2];
+    r->prev = prev == NONE ? pl->pool.nvrec : prev;
+    r->adj = NONE;
+    r->depth = prev == NONE ? 0 : pl->pool.vrec[prev].depth + 1;
+    r->flags = flags;
+    r->stamp = 0;
+    r->from = NONE;
+    r->g = 0.0;
+    r->proof = PROOF_NONE;
+    *out = pl->pool.nvrec++;
+    return VP_OK;
+}
+
+
+/* Joins records a and b by a free edge when `proof` covers the segment between them; a
+ * segment it does not cover is counted and left out (never travelled). */
+VP_PL_API int vp_pl_edge_add(vp_planner_t *pl, uint32_t a, uint32_t b, uint32_t proof)
+{
+    uint32_t e, *w;
+    if (a == b) return VP_OK;
+    if (!vp_pl_proof_covers(pl, proof, pl->pool.vrec[a].p, pl->pool.vrec[b].p)) {
+        pl->st.unproven++;
+        return VP_OK;
+    }
+    if (pl->pool.nfedge >= pl->pool.cap_fedge) return VP_ENOMEM;
+    e = pl->pool.nfedge++;
+    w = pl->pool.fedge + FEDGE_WORDS * e;
+    w[0] = a;
+    w[1] = b;
+    w[2] = pl->pool.vrec[a].adj;
+    w[3] = pl->pool.vrec[b].adj;
+    w[4] = proof;
+    pl->pool.vrec[a].adj = e;
+    pl->pool.vrec[b].adj = e;
+    return VP_OK;
+}
+
+/* A record reached from `prev` along the segment `proof` shows free. *out = NONE (and nothing
+ * made) when the proof does not cover it. */
+VP_PL_API int vp_pl_rec_link(vp_planner_t *pl, const double *p, uint32_t prev, uint32_t flags, uint32_t proof,
+                    uint32_t *out)
+{
+    int st;
+    *out = NONE;
+    if (prev != NONE && !vp_pl_proof_covers(pl, proof, pl->pool.vrec[prev].p, p)) {
+        pl->st.unproven++;
+        return VP_OK;
+    }
+    st = vp_pl_rec_new(pl, p, prev, flags, out);
+    if (st != VP_OK) return st;
+    if (prev != NONE) {
+        pl->pool.vrec[*out].proof = proof;
+        st = vp_pl_edge_add(pl, prev, *out, proof);
+        if (st != VP_OK) { pl->pool.nvrec--; *out = NONE; return st; }
+    }
+    return VP_OK;
+}
+
+/* the proof of a free edge between records a and b that covers them, or PROOF_NONE */
+static uint32_t edge_proof(const vp_planner_t *pl, uint32_t a, uint32_t b)
+{
+    uint32_t e;
+    for (e = pl->pool.vrec[a].adj; e != NONE;) {
+        const uint32_t *w = pl->pool.fedge + FEDGE_WORDS * e;
+        int isa = w[0] == a;
+        if ((isa ? w[1] : w[0]) == b) return w[4];
+        e = isa ? w[2] : w[3];
+    }
+    return PROOF_NONE;
+}
+
+/* ---------- routes outside Omega ---------- */
+
+/* Appends a step to the route, with its proof of freedom. */
+VP_PL_API int vp_pl_route_push(vp_planner_t *pl, const double *p, uint32_t proof)
+{
+    double *q;
+    if (pl->route.n >= pl->route.cap) return VP_ENOMEM;
+    q = pl->route.pts + 3 * (size_t)pl->route.n;
+    if (pl->route.n > 0 && q[-3] == p[0] && q[-2] == p[1] && q[-1] == p[2]) return VP_OK;
+    q[0] = p[0]; q[1] = p[1]; q[2] = p[2];
+    pl->route.proof[pl->route.n] = proof;
+    pl->route.n++;
+    return VP_OK;
+}
+
+/* A probe's range within the rangefinder's reach. */
+VP_PL_API double vp_pl_clamp_range(const vp_planner_t *pl, double range)
+{
+    return pl->cfg.max_range > 0.0 && range > pl->cfg.max_range ? pl->cfg.max_range : range;
+}
+
+/* 1 if the current probe was cut short by the rangefinder's reach */
+VP_PL_API int vp_pl_probe_limited(const vp_planner_t *pl)
+{
+    return pl->probe.range < pl->probe.full - 1e-12 * (1.0 + pl->probe.full);
+}
+
+/* A range-limited probe missed: its segment is free (proof). The device walks from record
+ * `from` to the segment's end (a new record, pl->dev.at) to probe on; the step costs the same
+ * under either rule. */
+VP_PL_API int vp_pl_walk_on(vp_planner_t *pl, uint32_t from, uint32_t proof, double e[3])
+{
+    uint32_t r;
+    int k, st;
+    for (k = 0; k < 3; k++) e[k] = pl->probe.origin[k] + pl->probe.range * pl->probe.dir[k];
+    if ((st = vp_pl_rec_link(pl, e, from, 0, proof, &r)) != VP_OK) return st;
+    if (r == NONE) return VP_EUNSAFE; /* the probe's own end: never */
+    pl->st.travel_prev_chains += pl->probe.range;
+    pl->route.n = pl->route.i = 0;
+    if ((st = vp_pl_route_push(pl, e, proof)) != VP_OK) return st;
+    pl->dev.at = r;
+    return VP_OK;
+}
+
+/* Moves m (the midpoint of a chord with unit direction u) out of Omega: along the part of
+ * (m - centre) perpendicular to the chord, to delta beyond dOmega. */
+static void push_out(const vp_planner_config_t *c, double *m, const double *u, double delta)
+{
+    double o[3], d[3], t0, t1, s;
+    int k;
+    vp_pl_omega_center(c, o);
+    vp_sub3(d, m, o);
+    s = vp_dot3(d, u);
+    for (k = 0; k < 3; k++) d[k] -= s * u[k];
+    if (!vp_normalize3(d)) {
+        double t[3] = { 0, 0, 1 };
+        if (fabs(u[2]) > 0.8) { t[0] = 1; t[2] = 0; }
+        vp_cross3(d, u, t);
+        vp_normalize3(d);
+    }
+    if (!vp_pl_omega_clip(c, m, d, 1e300, &t0, &t1)) return;
+    for (k = 0; k < 3; k++) m[k] += (t1 + delta) * d[k];
+}
+
+/* The fallback: out to a sphere around Omega's circumsphere, along the great circle in chords
+ * of at most 15 degrees (they stay outside the circumsphere), and back in. */
+static int sphere_route(vp_planner_t *pl, const double *a, const double *b, int dry, double *len)
+{
+    double c[3], ra, rb, rs, ua[3], ub[3], um[3], prev[3];
+    int i, k, st, half;
+    vp_pl_omega_center(&pl->cfg, c);
+    rs = 1.01 * vp_pl_omega_circumradius(&pl->cfg);
+    vp_sub3(ua, a, c);
+    vp_sub3(ub, b, c);
+    ra = sqrt(vp_dot3(ua, ua));
+    rb = sqrt(vp_dot3(ub, ub));
+    if (!vp_normalize3(ua) || !vp_normalize3(ub)) return VP_EDEGEN;
+    if (ra < rs) ra = rs;
+    if (rb < rs) rb = rs;
+    for (k = 0; k < 3; k++) um[k] = ua[k] + ub[k];
+    if (!vp_normalize3(um)) {
+        double t[3] = { 1, 0, 0 };
+        if (fabs(ua[0]) > 0.9) { t[0] = 0; t[1] = 1; }
+        vp_cross3(um, ua, t);
+        vp_normalize3(um);
+    }
+    prev[0] = a[0]; prev[1] = a[1]; prev[2] = a[2];
+    for (half = 0; half < 2; half++) {
+        const double *u0 = half ? um : ua, *u1 = half ? ub : um;
+        for (i = half; i <= 8; i++) {
+            double s = i / 8.0, w[3], r = ra + (rb - ra) * 0.5 * (half + s);
+            for (k = 0; k < 3; k++) w[k] = (1.0 - s) * u0[k] + s * u1[k];
+            vp_normalize3(w);
+            for (k = 0; k < 3; k++) w[k] = c[k] + r * w[k];
+            *len += vp_dist3(prev, w);
+            if (!dry && (st = vp_pl_route_push(pl, w, PROOF_OUTSIDE)) != VP_OK) return st;
+            prev[0] = w[0]; prev[1] = w[1]; prev[2] = w[2];
+        }
+    }
+    *len += vp_dist3(prev, b);
+    return dry ? VP_OK : vp_pl_route_push(pl, b, PROOF_OUTSIDE);
+}
+
+/* Appends a path between two points on or outside dOmega that stays outside Omega: the
+ * straight segment where it does not enter Omega, otherwise its midpoint pushed out of Omega
+ * (sideways to the chord), recursively with an explicit stack of bounded depth, so the path
+ * hugs dOmega. If that does not settle, the way round Omega's circumsphere. *len gets its
+ * length; with dry != 0 it only measures. */
+#define ROUTE_DEPTH 10
+static int outside_route(vp_planner_t *pl, const double *a, const double *b, int dry, double *len)
+{
+    double stack[ROUTE_DEPTH + 2][3], cur[3], delta = 0.01 * vp_pl_omega_circumradius(&pl->cfg);
+    int depth[ROUTE_DEPTH + 2], n = 0, st;
+    uint32_t nroute0 = pl->route.n;
+    *len = 0.0;
+    memcpy(cur, a, sizeof cur);
+    memcpy(stack[n], b, sizeof stack[n]);
+    depth[n++] = 0;
+    while (n > 0) {
+        double *y = stack[n - 1], m[3], u[3];
+        int d = depth[n - 1], k;
+        if (!vp_pl_seg_enters_omega(&pl->cfg, cur, y)) {
+            *len += vp_dist3(cur, y);
+            if (!dry && (st = vp_pl_route_push(pl, y, PROOF_OUTSIDE)) != VP_OK) return st;
+            memcpy(cur, y, sizeof cur);
+            n--;
+            continue;
+        }
+        if (d >= ROUTE_DEPTH) {
+            pl->route.n = nroute0;
+            *len = 0.0;
+            return sphere_route(pl, a, b, dry, len);
+        }
+        vp_sub3(u, y, cur);
+        vp_normalize3(u);
+        for (k = 0; k < 3; k++) m[k] = 0.5 * (cur[k] + y[k]);
+        push_out(&pl->cfg, m, u, delta);
+        depth[n - 1] = d + 1;
+        memcpy(stack[n], m, sizeof m);
+        depth[n++] = d + 1;
+    }
+    return VP_OK;
+}
+
+/* ---------- paths for the device ---------- */
+
+/* first record on the prev chain of r that lies outside Omega (the chain's root) */
+static uint32_t chain_root(const vp_planner_t *pl, uint32_t r)
+{
+    while (pl->pool.vrec[r].prev != r) r = pl->pool.vrec[r].prev;
+    return r;
+}
+
+/* Length of the prev-chain (tree) path from record a to record b, or to the outside point gp
+ * when b == NONE. The paper's device travels these. With route != 0 the path is appended to
+ * the route. */
+static int tree_path(vp_planner_t *pl, uint32_t a, uint32_t b, const double *gp, int route,
+                     double *len)
+{
+    uint32_t x = a, y = b, ny = 0, i;
+    double l = 0.0, ol;
+    const double *last;
+    int st;
+    *len = 0.0;
+    if (b == NONE) {
+        while (pl->pool.vrec[x].prev != x) {
+            uint32_t p = pl->pool.vrec[x].prev;
+            l += vp_dist3(pl->pool.vrec[x].p, pl->pool.vrec[p].p);
+            if (route && (st = vp_pl_route_push(pl, pl->pool.vrec[p].p, pl->pool.vrec[x].proof)) != VP_OK) return st;
+            x = p;
+        }
+        st = outside_route(pl, pl->pool.vrec[x].p, gp, !route, &ol);
+        *len = l + ol;
+        return st;
+    }
+    /* climb to the common ancestor; y's half is kept to be walked downwards */
+    while (pl->pool.vrec[x].depth > pl->pool.vrec[y].depth) {
+        uint32_t p = pl->pool.vrec[x].prev;
+        l += vp_dist3(pl->pool.vrec[x].p, pl->pool.vrec[p].p);
+        if (route && (st = vp_pl_route_push(pl, pl->pool.vrec[p].p, pl->pool.vrec[x].proof)) != VP_OK) return st;
+        x = p;
+    }
+    while (pl->pool.vrec[y].depth > pl->pool.vrec[x].depth) {
+        if (ny >= pl->route.cap_path) return VP_ENOMEM;
+        pl->route.path[ny++] = y;
+        y = pl->pool.vrec[y].prev;
+    }
+    while (x != y && !(pl->pool.vrec[x].prev == x && pl->pool.vrec[y].prev == y)) {
+        uint32_t p = pl->pool.vrec[x].prev;
+        l += vp_dist3(pl->pool.vrec[x].p, pl->pool.vrec[p].p);
+        if (route && (st = vp_pl_route_push(pl, pl->pool.vrec[p].p, pl->pool.vrec[x].proof)) != VP_OK) return st;
+        x = p;
+        if (ny >= pl->route.cap_path) return VP_ENOMEM;
+        pl->route.path[ny++] = y;
+        y = pl->pool.vrec[y].prev;
+    }
+    last = pl->pool.vrec[x].p;
+    if (x != y) {
+        st = outside_route(pl, pl->pool.vrec[x].p, pl->pool.vrec[y].p, !route, &ol);
+        if (st != VP_OK) return st;
+        l += ol;
+        last = pl->pool.vrec[y].p;
+    }
+    for (i = ny; i-- > 0;) {
+        l += vp_dist3(last, pl->pool.vrec[pl->route.path[i]].p);
+        last = pl->pool.vrec[pl->route.path[i]].p;
+        if (route && (st = vp_pl_route_push(pl, last, pl->pool.vrec[pl->route.path[i]].proof)) != VP_OK) return st;
+    }
+    *len = l;
+    return VP_OK;
+}
+
+/* A* over the free graph (records joined by proven-free segments; records outside Omega joined
+ * to each other around Omega). Goal: record b, or the outside point gp when b == NONE.
+ * Returns VP_ENOMEM when the search budget runs out (the caller falls back to prev chains). */
+#define VIRTUAL 0x80000000u
+
+typedef struct astar {
+    vp_planner_t *pl;
+    uint32_t *open, nopen, stamp;
+    const double *goal;
+} astar_t;
+
+static void astar_place(astar_t *s, uint32_t i, uint32_t n)
+{
+    s->open[i] = n;
+    s->pl->pool.vrec[n].hpos = i;
+}
+
+static void astar_sift_up(astar_t *s, uint32_t i)
+{
+    uint32_t n = s->open[i];
+    double f = s->pl->pool.vrec[n].f;
+    while (i > 0) {
+        uint32_t p = (i - 1) / 2;
+        if (!(f < s->pl->pool.vrec[s->open[p]].f)) break;
+        astar_place(s, i, s->open[p]);
+        i = p;
+    }
+    astar_place(s, i, n);
+}
+
+static uint32_t astar_pop(astar_t *s)
+{
+    uint32_t top = s->open[0], i = 0, last;
+    s->pl->pool.vrec[top].hpos = NONE;
+    if (--s->nopen == 0) return top;
+    last = s->open[s->nopen];
+    for (;;) {
+        uint32_t l = 2 * i + 1, r = l + 1, m;
+        double fm = s->pl->pool.vrec[last].f;
+        m = NONE;
+        if (l < s->nopen && s->pl->pool.vrec[s->open[l]].f < fm) { m = l; fm = s->pl->pool.vrec[s->open[l]].f; }
+        if (r < s->nopen && s->pl->pool.vrec[s->open[r]].f < fm) m = r;
+        if (m == NONE) break;
+        astar_place(s, i, s->open[m]);
+        i = m;
+    }
+    astar_place(s, i, last);
+    return top;
+}
+
+static int astar_relax(astar_t *s, uint32_t from, uint32_t nb, double g, uint32_t virt)
+{
+    vp_vrec_t *r = &s->pl->pool.vrec[nb];
+    if (r->stamp == s->stamp && !(g < r->g)) return VP_OK;
+    if (r->stamp != s->stamp) {
+        r->stamp = s->stamp;
+        r->hpos = NONE;
+    }
+    r->g = g;
+    r->f = g + vp_dist3(r->p, s->goal);
+    r->from = from | virt;
+    if (r->hpos == NONE) {
+        if (s->nopen >= s->pl->pool.cap_astar) return VP_ENOMEM;
+        r->hpos = s->nopen++;
+        s->open[r->hpos] = nb;
+        if (s->nopen > s->pl->peak.astar) s->pl->peak.astar = s->nopen;
+    }
+    astar_sift_up(s, r->hpos);
+    return VP_OK;
+}
+
+static int astar_path(vp_planner_t *pl, uint32_t a, uint32_t b, const double *gp, double *len,
+                      uint32_t max_expansions)
+{
+    astar_t s;
+    uint32_t broot = b != NONE ? chain_root(pl, b) : NONE, best_out = NONE, node = NONE, i;
+    uint32_t expansions = 0, budget = pl->pool.cap_astar > max_expansions ? max_expansions : pl->pool.cap_astar;
+    double best_out_cost = 1e300, ol;
+    int st;
+    s.pl = pl;
+    s.open = pl->pool.astar;
+    s.nopen = 0;
+    s.stamp = ++pl->stamp;
+    s.goal = b != NONE ? pl->pool.vrec[b].p : gp;
+    pl->pool.vrec[a].stamp = s.stamp;
+    pl->pool.vrec[a].g = 0.0;
+    pl->pool.vrec[a].f = vp_dist3(pl->pool.vrec[a].p, s.goal);
+    pl->pool.vrec[a].from = NONE;
+    pl->pool.vrec[a].hpos = 0;
+    s.open[s.nopen++] = a;
+    while (s.nopen > 0) {
+        uint32_t e, cur;
+        if (best_out != NONE && best_out_cost <= pl->pool.vrec[s.open[0]].f) break;
+        cur = astar_pop(&s);
+        pl->st.astar_expansions++;
+        if (cur == b) { node = b; break; }
+        if (++expansions > budget) return VP_ENOMEM;
+        for (e = pl->pool.vrec[cur].adj; e != NONE;) {
+            const uint32_t *w = pl->pool.fedge + FEDGE_WORDS * e;
+            int isa = w[0] == cur;
+            uint32_t nb = isa ? w[1] : w[0];
+            st = astar_relax(&s, cur, nb, pl->pool.vrec[cur].g + vp_dist3(pl->pool.vrec[cur].p, pl->pool.vrec[nb].p), 0);
+            if (st != VP_OK) return st;
+            e = isa ? w[2] : w[3];
+        }
+        if (pl->pool.vrec[cur].flags & REC_OUT) {
+            if (b == NONE) {
+                if (outside_route(pl, pl->pool.vrec[cur].p, gp, 1, &ol) == VP_OK &&
+                    pl->pool.vrec[cur].g + ol < best_out_cost) {
+                    best_out_cost = pl->pool.vrec[cur].g + ol;
+                    best_out = cur;
+                }
+            } else if (broot != cur && outside_route(pl, pl->pool.vrec[cur].p, pl->pool.vrec[broot].p, 1, &ol) == VP_OK) {
+                st = astar_relax(&s, cur, broot, pl->pool.vrec[cur].g + ol, VIRTUAL);
+                if (st != VP_OK) return st;
+            }
+        }
+    }
+    if (node == NONE && best_out == NONE) return VP_ENOMEM;
+    /* walk back from the end, collecting the records, then emit them forwards */
+    {
+        uint32_t n = node != NONE ? node : best_out, np = 0;
+        double l = 0.0;
+        const double *last = pl->pool.vrec[a].p;
+        while (n != NONE) {
+            if (np >= pl->route.cap_path) return VP_ENOMEM;
+            pl->route.path[np++] = n;
+            if (np > pl->peak.path) pl->peak.path = np;
+            n = pl->pool.vrec[n].from == NONE ? NONE : (pl->pool.vrec[n].from & ~VIRTUAL);
+        }
+        for (i = np - 1; i-- > 0;) {
+            uint32_t r = pl->route.path[i];
+            if (pl->pool.vrec[r].from & VIRTUAL) {
+                st = outside_route(pl, last, pl->pool.vrec[r].p, 0, &ol);
+                l += ol;
+            } else {
+                st = vp_pl_route_push(pl, pl->pool.vrec[r].p, edge_proof(pl, pl->route.path[i + 1], r));
+                l += vp_dist3(last, pl->pool.vrec[r].p);
+            }
+            if (st != VP_OK) return st;
+            last = pl->pool.vrec[r].p;
+        }
+        if (node == NONE) {
+            st = outside_route(pl, last, gp, 0, &ol);
+            if (st != VP_OK) return st;
+            l += ol;
+        }
+        *len = l;
+    }
+    return VP_OK;
+}
+
+#define SEARCH_LOCAL 256u  /* expansions before a straight shortcut is probed */
+#define SEARCH_FULL 4096u  /* expansions before falling back to the prev chains */
+
+/* The full route from record a to record b (search, else prev chains), into the route buffer. */
+VP_PL_API int vp_pl_route_full(vp_planner_t *pl, uint32_t a, uint32_t b)
+{
+    double l;
+    int st;
+    pl->route.n = pl->route.i = 0;
+    st = astar_path(pl, a, b, NULL, &l, SEARCH_FULL);
+    if (st == VP_OK) return VP_OK;
+    pl->route.n = 0;
+    pl->st.astar_fallbacks++;
+    return tree_path(pl, a, b, NULL, 1, &l);
+}
+
+/* 1 if one probe from a reaches b: no farther than the rangefinder's maximum range */
+static int in_reach(const vp_planner_t *pl, const double *a, const double *b)
+{
+    return !(pl->cfg.max_range > 0.0) || vp_dist3(a, b) <= pl->cfg.max_range;
+}
+
+/* Plans the device's route from where it stands to record b, or to the outside point gp when
+ * b == NONE (a record is then made there). Sets pl->dev.at to the destination record. */
+VP_PL_API int vp_pl_plan_route(vp_planner_t *pl, uint32_t b, const double *gp)
+{
+    double tl = 0.0, al = 0.0;
+    int st;
+    pl->route.n = pl->route.i = 0;
+    pl->st.routes++;
+    pl->route.from = pl->dev.at;
+    pl->sc.to = NONE;
+    pl->route.deferred = 0;
+    if (b != NONE && b == pl->dev.at) return VP_OK;
+    if (pl->cfg.clearance > 0.0) {
+        /* a device with a body never enters Omega: every probe starts on dOmega */
+        if (b != NONE && !(pl->pool.vrec[b].flags & REC_OUT)) return VP_EDEGEN;
+        st = outside_route(pl, pl->pool.vrec[pl->dev.at].p, b != NONE ? pl->pool.vrec[b].p : gp, 0, &tl);
+        if (st != VP_OK) return st;
+        if (b == NONE && (st = vp_pl_rec_new(pl, gp, NONE, REC_OUT, &b)) != VP_OK) return st;
+        pl->dev.at = b;
+        return VP_OK;
+    }
+    if (!(pl->cfg.flags & VP_PLAN_PREV_CHAINS)) {
+        /* what the same move costs along prev chains (reported beside the travel) */
+        st = tree_path(pl, pl->dev.at, b, gp, 0, &tl);
+        if (st != VP_OK) return st;
+        pl->st.travel_prev_chains += tl;
+    }
+    if (!(pl->cfg.flags & VP_PLAN_PREV_CHAINS) && b != NONE) {
+        /* the goal one free edge away: no search */
+        uint32_t e, cur = pl->dev.at;
+        for (e = pl->pool.vrec[cur].adj; e != NONE;) {
+            const uint32_t *w = pl->pool.fedge + FEDGE_WORDS * e;
+            int isa = w[0] == cur;
+            if ((isa ? w[1] : w[0]) == b) {
+                pl->dev.at = b;
+                pl->st.direct_routes++;
+                return vp_pl_route_push(pl, pl->pool.vrec[b].p, w[4]);
+            }
+            e = isa ? w[2] : w[3];
+        }
+    }
+    if (!(pl->cfg.flags & VP_PLAN_PREV_CHAINS)) {
+        /* a shortcut is one probe along the straight way: only within the rangefinder's reach */
+        int cheap = b != NONE && !(pl->cfg.flags & VP_PLAN_PAPER) && in_reach(pl, pl->pool.vrec[pl->dev.at].p, pl->pool.vrec[b].p);
+        st = astar_path(pl, pl->dev.at, b, gp, &al, cheap ? SEARCH_LOCAL : SEARCH_FULL);
+        if (st != VP_OK && cheap) {
+            /* no short way in the free graph: probe the straight line first; the full search
+             * runs only if that probe hits */
+            pl->route.n = 0;
+            pl->sc.to = b;
+            pl->route.deferred = 1;
+            pl->dev.at = b;
+            return VP_OK;
+        }
+        if (st != VP_OK) { pl->route.n = 0; pl->st.astar_fallbacks++; }
+    } else {
+        st = VP_ENOMEM;
+    }
+    if (!(pl->cfg.flags & (VP_PLAN_PREV_CHAINS | VP_PLAN_PAPER)) && b != NONE) {
+        /* a long detour to a near target: first probe the straight way (one probe can save
+         * many moves); the route found stays the plan if the probe hits */
+        double d = vp_dist3(pl->pool.vrec[pl->dev.at].p, pl->pool.vrec[b].p);
+        double known = st == VP_OK ? al : 1e300;
+        if (known > 3.0 * d + 2.0 * pl->cfg.eps && d > 0.0 && in_reach(pl, pl->pool.vrec[pl->dev.at].p, pl->pool.vrec[b].p))
+            pl->sc.to = b;
+    }
+    if (st != VP_OK) {
+        /* the prev chains: always a way (and the only one with VP_PLAN_PREV_CHAINS) */
+        st = tree_path(pl, pl->dev.at, b, gp, 1, &tl);
+        if (st != VP_OK) return st;
+        if (pl->cfg.flags & VP_PLAN_PREV_CHAINS) pl->st.travel_prev_chains += tl;
+    }
+    if (b == NONE) {
+        st = vp_pl_rec_new(pl, gp, NONE, REC_OUT, &b);
+        if (st != VP_OK) return st;
+    }
+    pl->dev.at = b;
+    return VP_OK;
+}

@@ -1,0 +1,360 @@
+/* tasks.c — detect_access as a stack of probe tasks instead of a recursion.
+ * A task probes the Voronoi edge dual to one facet of a tet from its active end: a hit adds the
+ * facet to Del_v|S(E) with its ball; a miss proves the edge free and makes the other end
+ * active (its Voronoi vertex gets a record and its edges are queued in turn). */
+#include "vp_planner_priv.h"
+
+/* ---------- Voronoi edges, clipped to Omega ---------- */
+
+
+#define FAR_AWAY 1e30
+
+/* Geometry of the Voronoi edge dual to facet f of tet t, oriented from t's Voronoi vertex. */
+VP_PL_API int vp_pl_edge_geom(const vp_planner_t *pl, uint32_t t, int f, edgegeom_t *g)
+{
+    vp_dt_vedge_t e;
+    int st = vp_dt_voronoi_edge(&pl->dt, t, f, &e), k;
+    int tg = vp_dt_is_ghost(&pl->dt, t);
+    memset(g, 0, sizeof *g);
+    if (st != VP_OK) return st;
+    if (!e.is_ray) {
+        for (k = 0; k < 3; k++) { g->a[k] = e.from[k]; g->dir[k] = e.to[k] - e.from[k]; }
+        g->len = sqrt(vp_dot3(g->dir, g->dir));
+        if (!(g->len > 0.0)) { g->t0 = g->t1 = 0.0; g->a_inside = vp_pl_omega_inside(&pl->cfg, g->a); return VP_OK; }
+        for (k = 0; k < 3; k++) g->dir[k] /= g->len;
+    } else if (!tg) {
+        /* finite tet, ghost neighbour: from the Voronoi vertex outward to infinity */
+        for (k = 0; k < 3; k++) { g->a[k] = e.from[k]; g->dir[k] = e.dir[k]; }
+        g->len = FAR_AWAY;
+    } else {
+        /* ghost tet: from a point far out on the ray, back in to the finite vertex */
+        double c[3], back;
+        vp_pl_omega_center(&pl->cfg, c);
+        back = vp_dist3(e.from, c) + 4.0 * vp_pl_omega_circumradius(&pl->cfg) + 1.0;
+        for (k = 0; k < 3; k++) { g->a[k] = e.from[k] + back * e.dir[k]; g->dir[k] = -e.dir[k]; }
+        g->len = back;
+    }
+    if (!vp_finite3(g->a) || !vp_finite3(g->dir)) return VP_EDEGEN;
+    if (!vp_pl_omega_clip(&pl->cfg, g->a, g->dir, g->len, &g->t0, &g->t1)) g->t0 = g->t1 = 0.0;
+    g->a_inside = !tg && vp_pl_omega_inside(&pl->cfg, g->a);
+    return VP_OK;
+}
+
+/* A point of the Voronoi vertex of finite tet t (its circumcentre), for records. */
+VP_PL_API int vp_pl_tet_point(const vp_planner_t *pl, uint32_t t, double *p)
+{
+    return vp_dt_circumcenter(&pl->dt, t, p);
+}
+
+/* ---------- detect_access as a stack of probe tasks ---------- */
+
+/* Probing every edge of every active vertex (the paper's detect_access): always with
+ * VP_PLAN_PAPER, otherwise only while a hole could not be closed locally. */
+VP_PL_API int vp_pl_exhaustive(const vp_planner_t *pl)
+{
+    return (pl->cfg.flags & VP_PLAN_PAPER) || pl->close.exhaustive;
+}
+
+/* A task is live while its tet is and its side is marked queued. A tet killed by an
+ * insertion leaves its tasks behind (its slot may hold a new tet, whose sides start
+ * unqueued, and any task pushed for that new tet lies above the old ones on the stack and is
+ * popped first, clearing the mark): dropped here when the stack is full, skipped when popped. */
+static int task_live(const vp_planner_t *pl, const vp_task_t *k)
+{
+    return vp_dt_alive(&pl->dt, k->tet) && (side_get(pl, k->tet, k->facet) & SIDE_QUEUED);
+}
+
+VP_PL_API void vp_pl_task_compact(vp_planner_t *pl)
+{
+    uint32_t i, n = 0;
+    for (i = 0; i < pl->pool.ntask; i++)
+        if (task_live(pl, &pl->pool.task[i])) pl->pool.task[n++] = pl->pool.task[i];
+    pl->pool.ntask = n;
+}
+
+VP_PL_API int vp_pl_task_push(vp_planner_t *pl, uint32_t t, int f, int forced)
+{
+    unsigned s = side_get(pl, t, f);
+    vp_task_t *k;
+    if (s & SIDE_QUEUED) return VP_OK;
+    if (pl->pool.ntask >= pl->pool.cap_task) vp_pl_task_compact(pl);
+    if (pl->pool.ntask >= pl->pool.cap_task) return VP_ENOMEM;
+    k = &pl->pool.task[pl->pool.ntask++];
+    k->tet = t;
+    k->facet = (uint8_t)f;
+    k->tries = 0;
+    k->proof = PROOF_NONE;
+    k->off = 0.0;
+    side_set(pl, t, f, s | SIDE_QUEUED | (forced ? SIDE_FORCED : 0u));
+    return VP_OK;
+}
+
+VP_PL_API int vp_pl_facet_has_ghost(const vp_planner_t *pl, uint32_t t, int f)
+{
+    uint32_t fv[3];
+    vp_dt_facet(&pl->dt, t, f, fv);
+    return fv[0] == VP_DT_GHOST || fv[1] == VP_DT_GHOST || fv[2] == VP_DT_GHOST;
+}
+
+/* detect_access(t): queue a probe of every Voronoi edge around active vertex t that still
+ * needs one. Without VP_PLAN_PAPER, edges towards vertices already known free are left out. */
+VP_PL_API int vp_pl_explore(vp_planner_t *pl, uint32_t t)
+{
+    int f, st;
+    const uint32_t *w = vp_dt_tet(&pl->dt, t);
+    for (f = 3; f >= 0; f--) {
+        unsigned s = side_get(pl, t, f);
+        if ((s & (SIDE_QUEUED | SIDE_BLOCKED)) || vp_pl_facet_has_ghost(pl, t, f)) continue;
+        /* BEHIND seen from a free vertex: the edge crosses S twice; its other ball is probed
+         * from here */
+        if ((s & SIDE_MASK) != SIDE_UNKNOWN && (s & SIDE_MASK) != SIDE_BEHIND) continue;
+        if ((s & SIDE_MASK) == SIDE_UNKNOWN && !vp_pl_exhaustive(pl) && tet_active(pl, w[4 + f] >> 2)) continue;
+        if ((st = vp_pl_task_push(pl, t, f, 0)) != VP_OK) return st;
+    }
+    return VP_OK;
+}
+
+/* Marks tet t active (reachable). rec: its record, or VREC_OUT. */
+static int activate(vp_planner_t *pl, uint32_t t, uint32_t rec)
+{
+    pay(pl, t)[0] = rec;
+    return vp_pl_explore(pl, t);
+}
+
+/* the unique point of the facet's plane equidistant from its vertices */
+static int facet_circumcenter(const vp_planner_t *pl, const uint32_t *fv, double *m)
+{
+    const double *a = vp_dt_point(&pl->dt, fv[0]), *b = vp_dt_point(&pl->dt, fv[1]),
+                 *c = vp_dt_point(&pl->dt, fv[2]);
+    double ab[3], ac[3], n[3], t1[3], t2[3], d;
+    int k;
+    vp_sub3(ab, b, a);
+    vp_sub3(ac, c, a);
+    vp_cross3(n, ab, ac);
+    d = 2.0 * vp_dot3(n, n);
+    if (!(d > 0.0)) return 0;
+    vp_cross3(t1, n, ab);
+    vp_cross3(t2, ac, n);
+    for (k = 0; k < 3; k++) m[k] = a[k] + (vp_dot3(ac, ac) * t1[k] + vp_dot3(ab, ab) * t2[k]) / d;
+    return vp_finite3(m);
+}
+
+/* A miss is suspicious when the edge passes through its own facet's circumcentre: the facet is
+ * then a plausible surface facet and the probe crosses the sampled surface there. */
+static int expect_hit(const vp_planner_t *pl, uint32_t t, int f, const double *origin,
+                      const double *dir, double range)
+{
+    uint32_t fv[3];
+    double m[3], d[3], s;
+    vp_dt_facet(&pl->dt, t, f, fv);
+    if (!facet_circumcenter(pl, fv, m)) return 0;
+    vp_sub3(d, m, origin);
+    s = vp_dot3(d, dir);
+    return s > 0.0 && s < range;
+}
+
+/* A side that cannot be probed from this end (no usable edge: a degenerate tet, or no place to
+ * probe from): marked so that no rule asks for it again, which bounds the work of closing. */
+static int task_unprobeable(vp_planner_t *pl, uint32_t t, int f)
+{
+    side_set(pl, t, f, side_get(pl, t, f) | SIDE_BLOCKED);
+    pl->st.stalls++;
+    return 0;
+}
+
+/* Prepares the probe of task k: the route to its origin and the ray. Returns 1 when a probe
+ * is ready, 0 when the task resolved without probing. */
+VP_PL_API int vp_pl_task_start(vp_planner_t *pl, vp_task_t *k)
+{
+    uint32_t t = k->tet, u, j;
+    int f = k->facet, st;
+    unsigned s = side_get(pl, t, f);
+    const uint32_t *w;
+    edgegeom_t g;
+    double o[3], range;
+    uint32_t goal = NONE;
+    if (!task_live(pl, k)) return 0;
+    side_set(pl, t, f, s & ~(SIDE_QUEUED | SIDE_FORCED));
+    if ((s & SIDE_MASK) != SIDE_UNKNOWN && (s & SIDE_MASK) != SIDE_BEHIND) return 0;
+    w = vp_dt_tet(&pl->dt, t);
+    u = w[4 + f] >> 2;
+    j = w[4 + f] & 3u;
+    if ((s & SIDE_MASK) == SIDE_UNKNOWN && !vp_pl_exhaustive(pl) && !(s & SIDE_FORCED) && tet_active(pl, u))
+        return 0;
+    if (!tet_active(pl, t)) return 0;
+    st = vp_pl_edge_geom(pl, t, f, &g);
+    if (st != VP_OK) return task_unprobeable(pl, t, f); /* degenerate: no usable edge */
+    if (!(g.t0 < g.t1) || k->off >= g.t1 - g.t0 - 1e-12 * (1.0 + g.t1)) {
+        /* the edge lies outside Omega (or is already proven free by the walked ray): free */
+        uint32_t pf = k->off > 0.0 ? k->proof : PROOF_OUTSIDE;
+        side_set(pl, t, f, SIDE_UNKNOWN);
+        side_free(pl, t, f, pf);
+        side_free(pl, u, (int)j, pf);
+        return 0;
+    }
+    pl->probe.standoff = 0.0;
+    if (g.a_inside && pl->cfg.clearance > 0.0) {
+        /* a device with a body stays outside Omega: it probes the edge's line from where the
+         * line leaves Omega behind the vertex; only a hit beyond the vertex is on the edge */
+        double back[3], t0b, t1b;
+        int q;
+        for (q = 0; q < 3; q++) back[q] = -g.dir[q];
+        if (!vp_pl_omega_clip(&pl->cfg, g.a, back, 1e300, &t0b, &t1b)) return task_unprobeable(pl, t, f);
+        for (q = 0; q < 3; q++) o[q] = g.a[q] - t1b * g.dir[q];
+        range = t1b + g.t1;
+        pl->probe.standoff = t1b;
+    } else if (g.a_inside) {
+        goal = tet_rec(pl, t);
+        if (goal == VREC_OUT || goal == NONE) return task_unprobeable(pl, t, f);
+        o[0] = g.a[0]; o[1] = g.a[1]; o[2] = g.a[2];
+        range = g.t1;
+    } else {
+        int q, tries;
+        double back = 0.0;
+        for (q = 0; q < 3; q++) o[q] = g.a[q] + g.t0 * g.dir[q];
+        range = g.t1 - g.t0;
+        /* where the edge enters Omega, from a far Voronoi vertex (a nearly flat tet): rounding
+         * can put it inside Omega; the device waits outside, so step back along the line */
+        for (tries = 0; vp_pl_omega_inside(&pl->cfg, o) && tries < 16; tries++) {
+            double step = back > 0.0 ? back : 4e-16 * (fabs(g.t0) + sqrt(vp_dot3(g.a, g.a))) + pl->ptol;
+            for (q = 0; q < 3; q++) o[q] -= step * g.dir[q];
+            range += step;
+            back += step;
+        }
+        if (vp_pl_omega_inside(&pl->cfg, o)) return task_unprobeable(pl, t, f);
+    }
+    if (k->off > 0.0) {
+        /* resume a range-limited probe from the end of its free part */
+        int q;
+        for (q = 0; q < 3; q++) o[q] += k->off * g.dir[q];
+        range -= k->off;
+        goal = pl->dev.at; /* the device was left there */
+    }
+    pl->probe.full = range;
+    range = vp_pl_clamp_range(pl, range);
+    if (goal != NONE) st = vp_pl_plan_route(pl, goal, NULL);
+    else st = vp_pl_plan_route(pl, NONE, o);
+    if (st != VP_OK) { pl->error = st; return 0; }
+    memcpy(pl->probe.origin, o, sizeof o);
+    memcpy(pl->probe.dir, g.dir, sizeof g.dir);
+    pl->probe.range = range;
+    pl->probe.origin_rec = pl->dev.at;
+    pl->probe.chain_proof = k->off > 0.0 ? k->proof : PROOF_NONE;
+    pl->probe.task = *k;
+    side_set(pl, t, f, side_get(pl, t, f) | SIDE_QUEUED);
+    if (pl->sc.to != NONE) {
+        /* the shortcut probe goes first, from where the device stands now */
+        pl->sc.from = pl->route.from;
+        pl->sc.tries = 0;
+        pl->sc.pending = 1;
+        return 2;
+    }
+    return 1;
+}
+
+/* The result of the probe of the current task. */
+VP_PL_API int vp_pl_task_finish(vp_planner_t *pl, const vp_probe_result_t *res)
+{
+    vp_task_t *k = &pl->probe.task;
+    uint32_t t = k->tet, u, j, fv[3], fr;
+    int f = k->facet, st, q;
+    const uint32_t *w = vp_dt_tet(&pl->dt, t);
+    double tol = pl->cfg.noise_tol;
+    u = w[4 + f] >> 2;
+    j = w[4 + f] & 3u;
+    side_set(pl, t, f, side_get(pl, t, f) & ~(SIDE_QUEUED | SIDE_FORCED));
+    if (res->hit == VP_PROBE_TOO_CLOSE) {
+        /* nothing learnt: not free, no sample; not asked again from this end */
+        side_set(pl, t, f, side_get(pl, t, f) | SIDE_BLOCKED);
+        pl->st.too_close++;
+        return VP_OK;
+    }
+    if (res->hit && pl->probe.standoff > 0.0 && res->dist < pl->probe.standoff + tol) {
+        /* from a standoff: the line met S before reaching the vertex; the edge is unseen */
+        side_set(pl, t, f, side_get(pl, t, f) | SIDE_BLOCKED);
+        pl->st.hits++;
+        pl->st.occluded++;
+        return VP_OK;
+    }
+    if (res->hit && res->dist <= pl->probe.range + tol) {
+        /* the ball centre stays strictly inside the edge: a centre on a Voronoi vertex (a hit
+         * at 0 or past the end, within the noise) would put a fourth sample on its sphere */
+        double h[3], d = res->dist, inset = 1e-9 * pl->probe.range;
+        if (d > pl->probe.range - inset) d = pl->probe.range - inset;
+        if (d < inset) d = inset;
+        for (q = 0; q < 3; q++) h[q] = pl->probe.origin[q] + d * pl->probe.dir[q];
+        pl->st.hits++;
+        vp_dt_facet(&pl->dt, t, f, fv);
+        {
+            unsigned su = side_get(pl, u, (int)j) & SIDE_MASK;
+            uint32_t pf;
+            if ((st = vp_pl_probe_proof(pl, res, &pf)) != VP_OK) return st;
+            st = vp_pl_frec_add(pl, fv, h, pl->probe.origin, t, pf, &fr);
+            if (st != VP_OK) return st;
+            side_set(pl, t, f, SIDE_HIT);
+            if (su == SIDE_HIT) {
+                /* seen from both ends: two balls; the larger one decides refinement */
+                vp_pl_frec_set_ball(pl, fr, h);
+            } else {
+                side_set(pl, u, (int)j, (side_get(pl, u, (int)j) & ~SIDE_MASK) | SIDE_BEHIND);
+            }
+        }
+        return VP_OK;
+    }
+    pl->st.misses++;
+    /* a dropout must not open a way into the object: a miss is trusted only after
+     * confirm_misses more misses on the same ray (twice that where a hit is expected) */
+    if (pl->cfg.confirm_misses > 0 &&
+        k->tries < pl->cfg.confirm_misses *
+                       (expect_hit(pl, t, f, pl->probe.origin, pl->probe.dir, pl->probe.range) ? 2u : 1u)) {
+        k->tries++;
+        pl->st.reprobes++;
+        pl->probe.ready = 1;
+        side_set(pl, t, f, side_get(pl, t, f) | SIDE_QUEUED);
+        return VP_OK;
+    }
+    {
+        uint32_t pf;
+        if ((st = vp_pl_probe_proof(pl, res, &pf)) != VP_OK) return st;
+        k->proof = pf;
+    }
+    if (vp_pl_probe_limited(pl)) {
+        /* range-limited: the free part ends here; walk there and probe on */
+        double e[3];
+        if (pl->cfg.clearance > 0.0) {
+            /* a device with a body stays outside Omega: the rest of the line is unseen */
+            side_set(pl, t, f, side_get(pl, t, f) | SIDE_BLOCKED);
+            pl->st.occluded++;
+            return VP_OK;
+        }
+        if ((st = vp_pl_walk_on(pl, pl->probe.origin_rec, k->proof, e)) != VP_OK) return st;
+        k->off += pl->probe.range;
+        k->tries = 0; /* the next part of the ray is a new probe: its misses are confirmed anew */
+        if (pl->pool.ntask >= pl->pool.cap_task) return VP_ENOMEM;
+        pl->pool.task[pl->pool.ntask++] = *k;
+        side_set(pl, t, f, side_get(pl, t, f) | SIDE_QUEUED);
+        return VP_OK;
+    }
+    /* the whole edge is free: a hit seen from the other end lay within the noise of this end
+     * (S passes by the vertex here): the edge does not cross S once, its facet goes */
+    vp_dt_facet(&pl->dt, t, f, fv);
+    if ((fr = vp_pl_frec_lookup(pl, fv)) != NONE) {
+        vp_pl_frec_delete(pl, fr);
+        pl->st.noise_drops++;
+    }
+    side_set(pl, t, f, SIDE_UNKNOWN);
+    side_free(pl, t, f, k->proof);
+    side_free(pl, u, (int)j, k->proof);
+    if (!tet_active(pl, u)) {
+        double c[3];
+        uint32_t r;
+        if (vp_dt_is_ghost(&pl->dt, u) || vp_pl_tet_point(pl, u, c) != VP_OK || !vp_pl_omega_inside(&pl->cfg, c))
+            return activate(pl, u, VREC_OUT);
+        st = vp_pl_rec_link(pl, c, pl->probe.origin_rec, 0, k->proof, &r);
+        if (st != VP_OK || r == NONE) return st;
+        return activate(pl, u, r);
+    }
+    if (tet_rec(pl, u) != VREC_OUT && pl->probe.origin_rec != NONE)
+        return vp_pl_edge_add(pl, pl->probe.origin_rec, tet_rec(pl, u), k->proof);
+    return VP_OK;
+}

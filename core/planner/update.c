@@ -1,0 +1,286 @@
+/* update.c — refinement: the centre of a bad ball is inserted (the paper's "insert c(f) into
+ * E"), then Del_v|S and the free paths are updated around the insertion's cavity: facets that
+ * died are removed, cavity-boundary sides keep a result their shortened Voronoi edge still
+ * holds, new tets inherit activity. */
+#include "vp_planner_priv.h"
+
+/* ---------- after an insertion: the update of Del_v|S and of the free paths ---------- */
+
+static int facet_index_of(const uint32_t *w, uint32_t v)
+{
+    int k;
+    for (k = 0; k < 4; k++)
+        if (w[k] == v) return k;
+    return -1;
+}
+
+/* Entry point on dOmega of the Voronoi edge dual to facet f of t, walking from the far
+ * (neighbour's) end towards t's vertex; t's vertex is inside Omega. */
+static int entry_point(const vp_planner_t *pl, uint32_t t, int f, double *e)
+{
+    edgegeom_t g;
+    int k;
+    if (vp_pl_edge_geom(pl, t, f, &g) != VP_OK || !(g.t0 < g.t1)) return 0;
+    for (k = 0; k < 3; k++) e[k] = g.a[k] + g.t1 * g.dir[k];
+    return 1;
+}
+
+VP_PL_API int vp_pl_after_insert(vp_planner_t *pl, uint32_t pv)
+{
+    uint32_t nk, nc, q, ki;
+    const uint32_t *killed = vp_dt_last_killed(&pl->dt, &nk);
+    const uint32_t *kverts = vp_dt_last_killed_vertices(&pl->dt);
+    const uint32_t *created = vp_dt_last_created(&pl->dt, &nc);
+    const uint32_t *cfrom = vp_dt_last_created_from(&pl->dt);
+    uint32_t *kpay, *kbound, *ckidx;
+    const double *P = vp_dt_point(&pl->dt, pv);
+    int st, i;
+
+    if (KPAY * nk + nk + nc > pl->pool.cap_astar) return VP_ENOMEM;
+    if (KPAY * nk + nk + nc > pl->peak.astar) pl->peak.astar = KPAY * nk + nk + nc;
+    kpay = pl->pool.astar;
+    kbound = kpay + KPAY * nk;
+    ckidx = kbound + nk;
+    /* the killed tets' payloads, before created tets overwrite their slots */
+    for (q = 0; q < nk; q++) {
+        memcpy(kpay + KPAY * q, pay(pl, killed[q]), KPAY * sizeof(uint32_t));
+        kbound[q] = 0;
+    }
+    for (q = 0; q < nc; q++) {
+        uint32_t ks = cfrom[q] >> 2;
+        for (ki = 0; ki < nk && killed[ki] != ks; ki++) {}
+        if (ki == nk) return VP_EDEGEN;
+        ckidx[q] = ki;
+        kbound[ki] |= 1u << (cfrom[q] & 3u);
+    }
+    /* facets inside the cavity are gone: so are their balls */
+    for (ki = 0; ki < nk; ki++)
+        for (i = 0; i < 4; i++) {
+            uint32_t fv[3], r;
+            int m = 0, x;
+            if ((kbound[ki] >> i) & 1u) continue;
+            for (x = 0; x < 4; x++)
+                if (x != i) fv[m++] = kverts[4 * ki + (uint32_t)x];
+            r = vp_pl_frec_lookup(pl, fv);
+            if (r != NONE) vp_pl_frec_delete(pl, r);
+        }
+    for (q = 0; q < nc; q++) {
+        pay(pl, created[q])[0] = NONE;
+        pay(pl, created[q])[1] = 0;
+    }
+    /* cavity boundary facets: the Voronoi edge keeps its line and shrinks to [P_n, P_U] */
+    for (q = 0; q < nc; q++) {
+        uint32_t n = created[q], U, jj, fv[3], r, krec;
+        const uint32_t *w = vp_dt_tet(&pl->dt, n);
+        int jn = facet_index_of(w, pv), fi = (int)(cfrom[q] & 3u);
+        unsigned sU, sK, sn;
+        int valid = 0, reach_from_k = 0, edge_free = 0, c_ok = 0;
+        double c[3], oldc[3], pu[3], tol = pl->cfg.noise_tol;
+        uint32_t pfree = PROOF_NONE, pk = PROOF_NONE; /* proofs proposed: of the edge, of [P_k, P_n] */
+        uint32_t oldproof = PROOF_NONE;
+        ki = ckidx[q];
+        U = w[4 + jn] >> 2;
+        jj = w[4 + jn] & 3u;
+        sU = side_get(pl, U, (int)jj) & SIDE_MASK;
+        sK = (kpay[KPAY * ki + 1] >> (8 * fi)) & SIDE_MASK;
+        krec = kpay[KPAY * ki];
+        if (vp_dt_is_ghost(&pl->dt, n)) {
+            pay(pl, n)[0] = VREC_OUT;
+        } else if (vp_pl_tet_point(pl, n, c) != VP_OK || !vp_pl_omega_inside(&pl->cfg, c)) {
+            pay(pl, n)[0] = VREC_OUT;
+        } else {
+            c_ok = 1;
+        }
+        if (vp_pl_facet_has_ghost(pl, n, jn)) continue;
+        vp_dt_facet(&pl->dt, n, jn, fv);
+        r = vp_pl_frec_lookup(pl, fv);
+        if (r != NONE) {
+            int dbl = (pl->pool.frec[r].flags & FREC_DOUBLE) != 0;
+            memcpy(oldc, pl->pool.frec[r].c, sizeof oldc);
+            oldproof = pl->pool.frec[r].proof;
+            valid = vp_cmp_dist(pl->pool.frec[r].c, P, vp_dt_point(&pl->dt, fv[0])) >= 0;
+            if (!valid) vp_pl_frec_delete(pl, r);
+            if (dbl) {
+                /* two crossings: nothing about free parts can be inferred; look again */
+                side_set(pl, n, jn, SIDE_UNKNOWN);
+                side_set(pl, U, (int)jj, side_get(pl, U, (int)jj) & ~SIDE_MASK);
+                continue;
+            }
+        }
+        sn = SIDE_UNKNOWN;
+        if (r != NONE && valid) {
+            if (sU == SIDE_HIT) sn = SIDE_BEHIND;
+            else if (sK == SIDE_HIT) {
+                sn = SIDE_HIT;
+                sU = SIDE_BEHIND;
+                /* [P_kold, c) was free; P_n lies on it, clear of c by the noise tolerance */
+                reach_from_k = krec != NONE && krec != VREC_OUT && c_ok &&
+                               vp_dist3(pl->pool.vrec[krec].p, c) <= vp_dist3(pl->pool.vrec[krec].p, pl->pool.frec[r].c) - tol;
+                pk = pl->pool.frec[r].proof;
+            }
+            else { sn = SIDE_UNKNOWN; }
+        } else if (sU == SIDE_FREE || sK == SIDE_FREE) {
+            sn = sU = SIDE_FREE;
+            edge_free = 1;
+            reach_from_k = 1;
+            pfree = pk = sK == SIDE_FREE ? kpay[KPAY * ki + 2 + fi] : side_proof(pl, U, (int)jj);
+        } else if (r != NONE && sU == SIDE_HIT) {
+            /* the old hit seen from U is cut off: U's side is free up to past P_n, with the
+             * noise tolerance to spare (measured from U's vertex, or for a hull ray from where
+             * the probe entered Omega: the hit may be off by the noise either way) */
+            int from_u = vp_dt_is_ghost(&pl->dt, U) ? entry_point(pl, n, jn, pu)
+                                                      : vp_pl_tet_point(pl, U, pu) == VP_OK;
+            if (c_ok && from_u && vp_dist3(pu, c) <= vp_dist3(pu, oldc) - tol) {
+                sn = sU = SIDE_FREE;
+                edge_free = 1;
+                pfree = oldproof;
+            } else {
+                sn = sU = SIDE_UNKNOWN;
+            }
+        } else if (r != NONE) {
+            sn = sU = SIDE_UNKNOWN;
+        }
+        side_set(pl, n, jn, sn);
+        side_set(pl, U, (int)jj, (side_get(pl, U, (int)jj) & ~SIDE_MASK) | sU);
+        if (sn == SIDE_FREE) {
+            side_free(pl, n, jn, pfree);
+            side_free(pl, U, (int)jj, pfree);
+        }
+        /* activation through the free boundary edge (the paper's v' rule), or along the
+         * former edge from the killed tet's record */
+        if (pay(pl, n)[0] != NONE) continue;
+        {
+            uint32_t nr = NONE, urec = tet_rec(pl, U);
+            int k_ok = reach_from_k && krec != NONE && krec != VREC_OUT;
+            if (edge_free && urec != NONE) {
+                if (urec == VREC_OUT) {
+                    double e[3];
+                    uint32_t er;
+                    if (!entry_point(pl, n, jn, e)) continue;
+                    st = vp_pl_rec_new(pl, e, NONE, REC_OUT, &er);
+                    if (st != VP_OK) return st;
+                    st = vp_pl_rec_link(pl, c, er, 0, pfree, &nr);
+                } else {
+                    st = vp_pl_rec_link(pl, c, urec, 0, pfree, &nr);
+                }
+                /* the rest of the old edge, towards the former vertex, is free too */
+                if (st == VP_OK && k_ok && nr != NONE) st = vp_pl_edge_add(pl, nr, krec, pk);
+                if (st != VP_OK) return st;
+            }
+            if (nr == NONE && k_ok) {
+                st = vp_pl_rec_link(pl, c, krec, 0, pk, &nr);
+                if (st != VP_OK) return st;
+            }
+            if (nr != NONE) pay(pl, n)[0] = nr;
+        }
+    }
+    /* detect_access from every new active vertex, and from old active neighbours towards
+     * new vertices not reached yet */
+    for (q = 0; q < nc; q++) {
+        uint32_t n = created[q];
+        const uint32_t *w = vp_dt_tet(&pl->dt, n);
+        int jn = facet_index_of(w, pv);
+        if (tet_active(pl, n)) {
+            if ((st = vp_pl_explore(pl, n)) != VP_OK) return st;
+        } else {
+            uint32_t U = w[4 + jn] >> 2, jj = w[4 + jn] & 3u;
+            if (tet_active(pl, U) && (side_get(pl, U, (int)jj) & SIDE_MASK) == SIDE_UNKNOWN &&
+                !vp_pl_facet_has_ghost(pl, n, jn))
+                if ((st = vp_pl_task_push(pl, U, (int)jj, 0)) != VP_OK) return st;
+        }
+    }
+    return VP_OK;
+}
+
+/* ---------- refinement: insert the centre of a bad ball ---------- */
+
+
+static uint32_t find_facet_slow(vp_planner_t *pl, const uint32_t *fv, int *fi)
+{
+    int n = vp_dt_incident_tets(&pl->dt, fv[0], pl->pool.astar, (int)(pl->pool.cap_astar > 65536 ? 65536 : pl->pool.cap_astar)), k;
+    for (k = 0; k < n; k++) {
+        const uint32_t *w = vp_dt_tet(&pl->dt, pl->pool.astar[k]);
+        int a = facet_index_of(w, fv[1]), b = facet_index_of(w, fv[2]), c = facet_index_of(w, fv[0]);
+        if (a >= 0 && b >= 0) {
+            *fi = 6 - a - b - c;
+            return pl->pool.astar[k];
+        }
+    }
+    return NONE;
+}
+
+/* a live tet holding facet fv, and the facet's index in it */
+VP_PL_API uint32_t vp_pl_find_facet(vp_planner_t *pl, const uint32_t *fv, int *fi)
+{
+    uint32_t k = vp_pl_frec_lookup(pl, fv);
+    if (k != NONE && vp_dt_alive(&pl->dt, pl->pool.frec[k].hint)) {
+        const uint32_t *w = vp_dt_tet(&pl->dt, pl->pool.frec[k].hint);
+        int a = facet_index_of(w, fv[0]), b = facet_index_of(w, fv[1]), c = facet_index_of(w, fv[2]);
+        if (a >= 0 && b >= 0 && c >= 0) {
+            *fi = 6 - a - b - c;
+            return pl->pool.frec[k].hint;
+        }
+    }
+    return find_facet_slow(pl, fv, fi);
+}
+
+
+VP_PL_API int vp_pl_pools_have_room(const vp_planner_t *pl)
+{
+    return pl->pool.nvrec + 512 <= pl->pool.cap_vrec && pl->pool.nfedge + 512 <= pl->pool.cap_fedge &&
+           pl->pool.nfrec + 256 <= pl->pool.cap_frec && pl->pool.ntask + 256 <= pl->pool.cap_task &&
+           pl->pool.nheap + 256 <= pl->pool.cap_heap && 4u * (pl->pool.nfacets + 256) < pl->pool.hash_mask;
+}
+
+static uint32_t choose_ball(const vp_planner_t *pl)
+{
+    uint32_t best = pl->pool.heap[0], i;
+    double rmin, bestd;
+    if ((pl->cfg.flags & VP_PLAN_LARGEST) || pl->pool.nheap < 2) return best;
+    /* among the balls at least 70% of the largest, the nearest to the device */
+    rmin = 0.7 * pl->pool.frec[best].r;
+    bestd = vp_dist3(pl->dev.pos, pl->pool.frec[best].c);
+    for (i = 1; i < pl->pool.nheap; i++) {
+        const vp_frec_t *f = &pl->pool.frec[pl->pool.heap[i]];
+        double d;
+        if (f->r < rmin) continue;
+        d = vp_dist3(pl->dev.pos, f->c);
+        if (d < bestd) { bestd = d; best = pl->pool.heap[i]; }
+    }
+    return best;
+}
+
+VP_PL_API int vp_pl_refine(vp_planner_t *pl)
+{
+    if (pl->pool.fhash_dirty) { vp_pl_fhash_rebuild(pl); pl->pool.fhash_dirty = 0; }
+    uint32_t k = choose_ball(pl), t, v = NONE, fv[3];
+    int fi, st;
+    double c[3];
+    if (pl->pool.ntask + 256 > pl->pool.cap_task) vp_pl_task_compact(pl);
+    if (!vp_pl_pools_have_room(pl)) return VP_ENOMEM;
+    memcpy(fv, pl->pool.frec[k].v, sizeof fv);
+    memcpy(c, pl->pool.frec[k].c, sizeof c);
+    t = vp_pl_find_facet(pl, fv, &fi);
+    if (t == NONE) {
+        vp_pl_frec_delete(pl, k);
+        pl->st.stale_balls++;
+        return VP_OK;
+    }
+    st = vp_dt_insert_in_conflict(&pl->dt, c, t, &v);
+    if (st == VP_EINVAL)
+        st = vp_dt_insert_in_conflict(&pl->dt, c, vp_dt_tet(&pl->dt, t)[4 + fi] >> 2, &v);
+    if (st == VP_EINVAL) st = vp_dt_insert(&pl->dt, c, t, &v);
+    if (st == VP_ENOMEM) return st;
+    if (st != VP_OK) {
+        /* cannot be refined (a duplicate within rounding): keep the facet, drop the ball */
+        vp_pl_heap_remove(pl, k);
+        pl->pool.frec[k].flags |= FREC_STUCK;
+        pl->st.stale_balls++;
+        return VP_OK;
+    }
+    pl->st.insertions++;
+    pl->close.exhaustive = 0;
+    st = vp_pl_after_insert(pl, v);
+    vp_pl_note_peak(pl);
+    return st;
+}

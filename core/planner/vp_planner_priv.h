@@ -1,0 +1,191 @@
+/* vp_planner_priv.h — the planner's private header: shared by the files of core/planner/ and
+ * by tests/test_planner_parts.c, not for use outside (like lwIP's tcp_priv.h). The public API
+ * is core/vp_planner.h.
+ *
+ * The probe planner of "Learning smooth objects by probing" (Boissonnat, Guibas, Oudot, SoCG
+ * 2005; ../shared/papers/000_probing_smooth_objects.txt), made step-driven.
+ *
+ * Vocabulary (the paper's):
+ *   Voronoi vertex    the circumcentre of a Delaunay tet (its dual); ghost tets stand for the
+ *                     infinite vertices.
+ *   active vertex     one the device can reach: it has a free path (prev links) to R^3 \ Omega.
+ *                     Active vertices inside Omega get a record (vrec) that is kept after the
+ *                     tet dies ("former Voronoi vertices"), so every stored path stays valid.
+ *   detect_access     probing the Voronoi edges around an active vertex: a hit adds the dual
+ *                     facet to Del_v|S(E) with its ball; a miss proves the edge free and makes
+ *                     the other end active. Here it is a stack of probe tasks, not a recursion.
+ *   bad ball          a surface Delaunay ball of radius > eps; the largest is refined first
+ *                     (VP_PLAN_LARGEST) or the largest near the device.
+ *   persistent facet  the tiny seed triangle: its ball (<= eps/3) keeps Del_v|S non-empty.
+ *
+ * Beyond the paper: a probe result belongs to the side it was probed from (one status per
+ * (tet, facet) side); a facet on the boundary of an insertion's cavity keeps its result when its
+ * shortened Voronoi edge still holds it; without VP_PLAN_PAPER an edge between two vertices
+ * already known free is not probed (it cannot be a facet of the final mesh, whose dual edges
+ * cross S once); holes left at the end are closed by probing around them; motion follows
+ * shortest known-free paths (A*) instead of prev chains.
+ */
+#ifndef VP_PLANNER_PRIV_H
+#define VP_PLANNER_PRIV_H
+
+#include <math.h>
+#include <string.h>
+#include "vp_planner.h"
+#include "vp_pred.h"
+#include "vp_vec3.h"
+
+#define NONE VP_DT_NONE
+#define VREC_OUT 0xFFFFFFFEu /* active, outside Omega or infinite: no record needed */
+
+/* side status of a (tet, facet) pair, low 2 bits */
+#define SIDE_UNKNOWN 0u
+#define SIDE_FREE    1u  /* the whole dual edge is free */
+#define SIDE_HIT     2u  /* probed from this side: free up to the ball centre (facet record) */
+#define SIDE_BEHIND  3u  /* probed from the other side and hit: this end is beyond S */
+#define SIDE_MASK    3u
+#define SIDE_QUEUED  4u  /* a probe task is pending */
+#define SIDE_FORCED  8u  /* probed although both ends are known free (closing a hole) */
+#define SIDE_BLOCKED 16u /* the probe from this end saw something too close to measure */
+
+/* record flags */
+#define REC_OUT 1u       /* on or outside dOmega: joins every other such record outside */
+
+/* facet record flags */
+#define FREC_FLIP 1u     /* (v0,v1,v2) is oriented inward: swap two for output */
+#define FREC_STUCK 2u    /* its centre could not be inserted: not refined again */
+#define FREC_DOUBLE 4u   /* hit from both ends: the dual edge crosses S twice */
+
+/* phases */
+enum { PH_SEED = 0, PH_START, PH_RUN, PH_CLOSE, PH_COMPONENTS, PH_RESEED, PH_DONE };
+
+struct vp_vrec {
+    double p[3];
+    double g, f;       /* path search: cost so far, and plus the straight distance left */
+    uint32_t prev;     /* previous record on the free path (itself: a root, outside Omega) */
+    uint32_t adj;      /* first free edge at this record */
+    uint32_t depth;    /* hops to the root */
+    uint32_t flags;
+    uint32_t stamp, from; /* path search bookkeeping */
+    uint32_t hpos;        /* place in the search's open heap, NONE when closed */
+    uint32_t proof;       /* the proof that the segment from prev to here is free */
+};
+
+struct vp_frec {
+    uint32_t v[3];     /* sorted; v[0] == NONE: free slot, v[1] = next free */
+    uint32_t heap;     /* index in the bad-ball heap or NONE */
+    uint32_t flags;
+    uint32_t hint;     /* a tet that had the facet (checked before use) */
+    double c[3];       /* ball centre (the hit) */
+    double r;          /* ball radius */
+    uint32_t proof;    /* the probe that found the ball: free up to its centre, less the noise */
+};
+
+/* VP_PL_API marks a function shared by the files of core/planner/: external by default (each
+ * file is compiled and testable alone); a build that compiles the planner as one unit
+ * (core/planner/unity/vp_planner_unity.c, like SQLite's amalgamation and its SQLITE_PRIVATE)
+ * defines it as static so the compiler may inline a function into its only caller. */
+#ifndef VP_PL_API
+#define VP_PL_API
+#endif
+
+/* ---------- shared constants and types ---------- */
+
+#define PROOF_NONE      0xFFFFFFFFu
+#define PROOF_OUTSIDE   0xFFFFFFFDu
+#define FEDGE_WORDS 5u
+#define KPAY 6u /* payload words of a tet: record, sides, four side proofs */
+#define PROOF_SHARE 16u /* of the arena's 100 units: the proofs (one per probe that proved something) */
+#define HASH_EMPTY 0xFFFFFFFFu
+typedef struct edgegeom {
+    double a[3], dir[3]; /* from the tet's end towards the neighbour's end */
+    double len;          /* to the neighbour's end (huge for an infinite end) */
+    double t0, t1;       /* the part inside Omega; t0 >= t1: none */
+    int a_inside;        /* the tet's own end lies inside Omega */
+} edgegeom_t;
+
+/* ---------- tet payload: word 0 = record, word 1 = four side bytes, words 2-5 the proof of
+ * each free side ---------- */
+
+static inline uint32_t *pay(const vp_planner_t *pl, uint32_t t) { return (uint32_t *)vp_dt_payload(&pl->dt, t); }
+static inline uint32_t tet_rec(const vp_planner_t *pl, uint32_t t) { return pay(pl, t)[0]; }
+static inline unsigned side_get(const vp_planner_t *pl, uint32_t t, int f)
+{ return (pay(pl, t)[1] >> (8 * f)) & 0xFFu; }
+static inline void side_set(vp_planner_t *pl, uint32_t t, int f, unsigned s)
+{
+    uint32_t *w = pay(pl, t) + 1;
+    *w = (*w & ~(0xFFu << (8 * f))) | ((uint32_t)(s & 0xFFu) << (8 * f));
+}
+static inline int tet_active(const vp_planner_t *pl, uint32_t t) { return tet_rec(pl, t) != NONE; }
+/* side f of t (its whole Voronoi edge) proven free by `proof`; other flags kept */
+static inline void side_free(vp_planner_t *pl, uint32_t t, int f, uint32_t proof)
+{
+    side_set(pl, t, f, (side_get(pl, t, f) & ~SIDE_MASK) | SIDE_FREE);
+    pay(pl, t)[2 + f] = proof;
+}
+static inline uint32_t side_proof(const vp_planner_t *pl, uint32_t t, int f) { return pay(pl, t)[2 + f]; }
+
+/* proof.c */
+VP_PL_API int vp_pl_probe_proof(vp_planner_t *pl, const vp_probe_result_t *res, uint32_t *out);
+VP_PL_API int vp_pl_proof_covers(const vp_planner_t *pl, uint32_t id, const double *a, const double *b);
+
+/* route.c */
+VP_PL_API double vp_pl_clamp_range(const vp_planner_t *pl, double range);
+VP_PL_API int vp_pl_edge_add(vp_planner_t *pl, uint32_t a, uint32_t b, uint32_t proof);
+VP_PL_API void vp_pl_omega_center(const vp_planner_config_t *c, double *o);
+VP_PL_API double vp_pl_omega_circumradius(const vp_planner_config_t *c);
+VP_PL_API int vp_pl_omega_clip(const vp_planner_config_t *c, const double *a, const double *dir, double len,
+                      double *t0, double *t1);
+VP_PL_API int vp_pl_omega_inside(const vp_planner_config_t *c, const double *p);
+VP_PL_API int vp_pl_plan_route(vp_planner_t *pl, uint32_t b, const double *gp);
+VP_PL_API int vp_pl_probe_limited(const vp_planner_t *pl);
+VP_PL_API int vp_pl_rec_link(vp_planner_t *pl, const double *p, uint32_t prev, uint32_t flags, uint32_t proof,
+                    uint32_t *out);
+VP_PL_API int vp_pl_rec_new(vp_planner_t *pl, const double *p, uint32_t prev, uint32_t flags, uint32_t *out);
+VP_PL_API int vp_pl_route_full(vp_planner_t *pl, uint32_t a, uint32_t b);
+VP_PL_API int vp_pl_route_push(vp_planner_t *pl, const double *p, uint32_t proof);
+VP_PL_API int vp_pl_seg_enters_omega(const vp_planner_config_t *c, const double *a, const double *b);
+VP_PL_API int vp_pl_walk_on(vp_planner_t *pl, uint32_t from, uint32_t proof, double e[3]);
+
+/* facets.c */
+VP_PL_API void vp_pl_fhash_rebuild(vp_planner_t *pl);
+VP_PL_API int vp_pl_frec_add(vp_planner_t *pl, const uint32_t *fv, const double *c, const double *outside,
+                    uint32_t tet, uint32_t proof, uint32_t *out);
+VP_PL_API void vp_pl_frec_delete(vp_planner_t *pl, uint32_t k);
+VP_PL_API uint32_t vp_pl_frec_lookup(const vp_planner_t *pl, const uint32_t *fv);
+VP_PL_API void vp_pl_frec_set_ball(vp_planner_t *pl, uint32_t k, const double *c);
+VP_PL_API void vp_pl_heap_remove(vp_planner_t *pl, uint32_t k);
+
+/* tasks.c */
+VP_PL_API int vp_pl_edge_geom(const vp_planner_t *pl, uint32_t t, int f, edgegeom_t *g);
+VP_PL_API int vp_pl_exhaustive(const vp_planner_t *pl);
+VP_PL_API int vp_pl_explore(vp_planner_t *pl, uint32_t t);
+VP_PL_API int vp_pl_facet_has_ghost(const vp_planner_t *pl, uint32_t t, int f);
+VP_PL_API void vp_pl_task_compact(vp_planner_t *pl);
+VP_PL_API int vp_pl_task_finish(vp_planner_t *pl, const vp_probe_result_t *res);
+VP_PL_API int vp_pl_task_push(vp_planner_t *pl, uint32_t t, int f, int forced);
+VP_PL_API int vp_pl_task_start(vp_planner_t *pl, vp_task_t *k);
+VP_PL_API int vp_pl_tet_point(const vp_planner_t *pl, uint32_t t, double *p);
+
+/* update.c */
+VP_PL_API int vp_pl_after_insert(vp_planner_t *pl, uint32_t pv);
+VP_PL_API uint32_t vp_pl_find_facet(vp_planner_t *pl, const uint32_t *fv, int *fi);
+VP_PL_API int vp_pl_pools_have_room(const vp_planner_t *pl);
+VP_PL_API int vp_pl_refine(vp_planner_t *pl);
+
+/* close.c */
+VP_PL_API int vp_pl_check_components(vp_planner_t *pl);
+VP_PL_API int vp_pl_close_holes(vp_planner_t *pl);
+VP_PL_API int vp_pl_reseed_feed(vp_planner_t *pl, const vp_probe_result_t *res);
+
+/* seed.c */
+VP_PL_API double vp_pl_omega_exit(const vp_planner_config_t *c, const double *p, const double *u);
+VP_PL_API int vp_pl_seed_feed(vp_planner_t *pl, const vp_probe_result_t *res_in);
+VP_PL_API int vp_pl_seed_issue(vp_planner_t *pl, const double *dir, double range);
+VP_PL_API int vp_pl_seed_miss_on(vp_planner_t *pl);
+VP_PL_API int vp_pl_seed_next(vp_planner_t *pl);
+VP_PL_API int vp_pl_start_run(vp_planner_t *pl);
+
+/* planner.c */
+VP_PL_API void vp_pl_note_peak(vp_planner_t *pl);
+
+#endif
