@@ -8,9 +8,11 @@
 
 /* Queues forced probes around edge (x, y) of Del(E): from every active tet of the ring, each
  * unknown facet. Returns the number of probes queued, or a negative status. */
+#define RING_MAX 4096u /* tets turned around one edge at most: a ring has some 5; this only
+                         stops a walk on a broken ring */
 static int probe_around_edge(vp_planner_t *pl, uint32_t t0, uint32_t x, uint32_t y)
 {
-    uint32_t cur = t0, other, limit = 4096, pushed = 0;
+    uint32_t cur = t0, other, limit = RING_MAX, pushed = 0;
     const uint32_t *w = vp_dt_tet(&pl->dt, t0);
     int k, ex = -1;
     for (k = 0; k < 4; k++)

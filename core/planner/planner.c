@@ -2,6 +2,21 @@
  * The phase machine is drawn in vp_planner_priv.h. */
 #include "vp_planner_priv.h"
 
+/* Limits of vp_planner_init. A configured length beyond CFG_MAX is refused: its square, formed
+ * in the geometry, would overflow. The arena: below ARENA_MIN or a pool below POOL_MIN entries
+ * (SCRATCH_MIN words of scratch) no object can be scanned. A route holds ROUTE_CAP_MAX points
+ * at most: a path search expands SEARCH_FULL records, so longer routes never occur. */
+#define CFG_MAX 1e150
+#define MIN_ANGLE_MAX 30.0 /* degrees: above it Delaunay refinement need not terminate */
+#define ARENA_MIN (64u * 1024u)
+#define POOL_MIN 64u
+#define SCRATCH_MIN 1024u
+#define ROUTE_CAP_MAX 4096u
+/* the slack of a proof check, relative to Omega's size (1 + its circumradius): the rounding of
+ * constructed points (Voronoi vertices, hits), far below any physical size */
+#define PROOF_TOL_REL 1e-10
+#define DEG_TO_RAD 0.017453292519943295
+
 /* ---------- arena ---------- */
 
 static void *carve(unsigned char **cur, unsigned char *end, size_t bytes)
@@ -39,7 +54,7 @@ int vp_planner_init(vp_planner_t *pl, void *arena, size_t bytes, const vp_planne
     int k, st;
     if (!pl || !arena || !cfg) return VP_EINVAL;
     if (cfg->omega_kind == VP_OMEGA_BALL) {
-        if (!vp_finite3(cfg->omega_center) || !(cfg->omega_radius > 0.0) || !(cfg->omega_radius < 1e150))
+        if (!vp_finite3(cfg->omega_center) || !(cfg->omega_radius > 0.0) || !(cfg->omega_radius < CFG_MAX))
             return VP_EINVAL;
     } else if (cfg->omega_kind == VP_OMEGA_BOX) {
         if (!vp_finite3(cfg->omega_lo) || !vp_finite3(cfg->omega_hi)) return VP_EINVAL;
@@ -48,14 +63,14 @@ int vp_planner_init(vp_planner_t *pl, void *arena, size_t bytes, const vp_planne
     } else {
         return VP_EINVAL;
     }
-    if (!(cfg->eps > 0.0) || !(cfg->eps < 1e150)) return VP_EINVAL;
+    if (!(cfg->eps > 0.0) || !(cfg->eps < CFG_MAX)) return VP_EINVAL;
     if (cfg->ninterior < 1 || cfg->ninterior > VP_PLANNER_MAX_SEEDS) return VP_EINVAL;
     for (i = 0; i < cfg->ninterior; i++)
         if (!vp_finite3(cfg->interior[i]) || !vp_pl_omega_inside(cfg, cfg->interior[i])) return VP_EINVAL;
     if (!vp_finite3(cfg->start) || vp_pl_omega_inside(cfg, cfg->start)) return VP_EINVAL;
-    if (!(cfg->min_angle >= 0.0) || cfg->min_angle > 30.0) return VP_EINVAL;
+    if (!(cfg->min_angle >= 0.0) || cfg->min_angle > MIN_ANGLE_MAX) return VP_EINVAL;
     if (!(cfg->max_range >= 0.0) || !(cfg->noise_tol >= 0.0) || !(cfg->clearance >= 0.0) ||
-        cfg->max_range > 1e150 || cfg->noise_tol > 1e150 || cfg->clearance > 1e150)
+        cfg->max_range > CFG_MAX || cfg->noise_tol > CFG_MAX || cfg->clearance > CFG_MAX)
         return VP_EINVAL;
     memset(pl, 0, sizeof *pl);
     pl->cfg = *cfg;
@@ -65,7 +80,7 @@ int vp_planner_init(vp_planner_t *pl, void *arena, size_t bytes, const vp_planne
      * triangulation at least 29, records 20, proofs 16, free edges 6, facets 7, tasks 7, hash
      * 2-4, path search and hole scratch 8, paths 1, heap 1, route 1 */
     unit = bytes / 100;
-    if (bytes < 64 * 1024) return VP_ENOMEM;
+    if (bytes < ARENA_MIN) return VP_ENOMEM;
     pl->pool.cap_vrec = (uint32_t)(20 * unit / sizeof(vp_vrec_t));
     pl->pool.cap_frec = (uint32_t)(7 * unit / sizeof(vp_frec_t));
     pl->pool.cap_fedge = (uint32_t)(6 * unit / (4 * FEDGE_WORDS));
@@ -75,7 +90,7 @@ int vp_planner_init(vp_planner_t *pl, void *arena, size_t bytes, const vp_planne
     pl->pool.cap_task = (uint32_t)(7 * unit / sizeof(vp_task_t));
     pl->pool.cap_heap = (uint32_t)(unit / 4);
     pl->route.cap = (uint32_t)(unit / 24);
-    if (pl->route.cap > 4096) pl->route.cap = 4096;
+    if (pl->route.cap > ROUTE_CAP_MAX) pl->route.cap = ROUTE_CAP_MAX;
     pl->pool.vrec = carve(&cur, end, (size_t)pl->pool.cap_vrec * sizeof(vp_vrec_t));
     pl->pool.frec = carve(&cur, end, (size_t)pl->pool.cap_frec * sizeof(vp_frec_t));
     pl->pool.fedge = carve(&cur, end, (size_t)pl->pool.cap_fedge * 4 * FEDGE_WORDS);
@@ -88,10 +103,10 @@ int vp_planner_init(vp_planner_t *pl, void *arena, size_t bytes, const vp_planne
     pl->route.proof = carve(&cur, end, (size_t)pl->route.cap * 4);
     pl->pool.cap_proof = (uint32_t)(PROOF_SHARE * unit / sizeof(vp_proof_t));
     pl->pool.proof = carve(&cur, end, (size_t)pl->pool.cap_proof * sizeof(vp_proof_t));
-    if (!pl->route.proof || !pl->pool.proof || pl->pool.cap_proof < 64) return VP_ENOMEM;
+    if (!pl->route.proof || !pl->pool.proof || pl->pool.cap_proof < POOL_MIN) return VP_ENOMEM;
     if (!pl->pool.vrec || !pl->pool.frec || !pl->pool.fedge || !pl->pool.fhash || !pl->pool.astar || !pl->route.path ||
-        !pl->pool.task || !pl->pool.heap || !pl->route.pts || pl->pool.cap_vrec < 64 || pl->pool.cap_frec < 64 ||
-        pl->pool.cap_task < 64 || pl->route.cap < 64 || pl->pool.cap_astar < 1024)
+        !pl->pool.task || !pl->pool.heap || !pl->route.pts || pl->pool.cap_vrec < POOL_MIN || pl->pool.cap_frec < POOL_MIN ||
+        pl->pool.cap_task < POOL_MIN || pl->route.cap < POOL_MIN || pl->pool.cap_astar < SCRATCH_MIN)
         return VP_ENOMEM;
     dtb = (size_t)(end - cur);
     if (dtb < 29 * unit) return VP_ENOMEM;
@@ -102,11 +117,11 @@ int vp_planner_init(vp_planner_t *pl, void *arena, size_t bytes, const vp_planne
     pl->pool.frec_free = NONE;
     pl->probe.cur_proof = pl->probe.chain_proof = PROOF_NONE;
     /* the slack of a proof: rounding of constructed points, far below any physical size */
-    pl->ptol = 1e-10 * (1.0 + vp_pl_omega_circumradius(cfg));
+    pl->ptol = PROOF_TOL_REL * (1.0 + vp_pl_omega_circumradius(cfg));
     pl->phase = PH_SEED;
     {
         /* sin of the angle bound by its Taylor series (|x| <= pi/6: error below 1e-9) */
-        double x = cfg->min_angle * 0.017453292519943295, x2 = x * x;
+        double x = cfg->min_angle * DEG_TO_RAD, x2 = x * x;
         pl->sin_angle = x * (1.0 - x2 / 6.0 * (1.0 - x2 / 20.0 * (1.0 - x2 / 42.0 * (1.0 - x2 / 72.0))));
     }
     memcpy(pl->dev.pos, cfg->start, sizeof pl->dev.pos);
@@ -252,7 +267,7 @@ int vp_planner_feed(vp_planner_t *pl, const vp_probe_result_t *res)
     if (!pl || !res) return VP_EINVAL;
     if (!pl->dev.awaiting) return VP_ESTATE;
     if (res->hit < 0 || res->hit > VP_PROBE_TOO_CLOSE) return VP_EINVAL;
-    if (res->hit == 1 && (!(res->dist >= 0.0) || !(res->dist < 1e300))) return VP_EINVAL;
+    if (res->hit == 1 && (!(res->dist >= 0.0) || !(res->dist < VP_PL_HUGE))) return VP_EINVAL;
     pl->dev.awaiting = 0;
     if (pl->sc.pending == 2) {
         pl->sc.pending = 0;

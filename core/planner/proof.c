@@ -57,7 +57,7 @@ VP_PL_API int vp_pl_proof_covers(const vp_planner_t *pl, uint32_t id, const doub
     for (i = id; i != PROOF_NONE && i < pl->pool.nproof && n < PROOF_CHAIN_MAX; i = pl->pool.proof[i].prev) {
         const vp_proof_t *q = &pl->pool.proof[i];
         double s0;
-        if (!(vp_dot3(q->d, p->d) > 1.0 - 1e-12)) break;
+        if (!(vp_dot3(q->d, p->d) > 1.0 - DIR_COS_EPS)) break;
         vp_sub3(x, q->o, p->o);
         s0 = vp_dot3(x, p->d);
         for (k = 0; k < 3; k++) x[k] -= s0 * p->d[k];

@@ -79,7 +79,7 @@ VP_PL_API int vp_pl_seg_enters_omega(const vp_planner_config_t *c, const double 
     len = sqrt(vp_dot3(d, d));
     if (!(len > 0.0)) return vp_pl_omega_inside(c, a);
     d[0] /= len; d[1] /= len; d[2] /= len;
-    return vp_pl_omega_clip(c, a, d, len, &t0, &t1) && t1 - t0 > 1e-12 * (1.0 + len);
+    return vp_pl_omega_clip(c, a, d, len, &t0, &t1) && t1 - t0 > LEN_REL_EPS * (1.0 + len);
 }
 
 /* ---------- records and the free graph ---------- */
@@ -184,7 +184,7 @@ VP_PL_API double vp_pl_clamp_range(const vp_planner_t *pl, double range)
 /* 1 if the current probe was cut short by the rangefinder's reach */
 VP_PL_API int vp_pl_probe_limited(const vp_planner_t *pl)
 {
-    return pl->probe.range < pl->probe.full - 1e-12 * (1.0 + pl->probe.full);
+    return pl->probe.range < pl->probe.full - LEN_REL_EPS * (1.0 + pl->probe.full);
 }
 
 /* A range-limited probe missed: its segment is free (proof). The device walks from record
@@ -204,6 +204,14 @@ VP_PL_API int vp_pl_walk_on(vp_planner_t *pl, uint32_t from, uint32_t proof, dou
     return VP_OK;
 }
 
+/* the fallback sphere is 1% beyond Omega's circumsphere: a chord of <= 15 degrees dips to
+ * cos(7.5 deg) = 0.9914 of the radius, still outside the circumsphere (1.01 x 0.9914 > 1) */
+#define SPHERE_ROUTE_GROW 1.01
+#define SPHERE_ROUTE_CHORDS 8 /* per quarter turn at most: <= 11.25 degrees each */
+/* a pushed-out midpoint lands this share of Omega's circumradius beyond dOmega: clear of
+ * rounding, a short detour */
+#define PUSH_OUT_REL 0.01
+
 /* Moves m (the midpoint of a chord with unit direction u) out of Omega: along the part of
  * (m - centre) perpendicular to the chord, to delta beyond dOmega. */
 static void push_out(const vp_planner_config_t *c, double *m, const double *u, double delta)
@@ -220,7 +228,7 @@ static void push_out(const vp_planner_config_t *c, double *m, const double *u, d
         vp_cross3(d, u, t);
         vp_normalize3(d);
     }
-    if (!vp_pl_omega_clip(c, m, d, 1e300, &t0, &t1)) return;
+    if (!vp_pl_omega_clip(c, m, d, VP_PL_HUGE, &t0, &t1)) return;
     for (k = 0; k < 3; k++) m[k] += (t1 + delta) * d[k];
 }
 
@@ -231,7 +239,7 @@ static int sphere_route(vp_planner_t *pl, const double *a, const double *b, int 
     double c[3], ra, rb, rs, ua[3], ub[3], um[3], prev[3];
     int i, k, st, half;
     vp_pl_omega_center(&pl->cfg, c);
-    rs = 1.01 * vp_pl_omega_circumradius(&pl->cfg);
+    rs = SPHERE_ROUTE_GROW * vp_pl_omega_circumradius(&pl->cfg);
     vp_sub3(ua, a, c);
     vp_sub3(ub, b, c);
     ra = sqrt(vp_dot3(ua, ua));
@@ -249,8 +257,8 @@ static int sphere_route(vp_planner_t *pl, const double *a, const double *b, int 
     prev[0] = a[0]; prev[1] = a[1]; prev[2] = a[2];
     for (half = 0; half < 2; half++) {
         const double *u0 = half ? um : ua, *u1 = half ? ub : um;
-        for (i = half; i <= 8; i++) {
-            double s = i / 8.0, w[3], r = ra + (rb - ra) * 0.5 * (half + s);
+        for (i = half; i <= SPHERE_ROUTE_CHORDS; i++) {
+            double s = i / (double)SPHERE_ROUTE_CHORDS, w[3], r = ra + (rb - ra) * 0.5 * (half + s);
             for (k = 0; k < 3; k++) w[k] = (1.0 - s) * u0[k] + s * u1[k];
             vp_normalize3(w);
             for (k = 0; k < 3; k++) w[k] = c[k] + r * w[k];
@@ -268,10 +276,10 @@ static int sphere_route(vp_planner_t *pl, const double *a, const double *b, int 
  * (sideways to the chord), recursively with an explicit stack of bounded depth, so the path
  * hugs dOmega. If that does not settle, the way round Omega's circumsphere. *len gets its
  * length; with dry != 0 it only measures. */
-#define ROUTE_DEPTH 10
+#define ROUTE_DEPTH 10 /* midpoint pushes per segment: 2^10 pieces hug any convex dOmega */
 static int outside_route(vp_planner_t *pl, const double *a, const double *b, int dry, double *len)
 {
-    double stack[ROUTE_DEPTH + 2][3], cur[3], delta = 0.01 * vp_pl_omega_circumradius(&pl->cfg);
+    double stack[ROUTE_DEPTH + 2][3], cur[3], delta = PUSH_OUT_REL * vp_pl_omega_circumradius(&pl->cfg);
     int depth[ROUTE_DEPTH + 2], n = 0, st;
     uint32_t nroute0 = pl->route.n;
     *len = 0.0;
@@ -449,7 +457,7 @@ static int astar_path(vp_planner_t *pl, uint32_t a, uint32_t b, const double *gp
     astar_t s;
     uint32_t broot = b != NONE ? chain_root(pl, b) : NONE, best_out = NONE, node = NONE, i;
     uint32_t expansions = 0, budget = pl->pool.cap_astar > max_expansions ? max_expansions : pl->pool.cap_astar;
-    double best_out_cost = 1e300, ol;
+    double best_out_cost = VP_PL_HUGE, ol;
     int st;
     s.pl = pl;
     s.open = pl->pool.astar;
@@ -524,8 +532,14 @@ static int astar_path(vp_planner_t *pl, uint32_t a, uint32_t b, const double *gp
     return VP_OK;
 }
 
-#define SEARCH_LOCAL 256u  /* expansions before a straight shortcut is probed */
-#define SEARCH_FULL 4096u  /* expansions before falling back to the prev chains */
+/* A* budgets, in expanded records: a search within the rangefinder's reach that needs more than
+ * SEARCH_LOCAL is a detour, and one straight probe is cheaper; SEARCH_FULL bounds the work of
+ * one route (the prev chains are always a way). */
+#define SEARCH_LOCAL 256u
+#define SEARCH_FULL 4096u
+/* a found route longer than this many times the straight distance (plus 2 eps) to a target
+ * within reach is a detour worth one probe of the straight way */
+#define SHORTCUT_DETOUR 3.0
 
 /* The full route from record a to record b (search, else prev chains), into the route buffer. */
 VP_PL_API int vp_pl_route_full(vp_planner_t *pl, uint32_t a, uint32_t b)
@@ -608,8 +622,8 @@ VP_PL_API int vp_pl_plan_route(vp_planner_t *pl, uint32_t b, const double *gp)
         /* a long detour to a near target: first probe the straight way (one probe can save
          * many moves); the route found stays the plan if the probe hits */
         double d = vp_dist3(pl->pool.vrec[pl->dev.at].p, pl->pool.vrec[b].p);
-        double known = st == VP_OK ? al : 1e300;
-        if (known > 3.0 * d + 2.0 * pl->cfg.eps && d > 0.0 && in_reach(pl, pl->pool.vrec[pl->dev.at].p, pl->pool.vrec[b].p))
+        double known = st == VP_OK ? al : VP_PL_HUGE;
+        if (known > SHORTCUT_DETOUR * d + 2.0 * pl->cfg.eps && d > 0.0 && in_reach(pl, pl->pool.vrec[pl->dev.at].p, pl->pool.vrec[b].p))
             pl->sc.to = b;
     }
     if (st != VP_OK) {

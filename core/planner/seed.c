@@ -3,6 +3,12 @@
  * ball, <= eps/3, keeps Del_v|S(E) non-empty) and a fourth point makes the first tetrahedron. */
 #include "vp_planner_priv.h"
 
+/* The persistent facet must not be a needle: twice its area at least SEED_FAT times its longer
+ * leg squared (an angle above about 11.5 degrees between equal legs); otherwise other axes and
+ * smaller angles are tried, SEED_RETRIES times, then the thin one is kept. */
+#define SEED_FAT 0.2
+#define SEED_RETRIES 12
+
 /* ---------- seeds: the persistent facet and a fourth point per component ---------- */
 
 VP_PL_API int vp_pl_seed_issue(vp_planner_t *pl, const double *dir, double range)
@@ -55,7 +61,7 @@ VP_PL_API int vp_pl_seed_miss_on(vp_planner_t *pl)
 VP_PL_API double vp_pl_omega_exit(const vp_planner_config_t *c, const double *p, const double *u)
 {
     double t0, t1;
-    if (!vp_pl_omega_clip(c, p, u, 1e300, &t0, &t1)) return 0.0;
+    if (!vp_pl_omega_clip(c, p, u, VP_PL_HUGE, &t0, &t1)) return 0.0;
     return t1;
 }
 
@@ -152,7 +158,7 @@ VP_PL_API int vp_pl_seed_feed(vp_planner_t *pl, const vp_probe_result_t *res_in)
                 vp_cross3(n, ab, ac);
                 area2 = sqrt(vp_dot3(n, n));
                 l2 = vp_dot3(ab, ab) > vp_dot3(ac, ac) ? vp_dot3(ab, ab) : vp_dot3(ac, ac);
-                if (!(area2 > 0.2 * l2) && pl->seed.attempt < 12) {
+                if (!(area2 > SEED_FAT * l2) && pl->seed.attempt < SEED_RETRIES) {
                     pl->seed.npts -= 2;
                     pl->seed.attempt++;
                     pl->seed.step = 1;

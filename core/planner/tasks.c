@@ -7,7 +7,14 @@
 /* ---------- Voronoi edges, clipped to Omega ---------- */
 
 
-#define FAR_AWAY 1e30
+#define FAR_AWAY 1e30 /* length of a Voronoi ray (an edge to an infinite vertex) */
+/* the device steps back out of Omega along an edge at most this many times, doubling the step
+ * from two ulps of the coordinates: 16 doublings cover any rounding of the entry point */
+#define ENTRY_STEP_TRIES 16
+#define ROUND_REL 4e-16 /* about two ulps (2.2e-16 each), relative */
+/* a ball centre stays this share of the probe's range inside its Voronoi edge: a centre on a
+ * Voronoi vertex would put a fourth sample on its sphere; far above rounding, far below eps */
+#define HIT_INSET_REL 1e-9
 
 /* Geometry of the Voronoi edge dual to facet f of tet t, oriented from t's Voronoi vertex. */
 VP_PL_API int vp_pl_edge_geom(const vp_planner_t *pl, uint32_t t, int f, edgegeom_t *g)
@@ -184,7 +191,7 @@ VP_PL_API int vp_pl_task_start(vp_planner_t *pl, vp_task_t *k)
     if (!tet_active(pl, t)) return 0;
     st = vp_pl_edge_geom(pl, t, f, &g);
     if (st != VP_OK) return task_unprobeable(pl, t, f); /* degenerate: no usable edge */
-    if (!(g.t0 < g.t1) || k->off >= g.t1 - g.t0 - 1e-12 * (1.0 + g.t1)) {
+    if (!(g.t0 < g.t1) || k->off >= g.t1 - g.t0 - LEN_REL_EPS * (1.0 + g.t1)) {
         /* the edge lies outside Omega (or is already proven free by the walked ray): free */
         uint32_t pf = k->off > 0.0 ? k->proof : PROOF_OUTSIDE;
         side_set(pl, t, f, SIDE_UNKNOWN);
@@ -199,7 +206,7 @@ VP_PL_API int vp_pl_task_start(vp_planner_t *pl, vp_task_t *k)
         double back[3], t0b, t1b;
         int q;
         for (q = 0; q < 3; q++) back[q] = -g.dir[q];
-        if (!vp_pl_omega_clip(&pl->cfg, g.a, back, 1e300, &t0b, &t1b)) return task_unprobeable(pl, t, f);
+        if (!vp_pl_omega_clip(&pl->cfg, g.a, back, VP_PL_HUGE, &t0b, &t1b)) return task_unprobeable(pl, t, f);
         for (q = 0; q < 3; q++) o[q] = g.a[q] - t1b * g.dir[q];
         range = t1b + g.t1;
         pl->probe.standoff = t1b;
@@ -215,8 +222,8 @@ VP_PL_API int vp_pl_task_start(vp_planner_t *pl, vp_task_t *k)
         range = g.t1 - g.t0;
         /* where the edge enters Omega, from a far Voronoi vertex (a nearly flat tet): rounding
          * can put it inside Omega; the device waits outside, so step back along the line */
-        for (tries = 0; vp_pl_omega_inside(&pl->cfg, o) && tries < 16; tries++) {
-            double step = back > 0.0 ? back : 4e-16 * (fabs(g.t0) + sqrt(vp_dot3(g.a, g.a))) + pl->ptol;
+        for (tries = 0; vp_pl_omega_inside(&pl->cfg, o) && tries < ENTRY_STEP_TRIES; tries++) {
+            double step = back > 0.0 ? back : ROUND_REL * (fabs(g.t0) + sqrt(vp_dot3(g.a, g.a))) + pl->ptol;
             for (q = 0; q < 3; q++) o[q] -= step * g.dir[q];
             range += step;
             back += step;
@@ -279,7 +286,7 @@ VP_PL_API int vp_pl_task_finish(vp_planner_t *pl, const vp_probe_result_t *res)
     if (res->hit && res->dist <= pl->probe.range + tol) {
         /* the ball centre stays strictly inside the edge: a centre on a Voronoi vertex (a hit
          * at 0 or past the end, within the noise) would put a fourth sample on its sphere */
-        double h[3], d = res->dist, inset = 1e-9 * pl->probe.range;
+        double h[3], d = res->dist, inset = HIT_INSET_REL * pl->probe.range;
         if (d > pl->probe.range - inset) d = pl->probe.range - inset;
         if (d < inset) d = inset;
         for (q = 0; q < 3; q++) h[q] = pl->probe.origin[q] + d * pl->probe.dir[q];

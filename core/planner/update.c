@@ -225,20 +225,28 @@ VP_PL_API uint32_t vp_pl_find_facet(vp_planner_t *pl, const uint32_t *fv, int *f
 }
 
 
+/* Room for one insertion's update in every pool, checked before inserting: the update then
+ * never runs out halfway (VP_ENOMEM leaves the mesh whole and exportable). A cavity has some
+ * tens of tets: records and free edges (up to 4 per new tet) get ROOM_BIG, the rest ROOM_SMALL. */
+#define ROOM_BIG 512u
+#define ROOM_SMALL 256u
 VP_PL_API int vp_pl_pools_have_room(const vp_planner_t *pl)
 {
-    return pl->pool.nvrec + 512 <= pl->pool.cap_vrec && pl->pool.nfedge + 512 <= pl->pool.cap_fedge &&
-           pl->pool.nfrec + 256 <= pl->pool.cap_frec && pl->pool.ntask + 256 <= pl->pool.cap_task &&
-           pl->pool.nheap + 256 <= pl->pool.cap_heap && 4u * (pl->pool.nfacets + 256) < pl->pool.hash_mask;
+    return pl->pool.nvrec + ROOM_BIG <= pl->pool.cap_vrec && pl->pool.nfedge + ROOM_BIG <= pl->pool.cap_fedge &&
+           pl->pool.nfrec + ROOM_SMALL <= pl->pool.cap_frec && pl->pool.ntask + ROOM_SMALL <= pl->pool.cap_task &&
+           pl->pool.nheap + ROOM_SMALL <= pl->pool.cap_heap && 4u * (pl->pool.nfacets + ROOM_SMALL) < pl->pool.hash_mask;
 }
 
+/* A ball within 30% of the largest is about as urgent (refining it shrinks the largest radius
+ * as much, the order of insertions changes no guarantee); the nearest of those saves travel. */
+#define NEAR_BALL_SHARE 0.7
 static uint32_t choose_ball(const vp_planner_t *pl)
 {
     uint32_t best = pl->pool.heap[0], i;
     double rmin, bestd;
     if ((pl->cfg.flags & VP_PLAN_LARGEST) || pl->pool.nheap < 2) return best;
-    /* among the balls at least 70% of the largest, the nearest to the device */
-    rmin = 0.7 * pl->pool.frec[best].r;
+    /* among the balls at least NEAR_BALL_SHARE of the largest, the nearest to the device */
+    rmin = NEAR_BALL_SHARE * pl->pool.frec[best].r;
     bestd = vp_dist3(pl->dev.pos, pl->pool.frec[best].c);
     for (i = 1; i < pl->pool.nheap; i++) {
         const vp_frec_t *f = &pl->pool.frec[pl->pool.heap[i]];
@@ -256,7 +264,7 @@ VP_PL_API int vp_pl_refine(vp_planner_t *pl)
     uint32_t k = choose_ball(pl), t, v = NONE, fv[3];
     int fi, st;
     double c[3];
-    if (pl->pool.ntask + 256 > pl->pool.cap_task) vp_pl_task_compact(pl);
+    if (pl->pool.ntask + ROOM_SMALL > pl->pool.cap_task) vp_pl_task_compact(pl);
     if (!vp_pl_pools_have_room(pl)) return VP_ENOMEM;
     memcpy(fv, pl->pool.frec[k].v, sizeof fv);
     memcpy(c, pl->pool.frec[k].c, sizeof c);

@@ -90,6 +90,15 @@ struct vp_frec {
 
 /* ---------- shared constants and types ---------- */
 
+/* Tolerances, relative. LEN_REL_EPS: two lengths closer than this times (1 + the length) are
+ * one (a dozen roundings of 2.2e-16 each, with a wide margin); a segment inside Omega for less
+ * than that only touches it. DIR_COS_EPS: unit directions whose dot product is above 1 - this
+ * are one ray (the pieces of a walked ray, rounded). VP_PL_HUGE: a length or cost nothing
+ * reaches (unbounded, without infinities). */
+#define LEN_REL_EPS 1e-12
+#define DIR_COS_EPS 1e-12
+#define VP_PL_HUGE 1e300
+
 #define PROOF_NONE      0xFFFFFFFFu
 #define PROOF_OUTSIDE   0xFFFFFFFDu
 #define FEDGE_WORDS 5u
