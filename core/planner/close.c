@@ -77,7 +77,7 @@ VP_PL_API int vp_pl_close_holes(vp_planner_t *pl)
             if (ha && hb) { memcpy(fv, f->v, sizeof fv); t = k; }
         }
         if (t == NONE) continue;
-        t = vp_pl_find_facet(pl, fv, &fi);
+        t = vp_pl_find_facet(pl, fv, &fi, 3u * slots); /* the table stays whole */
         if (t == NONE) continue;
         n = probe_around_edge(pl, t, a, b);
         if (n < 0) return n;

@@ -195,22 +195,28 @@ VP_PL_API int vp_pl_after_insert(vp_planner_t *pl, uint32_t pv)
 /* ---------- refinement: insert the centre of a bad ball ---------- */
 
 
-static uint32_t find_facet_slow(vp_planner_t *pl, const uint32_t *fv, int *fi)
+/* The tets around fv[0], listed in the scratch after the `held` words the caller keeps there
+ * (VP_PL_SCRATCH): at most INCIDENT_MAX of them, a bound on the work (a vertex of a good mesh
+ * has some 30). */
+#define INCIDENT_MAX 65536u
+static uint32_t find_facet_slow(vp_planner_t *pl, const uint32_t *fv, int *fi, uint32_t held)
 {
-    int n = vp_dt_incident_tets(&pl->dt, fv[0], pl->pool.astar, (int)(pl->pool.cap_astar > 65536 ? 65536 : pl->pool.cap_astar)), k;
+    uint32_t *inc = pl->pool.astar + held, room = pl->pool.cap_astar - held;
+    int n = vp_dt_incident_tets(&pl->dt, fv[0], inc, (int)(room > INCIDENT_MAX ? INCIDENT_MAX : room)), k;
     for (k = 0; k < n; k++) {
-        const uint32_t *w = vp_dt_tet(&pl->dt, pl->pool.astar[k]);
+        const uint32_t *w = vp_dt_tet(&pl->dt, inc[k]);
         int a = facet_index_of(w, fv[1]), b = facet_index_of(w, fv[2]), c = facet_index_of(w, fv[0]);
         if (a >= 0 && b >= 0) {
             *fi = 6 - a - b - c;
-            return pl->pool.astar[k];
+            return inc[k];
         }
     }
     return NONE;
 }
 
-/* a live tet holding facet fv, and the facet's index in it */
-VP_PL_API uint32_t vp_pl_find_facet(vp_planner_t *pl, const uint32_t *fv, int *fi)
+/* a live tet holding facet fv, and the facet's index in it; the caller keeps the first `held`
+ * words of the scratch (VP_PL_SCRATCH) */
+VP_PL_API uint32_t vp_pl_find_facet(vp_planner_t *pl, const uint32_t *fv, int *fi, uint32_t held)
 {
     uint32_t k = vp_pl_frec_lookup(pl, fv);
     if (k != NONE && vp_dt_alive(&pl->dt, pl->pool.frec[k].hint)) {
@@ -221,7 +227,7 @@ VP_PL_API uint32_t vp_pl_find_facet(vp_planner_t *pl, const uint32_t *fv, int *f
             return pl->pool.frec[k].hint;
         }
     }
-    return find_facet_slow(pl, fv, fi);
+    return find_facet_slow(pl, fv, fi, held);
 }
 
 
@@ -268,7 +274,7 @@ VP_PL_API int vp_pl_refine(vp_planner_t *pl)
     if (!vp_pl_pools_have_room(pl)) return VP_ENOMEM;
     memcpy(fv, pl->pool.frec[k].v, sizeof fv);
     memcpy(c, pl->pool.frec[k].c, sizeof c);
-    t = vp_pl_find_facet(pl, fv, &fi);
+    t = vp_pl_find_facet(pl, fv, &fi, 0);
     if (t == NONE) {
         vp_pl_frec_delete(pl, k);
         pl->st.stale_balls++;

@@ -90,6 +90,15 @@ struct vp_frec {
 
 /* ---------- shared constants and types ---------- */
 
+/* VP_PL_SCRATCH: pool.astar (cap_astar words) is scratch with one owner at a time, never kept
+ * across a command:
+ *   astar_path (route.c)      the search's open heap, for one route;
+ *   after_insert (update.c)   the killed tets' payloads, for one insertion's update;
+ *   find_facet (update.c)     the tets around a vertex, after the words its caller holds;
+ *   close_holes (close.c)     the edge-count table (3 words a slot) at the front, held while
+ *                             it calls find_facet, which then lists after it (held = 3 slots).
+ * None of them calls another of them but close_holes -> find_facet. */
+
 /* Tolerances, relative. LEN_REL_EPS: two lengths closer than this times (1 + the length) are
  * one (a dozen roundings of 2.2e-16 each, with a wide margin); a segment inside Omega for less
  * than that only touches it. DIR_COS_EPS: unit directions whose dot product is above 1 - this
@@ -177,7 +186,7 @@ VP_PL_API int vp_pl_tet_point(const vp_planner_t *pl, uint32_t t, double *p);
 
 /* update.c */
 VP_PL_API int vp_pl_after_insert(vp_planner_t *pl, uint32_t pv);
-VP_PL_API uint32_t vp_pl_find_facet(vp_planner_t *pl, const uint32_t *fv, int *fi);
+VP_PL_API uint32_t vp_pl_find_facet(vp_planner_t *pl, const uint32_t *fv, int *fi, uint32_t held);
 VP_PL_API int vp_pl_pools_have_room(const vp_planner_t *pl);
 VP_PL_API int vp_pl_refine(vp_planner_t *pl);
 
