@@ -132,18 +132,108 @@ int vp_planner_init(vp_planner_t *pl, void *arena, size_t bytes, const vp_planne
 }
 
 /* A PROBE goes out: what its result will prove is measured from this ray. */
-static void issue_probe(vp_planner_t *pl, const vp_cmd_t *cmd)
+static void issue_probe(vp_planner_t *pl, vp_cmd_t *cmd, const double *from, const double *dir,
+                        double range)
 {
+    cmd->kind = VP_CMD_PROBE;
+    memcpy(cmd->from, from, sizeof cmd->from);
+    memcpy(cmd->dir, dir, sizeof cmd->dir);
+    cmd->range = range;
+    pl->dev.awaiting = 1;
     memcpy(pl->dev.iss_o, cmd->from, sizeof pl->dev.iss_o);
     memcpy(pl->dev.iss_d, cmd->dir, sizeof pl->dev.iss_d);
     pl->dev.iss_range = cmd->range;
     pl->probe.cur_proof = PROOF_NONE;
+    pl->st.probes++;
+}
+
+/* Issue step 1: MOVE to the next route point. The one promise: a MOVE only along a segment
+ * with a proof of freedom, checked again here. */
+static int issue_move(vp_planner_t *pl, vp_cmd_t *cmd)
+{
+    const double *to = pl->route.pts + 3 * (size_t)pl->route.i;
+    if (!vp_pl_proof_covers(pl, pl->route.proof[pl->route.i], pl->dev.pos, to)) return VP_EUNSAFE;
+    pl->route.i++;
+    cmd->kind = VP_CMD_MOVE;
+    memcpy(cmd->from, pl->dev.pos, sizeof cmd->from);
+    memcpy(cmd->to, to, sizeof cmd->to);
+    pl->st.travel += vp_dist3(pl->dev.pos, to);
+    pl->st.moves++;
+    memcpy(pl->dev.pos, to, sizeof pl->dev.pos);
+    return VP_OK;
+}
+
+/* Issue step 2: PROBE the straight way of a shortcut, from sc.from towards sc.to. */
+static int issue_shortcut(vp_planner_t *pl, vp_cmd_t *cmd)
+{
+    const vp_vrec_t *a = &pl->pool.vrec[pl->sc.from], *b = &pl->pool.vrec[pl->sc.to];
+    double d[3], len;
+    vp_sub3(d, b->p, a->p);
+    len = sqrt(vp_dot3(d, d));
+    if (!vp_normalize3(d)) return VP_EDEGEN; /* two records at one point: never proposed */
+    pl->sc.pending = 2;
+    pl->probe.chain_proof = PROOF_NONE;
+    issue_probe(pl, cmd, a->p, d, len);
+    pl->st.shortcut_probes++;
+    return VP_OK;
+}
+
+/* Issue step 4: one step of the phase machine (VP_PL_PHASES); *done = 1 at the end. */
+static int phase_step(vp_planner_t *pl, int *done)
+{
+    int st = VP_OK;
+    switch (pl->phase) {
+    case PH_SEED:
+        st = vp_pl_seed_next(pl);
+        if (st == 1) {
+            st = vp_pl_start_run(pl);
+            pl->phase = PH_RUN;
+        }
+        return st;
+    case PH_RUN:
+        if (pl->pool.nheap > 0 && !vp_pl_exhaustive(pl) &&
+            !(pl->pool.ntask > 0 && pl->pool.task[pl->pool.ntask - 1].off > 0.0)) {
+            /* a known bad ball is refined at once: the probes still queued around it would
+             * mostly test facets that its insertion kills (the published rule finishes
+             * detect_access first). A range-limited probe in progress goes on first: the
+             * device stands at the end of its free part. */
+            return vp_pl_refine(pl);
+        }
+        if (pl->pool.ntask > 0) {
+            vp_task_t k = pl->pool.task[--pl->pool.ntask];
+            if (vp_pl_task_start(pl, &k)) pl->probe.ready = 1;
+            if (pl->sc.pending) pl->route.i = pl->route.n; /* hold the route: shortcut first */
+            return pl->error;
+        }
+        if (pl->pool.nheap > 0) return vp_pl_refine(pl);
+        pl->phase = PH_CLOSE;
+        return VP_OK;
+    case PH_CLOSE:
+        /* closing again with nothing probed or inserted since the last try cannot do better:
+         * the holes stay (certify names them) */
+        if (pl->close.mark == pl->st.probes + pl->st.insertions + 1) {
+            pl->st.stalls++;
+            pl->phase = PH_COMPONENTS;
+            return VP_OK;
+        }
+        pl->close.mark = pl->st.probes + pl->st.insertions + 1;
+        st = vp_pl_close_holes(pl);
+        pl->phase = st > 0 ? PH_RUN : PH_COMPONENTS;
+        return st > 0 ? VP_OK : st;
+    case PH_COMPONENTS:
+        return vp_pl_check_components(pl);
+    default: /* PH_DONE */
+        *done = 1;
+        return VP_OK;
+    }
 }
 
 /* internal steps one vp_planner_next call may take without a command (plus 4 per task slot):
  * far above any real need, so hitting it means a rule loops */
 #define STEP_BUDGET (1u << 20)
 
+/* The issue order of VP_PL_PHASES: a route step, the shortcut probe, the prepared probe, else
+ * a step of the phase machine, until one gives a command. */
 int vp_planner_next(vp_planner_t *pl, vp_cmd_t *cmd)
 {
     int st;
@@ -160,105 +250,56 @@ int vp_planner_next(vp_planner_t *pl, vp_cmd_t *cmd)
             return VP_ESTALL;
         }
         if (pl->route.i < pl->route.n) {
-            const double *to = pl->route.pts + 3 * (size_t)pl->route.i;
-            /* the one promise: a MOVE only along a segment with a proof of freedom */
-            if (!vp_pl_proof_covers(pl, pl->route.proof[pl->route.i], pl->dev.pos, to)) {
-                pl->error = VP_EUNSAFE;
-                return VP_EUNSAFE;
-            }
-            pl->route.i++;
-            cmd->kind = VP_CMD_MOVE;
-            memcpy(cmd->from, pl->dev.pos, sizeof cmd->from);
-            memcpy(cmd->to, to, sizeof cmd->to);
-            pl->st.travel += vp_dist3(pl->dev.pos, to);
-            pl->st.moves++;
-            memcpy(pl->dev.pos, to, sizeof pl->dev.pos);
-            return VP_OK;
-        }
-        if (pl->sc.pending == 1) {
-            const vp_vrec_t *a = &pl->pool.vrec[pl->sc.from], *b = &pl->pool.vrec[pl->sc.to];
-            double d[3], len;
-            vp_sub3(d, b->p, a->p);
-            len = sqrt(vp_dot3(d, d));
-            d[0] /= len; d[1] /= len; d[2] /= len;
-            pl->sc.pending = 2;
-            pl->dev.awaiting = 1;
-            cmd->kind = VP_CMD_PROBE;
-            memcpy(cmd->from, a->p, sizeof cmd->from);
-            memcpy(cmd->dir, d, sizeof cmd->dir);
-            cmd->range = len;
-            pl->probe.chain_proof = PROOF_NONE;
-            issue_probe(pl, cmd);
-            pl->st.probes++;
-            pl->st.shortcut_probes++;
-            return VP_OK;
-        }
-        if (pl->probe.ready) {
+            st = issue_move(pl, cmd);
+        } else if (pl->sc.pending == 1) {
+            st = issue_shortcut(pl, cmd);
+        } else if (pl->probe.ready) {
             pl->probe.ready = 0;
-            pl->dev.awaiting = 1;
-            cmd->kind = VP_CMD_PROBE;
-            memcpy(cmd->from, pl->probe.origin, sizeof cmd->from);
-            memcpy(cmd->dir, pl->probe.dir, sizeof cmd->dir);
-            cmd->range = pl->probe.range;
-            issue_probe(pl, cmd);
-            pl->st.probes++;
+            issue_probe(pl, cmd, pl->probe.origin, pl->probe.dir, pl->probe.range);
             return VP_OK;
-        }
-        switch (pl->phase) {
-        case PH_SEED:
-            st = vp_pl_seed_next(pl);
-            if (st == 1) {
-                st = vp_pl_start_run(pl);
-                pl->phase = PH_RUN;
+        } else {
+            int done = 0;
+            st = phase_step(pl, &done);
+            if (done) {
+                cmd->kind = VP_CMD_DONE;
+                vp_pl_note_peak(pl);
+                return VP_OK;
             }
-            break;
-        case PH_RUN:
-            st = VP_OK;
-            if (pl->pool.nheap > 0 && !vp_pl_exhaustive(pl) &&
-                !(pl->pool.ntask > 0 && pl->pool.task[pl->pool.ntask - 1].off > 0.0)) {
-                /* a known bad ball is refined at once: the probes still queued around it
-                 * would mostly test facets that its insertion kills (the published rule
-                 * finishes detect_access first). A range-limited probe in progress goes on
-                 * first: the device stands at the end of its free part. */
-                st = vp_pl_refine(pl);
-            } else if (pl->pool.ntask > 0) {
-                vp_task_t k = pl->pool.task[--pl->pool.ntask];
-                if (vp_pl_task_start(pl, &k)) pl->probe.ready = 1;
-                if (pl->sc.pending) pl->route.i = pl->route.n; /* hold the route: shortcut first */
-                st = pl->error;
-            } else if (pl->pool.nheap > 0) {
-                st = vp_pl_refine(pl);
-            } else {
-                pl->phase = PH_CLOSE;
-            }
-            break;
-        case PH_CLOSE:
-            /* closing again with nothing probed or inserted since the last try cannot do
-             * better: the holes stay (certify names them) */
-            if (pl->close.mark == pl->st.probes + pl->st.insertions + 1) {
-                pl->st.stalls++;
-                pl->phase = PH_COMPONENTS;
-                st = VP_OK;
-                break;
-            }
-            pl->close.mark = pl->st.probes + pl->st.insertions + 1;
-            st = vp_pl_close_holes(pl);
-            pl->phase = st > 0 ? PH_RUN : PH_COMPONENTS;
-            if (st > 0) st = VP_OK;
-            break;
-        case PH_COMPONENTS:
-            st = vp_pl_check_components(pl);
-            break;
-        default:
-            cmd->kind = VP_CMD_DONE;
-            vp_pl_note_peak(pl);
-            return VP_OK;
+            if (st >= 0) continue;
         }
-        if (st < 0) {
-            pl->error = st;
-            return st;
-        }
+        if (st < 0) pl->error = st;
+        return st;
     }
+}
+
+/* The answer to a shortcut probe: a hit keeps the searched route (searching it now if it was
+ * deferred); a miss, confirmed, makes the straight way a free edge and the route. */
+static int shortcut_feed(vp_planner_t *pl, const vp_probe_result_t *res)
+{
+    uint32_t pf;
+    pl->sc.pending = 0;
+    if (res->hit) {
+        pl->st.hits++;
+        if (pl->route.deferred) {
+            pl->route.deferred = 0;
+            VP_TRY(vp_pl_route_full(pl, pl->sc.from, pl->sc.to));
+        }
+        pl->route.i = 0; /* the searched route stands */
+        return VP_OK;
+    }
+    pl->st.misses++;
+    if (pl->sc.tries < pl->cfg.confirm_misses) {
+        pl->sc.tries++;
+        pl->st.reprobes++;
+        pl->sc.pending = 1;
+        return VP_OK;
+    }
+    /* the straight way is free: take it */
+    pl->route.deferred = 0;
+    VP_TRY(vp_pl_probe_proof(pl, res, &pf));
+    VP_TRY(vp_pl_edge_add(pl, pl->sc.from, pl->sc.to, pf));
+    pl->route.n = pl->route.i = 0;
+    return vp_pl_route_push(pl, pl->pool.vrec[pl->sc.to].p, pf);
 }
 
 int vp_planner_feed(vp_planner_t *pl, const vp_probe_result_t *res)
@@ -269,39 +310,8 @@ int vp_planner_feed(vp_planner_t *pl, const vp_probe_result_t *res)
     if (res->hit < 0 || res->hit > VP_PROBE_TOO_CLOSE) return VP_EINVAL;
     if (res->hit == 1 && (!(res->dist >= 0.0) || !(res->dist < VP_PL_HUGE))) return VP_EINVAL;
     pl->dev.awaiting = 0;
-    if (pl->sc.pending == 2) {
-        pl->sc.pending = 0;
-        if (res->hit) {
-            pl->st.hits++;
-            if (pl->route.deferred) {
-                pl->route.deferred = 0;
-                st = vp_pl_route_full(pl, pl->sc.from, pl->sc.to);
-                if (st != VP_OK) { pl->error = st; return st; }
-            }
-            pl->route.i = 0; /* the searched route stands */
-            return VP_OK;
-        }
-        pl->st.misses++;
-        if (pl->sc.tries < pl->cfg.confirm_misses) {
-            pl->sc.tries++;
-            pl->st.reprobes++;
-            pl->sc.pending = 1;
-            return VP_OK;
-        }
-        /* the straight way is free: take it */
-        {
-            uint32_t pf;
-            pl->route.deferred = 0;
-            st = vp_pl_probe_proof(pl, res, &pf);
-            if (st == VP_OK) st = vp_pl_edge_add(pl, pl->sc.from, pl->sc.to, pf);
-            if (st != VP_OK) { pl->error = st; return st; }
-            pl->route.n = pl->route.i = 0;
-            st = vp_pl_route_push(pl, pl->pool.vrec[pl->sc.to].p, pf);
-            if (st != VP_OK) { pl->error = st; return st; }
-        }
-        return VP_OK;
-    }
-    if (pl->phase == PH_SEED) st = vp_pl_seed_feed(pl, res);
+    if (pl->sc.pending == 2) st = shortcut_feed(pl, res);
+    else if (pl->phase == PH_SEED) st = vp_pl_seed_feed(pl, res);
     else if (pl->phase == PH_RESEED) st = vp_pl_reseed_feed(pl, res);
     else st = vp_pl_task_finish(pl, res);
     if (st < 0) pl->error = st;

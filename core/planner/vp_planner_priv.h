@@ -55,8 +55,38 @@
 #define FREC_STUCK 2u    /* its centre could not be inserted: not refined again */
 #define FREC_DOUBLE 4u   /* hit from both ends: the dual edge crosses S twice */
 
-/* phases */
-enum { PH_SEED = 0, PH_START, PH_RUN, PH_CLOSE, PH_COMPONENTS, PH_RESEED, PH_DONE };
+/* VP_PL_PHASES — the planner's state machine, in one place (planner.c runs it).
+ *
+ * Each vp_planner_next() issues the first of these that applies (the "issue order"):
+ *
+ *   1. route.i < route.n     MOVE to the next route point; its proof is checked again first
+ *   2. sc.pending == 1       PROBE the straight way sc.from -> sc.to    (sc.pending = 2)
+ *   3. probe.ready           PROBE the prepared probe                   (probe.ready = 0)
+ *   4. otherwise             one step of the phase machine below; loop (bounded: VP_ESTALL)
+ *
+ * A PROBE sets dev.awaiting; vp_planner_feed() takes its answer, routed by the same state:
+ * sc.pending == 2 -> shortcut_feed, PH_SEED -> seed_feed, PH_RESEED -> reseed_feed, else
+ * task_finish. While a shortcut is pending the route is held (route.i = route.n); with
+ * route.deferred its search runs only if the straight probe hits.
+ *
+ *   PH_SEED        seed_next: per o_i, the persistent facet and a fourth point;
+ *                  all found: start_run (insert them, explore the outside) ------> PH_RUN
+ *   PH_RUN         a bad ball (not exhaustive, no walked ray in progress): refine
+ *                  else a task: task_start prepares its probe (or settles the side)
+ *                  else a bad ball: refine
+ *                  else ------------------------------------------------------> PH_CLOSE
+ *   PH_CLOSE       close_holes queued probes ----------------------------------> PH_RUN
+ *                  none, or nothing probed or inserted since the last try ----> PH_COMPONENTS
+ *   PH_COMPONENTS  every o_i enclosed by the mesh (H2) ------------------------> PH_DONE
+ *                  o_i missed: route to dOmega, probe towards o_i ------------> PH_RESEED
+ *   PH_RESEED      (feed) a hit, inserted -------------------------------------> PH_RUN
+ *                  a miss the rangefinder's reach cut short: walk on ---------> PH_RESEED
+ *                  otherwise ---------------------------------------------------> PH_COMPONENTS
+ *   PH_DONE        DONE at every call
+ *
+ * close.exhaustive: set by close_holes when no active vertex borders a hole; cleared by the
+ * next insertion. close.mark: probes + insertions + 1 when holes were last closed. */
+enum { PH_SEED = 0, PH_RUN, PH_CLOSE, PH_COMPONENTS, PH_RESEED, PH_DONE };
 
 struct vp_vrec {
     double p[3];
