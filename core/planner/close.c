@@ -21,14 +21,14 @@ static int probe_around_edge(vp_planner_t *pl, uint32_t t0, uint32_t x, uint32_t
     other = w[ex];
     do {
         const uint32_t *c = vp_dt_tet(&pl->dt, cur);
-        int f, st, ix = -1;
+        int f, ix = -1;
         if (tet_active(pl, cur))
             for (f = 0; f < 4; f++) {
                 unsigned s = side_get(pl, cur, f);
                 if ((s & SIDE_MASK) != SIDE_UNKNOWN || (s & (SIDE_QUEUED | SIDE_BLOCKED)) ||
                     vp_pl_facet_has_ghost(pl, cur, f))
                     continue;
-                if ((st = vp_pl_task_push(pl, cur, f, 1)) != VP_OK) return st;
+                VP_TRY(vp_pl_task_push(pl, cur, f, 1));
                 pushed++;
             }
         for (k = 0; k < 4; k++)
@@ -88,12 +88,11 @@ VP_PL_API int vp_pl_close_holes(vp_planner_t *pl)
         /* no active vertex next to the holes: detect_access in full from every active vertex
          * until the next insertion */
         uint32_t tt;
-        int st;
         pl->close.exhaustive = 1;
         pl->st.escalations++;
         for (tt = 0; tt < pl->dt.ntet_slots; tt++)
             if (vp_dt_alive(&pl->dt, tt) && tet_active(pl, tt)) {
-                if ((st = vp_pl_explore(pl, tt)) != VP_OK) return st;
+                VP_TRY(vp_pl_explore(pl, tt));
             }
         return (int)pl->pool.ntask;
     }
@@ -157,14 +156,14 @@ VP_PL_API int vp_pl_check_components(vp_planner_t *pl)
     for (i = 0; i < pl->cfg.ninterior; i++) {
         const double *o = pl->cfg.interior[i];
         double d[3], q[3], te;
-        int k, st;
+        int k;
         if (pl->close.h2_done & (1u << i)) continue;
         if (mesh_encloses(pl, o)) { pl->close.h2_done |= 1u << i; continue; }
         if (pl->close.h2_tries[i] >= RESEED_TRIES) continue; /* reported: not found */
         reseed_dir(pl->close.h2_tries[i]++, d);
         te = vp_pl_omega_exit(&pl->cfg, o, d);
         for (k = 0; k < 3; k++) q[k] = o[k] + te * d[k];
-        if ((st = vp_pl_plan_route(pl, NONE, q)) != VP_OK) return st;
+        VP_TRY(vp_pl_plan_route(pl, NONE, q));
         for (k = 0; k < 3; k++) d[k] = -d[k];
         pl->phase = PH_RESEED;
         return vp_pl_seed_issue(pl, d, te);

@@ -193,13 +193,13 @@ VP_PL_API int vp_pl_probe_limited(const vp_planner_t *pl)
 VP_PL_API int vp_pl_walk_on(vp_planner_t *pl, uint32_t from, uint32_t proof, double e[3])
 {
     uint32_t r;
-    int k, st;
+    int k;
     for (k = 0; k < 3; k++) e[k] = pl->probe.origin[k] + pl->probe.range * pl->probe.dir[k];
-    if ((st = vp_pl_rec_link(pl, e, from, 0, proof, &r)) != VP_OK) return st;
+    VP_TRY(vp_pl_rec_link(pl, e, from, 0, proof, &r));
     if (r == NONE) return VP_EUNSAFE; /* the probe's own end: never */
     pl->st.travel_prev_chains += pl->probe.range;
     pl->route.n = pl->route.i = 0;
-    if ((st = vp_pl_route_push(pl, e, proof)) != VP_OK) return st;
+    VP_TRY(vp_pl_route_push(pl, e, proof));
     pl->dev.at = r;
     return VP_OK;
 }

@@ -32,7 +32,7 @@ VP_PL_API int vp_pl_seed_issue(vp_planner_t *pl, const double *dir, double range
 VP_PL_API int vp_pl_seed_miss_on(vp_planner_t *pl)
 {
     double e[3];
-    int st, limited = vp_pl_probe_limited(pl);
+    int limited = vp_pl_probe_limited(pl);
     /* twice where the surface must lie within this probe's range */
     if (pl->seed.miss < (limited ? 1u : 2u) * pl->cfg.confirm_misses) {
         pl->seed.miss++;
@@ -44,8 +44,8 @@ VP_PL_API int vp_pl_seed_miss_on(vp_planner_t *pl)
     {
         vp_probe_result_t miss = { 0, 0.0 };
         uint32_t pf;
-        if ((st = vp_pl_probe_proof(pl, &miss, &pf)) != VP_OK) return st;
-        if ((st = vp_pl_walk_on(pl, pl->dev.at, pf, e)) != VP_OK) return st;
+        VP_TRY(vp_pl_probe_proof(pl, &miss, &pf));
+        VP_TRY(vp_pl_walk_on(pl, pl->dev.at, pf, e));
         pl->probe.chain_proof = pf;
     }
     memcpy(pl->probe.origin, e, sizeof e);
@@ -92,7 +92,7 @@ VP_PL_API int vp_pl_seed_next(vp_planner_t *pl)
 {
     const double *o;
     double u[3], d[3], w1[3], w2[3], te, th;
-    int k, st;
+    int k;
     if (pl->seed.cur >= pl->cfg.ninterior) return 1; /* all seeds probed */
     o = pl->cfg.interior[pl->seed.cur];
     vp_sub3(u, pl->cfg.start, o);
@@ -101,7 +101,7 @@ VP_PL_API int vp_pl_seed_next(vp_planner_t *pl)
     case 0: /* from dOmega towards o */
         te = vp_pl_omega_exit(&pl->cfg, o, u);
         for (k = 0; k < 3; k++) pl->seed.q[k] = o[k] + te * u[k];
-        if ((st = vp_pl_plan_route(pl, NONE, pl->seed.q)) != VP_OK) return st;
+        VP_TRY(vp_pl_plan_route(pl, NONE, pl->seed.q));
         for (k = 0; k < 3; k++) d[k] = -u[k];
         return vp_pl_seed_issue(pl, d, te);
     case 1:
@@ -118,7 +118,7 @@ VP_PL_API int vp_pl_seed_next(vp_planner_t *pl)
         {
             double q2[3];
             for (k = 0; k < 3; k++) q2[k] = o[k] + te * d[k];
-            if ((st = vp_pl_plan_route(pl, NONE, q2)) != VP_OK) return st;
+            VP_TRY(vp_pl_plan_route(pl, NONE, q2));
         }
         return vp_pl_seed_issue(pl, u, te);
     }
@@ -203,7 +203,7 @@ VP_PL_API int vp_pl_start_run(vp_planner_t *pl)
     }
     for (t = 0; t < pl->dt.ntet_slots; t++)
         if (vp_dt_alive(&pl->dt, t) && tet_active(pl, t))
-            if ((st = vp_pl_explore(pl, t)) != VP_OK) return st;
+            VP_TRY(vp_pl_explore(pl, t));
     vp_pl_note_peak(pl);
     return VP_OK;
 }

@@ -107,7 +107,7 @@ VP_PL_API int vp_pl_facet_has_ghost(const vp_planner_t *pl, uint32_t t, int f)
  * needs one. Without VP_PLAN_PAPER, edges towards vertices already known free are left out. */
 VP_PL_API int vp_pl_explore(vp_planner_t *pl, uint32_t t)
 {
-    int f, st;
+    int f;
     const uint32_t *w = vp_dt_tet(&pl->dt, t);
     for (f = 3; f >= 0; f--) {
         unsigned s = side_get(pl, t, f);
@@ -116,7 +116,7 @@ VP_PL_API int vp_pl_explore(vp_planner_t *pl, uint32_t t)
          * from here */
         if ((s & SIDE_MASK) != SIDE_UNKNOWN && (s & SIDE_MASK) != SIDE_BEHIND) continue;
         if ((s & SIDE_MASK) == SIDE_UNKNOWN && !vp_pl_exhaustive(pl) && tet_active(pl, w[4 + f] >> 2)) continue;
-        if ((st = vp_pl_task_push(pl, t, f, 0)) != VP_OK) return st;
+        VP_TRY(vp_pl_task_push(pl, t, f, 0));
     }
     return VP_OK;
 }
@@ -295,7 +295,7 @@ VP_PL_API int vp_pl_task_finish(vp_planner_t *pl, const vp_probe_result_t *res)
         {
             unsigned su = side_get(pl, u, (int)j) & SIDE_MASK;
             uint32_t pf;
-            if ((st = vp_pl_probe_proof(pl, res, &pf)) != VP_OK) return st;
+            VP_TRY(vp_pl_probe_proof(pl, res, &pf));
             st = vp_pl_frec_add(pl, fv, h, pl->probe.origin, t, pf, &fr);
             if (st != VP_OK) return st;
             side_set(pl, t, f, SIDE_HIT);
@@ -322,7 +322,7 @@ VP_PL_API int vp_pl_task_finish(vp_planner_t *pl, const vp_probe_result_t *res)
     }
     {
         uint32_t pf;
-        if ((st = vp_pl_probe_proof(pl, res, &pf)) != VP_OK) return st;
+        VP_TRY(vp_pl_probe_proof(pl, res, &pf));
         k->proof = pf;
     }
     if (vp_pl_probe_limited(pl)) {
@@ -334,7 +334,7 @@ VP_PL_API int vp_pl_task_finish(vp_planner_t *pl, const vp_probe_result_t *res)
             pl->st.occluded++;
             return VP_OK;
         }
-        if ((st = vp_pl_walk_on(pl, pl->probe.origin_rec, k->proof, e)) != VP_OK) return st;
+        VP_TRY(vp_pl_walk_on(pl, pl->probe.origin_rec, k->proof, e));
         k->off += pl->probe.range;
         k->tries = 0; /* the next part of the ray is a new probe: its misses are confirmed anew */
         if (pl->pool.ntask >= pl->pool.cap_task) return VP_ENOMEM;

@@ -25,6 +25,50 @@ static int entry_point(const vp_planner_t *pl, uint32_t t, int f, double *e)
     return 1;
 }
 
+/* Facets inside the cavity (a killed tet's facet not on its boundary, kbound) are gone: so are
+ * their balls. */
+static void drop_cavity_facets(vp_planner_t *pl, const uint32_t *kverts, const uint32_t *kbound,
+                               uint32_t nk)
+{
+    uint32_t ki;
+    int i;
+    for (ki = 0; ki < nk; ki++)
+        for (i = 0; i < 4; i++) {
+            uint32_t fv[3], r;
+            int m = 0, x;
+            if ((kbound[ki] >> i) & 1u) continue;
+            for (x = 0; x < 4; x++)
+                if (x != i) fv[m++] = kverts[4 * ki + (uint32_t)x];
+            r = vp_pl_frec_lookup(pl, fv);
+            if (r != NONE) vp_pl_frec_delete(pl, r);
+        }
+}
+
+/* detect_access from every new active vertex, and from old active neighbours towards new
+ * vertices not reached yet */
+static int explore_cavity(vp_planner_t *pl, uint32_t pv, const uint32_t *created, uint32_t nc)
+{
+    uint32_t q;
+    for (q = 0; q < nc; q++) {
+        uint32_t n = created[q];
+        const uint32_t *w = vp_dt_tet(&pl->dt, n);
+        int jn = facet_index_of(w, pv);
+        if (tet_active(pl, n)) {
+            VP_TRY(vp_pl_explore(pl, n));
+        } else {
+            uint32_t U = w[4 + jn] >> 2, jj = w[4 + jn] & 3u;
+            if (tet_active(pl, U) && (side_get(pl, U, (int)jj) & SIDE_MASK) == SIDE_UNKNOWN &&
+                !vp_pl_facet_has_ghost(pl, n, jn))
+                VP_TRY(vp_pl_task_push(pl, U, (int)jj, 0));
+        }
+    }
+    return VP_OK;
+}
+
+/* The update of Del_v|S and of the free paths after vertex pv was inserted: the cavity's killed
+ * tets (their payloads saved in the scratch, VP_PL_SCRATCH), its boundary facets and the new
+ * tets. One pass over the boundary, in the order the inferences need it (125 lines: the
+ * cases of a boundary side are one table and read best together). */
 VP_PL_API int vp_pl_after_insert(vp_planner_t *pl, uint32_t pv)
 {
     uint32_t nk, nc, q, ki;
@@ -34,7 +78,7 @@ VP_PL_API int vp_pl_after_insert(vp_planner_t *pl, uint32_t pv)
     const uint32_t *cfrom = vp_dt_last_created_from(&pl->dt);
     uint32_t *kpay, *kbound, *ckidx;
     const double *P = vp_dt_point(&pl->dt, pv);
-    int st, i;
+    int st;
 
     if (KPAY * nk + nk + nc > pl->pool.cap_astar) return VP_ENOMEM;
     if (KPAY * nk + nk + nc > pl->peak.astar) pl->peak.astar = KPAY * nk + nk + nc;
@@ -53,17 +97,7 @@ VP_PL_API int vp_pl_after_insert(vp_planner_t *pl, uint32_t pv)
         ckidx[q] = ki;
         kbound[ki] |= 1u << (cfrom[q] & 3u);
     }
-    /* facets inside the cavity are gone: so are their balls */
-    for (ki = 0; ki < nk; ki++)
-        for (i = 0; i < 4; i++) {
-            uint32_t fv[3], r;
-            int m = 0, x;
-            if ((kbound[ki] >> i) & 1u) continue;
-            for (x = 0; x < 4; x++)
-                if (x != i) fv[m++] = kverts[4 * ki + (uint32_t)x];
-            r = vp_pl_frec_lookup(pl, fv);
-            if (r != NONE) vp_pl_frec_delete(pl, r);
-        }
+    drop_cavity_facets(pl, kverts, kbound, nk);
     for (q = 0; q < nc; q++) {
         pay(pl, created[q])[0] = NONE;
         pay(pl, created[q])[1] = 0;
@@ -174,22 +208,7 @@ VP_PL_API int vp_pl_after_insert(vp_planner_t *pl, uint32_t pv)
             if (nr != NONE) pay(pl, n)[0] = nr;
         }
     }
-    /* detect_access from every new active vertex, and from old active neighbours towards
-     * new vertices not reached yet */
-    for (q = 0; q < nc; q++) {
-        uint32_t n = created[q];
-        const uint32_t *w = vp_dt_tet(&pl->dt, n);
-        int jn = facet_index_of(w, pv);
-        if (tet_active(pl, n)) {
-            if ((st = vp_pl_explore(pl, n)) != VP_OK) return st;
-        } else {
-            uint32_t U = w[4 + jn] >> 2, jj = w[4 + jn] & 3u;
-            if (tet_active(pl, U) && (side_get(pl, U, (int)jj) & SIDE_MASK) == SIDE_UNKNOWN &&
-                !vp_pl_facet_has_ghost(pl, n, jn))
-                if ((st = vp_pl_task_push(pl, U, (int)jj, 0)) != VP_OK) return st;
-        }
-    }
-    return VP_OK;
+    return explore_cavity(pl, pv, created, nc);
 }
 
 /* ---------- refinement: insert the centre of a bad ball ---------- */
