@@ -1,0 +1,275 @@
+/* Parts of the planner alone, through its private header (core/planner/vp_planner_priv.h):
+ * the proof check (proof.c), the route outside Omega (route.c), the bad-ball heap and the facet
+ * hash (facets.c). Each check comes with a case it must refuse, so that none passes vacuously. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include "../core/planner/vp_planner_priv.h"
+#include "vp_test.h"
+
+#define ARENA (16u << 20)
+
+static uint64_t rng_state = 12345;
+static double urand(void) /* splitmix64 in [0, 1) */
+{
+    uint64_t z = (rng_state += 0x9E3779B97F4A7C15ull);
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+    return (double)((z ^ (z >> 31)) >> 11) / 9007199254740992.0;
+}
+
+static void config(vp_planner_config_t *c, int kind)
+{
+    memset(c, 0, sizeof *c);
+    c->omega_kind = kind;
+    c->omega_lo[0] = c->omega_lo[1] = c->omega_lo[2] = -1.0;
+    c->omega_hi[0] = c->omega_hi[1] = c->omega_hi[2] = 1.0;
+    c->omega_radius = 1.0;
+    c->ninterior = 1;
+    c->eps = 0.01;
+    c->start[0] = 3.0;
+}
+
+static int init(vp_planner_t *pl, void *arena, int kind)
+{
+    vp_planner_config_t c;
+    config(&c, kind);
+    return vp_planner_init(pl, arena, ARENA, &c);
+}
+
+/* a proof written directly into the pool: [o, o + len d] after proof prev */
+static uint32_t add_proof(vp_planner_t *pl, double ox, double oy, double oz, double len, uint32_t prev)
+{
+    vp_proof_t *q = &pl->pool.proof[pl->pool.nproof];
+    q->o[0] = ox; q->o[1] = oy; q->o[2] = oz;
+    q->d[0] = 1.0; q->d[1] = 0.0; q->d[2] = 0.0;
+    q->len = len;
+    q->prev = prev;
+    return pl->pool.nproof++;
+}
+
+static int covers(vp_planner_t *pl, uint32_t id, double ax, double ay, double bx, double by)
+{
+    double a[3], b[3];
+    a[0] = ax; a[1] = ay; a[2] = 0.0;
+    b[0] = bx; b[1] = by; b[2] = 0.0;
+    return vp_pl_proof_covers(pl, id, a, b);
+}
+
+static void test_proofs(void *arena)
+{
+    vp_planner_t pl;
+    vp_probe_result_t res;
+    uint32_t p, a, gap, c, hit, close;
+    CHECK(init(&pl, arena, VP_OMEGA_BOX) == VP_OK);
+    p = add_proof(&pl, -0.5, 0.0, 0.0, 1.0, PROOF_NONE);
+    CHECK(covers(&pl, p, -0.4, 0.0, 0.4, 0.0));       /* on the free part */
+    CHECK(covers(&pl, p, 0.4, 0.0, -0.4, 0.0));       /* either way */
+    CHECK(!covers(&pl, p, -0.4, 1e-6, 0.4, 0.0));     /* 1e-6 off the line */
+    CHECK(!covers(&pl, p, -0.4, 0.0, 0.6, 0.0));      /* past the end */
+    CHECK(!covers(&pl, p, -0.6, 0.0, 0.4, 0.0));      /* before the start */
+    CHECK(!covers(&pl, pl.pool.nproof, -0.4, 0.0, 0.4, 0.0)); /* no such proof */
+    CHECK(!covers(&pl, PROOF_NONE, -0.4, 0.0, 0.4, 0.0));
+    /* a chain along one ray: [-0.5, 0.5] then [0.5, 1.5] covers [0, 1.2]; with a gap it fails */
+    a = add_proof(&pl, -0.5, 0.5, 0.0, 1.0, PROOF_NONE);
+    c = add_proof(&pl, 0.5, 0.5, 0.0, 1.0, a);
+    gap = add_proof(&pl, 0.6, 0.5, 0.0, 1.0, a);
+    CHECK(covers(&pl, c, 0.0, 0.5, 1.2, 0.5));
+    CHECK(!covers(&pl, gap, 0.0, 0.5, 1.2, 0.5));
+    CHECK(covers(&pl, gap, 0.7, 0.5, 1.2, 0.5));      /* the piece after the gap alone */
+    /* outside Omega: a segment that stays out passes, one through Omega fails */
+    CHECK(covers(&pl, PROOF_OUTSIDE, 2.0, 2.0, -2.0, 2.0));
+    CHECK(!covers(&pl, PROOF_OUTSIDE, 2.0, 0.0, -2.0, 0.0));
+    /* the proof a probe's result makes: a hit frees its ray up to the hit less the noise */
+    pl.cfg.noise_tol = 0.01;
+    pl.dev.iss_o[0] = -2.0; pl.dev.iss_o[1] = 0.25; pl.dev.iss_o[2] = 0.0;
+    pl.dev.iss_d[0] = 1.0; pl.dev.iss_d[1] = 0.0; pl.dev.iss_d[2] = 0.0;
+    pl.dev.iss_range = 3.0;
+    pl.probe.cur_proof = pl.probe.chain_proof = PROOF_NONE;
+    res.hit = 1;
+    res.dist = 1.5;
+    CHECK(vp_pl_probe_proof(&pl, &res, &hit) == VP_OK && hit != PROOF_NONE);
+    CHECK(covers(&pl, hit, -2.0, 0.25, -0.52, 0.25));  /* up to the hit less the noise */
+    CHECK(!covers(&pl, hit, -2.0, 0.25, -0.505, 0.25)); /* within the noise of the hit */
+    CHECK(!covers(&pl, hit, -2.0, 0.25, -0.4, 0.25));  /* past the hit */
+    /* a too-close result proves nothing */
+    pl.probe.cur_proof = PROOF_NONE;
+    res.hit = VP_PROBE_TOO_CLOSE;
+    res.dist = 0.0;
+    CHECK(vp_pl_probe_proof(&pl, &res, &close) == VP_OK && close == PROOF_NONE);
+    CHECK(!covers(&pl, close, -2.0, 0.25, -1.99, 0.25));
+}
+
+/* Independent of the planner: does segment [a, b] come inside Omega by more than tol? Box:
+ * clip to the box shrunk by tol; ball: nearest point to the centre. */
+static int seg_inside(const vp_planner_config_t *c, const double *a, const double *b, double tol)
+{
+    double d[3], t0 = 0.0, t1 = 1.0;
+    int k;
+    for (k = 0; k < 3; k++) d[k] = b[k] - a[k];
+    if (c->omega_kind == VP_OMEGA_BALL) {
+        double ac[3], dd = 0.0, t = 0.0, q = 0.0;
+        for (k = 0; k < 3; k++) { ac[k] = c->omega_center[k] - a[k]; dd += d[k] * d[k]; t += ac[k] * d[k]; }
+        t = dd > 0.0 ? t / dd : 0.0;
+        if (t < 0.0) t = 0.0;
+        if (t > 1.0) t = 1.0;
+        for (k = 0; k < 3; k++) { double x = a[k] + t * d[k] - c->omega_center[k]; q += x * x; }
+        return sqrt(q) < c->omega_radius - tol;
+    }
+    for (k = 0; k < 3; k++) {
+        double lo = c->omega_lo[k] + tol, hi = c->omega_hi[k] - tol;
+        if (d[k] == 0.0) {
+            if (!(a[k] > lo && a[k] < hi)) return 0;
+        } else {
+            double u = (lo - a[k]) / d[k], v = (hi - a[k]) / d[k];
+            if (u > v) { double s = u; u = v; v = s; }
+            if (u > t0) t0 = u;
+            if (v < t1) t1 = v;
+        }
+    }
+    return t0 < t1;
+}
+
+static void on_boundary(const vp_planner_config_t *c, double *p)
+{
+    int k;
+    if (c->omega_kind == VP_OMEGA_BALL) {
+        double n = 0.0;
+        for (k = 0; k < 3; k++) { p[k] = urand() - 0.5; n += p[k] * p[k]; }
+        n = sqrt(n);
+        for (k = 0; k < 3; k++) p[k] = c->omega_center[k] + c->omega_radius * p[k] / n;
+    } else {
+        int face = (int)(urand() * 6.0);
+        for (k = 0; k < 3; k++) p[k] = c->omega_lo[k] + (c->omega_hi[k] - c->omega_lo[k]) * urand();
+        p[face / 2] = face & 1 ? c->omega_hi[face / 2] : c->omega_lo[face / 2];
+    }
+}
+
+static void test_outside_route(void *arena, int kind)
+{
+    vp_planner_t pl;
+    double tol = 1e-9, a[3], b[3];
+    int i, bad = 0, through = 0;
+    uint32_t k, segs = 0;
+    CHECK(init(&pl, arena, kind) == VP_OK);
+    pl.cfg.clearance = 0.01; /* a body: routes stay outside Omega */
+    /* the checker itself sees a chord through Omega, and passes one outside it */
+    on_boundary(&pl.cfg, a);
+    for (i = 0; i < 3; i++) b[i] = -a[i];
+    CHECK(seg_inside(&pl.cfg, a, b, tol));
+    for (i = 0; i < 3; i++) b[i] = 2.0 * a[i];
+    CHECK(!seg_inside(&pl.cfg, a, b, tol));
+    for (i = 0; i < 200; i++) {
+        const double *prev;
+        uint32_t r;
+        on_boundary(&pl.cfg, a);
+        on_boundary(&pl.cfg, b);
+        if (vp_pl_rec_new(&pl, a, NONE, REC_OUT, &r) != VP_OK) break;
+        pl.dev.at = r;
+        through += seg_inside(&pl.cfg, a, b, tol); /* most straight chords would cross Omega */
+        CHECKF(vp_pl_plan_route(&pl, NONE, b) == VP_OK, "route %d", i);
+        prev = pl.pool.vrec[r].p;
+        for (k = 0; k < pl.route.n; k++) {
+            const double *q = pl.route.pts + 3 * (size_t)k;
+            bad += seg_inside(&pl.cfg, prev, q, tol);
+            CHECK(pl.route.proof[k] == PROOF_OUTSIDE);
+            prev = q;
+            segs++;
+        }
+        CHECK(vp_dist3(prev, b) == 0.0); /* it ends at b */
+    }
+    CHECK(i == 200);
+    CHECKF(bad == 0, "%d of %u route segments enter Omega (kind %d)", bad, segs, kind);
+    CHECKF(through > 50, "only %d of 200 chords cross Omega: the endpoints test nothing", through);
+}
+
+/* the heap property and the back links; 1 if both hold */
+static int heap_ok(const vp_planner_t *pl)
+{
+    uint32_t i;
+    for (i = 0; i < pl->pool.nheap; i++) {
+        if (pl->pool.frec[pl->pool.heap[i]].heap != i) return 0;
+        if (i > 0 && pl->pool.frec[pl->pool.heap[i]].r > pl->pool.frec[pl->pool.heap[(i - 1) / 2]].r) return 0;
+    }
+    return 1;
+}
+
+static void test_facets(void *arena)
+{
+    vp_planner_t pl;
+    uint32_t v[64], n = 0, i, k, out, fv[3], idx[40], t;
+    double p[3], far[3] = { 10.0, 10.0, 10.0 }, last;
+    CHECK(init(&pl, arena, VP_OMEGA_BOX) == VP_OK);
+    for (i = 0; i < 64; i++) {
+        p[0] = urand() - 0.5; p[1] = urand() - 0.5; p[2] = urand() - 0.5;
+        if (vp_dt_insert(&pl.dt, p, VP_DT_NONE, &v[n]) == VP_OK) n++;
+    }
+    CHECK(n >= 60);
+    /* 40 facets with balls of radius 0.02 + k/100 (all bad: eps 0.01), in a shuffled order */
+    for (k = 0; k < 40; k++) {
+        uint32_t j = (k * 17u) % 40u;
+        const double *a;
+        fv[0] = v[j]; fv[1] = v[j + 1]; fv[2] = v[j + 2];
+        a = vp_dt_point(&pl.dt, fv[0] < fv[1] ? (fv[0] < fv[2] ? fv[0] : fv[2]) : (fv[1] < fv[2] ? fv[1] : fv[2]));
+        p[0] = a[0] + 0.02 + j / 100.0; p[1] = a[1]; p[2] = a[2];
+        CHECK(vp_pl_frec_add(&pl, fv, p, far, NONE, PROOF_NONE, &idx[j]) == VP_OK);
+    }
+    CHECK(pl.pool.nheap == 40 && pl.pool.nfacets == 40);
+    CHECK(heap_ok(&pl));
+    CHECK(pl.pool.frec[pl.pool.heap[0]].r > 0.40); /* the largest on top */
+    /* the hash: each facet found under any order of its vertices */
+    for (k = 0; k < 40; k++) {
+        fv[0] = v[k + 2]; fv[1] = v[k]; fv[2] = v[k + 1];
+        CHECK(vp_pl_frec_lookup(&pl, fv) == idx[k]);
+    }
+    fv[0] = v[0]; fv[1] = v[1]; fv[2] = v[50]; /* two vertices shared, not a facet */
+    CHECK(vp_pl_frec_lookup(&pl, fv) == NONE);
+    /* adding one again gives the same record */
+    fv[0] = v[5]; fv[1] = v[6]; fv[2] = v[7];
+    CHECK(vp_pl_frec_add(&pl, fv, p, far, NONE, PROOF_NONE, &out) == VP_OK && out == idx[5]);
+    /* delete a third: gone, the others still found past their tombstones */
+    for (k = 0; k < 40; k += 3) vp_pl_frec_delete(&pl, idx[k]);
+    for (k = 0; k < 40; k++) {
+        fv[0] = v[k]; fv[1] = v[k + 1]; fv[2] = v[k + 2];
+        CHECK((vp_pl_frec_lookup(&pl, fv) == NONE) == (k % 3 == 0));
+    }
+    CHECK(heap_ok(&pl));
+    /* the heap's order: popping the top gives radii that never grow */
+    last = 1e9;
+    while (pl.pool.nheap > 0) {
+        t = pl.pool.heap[0];
+        CHECK(pl.pool.frec[t].r <= last);
+        last = pl.pool.frec[t].r;
+        vp_pl_heap_remove(&pl, t);
+        CHECK(heap_ok(&pl));
+    }
+    /* the heap checker refuses a broken heap */
+    for (k = 1; k < 40; k += 3) {
+        fv[0] = v[k]; fv[1] = v[k + 1]; fv[2] = v[k + 2];
+        if ((t = vp_pl_frec_lookup(&pl, fv)) != NONE && pl.pool.frec[t].heap == NONE) {
+            pl.pool.frec[t].flags &= ~FREC_STUCK;
+            p[0] = pl.pool.frec[t].c[0] + 1.0; p[1] = pl.pool.frec[t].c[1]; p[2] = pl.pool.frec[t].c[2];
+            vp_pl_frec_set_ball(&pl, t, p); /* larger: back in the heap */
+        }
+    }
+    CHECK(pl.pool.nheap >= 2 && heap_ok(&pl));
+    if (pl.pool.nheap >= 2) {
+        uint32_t s = pl.pool.heap[0];
+        pl.pool.heap[0] = pl.pool.heap[pl.pool.nheap - 1];
+        pl.pool.heap[pl.pool.nheap - 1] = s;
+        CHECK(!heap_ok(&pl));
+    }
+}
+
+int main(void)
+{
+    void *arena = malloc(ARENA);
+    if (!arena) return 1;
+    test_proofs(arena);
+    test_outside_route(arena, VP_OMEGA_BOX);
+    test_outside_route(arena, VP_OMEGA_BALL);
+    test_facets(arena);
+    free(arena);
+    return vp_test_done("test_planner_parts");
+}
