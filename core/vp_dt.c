@@ -844,14 +844,15 @@ static int insert_record(vp_dt_t *dt, uint32_t vid, uint32_t start, int located,
     return st;
 }
 
-int vp_dt_insert(vp_dt_t *dt, const double p[3], uint32_t hint, uint32_t *vertex)
+/* p becomes a new vertex and is inserted from `start` (a hint, or with in_conflict a tet in
+ * conflict with p); on failure the vertex is taken back (a duplicate reports the old one). */
+static int append_and_insert(vp_dt_t *dt, const double p[3], uint32_t start, int in_conflict,
+                             uint32_t *vertex)
 {
     uint32_t vid, dup = VP_DT_NONE;
-    int st;
-    if (!dt || !p || !finite_point(p)) return VP_EINVAL;
-    st = append_vertex(dt, p, &vid);
+    int st = append_vertex(dt, p, &vid);
     if (st != VP_OK) return st;
-    st = insert_record(dt, vid, hint, 0, &dup);
+    st = insert_record(dt, vid, start, in_conflict, &dup);
     if (st != VP_OK) {
         dt->nvert--;
         if (st == VP_EDUP && vertex) *vertex = dup;
@@ -861,27 +862,23 @@ int vp_dt_insert(vp_dt_t *dt, const double p[3], uint32_t hint, uint32_t *vertex
     return VP_OK;
 }
 
+int vp_dt_insert(vp_dt_t *dt, const double p[3], uint32_t hint, uint32_t *vertex)
+{
+    if (!dt || !p || !finite_point(p)) return VP_EINVAL;
+    return append_and_insert(dt, p, hint, 0, vertex);
+}
+
 int vp_dt_insert_in_conflict(vp_dt_t *dt, const double p[3], uint32_t conflict_tet,
                              uint32_t *vertex)
 {
-    uint32_t vid, dup = VP_DT_NONE;
-    int st;
+    uint32_t dup = VP_DT_NONE;
     if (!dt || !p || !finite_point(p)) return VP_EINVAL;
     if (dt->dim < 3 || !vp_dt_alive(dt, conflict_tet)) return VP_EINVAL;
     if (!conflict(dt, TET(dt, conflict_tet), p, &dup)) {
         if (dup != VP_DT_NONE) { if (vertex) *vertex = dup; return VP_EDUP; }
         return VP_EINVAL;
     }
-    st = append_vertex(dt, p, &vid);
-    if (st != VP_OK) return st;
-    st = insert_record(dt, vid, conflict_tet, 1, &dup);
-    if (st != VP_OK) {
-        dt->nvert--;
-        if (st == VP_EDUP && vertex) *vertex = dup;
-        return st;
-    }
-    if (vertex) *vertex = vid;
-    return VP_OK;
+    return append_and_insert(dt, p, conflict_tet, 1, vertex);
 }
 
 /* Sorts and inserts one chunk xyz[0..n) whose scratch fits in the free space. */

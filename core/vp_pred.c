@@ -999,17 +999,7 @@ static int insphere_tail(const double *a, const double *b, const double *c, cons
     p[4] = e;
     /* 9 bits: minors < 2^19, det3 < 6 * 2^27, lifts < 3 * 2^18, det < 72 * 2^45 */
     if (small_integers5(a, b, c, d, e)) {
-        double aex = a[0] - e[0], aey = a[1] - e[1], aez = a[2] - e[2];
-        double bex = b[0] - e[0], bey = b[1] - e[1], bez = b[2] - e[2];
-        double cex = c[0] - e[0], cey = c[1] - e[1], cez = c[2] - e[2];
-        double dex = d[0] - e[0], dey = d[1] - e[1], dez = d[2] - e[2];
-        double ab = aex * bey - bex * aey, ac = aex * cey - cex * aey, ad = aex * dey - dex * aey;
-        double bc = bex * cey - cex * bey, bd = bex * dey - dex * bey, cd = cex * dey - dex * cey;
-        double bcd = (bez * cd - cez * bd) + dez * bc, acd = (aez * cd - cez * ad) + dez * ac;
-        double abd = (aez * bd - bez * ad) + dez * ab, abc = (aez * bc - bez * ac) + cez * ab;
-        double al = (aex * aex + aey * aey) + aez * aez, bl = (bex * bex + bey * bey) + bez * bez;
-        double cl = (cex * cex + cey * cey) + cez * cez, dl = (dex * dex + dey * dey) + dez * dez;
-        double det = (al * bcd - bl * acd) + (cl * abd - dl * abc);
+        double det = vp_insphere_det_(a, b, c, d, e);
         COUNT(st, stage[VP_STAGE_EXACTDIFF]);
         return det > 0.0 ? 1 : (det < 0.0 ? -1 : 0);
     }

@@ -150,8 +150,10 @@ static inline int vp_orient3d_filter(const double *a, const double *b, const dou
     return VP_PRED_UNSURE;
 }
 
-static inline int vp_insphere_filter(const double *a, const double *b, const double *c,
-                                     const double *d, const double *e)
+/* The insphere determinant of a, b, c, d, e in doubles, relative to e, in one fixed order of
+ * operations (the filters' bounds and the exact small-integer stage rely on that order). */
+static inline double vp_insphere_det_(const double *a, const double *b, const double *c,
+                                      const double *d, const double *e)
 {
     double aex = a[0] - e[0], aey = a[1] - e[1], aez = a[2] - e[2];
     double bex = b[0] - e[0], bey = b[1] - e[1], bez = b[2] - e[2];
@@ -168,12 +170,20 @@ static inline int vp_insphere_filter(const double *a, const double *b, const dou
     double cl = (cex * cex + cey * cey) + cez * cez;
     double dl = (dex * dex + dey * dey) + dez * dez;
     double det = (al * bcd - bl * acd) + (cl * abd - dl * abc);
-    double mx = vp_pred_max3_(vp_pred_max3_(fabs(aex), fabs(bex), fabs(cex)), fabs(dex), 0.0);
-    double my = vp_pred_max3_(vp_pred_max3_(fabs(aey), fabs(bey), fabs(cey)), fabs(dey), 0.0);
-    double mz = vp_pred_max3_(vp_pred_max3_(fabs(aez), fabs(bez), fabs(cez)), fabs(dez), 0.0);
+    return det;
+}
+
+static inline int vp_insphere_filter(const double *a, const double *b, const double *c,
+                                     const double *d, const double *e)
+{
+    double det = vp_insphere_det_(a, b, c, d, e), m[3];
+    int k;
+    for (k = 0; k < 3; k++) /* the largest coordinate difference to e, per axis */
+        m[k] = vp_pred_max3_(vp_pred_max3_(fabs(a[k] - e[k]), fabs(b[k] - e[k]), fabs(c[k] - e[k])),
+                             fabs(d[k] - e[k]), 0.0);
     double bound;
-    if (!vp_pred_in_filter_window_(mx, my, mz)) return VP_PRED_UNSURE;
-    bound = VP_PRED_FILTER_IS * ((((mx * mx + my * my) + mz * mz) * ((mx * my) * mz)));
+    if (!vp_pred_in_filter_window_(m[0], m[1], m[2])) return VP_PRED_UNSURE;
+    bound = VP_PRED_FILTER_IS * ((((m[0] * m[0] + m[1] * m[1]) + m[2] * m[2]) * ((m[0] * m[1]) * m[2])));
     if (det > bound) return 1;
     if (-det > bound) return -1;
     return VP_PRED_UNSURE;
@@ -249,21 +259,7 @@ VP_PRED_INLINE int vp_insphere_filter_b(const double *a, const double *b, const 
 VP_PRED_INLINE int vp_insphere_filter_b(const double *a, const double *b, const double *c,
                                         const double *d, const double *e, double static_bound)
 {
-    double aex = a[0] - e[0], aey = a[1] - e[1], aez = a[2] - e[2];
-    double bex = b[0] - e[0], bey = b[1] - e[1], bez = b[2] - e[2];
-    double cex = c[0] - e[0], cey = c[1] - e[1], cez = c[2] - e[2];
-    double dex = d[0] - e[0], dey = d[1] - e[1], dez = d[2] - e[2];
-    double al = (aex * aex + aey * aey) + aez * aez;
-    double bl = (bex * bex + bey * bey) + bez * bez;
-    double cl = (cex * cex + cey * cey) + cez * cez;
-    double dl = (dex * dex + dey * dey) + dez * dez;
-    double ab = aex * bey - bex * aey, ac = aex * cey - cex * aey, ad = aex * dey - dex * aey;
-    double bc = bex * cey - cex * bey, bd = bex * dey - dex * bey, cd = cex * dey - dex * cey;
-    double bcd = (bez * cd - cez * bd) + dez * bc;
-    double acd = (aez * cd - cez * ad) + dez * ac;
-    double abd = (aez * bd - bez * ad) + dez * ab;
-    double abc = (aez * bc - bez * ac) + cez * ab;
-    double det = (al * bcd - bl * acd) + (cl * abd - dl * abc);
+    double det = vp_insphere_det_(a, b, c, d, e);
     if (det > static_bound) return 1;
     if (-det > static_bound) return -1;
     if (det == 0.0) return VP_PRED_UNSURE; /* the semi-static bound cannot decide it either */
