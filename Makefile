@@ -21,8 +21,16 @@ WARN := -std=c99 -pedantic -Wall -Wextra -Werror -Wmissing-prototypes -Wshadow
 # -ffp-contract=off: no fused multiply-add, so x86-64 and ARM round the same way.
 FPFLAGS := -ffp-contract=off -fno-math-errno
 CORE_CFLAGS := $(WARN) $(OPT) $(FPFLAGS) -Icore $(EXTRA_CFLAGS)
-HOST_CFLAGS := $(WARN) $(OPT) $(FPFLAGS) -D_POSIX_C_SOURCE=200809L -D_DEFAULT_SOURCE \
-               -Icore -Ihost-sim -Iport -Itools $(EXTRA_CFLAGS)
+# The layers above the core (doc/architecture.md): each folder sees only the headers of the
+# layers it may use (tests/t_layers.sh checks the #includes too).
+#   mesh: core   sim: core mesh   port: core   host: core mesh sim port   cli: all
+LAYER_CFLAGS := $(WARN) $(OPT) $(FPFLAGS) -D_POSIX_C_SOURCE=200809L -D_DEFAULT_SOURCE $(EXTRA_CFLAGS)
+INC_mesh := -Icore -Imesh
+INC_sim  := -Icore -Imesh -Isim
+INC_port := -Icore -Iport
+INC_host := -Icore -Imesh -Isim -Iport -Ihost
+INC_cli  := $(INC_host) -Icli
+HOST_CFLAGS = $(LAYER_CFLAGS) $(INC_cli)
 LDLIBS := -lm
 
 # Optional hardware libraries: used when present for the build target (a cross build: when
@@ -38,33 +46,43 @@ endif
 endif
 endif
 ifeq ($(HAVE_GPIOD),1)
-HOST_CFLAGS += -DVP_HAVE_GPIOD=1
+LAYER_CFLAGS += -DVP_HAVE_GPIOD=1
 PORT_LIBS += -lgpiod
 endif
 # libcamera (C++): port/*.cpp is built only when pkg-config finds it.
 ifeq ($(HAVE_LIBCAMERA),1)
-HOST_CFLAGS += -DVP_HAVE_LIBCAMERA=1
+LAYER_CFLAGS += -DVP_HAVE_LIBCAMERA=1
 PORT_CXX_SRC := $(sort $(wildcard port/*.cpp))
 PORT_LIBS += $(shell pkg-config --libs libcamera) -lstdc++
 endif
 
 CORE_SRC := $(sort $(wildcard core/*.c core/planner/*.c))
-SIM_SRC  := $(sort $(wildcard host-sim/*.c))
+MESH_SRC := $(sort $(wildcard mesh/*.c))
+SIM_SRC  := $(sort $(wildcard sim/*.c))
 PORT_SRC := $(sort $(wildcard port/*.c))
-TOOL_SRC := $(sort $(filter-out tools/main.c,$(wildcard tools/*.c)))
+HOSTL_SRC := $(sort $(wildcard host/*.c))
+CLI_SRC  := $(sort $(wildcard cli/*.c))
 TEST_SRC := $(sort $(wildcard tests/test_*.c))
 ifneq ($(HAVE_GMP),1)
 TEST_SRC := $(filter-out tests/test_gmp_%,$(TEST_SRC))
 endif
 
 CORE_OBJ := $(CORE_SRC:%.c=$(BUILD)/%.o)
+MESH_OBJ := $(MESH_SRC:%.c=$(BUILD)/%.o)
 SIM_OBJ  := $(SIM_SRC:%.c=$(BUILD)/%.o)
 PORT_OBJ := $(PORT_SRC:%.c=$(BUILD)/%.o) $(PORT_CXX_SRC:%.cpp=$(BUILD)/%.o)
-TOOL_OBJ := $(TOOL_SRC:%.c=$(BUILD)/%.o)
+HOSTL_OBJ := $(HOSTL_SRC:%.c=$(BUILD)/%.o)
+# the command line (main and cmd_*): linked into the program, in no library
+CLI_OBJ  := $(CLI_SRC:%.c=$(BUILD)/%.o)
 TEST_BIN := $(TEST_SRC:tests/%.c=$(BUILD)/tests/%)
 
 LIBCORE := $(BUILD)/libvpcore.a
+LIBMESH := $(BUILD)/libvpmesh.a
+LIBSIM  := $(BUILD)/libvpsim.a
+LIBPORT := $(BUILD)/libvpport.a
 LIBHOST := $(BUILD)/libvphost.a
+# one archive per layer, in link order (a layer before the layers it uses)
+LIBS    := $(LIBHOST) $(LIBSIM) $(LIBPORT) $(LIBMESH) $(LIBCORE)
 PROG    := $(BUILD)/voroprobe
 CXXFLAGS_PORT := -std=c++17 $(OPT) -Wall -Wextra -Werror $(if $(PORT_CXX_SRC),$(shell pkg-config --cflags libcamera)) -Icore -Iport
 
@@ -80,7 +98,7 @@ CXX = $(CXX)
 HAVE_GPIOD = $(HAVE_GPIOD)
 HAVE_LIBCAMERA = $(HAVE_LIBCAMERA)
 CORE_CFLAGS = $(CORE_CFLAGS)
-HOST_CFLAGS = $(HOST_CFLAGS)
+LAYER_CFLAGS = $(LAYER_CFLAGS)
 CXXFLAGS_PORT = $(CXXFLAGS_PORT)
 PORT_LIBS = $(PORT_LIBS)
 LDLIBS = $(LDLIBS)
@@ -104,9 +122,25 @@ $(BUILD)/core/%.o: core/%.c $(wildcard core/*.h core/planner/*.h) Makefile $(CON
 	@mkdir -p $(@D)
 	$(CC) $(CORE_CFLAGS) -c $< -o $@
 
-$(BUILD)/%.o: %.c $(wildcard core/*.h host-sim/*.h port/*.h tools/*.h) Makefile $(CONFIG)
+$(BUILD)/mesh/%.o: mesh/%.c $(wildcard core/*.h mesh/*.h) Makefile $(CONFIG)
 	@mkdir -p $(@D)
-	$(CC) $(HOST_CFLAGS) -c $< -o $@
+	$(CC) $(LAYER_CFLAGS) $(INC_mesh) -c $< -o $@
+
+$(BUILD)/sim/%.o: sim/%.c $(wildcard core/*.h mesh/*.h sim/*.h) Makefile $(CONFIG)
+	@mkdir -p $(@D)
+	$(CC) $(LAYER_CFLAGS) $(INC_sim) -c $< -o $@
+
+$(BUILD)/port/%.o: port/%.c $(wildcard core/*.h port/*.h) Makefile $(CONFIG)
+	@mkdir -p $(@D)
+	$(CC) $(LAYER_CFLAGS) $(INC_port) -c $< -o $@
+
+$(BUILD)/host/%.o: host/%.c $(wildcard core/*.h mesh/*.h sim/*.h port/*.h host/*.h) Makefile $(CONFIG)
+	@mkdir -p $(@D)
+	$(CC) $(LAYER_CFLAGS) $(INC_host) -c $< -o $@
+
+$(BUILD)/cli/%.o: cli/%.c $(wildcard core/*.h mesh/*.h sim/*.h port/*.h host/*.h cli/*.h) Makefile $(CONFIG)
+	@mkdir -p $(@D)
+	$(CC) $(LAYER_CFLAGS) $(INC_cli) -c $< -o $@
 
 $(BUILD)/port/%.o: port/%.cpp $(wildcard core/*.h port/*.h) Makefile $(CONFIG)
 	@mkdir -p $(@D)
@@ -116,20 +150,32 @@ $(LIBCORE): $(CORE_OBJ)
 	@rm -f $@
 	$(AR) rcs $@ $^
 
-$(LIBHOST): $(SIM_OBJ) $(PORT_OBJ) $(TOOL_OBJ)
+$(LIBMESH): $(MESH_OBJ)
 	@rm -f $@
 	$(AR) rcs $@ $^
 
-$(PROG): $(BUILD)/tools/main.o $(LIBHOST) $(LIBCORE) $(CONFIG)
-	$(CC) $(OPT) -o $@ $< $(LIBHOST) $(LIBCORE) $(PORT_LIBS) $(LDLIBS)
+$(LIBSIM): $(SIM_OBJ)
+	@rm -f $@
+	$(AR) rcs $@ $^
 
-$(BUILD)/tests/test_gmp_%: tests/test_gmp_%.c tests/vp_test.h $(LIBHOST) $(LIBCORE) $(CONFIG)
-	@mkdir -p $(@D)
-	$(CC) $(HOST_CFLAGS) -Itests -o $@ $< $(LIBHOST) $(LIBCORE) $(PORT_LIBS) -lgmp $(LDLIBS)
+$(LIBPORT): $(PORT_OBJ)
+	@rm -f $@
+	$(AR) rcs $@ $^
 
-$(BUILD)/tests/%: tests/%.c tests/vp_test.h $(LIBHOST) $(LIBCORE) $(CONFIG)
+$(LIBHOST): $(HOSTL_OBJ)
+	@rm -f $@
+	$(AR) rcs $@ $^
+
+$(PROG): $(CLI_OBJ) $(LIBS) $(CONFIG)
+	$(CC) $(OPT) -o $@ $(CLI_OBJ) $(LIBS) $(PORT_LIBS) $(LDLIBS)
+
+$(BUILD)/tests/test_gmp_%: tests/test_gmp_%.c tests/vp_test.h $(LIBS) $(CONFIG)
 	@mkdir -p $(@D)
-	$(CC) $(HOST_CFLAGS) -Itests -o $@ $< $(LIBHOST) $(LIBCORE) $(PORT_LIBS) $(LDLIBS)
+	$(CC) $(HOST_CFLAGS) -Itests -o $@ $< $(LIBS) $(PORT_LIBS) -lgmp $(LDLIBS)
+
+$(BUILD)/tests/%: tests/%.c tests/vp_test.h $(LIBS) $(CONFIG)
+	@mkdir -p $(@D)
+	$(CC) $(HOST_CFLAGS) -Itests -o $@ $< $(LIBS) $(PORT_LIBS) $(LDLIBS)
 
 tests: $(PROG) $(TEST_BIN)
 
@@ -161,13 +207,13 @@ clean:
 #   make fuzz [FUZZ_TIME=60]   builds BUILD/fuzz/fuzz_* and runs each for FUZZ_TIME seconds
 FUZZ_CC ?= clang
 FUZZ_TIME ?= 60
-FUZZ_CFLAGS := -std=c99 -g -O1 $(FPFLAGS) -D_POSIX_C_SOURCE=200809L -D_DEFAULT_SOURCE -Icore -Ihost-sim \
-               -Iport -Itools -fno-sanitize-recover=undefined
-FUZZ_SRC := $(CORE_SRC) $(SIM_SRC) $(TOOL_SRC) $(PORT_SRC)
+FUZZ_CFLAGS := -std=c99 -g -O1 $(FPFLAGS) -D_POSIX_C_SOURCE=200809L -D_DEFAULT_SOURCE $(INC_host) \
+               -fno-sanitize-recover=undefined
+FUZZ_SRC := $(CORE_SRC) $(MESH_SRC) $(SIM_SRC) $(PORT_SRC) $(HOSTL_SRC)
 FUZZ_OBJ := $(FUZZ_SRC:%.c=$(BUILD)/fuzz/obj/%.o)
 FUZZ_BIN := $(patsubst tests/fuzz/%.c,$(BUILD)/fuzz/%,$(wildcard tests/fuzz/fuzz_*.c))
 .SECONDARY: $(FUZZ_OBJ)
-$(BUILD)/fuzz/obj/%.o: %.c $(wildcard core/*.h host-sim/*.h port/*.h tools/*.h) Makefile
+$(BUILD)/fuzz/obj/%.o: %.c $(wildcard core/*.h mesh/*.h sim/*.h port/*.h host/*.h) Makefile
 	@mkdir -p $(@D)
 	$(FUZZ_CC) $(FUZZ_CFLAGS) -fsanitize=fuzzer-no-link,address,undefined -c $< -o $@
 $(BUILD)/fuzz/%: tests/fuzz/%.c $(FUZZ_OBJ)

@@ -4,6 +4,7 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include "vp_hausdorff.h"
 #include "vp_meshcheck.h"
 #include "vp_meshgen.h"
 #include "vp_status.h"
@@ -136,7 +137,7 @@ static void hausdorff(void)
         double rc = la * lb * lc / (4 * area), e = 1 - sqrt(1 - rc * rc);
         if (e > expect) expect = e;
     }
-    CHECK(vp_meshcheck_hausdorff(&ico, s, 20000, 1, &h) == VP_OK);
+    CHECK(vp_hausdorff(&ico, s, 20000, 1, &h) == VP_OK);
     printf("icosphere(3) vs unit sphere: Hausdorff %.12g (mesh->surface %.12g, surface->mesh %.12g), analytic %.12g\n",
            h.hausdorff, h.mesh_to_surface, h.surface_to_mesh, expect);
     CHECKF(fabs(h.mesh_to_surface - expect) <= 1e-7 * expect, "mesh->surface %.12g vs %.12g", h.mesh_to_surface, expect);
@@ -144,7 +145,7 @@ static void hausdorff(void)
     CHECK(h.mean_mesh_to_surface > 0 && h.mean_mesh_to_surface < expect && h.mean_surface_to_mesh < expect);
     /* a shifted copy: the distance grows by the shift (to first order) */
     for (f = 0; f < ico.nv; f++) ico.xyz[3 * f] += 0.1;
-    CHECK(vp_meshcheck_hausdorff(&ico, s, 5000, 2, &h) == VP_OK);
+    CHECK(vp_hausdorff(&ico, s, 5000, 2, &h) == VP_OK);
     CHECKF(h.hausdorff > 0.1 && h.hausdorff < 0.1 + 2 * expect, "shifted: %g", h.hausdorff);
     vp_surface_close(s);
     vp_mesh_free(&ico);
@@ -154,7 +155,7 @@ static void hausdorff(void)
         vp_mesh_init(&tor);
         CHECK(vp_meshgen_torus(1.0, 0.3, 96, 32, &tor) == VP_OK);
         CHECK(vp_surface_open("torus", &s, err, sizeof err) == VP_OK);
-        CHECK(vp_meshcheck_hausdorff(&tor, s, 20000, 3, &h) == VP_OK);
+        CHECK(vp_hausdorff(&tor, s, 20000, 3, &h) == VP_OK);
         printf("torus grid 96x32 vs torus: Hausdorff %.6g\n", h.hausdorff);
         /* chord sagitta bounds: tube 0.3*(1-cos(pi/32)), ring 1.3*(1-cos(pi/96)) */
         CHECK(h.hausdorff > 0.3 * (1 - cos(3.14159265 / 32)) * 0.9 && h.hausdorff < 0.3 * (1 - cos(3.14159265 / 32)) + 1.3 * (1 - cos(3.14159265 / 96)) + 1e-9);

@@ -9,6 +9,7 @@
 #include <time.h>
 #include "vp_board.h"
 #include "vp_dryrun.h"
+#include "vp_hausdorff.h"
 #include "vp_meshcheck.h"
 #include "vp_meshio.h"
 #include "vp_planner.h"
@@ -111,7 +112,7 @@ static void scan(const char *board, long cap, scan_out_t *o)
         CHECK(vp_meshcheck_analyze(&mesh, &mc) == VP_OK);
         o->closed = mc.closed_manifold;
         o->genus = mc.genus;
-        CHECK(vp_meshcheck_hausdorff(&mesh, d->surf, 20000, 7, &hd) == VP_OK);
+        CHECK(vp_hausdorff(&mesh, d->surf, 20000, 7, &hd) == VP_OK);
         o->hausdorff = hd.hausdorff;
         vp_meshcheck_free(&mc);
         vp_mesh_free(&mesh);

@@ -8,6 +8,7 @@
 #include "vp_session.h"
 #include "vp_simdev.h"
 #include "vp_surface.h"
+#include "vp_hausdorff.h"
 #include "vp_meshcheck.h"
 
 typedef struct vp_sim_options {
@@ -47,10 +48,6 @@ typedef struct vp_sim {
 } vp_sim_t;
 
 void vp_sim_options_default(vp_sim_options_t *o);
-/* Parses argv[*i] (and its value). 0: taken; 1: not a sim option; -1: bad value (err). */
-int vp_sim_parse_option(vp_sim_options_t *o, int argc, char **argv, int *i, char *err, size_t errlen);
-/* Size with an optional K/M/G suffix; -1 on error. */
-int vp_parse_size(const char *s, size_t *out);
 
 /* What the planner supports (checked by vp_sim_open): eps at least VP_SIM_EPS_MIN_OMEGA of
  * Omega's diagonal and VP_SIM_EPS_MIN_COORD of its largest coordinate (double precision), noise

@@ -11,12 +11,14 @@
 #include "vp_log.h"
 #include "vp_note.h"
 #include "vp_logfile.h"
+#include "vp_hausdorff.h"
 #include "vp_meshcheck.h"
 #include "vp_meshio.h"
 #include "vp_outcome.h"
 #include "vp_audit.h"
 #include "vp_scan.h"
 #include "vp_session.h"
+#include "vp_sim_opts.h"
 #include "vp_sim_setup.h"
 #include "vp_slog.h"
 #include "vp_surface.h"
@@ -654,7 +656,7 @@ int vp_cmd_scan(int argc, char **argv)
                    "%lu hidden spots, %lu moves through the object\n",
                    dev.true_n ? sqrt(dev.err2 / (double)dev.true_n) : 0.0, dev.err_max, dev.true_n, dev.false_hits,
                    dev.false_misses, dev.through);
-            if (rc == 0 && mesh.nt > 0 && vp_meshcheck_hausdorff(&mesh, dev.dr->surf, 20000, 7, &hd) == VP_OK)
+            if (rc == 0 && mesh.nt > 0 && vp_hausdorff(&mesh, dev.dr->surf, 20000, 7, &hd) == VP_OK)
                 printf("dry run: the mesh is within %.2f mm of the object (Hausdorff), eps %g mm\n", hd.hausdorff, o.eps);
             printf("dry run: %d frames rendered, %.1f s wall\n", (int)m->st.frames, vp_wall_seconds() - wall0);
         }

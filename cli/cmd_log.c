@@ -10,6 +10,7 @@
 #include "vp_meshio.h"
 #include "vp_note.h"
 #include "vp_session.h"
+#include "vp_sim_opts.h"
 #include "vp_sim_setup.h"
 #include "vp_slog.h"
 

@@ -21,32 +21,6 @@ void vp_simlog_free(vp_simlog_t *g)
     g->have_L = 0;
 }
 
-int vp_simlog_parse_option(vp_simlog_t *g, int argc, char **argv, int *i, char *err, size_t errlen)
-{
-    const char *a = argv[*i], *val = *i + 1 < argc ? argv[*i + 1] : NULL;
-    if (!strcmp(a, "--no-log")) { g->no_log = 1; return 0; }
-    if (strcmp(a, "--log") && strcmp(a, "--resume") && strcmp(a, "--sync") && strcmp(a, "--stop-after") &&
-        strcmp(a, "--power-cut"))
-        return 1;
-    if (!val) { snprintf(err, errlen, "%s needs a value", a); return -1; }
-    (*i)++;
-    if (!strcmp(a, "--log")) g->log = val;
-    else if (!strcmp(a, "--resume")) g->resume = val;
-    else if (!strcmp(a, "--sync")) {
-        if (vp_logfile_parse_sync(val, &g->fcfg)) {
-            snprintf(err, errlen, "--sync takes record, close, N (records), Tms or N,Tms; not '%s'", val);
-            return -1;
-        }
-    } else {
-        char *e;
-        unsigned long long v = strtoull(val, &e, 10);
-        if (e == val || *e || v == 0) { snprintf(err, errlen, "%s takes a positive integer, not '%s'", a, val); return -1; }
-        if (!strcmp(a, "--stop-after")) g->stop_after = (unsigned long)v;
-        else g->fcfg.die_after_bytes = v;
-    }
-    return 0;
-}
-
 /* ---------- the options as text: the log's note ---------- */
 
 void vp_simlog_note(const vp_sim_options_t *o, char *buf, size_t n)
@@ -71,55 +45,6 @@ void vp_simlog_note(const vp_sim_options_t *o, char *buf, size_t n)
     if ((o->flags & VP_PLAN_PAPER) != 0) vp_note_put(buf, n, &len, "--paper");
     if ((o->flags & VP_PLAN_LARGEST) != 0) vp_note_put(buf, n, &len, "--largest");
     if ((o->flags & VP_PLAN_PREV_CHAINS) != 0) vp_note_put(buf, n, &len, "--prev-chains");
-}
-
-int vp_simlog_options(vp_simlog_t *g, vp_sim_options_t *o, int argc, char **argv, char *err,
-                      size_t errlen)
-{
-    char *note = g->note, *tok[128], sub[512];
-    int n, i, st, has_out = 0;
-    if (!g->resume) return VP_OK;
-    st = vp_slog_load(&g->L, g->resume, err, errlen);
-    if (st != VP_OK) return st;
-    g->have_L = 1;
-    memcpy(note, g->L.header.note, sizeof g->note);
-    n = vp_note_split(note, tok, 128);
-    if (n < 1 || strcmp(tok[0], "sim") != 0) {
-        snprintf(err, errlen, "%s was not written by `sim` (its note does not start with 'sim'): "
-                 "resume it with the program that wrote it", g->resume);
-        return VP_EINVAL;
-    }
-    vp_sim_options_default(o);
-    for (i = 1; i < n; i++) {
-        st = vp_sim_parse_option(o, n, tok, &i, sub, sizeof sub);
-        if (st != 0) {
-            snprintf(err, errlen, "%s: the options recorded in the log are not understood ('%s'%s%s)",
-                     g->resume, tok[i], st < 0 ? ": " : "", st < 0 ? sub : "");
-            return VP_EINVAL;
-        }
-    }
-    for (i = 1; i < argc; i++) {
-        vp_simlog_t scratch;
-        vp_simlog_init(&scratch);
-        if (!strcmp(argv[i], "--out")) has_out = 1;
-        if (vp_simlog_parse_option(&scratch, argc, argv, &i, sub, sizeof sub) == 0) continue;
-        if (vp_sim_parse_option(o, argc, argv, &i, sub, sizeof sub) != 0) {
-            snprintf(err, errlen, "bad option %s", argv[i]);
-            return VP_EINVAL;
-        }
-    }
-    if (!has_out) {
-        /* the mesh goes beside the log: LOG minus .vplog */
-        size_t len = strlen(g->resume);
-        if (len > 6 && !strcmp(g->resume + len - 6, ".vplog")) {
-            st = vp_path_cat(g->prefix, sizeof g->prefix, g->resume, "", err, errlen);
-            if (st == VP_OK) g->prefix[len - 6] = 0;
-        } else
-            st = vp_path_cat(g->prefix, sizeof g->prefix, g->resume, ".resumed", err, errlen);
-        if (st != VP_OK) return st;
-        o->out = g->prefix;
-    }
-    return VP_OK;
 }
 
 /* ---------- begin / end ---------- */

@@ -18,99 +18,6 @@ void vp_sim_options_default(vp_sim_options_t *o)
     o->hausdorff = 20000;
 }
 
-int vp_parse_size(const char *s, size_t *out)
-{
-    char *e;
-    double v = strtod(s, &e);
-    if (e == s || !(v >= 0)) return -1;
-    if (*e == 'k' || *e == 'K') { v *= 1024.0; e++; }
-    else if (*e == 'm' || *e == 'M') { v *= 1048576.0; e++; }
-    else if (*e == 'g' || *e == 'G') { v *= 1073741824.0; e++; }
-    if (*e || v > 1e15) return -1;
-    *out = (size_t)v;
-    return 0;
-}
-
-static int num(const char *s, double *v)
-{
-    char *e;
-    *v = strtod(s, &e);
-    return e != s && !*e && isfinite(*v);
-}
-
-int vp_sim_parse_option(vp_sim_options_t *o, int argc, char **argv, int *i, char *err, size_t errlen)
-{
-    const char *a = argv[*i], *val = *i + 1 < argc ? argv[*i + 1] : NULL;
-    double v;
-    if (!strcmp(a, "--json")) { o->json = 1; return 0; }
-    if (!strcmp(a, "--quiet")) { o->quiet = 1; return 0; }
-    if (!strcmp(a, "--paper")) { o->flags |= VP_PLAN_PAPER | VP_PLAN_PREV_CHAINS | VP_PLAN_LARGEST; return 0; }
-    if (!strcmp(a, "--largest")) { o->flags |= VP_PLAN_LARGEST; return 0; }
-    if (!strcmp(a, "--prev-chains")) { o->flags |= VP_PLAN_PREV_CHAINS; return 0; }
-    if (strncmp(a, "--", 2) != 0) return 1;
-    if (strcmp(a, "--surface") && strcmp(a, "--eps") && strcmp(a, "--eps-rel") && strcmp(a, "--out") &&
-        strcmp(a, "--noise") && strcmp(a, "--dropout") && strcmp(a, "--clearance") &&
-        strcmp(a, "--max-range") && strcmp(a, "--min-range") && strcmp(a, "--arena") && strcmp(a, "--omega") &&
-        strcmp(a, "--seed") && strcmp(a, "--hausdorff") && strcmp(a, "--confirm") && strcmp(a, "--margin") &&
-        strcmp(a, "--angle"))
-        return 1;
-    if (!val) { snprintf(err, errlen, "%s needs a value", a); return -1; }
-    (*i)++;
-    if (!strcmp(a, "--surface")) { o->surface = val; return 0; }
-    if (!strcmp(a, "--out")) { o->out = val; return 0; }
-    if (!strcmp(a, "--omega")) {
-        if (!strcmp(val, "box")) o->omega_ball = 0;
-        else if (!strcmp(val, "ball")) o->omega_ball = 1;
-        else { snprintf(err, errlen, "--omega takes box or ball, not '%s'", val); return -1; }
-        return 0;
-    }
-    if (!strcmp(a, "--arena")) {
-        if (vp_parse_size(val, &o->arena)) { snprintf(err, errlen, "--arena: bad size '%s'", val); return -1; }
-        return 0;
-    }
-    if (!num(val, &v)) { snprintf(err, errlen, "%s: not a number: '%s'", a, val); return -1; }
-    if (!strcmp(a, "--eps")) {
-        if (!(v > 0)) { snprintf(err, errlen, "--eps must be > 0"); return -1; }
-        if (o->eps_rel > 0) { snprintf(err, errlen, "--eps and --eps-rel both set eps: give one of them"); return -1; }
-        o->eps = v;
-    } else if (!strcmp(a, "--eps-rel")) {
-        if (!(v > 0 && v < 1)) { snprintf(err, errlen, "--eps-rel must be in (0, 1)"); return -1; }
-        if (o->eps > 0) { snprintf(err, errlen, "--eps and --eps-rel both set eps: give one of them"); return -1; }
-        o->eps_rel = v;
-    } else if (!strcmp(a, "--noise")) {
-        if (!(v >= 0)) { snprintf(err, errlen, "--noise must be >= 0"); return -1; }
-        o->noise = v;
-    } else if (!strcmp(a, "--dropout")) {
-        if (!(v >= 0 && v < 1)) { snprintf(err, errlen, "--dropout must be in [0, 1)"); return -1; }
-        o->dropout = v;
-    } else if (!strcmp(a, "--clearance")) {
-        if (!(v >= 0)) { snprintf(err, errlen, "--clearance must be >= 0"); return -1; }
-        o->clearance = v;
-    } else if (!strcmp(a, "--min-range")) {
-        if (!(v >= 0)) { snprintf(err, errlen, "--min-range must be >= 0"); return -1; }
-        o->min_range = v;
-    } else if (!strcmp(a, "--max-range")) {
-        if (!(v >= 0)) { snprintf(err, errlen, "--max-range must be >= 0"); return -1; }
-        o->max_range = v;
-    } else if (!strcmp(a, "--margin")) {
-        if (!(v > 0 && v < 10)) { snprintf(err, errlen, "--margin must be in (0, 10)"); return -1; }
-        o->omega_margin = v;
-    } else if (!strcmp(a, "--seed")) {
-        if (!(v >= 0)) { snprintf(err, errlen, "--seed must be >= 0"); return -1; }
-        o->seed = (unsigned long long)v;
-    } else if (!strcmp(a, "--hausdorff")) {
-        if (!(v >= 0)) { snprintf(err, errlen, "--hausdorff must be >= 0"); return -1; }
-        o->hausdorff = (size_t)v;
-    } else if (!strcmp(a, "--angle")) {
-        if (!(v >= 0 && v <= 30)) { snprintf(err, errlen, "--angle must be in [0, 30] degrees"); return -1; }
-        o->min_angle = v;
-    } else if (!strcmp(a, "--confirm")) {
-        if (!(v >= 0 && v <= 16)) { snprintf(err, errlen, "--confirm must be in 0..16"); return -1; }
-        o->confirm = (int)v;
-    }
-    return 0;
-}
-
 int vp_sim_config(const vp_surface_t *surf, double eps, int ball, double margin,
                   vp_planner_config_t *cfg, char *err, size_t errlen)
 {
@@ -295,7 +202,7 @@ int vp_sim_finish(vp_sim_t *s, const vp_sim_options_t *o, char *err, size_t errl
     if (st != VP_OK) { snprintf(err, errlen, "mesh: %s", vp_strerror(st)); return st; }
     if (vp_meshcheck_analyze(&s->mesh, &s->check) == VP_OK) s->have_check = 1;
     if (o->hausdorff > 0 && s->mesh.nt > 0 &&
-        vp_meshcheck_hausdorff(&s->mesh, s->surf, o->hausdorff, 7, &s->haus) == VP_OK)
+        vp_hausdorff(&s->mesh, s->surf, o->hausdorff, 7, &s->haus) == VP_OK)
         s->have_haus = 1;
     if (o->out) {
         char path[VP_PATH_MAX];

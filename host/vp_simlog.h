@@ -1,6 +1,6 @@
-/* vp_simlog — the session log of `sim`: options (--log, --no-log, --resume, --sync,
- * --stop-after, --power-cut), creating the log, resuming from one (replay, device restored,
- * append), and the closing event. cmd_sim.c calls these around vp_sim_open/run/finish. */
+/* vp_simlog — the session log of `sim`: its settings (--log, --no-log, --resume, --sync,
+ * --stop-after, --power-cut; parsed by cli/vp_sim_opts), creating the log, resuming from one
+ * (replay, device restored, append), and the closing event. cmd_sim.c calls these around vp_sim_open/run/finish. */
 #ifndef VP_SIMLOG_H
 #define VP_SIMLOG_H
 #include <stdio.h>
@@ -25,12 +25,6 @@ typedef struct vp_simlog {
 } vp_simlog_t;
 
 void vp_simlog_init(vp_simlog_t *g);
-/* Like vp_sim_parse_option: 0 taken, 1 not ours, -1 bad value (err). */
-int  vp_simlog_parse_option(vp_simlog_t *g, int argc, char **argv, int *i, char *err, size_t errlen);
-/* With --resume: loads the log and rebuilds o from the defaults, the sim options recorded in
- * the log, then the command line's (which win). Without: nothing. */
-int  vp_simlog_options(vp_simlog_t *g, vp_sim_options_t *o, int argc, char **argv, char *err,
-                       size_t errlen);
 /* The log's path (--log, the resumed log, or PREFIX.vplog; none with --no-log) into g->path,
  * checked before anything is written: VP_EINVAL (err) when it is too long. */
 int  vp_simlog_set_path(vp_simlog_t *g, const vp_sim_options_t *o, char *err, size_t errlen);

@@ -14,6 +14,7 @@
 #include "vp_session.h"
 #include "vp_simdev.h"
 #include "vp_surface.h"
+#include "vp_sim_opts.h"
 #include "vp_sim_setup.h"
 #include "vp_simlog.h"
 

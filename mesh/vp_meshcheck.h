@@ -1,13 +1,11 @@
 /* vp_meshcheck — analysis of a triangle mesh on the PC side: topology (closed 2-manifold,
- * orientation, components, Euler characteristic, genus, boundary), quality (smallest angle)
- * and the two-sided Hausdorff distance to a simulated object (vp_surface). */
+ * orientation, components, Euler characteristic, genus, boundary) and quality (smallest angle).
+ * The Hausdorff distance to a simulated object is sim/vp_hausdorff.h. */
 #ifndef VP_MESHCHECK_H
 #define VP_MESHCHECK_H
 #include <stddef.h>
 #include <stdint.h>
 #include "vp_meshio.h"
-
-struct vp_surface;
 
 typedef struct vp_mesh_component {
     size_t faces, vertices, edges;
@@ -45,19 +43,5 @@ int  vp_meshcheck_analyze(const vp_mesh_t *m, vp_meshcheck_t *r);
 void vp_meshcheck_free(vp_meshcheck_t *r);
 /* One line per fact, for logs and the CLI. */
 void vp_meshcheck_print(const vp_meshcheck_t *r, void *file /* FILE* */);
-
-typedef struct vp_hausdorff {
-    double mesh_to_surface;   /* max over mesh points of the distance to the true surface */
-    double surface_to_mesh;   /* max over surface points of the distance to the mesh */
-    double hausdorff;         /* the larger of the two */
-    double mean_mesh_to_surface;
-    double mean_surface_to_mesh;
-} vp_hausdorff_t;
-
-/* Two-sided Hausdorff distance by dense sampling (n points on each side, roughly uniform by
- * area, plus every vertex of the mesh), then local maximisation around the worst samples.
- * The mesh side uses a BVH for closest points. */
-int  vp_meshcheck_hausdorff(const vp_mesh_t *m, const struct vp_surface *s, size_t n, uint64_t seed,
-                            vp_hausdorff_t *out);
 
 #endif

@@ -1,0 +1,175 @@
+/* vp_sim_opts — see vp_sim_opts.h. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include "vp_note.h"
+#include "vp_sim_opts.h"
+
+int vp_parse_size(const char *s, size_t *out)
+{
+    char *e;
+    double v = strtod(s, &e);
+    if (e == s || !(v >= 0)) return -1;
+    if (*e == 'k' || *e == 'K') { v *= 1024.0; e++; }
+    else if (*e == 'm' || *e == 'M') { v *= 1048576.0; e++; }
+    else if (*e == 'g' || *e == 'G') { v *= 1073741824.0; e++; }
+    if (*e || v > 1e15) return -1;
+    *out = (size_t)v;
+    return 0;
+}
+
+static int num(const char *s, double *v)
+{
+    char *e;
+    *v = strtod(s, &e);
+    return e != s && !*e && isfinite(*v);
+}
+
+int vp_sim_parse_option(vp_sim_options_t *o, int argc, char **argv, int *i, char *err, size_t errlen)
+{
+    const char *a = argv[*i], *val = *i + 1 < argc ? argv[*i + 1] : NULL;
+    double v;
+    if (!strcmp(a, "--json")) { o->json = 1; return 0; }
+    if (!strcmp(a, "--quiet")) { o->quiet = 1; return 0; }
+    if (!strcmp(a, "--paper")) { o->flags |= VP_PLAN_PAPER | VP_PLAN_PREV_CHAINS | VP_PLAN_LARGEST; return 0; }
+    if (!strcmp(a, "--largest")) { o->flags |= VP_PLAN_LARGEST; return 0; }
+    if (!strcmp(a, "--prev-chains")) { o->flags |= VP_PLAN_PREV_CHAINS; return 0; }
+    if (strncmp(a, "--", 2) != 0) return 1;
+    if (strcmp(a, "--surface") && strcmp(a, "--eps") && strcmp(a, "--eps-rel") && strcmp(a, "--out") &&
+        strcmp(a, "--noise") && strcmp(a, "--dropout") && strcmp(a, "--clearance") &&
+        strcmp(a, "--max-range") && strcmp(a, "--min-range") && strcmp(a, "--arena") && strcmp(a, "--omega") &&
+        strcmp(a, "--seed") && strcmp(a, "--hausdorff") && strcmp(a, "--confirm") && strcmp(a, "--margin") &&
+        strcmp(a, "--angle"))
+        return 1;
+    if (!val) { snprintf(err, errlen, "%s needs a value", a); return -1; }
+    (*i)++;
+    if (!strcmp(a, "--surface")) { o->surface = val; return 0; }
+    if (!strcmp(a, "--out")) { o->out = val; return 0; }
+    if (!strcmp(a, "--omega")) {
+        if (!strcmp(val, "box")) o->omega_ball = 0;
+        else if (!strcmp(val, "ball")) o->omega_ball = 1;
+        else { snprintf(err, errlen, "--omega takes box or ball, not '%s'", val); return -1; }
+        return 0;
+    }
+    if (!strcmp(a, "--arena")) {
+        if (vp_parse_size(val, &o->arena)) { snprintf(err, errlen, "--arena: bad size '%s'", val); return -1; }
+        return 0;
+    }
+    if (!num(val, &v)) { snprintf(err, errlen, "%s: not a number: '%s'", a, val); return -1; }
+    if (!strcmp(a, "--eps")) {
+        if (!(v > 0)) { snprintf(err, errlen, "--eps must be > 0"); return -1; }
+        if (o->eps_rel > 0) { snprintf(err, errlen, "--eps and --eps-rel both set eps: give one of them"); return -1; }
+        o->eps = v;
+    } else if (!strcmp(a, "--eps-rel")) {
+        if (!(v > 0 && v < 1)) { snprintf(err, errlen, "--eps-rel must be in (0, 1)"); return -1; }
+        if (o->eps > 0) { snprintf(err, errlen, "--eps and --eps-rel both set eps: give one of them"); return -1; }
+        o->eps_rel = v;
+    } else if (!strcmp(a, "--noise")) {
+        if (!(v >= 0)) { snprintf(err, errlen, "--noise must be >= 0"); return -1; }
+        o->noise = v;
+    } else if (!strcmp(a, "--dropout")) {
+        if (!(v >= 0 && v < 1)) { snprintf(err, errlen, "--dropout must be in [0, 1)"); return -1; }
+        o->dropout = v;
+    } else if (!strcmp(a, "--clearance")) {
+        if (!(v >= 0)) { snprintf(err, errlen, "--clearance must be >= 0"); return -1; }
+        o->clearance = v;
+    } else if (!strcmp(a, "--min-range")) {
+        if (!(v >= 0)) { snprintf(err, errlen, "--min-range must be >= 0"); return -1; }
+        o->min_range = v;
+    } else if (!strcmp(a, "--max-range")) {
+        if (!(v >= 0)) { snprintf(err, errlen, "--max-range must be >= 0"); return -1; }
+        o->max_range = v;
+    } else if (!strcmp(a, "--margin")) {
+        if (!(v > 0 && v < 10)) { snprintf(err, errlen, "--margin must be in (0, 10)"); return -1; }
+        o->omega_margin = v;
+    } else if (!strcmp(a, "--seed")) {
+        if (!(v >= 0)) { snprintf(err, errlen, "--seed must be >= 0"); return -1; }
+        o->seed = (unsigned long long)v;
+    } else if (!strcmp(a, "--hausdorff")) {
+        if (!(v >= 0)) { snprintf(err, errlen, "--hausdorff must be >= 0"); return -1; }
+        o->hausdorff = (size_t)v;
+    } else if (!strcmp(a, "--angle")) {
+        if (!(v >= 0 && v <= 30)) { snprintf(err, errlen, "--angle must be in [0, 30] degrees"); return -1; }
+        o->min_angle = v;
+    } else if (!strcmp(a, "--confirm")) {
+        if (!(v >= 0 && v <= 16)) { snprintf(err, errlen, "--confirm must be in 0..16"); return -1; }
+        o->confirm = (int)v;
+    }
+    return 0;
+}
+
+int vp_simlog_parse_option(vp_simlog_t *g, int argc, char **argv, int *i, char *err, size_t errlen)
+{
+    const char *a = argv[*i], *val = *i + 1 < argc ? argv[*i + 1] : NULL;
+    if (!strcmp(a, "--no-log")) { g->no_log = 1; return 0; }
+    if (strcmp(a, "--log") && strcmp(a, "--resume") && strcmp(a, "--sync") && strcmp(a, "--stop-after") &&
+        strcmp(a, "--power-cut"))
+        return 1;
+    if (!val) { snprintf(err, errlen, "%s needs a value", a); return -1; }
+    (*i)++;
+    if (!strcmp(a, "--log")) g->log = val;
+    else if (!strcmp(a, "--resume")) g->resume = val;
+    else if (!strcmp(a, "--sync")) {
+        if (vp_logfile_parse_sync(val, &g->fcfg)) {
+            snprintf(err, errlen, "--sync takes record, close, N (records), Tms or N,Tms; not '%s'", val);
+            return -1;
+        }
+    } else {
+        char *e;
+        unsigned long long v = strtoull(val, &e, 10);
+        if (e == val || *e || v == 0) { snprintf(err, errlen, "%s takes a positive integer, not '%s'", a, val); return -1; }
+        if (!strcmp(a, "--stop-after")) g->stop_after = (unsigned long)v;
+        else g->fcfg.die_after_bytes = v;
+    }
+    return 0;
+}
+
+int vp_simlog_options(vp_simlog_t *g, vp_sim_options_t *o, int argc, char **argv, char *err,
+                      size_t errlen)
+{
+    char *note = g->note, *tok[128], sub[512];
+    int n, i, st, has_out = 0;
+    if (!g->resume) return VP_OK;
+    st = vp_slog_load(&g->L, g->resume, err, errlen);
+    if (st != VP_OK) return st;
+    g->have_L = 1;
+    memcpy(note, g->L.header.note, sizeof g->note);
+    n = vp_note_split(note, tok, 128);
+    if (n < 1 || strcmp(tok[0], "sim") != 0) {
+        snprintf(err, errlen, "%s was not written by `sim` (its note does not start with 'sim'): "
+                 "resume it with the program that wrote it", g->resume);
+        return VP_EINVAL;
+    }
+    vp_sim_options_default(o);
+    for (i = 1; i < n; i++) {
+        st = vp_sim_parse_option(o, n, tok, &i, sub, sizeof sub);
+        if (st != 0) {
+            snprintf(err, errlen, "%s: the options recorded in the log are not understood ('%s'%s%s)",
+                     g->resume, tok[i], st < 0 ? ": " : "", st < 0 ? sub : "");
+            return VP_EINVAL;
+        }
+    }
+    for (i = 1; i < argc; i++) {
+        vp_simlog_t scratch;
+        vp_simlog_init(&scratch);
+        if (!strcmp(argv[i], "--out")) has_out = 1;
+        if (vp_simlog_parse_option(&scratch, argc, argv, &i, sub, sizeof sub) == 0) continue;
+        if (vp_sim_parse_option(o, argc, argv, &i, sub, sizeof sub) != 0) {
+            snprintf(err, errlen, "bad option %s", argv[i]);
+            return VP_EINVAL;
+        }
+    }
+    if (!has_out) {
+        /* the mesh goes beside the log: LOG minus .vplog */
+        size_t len = strlen(g->resume);
+        if (len > 6 && !strcmp(g->resume + len - 6, ".vplog")) {
+            st = vp_path_cat(g->prefix, sizeof g->prefix, g->resume, "", err, errlen);
+            if (st == VP_OK) g->prefix[len - 6] = 0;
+        } else
+            st = vp_path_cat(g->prefix, sizeof g->prefix, g->resume, ".resumed", err, errlen);
+        if (st != VP_OK) return st;
+        o->out = g->prefix;
+    }
+    return VP_OK;
+}

@@ -1,0 +1,247 @@
+/* vp_camsim — see vp_camsim.h. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include "vp_camsim.h"
+#include "vp_status.h"
+
+#define VP_PI 3.14159265358979323846
+
+static void vp_mulT(const double r[9], const double v[3], double out[3])
+{
+    int i;
+    for (i = 0; i < 3; i++) out[i] = r[i] * v[0] + r[3 + i] * v[1] + r[6 + i] * v[2];
+}
+
+static void vp_mul(const double r[9], const double v[3], double out[3])
+{
+    int i;
+    for (i = 0; i < 3; i++) out[i] = r[3 * i] * v[0] + r[3 * i + 1] * v[1] + r[3 * i + 2] * v[2];
+}
+
+/* world point -> image */
+static int vp_camsim_proj(const vp_camsim_config_t *c, const double rot[9], const double pos[3], const double p[3],
+                          double uv[2])
+{
+    double q[3], t[3];
+    int i;
+    for (i = 0; i < 3; i++) q[i] = p[i] - pos[i];
+    vp_mulT(rot, q, t);
+    return vp_camera_project(&c->cam, t, uv);
+}
+
+/* Approximately normal deviate from one 64-bit draw (sum of four 16-bit uniforms). */
+static double vp_camsim_gauss(vp_rng_t *r)
+{
+    uint64_t x = vp_rng_u64(r);
+    double s = (double)(x & 0xffff) + (double)((x >> 16) & 0xffff) + (double)((x >> 32) & 0xffff) + (double)(x >> 48);
+    return (s / 65536.0 - 2.0) * 1.7320508075688772;
+}
+
+/* Adds a Gaussian spot of energy e and covariance (sxx, sxy, syy) at (u, v). */
+static void vp_camsim_spot(float *acc, int w, int h, double u, double v, double e, double sxx, double sxy, double syy)
+{
+    double det = sxx * syy - sxy * sxy, ixx, ixy, iyy, rad, norm;
+    int x0, x1, y0, y1, x, y;
+    if (!(det > 0)) return;
+    ixx = syy / det; ixy = -sxy / det; iyy = sxx / det;
+    norm = e / (2 * VP_PI * sqrt(det));
+    rad = 4.5 * sqrt(sxx > syy ? sxx : syy) + 1;
+    x0 = (int)floor(u - rad); x1 = (int)ceil(u + rad);
+    y0 = (int)floor(v - rad); y1 = (int)ceil(v + rad);
+    if (x0 < 0) x0 = 0;
+    if (y0 < 0) y0 = 0;
+    if (x1 > w - 1) x1 = w - 1;
+    if (y1 > h - 1) y1 = h - 1;
+    for (y = y0; y <= y1; y++)
+        for (x = x0; x <= x1; x++) {
+            double dx = x - u, dy = y - v, q = ixx * dx * dx + 2 * ixy * dx * dy + iyy * dy * dy;
+            if (q < 40) acc[(size_t)y * w + x] += (float)(norm * exp(-0.5 * q));
+        }
+}
+
+int vp_camsim_render(const vp_camsim_config_t *c, const vp_camsim_scene_t *sc, const double rot[9], const double pos[3],
+                     vp_rng_t *rng, uint8_t *img, int stride, vp_camsim_truth_t *truth)
+{
+    const int w = c->cam.width, h = c->cam.height;
+    double ex[3] = { 1, 0, 0 }, o[3], d[3], cpos[3], t = 0, blur, beam, energy, maxr, tx, ty, phx, phy;
+    vp_camsim_truth_t tr;
+    float *acc;
+    int i, x, y;
+    if (!c || !sc || !rot || !pos || !rng || !img || w < 8 || h < 8 || stride < w) return VP_EINVAL;
+    memset(&tr, 0, sizeof tr);
+    blur = c->blur_px > 0 ? c->blur_px : 1.2;
+    beam = c->beam_radius > 0 ? c->beam_radius : 0.25;
+    energy = c->spot_energy > 0 ? c->spot_energy : 3000;
+    maxr = c->max_range > 0 ? c->max_range : 5000;
+    acc = malloc((size_t)w * h * sizeof *acc);
+    if (!acc) return VP_ENOMEM;
+    /* ambient light: level, gradient, a smooth pattern with a random phase */
+    phx = 2 * VP_PI * vp_rng_uniform(rng);
+    phy = 2 * VP_PI * vp_rng_uniform(rng);
+    for (x = 0; x < w; x++) acc[x] = (float)cos(2 * VP_PI * x / 97.0 + phx);   /* row 0 as scratch */
+    for (y = h - 1; y >= 0; y--) {
+        ty = c->texture * cos(2 * VP_PI * y / 71.0 + phy);
+        for (x = 0; x < w; x++) {
+            tx = acc[x];
+            acc[(size_t)y * w + x] = (float)(c->ambient + c->gradient * ((double)x / w + (double)y / h - 1) * 0.5 + ty * tx);
+        }
+    }
+    /* the beam in the world */
+    vp_mul(rot, c->laser_offset, o);
+    vp_mul(rot, c->cam.pos, cpos);
+    for (i = 0; i < 3; i++) { o[i] += pos[i]; cpos[i] += pos[i]; }
+    vp_mul(rot, ex, d);
+    if (sc->surf) tr.hit = vp_surface_ray(sc->surf, o, d, maxr, &t);
+    else {
+        double den = sc->plane_n[0] * d[0] + sc->plane_n[1] * d[1] + sc->plane_n[2] * d[2];
+        double num = sc->plane_d - (sc->plane_n[0] * o[0] + sc->plane_n[1] * o[1] + sc->plane_n[2] * o[2]);
+        if (fabs(den) > 1e-12) { t = num / den; tr.hit = t > 0 && t <= maxr; }
+    }
+    if (tr.hit) {
+        double n[3], vc[3], lc, cos_i, cos_e, t1[3], t2[3], j1[2], j2[2], uv1[2], q[3], r1, sxx, sxy, syy;
+        tr.dist = t;
+        for (i = 0; i < 3; i++) tr.point[i] = o[i] + t * d[i];
+        if (sc->surf) vp_surface_normal(sc->surf, tr.point, n);
+        else for (i = 0; i < 3; i++) n[i] = sc->plane_n[i];
+        cos_i = n[0] * d[0] + n[1] * d[1] + n[2] * d[2];
+        if (cos_i > 0) { for (i = 0; i < 3; i++) n[i] = -n[i]; cos_i = -cos_i; }   /* the lit side */
+        cos_i = -cos_i;
+        for (i = 0; i < 3; i++) vc[i] = cpos[i] - tr.point[i];
+        lc = sqrt(vc[0] * vc[0] + vc[1] * vc[1] + vc[2] * vc[2]);
+        cos_e = (n[0] * vc[0] + n[1] * vc[1] + n[2] * vc[2]) / lc;
+        tr.visible = cos_e > 0.02 && vp_camsim_proj(c, rot, pos, tr.point, tr.uv) && tr.uv[0] >= 0 &&
+                     tr.uv[0] <= w - 1 && tr.uv[1] >= 0 && tr.uv[1] <= h - 1;
+        if (tr.visible && sc->surf) {
+            double u[3], th;
+            for (i = 0; i < 3; i++) u[i] = vc[i] / lc;
+            /* hidden if the object crosses the line of sight before the spot */
+            if (vp_surface_ray(sc->surf, cpos, (double[3]){ -u[0], -u[1], -u[2] }, lc * (1 - 1e-6) - 1e-6, &th)) tr.visible = 0;
+        }
+        if (tr.visible) {
+            /* footprint: beam radius across, stretched by 1/cos along the slant */
+            for (i = 0; i < 3; i++) t1[i] = d[i] + cos_i * n[i];
+            {
+                double l1 = sqrt(t1[0] * t1[0] + t1[1] * t1[1] + t1[2] * t1[2]);
+                if (l1 < 1e-9) { double a[3] = { 1, 0, 0 }; if (fabs(n[0]) > 0.9) { a[0] = 0; a[1] = 1; }
+                                 t1[0] = a[1] * n[2] - a[2] * n[1]; t1[1] = a[2] * n[0] - a[0] * n[2]; t1[2] = a[0] * n[1] - a[1] * n[0];
+                                 l1 = sqrt(t1[0] * t1[0] + t1[1] * t1[1] + t1[2] * t1[2]); }
+                for (i = 0; i < 3; i++) t1[i] /= l1;
+            }
+            t2[0] = n[1] * t1[2] - n[2] * t1[1];
+            t2[1] = n[2] * t1[0] - n[0] * t1[2];
+            t2[2] = n[0] * t1[1] - n[1] * t1[0];
+            r1 = beam / (cos_i > 0.15 ? cos_i : 0.15);
+            for (i = 0; i < 3; i++) q[i] = tr.point[i] + 0.01 * t1[i];
+            vp_camsim_proj(c, rot, pos, q, uv1);
+            j1[0] = (uv1[0] - tr.uv[0]) / 0.01 * r1; j1[1] = (uv1[1] - tr.uv[1]) / 0.01 * r1;
+            for (i = 0; i < 3; i++) q[i] = tr.point[i] + 0.01 * t2[i];
+            vp_camsim_proj(c, rot, pos, q, uv1);
+            j2[0] = (uv1[0] - tr.uv[0]) / 0.01 * beam; j2[1] = (uv1[1] - tr.uv[1]) / 0.01 * beam;
+            sxx = blur * blur + j1[0] * j1[0] + j2[0] * j2[0];
+            syy = blur * blur + j1[1] * j1[1] + j2[1] * j2[1];
+            sxy = j1[0] * j1[1] + j2[0] * j2[1];
+            tr.energy = energy * cos_e * (300.0 / lc) * (300.0 / lc);
+            tr.sigma_px = sqrt(sqrt(sxx * syy - sxy * sxy));
+            tr.peak = tr.energy / (2 * VP_PI * tr.sigma_px * tr.sigma_px);
+            vp_camsim_spot(acc, w, h, tr.uv[0], tr.uv[1], tr.energy, sxx, sxy, syy);
+            if (c->ghost > 0)
+                vp_camsim_spot(acc, w, h, tr.uv[0] + c->ghost_offset[0], tr.uv[1] + c->ghost_offset[1],
+                               tr.energy * c->ghost, sxx, sxy, syy);
+        }
+    }
+    if (c->lamp_peak > 0 && c->lamp_sigma > 0)
+        vp_camsim_spot(acc, w, h, c->lamp_uv[0], c->lamp_uv[1], c->lamp_peak * 2 * VP_PI * c->lamp_sigma * c->lamp_sigma,
+                       c->lamp_sigma * c->lamp_sigma, 0, c->lamp_sigma * c->lamp_sigma);
+    for (i = 0; i < c->hot_pixels; i++) acc[vp_rng_below(rng, (uint64_t)w * h)] = 255;
+    /* noise, quantisation, saturation */
+    for (y = 0; y < h; y++)
+        for (x = 0; x < w; x++) {
+            double v = acc[(size_t)y * w + x] + (c->noise > 0 ? c->noise * vp_camsim_gauss(rng) : 0);
+            long q = lround(v);
+            img[(size_t)y * stride + x] = (uint8_t)(q < 0 ? 0 : q > 255 ? 255 : q);
+        }
+    free(acc);
+    if (truth) *truth = tr;
+    return VP_OK;
+}
+
+/* ---- the camera backend ---- */
+
+struct vp_camsim {
+    vp_camsim_config_t cfg;
+    vp_camsim_scene_t scene;
+    vp_rng_t rng;
+    void (*pose)(void *ctx, double rot[9], double pos[3]);
+    int64_t (*clock)(void *ctx);
+    void *ctx;
+    uint8_t *buf;
+    int busy;
+    vp_camsim_truth_t last;
+};
+
+int vp_camsim_create(const vp_camsim_config_t *c, const vp_camsim_scene_t *sc, uint64_t seed,
+                     void (*pose)(void *ctx, double rot[9], double pos[3]), int64_t (*clock)(void *ctx), void *ctx,
+                     vp_camsim_t **out)
+{
+    vp_camsim_t *cs;
+    if (!c || !sc || !pose || !out || c->cam.width < 8 || c->cam.height < 8) return VP_EINVAL;
+    cs = calloc(1, sizeof *cs);
+    if (!cs) return VP_ENOMEM;
+    cs->buf = malloc((size_t)c->cam.width * c->cam.height);
+    if (!cs->buf) { free(cs); return VP_ENOMEM; }
+    cs->cfg = *c;
+    cs->scene = *sc;
+    vp_rng_seed(&cs->rng, seed);
+    cs->pose = pose;
+    cs->clock = clock;
+    cs->ctx = ctx;
+    *out = cs;
+    return VP_OK;
+}
+
+static int vp_camsim_capture(void *ctx, int64_t not_before, int timeout_ms, vp_frame_t *f)
+{
+    vp_camsim_t *cs = ctx;
+    double rot[9], pos[3];
+    (void)not_before;
+    (void)timeout_ms;
+    if (cs->busy) return VP_ESTATE;
+    cs->pose(cs->ctx, rot, pos);
+    VP_TRY(vp_camsim_render(&cs->cfg, &cs->scene, rot, pos, &cs->rng, cs->buf, cs->cfg.cam.width, &cs->last));
+    f->data = cs->buf;
+    f->width = cs->cfg.cam.width;
+    f->height = cs->cfg.cam.height;
+    f->stride = cs->cfg.cam.width;
+    f->step = 1;
+    f->t_ns = cs->clock ? cs->clock(cs->ctx) : 0;
+    f->index = 0;
+    cs->busy = 1;
+    return VP_OK;
+}
+
+static void vp_camsim_release(void *ctx, vp_frame_t *f) { (void)f; ((vp_camsim_t *)ctx)->busy = 0; }
+static void vp_camsim_close_cb(void *ctx) { vp_camsim_destroy(ctx); }
+
+vp_cam_t vp_camsim_cam(vp_camsim_t *cs)
+{
+    vp_cam_t c;
+    c.ctx = cs;
+    c.capture = vp_camsim_capture;
+    c.release = vp_camsim_release;
+    c.close = vp_camsim_close_cb;
+    c.error = NULL;
+    c.name = "camsim";
+    return c;
+}
+
+void vp_camsim_seed(vp_camsim_t *cs, uint64_t seed) { vp_rng_seed(&cs->rng, seed); }
+
+const vp_camsim_truth_t *vp_camsim_last(const vp_camsim_t *cs) { return &cs->last; }
+
+void vp_camsim_destroy(vp_camsim_t *cs)
+{
+    if (!cs) return;
+    free(cs->buf);
+    free(cs);
+}

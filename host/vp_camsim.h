@@ -1,0 +1,70 @@
+/* vp_camsim — renders what the rangefinder camera sees: the laser spot on a simulated object
+ * (vp_surface) or a flat target, through the board's pinhole camera, with optical blur, the
+ * beam's footprint stretched on slanted surfaces, Lambertian fall-off with distance and angle,
+ * ambient light (level, gradient, smooth texture), an optional ghost spot (a reflection),
+ * Gaussian noise, 8-bit quantisation and saturation. The spot is hidden when the surface faces
+ * away from the camera or the object occludes it. Truth (distance, image point) comes out with
+ * each frame, so the detection and triangulation code can be measured against it.
+ * As a vp_cam backend ("camsim") it renders at the head pose a callback gives. */
+#ifndef VP_CAMSIM_H
+#define VP_CAMSIM_H
+#include <stdint.h>
+#include "vp_cam.h"
+#include "vp_laser.h"
+#include "vp_rng.h"
+#include "vp_surface.h"
+
+typedef struct vp_camsim_config {
+    vp_camera_model_t cam;       /* in the tilt frame (vp_kin) */
+    double laser_offset[3];      /* laser origin in the tilt frame; the beam is +x */
+    double blur_px;              /* optical blur sigma, px (0: 1.2) */
+    double beam_radius;          /* 1-sigma beam footprint on a facing surface, mm (0: 0.25) */
+    double spot_energy;          /* grey levels x px^2 of a facing spot 300 mm from the camera (0: 3000) */
+    double ambient;              /* mean background, grey levels */
+    double gradient;             /* background change across the frame (left to right, top to bottom) */
+    double texture;              /* amplitude of a smooth background pattern */
+    double noise;                /* per-pixel sigma, grey levels */
+    double ghost;                /* > 0: a second spot of this relative energy (a reflection) */
+    double ghost_offset[2];      /* its image offset, px */
+    double lamp_peak;            /* > 0: a broad bright blob (a lamp, a glare) of this peak */
+    double lamp_uv[2], lamp_sigma;   /* its centre and width, px */
+    int hot_pixels;              /* this many isolated pixels stuck at 255 */
+    double max_range;            /* beam range, mm (0: 5000) */
+} vp_camsim_config_t;
+
+typedef struct vp_camsim_scene {
+    const vp_surface_t *surf;    /* the object, or NULL for the plane */
+    double plane_n[3], plane_d;  /* flat target n.x = d (world) when surf is NULL */
+} vp_camsim_scene_t;
+
+typedef struct vp_camsim_truth {
+    int hit;                     /* the beam met the object within max_range */
+    int visible;                 /* and the camera sees the spot (in frame, lit side, not hidden) */
+    double dist;                 /* along the beam from the laser origin, mm */
+    double uv[2];                /* where the spot's centre projects */
+    double point[3];             /* world hit point */
+    double energy;               /* rendered spot energy */
+    double sigma_px;             /* spot size: (det of its covariance)^(1/4), px */
+    double peak;                 /* spot peak above the background before clipping */
+} vp_camsim_truth_t;
+
+/* Renders one frame into img (cam.width x cam.height, stride bytes per row) for the head pose
+ * (tilt frame -> world: rot row-major, pos). VP_EINVAL for a bad configuration. */
+int vp_camsim_render(const vp_camsim_config_t *c, const vp_camsim_scene_t *sc, const double rot[9],
+                     const double pos[3], vp_rng_t *rng, uint8_t *img, int stride, vp_camsim_truth_t *truth);
+
+/* The camera backend: pose(ctx, rot, pos) gives the head pose at capture time; clock(ctx) the
+ * time stamp (NULL: 0). Frames come from one buffer: one frame out at a time. The backend's
+ * close destroys the renderer. */
+typedef struct vp_camsim vp_camsim_t;
+int     vp_camsim_create(const vp_camsim_config_t *c, const vp_camsim_scene_t *sc, uint64_t seed,
+                         void (*pose)(void *ctx, double rot[9], double pos[3]),
+                         int64_t (*clock)(void *ctx), void *ctx, vp_camsim_t **out);
+vp_cam_t vp_camsim_cam(vp_camsim_t *cs);
+/* Restarts the noise generator (e.g. per probe, so a resumed dry run sees the same frames). */
+void    vp_camsim_seed(vp_camsim_t *cs, uint64_t seed);
+/* Truth of the last frame captured. */
+const vp_camsim_truth_t *vp_camsim_last(const vp_camsim_t *cs);
+void    vp_camsim_destroy(vp_camsim_t *cs);
+
+#endif

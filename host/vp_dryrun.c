@@ -1,0 +1,126 @@
+/* vp_dryrun — see vp_dryrun.h. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include "vp_dryrun.h"
+#include "vp_status.h"
+
+/* joints from the carriages (the physical truth, backlash included) */
+static void vp_dryrun_joints(const vp_dryrun_t *d, double j[VP_KIN_JOINTS])
+{
+    int a;
+    for (a = 0; a < VP_KIN_JOINTS; a++) j[a] = d->rec.carriage[a] / d->board.axis[a].ax.steps_per_unit;
+}
+
+static void vp_dryrun_pose(void *ctx, double rot[9], double pos[3])
+{
+    const vp_dryrun_t *d = ctx;
+    double j[VP_KIN_JOINTS];
+    vp_dryrun_joints(d, j);
+    vp_kin_head(&d->m.kin, j, rot, pos);
+}
+
+static int64_t vp_dryrun_clock(void *ctx) { return ((vp_dryrun_t *)ctx)->rec.now; }
+
+void vp_dryrun_true_beam(const vp_dryrun_t *d, double origin[3], double dir[3])
+{
+    double j[VP_KIN_JOINTS];
+    vp_dryrun_joints(d, j);
+    vp_kin_forward(&d->m.kin, j, origin, dir);
+}
+
+int vp_dryrun_open(const vp_board_t *b, const vp_dryrun_options_t *o, vp_dryrun_t **out, char *err, size_t errlen)
+{
+    vp_dryrun_t *d;
+    vp_dryrun_options_t opt;
+    vp_iorec_config_t rc;
+    vp_kin_config_t kc;
+    vp_step_config_t sc;
+    vp_camsim_config_t cc;
+    vp_camsim_scene_t scene;
+    vp_machine_config_t mc;
+    vp_cam_t cam;
+    vp_io_t io;
+    vp_kin_t kin;
+    double j0[VP_KIN_JOINTS] = { 0, 0, 0, 0, 0 }, start_j[VP_KIN_JOINTS];
+    int a, st;
+    if (!b || !out) return VP_EINVAL;
+    memset(&opt, 0, sizeof opt);
+    if (o) opt = *o;
+    d = calloc(1, sizeof *d);
+    if (!d) return VP_ENOMEM;
+    d->board = *b;
+    st = vp_surface_open(opt.surface ? opt.surface : b->sim_surface, &d->surf, err, errlen);
+    if (st != VP_OK) { free(d); return st; }
+    /* where the machine powers on: laser origin at the start, head at rest */
+    vp_board_kin_config(b, &kc);
+    if (vp_kin_init(&kin, &kc) != VP_OK) { vp_surface_close(d->surf); free(d); return VP_EINVAL; }
+    for (a = 0; a < VP_KIN_JOINTS; a++) j0[a] = b->axis[a].ax.home_dir ? 0 : b->axis[a].ax.home_pos;
+    if (vp_kin_move(&kin, j0, b->start, start_j) != VP_OK) {
+        snprintf(err, errlen, "%s: the start is out of reach", b->path);
+        vp_surface_close(d->surf);
+        free(d);
+        return VP_ERANGE;
+    }
+    /* the recording backend's machine: carriage coordinates are machine steps */
+    memset(&rc, 0, sizeof rc);
+    rc.buf = opt.edges;
+    rc.cap = opt.cap;
+    rc.naxes = VP_KIN_JOINTS;
+    rc.estop_at = -1;
+    for (a = 0; a < VP_KIN_JOINTS; a++) {
+        const vp_step_axis_t *ax = &b->axis[a].ax;
+        rc.start[a] = (int32_t)llround(start_j[a] * ax->steps_per_unit);
+        rc.invert_dir[a] = ax->invert_dir;
+        rc.slack[a] = (int32_t)llround(ax->backlash * ax->steps_per_unit);
+        if (ax->home_dir < 0) { rc.has_min[a] = 1; rc.min_sw[a] = (int32_t)llround(ax->home_pos * ax->steps_per_unit); }
+        if (ax->home_dir > 0) { rc.has_max[a] = 1; rc.max_sw[a] = (int32_t)llround(ax->home_pos * ax->steps_per_unit); }
+    }
+    vp_iorec_init(&d->rec, &rc);
+    io = vp_iorec_io(&d->rec);
+    /* the camera: host-sim frames at the carriages' pose */
+    memset(&cc, 0, sizeof cc);
+    cc.cam = b->sim_cam.width ? b->sim_cam : b->cam_model;   /* as mounted ([sim] may move it) */
+    memcpy(cc.laser_offset, b->laser_offset, sizeof cc.laser_offset);
+    cc.blur_px = b->sim_blur;
+    cc.noise = b->sim_noise;
+    cc.ambient = b->sim_ambient;
+    cc.gradient = b->sim_gradient;
+    cc.texture = b->sim_texture;
+    cc.spot_energy = b->sim_energy;
+    cc.max_range = 10 * b->max_range;
+    memset(&scene, 0, sizeof scene);
+    scene.surf = d->surf;
+    if (opt.flat_target) {
+        scene.surf = NULL;
+        scene.plane_n[0] = 1;
+        scene.plane_d = opt.target_x;
+    }
+    st = vp_camsim_create(&cc, &scene, opt.seed ? opt.seed : (unsigned long long)b->sim_seed, vp_dryrun_pose,
+                          vp_dryrun_clock, d, &d->cs);
+    if (st != VP_OK) { vp_surface_close(d->surf); free(d); return st; }
+    cam = vp_camsim_cam(d->cs);
+    vp_board_step_config(b, &sc);
+    vp_board_machine_config(b, &mc);
+    st = vp_machine_init(&d->m, &kc, &sc, &io, &cam, &b->tri, &mc);
+    if (st != VP_OK) {
+        snprintf(err, errlen, "%s: the machine configuration is refused", b->path);
+        vp_camsim_destroy(d->cs);
+        vp_surface_close(d->surf);
+        free(d);
+        return st;
+    }
+    *out = d;
+    return VP_OK;
+}
+
+vp_machine_t *vp_dryrun_machine(vp_dryrun_t *d) { return &d->m; }
+
+void vp_dryrun_close(vp_dryrun_t *d)
+{
+    if (!d) return;
+    vp_machine_close(&d->m);      /* closes (destroys) the renderer too */
+    vp_surface_close(d->surf);
+    free(d);
+}

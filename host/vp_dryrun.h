@@ -1,0 +1,39 @@
+/* vp_dryrun — a board's machine with host-sim at the hardware boundary: the same vp_machine
+ * (kinematics, step generator, rangefinder) on the recording GPIO backend (simulated clock,
+ * switches where the board's homing expects them, carriages with the board's backlash as slack)
+ * and on vp_camsim frames rendered at the carriages' true pose. Nothing sleeps. */
+#ifndef VP_DRYRUN_H
+#define VP_DRYRUN_H
+#include <stddef.h>
+#include "vp_board.h"
+#include "vp_camsim.h"
+#include "vp_iorec.h"
+#include "vp_machine.h"
+#include "vp_surface.h"
+
+typedef struct vp_dryrun {
+    vp_machine_t m;
+    vp_iorec_t rec;
+    vp_camsim_t *cs;
+    vp_surface_t *surf;
+    vp_board_t board;
+} vp_dryrun_t;
+
+typedef struct vp_dryrun_options {
+    const char *surface;         /* NULL: the board's [sim] surface */
+    vp_iorec_edge_t *edges;      /* keep edges here (NULL: count only) */
+    size_t cap;
+    unsigned long long seed;     /* 0: the board's [sim] seed */
+    int flat_target;             /* 1: the scene is a flat target x = target_x, not the surface */
+    double target_x;
+} vp_dryrun_options_t;
+
+/* The carriages start where the laser origin is at the board's start with pan = tilt = 0
+ * (home_pos for axes without a switch). VP_EINVAL (bad surface spec; err says why). */
+int  vp_dryrun_open(const vp_board_t *b, const vp_dryrun_options_t *o, vp_dryrun_t **out, char *err, size_t errlen);
+vp_machine_t *vp_dryrun_machine(vp_dryrun_t *d);
+/* The true laser origin and beam (from the carriages, not from the step counts). */
+void vp_dryrun_true_beam(const vp_dryrun_t *d, double origin[3], double dir[3]);
+void vp_dryrun_close(vp_dryrun_t *d);
+
+#endif

@@ -1,0 +1,23 @@
+/* vp_hausdorff — the two-sided Hausdorff distance between a mesh and a simulated object
+ * (vp_surface): how far the scan's mesh is from the truth. */
+#ifndef VP_HAUSDORFF_H
+#define VP_HAUSDORFF_H
+#include <stddef.h>
+#include <stdint.h>
+#include "vp_meshio.h"
+#include "vp_surface.h"
+
+typedef struct vp_hausdorff {
+    double mesh_to_surface;   /* max over mesh points of the distance to the true surface */
+    double surface_to_mesh;   /* max over surface points of the distance to the mesh */
+    double hausdorff;         /* the larger of the two */
+    double mean_mesh_to_surface;
+    double mean_surface_to_mesh;
+} vp_hausdorff_t;
+
+/* Two-sided Hausdorff distance by dense sampling (n points on each side, roughly uniform by
+ * area, plus every vertex of the mesh), then local maximisation around the worst samples.
+ * The mesh side uses a BVH for closest points. */
+int vp_hausdorff(const vp_mesh_t *m, const vp_surface_t *s, size_t n, uint64_t seed, vp_hausdorff_t *out);
+
+#endif

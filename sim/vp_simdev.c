@@ -1,0 +1,110 @@
+/* vp_simdev — see vp_simdev.h. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include "vp_rng.h"
+#include "vp_simdev.h"
+#include "vp_status.h"
+
+struct vp_simdev {
+    const vp_surface_t *surf;
+    vp_simdev_config_t cfg;
+    double pos[3];
+    uint64_t nprobe;     /* probes done: the next probe's number */
+    vp_simdev_stats_t st;
+};
+
+static int vp_finite3(const double p[3]) { return isfinite(p[0]) && isfinite(p[1]) && isfinite(p[2]); }
+
+static int vp_in_box(const vp_simdev_config_t *c, const double p[3])
+{
+    int k;
+    for (k = 0; k < 3; k++) if (p[k] < c->limit_lo[k] || p[k] > c->limit_hi[k]) return 0;
+    return 1;
+}
+
+int vp_simdev_create(const vp_surface_t *s, const vp_simdev_config_t *cfg, const double start[3], vp_simdev_t **out)
+{
+    vp_simdev_t *d;
+    if (!s || !start || !out || !vp_finite3(start)) return VP_EINVAL;
+    if (cfg && (cfg->clearance < 0 || cfg->noise_sigma < 0 || cfg->dropout < 0 || cfg->dropout > 1 ||
+                cfg->min_range < 0 || cfg->max_range < 0)) return VP_EINVAL;
+    d = calloc(1, sizeof *d);
+    if (!d) return VP_ENOMEM;
+    d->surf = s;
+    if (cfg) d->cfg = *cfg;
+    memcpy(d->pos, start, sizeof d->pos);
+    *out = d;
+    return VP_OK;
+}
+
+void vp_simdev_destroy(vp_simdev_t *d) { free(d); }
+
+int vp_simdev_move(vp_simdev_t *d, const double target[3], vp_simdev_move_t *res)
+{
+    vp_simdev_move_t r = { VP_OK, 0, 0 };
+    double len;
+    if (!d || !target || !vp_finite3(target)) { r.status = VP_EINVAL; goto out; }
+    /* The travel box is convex: a segment stays inside iff its end does (start is inside). */
+    if (d->cfg.has_limits && !vp_in_box(&d->cfg, target)) {
+        d->st.refused_moves++;
+        r.status = VP_ERANGE;
+        goto out;
+    }
+    len = sqrt((target[0] - d->pos[0]) * (target[0] - d->pos[0]) + (target[1] - d->pos[1]) * (target[1] - d->pos[1]) +
+               (target[2] - d->pos[2]) * (target[2] - d->pos[2]));
+    r.collided = vp_surface_segment_collides(d->surf, d->pos, target, d->cfg.clearance);
+    if (r.collided) {
+        d->st.collisions++;
+        if (d->cfg.stop_on_collision) { d->st.refused_moves++; r.status = VP_EABORT; goto out; }
+    }
+    d->st.moves++;
+    d->st.travel += len;
+    r.length = len;
+    memcpy(d->pos, target, sizeof d->pos);
+out:
+    if (res) *res = r;
+    return r.status;
+}
+
+int vp_simdev_probe(vp_simdev_t *d, const double dir[3], double range, vp_simdev_probe_t *res)
+{
+    vp_simdev_probe_t r;
+    vp_rng_t rng;
+    double n2, t, noise, u;
+    int k;
+    memset(&r, 0, sizeof r);
+    r.true_t = -1;
+    if (!d || !dir || !vp_finite3(dir) || !(range > 0)) { r.status = VP_EINVAL; goto out; }
+    n2 = dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2];
+    if (fabs(n2 - 1) > 1e-9) { r.status = VP_EINVAL; goto out; }
+    if (d->cfg.max_range > 0 && range > d->cfg.max_range) range = d->cfg.max_range;
+    /* The draws of probe k come from a generator seeded by (seed, k) alone. */
+    vp_rng_seed(&rng, d->cfg.seed ^ (0x9E3779B97F4A7C15ULL * (d->nprobe + 1)));
+    d->nprobe++;
+    noise = d->cfg.noise_sigma > 0 ? d->cfg.noise_sigma * vp_rng_normal(&rng) : 0;
+    u = vp_rng_uniform(&rng);
+    d->st.probes++;
+    if (!vp_surface_ray(d->surf, d->pos, dir, range, &t)) { d->st.misses++; goto out; }
+    r.true_t = t;
+    if (t < d->cfg.min_range) { d->st.too_close++; r.too_close = 1; goto out; }
+    if (u < d->cfg.dropout) { d->st.dropouts++; d->st.misses++; goto out; }
+    t += noise;
+    if (t < 0) t = 0;
+    r.hit = 1;
+    r.t = t;
+    for (k = 0; k < 3; k++) r.point[k] = d->pos[k] + t * dir[k];
+    d->st.hits++;
+out:
+    if (res) *res = r;
+    return r.status;
+}
+
+void vp_simdev_position(const vp_simdev_t *d, double p[3]) { memcpy(p, d->pos, sizeof d->pos); }
+void vp_simdev_restore(vp_simdev_t *d, const double p[3], uint64_t probes)
+{
+    memcpy(d->pos, p, sizeof d->pos);
+    d->nprobe = probes;
+}
+
+void vp_simdev_stats(const vp_simdev_t *d, vp_simdev_stats_t *st) { *st = d->st; }
