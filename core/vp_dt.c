@@ -524,7 +524,9 @@ static NOINLINE uint32_t fill_glued(vp_dt_t *dt, uint32_t vid, bfacet_t *bf, uin
  * the queue of cavity tets grows up from lo and the boundary facets grow down from hi. Then,
  * below the boundary facets: the killed list, the killed tets' vertices, the created list,
  * created_from (the lists the planner reads after the insertion), and the gluing table (or an
- * edge hash for very large cavities). New tet slots beyond the old ones grow over the queue. */
+ * edge hash for very large cavities). New tet slots beyond the old ones grow over the queue.
+ * (159 lines, kept whole: digging and filling share the scratch layout and a dozen locals of
+ * the hottest loop of the program; split, they would pass through memory.) */
 static int dig_and_fill(vp_dt_t *dt, uint32_t vid, uint32_t start, uint32_t *dupv)
 {
     const double *p = PT(dt, vid);

@@ -161,7 +161,7 @@ static int facet_too_sharp(const vp_planner_t *pl, const uint32_t *v)
 /* Adds facet fv (any order) with ball centre c; `outside` is a point on the probe's side, so
  * the facet is stored facing it. A facet already known keeps its first ball. */
 VP_PL_API int vp_pl_frec_add(vp_planner_t *pl, const uint32_t *fv, const double *c, const double *outside,
-                    uint32_t tet, uint32_t proof, uint32_t *out)
+                             uint32_t tet, uint32_t proof, uint32_t *out)
 {
     uint32_t v[3], k, h;
     int found;

@@ -39,7 +39,7 @@ VP_PL_API int vp_pl_omega_inside(const vp_planner_config_t *c, const double *p)
 /* The parameter interval [*t0, *t1] of a + s*dir (unit dir, s in [0, len]) inside Omega.
  * Returns 0 when the line misses Omega there. */
 VP_PL_API int vp_pl_omega_clip(const vp_planner_config_t *c, const double *a, const double *dir, double len,
-                      double *t0, double *t1)
+                               double *t0, double *t1)
 {
     double lo = 0.0, hi = len;
     if (c->omega_kind == VP_OMEGA_BALL) {
@@ -129,7 +129,7 @@ VP_PL_API int vp_pl_edge_add(vp_planner_t *pl, uint32_t a, uint32_t b, uint32_t 
 /* A record reached from `prev` along the segment `proof` shows free. *out = NONE (and nothing
  * made) when the proof does not cover it. */
 VP_PL_API int vp_pl_rec_link(vp_planner_t *pl, const double *p, uint32_t prev, uint32_t flags, uint32_t proof,
-                    uint32_t *out)
+                             uint32_t *out)
 {
     int st;
     *out = NONE;

@@ -182,12 +182,12 @@ VP_PL_API int vp_pl_edge_add(vp_planner_t *pl, uint32_t a, uint32_t b, uint32_t 
 VP_PL_API void vp_pl_omega_center(const vp_planner_config_t *c, double *o);
 VP_PL_API double vp_pl_omega_circumradius(const vp_planner_config_t *c);
 VP_PL_API int vp_pl_omega_clip(const vp_planner_config_t *c, const double *a, const double *dir, double len,
-                      double *t0, double *t1);
+                               double *t0, double *t1);
 VP_PL_API int vp_pl_omega_inside(const vp_planner_config_t *c, const double *p);
 VP_PL_API int vp_pl_plan_route(vp_planner_t *pl, uint32_t b, const double *gp);
 VP_PL_API int vp_pl_probe_limited(const vp_planner_t *pl);
 VP_PL_API int vp_pl_rec_link(vp_planner_t *pl, const double *p, uint32_t prev, uint32_t flags, uint32_t proof,
-                    uint32_t *out);
+                             uint32_t *out);
 VP_PL_API int vp_pl_rec_new(vp_planner_t *pl, const double *p, uint32_t prev, uint32_t flags, uint32_t *out);
 VP_PL_API int vp_pl_route_full(vp_planner_t *pl, uint32_t a, uint32_t b);
 VP_PL_API int vp_pl_route_push(vp_planner_t *pl, const double *p, uint32_t proof);
@@ -197,7 +197,7 @@ VP_PL_API int vp_pl_walk_on(vp_planner_t *pl, uint32_t from, uint32_t proof, dou
 /* facets.c */
 VP_PL_API void vp_pl_fhash_rebuild(vp_planner_t *pl);
 VP_PL_API int vp_pl_frec_add(vp_planner_t *pl, const uint32_t *fv, const double *c, const double *outside,
-                    uint32_t tet, uint32_t proof, uint32_t *out);
+                             uint32_t tet, uint32_t proof, uint32_t *out);
 VP_PL_API void vp_pl_frec_delete(vp_planner_t *pl, uint32_t k);
 VP_PL_API uint32_t vp_pl_frec_lookup(const vp_planner_t *pl, const uint32_t *fv);
 VP_PL_API void vp_pl_frec_set_ball(vp_planner_t *pl, uint32_t k, const double *c);
