@@ -16,6 +16,62 @@
  * Voronoi vertex would put a fourth sample on its sphere; far above rounding, far below eps */
 #define HIT_INSET_REL 1e-9
 
+/* a Voronoi vertex farther than this from Omega's centre (in Omega circumradii) is placed on
+ * its facet's line instead: a flat tet's float circumcentre is off by more than Omega's size */
+#define FAR_VERTEX_REL 1e4
+/* a tet's fourth vertex this close to its facet's plane (relative to the distances involved)
+ * makes the tet flat: its Voronoi vertex is at the far end of its side */
+#define FLAT_REL 1e-9
+
+static int facet_circumcenter(const vp_planner_t *pl, const uint32_t *fv, double *m);
+
+/* The parameter of a tet's Voronoi vertex on the line m + s n through its facet's circumcentre
+ * (rho2 the facet's squared circumradius, d the tet's fourth vertex on side `side` of n): the
+ * point equidistant from d and the facet's vertices; a flat tet's goes to the far end. */
+static double line_param(const double *m, const double *n, double rho2, const double *d, int side, double far)
+{
+    double dm[3], num, den, s;
+    vp_sub3(dm, d, m);
+    num = vp_dot3(dm, dm) - rho2;
+    den = vp_dot3(dm, n);
+    if (!((double)side * den > FLAT_REL * (sqrt(vp_dot3(dm, dm)) + sqrt(rho2))))
+        return num >= 0.0 ? side * far : -side * far;
+    s = num / (2.0 * den);
+    return s > far ? far : s < -far ? -far : s;
+}
+
+/* The Voronoi edge dual to facet f of finite tet t as a part of the facet's line (through its
+ * circumcentre along its normal): its direction is exact to rounding even when a Voronoi vertex
+ * is far away — the flat tets of coplanar samples on a flat face, whose float circumcentres
+ * (1e15 away) made the clipped edge noise and left faces of a cube unprobed. */
+static int edge_geom_line(const vp_planner_t *pl, uint32_t t, int f, edgegeom_t *g)
+{
+    const uint32_t *w = vp_dt_tet(&pl->dt, t);
+    uint32_t fv[3], u = w[4 + f] >> 2, j = w[4 + f] & 3u;
+    const double *a, *b, *c;
+    double ab[3], ac[3], n[3], m[3], co[3], far, rho2, s_t, s_u;
+    int k;
+    vp_dt_facet(&pl->dt, t, f, fv);
+    if (fv[0] == VP_DT_GHOST || fv[1] == VP_DT_GHOST || fv[2] == VP_DT_GHOST) return VP_EINVAL;
+    a = vp_dt_point(&pl->dt, fv[0]); b = vp_dt_point(&pl->dt, fv[1]); c = vp_dt_point(&pl->dt, fv[2]);
+    vp_sub3(ab, b, a); vp_sub3(ac, c, a); vp_cross3(n, ab, ac);
+    if (!vp_normalize3(n) || !facet_circumcenter(pl, fv, m)) return VP_EDEGEN;
+    rho2 = vp_dist3(m, a);
+    rho2 *= rho2;
+    vp_pl_omega_center(&pl->cfg, co);
+    far = vp_dist3(m, co) + 4.0 * vp_pl_omega_circumradius(&pl->cfg) + 1.0;
+    /* vp_dt_facet orders the facet so that the tet's own fourth vertex is on the +n side */
+    s_t = line_param(m, n, rho2, vp_dt_point(&pl->dt, w[f]), 1, far);
+    s_u = vp_dt_is_ghost(&pl->dt, u) ? -far
+        : line_param(m, n, rho2, vp_dt_point(&pl->dt, vp_dt_tet(&pl->dt, u)[j]), -1, far);
+    for (k = 0; k < 3; k++) { g->a[k] = m[k] + s_t * n[k]; g->dir[k] = s_u >= s_t ? n[k] : -n[k]; }
+    g->len = fabs(s_u - s_t);
+    if (!vp_finite3(g->a)) return VP_EDEGEN;
+    if (!(g->len > 0.0) || !vp_pl_omega_clip(&pl->cfg, g->a, g->dir, g->len, &g->t0, &g->t1)) g->t0 = g->t1 = 0.0;
+    g->a_inside = vp_pl_omega_inside(&pl->cfg, g->a);
+    return VP_OK;
+}
+
 /* Geometry of the Voronoi edge dual to facet f of tet t, oriented from t's Voronoi vertex. */
 VP_PL_API int vp_pl_edge_geom(const vp_planner_t *pl, uint32_t t, int f, edgegeom_t *g)
 {
@@ -24,6 +80,24 @@ VP_PL_API int vp_pl_edge_geom(const vp_planner_t *pl, uint32_t t, int f, edgegeo
     int tg = vp_dt_is_ghost(&pl->dt, t);
     memset(g, 0, sizeof *g);
     if (st != VP_OK) return st;
+    {
+        double co[3], big = FAR_VERTEX_REL * (vp_pl_omega_circumradius(&pl->cfg) + 1.0);
+        vp_pl_omega_center(&pl->cfg, co);
+        if (vp_dist3(e.from, co) > big || (!e.is_ray && vp_dist3(e.to, co) > big)) {
+            if (!tg) return edge_geom_line(pl, t, f, g);
+            /* a ghost tet: the finite side's edge, walked the other way */
+            {
+                const uint32_t *w = vp_dt_tet(&pl->dt, t);
+                edgegeom_t h;
+                if ((st = edge_geom_line(pl, w[4 + f] >> 2, (int)(w[4 + f] & 3u), &h)) != VP_OK) return st;
+                for (k = 0; k < 3; k++) { g->a[k] = h.a[k] + h.len * h.dir[k]; g->dir[k] = -h.dir[k]; }
+                g->len = h.len;
+                if (!vp_pl_omega_clip(&pl->cfg, g->a, g->dir, g->len, &g->t0, &g->t1)) g->t0 = g->t1 = 0.0;
+                g->a_inside = 0;
+                return VP_OK;
+            }
+        }
+    }
     if (!e.is_ray) {
         for (k = 0; k < 3; k++) { g->a[k] = e.from[k]; g->dir[k] = e.to[k] - e.from[k]; }
         g->len = sqrt(vp_dot3(g->dir, g->dir));
