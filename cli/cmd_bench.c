@@ -9,6 +9,7 @@
 #include "vp_cli.h"
 #include "vp_dt.h"
 #include "vp_pointgen.h"
+#include "vp_rtclock.h"
 
 static void bench_usage(FILE *f)
 {
@@ -29,14 +30,7 @@ static void bench_usage(FILE *f)
         "  --save-node FILE    also write the points as a .node file (for other tools)\n");
 }
 
-static double now_seconds(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
-int vp_cmd_bench_delaunay(int argc, char **argv)
+int vp_cli_bench_delaunay(int argc, char **argv)
 {
     const char *node = NULL, *save = NULL;
     long uniform = -1, grid = -1, sphere = -1;
@@ -86,9 +80,9 @@ int vp_cmd_bench_delaunay(int argc, char **argv)
     arena = malloc(bytes);
     if (!arena) { fprintf(stderr, "bench-delaunay: cannot allocate %zu bytes\n", bytes); free(xyz); return 1; }
     if (vp_dt_init(&dt, arena, bytes, 0) != VP_OK) { fprintf(stderr, "bench-delaunay: init failed\n"); return 1; }
-    t0 = now_seconds();
+    t0 = vp_rt_seconds();
     st = vp_dt_insert_batch(&dt, xyz, (uint32_t)n, NULL);
-    t1 = now_seconds();
+    t1 = vp_rt_seconds();
     if (st != VP_OK) {
         fprintf(stderr, "bench-delaunay: insertion failed: %s (try a larger --bytes-per-point)\n",
                 vp_strerror(st));

@@ -62,7 +62,7 @@ static void model_error(const vp_tri_model_t *m, const vp_tri_model_t *truth, do
     }
 }
 
-int vp_cmd_calibrate(int argc, char **argv)
+int vp_cli_calibrate(int argc, char **argv)
 {
     const char *board = NULL, *out = NULL;
     double target[3], v, near = 0, far = 0;

@@ -12,7 +12,7 @@
 #include "vp_session.h"
 #include "vp_sim_opts.h"
 #include "vp_sim_setup.h"
-#include "vp_slog.h"
+#include "vp_sessionlog.h"
 
 /* ---------- shared ---------- */
 
@@ -21,7 +21,7 @@ typedef struct logjob {
     size_t arena;          /* 0: the header's */
     unsigned long upto;    /* replay only the first N records (0: all) */
     int quiet;
-    vp_slog_t L;
+    vp_sessionlog_t L;
     vp_replay_t R;
     vp_mesh_t mesh;
 } logjob_t;
@@ -30,10 +30,10 @@ typedef struct logjob {
 static int load_and_replay(logjob_t *j, const char *cmd)
 {
     char err[1400], stop[600];
-    int st = vp_slog_load(&j->L, j->log, err, sizeof err);
+    int st = vp_sessionlog_load(&j->L, j->log, err, sizeof err);
     if (st != VP_OK) { fprintf(stderr, "%s: %s\n", cmd, err); return 1; }
     if (j->L.status != VP_OK) {
-        vp_slog_stop_text(&j->L, stop, sizeof stop);
+        vp_sessionlog_stop_text(&j->L, stop, sizeof stop);
         fprintf(stderr, "%s: %s: %s\n", cmd, j->log, stop);
     }
     st = vp_replay_open(&j->R, &j->L, j->arena, err, sizeof err);
@@ -49,7 +49,7 @@ static void job_free(logjob_t *j)
 {
     vp_mesh_free(&j->mesh);
     vp_replay_close(&j->R);
-    vp_slog_free(&j->L);
+    vp_sessionlog_free(&j->L);
 }
 
 /* Common options; 0 taken, 1 not ours, -1 bad. */
@@ -116,7 +116,7 @@ static void replay_usage(FILE *f)
         "  --quiet        no summary\n");
 }
 
-int vp_cmd_replay(int argc, char **argv)
+int vp_cli_replay(int argc, char **argv)
 {
     logjob_t j;
     int i, rc;
@@ -166,7 +166,7 @@ static void mesh_usage(FILE *f)
 }
 
 /* Every hit as a point with the unit normal towards its probe origin. */
-static int write_points(const vp_slog_t *L, uint32_t upto, const char *path, int ascii, size_t *count)
+static int write_points(const vp_sessionlog_t *L, uint32_t upto, const char *path, int ascii, size_t *count)
 {
     FILE *f = fopen(path, "wb");
     uint32_t i;
@@ -174,17 +174,17 @@ static int write_points(const vp_slog_t *L, uint32_t upto, const char *path, int
     int k;
     if (!f) return VP_EIO;
     for (i = 0; i < upto; i++) {
-        vp_log_record_t r;
-        if (vp_slog_record(L, i, &r) == VP_OK && r.type == VP_LOG_PROBE && r.hit == 1) n++;
+        vp_logfmt_record_t r;
+        if (vp_sessionlog_record(L, i, &r) == VP_OK && r.type == VP_LOGFMT_PROBE && r.hit == 1) n++;
     }
     fprintf(f, "ply\nformat %s 1.0\ncomment voroprobe probed points; normals point to the probe origins\n"
             "element vertex %zu\nproperty double x\nproperty double y\nproperty double z\n"
             "property double nx\nproperty double ny\nproperty double nz\nend_header\n",
             ascii ? "ascii" : "binary_little_endian", n);
     for (i = 0; i < upto; i++) {
-        vp_log_record_t r;
+        vp_logfmt_record_t r;
         double v[6], len;
-        if (vp_slog_record(L, i, &r) != VP_OK || r.type != VP_LOG_PROBE || r.hit != 1) continue;
+        if (vp_sessionlog_record(L, i, &r) != VP_OK || r.type != VP_LOGFMT_PROBE || r.hit != 1) continue;
         len = sqrt(r.dir[0] * r.dir[0] + r.dir[1] * r.dir[1] + r.dir[2] * r.dir[2]);
         for (k = 0; k < 3; k++) {
             v[k] = r.origin[k] + r.dist * r.dir[k];
@@ -208,7 +208,7 @@ static int write_points(const vp_slog_t *L, uint32_t upto, const char *path, int
     return fclose(f) == 0 && !k ? VP_OK : VP_EIO;
 }
 
-int vp_cmd_mesh(int argc, char **argv)
+int vp_cli_mesh(int argc, char **argv)
 {
     logjob_t j;
     int i, rc, ascii = 0, off = 0, points = 0;
@@ -320,15 +320,15 @@ static void json_vec(FILE *f, const double *v)
 
 static const char *units_name(uint32_t u)
 {
-    return u == VP_LOG_UNITS_M ? "m" : u == VP_LOG_UNITS_MM ? "mm" : u == VP_LOG_UNITS_INCH ? "inch" : "none";
+    return u == VP_LOGFMT_UNITS_M ? "m" : u == VP_LOGFMT_UNITS_MM ? "mm" : u == VP_LOGFMT_UNITS_INCH ? "inch" : "none";
 }
 
 static const char *type_str(int t)
 {
-    return t == VP_LOG_PROBE ? "probe" : t == VP_LOG_MOVE ? "move" : "event";
+    return t == VP_LOGFMT_PROBE ? "probe" : t == VP_LOGFMT_MOVE ? "move" : "event";
 }
 
-static void dump_header_text(const vp_log_header_t *h, FILE *f)
+static void dump_header_text(const vp_logfmt_header_t *h, FILE *f)
 {
     const vp_planner_config_t *c = &h->cfg;
     uint32_t i;
@@ -350,7 +350,7 @@ static void dump_header_text(const vp_log_header_t *h, FILE *f)
             c->confirm_misses, c->flags, (unsigned long long)h->arena_bytes);
 }
 
-static void dump_header_json(const vp_log_header_t *h, FILE *f)
+static void dump_header_json(const vp_logfmt_header_t *h, FILE *f)
 {
     const vp_planner_config_t *c = &h->cfg;
     uint32_t i;
@@ -377,40 +377,40 @@ static void dump_header_json(const vp_log_header_t *h, FILE *f)
 
 static int log_dump(const char *path, int mode)
 {
-    vp_slog_t L;
+    vp_sessionlog_t L;
     char err[1400], stop[600];
     uint32_t i;
-    int st = vp_slog_load(&L, path, err, sizeof err);
+    int st = vp_sessionlog_load(&L, path, err, sizeof err);
     if (st != VP_OK) { fprintf(stderr, "log dump: %s\n", err); return 1; }
     if (mode == 0) dump_header_text(&L.header, stdout);
     else if (mode == 1) dump_header_json(&L.header, stdout);
     else printf("seq,offset,type,origin_x,origin_y,origin_z,dir_x,dir_y,dir_z,range,hit,dist,raw,"
                 "point_x,point_y,point_z,target_x,target_y,target_z,event,code,text\n");
     for (i = 0; i < L.n; i++) {
-        vp_log_record_t r;
+        vp_logfmt_record_t r;
         double p[3];
         int k;
-        if (vp_slog_record(&L, i, &r) != VP_OK) break;
+        if (vp_sessionlog_record(&L, i, &r) != VP_OK) break;
         for (k = 0; k < 3; k++) p[k] = r.origin[k] + r.dist * r.dir[k];
         if (mode == 0) {
             printf("%u @%zu ", r.seq, L.off[i]);
-            if (r.type == VP_LOG_PROBE) {
+            if (r.type == VP_LOGFMT_PROBE) {
                 printf("PROBE from %.17g %.17g %.17g dir %.17g %.17g %.17g range %.17g: ", r.origin[0], r.origin[1],
                        r.origin[2], r.dir[0], r.dir[1], r.dir[2], r.range);
                 if (r.hit == VP_PROBE_TOO_CLOSE) printf("too close (nothing measured, nothing free) raw %.17g\n", r.raw);
                 else if (r.hit) printf("hit at %.17g (point %.17g %.17g %.17g) raw %.17g\n", r.dist, p[0], p[1], p[2], r.raw);
                 else printf("miss (dist %.17g, raw %.17g)\n", r.dist, r.raw);
-            } else if (r.type == VP_LOG_MOVE) {
+            } else if (r.type == VP_LOGFMT_MOVE) {
                 printf("MOVE to %.17g %.17g %.17g\n", r.target[0], r.target[1], r.target[2]);
             } else {
-                printf("EVENT %s code %d", vp_slog_event_name(r.event), (int)r.code);
-                if (r.event == VP_LOG_EV_CALIBRATION)
+                printf("EVENT %s code %d", vp_sessionlog_event_name(r.event), (int)r.code);
+                if (r.event == VP_LOGFMT_EV_CALIBRATION)
                     printf(" values %.17g %.17g %.17g %.17g", r.value[0], r.value[1], r.value[2], r.value[3]);
                 printf(" '%s'\n", r.text);
             }
         } else if (mode == 1) {
             printf("{\"seq\":%u,\"offset\":%zu,\"type\":\"%s\"", r.seq, L.off[i], type_str(r.type));
-            if (r.type == VP_LOG_PROBE) {
+            if (r.type == VP_LOGFMT_PROBE) {
                 printf(",\"origin\":"); json_vec(stdout, r.origin);
                 printf(",\"dir\":"); json_vec(stdout, r.dir);
                 printf(",\"range\":"); json_num(stdout, r.range);
@@ -418,10 +418,10 @@ static int log_dump(const char *path, int mode)
                        r.hit == VP_PROBE_TOO_CLOSE ? "\"too_close\":true," : ""); json_num(stdout, r.dist);
                 printf(",\"raw\":"); json_num(stdout, r.raw);
                 if (r.hit == 1) { printf(",\"point\":"); json_vec(stdout, p); }
-            } else if (r.type == VP_LOG_MOVE) {
+            } else if (r.type == VP_LOGFMT_MOVE) {
                 printf(",\"target\":"); json_vec(stdout, r.target);
             } else {
-                printf(",\"event\":\"%s\",\"event_code\":%u,\"code\":%d,\"values\":[", vp_slog_event_name(r.event),
+                printf(",\"event\":\"%s\",\"event_code\":%u,\"code\":%d,\"values\":[", vp_sessionlog_event_name(r.event),
                        r.event, (int)r.code);
                 for (k = 0; k < 4; k++) { if (k) putchar(','); json_num(stdout, r.value[k]); }
                 printf("],\"text\":"); json_str(stdout, r.text);
@@ -429,17 +429,17 @@ static int log_dump(const char *path, int mode)
             printf("}\n");
         } else {
             printf("%u,%zu,%s,", r.seq, L.off[i], type_str(r.type));
-            if (r.type == VP_LOG_PROBE)
+            if (r.type == VP_LOGFMT_PROBE)
                 printf("%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%d,%.17g,%.17g,", r.origin[0], r.origin[1],
                        r.origin[2], r.dir[0], r.dir[1], r.dir[2], r.range, r.hit, r.dist, r.raw);
             else
                 printf(",,,,,,,,,,");
-            if (r.type == VP_LOG_PROBE && r.hit == 1) printf("%.17g,%.17g,%.17g,", p[0], p[1], p[2]);
+            if (r.type == VP_LOGFMT_PROBE && r.hit == 1) printf("%.17g,%.17g,%.17g,", p[0], p[1], p[2]);
             else printf(",,,");
-            if (r.type == VP_LOG_MOVE) printf("%.17g,%.17g,%.17g,", r.target[0], r.target[1], r.target[2]);
+            if (r.type == VP_LOGFMT_MOVE) printf("%.17g,%.17g,%.17g,", r.target[0], r.target[1], r.target[2]);
             else printf(",,,");
-            if (r.type == VP_LOG_EVENT) {
-                printf("%s,%d,\"", vp_slog_event_name(r.event), (int)r.code);
+            if (r.type == VP_LOGFMT_EVENT) {
+                printf("%s,%d,\"", vp_sessionlog_event_name(r.event), (int)r.code);
                 for (k = 0; r.text[k]; k++) { if (r.text[k] == '"') putchar('"'); putchar(r.text[k]); }
                 printf("\"\n");
             } else {
@@ -448,19 +448,19 @@ static int log_dump(const char *path, int mode)
         }
     }
     if (L.status != VP_OK) {
-        vp_slog_stop_text(&L, stop, sizeof stop);
+        vp_sessionlog_stop_text(&L, stop, sizeof stop);
         fprintf(stderr, "log dump: %s: %s\n", path, stop);
     }
     st = L.status == VP_OK ? 0 : 1;
-    vp_slog_free(&L);
+    vp_sessionlog_free(&L);
     return st;
 }
 
 static int log_check(const char *path, int replay)
 {
-    vp_slog_t L;
+    vp_sessionlog_t L;
     char err[1400], stop[600];
-    int st = vp_slog_load(&L, path, err, sizeof err), rc;
+    int st = vp_sessionlog_load(&L, path, err, sizeof err), rc;
     uint32_t i, last_event = 0;
     int32_t last_code = 0;
     if (st != VP_OK) {
@@ -468,10 +468,10 @@ static int log_check(const char *path, int replay)
         return 1;
     }
     for (i = 0; i < L.n; i++) {
-        vp_log_record_t r;
-        if (vp_slog_record(&L, i, &r) == VP_OK && r.type == VP_LOG_EVENT) { last_event = r.event; last_code = r.code; }
+        vp_logfmt_record_t r;
+        if (vp_sessionlog_record(&L, i, &r) == VP_OK && r.type == VP_LOGFMT_EVENT) { last_event = r.event; last_code = r.code; }
     }
-    vp_slog_stop_text(&L, stop, sizeof stop);
+    vp_sessionlog_stop_text(&L, stop, sizeof stop);
     printf("%s: format version %u, board '%s', %llu bytes\n", path, L.header.version, L.header.board,
            (unsigned long long)L.size);
     printf("header: ok (CRC good), eps %.6g, %u interior point(s)\n", L.header.cfg.eps, L.header.cfg.ninterior);
@@ -486,7 +486,7 @@ static int log_check(const char *path, int replay)
         if (st == VP_OK) st = vp_replay_run(&R, &L, L.n, err, sizeof err);
         if (st == VP_OK)
             printf("replay: the planner reissues all %u commands bit for bit\n", (unsigned)(L.probes + L.moves));
-        else if (st != VP_ECORRUPT && last_event == VP_LOG_EV_FAULT && last_code == st)
+        else if (st != VP_ECORRUPT && last_event == VP_LOGFMT_EV_FAULT && last_code == st)
             printf("replay: the planner reissues every command bit for bit and stops where the session stopped: %s\n",
                    err);
         else {
@@ -499,11 +499,11 @@ static int log_check(const char *path, int replay)
         printf("session: complete (DONE)%s\n", rc ? "; the mesh can be rebuilt from the valid records" : "");
     else
         printf("session: incomplete (last event: %s): `%s %s%s` continues it from record %u; "
-               "`mesh` gives the mesh so far%s\n", last_event ? vp_slog_event_name(last_event) : "none",
+               "`mesh` gives the mesh so far%s\n", last_event ? vp_sessionlog_event_name(last_event) : "none",
                strncmp(L.header.note, "scan ", 5) ? "sim --resume" : "scan --log", path,
                strncmp(L.header.note, "scan ", 5) ? "" : " --resume", L.n,
                L.status != VP_OK ? " (resume first cuts the damaged tail)" : "");
-    vp_slog_free(&L);
+    vp_sessionlog_free(&L);
     return rc;
 }
 
@@ -514,12 +514,12 @@ static void vec_text(const double *v)
 
 static int log_verify(const char *path, int json)
 {
-    vp_slog_t L;
+    vp_sessionlog_t L;
     vp_logverify_t *v;
     vp_logverify_result_t *res;
     char err[1400], stop[600];
     uint32_t i;
-    int st = vp_slog_load(&L, path, err, sizeof err);
+    int st = vp_sessionlog_load(&L, path, err, sizeof err);
     if (st != VP_OK) {
         fprintf(stderr, "log verify: %s\n", err);
         if (json) printf("{\"ok\":false,\"error\":\"unreadable\"}\n");
@@ -527,24 +527,24 @@ static int log_verify(const char *path, int json)
     }
     v = malloc(sizeof *v);
     res = malloc(sizeof *res);
-    if (!v || !res) { free(v); free(res); vp_slog_free(&L); fprintf(stderr, "log verify: out of memory\n"); return 3; }
+    if (!v || !res) { free(v); free(res); vp_sessionlog_free(&L); fprintf(stderr, "log verify: out of memory\n"); return 3; }
     st = vp_logverify_begin(v, &L.header);
     if (st != VP_OK) {
         fprintf(stderr, "log verify: %s: the header's Omega is not usable (not finite or empty)\n", path);
-        free(v); free(res); vp_slog_free(&L);
+        free(v); free(res); vp_sessionlog_free(&L);
         if (json) printf("{\"ok\":false,\"error\":\"bad omega\"}\n");
         return 3;
     }
     for (i = 0; i < L.n && st == VP_OK; i++) {
-        vp_log_record_t r;
-        st = vp_slog_record(&L, i, &r);
+        vp_logfmt_record_t r;
+        st = vp_sessionlog_record(&L, i, &r);
         if (st == VP_OK) st = vp_logverify_add(v, &r);
     }
     vp_logverify_end(v, res);
     free(v);
     if (st != VP_OK) {
         fprintf(stderr, "log verify: %s: record %u: %s\n", path, i - 1, vp_strerror(st));
-        free(res); vp_slog_free(&L);
+        free(res); vp_sessionlog_free(&L);
         if (json) printf("{\"ok\":false,\"error\":\"%s\"}\n", vp_strerror(st));
         return 3;
     }
@@ -577,7 +577,7 @@ static int log_verify(const char *path, int json)
         printf("... %llu more probes off the device's position\n",
                (unsigned long long)(res->probes_off_position - res->nprobes_listed));
     if (L.status != VP_OK) {
-        vp_slog_stop_text(&L, stop, sizeof stop);
+        vp_sessionlog_stop_text(&L, stop, sizeof stop);
         if (L.n) printf("verify: %s: %s; verified records 0..%u only\n", path, stop, L.n - 1);
         else printf("verify: %s: %s; no record to verify\n", path, stop);
     }
@@ -609,11 +609,11 @@ static int log_verify(const char *path, int json)
     }
     st = res->ok ? 0 : 1;
     free(res);
-    vp_slog_free(&L);
+    vp_sessionlog_free(&L);
     return st;
 }
 
-int vp_cmd_log(int argc, char **argv)
+int vp_cli_log(int argc, char **argv)
 {
     const char *sub, *path = NULL;
     int i, mode = 0, replay = 1;

@@ -8,19 +8,20 @@
 #include <string.h>
 #include "vp_backends.h"
 #include "vp_cli.h"
-#include "vp_log.h"
+#include "vp_logfmt.h"
 #include "vp_note.h"
-#include "vp_logfile.h"
+#include "vp_logwriter.h"
 #include "vp_hausdorff.h"
 #include "vp_meshcheck.h"
 #include "vp_meshio.h"
 #include "vp_outcome.h"
 #include "vp_audit.h"
+#include "vp_rtclock.h"
 #include "vp_scan.h"
 #include "vp_session.h"
 #include "vp_sim_opts.h"
 #include "vp_sim_setup.h"
-#include "vp_slog.h"
+#include "vp_sessionlog.h"
 #include "vp_surface.h"
 
 static void scan_usage(FILE *f)
@@ -78,7 +79,7 @@ typedef struct scan_opts {
     unsigned long stop_after, estop_at;
     unsigned long board_crc;
     int have_crc;
-    vp_logfile_config_t sync;
+    vp_logwriter_config_t sync;
 } scan_opts_t;
 
 static void scan_defaults(scan_opts_t *o)
@@ -127,7 +128,7 @@ static int scan_option(scan_opts_t *o, int argc, char **argv, int *i, int from_n
     else if (!strcmp(a, "--arena")) {
         if (vp_parse_size(val, &o->arena) || o->arena < 4096) { snprintf(err, n, "--arena: bad size '%s'", val); return -1; }
     } else if (!strcmp(a, "--sync")) {
-        if (vp_logfile_parse_sync(val, &o->sync)) {
+        if (vp_logwriter_parse_sync(val, &o->sync)) {
             snprintf(err, n, "--sync takes record, close, N (records), Tms or N,Tms; not '%s'", val);
             return -1;
         }
@@ -188,7 +189,7 @@ static int file_crc(const char *path, unsigned long *crc)
     size_t k;
     FILE *f = fopen(path, "rb");
     if (!f) return -1;
-    while ((k = fread(buf, 1, sizeof buf, f)) > 0) c = vp_log_crc32(c, buf, k);
+    while ((k = fread(buf, 1, sizeof buf, f)) > 0) c = vp_logfmt_crc32(c, buf, k);
     fclose(f);
     *crc = c;
     return 0;
@@ -197,7 +198,7 @@ static int file_crc(const char *path, unsigned long *crc)
 /* ---------- the run ---------- */
 
 typedef struct scan_run {
-    vp_slog_writer_t w;
+    vp_sessionlog_writer_t w;
     vp_scan_dev_t *dev;
     vp_planner_t *pl;
     unsigned long n, stop_after;
@@ -222,14 +223,11 @@ static void scan_progress(scan_run_t *r, int final)
 static int scan_after(void *ctx, const vp_cmd_t *cmd, const vp_probe_result_t *res)
 {
     scan_run_t *r = ctx;
-    int st = vp_slog_after(&r->w, cmd, res);
+    int st = vp_sessionlog_after(&r->w, cmd, res);
     if (st != VP_OK) return st;
     if (cmd->kind == VP_CMD_DONE) return VP_OK;
     r->n++;
-    if (!r->quiet && (r->hw || vp_wall_seconds() > r->next_report)) {
-        scan_progress(r, 0);
-        r->next_report = vp_wall_seconds() + 0.5;
-    }
+    if (!r->quiet && (vp_progress_due(&r->next_report) || r->hw)) scan_progress(r, 0);
     if (r->stop_after && r->n == r->stop_after) raise(SIGINT);   /* a Ctrl-C, on purpose */
     if (vp_scan_stop) { r->paused = 1; return VP_EABORT; }
     return VP_OK;
@@ -254,181 +252,219 @@ static const char *model_source(const vp_board_t *b)
                                                                    : "the camera geometry (not calibrated)";
 }
 
-int vp_cmd_scan(int argc, char **argv)
-{
-    scan_opts_t o, cl;
+/* One run of `scan`: what its phases share (vp_cli_scan calls them in order). */
+typedef struct scan_job {
+    scan_opts_t o, cl;              /* the options in force; the command line's */
     vp_board_t b;
     vp_scan_dev_t dev;
-    vp_slog_t L;
+    vp_sessionlog_t L;              /* the resumed log (have_L) */
     vp_planner_config_t cfg;
-    vp_planner_t *pl = NULL;
-    void *arena = NULL;
+    vp_planner_t *pl;
+    void *arena;
     scan_run_t run;
-    vp_session_result_t res;
     vp_mesh_t mesh;
-    char err[1600], sub[600], note[VP_LOG_NOTE_MAX + 1], notebuf[VP_LOG_NOTE_MAX + 1], surface[VP_PATH_MAX] = "";
-    char prefix[VP_PATH_MAX], text[VP_LOG_TEXT_MAX + 1], board_path[VP_PATH_MAX];
-    int st, i, have_L = 0, dev_open = 0, log_open = 0, rc = 1, k, nint = 1;
-    uint32_t replayed = 0;
-    double wall0 = vp_wall_seconds();
+    char surface[VP_PATH_MAX], prefix[VP_PATH_MAX], board_path[VP_PATH_MAX];
+    int have_L, dev_open, log_open;
+    int rc;                         /* the exit status so far */
+    int st_home;                    /* what homing left: VP_OK, or VP_EABORT when paused */
+    uint32_t replayed;
+    double wall0;
+} scan_job_t;
 
-    scan_defaults(&cl);
+/* The command line into j->cl.
+ * -1: go on; else the exit status. */
+static int scan_parse(scan_job_t *j, int argc, char **argv)
+{
+    char err[1600];
+    int st;
+    int i;
+
+    scan_defaults(&j->cl);
     for (i = 1; i < argc; i++) {
         if (!strcmp(argv[i], "--help") || !strcmp(argv[i], "-h")) { scan_usage(stdout); return 0; }
-        st = scan_option(&cl, argc, argv, &i, 0, err, sizeof err);
+        st = scan_option(&j->cl, argc, argv, &i, 0, err, sizeof err);
         if (st == 0) continue;
         if (st < 0) fprintf(stderr, "scan: %s\n", err);
         else fprintf(stderr, "scan: unknown option %s (see --help)\n", argv[i]);
         return 2;
     }
-    if (!cl.log) { fprintf(stderr, "scan: give the session log: --log LOG (see --help)\n"); return 2; }
-    if (!cl.resume && !cl.board) { fprintf(stderr, "scan: give the machine: --board FILE (see --help)\n"); return 2; }
-    if (cl.estop_at && !cl.dry && !cl.resume) { fprintf(stderr, "scan: --estop-at simulates the e-stop: dry runs only\n"); return 2; }
-    o = cl;
-    vp_mesh_init(&mesh);
-    memset(&run, 0, sizeof run);
-    run.w.file.fd = -1;
+    if (!j->cl.log) { fprintf(stderr, "scan: give the session log: --log LOG (see --help)\n"); return 2; }
+    if (!j->cl.resume && !j->cl.board) { fprintf(stderr, "scan: give the machine: --board FILE (see --help)\n"); return 2; }
+    if (j->cl.estop_at && !j->cl.dry && !j->cl.resume) { fprintf(stderr, "scan: --estop-at simulates the e-stop: dry runs only\n"); return 2; }
+    j->o = j->cl;
+    vp_mesh_init(&j->mesh);
+    memset(&j->run, 0, sizeof j->run);
+    j->run.w.file.fd = -1;
+    return -1;
+}
 
-    /* ---- the options: the command line, or the log's with --resume ---- */
-    if (cl.resume) {
+/* The options: the command line, or those in the log with --resume.
+ * -1: go on; else the exit status. */
+static int scan_options(scan_job_t *j)
+{
+    char err[1600];
+    char sub[600];
+    char notebuf[VP_LOGFMT_NOTE_MAX + 1];
+    int st;
+    int i;
+
+    if (j->cl.resume) {
         char *tok[64];
         int nt;
-        st = vp_slog_load(&L, cl.log, err, sizeof err);
+        st = vp_sessionlog_load(&j->L, j->cl.log, err, sizeof err);
         if (st != VP_OK) { fprintf(stderr, "scan: %s\n", err); return 1; }
-        have_L = 1;
-        memcpy(notebuf, L.header.note, sizeof notebuf);
+        j->have_L = 1;
+        memcpy(notebuf, j->L.header.note, sizeof notebuf);
         nt = vp_note_split(notebuf, tok, 64);
         if (nt < 1 || strcmp(tok[0], "scan") != 0) {
-            fprintf(stderr, "scan: %s was not written by `scan`%s\n", cl.log,
+            fprintf(stderr, "scan: %s was not written by `scan`%s\n", j->cl.log,
                     nt >= 1 && !strcmp(tok[0], "sim") ? " but by `sim`: resume it with `voroprobe sim --resume`" : "");
-            goto done;
+            return j->rc;
         }
-        scan_defaults(&o);
+        scan_defaults(&j->o);
         for (i = 1; i < nt; i++)
-            if (scan_option(&o, nt, tok, &i, 1, sub, sizeof sub) != 0) {
-                fprintf(stderr, "scan: %s: the options recorded in the log are not understood ('%s')\n", cl.log, tok[i]);
-                goto done;
+            if (scan_option(&j->o, nt, tok, &i, 1, sub, sizeof sub) != 0) {
+                fprintf(stderr, "scan: %s: the options recorded in the log are not understood ('%s')\n", j->cl.log, tok[i]);
+                return j->rc;
             }
-        if (cl.dry && !o.dry) { fprintf(stderr, "scan: %s is a scan of the real machine: it cannot go on as a dry run\n", cl.log); goto done; }
-        if (!cl.dry && o.dry) cl.dry = 1;   /* a dry run's log goes on as a dry run */
-        if ((cl.eps && cl.eps != o.eps) || (cl.surface && strcmp(cl.surface, o.surface ? o.surface : "")) ||
-            (cl.near >= 0 && cl.near != o.near) ||
-            (cl.seed && cl.seed != o.seed)) {
-            fprintf(stderr, "scan: a resumed scan keeps the options in its log (%s)\n", L.header.note);
-            goto done;
+        if (j->cl.dry && !j->o.dry) { fprintf(stderr, "scan: %s is a scan of the real machine: it cannot go on as a dry run\n", j->cl.log); return j->rc; }
+        if (!j->cl.dry && j->o.dry) j->cl.dry = 1;   /* a dry run's log goes on as a dry run */
+        if ((j->cl.eps && j->cl.eps != j->o.eps) || (j->cl.surface && strcmp(j->cl.surface, j->o.surface ? j->o.surface : "")) ||
+            (j->cl.near >= 0 && j->cl.near != j->o.near) ||
+            (j->cl.seed && j->cl.seed != j->o.seed)) {
+            fprintf(stderr, "scan: a resumed scan keeps the options in its log (%s)\n", j->L.header.note);
+            return j->rc;
         }
-        if (o.estop_at || cl.estop_at) o.estop_at = cl.estop_at;
-        if (cl.board) o.board = cl.board;
-        if (cl.calib) o.calib = cl.calib;
-        o.log = cl.log;
-        o.out = cl.out;
-        o.quiet = cl.quiet;
-        o.resume = 1;
-        o.stop_after = cl.stop_after;
-        o.sync = cl.sync;
-        o.have_sync = cl.have_sync;
+        if (j->o.estop_at || j->cl.estop_at) j->o.estop_at = j->cl.estop_at;
+        if (j->cl.board) j->o.board = j->cl.board;
+        if (j->cl.calib) j->o.calib = j->cl.calib;
+        j->o.log = j->cl.log;
+        j->o.out = j->cl.out;
+        j->o.quiet = j->cl.quiet;
+        j->o.resume = 1;
+        j->o.stop_after = j->cl.stop_after;
+        j->o.sync = j->cl.sync;
+        j->o.have_sync = j->cl.have_sync;
     }
-    if (o.estop_at && !o.dry) { fprintf(stderr, "scan: --estop-at simulates the e-stop: dry runs only\n"); goto done; }
+    if (j->o.estop_at && !j->o.dry) { fprintf(stderr, "scan: --estop-at simulates the e-stop: dry runs only\n"); return j->rc; }
+    return -1;
+}
 
-    /* ---- the board, its calibration, the object ---- */
-    st = vp_board_load(o.board, &b, err, sizeof err);
-    if (st != VP_OK) { fprintf(stderr, "scan: %s\n", err); goto done; }
-    if (o.calib && (st = vp_board_calibration_load(&b, o.calib, NULL, err, sizeof err)) != VP_OK) {
+/* The board, its calibration, the object; the log and mesh paths checked.
+ * -1: go on; else the exit status. */
+static int scan_board(scan_job_t *j)
+{
+    char err[1600];
+    int st;
+
+    st = vp_board_load(j->o.board, &j->b, err, sizeof err);
+    if (st != VP_OK) { fprintf(stderr, "scan: %s\n", err); return j->rc; }
+    if (j->o.calib && (st = vp_board_calibration_load(&j->b, j->o.calib, NULL, err, sizeof err)) != VP_OK) {
         fprintf(stderr, "scan: %s\n", err);
-        goto done;
+        return j->rc;
     }
-    if (!(b.clearance > 0.0)) {
+    if (!(j->b.clearance > 0.0)) {
         /* a camera rangefinder's "no spot" is not a proof of free space: an occluded spot, a dark
          * or shiny surface read the same. Inside Omega the head would move on such misses. */
-        if (!o.dry) {
+        if (!j->o.dry) {
             fprintf(stderr, "scan: %s: [omega] clearance = 0 lets the head into Omega, where it moves along rays its "
                     "rangefinder reported free; a camera rangefinder reports an occluded, dark or shiny spot as no spot, "
                     "which proves nothing (a dry run of a cube moved through it 1878 times): set clearance to the head's "
-                    "radius, so that the head stays outside Omega\n", o.board);
-            goto done;
+                    "radius, so that the head stays outside Omega\n", j->o.board);
+            return j->rc;
         }
         fprintf(stderr, "scan: warning: clearance 0 (dry run only): the head enters Omega and trusts every \"no spot\" "
                 "as free space; moves through the object are counted and end the run with exit 5\n");
     }
     {
         unsigned long crc = 0;
-        file_crc(o.board, &crc);
-        if (o.resume && o.have_crc && crc != o.board_crc)
+        file_crc(j->o.board, &crc);
+        if (j->o.resume && j->o.have_crc && crc != j->o.board_crc)
             fprintf(stderr, "scan: note: %s changed since the log was started (the planner's configuration is "
-                    "checked below; the machine's may differ)\n", o.board);
-        o.board_crc = crc;
+                    "checked below; the machine's may differ)\n", j->o.board);
+        j->o.board_crc = crc;
     }
-    snprintf(board_path, sizeof board_path, "%s", o.board);
-    if (!o.eps) o.eps = b.eps;
-    if (o.near < 0) o.near = b.near_measure;
-    if (o.dry) {
-        if (o.resume) snprintf(surface, sizeof surface, "%s", o.surface ? o.surface : "");
-        else if ((st = vp_scan_dry_surface(&b, o.surface, surface, sizeof surface, err, sizeof err)) != VP_OK) {
+    snprintf(j->board_path, sizeof j->board_path, "%s", j->o.board);
+    if (!j->o.eps) j->o.eps = j->b.eps;
+    if (j->o.near < 0) j->o.near = j->b.near_measure;
+    if (j->o.dry) {
+        if (j->o.resume) snprintf(j->surface, sizeof j->surface, "%s", j->o.surface ? j->o.surface : "");
+        else if ((st = vp_scan_dry_surface(&j->b, j->o.surface, j->surface, sizeof j->surface, err, sizeof err)) != VP_OK) {
             fprintf(stderr, "scan: --surface: %s\n", err);
-            goto done;
+            return j->rc;
         }
-        if (!o.seed) o.seed = (unsigned long long)b.sim_seed;
+        if (!j->o.seed) j->o.seed = (unsigned long long)j->b.sim_seed;
     }
-    if (!o.have_sync) {
-        vp_logfile_config_default(&o.sync);
-        if (b.log_sync[0]) vp_logfile_parse_sync(b.log_sync, &o.sync);
+    if (!j->o.have_sync) {
+        vp_logwriter_config_default(&j->o.sync);
+        if (j->b.log_sync[0]) vp_logwriter_parse_sync(j->b.log_sync, &j->o.sync);
     }
     /* the log and mesh paths are checked before anything is written */
-    if (o.out) st = vp_path_cat(prefix, sizeof prefix, o.out, "", err, sizeof err);
+    if (j->o.out) st = vp_path_cat(j->prefix, sizeof j->prefix, j->o.out, "", err, sizeof err);
     else {
-        size_t len = strlen(o.log);
-        if (len > 6 && !strcmp(o.log + len - 6, ".vplog")) {
-            st = vp_path_cat(prefix, sizeof prefix, o.log, "", err, sizeof err);
-            if (st == VP_OK) prefix[len - 6] = 0;
+        size_t len = strlen(j->o.log);
+        if (len > 6 && !strcmp(j->o.log + len - 6, ".vplog")) {
+            st = vp_path_cat(j->prefix, sizeof j->prefix, j->o.log, "", err, sizeof err);
+            if (st == VP_OK) j->prefix[len - 6] = 0;
         } else
-            st = vp_path_cat(prefix, sizeof prefix, o.log, ".mesh", err, sizeof err);
+            st = vp_path_cat(j->prefix, sizeof j->prefix, j->o.log, ".mesh", err, sizeof err);
     }
     {
         char chk[VP_PATH_MAX];
-        if (st == VP_OK) st = vp_path_cat(chk, sizeof chk, prefix, ".ply", err, sizeof err);
-        if (st == VP_OK) st = vp_path_cat(chk, sizeof chk, o.log, "", err, sizeof err);
+        if (st == VP_OK) st = vp_path_cat(chk, sizeof chk, j->prefix, ".ply", err, sizeof err);
+        if (st == VP_OK) st = vp_path_cat(chk, sizeof chk, j->o.log, "", err, sizeof err);
     }
-    if (st != VP_OK) { fprintf(stderr, "scan: %s\n", err); rc = 2; goto done; }
+    if (st != VP_OK) { fprintf(stderr, "scan: %s\n", err); j->rc = 2; return j->rc; }
+    return -1;
+}
 
-    /* ---- the machine ---- */
-    st = vp_scan_open(&dev, &b, o.dry, o.dry ? surface : NULL, 0, o.seed, err, sizeof err);
-    if (st != VP_OK) { fprintf(stderr, "scan: %s\n", err); goto done; }
-    dev_open = 1;
-    dev.estop_at = o.estop_at;
-    dev.near_measure = o.near;
+/* The machine, the planner's configuration (a dry run's object inside Omega), the planner.
+ * -1: go on; else the exit status. */
+static int scan_prepare(scan_job_t *j)
+{
+    char err[1600];
+    int st;
+    int k;
+    int nint = 1;
+
+    st = vp_scan_open(&j->dev, &j->b, j->o.dry, j->o.dry ? j->surface : NULL, 0, j->o.seed, err, sizeof err);
+    if (st != VP_OK) { fprintf(stderr, "scan: %s\n", err); return j->rc; }
+    j->dev_open = 1;
+    j->dev.estop_at = j->o.estop_at;
+    j->dev.near_measure = j->o.near;
 
     /* ---- the planner's configuration: the board's scan volume, eps and rangefinder ---- */
-    vp_board_planner_config(&b, &cfg);
-    cfg.eps = o.eps;
-    cfg.noise_tol = o.noise_tol;
-    cfg.confirm_misses = (uint32_t)o.confirm;
+    vp_board_planner_config(&j->b, &j->cfg);
+    j->cfg.eps = j->o.eps;
+    j->cfg.noise_tol = j->o.noise_tol;
+    j->cfg.confirm_misses = (uint32_t)j->o.confirm;
     {
         /* eps within what the planner can resolve in double precision (as sim says it) */
         vp_sim_options_t none;
         memset(&none, 0, sizeof none);
-        if (vp_sim_check_ranges(&cfg, 0.0, &none, err, sizeof err) != VP_OK) {
+        if (vp_sim_check_ranges(&j->cfg, 0.0, &none, err, sizeof err) != VP_OK) {
             fprintf(stderr, "scan: %s\n", err);
-            goto done;
+            return j->rc;
         }
     }
-    if (o.dry) {
+    if (j->o.dry) {
         /* the simulated object must lie in Omega; the board's interior point must be inside it
          * (else the object's own interior points stand in for it) */
-        vp_surface_t *s = dev.dr->surf;
-        double lo[3], hi[3], gap = b.clearance;   /* with a clearance the head stays outside Omega */
+        vp_surface_t *s = j->dev.dr->surf;
+        double lo[3], hi[3], gap = j->b.clearance;   /* with a clearance the head stays outside Omega */
         int inside = 1;
         vp_surface_bbox(s, lo, hi);
         for (k = 0; k < 3; k++)
-            if (b.omega_kind == VP_OMEGA_BOX && (lo[k] - gap <= b.omega_lo[k] || hi[k] + gap >= b.omega_hi[k])) inside = 0;
-        if (b.omega_kind == VP_OMEGA_BALL) {
+            if (j->b.omega_kind == VP_OMEGA_BOX && (lo[k] - gap <= j->b.omega_lo[k] || hi[k] + gap >= j->b.omega_hi[k])) inside = 0;
+        if (j->b.omega_kind == VP_OMEGA_BALL) {
             /* the object's farthest point from the centre, from points sampled on its surface */
             size_t q, ns = 4000;
-            double *xyz = malloc(3 * ns * sizeof *xyz), r2 = (b.omega_radius - gap) * (b.omega_radius - gap);
+            double *xyz = malloc(3 * ns * sizeof *xyz), r2 = (j->b.omega_radius - gap) * (j->b.omega_radius - gap);
             if (xyz) {
                 ns = vp_surface_sample(s, ns, 1, xyz);
                 for (q = 0; q < ns; q++) {
                     double dd = 0;
-                    for (k = 0; k < 3; k++) dd += (xyz[3 * q + k] - b.omega_center[k]) * (xyz[3 * q + k] - b.omega_center[k]);
+                    for (k = 0; k < 3; k++) dd += (xyz[3 * q + k] - j->b.omega_center[k]) * (xyz[3 * q + k] - j->b.omega_center[k]);
                     if (dd >= r2) inside = 0;
                 }
                 free(xyz);
@@ -436,239 +472,293 @@ int vp_cmd_scan(int argc, char **argv)
         }
         if (!inside) {
             fprintf(stderr, "scan: the simulated object %s (box %.4g %.4g %.4g .. %.4g %.4g %.4g) is not inside the "
-                    "board's Omega%s ([omega] in %s)\n", surface, lo[0], lo[1], lo[2], hi[0], hi[1], hi[2],
-                    gap > 0 ? " by the clearance (the head stays outside Omega)" : "", b.path);
-            goto done;
+                    "board's Omega%s ([omega] in %s)\n", j->surface, lo[0], lo[1], lo[2], hi[0], hi[1], hi[2],
+                    gap > 0 ? " by the clearance (the head stays outside Omega)" : "", j->b.path);
+            return j->rc;
         }
-        if (vp_surface_components(s) > 1 || !vp_surface_inside(s, b.interior)) {
+        if (vp_surface_components(s) > 1 || !vp_surface_inside(s, j->b.interior)) {
             nint = vp_surface_components(s);
-            if (nint > VP_PLANNER_MAX_SEEDS) { fprintf(stderr, "scan: the object has %d components (at most %d)\n", nint, VP_PLANNER_MAX_SEEDS); goto done; }
-            for (k = 0; k < nint; k++) vp_surface_interior_point(s, k, cfg.interior[k]);
-            cfg.ninterior = (uint32_t)nint;
+            if (nint > VP_PLANNER_MAX_SEEDS) { fprintf(stderr, "scan: the object has %d components (at most %d)\n", nint, VP_PLANNER_MAX_SEEDS); return j->rc; }
+            for (k = 0; k < nint; k++) vp_surface_interior_point(s, k, j->cfg.interior[k]);
+            j->cfg.ninterior = (uint32_t)nint;
         }
     }
-    pl = malloc(sizeof *pl);
-    arena = malloc(o.arena);
-    if (!pl || !arena) { fprintf(stderr, "scan: cannot allocate the %zu-byte arena\n", o.arena); goto done; }
-    st = vp_planner_init(pl, arena, o.arena, &cfg);
+    j->pl = malloc(sizeof *j->pl);
+    j->arena = malloc(j->o.arena);
+    if (!j->pl || !j->arena) { fprintf(stderr, "scan: cannot allocate the %zu-byte arena\n", j->o.arena); return j->rc; }
+    st = vp_planner_init(j->pl, j->arena, j->o.arena, &j->cfg);
     if (st != VP_OK) {
         fprintf(stderr, "scan: planner: %s (%s)\n", vp_strerror(st),
                 st == VP_ENOMEM ? "the arena is too small: --arena" : "check [omega] in the board file");
-        goto done;
+        return j->rc;
     }
     {
-        fprintf(stderr, "scan: board %s (%s)%s%s\n", b.name, b.path, o.dry ? ", dry run on host-sim: " : "",
-                o.dry ? surface : "");
-        fprintf(stderr, "scan: eps %g mm, rangefinder %g..%g mm from %s\n", o.eps, b.tri.min_range, b.tri.max_range,
-                model_source(&b));
-        if (b.calib_missing)
-            fprintf(stderr, "scan: note: the calibration file %s does not exist yet (voroprobe calibrate writes it)\n", b.calib_path);
-        if (o.dry && (vp_surface_components(dev.dr->surf) > 1 || !vp_surface_inside(dev.dr->surf, b.interior)))
+        fprintf(stderr, "scan: board %s (%s)%s%s\n", j->b.name, j->b.path, j->o.dry ? ", dry run on host-sim: " : "",
+                j->o.dry ? j->surface : "");
+        fprintf(stderr, "scan: eps %g mm, rangefinder %g..%g mm from %s\n", j->o.eps, j->b.tri.min_range, j->b.tri.max_range,
+                model_source(&j->b));
+        if (j->b.calib_missing)
+            fprintf(stderr, "scan: note: the calibration file %s does not exist yet (voroprobe calibrate writes it)\n", j->b.calib_path);
+        if (j->o.dry && (vp_surface_components(j->dev.dr->surf) > 1 || !vp_surface_inside(j->dev.dr->surf, j->b.interior)))
             fprintf(stderr, "scan: note: the board's interior point is not inside the simulated object: its own %u "
-                    "interior point(s) are used\n", cfg.ninterior);
+                    "interior point(s) are used\n", j->cfg.ninterior);
     }
+    return -1;
+}
 
-    /* ---- the log: new, or replayed and continued ---- */
-    run.dev = &dev;
-    run.pl = pl;
-    run.quiet = o.quiet;
-    run.hw = !o.dry;
-    run.stop_after = o.stop_after;
-    run.w.raw = &dev.raw;
-    if (o.resume) {
+/* The log: new, or replayed and continued (a complete one only gives its mesh).
+ * -1: go on; else the exit status. */
+static int scan_log_open(scan_job_t *j)
+{
+    char err[1600];
+    char sub[600];
+    char note[VP_LOGFMT_NOTE_MAX + 1];
+    char text[VP_LOGFMT_TEXT_MAX + 1];
+    int st;
+
+    j->run.dev = &j->dev;
+    j->run.pl = j->pl;
+    j->run.quiet = j->o.quiet;
+    j->run.hw = !j->o.dry;
+    j->run.stop_after = j->o.stop_after;
+    j->run.w.raw = &j->dev.raw;
+    if (j->o.resume) {
         vp_replay_t R;
         char why[300];
-        if (!vp_slog_same_config(&L.header.cfg, L.header.arena_bytes, &cfg, (uint64_t)o.arena, why, sizeof why)) {
+        if (!vp_sessionlog_same_config(&j->L.header.cfg, j->L.header.arena_bytes, &j->cfg, (uint64_t)j->o.arena, why, sizeof why)) {
             fprintf(stderr, "scan: %s: the scan configuration is not the logged one (%s): the board file or the "
-                    "calibration changed since\n", o.log, why);
-            goto done;
+                    "calibration changed since\n", j->o.log, why);
+            return j->rc;
         }
-        vp_slog_stop_text(&L, sub, sizeof sub);
-        fprintf(stderr, "resume %s: %s\n", o.log, sub);
-        vp_replay_init_state(&R, pl, &L);
-        st = vp_replay_run(&R, &L, L.n, why, sizeof why);
-        if (st != VP_OK) { fprintf(stderr, "scan: %s: replay failed: %s\n", o.log, why); goto done; }
-        replayed = R.applied;
+        vp_sessionlog_stop_text(&j->L, sub, sizeof sub);
+        fprintf(stderr, "resume %s: %s\n", j->o.log, sub);
+        vp_replay_init_state(&R, j->pl, &j->L);
+        st = vp_replay_run(&R, &j->L, j->L.n, why, sizeof why);
+        if (st != VP_OK) { fprintf(stderr, "scan: %s: replay failed: %s\n", j->o.log, why); return j->rc; }
+        j->replayed = R.applied;
         fprintf(stderr, "resume: %u records replayed (%llu probes, %llu moves)%s\n", R.applied,
-                (unsigned long long)R.probes, (unsigned long long)R.moves, L.done ? "; the session is already complete" : "");
-        if (L.done) {
-            st = write_mesh(pl, prefix, &mesh, err, sizeof err);
-            if (st != VP_OK) { fprintf(stderr, "scan: %s\n", err); goto done; }
-            printf("log: %s (complete; %u records replayed, nothing appended)\n", o.log, replayed);
-            printf("mesh: %u vertices, %u facets\nwrote %s.ply and %s.off\n", (unsigned)mesh.nv, (unsigned)mesh.nt, prefix, prefix);
-            rc = 0;
-            goto done;
+                (unsigned long long)R.probes, (unsigned long long)R.moves, j->L.done ? "; the session is already complete" : "");
+        if (j->L.done) {
+            st = write_mesh(j->pl, j->prefix, &j->mesh, err, sizeof err);
+            if (st != VP_OK) { fprintf(stderr, "scan: %s\n", err); return j->rc; }
+            printf("log: %s (complete; %u records replayed, nothing appended)\n", j->o.log, j->replayed);
+            printf("mesh: %u vertices, %u facets\nwrote %s.ply and %s.off\n", (unsigned)j->mesh.nv, (unsigned)j->mesh.nt, j->prefix, j->prefix);
+            j->rc = 0;
+            return j->rc;
         }
-        st = vp_logfile_open_append_read(&run.w.file, o.log, L.good_bytes, L.n, (uint64_t)L.size, &o.sync);
+        st = vp_logwriter_open_append_read(&j->run.w.file, j->o.log, j->L.good_bytes, j->L.n, (uint64_t)j->L.size, &j->o.sync);
         if (st == VP_OK) {
-            snprintf(text, sizeof text, "resumed after record %d", (int)L.n - 1);
-            st = vp_logfile_event(&run.w.file, VP_LOG_EV_RESUME, 0, text);
+            snprintf(text, sizeof text, "resumed after record %d", (int)j->L.n - 1);
+            st = vp_logwriter_event(&j->run.w.file, VP_LOGFMT_EV_RESUME, 0, text);
         }
     } else {
-        vp_log_header_t h;
-        scan_note(&o, board_path, o.eps, surface, note, sizeof note);
-        vp_log_header_init(&h, &cfg, (uint64_t)o.arena, VP_LOG_UNITS_MM, b.name, note);
-        if (vp_mkdirs_for(o.log) != 0) { fprintf(stderr, "scan: cannot create the folder of %s: %s\n", o.log, strerror(errno)); goto done; }
-        st = vp_logfile_create(&run.w.file, o.log, &h, &o.sync);
+        vp_logfmt_header_t h;
+        scan_note(&j->o, j->board_path, j->o.eps, j->surface, note, sizeof note);
+        vp_logfmt_header_init(&h, &j->cfg, (uint64_t)j->o.arena, VP_LOGFMT_UNITS_MM, j->b.name, note);
+        if (vp_mkdirs_for(j->o.log) != 0) { fprintf(stderr, "scan: cannot create the folder of %s: %s\n", j->o.log, strerror(errno)); return j->rc; }
+        st = vp_logwriter_create(&j->run.w.file, j->o.log, &h, &j->o.sync);
         if (st == VP_OK)
-            st = vp_logfile_event(&run.w.file, VP_LOG_EV_START, 0, o.dry ? "voroprobe scan (dry run on host-sim)" : "voroprobe scan");
+            st = vp_logwriter_event(&j->run.w.file, VP_LOGFMT_EV_START, 0, j->o.dry ? "voroprobe scan (dry run on host-sim)" : "voroprobe scan");
     }
     if (st == VP_OK) {
         /* the rangefinder model in use */
-        vp_log_record_t ev;
-        const vp_tri_model_t *t = &b.tri;
-        snprintf(text, sizeof text, "rangefinder: %.150s; line %.9g %.9g %.9g %.9g", model_source(&b), t->p0[0], t->p0[1],
+        vp_logfmt_record_t ev;
+        const vp_tri_model_t *t = &j->b.tri;
+        snprintf(text, sizeof text, "rangefinder: %.150s; line %.9g %.9g %.9g %.9g", model_source(&j->b), t->p0[0], t->p0[1],
                  t->e[0], t->e[1]);
-        vp_log_record_event(&ev, 0, VP_LOG_EV_CALIBRATION, b.calibrated, text);
+        vp_logfmt_record_event(&ev, 0, VP_LOGFMT_EV_CALIBRATION, j->b.calibrated, text);
         ev.value[0] = t->a; ev.value[1] = t->b; ev.value[2] = t->c; ev.value[3] = t->max_range;
-        st = vp_logfile_append(&run.w.file, &ev);
+        st = vp_logwriter_append(&j->run.w.file, &ev);
     }
     if (st != VP_OK) {
-        if (run.w.file.busy)
+        if (j->run.w.file.busy)
             fprintf(stderr, "scan: log %s is being written by another process: it is left as it is (wait for that "
-                    "scan to end, or give another --log)\n", o.log);
-        else if (run.w.file.changed)
+                    "scan to end, or give another --log)\n", j->o.log);
+        else if (j->run.w.file.changed)
             fprintf(stderr, "scan: log %s was written by another process while it was read: it is left as it is "
-                    "(resume again)\n", o.log);
+                    "(resume again)\n", j->o.log);
         else
-            fprintf(stderr, "scan: cannot write the session log %s: %s\n", o.log, strerror(errno));
-        goto done;
+            fprintf(stderr, "scan: cannot write the session log %s: %s\n", j->o.log, strerror(errno));
+        return j->rc;
     }
-    log_open = 1;
+    j->log_open = 1;
+    return -1;
+}
 
-    /* ---- home, the start, back to where a resumed scan stopped ---- */
+/* Home, the start, back to where a resumed scan stopped.
+ * -1: go on; else the exit status. */
+static int scan_home(scan_job_t *j)
+{
+    char err[1600];
+    char text[VP_LOGFMT_TEXT_MAX + 1];
+    int st;
+
     vp_scan_catch_signals();
-    st = vp_scan_home(&dev, err, sizeof err);
-    if (st == VP_OK) st = vp_scan_goto(&dev, b.start, err, sizeof err);
-    if (st == VP_OK && o.resume) st = vp_scan_return(&dev, &L, L.n, b.start, stderr, err, sizeof err);
-    if (vp_scan_stop && (st == VP_OK || dev.m->step.fault == VP_STEP_FAULT_NONE)) { st = VP_EABORT; run.paused = 1; }
-    if (st != VP_OK && !run.paused) {
+    st = vp_scan_home(&j->dev, err, sizeof err);
+    if (st == VP_OK) st = vp_scan_goto(&j->dev, j->b.start, err, sizeof err);
+    if (st == VP_OK && j->o.resume) st = vp_scan_return(&j->dev, &j->L, j->L.n, j->b.start, stderr, err, sizeof err);
+    if (vp_scan_stop && (st == VP_OK || j->dev.m->step.fault == VP_STEP_FAULT_NONE)) { st = VP_EABORT; j->run.paused = 1; }
+    if (st != VP_OK && !j->run.paused) {
         fprintf(stderr, "scan: %s\n", err);
         snprintf(text, sizeof text, "%.250s", err);
-        vp_logfile_event(&run.w.file, VP_LOG_EV_FAULT, st, text);
+        vp_logwriter_event(&j->run.w.file, VP_LOGFMT_EV_FAULT, st, text);
         fprintf(stderr, "scan: stopped before the scan went on; the log %s is resumable: voroprobe scan --log %s --resume\n",
-                o.log, o.log);
-        goto done;
+                j->o.log, j->o.log);
+        return j->rc;
     }
+    j->st_home = st;
+    return -1;
+}
 
-    /* ---- the scan ---- */
+/* The scan, and the event it ends with (j->rc: its exit status so far).
+ * -1: go on; else the exit status. */
+static int scan_go(scan_job_t *j)
+{
+    char text[VP_LOGFMT_TEXT_MAX + 1];
+    int st = j->st_home;
+    vp_session_result_t res;
+
     if (st == VP_OK) {
-        vp_device_ops_t ops = vp_scan_ops(&dev);
+        vp_device_ops_t ops = vp_scan_ops(&j->dev);
         vp_session_hooks_t hooks;
-        hooks.ctx = &run;
+        hooks.ctx = &j->run;
         hooks.after = scan_after;
-        run.t0 = vp_scan_seconds(&dev);
-        run.wall0 = vp_wall_seconds();
-        run.probes0 = dev.probes;
-        if (!o.quiet) fprintf(stderr, "scan: homed%s; scanning (Ctrl-C stops after the current command)\n", o.resume ? ", back where the log left off" : "");
-        vp_session_run(pl, &ops, &hooks, 0, NULL, &res);
+        j->run.t0 = vp_scan_seconds(&j->dev);
+        j->run.wall0 = vp_rt_seconds();
+        j->run.probes0 = j->dev.probes;
+        if (!j->o.quiet) fprintf(stderr, "scan: homed%s; scanning (Ctrl-C stops after the current command)\n", j->o.resume ? ", back where the log left off" : "");
+        vp_session_run(j->pl, &ops, &hooks, 0, NULL, &res);
         st = res.status;
-        if (!o.quiet) scan_progress(&run, 1);
+        if (!j->o.quiet) scan_progress(&j->run, 1);
     }
-    if (run.w.failed) {
-        fprintf(stderr, "scan: writing the session log %s failed: %s; the scan stopped\n", o.log, strerror(errno));
-    } else if (run.paused) {
-        snprintf(text, sizeof text, "paused after %lu commands (Ctrl-C)", run.n);
-        vp_logfile_event(&run.w.file, VP_LOG_EV_PAUSE, 0, text);
-        fprintf(stderr, "scan: %s; resume with: voroprobe scan --log %s --resume\n", text, o.log);
-        rc = VP_EXIT_STOPPED;
+    if (j->run.w.failed) {
+        fprintf(stderr, "scan: writing the session log %s failed: %s; the scan stopped\n", j->o.log, strerror(errno));
+    } else if (j->run.paused) {
+        snprintf(text, sizeof text, "paused after %lu commands (Ctrl-C)", j->run.n);
+        vp_logwriter_event(&j->run.w.file, VP_LOGFMT_EV_PAUSE, 0, text);
+        fprintf(stderr, "scan: %s; resume with: voroprobe scan --log %s --resume\n", text, j->o.log);
+        j->rc = VP_EXIT_STOPPED;
     } else if (st == VP_OK) {
-        rc = 0;
-    } else if (dev.fault) {
+        j->rc = 0;
+    } else if (j->dev.fault) {
         char why[300];
-        const vp_cmd_t *c = &dev.fault_cmd;
-        vp_scan_fault_text(&dev, why, sizeof why);
+        const vp_cmd_t *c = &j->dev.fault_cmd;
+        vp_scan_fault_text(&j->dev, why, sizeof why);
         if (c->kind == VP_CMD_MOVE)
-            snprintf(text, sizeof text, "command %lu (move to %.6g %.6g %.6g): %.160s", run.n + 1, c->to[0], c->to[1], c->to[2], why);
+            snprintf(text, sizeof text, "command %lu (move to %.6g %.6g %.6g): %.160s", j->run.n + 1, c->to[0], c->to[1], c->to[2], why);
         else
-            snprintf(text, sizeof text, "command %lu (probe from %.6g %.6g %.6g along %.4f %.4f %.4f): %.120s", run.n + 1,
+            snprintf(text, sizeof text, "command %lu (probe from %.6g %.6g %.6g along %.4f %.4f %.4f): %.120s", j->run.n + 1,
                      c->from[0], c->from[1], c->from[2], c->dir[0], c->dir[1], c->dir[2], why);
-        vp_logfile_event(&run.w.file, VP_LOG_EV_FAULT, dev.fault, text);
+        vp_logwriter_event(&j->run.w.file, VP_LOGFMT_EV_FAULT, j->dev.fault, text);
         fprintf(stderr, "scan: stopped at %s\nscan: the log %s is resumable: voroprobe scan --log %s --resume%s\n", text,
-                o.log, o.log, dev.m->step.fault == VP_STEP_FAULT_ESTOP ? " (after releasing the e-stop)" : "");
+                j->o.log, j->o.log, j->dev.m->step.fault == VP_STEP_FAULT_ESTOP ? " (after releasing the e-stop)" : "");
     } else {
         snprintf(text, sizeof text, "planner: %s", st == VP_ERANGE ? "the probe towards an interior point found no "
                  "surface: is [omega] interior inside the object?" : vp_strerror(st));
-        vp_logfile_event(&run.w.file, VP_LOG_EV_FAULT, st, text);
+        vp_logwriter_event(&j->run.w.file, VP_LOGFMT_EV_FAULT, st, text);
         fprintf(stderr, "scan: the scan stopped: %s%s\n", text, st == VP_ENOMEM ? " (the arena is full: --arena)" : "");
-        if (dev.unreadable) {
+        if (j->dev.unreadable) {
             char why[300];
-            vp_scan_unreadable_text(&dev, why, sizeof why);
-            fprintf(stderr, "scan: %lu frame(s) could not be read (%s)%s\n", dev.unreadable, why,
-                    dev.unread_why[0] ? ": a spot off the laser line means the rangefinder model is off: calibrate" : "");
+            vp_scan_unreadable_text(&j->dev, why, sizeof why);
+            fprintf(stderr, "scan: %lu frame(s) could not be read (%s)%s\n", j->dev.unreadable, why,
+                    j->dev.unread_why[0] ? ": a spot off the laser line means the rangefinder model is off: calibrate" : "");
         }
     }
-    vp_logfile_close(&run.w.file);
-    log_open = 0;
-    vp_audit_keep(o.log); /* for an independent proof check (VP_AUDIT_DIR) */
+    vp_logwriter_close(&j->run.w.file);
+    j->log_open = 0;
+    vp_audit_keep(j->o.log); /* for an independent proof check (VP_AUDIT_DIR) */
+    return -1;
+}
 
-    /* ---- the mesh and the figures ---- */
-    st = write_mesh(pl, prefix, &mesh, err, sizeof err);
-    if (st != VP_OK) { fprintf(stderr, "scan: %s\n", err); rc = 1; goto done; }
+/* The mesh and the figures. Returns the exit status. */
+static int scan_report(scan_job_t *j)
+{
+    char err[1600];
+    int st;
+
+    st = write_mesh(j->pl, j->prefix, &j->mesh, err, sizeof err);
+    if (st != VP_OK) { fprintf(stderr, "scan: %s\n", err); j->rc = 1; return j->rc; }
     {
         vp_planner_stats_t ps;
         vp_meshcheck_t mc;
-        vp_machine_t *m = dev.m;
-        int have_mc = vp_meshcheck_analyze(&mesh, &mc) == VP_OK;
-        double mt = vp_scan_seconds(&dev) - run.t0;
-        vp_planner_get_stats(pl, &ps);
-        printf("scan: %s after %lu commands of this run%s\n", rc == 0 ? "DONE" : rc == 3 ? "paused" : "stopped", run.n,
-               o.resume ? " (resumed)" : "");
-        printf("log: %s (%u records replayed + %lu written, %lu syncs)\n", o.log, replayed, run.w.file.records,
-               run.w.file.syncs);
-        printf("mesh: %u vertices, %u facets; %s, %d component(s), genus %d\n", (unsigned)mesh.nv, (unsigned)mesh.nt,
+        vp_machine_t *m = j->dev.m;
+        int have_mc = vp_meshcheck_analyze(&j->mesh, &mc) == VP_OK;
+        double mt = vp_scan_seconds(&j->dev) - j->run.t0;
+        vp_planner_get_stats(j->pl, &ps);
+        printf("scan: %s after %lu commands of this run%s\n", j->rc == 0 ? "DONE" : j->rc == 3 ? "paused" : "stopped", j->run.n,
+               j->o.resume ? " (resumed)" : "");
+        printf("log: %s (%u records replayed + %lu written, %lu syncs)\n", j->o.log, j->replayed, j->run.w.file.records,
+               j->run.w.file.syncs);
+        printf("mesh: %u vertices, %u facets; %s, %d component(s), genus %d\n", (unsigned)j->mesh.nv, (unsigned)j->mesh.nt,
                have_mc && mc.closed_manifold ? "closed 2-manifold" : "NOT closed (yet)", have_mc ? mc.components : -1,
                have_mc ? mc.genus : -1);
         {
             char nh[80] = "", tc[120] = "";
-            if (o.near && dev.near) snprintf(nh, sizeof nh, " (%lu nearer than %g mm, measured)", dev.near, b.tri.min_range);
-            if (dev.too_close)
-                snprintf(tc, sizeof tc, " (%lu nearer than %g mm, %lu unreadable frames)", dev.too_close - dev.unreadable,
-                         b.tri.min_range, dev.unreadable);
+            if (j->o.near && j->dev.near) snprintf(nh, sizeof nh, " (%lu nearer than %g mm, measured)", j->dev.near, j->b.tri.min_range);
+            if (j->dev.too_close)
+                snprintf(tc, sizeof tc, " (%lu nearer than %g mm, %lu unreadable frames)", j->dev.too_close - j->dev.unreadable,
+                         j->b.tri.min_range, j->dev.unreadable);
             printf("machine: %lu probes: %lu hits%s, %lu misses, %lu too close%s; %lu moves, laser origin travel %.0f mm, "
-                   "%.0f s of machine time%s\n", dev.hits + dev.misses + dev.too_close, dev.hits, nh, dev.misses,
-                   dev.too_close, tc, m->st.moves,
-                   m->st.travel, mt, o.dry ? " (simulated)" : "");
+                   "%.0f s of machine time%s\n", j->dev.hits + j->dev.misses + j->dev.too_close, j->dev.hits, nh, j->dev.misses,
+                   j->dev.too_close, tc, m->st.moves,
+                   m->st.travel, mt, j->o.dry ? " (simulated)" : "");
         }
         printf("planner: %llu probes in all, largest ball %.4g mm (eps %g), arena peak %zu bytes\n",
-               (unsigned long long)ps.probes, ps.max_ball, o.eps, ps.arena_peak);
-        if (rc == 0 && have_mc && !mc.closed_manifold) {
+               (unsigned long long)ps.probes, ps.max_ball, j->o.eps, ps.arena_peak);
+        if (j->rc == 0 && have_mc && !mc.closed_manifold) {
             printf("warning: the planner said DONE but the mesh is not closed (%zu boundary edges): the planner leaves open "
                    "what its probes could not see (%llu too-close results%s, %llu Voronoi edges occluded from dOmega)\n",
                    mc.boundary_edges, (unsigned long long)ps.too_close,
-                   o.near || !ps.too_close ? "" : ": --near-spots measure reports near spots as hits",
+                   j->o.near || !ps.too_close ? "" : ": --near-spots measure reports near spots as hits",
                    (unsigned long long)ps.occluded);
-            rc = VP_EXIT_NOT_CLOSED;
+            j->rc = VP_EXIT_NOT_CLOSED;
         }
-        if (rc == 0 && ps.missing_components > 0) {
+        if (j->rc == 0 && ps.missing_components > 0) {
             printf("warning: the planner said DONE but %u interior point(s) are not enclosed by the mesh (H2): "
                    "certify names them\n", ps.missing_components);
-            rc = VP_EXIT_NOT_CLOSED;
+            j->rc = VP_EXIT_NOT_CLOSED;
         }
-        if (o.dry && dev.through > 0) {
+        if (j->o.dry && j->dev.through > 0) {
             printf("SAFETY: %lu moves of this dry run went through the object: on the machine that is a crash "
-                   "into the part (voroprobe log verify %s names the first unproven move)\n", dev.through, o.log);
-            rc = VP_EXIT_COLLISION;
+                   "into the part (voroprobe log verify %s names the first unproven move)\n", j->dev.through, j->o.log);
+            j->rc = VP_EXIT_COLLISION;
         }
-        if (o.dry) {
+        if (j->o.dry) {
             vp_hausdorff_t hd;
             printf("dry run: probe error against the true object rms %.3f mm, worst %.3f mm (%lu hits); %lu false hits, "
                    "%lu hidden spots, %lu moves through the object\n",
-                   dev.true_n ? sqrt(dev.err2 / (double)dev.true_n) : 0.0, dev.err_max, dev.true_n, dev.false_hits,
-                   dev.false_misses, dev.through);
-            if (rc == 0 && mesh.nt > 0 && vp_hausdorff(&mesh, dev.dr->surf, 20000, 7, &hd) == VP_OK)
-                printf("dry run: the mesh is within %.2f mm of the object (Hausdorff), eps %g mm\n", hd.hausdorff, o.eps);
-            printf("dry run: %d frames rendered, %.1f s wall\n", (int)m->st.frames, vp_wall_seconds() - wall0);
+                   j->dev.true_n ? sqrt(j->dev.err2 / (double)j->dev.true_n) : 0.0, j->dev.err_max, j->dev.true_n, j->dev.false_hits,
+                   j->dev.false_misses, j->dev.through);
+            if (j->rc == 0 && j->mesh.nt > 0 && vp_hausdorff(&j->mesh, j->dev.dr->surf, 20000, 7, &hd) == VP_OK)
+                printf("dry run: the mesh is within %.2f mm of the object (Hausdorff), eps %g mm\n", hd.hausdorff, j->o.eps);
+            printf("dry run: %d frames rendered, %.1f s wall\n", (int)m->st.frames, vp_rt_seconds() - j->wall0);
         }
-        printf("wrote %s.ply and %s.off\n", prefix, prefix);
+        printf("wrote %s.ply and %s.off\n", j->prefix, j->prefix);
         if (have_mc) vp_meshcheck_free(&mc);
     }
-done:
-    if (log_open) vp_logfile_close(&run.w.file);
-    if (dev_open) vp_scan_close(&dev);
-    if (have_L) vp_slog_free(&L);
-    vp_mesh_free(&mesh);
-    free(pl);
-    free(arena);
+    return j->rc;
+}
+
+int vp_cli_scan(int argc, char **argv)
+{
+    scan_job_t job, *j = &job;
+    int rc;
+    memset(j, 0, sizeof *j);
+    j->rc = 1;
+    j->wall0 = vp_rt_seconds();
+    if ((rc = scan_parse(j, argc, argv)) >= 0) return rc;
+    rc = scan_options(j);
+    if (rc < 0) rc = scan_board(j);
+    if (rc < 0) rc = scan_prepare(j);
+    if (rc < 0) rc = scan_log_open(j);
+    if (rc < 0) rc = scan_home(j);
+    if (rc < 0) rc = scan_go(j);
+    if (rc < 0) rc = scan_report(j);
+    if (j->log_open) vp_logwriter_close(&j->run.w.file);
+    if (j->dev_open) vp_scan_close(&j->dev);
+    if (j->have_L) vp_sessionlog_free(&j->L);
+    vp_mesh_free(&j->mesh);
+    free(j->pl);
+    free(j->arena);
     return rc;
 }

@@ -16,7 +16,7 @@
 #include "vp_surface.h"
 #include "vp_sim_opts.h"
 #include "vp_sim_setup.h"
-#include "vp_simlog.h"
+#include "vp_sim_session.h"
 
 /* Ctrl-C or SIGTERM: the scan pauses after the current command (a PAUSE event in the log) */
 static volatile sig_atomic_t sim_stop;
@@ -74,41 +74,41 @@ static void sim_usage(FILE *f)
         "%s\n", vp_surface_help());
 }
 
-int vp_cmd_sim(int argc, char **argv)
+int vp_cli_sim(int argc, char **argv)
 {
     vp_sim_options_t o;
     vp_sim_t sim;
-    vp_simlog_t g;
+    vp_sim_session_t g;
     char err[1400];
     int st, i;
     vp_sim_options_default(&o);
-    vp_simlog_init(&g);
+    vp_sim_session_init(&g);
     for (i = 1; i < argc; i++) {
         const char *a = argv[i];
         if (!strcmp(a, "--help") || !strcmp(a, "-h")) { sim_usage(stdout); return 0; }
-        st = vp_simlog_parse_option(&g, argc, argv, &i, err, sizeof err);
+        st = vp_sim_session_parse_option(&g, argc, argv, &i, err, sizeof err);
         if (st == 1) st = vp_sim_parse_option(&o, argc, argv, &i, err, sizeof err);
         if (st == 0) continue;
         if (st < 0) fprintf(stderr, "sim: %s\n", err);
         else fprintf(stderr, "sim: unknown option %s (see --help)\n", a);
         return 2;
     }
-    if (vp_simlog_options(&g, &o, argc, argv, err, sizeof err) != VP_OK) {
+    if (vp_sim_session_options(&g, &o, argc, argv, err, sizeof err) != VP_OK) {
         fprintf(stderr, "sim: %s\n", err);
-        vp_simlog_free(&g);
+        vp_sim_session_free(&g);
         return 1;
     }
     if (!o.surface) { fprintf(stderr, "sim: --surface is required (see --help)\n"); return 2; }
     if (!(o.eps > 0.0) && !(o.eps_rel > 0.0)) { fprintf(stderr, "sim: give --eps or --eps-rel (see --help)\n"); return 2; }
     /* every output path is checked before anything is scanned or written */
-    if (vp_sim_check_out(&o, err, sizeof err) != VP_OK || vp_simlog_set_path(&g, &o, err, sizeof err) != VP_OK) {
+    if (vp_sim_check_out(&o, err, sizeof err) != VP_OK || vp_sim_session_set_path(&g, &o, err, sizeof err) != VP_OK) {
         fprintf(stderr, "sim: %s\n", err);
-        vp_simlog_free(&g);
+        vp_sim_session_free(&g);
         return 2;
     }
     st = vp_sim_open(&sim, &o, err, sizeof err);
-    if (st == VP_OK) st = vp_simlog_begin(&g, &sim, &o, o.quiet ? NULL : stderr, err, sizeof err);
-    if (st != VP_OK) { fprintf(stderr, "sim: %s\n", err); vp_sim_close(&sim); vp_simlog_free(&g); return 1; }
+    if (st == VP_OK) st = vp_sim_session_begin(&g, &sim, &o, o.quiet ? NULL : stderr, err, sizeof err);
+    if (st != VP_OK) { fprintf(stderr, "sim: %s\n", err); vp_sim_close(&sim); vp_sim_session_free(&g); return 1; }
     if (!o.quiet)
         fprintf(stderr, "voroprobe sim: %s, eps %.6g, %d component(s), arena %zu bytes\n",
                 o.surface, sim.cfg.eps, sim.components, o.arena);
@@ -123,12 +123,12 @@ int vp_cmd_sim(int argc, char **argv)
         g.w.stop_flag = &sim_stop;
     }
     st = g.complete ? VP_OK : vp_sim_run(&sim, o.quiet ? NULL : stderr);
-    i = vp_simlog_end(&g, &sim, stderr);
+    i = vp_sim_session_end(&g, &sim, stderr);
     if (g.active) vp_audit_keep(g.path); /* for an independent proof check (VP_AUDIT_DIR) */
-    if (i) { vp_sim_close(&sim); vp_simlog_free(&g); return 1; }
+    if (i) { vp_sim_close(&sim); vp_sim_session_free(&g); return 1; }
     sim.paused = st == VP_EABORT && g.w.stopped;
     if (sim.paused)
-        ; /* paused on purpose: said by vp_simlog_end */
+        ; /* paused on purpose: said by vp_sim_session_end */
     else if (st != VP_OK && st != VP_ENOMEM)
         fprintf(stderr, "sim: the scan stopped: %s\n",
                 st != VP_ERANGE ? vp_strerror(st)
@@ -141,10 +141,10 @@ int vp_cmd_sim(int argc, char **argv)
         fprintf(stderr, "sim: the arena is full (--arena): the mesh so far is written\n");
     st = vp_sim_finish(&sim, &o, err, sizeof err);
     if (st != VP_OK) fprintf(stderr, "sim: %s\n", err);
-    if (!o.quiet || !o.json) vp_simlog_report(&g, stdout);
+    if (!o.quiet || !o.json) vp_sim_session_report(&g, stdout);
     vp_sim_report(&sim, &o, stdout);
     i = st != VP_OK ? VP_EXIT_ERROR : vp_sim_exit(&sim);
     vp_sim_close(&sim);
-    vp_simlog_free(&g);
+    vp_sim_session_free(&g);
     return i;
 }

@@ -7,14 +7,14 @@
 #define VP_VERSION "0.1.0"
 
 static const struct vp_cli_cmd commands[] = {
-    { "sim", vp_cmd_sim, "scan a simulated object (host-sim) and write the mesh" },
-    { "scan", vp_cmd_scan, "scan an object on a board's machine (or --dry-run on host-sim), logged" },
-    { "calibrate", vp_cmd_calibrate, "fit the rangefinder model against a flat target; write the calibration" },
-    { "replay", vp_cmd_replay, "replay a session log through the planner, bit for bit, and mesh it" },
-    { "mesh", vp_cmd_mesh, "the mesh (and probed points) of a session log, complete or not" },
-    { "certify", vp_cmd_certify, "check the papers' hypotheses H1-H3 on a log or mesh, facet by facet" },
-    { "log", vp_cmd_log, "session logs: dump the records, check CRCs and what is recoverable" },
-    { "bench-delaunay", vp_cmd_bench_delaunay, "3D Delaunay of a point set (TetGen .node or generated)" },
+    { "sim", vp_cli_sim, "scan a simulated object (host-sim) and write the mesh" },
+    { "scan", vp_cli_scan, "scan an object on a board's machine (or --dry-run on host-sim), logged" },
+    { "calibrate", vp_cli_calibrate, "fit the rangefinder model against a flat target; write the calibration" },
+    { "replay", vp_cli_replay, "replay a session log through the planner, bit for bit, and mesh it" },
+    { "mesh", vp_cli_mesh, "the mesh (and probed points) of a session log, complete or not" },
+    { "certify", vp_cli_certify, "check the papers' hypotheses H1-H3 on a log or mesh, facet by facet" },
+    { "log", vp_cli_log, "session logs: dump the records, check CRCs and what is recoverable" },
+    { "bench-delaunay", vp_cli_bench_delaunay, "3D Delaunay of a point set (TetGen .node or generated)" },
 };
 
 static void usage(FILE *f)

@@ -3,21 +3,21 @@
 #ifndef VP_CLI_H
 #define VP_CLI_H
 
-typedef int (*vp_cmd_fn)(int argc, char **argv);
+typedef int (*vp_cli_fn)(int argc, char **argv);
 
 struct vp_cli_cmd {
     const char *name;
-    vp_cmd_fn run;
+    vp_cli_fn run;
     const char *summary;
 };
 
-int vp_cmd_bench_delaunay(int argc, char **argv);
-int vp_cmd_sim(int argc, char **argv);
-int vp_cmd_replay(int argc, char **argv);
-int vp_cmd_mesh(int argc, char **argv);
-int vp_cmd_log(int argc, char **argv);
-int vp_cmd_certify(int argc, char **argv);
-int vp_cmd_scan(int argc, char **argv);
-int vp_cmd_calibrate(int argc, char **argv);
+int vp_cli_bench_delaunay(int argc, char **argv);
+int vp_cli_sim(int argc, char **argv);
+int vp_cli_replay(int argc, char **argv);
+int vp_cli_mesh(int argc, char **argv);
+int vp_cli_log(int argc, char **argv);
+int vp_cli_certify(int argc, char **argv);
+int vp_cli_scan(int argc, char **argv);
+int vp_cli_calibrate(int argc, char **argv);
 
 #endif

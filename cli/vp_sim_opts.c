@@ -99,7 +99,7 @@ int vp_sim_parse_option(vp_sim_options_t *o, int argc, char **argv, int *i, char
     return 0;
 }
 
-int vp_simlog_parse_option(vp_simlog_t *g, int argc, char **argv, int *i, char *err, size_t errlen)
+int vp_sim_session_parse_option(vp_sim_session_t *g, int argc, char **argv, int *i, char *err, size_t errlen)
 {
     const char *a = argv[*i], *val = *i + 1 < argc ? argv[*i + 1] : NULL;
     if (!strcmp(a, "--no-log")) { g->no_log = 1; return 0; }
@@ -111,7 +111,7 @@ int vp_simlog_parse_option(vp_simlog_t *g, int argc, char **argv, int *i, char *
     if (!strcmp(a, "--log")) g->log = val;
     else if (!strcmp(a, "--resume")) g->resume = val;
     else if (!strcmp(a, "--sync")) {
-        if (vp_logfile_parse_sync(val, &g->fcfg)) {
+        if (vp_logwriter_parse_sync(val, &g->fcfg)) {
             snprintf(err, errlen, "--sync takes record, close, N (records), Tms or N,Tms; not '%s'", val);
             return -1;
         }
@@ -125,13 +125,13 @@ int vp_simlog_parse_option(vp_simlog_t *g, int argc, char **argv, int *i, char *
     return 0;
 }
 
-int vp_simlog_options(vp_simlog_t *g, vp_sim_options_t *o, int argc, char **argv, char *err,
+int vp_sim_session_options(vp_sim_session_t *g, vp_sim_options_t *o, int argc, char **argv, char *err,
                       size_t errlen)
 {
     char *note = g->note, *tok[128], sub[512];
     int n, i, st, has_out = 0;
     if (!g->resume) return VP_OK;
-    st = vp_slog_load(&g->L, g->resume, err, errlen);
+    st = vp_sessionlog_load(&g->L, g->resume, err, errlen);
     if (st != VP_OK) return st;
     g->have_L = 1;
     memcpy(note, g->L.header.note, sizeof g->note);
@@ -151,10 +151,10 @@ int vp_simlog_options(vp_simlog_t *g, vp_sim_options_t *o, int argc, char **argv
         }
     }
     for (i = 1; i < argc; i++) {
-        vp_simlog_t scratch;
-        vp_simlog_init(&scratch);
+        vp_sim_session_t scratch;
+        vp_sim_session_init(&scratch);
         if (!strcmp(argv[i], "--out")) has_out = 1;
-        if (vp_simlog_parse_option(&scratch, argc, argv, &i, sub, sizeof sub) == 0) continue;
+        if (vp_sim_session_parse_option(&scratch, argc, argv, &i, sub, sizeof sub) == 0) continue;
         if (vp_sim_parse_option(o, argc, argv, &i, sub, sizeof sub) != 0) {
             snprintf(err, errlen, "bad option %s", argv[i]);
             return VP_EINVAL;

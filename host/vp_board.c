@@ -8,7 +8,7 @@
 #include <unistd.h>
 #include "vp_board.h"
 #include "vp_ini.h"
-#include "vp_logfile.h"
+#include "vp_logwriter.h"
 #include "vp_planner.h"
 #include "vp_status.h"
 
@@ -339,8 +339,8 @@ static int vp_board_key(void *user, const char *section, const char *key, const 
             return VP_EINVAL;
         }
         if (!strcmp(key, "log_sync")) {
-            vp_logfile_config_t lc;
-            if (vp_logfile_parse_sync(val, &lc)) {
+            vp_logwriter_config_t lc;
+            if (vp_logwriter_parse_sync(val, &lc)) {
                 snprintf(msg, ml, "expected record, close, N (records), Tms or N,Tms; got '%s'", val);
                 return VP_EINVAL;
             }
@@ -413,14 +413,14 @@ static int vp_board_pins(const vp_bctx_t *c, char *err, size_t el)
     return VP_OK;
 }
 
-static int vp_board_check(vp_bctx_t *c, char *err, size_t el)
+/* Every required section and key is there (with io = gpiod: the pins and the e-stop too). */
+static int vp_board_check_keys(vp_bctx_t *c, char *err, size_t el)
 {
     vp_board_t *b = c->b;
-    vp_kin_t kin;
-    vp_kin_config_t kc;
-    int s, ki, a, rc;
+    const vp_bkey_t *k;
+    int s, ki;
     for (s = 0; s < NSEC; s++) {
-        const vp_bkey_t *k = vp_sec_keys(s);
+        k = vp_sec_keys(s);
         if (!c->secline[s]) {
             if (sec_required[s]) { snprintf(err, el, "%s: missing section [%s]", c->name, sec_name[s]); return VP_EINVAL; }
             if (s == S_ESTOP && b->io == VP_BOARD_IO_GPIOD) {
@@ -436,7 +436,14 @@ static int vp_board_check(vp_bctx_t *c, char *err, size_t el)
                 return VP_EINVAL;
             }
     }
-    /* axes */
+    return VP_OK;
+}
+
+/* The axes: homing speeds and positions, step rates, the pins a driven axis needs. */
+static int vp_board_check_axes(vp_bctx_t *c, char *err, size_t el)
+{
+    vp_board_t *b = c->b;
+    int s, a;
     for (a = 0; a < VP_BOARD_AXES; a++) {
         vp_board_axis_t *x = &b->axis[a];
         vp_step_axis_t *ax = &x->ax;
@@ -465,7 +472,13 @@ static int vp_board_check(vp_bctx_t *c, char *err, size_t el)
         if (!b->estop.chip[0]) return vp_bad(c, S_ESTOP, "pin", err, el, "a board that drives motors needs an e-stop input");
         VP_TRY(vp_board_pins(c, err, el));
     }
-    /* head and camera */
+    return VP_OK;
+}
+
+/* The camera: focal length, centre and aim; the camera as mounted on the simulated head. */
+static int vp_board_check_camera(vp_bctx_t *c, char *err, size_t el)
+{
+    vp_board_t *b = c->b;
     if (!b->cam_model.fx || !b->cam_model.fy) return vp_bad(c, S_CAMERA, NULL, err, el, "missing key 'focal_px' (or fx and fy)");
     if (!vp_seen(c, S_CAMERA, "center")) {
         b->cam_model.cx = (b->cam_model.width - 1) / 2.0;
@@ -481,7 +494,14 @@ static int vp_board_check(vp_bctx_t *c, char *err, size_t el)
     if (vp_camera_look_at(&b->sim_cam, b->sim_cam_look, b->up) != VP_OK)
         return vp_bad(c, S_SIM, vp_seen(c, S_SIM, "camera_look_at") ? "camera_look_at" : "camera_position", err, el,
                       "the camera must not look along 'up' nor at its own position");
-    /* rangefinder */
+    return VP_OK;
+}
+
+/* The rangefinder: its range, and its model from a calibration or from the camera geometry. */
+static int vp_board_check_range(vp_bctx_t *c, char *err, size_t el)
+{
+    vp_board_t *b = c->b;
+    int rc;
     if (!(b->min_range < b->max_range)) return vp_bad(c, S_RANGE, "max_range", err, el, "must be above min_range (%g)", b->min_range);
     if (!!vp_seen(c, S_RANGE, "line") != !!vp_seen(c, S_RANGE, "model"))
         return vp_bad(c, S_RANGE, vp_seen(c, S_RANGE, "line") ? "line" : "model", err, el, "a calibration needs both line and model");
@@ -503,7 +523,13 @@ static int vp_board_check(vp_bctx_t *c, char *err, size_t el)
             return vp_bad(c, S_CAMERA, "look_at", err, el, "the beam is in view only from %.0f to %.0f mm", b->tri.min_range, b->tri.max_range);
         b->calibrated = 0;
     }
-    /* the calibration fixture */
+    return VP_OK;
+}
+
+/* The calibration fixture ([calibrate]): stations within the rangefinder's range. */
+static int vp_board_check_fixture(vp_bctx_t *c, char *err, size_t el)
+{
+    vp_board_t *b = c->b;
     if (c->secline[S_CALIB]) {
         b->have_fixture = 1;
         if (!vp_seen(c, S_CALIB, "near")) b->cal_near = 1.5 * b->min_range;
@@ -517,7 +543,16 @@ static int vp_board_check(vp_bctx_t *c, char *err, size_t el)
         if (b->cal_stations * b->cal_frames > 256)
             return vp_bad(c, S_CALIB, "frames", err, el, "stations x frames is %d, at most 256", b->cal_stations * b->cal_frames);
     }
-    /* Omega and the start, within reach of the head in any orientation */
+    return VP_OK;
+}
+
+/* Omega and the start, within reach of the head in any orientation (the planner's detours round
+ * Omega included). */
+static int vp_board_check_omega(vp_bctx_t *c, char *err, size_t el)
+{
+    vp_board_t *b = c->b;
+    vp_kin_t kin;
+    vp_kin_config_t kc;
     if (!vp_seen(c, S_OMEGA, "box") == !vp_seen(c, S_OMEGA, "ball"))
         return vp_bad(c, S_OMEGA, vp_seen(c, S_OMEGA, "box") ? "ball" : NULL, err, el, "give exactly one of box and ball");
     vp_board_kin_config(b, &kc);
@@ -576,6 +611,17 @@ static int vp_board_check(vp_bctx_t *c, char *err, size_t el)
         }
     }
     return VP_OK;
+}
+
+/* A loaded board, checked part by part; defaults filled in. */
+static int vp_board_check(vp_bctx_t *c, char *err, size_t el)
+{
+    VP_TRY(vp_board_check_keys(c, err, el));
+    VP_TRY(vp_board_check_axes(c, err, el));
+    VP_TRY(vp_board_check_camera(c, err, el));
+    VP_TRY(vp_board_check_range(c, err, el));
+    VP_TRY(vp_board_check_fixture(c, err, el));
+    return vp_board_check_omega(c, err, el);
 }
 
 static void vp_board_defaults(vp_board_t *b)

@@ -37,7 +37,7 @@ typedef struct vp_board {
     char name[64];
     char path[VP_BOARD_PATH_MAX];        /* the board file (a longer path is refused) */
     int io;                              /* VP_BOARD_IO_*: gpiod needs pins and an e-stop */
-    char log_sync[32];                   /* session log sync policy (vp_logfile_parse_sync; "" default) */
+    char log_sync[32];                   /* session log sync policy (vp_logwriter_parse_sync; "" default) */
     vp_board_axis_t axis[VP_BOARD_AXES]; /* x y z pan tilt (index = vp_kin joint) */
     vp_gpio_pin_t estop, laser;
     /* [timing] */

@@ -131,7 +131,7 @@ static int add_entry(vp_logverify_t *v, uint64_t key, uint32_t probe)
     return VP_OK;
 }
 
-int vp_logverify_begin(vp_logverify_t *v, const vp_log_header_t *h)
+int vp_logverify_begin(vp_logverify_t *v, const vp_logfmt_header_t *h)
 {
     const vp_planner_config_t *c = &h->cfg;
     int k;
@@ -374,7 +374,7 @@ static void lerp(const double *p, const double *q, double s, double *x)
     for (k = 0; k < 3; k++) x[k] = p[k] + s * (q[k] - p[k]);
 }
 
-static int check_move(vp_logverify_t *v, const vp_log_record_t *r)
+static int check_move(vp_logverify_t *v, const vp_logfmt_record_t *r)
 {
     vp_logverify_result_t *R = &v->res;
     double p[3], q[3], pr[3], qr[3], len, gap, g0 = 0.0, g1 = 0.0;
@@ -419,7 +419,7 @@ static int check_move(vp_logverify_t *v, const vp_log_record_t *r)
     return VP_OK;
 }
 
-static int add_probe(vp_logverify_t *v, const vp_log_record_t *r)
+static int add_probe(vp_logverify_t *v, const vp_logfmt_record_t *r)
 {
     vp_logverify_result_t *R = &v->res;
     vp_lv_probe_t *P;
@@ -484,11 +484,11 @@ static int add_probe(vp_logverify_t *v, const vp_log_record_t *r)
     return VP_OK;
 }
 
-int vp_logverify_add(vp_logverify_t *v, const vp_log_record_t *r)
+int vp_logverify_add(vp_logverify_t *v, const vp_logfmt_record_t *r)
 {
     int st = VP_OK;
-    if (r->type == VP_LOG_MOVE) st = check_move(v, r);
-    else if (r->type == VP_LOG_PROBE) st = add_probe(v, r);
+    if (r->type == VP_LOGFMT_MOVE) st = check_move(v, r);
+    else if (r->type == VP_LOGFMT_PROBE) st = add_probe(v, r);
     else v->res.events++;   /* START, PAUSE, RESUME, FAULT, DONE, ...: the device stays */
     if (st != VP_OK) return st;
     v->index++;
@@ -508,7 +508,7 @@ void vp_logverify_end(vp_logverify_t *v, vp_logverify_result_t *res)
     memset(v, 0, sizeof *v);
 }
 
-int vp_logverify_run(const vp_log_header_t *h, const vp_log_record_t *records, size_t n,
+int vp_logverify_run(const vp_logfmt_header_t *h, const vp_logfmt_record_t *records, size_t n,
                      vp_logverify_result_t *res)
 {
     vp_logverify_t *v = malloc(sizeof *v);

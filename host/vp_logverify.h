@@ -25,7 +25,7 @@
 
 #include <stddef.h>
 #include <stdint.h>
-#include "vp_log.h"
+#include "vp_logfmt.h"
 
 /* Geometric tolerance, relative to Omega's diameter: a move end within tol of a probe's line
  * is on it, and a move may leave up to tol of its length uncovered (rounding of the planner's
@@ -91,14 +91,14 @@ typedef struct vp_logverify {
 } vp_logverify_t;
 
 /* VP_OK; VP_EINVAL when the header's Omega is unusable (not finite, empty). */
-int  vp_logverify_begin(vp_logverify_t *v, const vp_log_header_t *h);
+int  vp_logverify_begin(vp_logverify_t *v, const vp_logfmt_header_t *h);
 /* One record, in log order. VP_OK or VP_ENOMEM (the state stays valid; end still frees). */
-int  vp_logverify_add(vp_logverify_t *v, const vp_log_record_t *r);
+int  vp_logverify_add(vp_logverify_t *v, const vp_logfmt_record_t *r);
 /* The result; frees the state. */
 void vp_logverify_end(vp_logverify_t *v, vp_logverify_result_t *res);
 
 /* All at once: header and records[0..n). VP_OK, VP_EINVAL, VP_ENOMEM. */
-int  vp_logverify_run(const vp_log_header_t *h, const vp_log_record_t *records, size_t n,
+int  vp_logverify_run(const vp_logfmt_header_t *h, const vp_logfmt_record_t *records, size_t n,
                       vp_logverify_result_t *res);
 
 #endif

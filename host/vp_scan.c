@@ -5,9 +5,11 @@
 #include <string.h>
 #include "vp_cam.h"
 #include "vp_rtclock.h"
+#include "vp_rng.h"
 #include "vp_scan.h"
 #include "vp_status.h"
 #include "vp_surface.h"
+#include "vp_vec3.h"
 
 volatile sig_atomic_t vp_scan_stop;
 
@@ -189,18 +191,23 @@ void vp_scan_fault_text(const vp_scan_dev_t *d, char *buf, size_t n)
     else snprintf(buf, n, "%s", vp_strerror(st));
 }
 
+/* A machine fault (st) while d was homing or moving on its own: kept in d->fault and said in
+ * err as "WHAT: the fault". Returns st. */
+static int vp_scan_failed(vp_scan_dev_t *d, int st, const char *what, char *err, size_t errlen)
+{
+    char t[200];
+    d->fault = st;
+    vp_scan_fault_text(d, t, sizeof t);
+    snprintf(err, errlen, "%s: %s", what, t);
+    return st;
+}
+
 int vp_scan_home(vp_scan_dev_t *d, char *err, size_t errlen)
 {
     vp_machine_t *m = d->m;
     double j[VP_KIN_JOINTS];
     int a, st = vp_machine_home(m);
-    if (st != VP_OK) {
-        char t[200];
-        d->fault = st;
-        vp_scan_fault_text(d, t, sizeof t);
-        snprintf(err, errlen, "homing failed: %s", t);
-        return st;
-    }
+    if (st != VP_OK) return vp_scan_failed(d, st, "homing failed", err, errlen);
     /* axes without a switch: take up the backlash in a fixed direction (down unless that leaves
      * travel), so the carriage sits the same way after every homing */
     for (a = 0; a < VP_KIN_JOINTS; a++) {
@@ -217,11 +224,9 @@ int vp_scan_home(vp_scan_dev_t *d, char *err, size_t errlen)
         }
         vp_step_position(&m->step, m->j);
         if (st != VP_OK) {
-            char t[200];
-            d->fault = st;
-            vp_scan_fault_text(d, t, sizeof t);
-            snprintf(err, errlen, "taking up the backlash of axis %s failed: %s", vp_axis_name[a], t);
-            return st;
+            char what[80];
+            snprintf(what, sizeof what, "taking up the backlash of axis %s failed", vp_axis_name[a]);
+            return vp_scan_failed(d, st, what, err, errlen);
         }
     }
     return VP_OK;
@@ -231,10 +236,9 @@ int vp_scan_goto(vp_scan_dev_t *d, const double p[3], char *err, size_t errlen)
 {
     int st = vp_machine_goto(d->m, p);
     if (st != VP_OK) {
-        char t[200];
-        d->fault = st;
-        vp_scan_fault_text(d, t, sizeof t);
-        snprintf(err, errlen, "moving to %.6g %.6g %.6g: %s", p[0], p[1], p[2], t);
+        char what[100];
+        snprintf(what, sizeof what, "moving to %.6g %.6g %.6g", p[0], p[1], p[2]);
+        return vp_scan_failed(d, st, what, err, errlen);
     }
     return st;
 }
@@ -257,14 +261,6 @@ void vp_scan_close(vp_scan_dev_t *d)
 }
 
 /* ---------- executing the planner's commands ---------- */
-
-static uint64_t vp_scan_mix(uint64_t x)
-{
-    x += 0x9E3779B97F4A7C15ull;
-    x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
-    x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
-    return x ^ (x >> 31);
-}
 
 static void vp_scan_trip(vp_scan_dev_t *d)
 {
@@ -293,37 +289,18 @@ static int vp_scan_dev_probe(void *ctx, const vp_cmd_t *cmd, vp_probe_result_t *
     vp_scan_dev_t *d = ctx;
     vp_machine_t *m = d->m;
     unsigned long near0 = m->st.near;
+    vp_reading_t kind;
     int st;
     vp_scan_trip(d);
-    if (d->dry) vp_camsim_seed(d->dr->cs, vp_scan_mix(d->seed ^ vp_scan_mix(d->probes)));
+    if (d->dry) vp_camsim_seed(d->dr->cs, vp_mix64(d->seed ^ vp_mix64(d->probes)));
     st = vp_machine_exec(m, cmd, res);
     if (st != VP_OK) { d->fault = st; d->fault_cmd = *cmd; return st; }
     d->probes++;
-    d->raw = NAN;
-    if (m->last.spot.result == VP_SPOT_FOUND)
-        d->raw = (m->last.spot.u - m->tri.p0[0]) * m->tri.e[0] + (m->last.spot.v - m->tri.p0[1]) * m->tri.e[1];
-    /* Only "no spot", or a spot beyond the range asked, is a miss: free space. A spot nearer
-     * than min_range is VP_PROBE_TOO_CLOSE (or, with near_measure, a hit at the model's
-     * extrapolated distance, as vp_machine gives it). A frame that cannot be read (a blob too
-     * big for a spot, as a surface at the lens gives; several spots; a spot off the laser line)
-     * or a spot below the model's valid span proves nothing free: VP_PROBE_TOO_CLOSE too. */
-    {
-        const vp_tri_model_t *t = &m->tri;
-        int r = m->last.spot.result, unreadable = 0;
-        if (r == VP_SPOT_FOUND && res->hit && m->st.near != near0) {
-            d->near++;
-            if (!d->near_measure) res->hit = VP_PROBE_TOO_CLOSE;
-        } else if (r == VP_SPOT_FOUND && !res->hit) {
-            double dd = vp_tri_eval(t, d->raw, NULL), sfar = vp_tri_s(t, t->max_range);
-            int beyond = d->raw >= sfar || (dd >= t->min_range && dd > cmd->range);
-            if (!beyond) unreadable = 1;
-        } else if (r != VP_SPOT_FOUND && r != VP_SPOT_NONE) unreadable = 1;
-        if (unreadable) {
-            res->hit = VP_PROBE_TOO_CLOSE;
-            d->unreadable++;
-            d->unread_why[r == VP_SPOT_OFF_LINE ? 0 : r == VP_SPOT_TOO_BIG ? 1 : r == VP_SPOT_SEVERAL ? 2 : 3]++;
-        }
-        if (res->hit == VP_PROBE_TOO_CLOSE) res->dist = 0;
+    kind = vp_machine_reading(m, cmd, m->st.near != near0, d->near_measure, res, &d->raw);
+    if (kind == VP_READING_NEAR) d->near++;
+    if (kind >= VP_READING_OFF_LINE) {
+        d->unreadable++;
+        d->unread_why[kind - VP_READING_OFF_LINE]++;
     }
     if (res->hit == VP_PROBE_TOO_CLOSE) d->too_close++;
     else if (res->hit) d->hits++;
@@ -364,15 +341,10 @@ static int vp_pt_cmp(const void *x, const void *y)
     return a->i < b->i ? -1 : a->i > b->i;
 }
 
-static double vp_dist(const double a[3], const double b[3])
-{
-    return sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) + (a[2] - b[2]) * (a[2] - b[2]));
-}
-
 static int vp_outside(const vp_planner_config_t *c, const double p[3])
 {
     int k;
-    if (c->omega_kind == VP_OMEGA_BALL) return vp_dist(p, c->omega_center) >= c->omega_radius;
+    if (c->omega_kind == VP_OMEGA_BALL) return vp_dist3(p, c->omega_center) >= c->omega_radius;
     for (k = 0; k < 3; k++)
         if (p[k] <= c->omega_lo[k] || p[k] >= c->omega_hi[k]) return 1;
     return 0;
@@ -425,12 +397,12 @@ static double vp_sphere_way(const double o[3], double rs, const double a[3], con
             double t = (double)i / n, w[3], r = ra + (rb - ra) * 0.5 * (half + t), q = 0;
             for (k = 0; k < 3; k++) { w[k] = (1 - t) * u0[k] + t * u1[k]; q += w[k] * w[k]; }
             for (k = 0; k < 3; k++) w[k] = o[k] + r * w[k] / sqrt(q);
-            len += vp_dist(prev, w);
+            len += vp_dist3(prev, w);
             if (W && *nw < cap) memcpy(W[(*nw)++], w, sizeof w);
             memcpy(prev, w, sizeof prev);
         }
     }
-    len += vp_dist(prev, b);
+    len += vp_dist3(prev, b);
     if (W && *nw < cap) memcpy(W[(*nw)++], b, sizeof prev);
     return len;
 }
@@ -490,7 +462,7 @@ static long vp_scan_route(const vp_planner_config_t *cfg, const double (*P)[3], 
         if (k0 > dist[u]) continue;
         for (q = deg[u]; q < deg[u + 1]; q++) {
             uint32_t w = adj[q];
-            double nd = dist[u] + vp_dist(P[rep[u]], P[rep[w]]);
+            double nd = dist[u] + vp_dist3(P[rep[u]], P[rep[w]]);
             if (nd < dist[w] && nh < 2 * n) {
                 dist[w] = nd;
                 prev[w] = u;
@@ -530,7 +502,7 @@ static void vp_units(const vp_step_t *s, const int32_t *pos, double *u)
     for (i = 0; i < s->cfg.naxes; i++) u[i] = pos[i] / s->cfg.axis[i].steps_per_unit;
 }
 
-int vp_scan_return(vp_scan_dev_t *d, const vp_slog_t *L, uint32_t n, const double start[3], FILE *msg,
+int vp_scan_return(vp_scan_dev_t *d, const vp_sessionlog_t *L, uint32_t n, const double start[3], FILE *msg,
                    char *err, size_t errlen)
 {
     vp_machine_t *m = d->m;
@@ -546,14 +518,14 @@ int vp_scan_return(vp_scan_dev_t *d, const vp_slog_t *L, uint32_t n, const doubl
     memcpy(pos, m->step.pos, sizeof pos);
     /* the joints the session had after each logged command, as the step generator rounds them */
     for (i = 0; i < n && i < L->n; i++) {
-        vp_log_record_t rec;
-        if (vp_slog_record(L, i, &rec) != VP_OK) { st = VP_ECORRUPT; break; }
-        if (rec.type == VP_LOG_EVENT) continue;
+        vp_logfmt_record_t rec;
+        if (vp_sessionlog_record(L, i, &rec) != VP_OK) { st = VP_ECORRUPT; break; }
+        if (rec.type == VP_LOGFMT_EVENT) continue;
         vp_units(&m->step, pos, u);
-        if (rec.type == VP_LOG_MOVE) {
+        if (rec.type == VP_LOGFMT_MOVE) {
             st = vp_kin_move(&m->kin, u, rec.target, t);
             if (st == VP_OK && np <= L->moves) {
-                travel += vp_dist(P[np - 1], rec.target);
+                travel += vp_dist3(P[np - 1], rec.target);
                 memcpy(P[np++], rec.target, sizeof P[0]);
             }
         } else {
@@ -562,7 +534,7 @@ int vp_scan_return(vp_scan_dev_t *d, const vp_slog_t *L, uint32_t n, const doubl
         }
         if (st != VP_OK) {
             snprintf(err, errlen, "record %u: the logged %s is out of this board's travel", i,
-                     rec.type == VP_LOG_MOVE ? "move" : "probe");
+                     rec.type == VP_LOGFMT_MOVE ? "move" : "probe");
             break;
         }
         for (a = 0; a < VP_KIN_JOINTS; a++) pos[a] = vp_step_to_steps(&m->step, a, t[a]);
@@ -593,13 +565,7 @@ int vp_scan_return(vp_scan_dev_t *d, const vp_slog_t *L, uint32_t n, const doubl
     w = vp_kin_aim_path(&m->kin, m->j, t, m->way, VP_MACHINE_MAX_WAY);
     st = w < 0 ? w : vp_step_move_path(&m->step, &m->way[0][0], w);
     vp_step_position(&m->step, m->j);
-    if (st != VP_OK) {
-        char tx[200];
-        d->fault = st;
-        vp_scan_fault_text(d, tx, sizeof tx);
-        snprintf(err, errlen, "turning the head back: %s", tx);
-        return st;
-    }
+    if (st != VP_OK) return vp_scan_failed(d, st, "turning the head back", err, errlen);
     for (a = 0; a < VP_KIN_JOINTS; a++)
         if (m->step.pos[a] != pos[a]) {
             snprintf(err, errlen, "axis %s is at step %ld, not at step %ld where the log left it", vp_axis_name[a],

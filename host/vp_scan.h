@@ -16,7 +16,7 @@
 #include "vp_gpiod.h"
 #include "vp_machine.h"
 #include "vp_session.h"
-#include "vp_slog.h"
+#include "vp_sessionlog.h"
 
 typedef struct vp_scan_dev {
     vp_board_t board;
@@ -67,7 +67,7 @@ vp_device_ops_t vp_scan_ops(vp_scan_dev_t *d);
 /* After a resume's replay (first n records of L), from the planner's start (the machine homed
  * and at cfg.start): back along the logged moves (shortest route through them: every segment
  * was proven free), then the joints the log left, step for step. msg: notes (may be NULL). */
-int  vp_scan_return(vp_scan_dev_t *d, const vp_slog_t *L, uint32_t n, const double start[3], FILE *msg,
+int  vp_scan_return(vp_scan_dev_t *d, const vp_sessionlog_t *L, uint32_t n, const double start[3], FILE *msg,
                     char *err, size_t errlen);
 /* Why the last command failed, in words (e-stop, limit switch, camera, travel). */
 void vp_scan_fault_text(const vp_scan_dev_t *d, char *buf, size_t n);

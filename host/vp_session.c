@@ -1,23 +1,8 @@
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
+#include "vp_rtclock.h"
+#include "vp_run.h"
 #include "vp_session.h"
-
-double vp_cpu_seconds(void)
-{
-    /* the scan is one thread that never sleeps: monotonic time inside the planner calls is its
-     * CPU time, and reading it costs no system call */
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
-double vp_wall_seconds(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
 
 static void progress_line(FILE *f, const vp_planner_t *pl, int final)
 {
@@ -29,54 +14,62 @@ static void progress_line(FILE *f, const vp_planner_t *pl, int final)
     fflush(f);
 }
 
+int vp_progress_due(double *next_report)
+{
+    double now = vp_rt_seconds();
+    if (now <= *next_report) return 0;
+    *next_report = now + 0.5;
+    return 1;
+}
+
+typedef struct vp_session_run_ctx {
+    const vp_session_hooks_t *hooks;
+    FILE *progress;
+    double next_report;
+} vp_session_run_ctx_t;
+
+static int vp_session_after(void *ctx, const vp_cmd_t *cmd, const vp_probe_result_t *res)
+{
+    const vp_session_hooks_t *h = ((vp_session_run_ctx_t *)ctx)->hooks;
+    return h && h->after ? h->after(h->ctx, cmd, res) : VP_OK;
+}
+
+/* the scan is one thread that never sleeps: monotonic time inside the planner calls is its
+ * CPU time, and reading it costs no system call */
+static double vp_session_clock(void *ctx)
+{
+    (void)ctx;
+    return vp_rt_seconds();
+}
+
+static void vp_session_progress(void *ctx, const vp_planner_t *pl, unsigned long commands)
+{
+    vp_session_run_ctx_t *c = ctx;
+    if (c->progress && (commands & 1023u) == 0 && vp_progress_due(&c->next_report)) progress_line(c->progress, pl, 0);
+}
+
 int vp_session_run(vp_planner_t *pl, const vp_device_ops_t *dev, const vp_session_hooks_t *hooks,
                    unsigned long max_commands, FILE *progress, vp_session_result_t *out)
 {
-    double w0 = vp_wall_seconds(), next_report = w0 + 0.5, cpu = 0.0;
-    unsigned long n = 0;
-    int st = VP_OK;
-    memset(out, 0, sizeof *out);
-    for (;;) {
-        vp_cmd_t cmd;
-        vp_probe_result_t res;
-        double c0 = vp_cpu_seconds();
-        int collided = 0;
-        st = vp_planner_next(pl, &cmd);
-        cpu += vp_cpu_seconds() - c0;
-        if (st != VP_OK) break;
-        if (cmd.kind == VP_CMD_DONE) {
-            if (hooks && hooks->after) st = hooks->after(hooks->ctx, &cmd, NULL);
-            break;
-        }
-        if (cmd.kind == VP_CMD_MOVE) {
-            st = dev->move(dev->ctx, &cmd, &collided);
-            out->collisions += collided != 0;
-            if (st == VP_OK && hooks && hooks->after) st = hooks->after(hooks->ctx, &cmd, NULL);
-            if (st != VP_OK) break;
-        } else {
-            int hst = VP_OK;
-            st = dev->probe(dev->ctx, &cmd, &res);
-            if (st != VP_OK) break;
-            /* the measurement is logged before the planner judges it: nothing measured is lost,
-             * even when the planner then stops (a replay stops at the same record) */
-            if (hooks && hooks->after) hst = hooks->after(hooks->ctx, &cmd, &res);
-            c0 = vp_cpu_seconds();
-            st = vp_planner_feed(pl, &res);
-            cpu += vp_cpu_seconds() - c0;
-            if (st == VP_OK) st = hst;
-            if (st != VP_OK) break;
-        }
-        if (max_commands && ++n >= max_commands) break;
-        if (progress && (n & 1023u) == 0 && vp_wall_seconds() > next_report) {
-            progress_line(progress, pl, 0);
-            next_report = vp_wall_seconds() + 0.5;
-        }
-    }
+    double w0 = vp_rt_seconds();
+    vp_session_run_ctx_t c;
+    vp_run_hooks_t rh;
+    vp_run_result_t r;
+    c.hooks = hooks;
+    c.progress = progress;
+    c.next_report = w0 + 0.5;
+    rh.ctx = &c;
+    rh.after = vp_session_after;
+    rh.clock = vp_session_clock;
+    rh.progress = vp_session_progress;
+    vp_run(pl, dev, &rh, max_commands, &r);
     if (progress) progress_line(progress, pl, 1);
-    out->status = st;
-    out->planner_seconds = cpu;
-    out->total_seconds = vp_wall_seconds() - w0;
-    return st;
+    memset(out, 0, sizeof *out);
+    out->status = r.status;
+    out->collisions = r.collisions;
+    out->planner_seconds = r.planner_seconds;
+    out->total_seconds = vp_rt_seconds() - w0;
+    return r.status;
 }
 
 int vp_session_mesh(const vp_planner_t *pl, vp_mesh_t *m)

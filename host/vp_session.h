@@ -1,20 +1,12 @@
-/* vp_session — the scan loop on a host: planner <-> device, with progress, timing and hooks.
- * The device is anything that can execute MOVE and PROBE (host-sim, a real machine through
- * port/, or a logged session being replayed). */
+/* vp_session — the scan loop (core/vp_run) on a host: with a clock for the timing, a progress
+ * line and the session log's hook. The device (core/vp_device.h) is anything that can execute
+ * MOVE and PROBE (host-sim, a real machine through port/, or a logged session being replayed). */
 #ifndef VP_SESSION_H
 #define VP_SESSION_H
 #include <stdio.h>
-#include "vp_planner.h"
+#include "vp_device.h"
 #include "vp_meshio.h"
-
-typedef struct vp_device_ops {
-    void *ctx;
-    /* executes a straight move; *collided (may be ignored) reports a collision seen by a
-     * simulator. Returns VP_OK or an error (the scan stops). */
-    int (*move)(void *ctx, const vp_cmd_t *cmd, int *collided);
-    /* executes a probe; fills res. */
-    int (*probe)(void *ctx, const vp_cmd_t *cmd, vp_probe_result_t *res);
-} vp_device_ops_t;
+#include "vp_planner.h"
 
 typedef struct vp_session_hooks {
     void *ctx;
@@ -35,15 +27,16 @@ typedef struct vp_session_result {
 int vp_session_run(vp_planner_t *pl, const vp_device_ops_t *dev, const vp_session_hooks_t *hooks,
                    unsigned long max_commands, FILE *progress, vp_session_result_t *out);
 
+/* Progress lines are printed at most twice a second: 1 when one is due (*next_report then moves
+ * half a second on), else 0. *next_report starts at 0 (the first is due at once) or a time of
+ * vp_rt_seconds(). */
+int vp_progress_due(double *next_report);
+
 /* The planner's restricted facets as a mesh (used vertices only, in triangulation order,
  * faces oriented outward). */
 int vp_session_mesh(const vp_planner_t *pl, vp_mesh_t *m);
 
 /* Orients each connected component of m consistently and outward (positive volume). */
 int vp_mesh_orient(vp_mesh_t *m);
-
-/* CPU seconds of this process, wall seconds (monotonic). */
-double vp_cpu_seconds(void);
-double vp_wall_seconds(void);
 
 #endif

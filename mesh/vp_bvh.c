@@ -5,6 +5,7 @@
 #include <string.h>
 #include "vp_bvh.h"
 #include "vp_status.h"
+#include "vp_vec3.h"
 
 #define VP_BVH_LEAF 4
 #define VP_BVH_BINS 16
@@ -24,14 +25,6 @@ struct vp_bvh {
     size_t nt;
 };
 
-static double vp_dot(const double a[3], const double b[3]) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
-static void vp_sub(const double a[3], const double b[3], double r[3]) { r[0] = a[0] - b[0]; r[1] = a[1] - b[1]; r[2] = a[2] - b[2]; }
-static void vp_cross(const double a[3], const double b[3], double r[3])
-{
-    r[0] = a[1] * b[2] - a[2] * b[1];
-    r[1] = a[2] * b[0] - a[0] * b[2];
-    r[2] = a[0] * b[1] - a[1] * b[0];
-}
 static double vp_clamp01(double x) { return x < 0 ? 0 : x > 1 ? 1 : x; }
 
 /* ---------- build ---------- */
@@ -239,21 +232,21 @@ static double vp_ray_box(const vp_bvh_node_t *nd, const double o[3], const doubl
 static double vp_ray_tri(const double o[3], const double d[3], const double *v, double *bary, double *detp)
 {
     double e1[3], e2[3], pv[3], tv[3], qv[3], det, inv, u, w;
-    vp_sub(v + 3, v, e1);
-    vp_sub(v + 6, v, e2);
-    vp_cross(d, e2, pv);
-    det = vp_dot(e1, pv);
+    vp_sub3(e1, v + 3, v);
+    vp_sub3(e2, v + 6, v);
+    vp_cross3(pv, d, e2);
+    det = vp_dot3(e1, pv);
     if (detp) *detp = det;
     if (det == 0) return DBL_MAX;
     inv = 1.0 / det;
-    vp_sub(o, v, tv);
-    u = vp_dot(tv, pv) * inv;
+    vp_sub3(tv, o, v);
+    u = vp_dot3(tv, pv) * inv;
     if (u < -VP_EDGE_TOL || u > 1 + VP_EDGE_TOL) return DBL_MAX;
-    vp_cross(tv, e1, qv);
-    w = vp_dot(d, qv) * inv;
+    vp_cross3(qv, tv, e1);
+    w = vp_dot3(d, qv) * inv;
     if (w < -VP_EDGE_TOL || u + w > 1 + VP_EDGE_TOL) return DBL_MAX;
     if (bary) { bary[0] = u; bary[1] = w; }
-    return vp_dot(e2, qv) * inv;
+    return vp_dot3(e2, qv) * inv;
 }
 
 int vp_bvh_ray(const vp_bvh_t *b, const double o[3], const double d[3], double tmin, double tmax,
@@ -319,8 +312,8 @@ static long vp_bvh_parity(const vp_bvh_t *b, const double p[3], const double d[3
                 if (th < 1e-300 || bary[0] < 1e-9 || bary[1] < 1e-9 || bary[0] + bary[1] > 1 - 1e-9) return -1;
                 {
                     double e1[3], e2[3], n[3], nn;
-                    vp_sub(v + 3, v, e1); vp_sub(v + 6, v, e2); vp_cross(e1, e2, n);
-                    nn = sqrt(vp_dot(n, n));
+                    vp_sub3(e1, v + 3, v); vp_sub3(e2, v + 6, v); vp_cross3(n, e1, e2);
+                    nn = sqrt(vp_dot3(n, n));
                     if (fabs(det) < 1e-9 * nn) return -1;   /* grazing */
                 }
                 count++;
@@ -362,11 +355,11 @@ double vp_tri_closest(const double p[3], const double a[3], const double b[3], c
 {
     double ab[3], ac[3], ap[3], bp[3], cp[3], d1, d2, d3, d4, d5, d6, va, vb, vc, v, w, den;
     int k;
-    vp_sub(b, a, ab); vp_sub(c, a, ac); vp_sub(p, a, ap);
-    d1 = vp_dot(ab, ap); d2 = vp_dot(ac, ap);
+    vp_sub3(ab, b, a); vp_sub3(ac, c, a); vp_sub3(ap, p, a);
+    d1 = vp_dot3(ab, ap); d2 = vp_dot3(ac, ap);
     if (d1 <= 0 && d2 <= 0) { memcpy(q, a, 3 * sizeof(double)); goto done; }
-    vp_sub(p, b, bp);
-    d3 = vp_dot(ab, bp); d4 = vp_dot(ac, bp);
+    vp_sub3(bp, p, b);
+    d3 = vp_dot3(ab, bp); d4 = vp_dot3(ac, bp);
     if (d3 >= 0 && d4 <= d3) { memcpy(q, b, 3 * sizeof(double)); goto done; }
     vc = d1 * d4 - d3 * d2;
     if (vc <= 0 && d1 >= 0 && d3 <= 0) {
@@ -374,8 +367,8 @@ double vp_tri_closest(const double p[3], const double a[3], const double b[3], c
         for (k = 0; k < 3; k++) q[k] = a[k] + v * ab[k];
         goto done;
     }
-    vp_sub(p, c, cp);
-    d5 = vp_dot(ab, cp); d6 = vp_dot(ac, cp);
+    vp_sub3(cp, p, c);
+    d5 = vp_dot3(ab, cp); d6 = vp_dot3(ac, cp);
     if (d6 >= 0 && d5 <= d6) { memcpy(q, c, 3 * sizeof(double)); goto done; }
     vb = d5 * d2 - d1 * d6;
     if (vb <= 0 && d2 >= 0 && d6 <= 0) {
@@ -396,12 +389,12 @@ double vp_tri_closest(const double p[3], const double a[3], const double b[3], c
         for (k = 0; k < 3; k++) {
             double ed[3], pe[3], s, l2;
             int j;
-            vp_sub(e[k][1], e[k][0], ed); vp_sub(p, e[k][0], pe);
-            l2 = vp_dot(ed, ed);
-            s = l2 > 0 ? vp_clamp01(vp_dot(pe, ed) / l2) : 0;
+            vp_sub3(ed, e[k][1], e[k][0]); vp_sub3(pe, p, e[k][0]);
+            l2 = vp_dot3(ed, ed);
+            s = l2 > 0 ? vp_clamp01(vp_dot3(pe, ed) / l2) : 0;
             for (j = 0; j < 3; j++) qa[j] = e[k][0][j] + s * ed[j];
-            vp_sub(p, qa, pe);
-            dd = vp_dot(pe, pe);
+            vp_sub3(pe, p, qa);
+            dd = vp_dot3(pe, pe);
             if (dd < best) { best = dd; memcpy(q, qa, sizeof qa); }
         }
         return best;
@@ -411,8 +404,8 @@ double vp_tri_closest(const double p[3], const double a[3], const double b[3], c
 done:
     {
         double dq[3];
-        vp_sub(p, q, dq);
-        return vp_dot(dq, dq);
+        vp_sub3(dq, p, q);
+        return vp_dot3(dq, dq);
     }
 }
 
@@ -462,15 +455,15 @@ static double vp_seg_seg_dist2(const double p1[3], const double q1[3], const dou
 {
     double d1[3], d2[3], r[3], a, e, f, s, t, c1[3], c2[3], dd[3];
     int k;
-    vp_sub(q1, p1, d1); vp_sub(q2, p2, d2); vp_sub(p1, p2, r);
-    a = vp_dot(d1, d1); e = vp_dot(d2, d2); f = vp_dot(d2, r);
-    if (a <= 0 && e <= 0) return vp_dot(r, r);
+    vp_sub3(d1, q1, p1); vp_sub3(d2, q2, p2); vp_sub3(r, p1, p2);
+    a = vp_dot3(d1, d1); e = vp_dot3(d2, d2); f = vp_dot3(d2, r);
+    if (a <= 0 && e <= 0) return vp_dot3(r, r);
     if (a <= 0) { s = 0; t = vp_clamp01(f / e); }
     else {
-        double c = vp_dot(d1, r);
+        double c = vp_dot3(d1, r);
         if (e <= 0) { t = 0; s = vp_clamp01(-c / a); }
         else {
-            double bb = vp_dot(d1, d2), den = a * e - bb * bb;
+            double bb = vp_dot3(d1, d2), den = a * e - bb * bb;
             s = den > 0 ? vp_clamp01((bb * f - c * e) / den) : 0;
             t = (bb * s + f) / e;
             if (t < 0) { t = 0; s = vp_clamp01(-c / a); }
@@ -478,15 +471,15 @@ static double vp_seg_seg_dist2(const double p1[3], const double q1[3], const dou
         }
     }
     for (k = 0; k < 3; k++) { c1[k] = p1[k] + d1[k] * s; c2[k] = p2[k] + d2[k] * t; }
-    vp_sub(c1, c2, dd);
-    return vp_dot(dd, dd);
+    vp_sub3(dd, c1, c2);
+    return vp_dot3(dd, dd);
 }
 
 double vp_seg_tri_dist2(const double a[3], const double c[3], const double v0[3], const double v1[3], const double v2[3])
 {
     double d[3], tv[9], best, q[3], x;
     double th;
-    vp_sub(c, a, d);
+    vp_sub3(d, c, a);
     memcpy(tv, v0, 3 * sizeof(double)); memcpy(tv + 3, v1, 3 * sizeof(double)); memcpy(tv + 6, v2, 3 * sizeof(double));
     th = vp_ray_tri(a, d, tv, NULL, NULL);
     if (th >= 0 && th <= 1) return 0;
@@ -520,7 +513,7 @@ int vp_bvh_segment_near(const vp_bvh_t *b, const double a[3], const double c[3],
     uint32_t stack[VP_BVH_MAXDEPTH + 8];
     int sp = 0, k;
     double d[3], inv[3], r2 = r * r;
-    vp_sub(c, a, d);
+    vp_sub3(d, c, a);
     for (k = 0; k < 3; k++) inv[k] = 1.0 / d[k];
     stack[sp++] = 0;
     while (sp > 0) {

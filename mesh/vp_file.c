@@ -1,4 +1,5 @@
 /* vp_file — see vp_file.h. */
+#include <stdarg.h>
 #include <errno.h>
 #include <fcntl.h>
 #include <stdlib.h>
@@ -126,4 +127,13 @@ int vp_file_find_nul(const unsigned char *p, size_t n, unsigned long *line)
     for (q = p; q < z; q++) l += *q == '\n';
     *line = l;
     return 1;
+}
+
+void vp_seterr(char *err, size_t errlen, const char *fmt, ...)
+{
+    va_list ap;
+    if (!err || !errlen) return;
+    va_start(ap, fmt);
+    vsnprintf(err, errlen, fmt, ap);
+    va_end(ap);
 }

@@ -28,4 +28,11 @@ int vp_file_read(const char *path, unsigned long long max, const char *what, vp_
 /* Where the first NUL byte of p[0..n) is: 1 and its 1-based line in *line, else 0. */
 int vp_file_find_nul(const unsigned char *p, size_t n, unsigned long *line);
 
+/* snprintf into err (NULL or errlen 0: nothing): the one way a reader above the core says why. */
+void vp_seterr(char *err, size_t errlen, const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 3, 4)))
+#endif
+    ;
+
 #endif

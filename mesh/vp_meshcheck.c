@@ -77,45 +77,31 @@ static int vp_link_ok(const uint32_t *link, size_t nlink, uint32_t *ids, uint32_
     return roots == 1 && (ends == 0 || ends == 2);
 }
 
-int vp_meshcheck_analyze(const vp_mesh_t *m, vp_meshcheck_t *r)
-{
-    size_t nt = m->nt, nv = m->nv, f, i, j, ne;
-    vp_dedge_t *de = NULL;
-    uint32_t *fpar = NULL, *vstart = NULL, *vfaces = NULL, *vpar = NULL, *stamp = NULL, *scratch = NULL;
-    uint32_t *link = NULL, *compmap = NULL;
-    unsigned char *bad_vertex = NULL, *bad_face = NULL;
-    size_t maxdeg = 0;
-    int st = VP_ENOMEM, c;
-    memset(r, 0, sizeof *r);
-    r->nv = nv; r->nt = nt;
-    r->min_angle_deg = 180;
-    for (i = 0; i < 3 * nt; i++) if (m->tri[i] >= nv) return VP_EINVAL;
-    if (nv > UINT32_MAX - 1 || nt > UINT32_MAX / 3) return VP_ERANGE;
-    de = malloc((3 * nt + 1) * sizeof *de);
-    fpar = malloc((nt + 1) * sizeof *fpar);
-    vstart = calloc(nv + 1, sizeof *vstart);
-    vfaces = malloc((3 * nt + 1) * sizeof *vfaces);
-    vpar = malloc((nv + 1) * sizeof *vpar);
-    stamp = malloc((nv + 1) * sizeof *stamp);
-    bad_vertex = calloc(nv + 1, 1);
-    bad_face = calloc(nt + 1, 1);
-    r->comp_of_face = malloc((nt + 1) * sizeof(int));
-    compmap = malloc((nt + 1) * sizeof *compmap);
-    if (!de || !fpar || !vstart || !vfaces || !vpar || !stamp || !bad_vertex || !bad_face || !r->comp_of_face || !compmap) goto done;
+/* What vp_meshcheck_analyze's parts share: the mesh, directed edges sorted by vertex pair,
+ * face and vertex union-find parents, vertex -> faces (CSR), and the faces and vertices found
+ * degenerate or non-manifold. */
+typedef struct vp_mc_ws {
+    vp_dedge_t *de;
+    uint32_t *fpar, *vstart, *vfaces, *vpar, *stamp, *compmap;
+    unsigned char *bad_vertex, *bad_face;
+} vp_mc_ws_t;
 
-    /* Faces: degenerate ones, angles, directed edges. */
+/* Faces: degenerate ones, the smallest angle, the directed edges (sorted); vertex degrees. */
+static void vp_mc_faces(const vp_mesh_t *m, vp_mc_ws_t *w, vp_meshcheck_t *r)
+{
+    size_t nt = m->nt, f, j;
     for (f = 0; f < nt; f++) {
         const uint32_t *t = m->tri + 3 * f;
         const double *a, *b, *cc;
-        fpar[f] = (uint32_t)f;
+        w->fpar[f] = (uint32_t)f;
         vp_tri_vec(m, f, &a, &b, &cc);
-        if (t[0] == t[1] || t[1] == t[2] || t[2] == t[0]) bad_face[f] = 1;
+        if (t[0] == t[1] || t[1] == t[2] || t[2] == t[0]) w->bad_face[f] = 1;
         else {
             double u[3], v[3], n[3];
             int k;
             for (k = 0; k < 3; k++) { u[k] = b[k] - a[k]; v[k] = cc[k] - a[k]; }
             n[0] = u[1] * v[2] - u[2] * v[1]; n[1] = u[2] * v[0] - u[0] * v[2]; n[2] = u[0] * v[1] - u[1] * v[0];
-            if (n[0] == 0 && n[1] == 0 && n[2] == 0) bad_face[f] = 1;
+            if (n[0] == 0 && n[1] == 0 && n[2] == 0) w->bad_face[f] = 1;
             else {
                 double a0 = vp_angle(a, b, cc), a1 = vp_angle(b, cc, a), a2 = vp_angle(cc, a, b), mn;
                 mn = a0 < a1 ? a0 : a1;
@@ -124,85 +110,106 @@ int vp_meshcheck_analyze(const vp_mesh_t *m, vp_meshcheck_t *r)
                 if (mn < r->min_angle_deg) r->min_angle_deg = mn;
             }
         }
-        if (bad_face[f]) r->degenerate_faces++;
+        if (w->bad_face[f]) r->degenerate_faces++;
         for (j = 0; j < 3; j++) {
             uint32_t u = t[j], v = t[(j + 1) % 3];
-            vp_dedge_t *e = &de[3 * f + j];
+            vp_dedge_t *e = &w->de[3 * f + j];
             e->lo = u < v ? u : v; e->hi = u < v ? v : u;
             e->face = (uint32_t)f; e->forward = u < v;
-            vstart[t[j]]++;
+            w->vstart[t[j]]++;
         }
     }
     if (nt == 0) r->min_angle_deg = 0;
-    qsort(de, 3 * nt, sizeof *de, vp_dedge_cmp);
+    qsort(w->de, 3 * nt, sizeof *w->de, vp_dedge_cmp);
 
-    /* Edges: group the directed copies. */
+}
+
+/* Edges (boundary, misoriented, non-manifold) and the components joined across them. */
+static int vp_mc_edges(const vp_mesh_t *m, vp_mc_ws_t *w, vp_meshcheck_t *r)
+{
+    size_t nt = m->nt, f, i, j, ne;
+    int c;
     for (i = 0; i < 3 * nt; i = j) {
         size_t cnt;
-        for (j = i + 1; j < 3 * nt && de[j].lo == de[i].lo && de[j].hi == de[i].hi; j++) {}
+        for (j = i + 1; j < 3 * nt && w->de[j].lo == w->de[i].lo && w->de[j].hi == w->de[i].hi; j++) {}
         cnt = j - i;
         r->edges++;
-        if (de[i].lo == de[i].hi) continue;   /* from a degenerate face */
+        if (w->de[i].lo == w->de[i].hi) continue;   /* from a degenerate face */
         if (cnt == 1) r->boundary_edges++;
-        else if (cnt == 2) { if (de[i].forward == de[i + 1].forward) r->misoriented_edges++; }
+        else if (cnt == 2) { if (w->de[i].forward == w->de[i + 1].forward) r->misoriented_edges++; }
         else {
             r->nonmanifold_edges++;
-            bad_vertex[de[i].lo] = bad_vertex[de[i].hi] = 1;
+            w->bad_vertex[w->de[i].lo] = w->bad_vertex[w->de[i].hi] = 1;
         }
-        for (ne = i + 1; ne < j; ne++) vp_uf_join(fpar, de[i].face, de[ne].face);
+        for (ne = i + 1; ne < j; ne++) vp_uf_join(w->fpar, w->de[i].face, w->de[ne].face);
     }
 
     /* Components, numbered in order of their first face. */
-    for (f = 0; f < nt; f++) compmap[f] = UINT32_MAX;
+    for (f = 0; f < nt; f++) w->compmap[f] = UINT32_MAX;
     r->components = 0;
     for (f = 0; f < nt; f++) {
-        uint32_t root = vp_uf_find(fpar, (uint32_t)f);
-        if (compmap[root] == UINT32_MAX) compmap[root] = (uint32_t)r->components++;
-        r->comp_of_face[f] = (int)compmap[root];
+        uint32_t root = vp_uf_find(w->fpar, (uint32_t)f);
+        if (w->compmap[root] == UINT32_MAX) w->compmap[root] = (uint32_t)r->components++;
+        r->comp_of_face[f] = (int)w->compmap[root];
     }
     r->comp = calloc((size_t)r->components + 1, sizeof *r->comp);
-    if (!r->comp) goto done;
+    if (!r->comp) return VP_ENOMEM;
     for (c = 0; c < r->components; c++) r->comp[c].manifold = 1;
 
-    /* Vertex -> faces (CSR) and vertex links. */
+    return VP_OK;
+}
+
+/* Vertex -> faces (CSR) and each vertex's link: one cycle (or a path on the boundary). */
+static int vp_mc_links(const vp_mesh_t *m, vp_mc_ws_t *w, vp_meshcheck_t *r)
+{
+    size_t nt = m->nt, nv = m->nv, f, i, j, maxdeg = 0;
+    uint32_t *link = NULL, *scratch = NULL;
     {
         size_t acc = 0;
         for (i = 0; i < nv; i++) {
-            size_t d = vstart[i];
-            vstart[i] = (uint32_t)acc;
+            size_t d = w->vstart[i];
+            w->vstart[i] = (uint32_t)acc;
             acc += d;
             if (d > maxdeg) maxdeg = d;
         }
-        vstart[nv] = (uint32_t)acc;
+        w->vstart[nv] = (uint32_t)acc;
     }
     {
         uint32_t *fill = malloc((nv + 1) * sizeof *fill);
-        if (!fill) goto done;
-        memcpy(fill, vstart, (nv + 1) * sizeof *fill);
+        if (!fill) return VP_ENOMEM;
+        memcpy(fill, w->vstart, (nv + 1) * sizeof *fill);
         for (f = 0; f < nt; f++)
-            for (j = 0; j < 3; j++) vfaces[fill[m->tri[3 * f + j]]++] = (uint32_t)f;
+            for (j = 0; j < 3; j++) w->vfaces[fill[m->tri[3 * f + j]]++] = (uint32_t)f;
         free(fill);
     }
     link = malloc((2 * maxdeg + 2) * sizeof *link);
     scratch = malloc((6 * maxdeg + 6) * sizeof *scratch);
-    if (!link || !scratch) goto done;
+    if (!link || !scratch) { free(link); free(scratch); return VP_ENOMEM; }
     for (i = 0; i < nv; i++) {
         size_t nl = 0, k;
-        if (vstart[i + 1] == vstart[i]) { r->unused_vertices++; continue; }
-        for (k = vstart[i]; k < vstart[i + 1]; k++) {
-            const uint32_t *t = m->tri + 3 * (size_t)vfaces[k];
+        if (w->vstart[i + 1] == w->vstart[i]) { r->unused_vertices++; continue; }
+        for (k = w->vstart[i]; k < w->vstart[i + 1]; k++) {
+            const uint32_t *t = m->tri + 3 * (size_t)w->vfaces[k];
             int at = t[0] == i ? 0 : t[1] == i ? 1 : 2;
-            if (bad_face[vfaces[k]]) { bad_vertex[i] = 1; continue; }
+            if (w->bad_face[w->vfaces[k]]) { w->bad_vertex[i] = 1; continue; }
             link[2 * nl] = t[(at + 1) % 3];
             link[2 * nl + 1] = t[(at + 2) % 3];
             nl++;
         }
-        if (!bad_vertex[i] && !vp_link_ok(link, nl, scratch, scratch + 2 * maxdeg + 2, scratch + 4 * maxdeg + 4))
-            bad_vertex[i] = 1;
-        if (bad_vertex[i]) r->nonmanifold_vertices++;
+        if (!w->bad_vertex[i] && !vp_link_ok(link, nl, scratch, scratch + 2 * maxdeg + 2, scratch + 4 * maxdeg + 4))
+            w->bad_vertex[i] = 1;
+        if (w->bad_vertex[i]) r->nonmanifold_vertices++;
     }
+    free(link);
+    free(scratch);
+    return VP_OK;
+}
 
-    /* Per component: faces, vertices, edges, boundary, area, volume, manifoldness. */
+/* Per component: faces, vertices, edges, boundary edges and loops, area, volume, manifoldness. */
+static int vp_mc_components(const vp_mesh_t *m, vp_mc_ws_t *w, vp_meshcheck_t *r)
+{
+    size_t nt = m->nt, nv = m->nv, f, i, j;
+    int c;
     for (f = 0; f < nt; f++) {
         vp_mesh_component_t *cp = &r->comp[r->comp_of_face[f]];
         const double *a, *b, *cc;
@@ -215,20 +222,20 @@ int vp_meshcheck_analyze(const vp_mesh_t *m, vp_meshcheck_t *r)
         cp->area += 0.5 * sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
         cp->volume += (a[0] * (b[1] * cc[2] - b[2] * cc[1]) - a[1] * (b[0] * cc[2] - b[2] * cc[0]) +
                        a[2] * (b[0] * cc[1] - b[1] * cc[0])) / 6.0;
-        if (bad_face[f]) cp->manifold = 0;
+        if (w->bad_face[f]) cp->manifold = 0;
     }
-    for (i = 0; i < nv; i++) { stamp[i] = UINT32_MAX; vpar[i] = (uint32_t)i; }
+    for (i = 0; i < nv; i++) { w->stamp[i] = UINT32_MAX; w->vpar[i] = (uint32_t)i; }
     for (f = 0; f < nt; f++) {
         uint32_t cid = (uint32_t)r->comp_of_face[f];
         for (j = 0; j < 3; j++) {
             uint32_t v = m->tri[3 * f + j];
-            if (bad_vertex[v]) r->comp[cid].manifold = 0;
+            if (w->bad_vertex[v]) r->comp[cid].manifold = 0;
         }
     }
     /* vertices per component: a vertex counts once for each component it touches */
     {
         size_t *order = malloc((nt + 1) * sizeof *order), *cstart = calloc((size_t)r->components + 1, sizeof *cstart);
-        if (!order || !cstart) { free(order); free(cstart); goto done; }
+        if (!order || !cstart) { free(order); free(cstart); return VP_ENOMEM; }
         for (f = 0; f < nt; f++) cstart[r->comp_of_face[f] + 1]++;
         for (c = 0; c < r->components; c++) cstart[c + 1] += cstart[c];
         for (f = 0; f < nt; f++) order[cstart[r->comp_of_face[f]]++] = f;
@@ -237,7 +244,7 @@ int vp_meshcheck_analyze(const vp_mesh_t *m, vp_meshcheck_t *r)
             uint32_t cid = (uint32_t)r->comp_of_face[ff];
             for (j = 0; j < 3; j++) {
                 uint32_t v = m->tri[3 * ff + j];
-                if (stamp[v] != cid) { stamp[v] = cid; r->comp[cid].vertices++; }
+                if (w->stamp[v] != cid) { w->stamp[v] = cid; r->comp[cid].vertices++; }
             }
         }
         free(order); free(cstart);
@@ -245,24 +252,32 @@ int vp_meshcheck_analyze(const vp_mesh_t *m, vp_meshcheck_t *r)
     for (i = 0; i < 3 * nt; i = j) {
         size_t cnt;
         vp_mesh_component_t *cp;
-        for (j = i + 1; j < 3 * nt && de[j].lo == de[i].lo && de[j].hi == de[i].hi; j++) {}
+        for (j = i + 1; j < 3 * nt && w->de[j].lo == w->de[i].lo && w->de[j].hi == w->de[i].hi; j++) {}
         cnt = j - i;
-        cp = &r->comp[r->comp_of_face[de[i].face]];
+        cp = &r->comp[r->comp_of_face[w->de[i].face]];
         cp->edges++;
-        if (de[i].lo == de[i].hi) continue;
-        if (cnt == 1) { cp->boundary_edges++; vp_uf_join(vpar, de[i].lo, de[i].hi); }
-        else if (cnt > 2 || de[i].forward == de[i + 1].forward) cp->manifold = cnt > 2 ? 0 : cp->manifold;
-        if (cnt == 2 && de[i].forward == de[i + 1].forward) cp->genus = -2;   /* marks "misoriented" for now */
+        if (w->de[i].lo == w->de[i].hi) continue;
+        if (cnt == 1) { cp->boundary_edges++; vp_uf_join(w->vpar, w->de[i].lo, w->de[i].hi); }
+        else if (cnt > 2 || w->de[i].forward == w->de[i + 1].forward) cp->manifold = cnt > 2 ? 0 : cp->manifold;
+        if (cnt == 2 && w->de[i].forward == w->de[i + 1].forward) cp->genus = -2;   /* marks "misoriented" for now */
     }
     /* boundary loops: components of the boundary-edge graph */
-    for (i = 0; i < nv; i++) stamp[i] = 0;
+    for (i = 0; i < nv; i++) w->stamp[i] = 0;
     for (i = 0; i < 3 * nt; i = j) {
-        for (j = i + 1; j < 3 * nt && de[j].lo == de[i].lo && de[j].hi == de[i].hi; j++) {}
-        if (j - i == 1 && de[i].lo != de[i].hi) {
-            uint32_t root = vp_uf_find(vpar, de[i].lo);
-            if (!stamp[root]) { stamp[root] = 1; r->comp[r->comp_of_face[de[i].face]].boundary_loops++; }
+        for (j = i + 1; j < 3 * nt && w->de[j].lo == w->de[i].lo && w->de[j].hi == w->de[i].hi; j++) {}
+        if (j - i == 1 && w->de[i].lo != w->de[i].hi) {
+            uint32_t root = vp_uf_find(w->vpar, w->de[i].lo);
+            if (!w->stamp[root]) { w->stamp[root] = 1; r->comp[r->comp_of_face[w->de[i].face]].boundary_loops++; }
         }
     }
+    return VP_OK;
+}
+
+/* Euler characteristic, genus, closed / oriented / outward, over the components. */
+static void vp_mc_totals(const vp_mesh_t *m, vp_meshcheck_t *r)
+{
+    size_t nt = m->nt, nv = m->nv;
+    int c;
     r->euler = 0;
     r->genus = 0;
     for (c = 0; c < r->components; c++) {
@@ -287,10 +302,39 @@ int vp_meshcheck_analyze(const vp_mesh_t *m, vp_meshcheck_t *r)
     r->oriented = r->misoriented_edges == 0 && r->nonmanifold_edges == 0;
     r->outward = r->closed_manifold && r->oriented;
     for (c = 0; c < r->components; c++) if (!(r->comp[c].volume > 0)) r->outward = 0;
-    st = VP_OK;
-done:
-    free(de); free(fpar); free(vstart); free(vfaces); free(vpar); free(stamp); free(scratch);
-    free(link); free(compmap); free(bad_vertex); free(bad_face);
+}
+
+int vp_meshcheck_analyze(const vp_mesh_t *m, vp_meshcheck_t *r)
+{
+    size_t nt = m->nt, nv = m->nv, i;
+    vp_mc_ws_t ws, *w = &ws;
+    int st = VP_ENOMEM;
+    memset(r, 0, sizeof *r);
+    memset(w, 0, sizeof *w);
+    r->nv = nv; r->nt = nt;
+    r->min_angle_deg = 180;
+    for (i = 0; i < 3 * nt; i++) if (m->tri[i] >= nv) return VP_EINVAL;
+    if (nv > UINT32_MAX - 1 || nt > UINT32_MAX / 3) return VP_ERANGE;
+    w->de = malloc((3 * nt + 1) * sizeof *w->de);
+    w->fpar = malloc((nt + 1) * sizeof *w->fpar);
+    w->vstart = calloc(nv + 1, sizeof *w->vstart);
+    w->vfaces = malloc((3 * nt + 1) * sizeof *w->vfaces);
+    w->vpar = malloc((nv + 1) * sizeof *w->vpar);
+    w->stamp = malloc((nv + 1) * sizeof *w->stamp);
+    w->bad_vertex = calloc(nv + 1, 1);
+    w->bad_face = calloc(nt + 1, 1);
+    r->comp_of_face = malloc((nt + 1) * sizeof(int));
+    w->compmap = malloc((nt + 1) * sizeof *w->compmap);
+    if (w->de && w->fpar && w->vstart && w->vfaces && w->vpar && w->stamp && w->bad_vertex && w->bad_face &&
+        r->comp_of_face && w->compmap) {
+        vp_mc_faces(m, w, r);
+        st = vp_mc_edges(m, w, r);
+        if (st == VP_OK) st = vp_mc_links(m, w, r);
+        if (st == VP_OK) st = vp_mc_components(m, w, r);
+        if (st == VP_OK) vp_mc_totals(m, r);
+    }
+    free(w->de); free(w->fpar); free(w->vstart); free(w->vfaces); free(w->vpar); free(w->stamp);
+    free(w->compmap); free(w->bad_vertex); free(w->bad_face);
     if (st < 0) vp_meshcheck_free(r);
     return st;
 }

@@ -12,15 +12,6 @@
 
 /* ---------- small helpers ---------- */
 
-static void vp_seterr(char *err, size_t errlen, const char *fmt, ...)
-{
-    va_list ap;
-    if (!err || !errlen) return;
-    va_start(ap, fmt);
-    vsnprintf(err, errlen, fmt, ap);
-    va_end(ap);
-}
-
 void vp_mesh_init(vp_mesh_t *m)
 {
     m->xyz = NULL; m->tri = NULL; m->nv = 0; m->nt = 0;
@@ -480,35 +471,26 @@ static int vp_ply_header_line(const unsigned char *p, size_t len, size_t *pos, c
     return 1;
 }
 
-int vp_mesh_read_ply_buf(const void *buf, size_t len, vp_mesh_t *out, char *err, size_t errlen)
+/* The PLY header: its elements and properties into el[*nel], the format (0 ascii, 1 binary
+ * little-endian, 2 big-endian), *pos and *line_no just after it; each element's count checked
+ * against the bytes left, an ASCII body checked for NUL bytes. VP_OK or VP_ECORRUPT (err). */
+static int vp_ply_header(const unsigned char *p, size_t len, size_t *pos_io, size_t *line_io, vp_ply_elem_t *el,
+                         int *nel_out, int *format_out, char *err, size_t errlen)
 {
-    const unsigned char *p = buf;
-    vp_ply_elem_t *el = NULL;
-    int nel = 0, format = -1, st = VP_ECORRUPT, have_end = 0;
-    size_t pos = 0, line_no = 0;
-    char line[512], where[64];
-    double *xyz = NULL;
-    size_t nv = 0;
-    vp_trilist_t tl = { NULL, 0, 0 };
-    vp_ply_in_t in;
-    int e;
-    unsigned long long i;
-
-    if (!buf || !out) return VP_EINVAL;
-    el = calloc(VP_PLY_MAX_ELEM, sizeof *el);
-    if (!el) return VP_ENOMEM;
-    /* Header. */
+    int nel = 0, format = -1, have_end = 0, e;
+    size_t pos = *pos_io, line_no = *line_io;
+    char line[512];
     for (;;) {
         char *words[8];
         int nw = 0, k;
         char *s;
         k = vp_ply_header_line(p, len, &pos, line, sizeof line);
         line_no++;
-        if (k == 0) { vp_seterr(err, errlen, "line %lu: header ends before 'end_header'", (unsigned long)line_no); goto fail; }
-        if (k == -2) { vp_seterr(err, errlen, "line %lu: a NUL byte inside the header (a damaged file)", (unsigned long)line_no); goto fail; }
-        if (k < 0) { vp_seterr(err, errlen, "line %lu: header line too long", (unsigned long)line_no); goto fail; }
+        if (k == 0) { vp_seterr(err, errlen, "line %lu: header ends before 'end_header'", (unsigned long)line_no); return VP_ECORRUPT; }
+        if (k == -2) { vp_seterr(err, errlen, "line %lu: a NUL byte inside the header (a damaged file)", (unsigned long)line_no); return VP_ECORRUPT; }
+        if (k < 0) { vp_seterr(err, errlen, "line %lu: header line too long", (unsigned long)line_no); return VP_ECORRUPT; }
         if (line_no == 1) {
-            if (strcmp(line, "ply")) { vp_seterr(err, errlen, "line 1: not a PLY file (expected 'ply')"); goto fail; }
+            if (strcmp(line, "ply")) { vp_seterr(err, errlen, "line 1: not a PLY file (expected 'ply')"); return VP_ECORRUPT; }
             continue;
         }
         for (s = line; *s && nw < 8;) {
@@ -521,20 +503,20 @@ int vp_mesh_read_ply_buf(const void *buf, size_t len, vp_mesh_t *out, char *err,
         if (!strcmp(words[0], "comment") || !strcmp(words[0], "obj_info")) continue;
         if (!strcmp(words[0], "end_header")) { have_end = 1; break; }
         if (!strcmp(words[0], "format")) {
-            if (nw != 3 || strcmp(words[2], "1.0")) { vp_seterr(err, errlen, "line %lu: bad format line", (unsigned long)line_no); goto fail; }
+            if (nw != 3 || strcmp(words[2], "1.0")) { vp_seterr(err, errlen, "line %lu: bad format line", (unsigned long)line_no); return VP_ECORRUPT; }
             if (!strcmp(words[1], "ascii")) format = 0;
             else if (!strcmp(words[1], "binary_little_endian")) format = 1;
             else if (!strcmp(words[1], "binary_big_endian")) format = 2;
-            else { vp_seterr(err, errlen, "line %lu: unknown format '%.40s'", (unsigned long)line_no, words[1]); goto fail; }
+            else { vp_seterr(err, errlen, "line %lu: unknown format '%.40s'", (unsigned long)line_no, words[1]); return VP_ECORRUPT; }
             continue;
         }
         if (!strcmp(words[0], "element")) {
             long long cnt;
             if (nw != 3 || vp_parse_long(words[2], &cnt) < 0 || cnt < 0) {
-                vp_seterr(err, errlen, "line %lu: bad element line", (unsigned long)line_no); goto fail;
+                vp_seterr(err, errlen, "line %lu: bad element line", (unsigned long)line_no); return VP_ECORRUPT;
             }
-            if (nel == VP_PLY_MAX_ELEM) { vp_seterr(err, errlen, "line %lu: too many elements", (unsigned long)line_no); goto fail; }
-            if (strlen(words[1]) >= sizeof el[0].name) { vp_seterr(err, errlen, "line %lu: element name too long", (unsigned long)line_no); goto fail; }
+            if (nel == VP_PLY_MAX_ELEM) { vp_seterr(err, errlen, "line %lu: too many elements", (unsigned long)line_no); return VP_ECORRUPT; }
+            if (strlen(words[1]) >= sizeof el[0].name) { vp_seterr(err, errlen, "line %lu: element name too long", (unsigned long)line_no); return VP_ECORRUPT; }
             strcpy(el[nel].name, words[1]);
             el[nel].count = (unsigned long long)cnt;
             el[nel].nprop = 0;
@@ -543,31 +525,31 @@ int vp_mesh_read_ply_buf(const void *buf, size_t len, vp_mesh_t *out, char *err,
         }
         if (!strcmp(words[0], "property")) {
             vp_ply_prop_t *pr;
-            if (nel == 0) { vp_seterr(err, errlen, "line %lu: property before any element", (unsigned long)line_no); goto fail; }
-            if (el[nel - 1].nprop == VP_PLY_MAX_PROP) { vp_seterr(err, errlen, "line %lu: too many properties", (unsigned long)line_no); goto fail; }
+            if (nel == 0) { vp_seterr(err, errlen, "line %lu: property before any element", (unsigned long)line_no); return VP_ECORRUPT; }
+            if (el[nel - 1].nprop == VP_PLY_MAX_PROP) { vp_seterr(err, errlen, "line %lu: too many properties", (unsigned long)line_no); return VP_ECORRUPT; }
             pr = &el[nel - 1].prop[el[nel - 1].nprop];
             if (nw == 5 && !strcmp(words[1], "list")) {
                 pr->count_type = vp_ply_type_of(words[2]);
                 pr->type = vp_ply_type_of(words[3]);
                 if (!vp_ply_is_int(pr->count_type) || pr->type == VP_PT_NONE) {
-                    vp_seterr(err, errlen, "line %lu: bad list types", (unsigned long)line_no); goto fail;
+                    vp_seterr(err, errlen, "line %lu: bad list types", (unsigned long)line_no); return VP_ECORRUPT;
                 }
                 s = words[4];
             } else if (nw == 3) {
                 pr->count_type = VP_PT_NONE;
                 pr->type = vp_ply_type_of(words[1]);
-                if (pr->type == VP_PT_NONE) { vp_seterr(err, errlen, "line %lu: unknown type '%.20s'", (unsigned long)line_no, words[1]); goto fail; }
+                if (pr->type == VP_PT_NONE) { vp_seterr(err, errlen, "line %lu: unknown type '%.20s'", (unsigned long)line_no, words[1]); return VP_ECORRUPT; }
                 s = words[2];
-            } else { vp_seterr(err, errlen, "line %lu: bad property line", (unsigned long)line_no); goto fail; }
-            if (strlen(s) >= sizeof pr->name) { vp_seterr(err, errlen, "line %lu: property name too long", (unsigned long)line_no); goto fail; }
+            } else { vp_seterr(err, errlen, "line %lu: bad property line", (unsigned long)line_no); return VP_ECORRUPT; }
+            if (strlen(s) >= sizeof pr->name) { vp_seterr(err, errlen, "line %lu: property name too long", (unsigned long)line_no); return VP_ECORRUPT; }
             strcpy(pr->name, s);
             el[nel - 1].nprop++;
             continue;
         }
         vp_seterr(err, errlen, "line %lu: unknown header keyword '%.20s'", (unsigned long)line_no, words[0]);
-        goto fail;
+        return VP_ECORRUPT;
     }
-    if (!have_end || format < 0) { vp_seterr(err, errlen, "line %lu: no format line in header", (unsigned long)line_no); goto fail; }
+    if (!have_end || format < 0) { vp_seterr(err, errlen, "line %lu: no format line in header", (unsigned long)line_no); return VP_ECORRUPT; }
 
     /* Counts against the remaining bytes: each instance needs its fixed-size part. */
     for (e = 0; e < nel; e++) {
@@ -577,12 +559,12 @@ int vp_mesh_read_ply_buf(const void *buf, size_t len, vp_mesh_t *out, char *err,
             minsize += vp_ply_size(el[e].prop[k].count_type != VP_PT_NONE ? el[e].prop[k].count_type : el[e].prop[k].type);
         if (format == 0) minsize = 2ULL * (unsigned long long)el[e].nprop;   /* a digit and a separator */
         if (el[e].count && el[e].nprop == 0) {
-            vp_seterr(err, errlen, "header: element '%s' has instances but no properties", el[e].name); goto fail;
+            vp_seterr(err, errlen, "header: element '%s' has instances but no properties", el[e].name); return VP_ECORRUPT;
         }
         if (el[e].count && el[e].count > (len - pos + 1) / (minsize ? minsize : 1)) {
             vp_seterr(err, errlen, "header: element '%s' count %llu impossible for a file of %lu bytes",
                       el[e].name, el[e].count, (unsigned long)len);
-            goto fail;
+            return VP_ECORRUPT;
         }
     }
 
@@ -592,44 +574,58 @@ int vp_mesh_read_ply_buf(const void *buf, size_t len, vp_mesh_t *out, char *err,
         if (vp_file_find_nul(p + pos, len - pos, &nul_line)) {
             vp_seterr(err, errlen, "line %lu: a NUL byte inside the text (a damaged or binary file)",
                       (unsigned long)line_no + nul_line);
-            goto fail;
+            return VP_ECORRUPT;
         }
     }
-    in.p = p; in.len = len; in.pos = pos;
-    in.ascii = format == 0; in.big_endian = format == 2;
-    in.lx.p = (const char *)p; in.lx.len = len; in.lx.pos = pos; in.lx.line = line_no + 1; in.lx.hash_comments = 0;
+    *pos_io = pos;
+    *line_io = line_no;
+    *nel_out = nel;
+    *format_out = format;
+    return VP_OK;
+}
 
+/* The PLY body: each element's instances read (in.ascii: as text), the vertex element's x, y, z
+ * into *xyz (malloc'ed, *nv of them), the face element's polygons fanned into triangles (tl).
+ * VP_OK, or an error (err) with *xyz still to be freed by the caller. */
+static int vp_ply_body(vp_ply_in_t *in, const vp_ply_elem_t *el, int nel, size_t len, double **xyz_out, size_t *nv_out,
+                       vp_trilist_t *tl, char *err, size_t errlen)
+{
+    double *xyz = NULL;
+    size_t nv = 0;
+    char where[64];
+    int e, st = VP_ECORRUPT;
+    unsigned long long i;
     for (e = 0; e < nel; e++) {
         int is_vertex = !strcmp(el[e].name, "vertex"), is_face = !strcmp(el[e].name, "face");
         int ix = -1, iy = -1, iz = -1, iface = -1, k;
         if (is_vertex) {
-            if (xyz) { vp_seterr(err, errlen, "header: two vertex elements"); goto fail; }
+            if (xyz) { vp_seterr(err, errlen, "header: two vertex elements"); goto out; }
             for (k = 0; k < el[e].nprop; k++) {
                 if (el[e].prop[k].count_type != VP_PT_NONE) continue;
                 if (!strcmp(el[e].prop[k].name, "x")) ix = k;
                 else if (!strcmp(el[e].prop[k].name, "y")) iy = k;
                 else if (!strcmp(el[e].prop[k].name, "z")) iz = k;
             }
-            if (ix < 0 || iy < 0 || iz < 0) { vp_seterr(err, errlen, "header: vertex element lacks x, y or z"); goto fail; }
-            if (el[e].count > UINT32_MAX) { vp_seterr(err, errlen, "header: too many vertices"); goto fail; }
+            if (ix < 0 || iy < 0 || iz < 0) { vp_seterr(err, errlen, "header: vertex element lacks x, y or z"); goto out; }
+            if (el[e].count > UINT32_MAX) { vp_seterr(err, errlen, "header: too many vertices"); goto out; }
             nv = (size_t)el[e].count;
             xyz = malloc(nv ? nv * 3 * sizeof(double) : 1);
-            if (!xyz) { st = VP_ENOMEM; goto fail; }
+            if (!xyz) { st = VP_ENOMEM; goto out; }
         }
         if (is_face) {
             for (k = 0; k < el[e].nprop; k++)
                 if (el[e].prop[k].count_type != VP_PT_NONE &&
                     (!strcmp(el[e].prop[k].name, "vertex_indices") || !strcmp(el[e].prop[k].name, "vertex_index")))
                     iface = k;
-            if (iface < 0) { vp_seterr(err, errlen, "header: face element lacks a vertex_indices list"); goto fail; }
-            if (!vp_ply_is_int(el[e].prop[iface].type)) { vp_seterr(err, errlen, "header: face indices must be integers"); goto fail; }
-            if (!xyz && el[e].count) { vp_seterr(err, errlen, "header: face element before vertex element"); goto fail; }
+            if (iface < 0) { vp_seterr(err, errlen, "header: face element lacks a vertex_indices list"); goto out; }
+            if (!vp_ply_is_int(el[e].prop[iface].type)) { vp_seterr(err, errlen, "header: face indices must be integers"); goto out; }
+            if (!xyz && el[e].count) { vp_seterr(err, errlen, "header: face element before vertex element"); goto out; }
         }
         for (i = 0; i < el[e].count; i++) {
             for (k = 0; k < el[e].nprop; k++) {
                 const vp_ply_prop_t *pr = &el[e].prop[k];
                 double v;
-                if ((st = vp_ply_read(&in, pr->count_type != VP_PT_NONE ? pr->count_type : pr->type, &v, err, errlen)) < 0) goto fail;
+                if ((st = vp_ply_read(in, pr->count_type != VP_PT_NONE ? pr->count_type : pr->type, &v, err, errlen)) < 0) goto out;
                 st = VP_ECORRUPT;
                 if (pr->count_type == VP_PT_NONE) {
                     if (is_vertex) {
@@ -641,27 +637,27 @@ int vp_mesh_read_ply_buf(const void *buf, size_t len, vp_mesh_t *out, char *err,
                     double n = v, first = -1, prev = -1;
                     unsigned long long j, cnt;
                     int use = is_face && k == iface;
-                    if (n < 0 || n > (double)(len - (in.ascii ? in.lx.pos : in.pos))) {
-                        vp_seterr(err, errlen, "%s: list of %g items is impossible", vp_ply_where(&in, where, sizeof where), n);
-                        goto fail;
+                    if (n < 0 || n > (double)(len - (in->ascii ? in->lx.pos : in->pos))) {
+                        vp_seterr(err, errlen, "%s: list of %g items is impossible", vp_ply_where(in, where, sizeof where), n);
+                        goto out;
                     }
                     if (use && n < 3) {
-                        vp_seterr(err, errlen, "%s: face %llu has %g corners", vp_ply_where(&in, where, sizeof where), i, n);
-                        goto fail;
+                        vp_seterr(err, errlen, "%s: face %llu has %g corners", vp_ply_where(in, where, sizeof where), i, n);
+                        goto out;
                     }
                     cnt = (unsigned long long)n;
                     for (j = 0; j < cnt; j++) {
                         double idx;
-                        if ((st = vp_ply_read(&in, pr->type, &idx, err, errlen)) < 0) goto fail;
+                        if ((st = vp_ply_read(in, pr->type, &idx, err, errlen)) < 0) goto out;
                         st = VP_ECORRUPT;
                         if (!use) continue;
                         if (idx < 0 || idx >= (double)nv) {
                             vp_seterr(err, errlen, "%s: vertex index %g out of range [0,%lu)",
-                                      vp_ply_where(&in, where, sizeof where), idx, (unsigned long)nv);
-                            goto fail;
+                                      vp_ply_where(in, where, sizeof where), idx, (unsigned long)nv);
+                            goto out;
                         }
                         if (j == 0) first = idx;
-                        else if (j >= 2 && (st = vp_trilist_add(&tl, (uint32_t)first, (uint32_t)prev, (uint32_t)idx)) < 0) goto fail;
+                        else if (j >= 2 && (st = vp_trilist_add(tl, (uint32_t)first, (uint32_t)prev, (uint32_t)idx)) < 0) goto out;
                         st = VP_ECORRUPT;
                         prev = idx;
                     }
@@ -669,6 +665,35 @@ int vp_mesh_read_ply_buf(const void *buf, size_t len, vp_mesh_t *out, char *err,
             }
         }
     }
+    st = VP_OK;
+out:
+    *xyz_out = xyz;
+    *nv_out = nv;
+    return st;
+}
+
+int vp_mesh_read_ply_buf(const void *buf, size_t len, vp_mesh_t *out, char *err, size_t errlen)
+{
+    const unsigned char *p = buf;
+    vp_ply_elem_t *el = NULL;
+    int nel = 0, format = -1, st;
+    size_t pos = 0, line_no = 0;
+    double *xyz = NULL;
+    size_t nv = 0;
+    vp_trilist_t tl = { NULL, 0, 0 };
+    vp_ply_in_t in;
+
+    if (!buf || !out) return VP_EINVAL;
+    el = calloc(VP_PLY_MAX_ELEM, sizeof *el);
+    if (!el) return VP_ENOMEM;
+    st = vp_ply_header(p, len, &pos, &line_no, el, &nel, &format, err, errlen);
+    if (st != VP_OK) goto fail;
+    in.p = p; in.len = len; in.pos = pos;
+    in.ascii = format == 0; in.big_endian = format == 2;
+    in.lx.p = (const char *)p; in.lx.len = len; in.lx.pos = pos; in.lx.line = line_no + 1; in.lx.hash_comments = 0;
+    st = vp_ply_body(&in, el, nel, len, &xyz, &nv, &tl, err, errlen);
+    if (st != VP_OK) goto fail;
+    st = VP_ECORRUPT;
     if (!xyz) { vp_seterr(err, errlen, "header: no vertex element"); goto fail; }
     free(el);
     vp_mesh_take(out, xyz, nv, &tl);

@@ -5,19 +5,7 @@
 #include <string.h>
 #include "vp_file.h"
 #include "vp_pointgen.h"
-
-uint64_t vp_splitmix_next(uint64_t *state)
-{
-    uint64_t z = (*state += 0x9E3779B97F4A7C15ull);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    return z ^ (z >> 31);
-}
-
-double vp_splitmix_uniform(uint64_t *state)
-{
-    return (double)(vp_splitmix_next(state) >> 11) * (1.0 / 9007199254740992.0);
-}
+#include "vp_rng.h"
 
 static double *alloc_points(size_t n, char *err, size_t errlen)
 {

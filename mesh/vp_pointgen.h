@@ -5,9 +5,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
-/* splitmix64: the generator of the anchor point sets (same seed, same points as the anchors) */
-uint64_t vp_splitmix_next(uint64_t *state);
-double vp_splitmix_uniform(uint64_t *state); /* [0,1), 53 bits */
+/* The generator of the anchor point sets is splitmix64 (vp_rng.h): same seed, same points as the anchors. */
 
 int vp_pointgen_uniform(size_t n, uint64_t seed, double **xyz, size_t *count, char *err, size_t errlen);
 int vp_pointgen_grid(size_t k, uint64_t seed, double **xyz, size_t *count, char *err, size_t errlen);

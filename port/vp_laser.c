@@ -3,15 +3,9 @@
 #include <string.h>
 #include "vp_laser.h"
 #include "vp_status.h"
+#include "vp_vec3.h"
 
 /* ---- camera ---- */
-
-static void vp_cross(const double a[3], const double b[3], double c[3])
-{
-    c[0] = a[1] * b[2] - a[2] * b[1];
-    c[1] = a[2] * b[0] - a[0] * b[2];
-    c[2] = a[0] * b[1] - a[1] * b[0];
-}
 
 static int vp_unit(double v[3])
 {
@@ -27,9 +21,9 @@ int vp_camera_look_at(vp_camera_model_t *c, const double look[3], const double u
     int i;
     for (i = 0; i < 3; i++) z[i] = look[i] - c->pos[i];
     if (!vp_unit(z)) return VP_EINVAL;
-    vp_cross(z, up, x);
+    vp_cross3(x, z, up);
     if (!vp_unit(x)) return VP_EINVAL;
-    vp_cross(z, x, y);
+    vp_cross3(y, z, x);
     for (i = 0; i < 3; i++) { c->rot[i] = x[i]; c->rot[3 + i] = y[i]; c->rot[6 + i] = z[i]; }
     return VP_OK;
 }

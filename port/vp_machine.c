@@ -3,6 +3,7 @@
 #include <string.h>
 #include "vp_machine.h"
 #include "vp_status.h"
+#include "vp_vec3.h"
 
 static void vp_machine_sync(vp_machine_t *m)
 {
@@ -37,11 +38,6 @@ int vp_machine_home(vp_machine_t *m)
 void vp_machine_beam(const vp_machine_t *m, double origin[3], double dir[3])
 {
     vp_kin_forward(&m->kin, m->j, origin, dir);
-}
-
-static double vp_dist3(const double a[3], const double b[3])
-{
-    return sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) + (a[2] - b[2]) * (a[2] - b[2]));
 }
 
 int vp_machine_goto(vp_machine_t *m, const double p[3])
@@ -122,6 +118,32 @@ int vp_machine_probe(vp_machine_t *m, const vp_cmd_t *cmd, vp_probe_result_t *re
         m->st.miss_reason[hit || r == VP_SPOT_FOUND ? 5 : r + 3]++;
     }
     return VP_OK;
+}
+
+vp_reading_t vp_machine_reading(const vp_machine_t *m, const vp_cmd_t *cmd, int was_near, int near_measure,
+                                vp_probe_result_t *res, double *raw)
+{
+    const vp_tri_model_t *t = &m->tri;
+    int r = m->last.spot.result, unreadable = 0;
+    vp_reading_t kind = VP_READING_PLAIN;
+    double s = NAN;
+    if (r == VP_SPOT_FOUND) s = (m->last.spot.u - t->p0[0]) * t->e[0] + (m->last.spot.v - t->p0[1]) * t->e[1];
+    if (raw) *raw = s;
+    if (r == VP_SPOT_FOUND && res->hit && was_near) {
+        kind = VP_READING_NEAR;
+        if (!near_measure) res->hit = VP_PROBE_TOO_CLOSE;
+    } else if (r == VP_SPOT_FOUND && !res->hit) {
+        double dd = vp_tri_eval(t, s, NULL), sfar = vp_tri_s(t, t->max_range);
+        int beyond = s >= sfar || (dd >= t->min_range && dd > cmd->range);
+        if (!beyond) unreadable = 1;
+    } else if (r != VP_SPOT_FOUND && r != VP_SPOT_NONE) unreadable = 1;
+    if (unreadable) {
+        res->hit = VP_PROBE_TOO_CLOSE;
+        kind = r == VP_SPOT_OFF_LINE ? VP_READING_OFF_LINE : r == VP_SPOT_TOO_BIG ? VP_READING_TOO_BIG
+             : r == VP_SPOT_SEVERAL ? VP_READING_SEVERAL : VP_READING_BELOW_MODEL;
+    }
+    if (res->hit == VP_PROBE_TOO_CLOSE) res->dist = 0;
+    return kind;
 }
 
 int vp_machine_exec(vp_machine_t *m, const vp_cmd_t *cmd, vp_probe_result_t *res)

@@ -73,6 +73,26 @@ int vp_machine_probe(vp_machine_t *m, const vp_cmd_t *cmd, vp_probe_result_t *re
  * travel: refused, nothing moved); VP_EABORT (e-stop, hard limit: stopped, fault set, homing
  * needed); VP_ETIMEOUT / VP_EIO (camera); VP_ESTATE (fault pending, not homed). */
 int vp_machine_exec(vp_machine_t *m, const vp_cmd_t *cmd, vp_probe_result_t *res);
+/* The planner's result of a probe, from the rangefinder's reading that vp_machine_probe just
+ * made (m->last.spot; res as vp_machine_probe filled it; was_near: vp_machine_probe counted the
+ * spot as nearer than min_range, i.e. m->st.near grew). Only "no spot", or a spot beyond the
+ * range asked, is a miss: free space. A spot nearer than min_range is VP_PROBE_TOO_CLOSE, or with
+ * near_measure a hit at the model's extrapolated distance. A frame that cannot be read (a blob
+ * too big for a spot, as a surface at the lens gives; several spots; a spot off the laser line)
+ * or a spot below the model's valid span proves nothing free: VP_PROBE_TOO_CLOSE too. res->dist
+ * is 0 for VP_PROBE_TOO_CLOSE. *raw (may be NULL): the spot's position along the image line, px
+ * (NaN: no spot). Returns what the reading was (VP_READING_*). */
+typedef enum vp_reading {
+    VP_READING_PLAIN = 0,          /* a hit or a miss as measured */
+    VP_READING_NEAR = 1,           /* nearer than min_range (too close, or a hit with near_measure) */
+    VP_READING_OFF_LINE = 2,       /* unreadable: a spot off the laser line */
+    VP_READING_TOO_BIG = 3,        /* unreadable: a blob too big for a spot */
+    VP_READING_SEVERAL = 4,        /* unreadable: several spots */
+    VP_READING_BELOW_MODEL = 5     /* unreadable: a spot below the model's valid span, or another failure */
+} vp_reading_t;
+vp_reading_t vp_machine_reading(const vp_machine_t *m, const vp_cmd_t *cmd, int was_near, int near_measure,
+                                vp_probe_result_t *res, double *raw);
+
 /* Calibration against a flat target across machine +x at x = target_x: the head looks along +x
  * and steps towards the target through `stations` distances from d_far to d_near, evenly in 1/d
  * so the spot moves evenly across the image (distances known from the kinematics), `frames`

@@ -18,6 +18,13 @@ int64_t vp_rt_now(void)
     return (int64_t)ts.tv_sec * 1000000000 + ts.tv_nsec;
 }
 
+double vp_rt_seconds(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
 void vp_rt_init(vp_rtclock_t *c, int64_t spin_ns)
 {
     memset(c, 0, sizeof *c);

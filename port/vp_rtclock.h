@@ -27,7 +27,9 @@ typedef struct vp_rtclock {
     uint64_t writes;
 } vp_rtclock_t;
 
+/* CLOCK_MONOTONIC: nanoseconds, and seconds (the one monotonic clock of port, host and cli) */
 int64_t vp_rt_now(void);
+double  vp_rt_seconds(void);
 void    vp_rt_init(vp_rtclock_t *c, int64_t spin_ns);
 int     vp_rt_wait_until(vp_rtclock_t *c, int64_t t_ns);
 /* SCHED_FIFO at prio (1..99) and mlockall; VP_EIO with a reason in err when not permitted. */

@@ -11,6 +11,7 @@
 #include <sys/stat.h>
 #include <time.h>
 #include <unistd.h>
+#include "vp_rtclock.h"
 #include "vp_status.h"
 #include "vp_v4l2.h"
 
@@ -67,21 +68,14 @@ static int64_t vp_v4l2_ts(const struct v4l2_buffer *b)
     return (int64_t)b->timestamp.tv_sec * 1000000000 + (int64_t)b->timestamp.tv_usec * 1000;
 }
 
-static int64_t vp_mono_now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (int64_t)ts.tv_sec * 1000000000 + ts.tv_nsec;
-}
-
 static int vp_v4l2_capture(void *ctx, int64_t not_before, int timeout_ms, vp_frame_t *f)
 {
     vp_v4l2_t *v = ctx;
-    int64_t deadline = vp_mono_now() + (int64_t)timeout_ms * 1000000;
+    int64_t deadline = vp_rt_now() + (int64_t)timeout_ms * 1000000;
     for (;;) {
         struct pollfd p;
         struct v4l2_buffer b;
-        int64_t left = (deadline - vp_mono_now()) / 1000000;
+        int64_t left = (deadline - vp_rt_now()) / 1000000;
         int r;
         p.fd = v->fd;
         p.events = POLLIN;

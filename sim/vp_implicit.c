@@ -3,6 +3,7 @@
 #include <math.h>
 #include <string.h>
 #include "vp_implicit.h"
+#include "vp_vec3.h"
 
 #define VP_TORUS_R2 0.09      /* tube radius 0.3, squared */
 #define VP_G2_K 50.0          /* genus2 smooth-union sharpness */
@@ -257,16 +258,17 @@ static vp_iv_t vp_imp_dbox(int kind, const double lo[3], const double hi[3], con
 
 /* ---------- ray casting ---------- */
 
-/* Safeguarded Newton on f(o + t d) in [lo, hi] where the sign changes (outside at lo iff out_lo). */
-static double vp_refine_root(int kind, const double o[3], const double d[3], double lo, double hi, int out_lo)
+/* Safeguarded Newton on a function of one variable with a sign change in [lo, hi] (outside at
+ * lo iff out_lo): Newton steps while they stay inside the shrinking bracket (the first 40),
+ * bisection otherwise. f(ctx, x, &df) gives the value and the derivative. */
+typedef double (*vp_fn1_t)(const void *ctx, double x, double *df);
+
+static double vp_newton_bracket(vp_fn1_t fn, const void *ctx, double lo, double hi, int out_lo)
 {
     double x = 0.5 * (lo + hi);
     int it;
     for (it = 0; it < 200; it++) {
-        double p[3], g[3], f, df, xn;
-        p[0] = o[0] + x * d[0]; p[1] = o[1] + x * d[1]; p[2] = o[2] + x * d[2];
-        f = vp_imp_grad(kind, p, g);
-        df = g[0] * d[0] + g[1] * d[1] + g[2] * d[2];
+        double df, f = fn(ctx, x, &df), xn;
         if ((f > 0) == out_lo) lo = x; else hi = x;
         if (hi - lo <= 4e-16 * (fabs(lo) + fabs(hi)) + 1e-300) break;
         xn = (df != 0 && it < 40) ? x - f / df : 0.5 * (lo + hi);
@@ -275,6 +277,27 @@ static double vp_refine_root(int kind, const double o[3], const double d[3], dou
         x = xn;
     }
     return x;
+}
+
+/* f(o + t d) and its derivative along d, for vp_newton_bracket. */
+typedef struct vp_ray_fn { int kind; const double *o, *d; } vp_ray_fn_t;
+
+static double vp_ray_fn(const void *ctx, double x, double *df)
+{
+    const vp_ray_fn_t *r = ctx;
+    double p[3], g[3], f;
+    p[0] = r->o[0] + x * r->d[0]; p[1] = r->o[1] + x * r->d[1]; p[2] = r->o[2] + x * r->d[2];
+    f = vp_imp_grad(r->kind, p, g);
+    *df = g[0] * r->d[0] + g[1] * r->d[1] + g[2] * r->d[2];
+    return f;
+}
+
+/* Safeguarded Newton on f(o + t d) in [lo, hi] where the sign changes (outside at lo iff out_lo). */
+static double vp_refine_root(int kind, const double o[3], const double d[3], double lo, double hi, int out_lo)
+{
+    vp_ray_fn_t r;
+    r.kind = kind; r.o = o; r.d = d;
+    return vp_newton_bracket(vp_ray_fn, &r, lo, hi, out_lo);
 }
 
 /* First crossing by interval subdivision: natural bounds on f, monotonicity from bounds on f',
@@ -329,20 +352,14 @@ static double vp_poly4(const double a[5], double u, double *du)
     return (((a[4] * u + a[3]) * u + a[2]) * u + a[1]) * u + a[0];
 }
 
+static double vp_poly4_fn(const void *ctx, double u, double *du)
+{
+    return vp_poly4((const double *)ctx, u, du);
+}
+
 static double vp_poly4_refine(const double a[5], double lo, double hi, int out_lo)
 {
-    double x = 0.5 * (lo + hi);
-    int it;
-    for (it = 0; it < 200; it++) {
-        double df, f = vp_poly4(a, x, &df), xn;
-        if ((f > 0) == out_lo) lo = x; else hi = x;
-        if (hi - lo <= 4e-16 * (fabs(lo) + fabs(hi)) + 1e-300) break;
-        xn = (df != 0 && it < 40) ? x - f / df : 0.5 * (lo + hi);
-        if (!(xn > lo && xn < hi)) xn = 0.5 * (lo + hi);
-        if (fabs(xn - x) <= 2e-16 * (fabs(x) + 1e-30) || f == 0) break;
-        x = xn;
-    }
-    return x;
+    return vp_newton_bracket(vp_poly4_fn, a, lo, hi, out_lo);
 }
 
 /* Bernstein subdivision: sign changes of the control values bound the number of roots
@@ -510,12 +527,6 @@ static void vp_ell_closest(int n, const double *e, const double *y, double *x)
         x[n - 1] = 0;
         vp_ell_closest(n - 1, e, y, x);
     }
-}
-
-static double vp_dist3(const double a[3], const double b[3])
-{
-    double dx = a[0] - b[0], dy = a[1] - b[1], dz = a[2] - b[2];
-    return sqrt(dx * dx + dy * dy + dz * dz);
 }
 
 double vp_imp_closest_exact(int kind, const double p[3], double q[3])

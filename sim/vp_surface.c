@@ -13,8 +13,10 @@
 #include "vp_meshcheck.h"
 #include "vp_meshio.h"
 #include "vp_rng.h"
+#include "vp_file.h"
 #include "vp_status.h"
 #include "vp_surface.h"
+#include "vp_vec3.h"
 
 #define VP_TERM_MESH 100
 #define VP_TERM_TEXT 256
@@ -68,21 +70,6 @@ static const char vp_help_text[] =
 "  Examples: sphere@3,0,0+torus   sphere*0.5@2,0,0+genus2   off:part.off*2@0,0,1\n";
 
 const char *vp_surface_help(void) { return vp_help_text; }
-
-static void vp_seterr(char *err, size_t errlen, const char *fmt, ...)
-{
-    va_list ap;
-    if (!err || !errlen) return;
-    va_start(ap, fmt);
-    vsnprintf(err, errlen, fmt, ap);
-    va_end(ap);
-}
-
-static double vp_dist3(const double a[3], const double b[3])
-{
-    double dx = a[0] - b[0], dy = a[1] - b[1], dz = a[2] - b[2];
-    return sqrt(dx * dx + dy * dy + dz * dz);
-}
 
 static void vp_to_local(const vp_term_t *T, const double w[3], double l[3])
 {

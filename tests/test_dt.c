@@ -9,6 +9,7 @@
 #include "vp_dt.h"
 #include "vp_pred.h"
 #include "vp_pointgen.h"
+#include "vp_rng.h"
 #include "vp_test.h"
 
 static void *xmalloc(size_t n)

@@ -15,6 +15,7 @@
 #include <time.h>
 
 #include "vp_pred.h"
+#include "vp_rng.h"
 #include "vp_test.h"
 
 /* ---------------------------------------------------------------- random numbers */
@@ -23,10 +24,7 @@ static uint64_t rng_state = 0x243F6A8885A308D3u;
 
 static uint64_t rnd(void)
 {
-    uint64_t z = (rng_state += 0x9E3779B97F4A7C15u);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9u;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBu;
-    return z ^ (z >> 31);
+    return vp_splitmix_next(&rng_state);
 }
 
 static int rint_in(int lo, int hi) /* uniform in [lo, hi] */
@@ -42,6 +40,19 @@ static double urand(void) /* [0, 1) */
 static double srand1(void) /* [-1, 1) */
 {
     return 2.0 * urand() - 1.0;
+}
+
+/* A random direction, uniform: a point of the unit ball (not too near its centre) scaled to length 1. */
+static void random_dir(double u[3])
+{
+    double v[3], n2;
+    int k;
+    do {
+        for (k = 0; k < 3; k++) v[k] = srand1();
+        n2 = v[0] * v[0] + v[1] * v[1] + v[2] * v[2];
+    } while (n2 < 0.01 || n2 > 1.0);
+    n2 = sqrt(n2);
+    for (k = 0; k < 3; k++) u[k] = v[k] / n2;
 }
 
 static double nudge(double x, int steps)
@@ -269,13 +280,9 @@ static void gen_sphere(double (*P)[3])
     int centred = rnd() % 3 == 0;
     for (k = 0; k < 3; k++) c[k] = centred ? 0.0 : srand1() * pow2i(rint_in(-4, 12));
     for (i = 0; i < 5; i++) {
-        double v[3], n2;
-        do {
-            for (k = 0; k < 3; k++) v[k] = srand1();
-            n2 = v[0] * v[0] + v[1] * v[1] + v[2] * v[2];
-        } while (n2 < 0.01 || n2 > 1.0);
-        n2 = sqrt(n2);
-        for (k = 0; k < 3; k++) P[i][k] = c[k] + r * (v[k] / n2);
+        double u[3];
+        random_dir(u);
+        for (k = 0; k < 3; k++) P[i][k] = c[k] + r * u[k];
     }
 }
 
@@ -709,13 +716,9 @@ static void benchmark(void)
         int k, j;
         double r = 1.0;
         for (j = 0; j < 5; j++) { /* unit sphere, centred at the origin: worst case for B */
-            double v[3], n2;
-            do {
-                for (k = 0; k < 3; k++) v[k] = srand1();
-                n2 = v[0] * v[0] + v[1] * v[1] + v[2] * v[2];
-            } while (n2 < 0.01 || n2 > 1.0);
-            n2 = sqrt(n2);
-            for (k = 0; k < 3; k++) p[j][k] = r * v[k] / n2;
+            double u[3];
+            random_dir(u);
+            for (k = 0; k < 3; k++) p[j][k] = r * u[k];
         }
         if (vp_orient3d(p[0], p[1], p[2], p[3]) < 0) {
             double t[3];

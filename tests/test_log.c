@@ -1,29 +1,29 @@
-/* vp_log: CRC-32 against known values, exact round trips of header and records (bits, not
+/* vp_logfmt: CRC-32 against known values, exact round trips of header and records (bits, not
  * values: -0.0, NaN payloads, denormals), incremental decoding in every chunking, a torn tail
  * at every byte offset, a flipped bit in every byte, sequence errors, newer versions. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include "vp_log.h"
+#include "vp_logfmt.h"
 #include "vp_test.h"
 
 static void test_crc(void)
 {
     unsigned char z[32];
     memset(z, 0, sizeof z);
-    CHECK(vp_log_crc32(0, "123456789", 9) == 0xCBF43926u);
-    CHECK(vp_log_crc32(0, "", 0) == 0);
-    CHECK(vp_log_crc32(0, "The quick brown fox jumps over the lazy dog", 43) == 0x414FA339u);
-    CHECK(vp_log_crc32(0, z, 32) == 0x190A55ADu);
+    CHECK(vp_logfmt_crc32(0, "123456789", 9) == 0xCBF43926u);
+    CHECK(vp_logfmt_crc32(0, "", 0) == 0);
+    CHECK(vp_logfmt_crc32(0, "The quick brown fox jumps over the lazy dog", 43) == 0x414FA339u);
+    CHECK(vp_logfmt_crc32(0, z, 32) == 0x190A55ADu);
     /* incremental = one shot */
-    CHECK(vp_log_crc32(vp_log_crc32(0, "12345", 5), "6789", 4) == 0xCBF43926u);
+    CHECK(vp_logfmt_crc32(vp_logfmt_crc32(0, "12345", 5), "6789", 4) == 0xCBF43926u);
 }
 
 static double bits_double(uint64_t u) { double d; memcpy(&d, &u, 8); return d; }
 static int same(double a, double b) { return memcmp(&a, &b, 8) == 0; }
 
-static void make_header(vp_log_header_t *h, uint32_t ninterior)
+static void make_header(vp_logfmt_header_t *h, uint32_t ninterior)
 {
     vp_planner_config_t c;
     uint32_t i;
@@ -38,10 +38,10 @@ static void make_header(vp_log_header_t *h, uint32_t ninterior)
     c.start[0] = 2.5; c.start[1] = 2.5; c.start[2] = 2.5;
     c.max_range = 5; c.noise_tol = 4e-4; c.confirm_misses = 7; c.clearance = 0.01; c.min_angle = 20.5;
     c.flags = VP_PLAN_PAPER | VP_PLAN_LARGEST;
-    vp_log_header_init(h, &c, (uint64_t)256 << 20, VP_LOG_UNITS_MM, "host-sim", "sim --surface torus --eps-rel 0.05");
+    vp_logfmt_header_init(h, &c, (uint64_t)256 << 20, VP_LOGFMT_UNITS_MM, "host-sim", "sim --surface torus --eps-rel 0.05");
 }
 
-static int header_equal(const vp_log_header_t *a, const vp_log_header_t *b)
+static int header_equal(const vp_logfmt_header_t *a, const vp_logfmt_header_t *b)
 {
     const vp_planner_config_t *x = &a->cfg, *y = &b->cfg;
     uint32_t i;
@@ -60,15 +60,15 @@ static int header_equal(const vp_log_header_t *a, const vp_log_header_t *b)
     return ok;
 }
 
-static int record_equal(const vp_log_record_t *a, const vp_log_record_t *b)
+static int record_equal(const vp_logfmt_record_t *a, const vp_logfmt_record_t *b)
 {
     int k, ok = a->seq == b->seq && a->type == b->type;
     if (!ok) return 0;
-    if (a->type == VP_LOG_PROBE) {
+    if (a->type == VP_LOGFMT_PROBE) {
         for (k = 0; k < 3; k++) ok = ok && same(a->origin[k], b->origin[k]) && same(a->dir[k], b->dir[k]);
         return ok && same(a->range, b->range) && a->hit == b->hit && same(a->dist, b->dist) && same(a->raw, b->raw);
     }
-    if (a->type == VP_LOG_MOVE) {
+    if (a->type == VP_LOGFMT_MOVE) {
         for (k = 0; k < 3; k++) ok = ok && same(a->target[k], b->target[k]);
         return ok;
     }
@@ -78,14 +78,14 @@ static int record_equal(const vp_log_record_t *a, const vp_log_record_t *b)
 }
 
 /* A log of n records in buf; recs gets them; returns the byte count; offs[i] = record i's offset. */
-static size_t make_log(unsigned char *buf, size_t cap, vp_log_header_t *h, vp_log_record_t *recs,
+static size_t make_log(unsigned char *buf, size_t cap, vp_logfmt_header_t *h, vp_logfmt_record_t *recs,
                        size_t *offs, uint32_t n)
 {
     size_t len;
     uint32_t i;
     int w;
     make_header(h, 3);
-    w = vp_log_header_encode(h, buf, cap);
+    w = vp_logfmt_header_encode(h, buf, cap);
     CHECK(w > 0);
     len = (size_t)w;
     for (i = 0; i < n; i++) {
@@ -97,38 +97,38 @@ static size_t make_log(unsigned char *buf, size_t cap, vp_log_header_t *h, vp_lo
         cmd.dir[0] = 0.6; cmd.dir[1] = 0.8; cmd.dir[2] = 0;
         cmd.range = 1e300;
         res.hit = (int)(i & 1); res.dist = res.hit ? 0.1 * i : 0;
-        if (i % 7 == 0) vp_log_record_event(&recs[i], i, 1 + i % 6, -(int32_t)i, i % 14 ? "resume after a power cut" : "");
-        else if (i % 3 == 0) vp_log_record_move(&recs[i], i, &cmd);
-        else vp_log_record_probe(&recs[i], i, &cmd, &res, i % 2 ? bits_double(0x7FF8000000000123ull) : -0.5);
+        if (i % 7 == 0) vp_logfmt_record_event(&recs[i], i, 1 + i % 6, -(int32_t)i, i % 14 ? "resume after a power cut" : "");
+        else if (i % 3 == 0) vp_logfmt_record_move(&recs[i], i, &cmd);
+        else vp_logfmt_record_probe(&recs[i], i, &cmd, &res, i % 2 ? bits_double(0x7FF8000000000123ull) : -0.5);
         if (i % 7 == 0) { recs[i].value[0] = M_PI; recs[i].value[3] = -INFINITY; }
         offs[i] = len;
-        w = vp_log_record_encode(&recs[i], buf + len, cap - len);
-        CHECK(w == vp_log_record_size(&recs[i]));
+        w = vp_logfmt_record_encode(&recs[i], buf + len, cap - len);
+        CHECK(w == vp_logfmt_record_size(&recs[i]));
         len += (size_t)w;
     }
     return len;
 }
 
 /* Reads buf[0..len) in chunks of `chunk` bytes (0: random sizes); returns records read. */
-static uint32_t read_log(const unsigned char *buf, size_t len, size_t chunk, vp_log_reader_t *r,
-                         vp_log_record_t *out, uint32_t cap, int *final)
+static uint32_t read_log(const unsigned char *buf, size_t len, size_t chunk, vp_logfmt_reader_t *r,
+                         vp_logfmt_record_t *out, uint32_t cap, int *final)
 {
     size_t pos = 0;
     uint32_t n = 0;
     int st = VP_OK;
     unsigned seed = 12345;
-    vp_log_reader_init(r);
+    vp_logfmt_reader_init(r);
     while (pos < len) {
         size_t used, c = chunk;
-        vp_log_record_t rec;
+        vp_logfmt_record_t rec;
         if (!c) { seed = seed * 1103515245u + 12345u; c = 1 + (seed >> 16) % 200; }
         if (c > len - pos) c = len - pos;
-        st = vp_log_reader_push(r, buf + pos, c, &used, &rec);
+        st = vp_logfmt_reader_push(r, buf + pos, c, &used, &rec);
         pos += used;
-        if (st == VP_LOG_GOT_RECORD) { if (n < cap) out[n] = rec; n++; }
+        if (st == VP_LOGFMT_GOT_RECORD) { if (n < cap) out[n] = rec; n++; }
         if (st < 0) break;
     }
-    *final = st < 0 ? st : vp_log_reader_finish(r);
+    *final = st < 0 ? st : vp_logfmt_reader_finish(r);
     return n;
 }
 
@@ -137,10 +137,10 @@ static uint32_t read_log(const unsigned char *buf, size_t len, size_t chunk, vp_
 static void test_roundtrip(void)
 {
     static unsigned char buf[65536];
-    static vp_log_record_t recs[NREC], got[NREC];
+    static vp_logfmt_record_t recs[NREC], got[NREC];
     size_t offs[NREC], len, chunks[] = { 0, 1, 2, 3, 7, 64, 65536 };
-    vp_log_header_t h, h2;
-    vp_log_reader_t r;
+    vp_logfmt_header_t h, h2;
+    vp_logfmt_reader_t r;
     unsigned i, c;
     int fin;
     len = make_log(buf, sizeof buf, &h, recs, offs, NREC);
@@ -152,59 +152,59 @@ static void test_roundtrip(void)
     }
     /* header with 16 interior points and the longest strings */
     make_header(&h, VP_PLANNER_MAX_SEEDS);
-    memset(h.note, 'n', VP_LOG_NOTE_MAX); h.note[VP_LOG_NOTE_MAX] = 0;
-    memset(h.board, 'b', VP_LOG_BOARD_MAX); h.board[VP_LOG_BOARD_MAX] = 0;
-    CHECK(vp_log_header_encode(&h, buf, sizeof buf) == vp_log_header_size(&h));
-    CHECK(vp_log_header_size(&h) <= VP_LOG_MAX_HEADER);
-    vp_log_reader_init(&r);
+    memset(h.note, 'n', VP_LOGFMT_NOTE_MAX); h.note[VP_LOGFMT_NOTE_MAX] = 0;
+    memset(h.board, 'b', VP_LOGFMT_BOARD_MAX); h.board[VP_LOGFMT_BOARD_MAX] = 0;
+    CHECK(vp_logfmt_header_encode(&h, buf, sizeof buf) == vp_logfmt_header_size(&h));
+    CHECK(vp_logfmt_header_size(&h) <= VP_LOGFMT_MAX_HEADER);
+    vp_logfmt_reader_init(&r);
     {
         size_t used;
-        vp_log_record_t rec;
-        CHECK(vp_log_reader_push(&r, buf, (size_t)vp_log_header_size(&h), &used, &rec) == VP_LOG_GOT_HEADER);
-        CHECK(header_equal(&h, &r.header) && vp_log_reader_finish(&r) == VP_OK);
+        vp_logfmt_record_t rec;
+        CHECK(vp_logfmt_reader_push(&r, buf, (size_t)vp_logfmt_header_size(&h), &used, &rec) == VP_LOGFMT_GOT_HEADER);
+        CHECK(header_equal(&h, &r.header) && vp_logfmt_reader_finish(&r) == VP_OK);
     }
     /* encoder refusals */
     h2 = h; h2.cfg.ninterior = 0;
-    CHECK(vp_log_header_encode(&h2, buf, sizeof buf) == VP_EINVAL);
-    CHECK(vp_log_header_encode(&h, buf, 100) == VP_ENOMEM);
+    CHECK(vp_logfmt_header_encode(&h2, buf, sizeof buf) == VP_EINVAL);
+    CHECK(vp_logfmt_header_encode(&h, buf, 100) == VP_ENOMEM);
     {
-        vp_log_record_t rec;
-        vp_log_record_event(&rec, 0, VP_LOG_EV_DONE, 0, "x");
-        CHECK(vp_log_record_encode(&rec, buf, 10) == VP_ENOMEM);
+        vp_logfmt_record_t rec;
+        vp_logfmt_record_event(&rec, 0, VP_LOGFMT_EV_DONE, 0, "x");
+        CHECK(vp_logfmt_record_encode(&rec, buf, 10) == VP_ENOMEM);
         rec.type = 9;
-        CHECK(vp_log_record_encode(&rec, buf, sizeof buf) == VP_EINVAL);
+        CHECK(vp_logfmt_record_encode(&rec, buf, sizeof buf) == VP_EINVAL);
         /* long texts are cut at the limit */
         {
             char t[400];
             memset(t, 'x', sizeof t); t[399] = 0;
-            vp_log_record_event(&rec, 0, VP_LOG_EV_FAULT, VP_EIO, t);
-            CHECK(rec.text_len == VP_LOG_TEXT_MAX && vp_log_record_size(&rec) <= VP_LOG_MAX_RECORD);
+            vp_logfmt_record_event(&rec, 0, VP_LOGFMT_EV_FAULT, VP_EIO, t);
+            CHECK(rec.text_len == VP_LOGFMT_TEXT_MAX && vp_logfmt_record_size(&rec) <= VP_LOGFMT_MAX_RECORD);
         }
     }
     /* the planner configuration the format covers: a new field needs a new format version */
     CHECKF(sizeof(vp_planner_config_t) == 560,
-           "vp_planner_config_t changed (%zu bytes): update core/vp_log.c, doc/session-log.md, VP_LOG_VERSION",
+           "vp_planner_config_t changed (%zu bytes): update core/vp_logfmt.c, doc/session-log.md, VP_LOGFMT_VERSION",
            sizeof(vp_planner_config_t));
 }
 
 static void test_truncation(void)
 {
     static unsigned char buf[65536];
-    static vp_log_record_t recs[NREC], got[NREC];
+    static vp_logfmt_record_t recs[NREC], got[NREC];
     size_t offs[NREC], len, cut;
-    vp_log_header_t h;
-    vp_log_reader_t r;
+    vp_logfmt_header_t h;
+    vp_logfmt_reader_t r;
     int fin, bad = 0;
     len = make_log(buf, sizeof buf, &h, recs, offs, NREC);
     for (cut = 0; cut < len; cut++) {
         uint32_t n = read_log(buf, cut, 0, &r, got, NREC, &fin), whole = 0;
-        while (whole < NREC && offs[whole] + (size_t)vp_log_record_size(&recs[whole]) <= cut) whole++;
+        while (whole < NREC && offs[whole] + (size_t)vp_logfmt_record_size(&recs[whole]) <= cut) whole++;
         if (cut < offs[0]) {
-            if (!(fin == VP_ECORRUPT && r.reason == VP_LOG_R_TRUNCATED && r.bad_in_header && n == 0)) bad++;
+            if (!(fin == VP_ECORRUPT && r.reason == VP_LOGFMT_R_TRUNCATED && r.bad_in_header && n == 0)) bad++;
         } else if (whole < NREC && cut == offs[whole]) {
             /* a cut between records is a clean end */
             if (!(fin == VP_OK && n == whole && r.offset == cut)) bad++;
-        } else if (!(fin == VP_ECORRUPT && r.reason == VP_LOG_R_TRUNCATED && n == whole &&
+        } else if (!(fin == VP_ECORRUPT && r.reason == VP_LOGFMT_R_TRUNCATED && n == whole &&
                      r.bad_record == whole && r.bad_offset == offs[whole] && r.offset == offs[whole])) {
             bad++;
         }
@@ -215,10 +215,10 @@ static void test_truncation(void)
 static void test_bitflips(void)
 {
     static unsigned char buf[65536];
-    static vp_log_record_t recs[NREC], got[NREC];
+    static vp_logfmt_record_t recs[NREC], got[NREC];
     size_t offs[NREC], len, at;
-    vp_log_header_t h;
-    vp_log_reader_t r;
+    vp_logfmt_header_t h;
+    vp_logfmt_reader_t r;
     int fin, bad = 0, bit;
     len = make_log(buf, sizeof buf, &h, recs, offs, NREC);
     for (at = 0; at < len; at++)
@@ -227,7 +227,7 @@ static void test_bitflips(void)
             buf[at] ^= (unsigned char)(1u << bit);
             n = read_log(buf, len, 0, &r, got, NREC, &fin);
             buf[at] ^= (unsigned char)(1u << bit);
-            while (k < NREC && offs[k] + (size_t)vp_log_record_size(&recs[k]) <= at) k++;
+            while (k < NREC && offs[k] + (size_t)vp_logfmt_record_size(&recs[k]) <= at) k++;
             if (at < offs[0]) {
                 /* header damage: never a record, never a crash, never taken for a newer version */
                 if (!(fin == VP_ECORRUPT && n == 0 && r.bad_in_header)) bad++;
@@ -238,7 +238,7 @@ static void test_bitflips(void)
                 for (i = 0; ok && i < n; i++) ok = record_equal(&recs[i], &got[i]);
                 if (!ok) {
                     if (bad < 5) fprintf(stderr, "flip at %zu bit %d: %u records, reason %s, record %u\n",
-                                         at, bit, n, vp_log_reason_text(r.reason), r.bad_record);
+                                         at, bit, n, vp_logfmt_reason_text(r.reason), r.bad_record);
                     bad++;
                 }
             }
@@ -249,7 +249,7 @@ static void test_bitflips(void)
 /* The header's CRC (its last 4 bytes) recomputed after an edit. */
 static void put_crc(unsigned char *buf, size_t hl)
 {
-    uint32_t c = vp_log_crc32(0, buf, hl - 4);
+    uint32_t c = vp_logfmt_crc32(0, buf, hl - 4);
     int k;
     for (k = 0; k < 4; k++) buf[hl - 4 + (size_t)k] = (unsigned char)(c >> (8 * k));
 }
@@ -257,65 +257,65 @@ static void put_crc(unsigned char *buf, size_t hl)
 static void test_errors(void)
 {
     static unsigned char buf[4096];
-    vp_log_header_t h;
-    vp_log_record_t rec;
-    vp_log_reader_t r;
+    vp_logfmt_header_t h;
+    vp_logfmt_record_t rec;
+    vp_logfmt_reader_t r;
     size_t used, hl;
     int w;
     vp_cmd_t cmd;
     vp_probe_result_t res;
     make_header(&h, 1);
-    hl = (size_t)vp_log_header_encode(&h, buf, sizeof buf);
+    hl = (size_t)vp_logfmt_header_encode(&h, buf, sizeof buf);
     /* a newer version with a valid CRC is refused as newer */
     buf[8] = 2;
     put_crc(buf, hl);
-    vp_log_reader_init(&r);
-    CHECK(vp_log_reader_push(&r, buf, hl, &used, &rec) == VP_EVERSION && r.reason == VP_LOG_R_VERSION);
-    CHECK(vp_log_reader_push(&r, buf, hl, &used, &rec) == VP_EVERSION && used == 0);
+    vp_logfmt_reader_init(&r);
+    CHECK(vp_logfmt_reader_push(&r, buf, hl, &used, &rec) == VP_EVERSION && r.reason == VP_LOGFMT_R_VERSION);
+    CHECK(vp_logfmt_reader_push(&r, buf, hl, &used, &rec) == VP_EVERSION && used == 0);
     /* a damaged version byte (version 257, the CRC no longer matches) is a damaged header, not a
      * newer format; so is version 2 without the CRC fixed */
     buf[8] = 1;
     put_crc(buf, hl);
     buf[9] = 1;
-    vp_log_reader_init(&r);
-    CHECK(vp_log_reader_push(&r, buf, hl, &used, &rec) == VP_ECORRUPT && r.reason == VP_LOG_R_HEADER_CRC && r.bad_in_header);
+    vp_logfmt_reader_init(&r);
+    CHECK(vp_logfmt_reader_push(&r, buf, hl, &used, &rec) == VP_ECORRUPT && r.reason == VP_LOGFMT_R_HEADER_CRC && r.bad_in_header);
     buf[9] = 0;
     buf[8] = 2;
-    vp_log_reader_init(&r);
-    CHECK(vp_log_reader_push(&r, buf, hl, &used, &rec) == VP_ECORRUPT && r.reason == VP_LOG_R_HEADER_CRC);
+    vp_logfmt_reader_init(&r);
+    CHECK(vp_logfmt_reader_push(&r, buf, hl, &used, &rec) == VP_ECORRUPT && r.reason == VP_LOGFMT_R_HEADER_CRC);
     buf[8] = 1;
     /* not a log */
-    vp_log_reader_init(&r);
-    CHECK(vp_log_reader_push(&r, "ply\nformat ascii 1.0\n....", 24, &used, &rec) == VP_ECORRUPT && r.reason == VP_LOG_R_MAGIC);
+    vp_logfmt_reader_init(&r);
+    CHECK(vp_logfmt_reader_push(&r, "ply\nformat ascii 1.0\n....", 24, &used, &rec) == VP_ECORRUPT && r.reason == VP_LOGFMT_R_MAGIC);
     /* an empty file is a truncated header */
-    vp_log_reader_init(&r);
-    CHECK(vp_log_reader_finish(&r) == VP_ECORRUPT && r.reason == VP_LOG_R_TRUNCATED && r.bad_in_header);
+    vp_logfmt_reader_init(&r);
+    CHECK(vp_logfmt_reader_finish(&r) == VP_ECORRUPT && r.reason == VP_LOGFMT_R_TRUNCATED && r.bad_in_header);
     /* sequence: record 0 then record 2 */
     memset(&cmd, 0, sizeof cmd);
     cmd.dir[0] = 1; cmd.range = 1;
     res.hit = 1; res.dist = 0.5;
-    vp_log_record_probe(&rec, 0, &cmd, &res, 0.5);
-    w = vp_log_record_encode(&rec, buf + hl, sizeof buf - hl);
-    vp_log_record_probe(&rec, 2, &cmd, &res, 0.5);
-    w += vp_log_record_encode(&rec, buf + hl + (size_t)w, sizeof buf - hl - (size_t)w);
+    vp_logfmt_record_probe(&rec, 0, &cmd, &res, 0.5);
+    w = vp_logfmt_record_encode(&rec, buf + hl, sizeof buf - hl);
+    vp_logfmt_record_probe(&rec, 2, &cmd, &res, 0.5);
+    w += vp_logfmt_record_encode(&rec, buf + hl + (size_t)w, sizeof buf - hl - (size_t)w);
     {
-        vp_log_record_t out[4];
+        vp_logfmt_record_t out[4];
         int fin;
         uint32_t n = read_log(buf, hl + (size_t)w, 5, &r, out, 4, &fin);
-        CHECK(n == 1 && fin == VP_ECORRUPT && r.reason == VP_LOG_R_SEQUENCE && r.bad_record == 1 &&
-              r.bad_offset == hl + VP_LOG_PROBE_SIZE);
+        CHECK(n == 1 && fin == VP_ECORRUPT && r.reason == VP_LOGFMT_R_SEQUENCE && r.bad_record == 1 &&
+              r.bad_offset == hl + VP_LOGFMT_PROBE_SIZE);
     }
     /* a NaN coordinate with a valid CRC is an invalid field; hit must be 0 or 1 */
     cmd.from[1] = NAN;
-    vp_log_record_probe(&rec, 0, &cmd, &res, 0.5);
-    w = vp_log_record_encode(&rec, buf + hl, sizeof buf - hl);
+    vp_logfmt_record_probe(&rec, 0, &cmd, &res, 0.5);
+    w = vp_logfmt_record_encode(&rec, buf + hl, sizeof buf - hl);
     {
-        vp_log_record_t out[2];
+        vp_logfmt_record_t out[2];
         int fin;
         read_log(buf, hl + (size_t)w, 0, &r, out, 2, &fin);
-        CHECK(fin == VP_ECORRUPT && r.reason == VP_LOG_R_FIELD && r.bad_record == 0);
+        CHECK(fin == VP_ECORRUPT && r.reason == VP_LOGFMT_R_FIELD && r.bad_record == 0);
     }
-    CHECK(strlen(vp_log_reason_text(VP_LOG_R_CRC)) > 0 && strlen(vp_log_reason_text(99)) > 0);
+    CHECK(strlen(vp_logfmt_reason_text(VP_LOGFMT_R_CRC)) > 0 && strlen(vp_logfmt_reason_text(99)) > 0);
 }
 
 int main(void)

@@ -20,16 +20,16 @@
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
-#include "vp_log.h"
+#include "vp_logfmt.h"
 #include "vp_logverify.h"
-#include "vp_slog.h"
+#include "vp_sessionlog.h"
 #include "vp_test.h"
 
 #define MAXREC 64
 
 typedef struct crafted {
-    vp_log_header_t h;
-    vp_log_record_t r[MAXREC];
+    vp_logfmt_header_t h;
+    vp_logfmt_record_t r[MAXREC];
     size_t n;
 } crafted_t;
 
@@ -45,7 +45,7 @@ static void box_header(crafted_t *c, double noise_tol, double sx, double sy, dou
     cfg.start[0] = sx; cfg.start[1] = sy; cfg.start[2] = sz;
     cfg.noise_tol = noise_tol;
     memset(c, 0, sizeof *c);
-    vp_log_header_init(&c->h, &cfg, 1u << 20, VP_LOG_UNITS_NONE, "test", "crafted by test_logverify");
+    vp_logfmt_header_init(&c->h, &cfg, 1u << 20, VP_LOGFMT_UNITS_NONE, "test", "crafted by test_logverify");
 }
 
 static void ball_header(crafted_t *c)
@@ -58,12 +58,12 @@ static void ball_header(crafted_t *c)
     cfg.eps = 0.1;
     cfg.start[2] = 2.0;
     memset(c, 0, sizeof *c);
-    vp_log_header_init(&c->h, &cfg, 1u << 20, VP_LOG_UNITS_NONE, "test", "crafted by test_logverify (ball)");
+    vp_logfmt_header_init(&c->h, &cfg, 1u << 20, VP_LOGFMT_UNITS_NONE, "test", "crafted by test_logverify (ball)");
 }
 
 static uint32_t ev(crafted_t *c, uint32_t event)
 {
-    vp_log_record_event(&c->r[c->n], (uint32_t)c->n, event, 0, "crafted");
+    vp_logfmt_record_event(&c->r[c->n], (uint32_t)c->n, event, 0, "crafted");
     return (uint32_t)c->n++;
 }
 
@@ -73,7 +73,7 @@ static uint32_t mv(crafted_t *c, double x, double y, double z)
     memset(&cmd, 0, sizeof cmd);
     cmd.kind = VP_CMD_MOVE;
     cmd.to[0] = x; cmd.to[1] = y; cmd.to[2] = z;
-    vp_log_record_move(&c->r[c->n], (uint32_t)c->n, &cmd);
+    vp_logfmt_record_move(&c->r[c->n], (uint32_t)c->n, &cmd);
     return (uint32_t)c->n++;
 }
 
@@ -91,24 +91,24 @@ static uint32_t pb(crafted_t *c, double ox, double oy, double oz, double dx, dou
     cmd.range = range;
     res.hit = hit;
     res.dist = dist;
-    vp_log_record_probe(&c->r[c->n], (uint32_t)c->n, &cmd, &res, dist);
+    vp_logfmt_record_probe(&c->r[c->n], (uint32_t)c->n, &cmd, &res, dist);
     return (uint32_t)c->n++;
 }
 
 /* Encodes the log into a buffer (header + records). */
 static unsigned char *encode(const crafted_t *c, size_t *len)
 {
-    size_t cap = VP_LOG_MAX_HEADER + (c->n + 1) * VP_LOG_MAX_RECORD, n;
+    size_t cap = VP_LOGFMT_MAX_HEADER + (c->n + 1) * VP_LOGFMT_MAX_RECORD, n;
     unsigned char *b = malloc(cap);
     size_t i;
     int k;
     if (!b) return NULL;
-    k = vp_log_header_encode(&c->h, b, cap);
+    k = vp_logfmt_header_encode(&c->h, b, cap);
     CHECK(k > 0);
     if (k <= 0) { free(b); return NULL; }
     n = (size_t)k;
     for (i = 0; i < c->n; i++) {
-        k = vp_log_record_encode(&c->r[i], b + n, cap - n);
+        k = vp_logfmt_record_encode(&c->r[i], b + n, cap - n);
         CHECK(k > 0);
         if (k <= 0) { free(b); return NULL; }
         n += (size_t)k;
@@ -121,7 +121,7 @@ static unsigned char *encode(const crafted_t *c, size_t *len)
  * as verifying the records directly when nothing is cut. */
 static int verify_bytes(const crafted_t *c, size_t cut, vp_logverify_result_t *res, uint32_t *valid)
 {
-    vp_slog_t L;
+    vp_sessionlog_t L;
     vp_logverify_t *v = malloc(sizeof *v);
     char err[400];
     size_t len = 0;
@@ -129,19 +129,19 @@ static int verify_bytes(const crafted_t *c, size_t cut, vp_logverify_result_t *r
     uint32_t i;
     int st;
     if (!b || !v) { free(b); free(v); return VP_ENOMEM; }
-    st = vp_slog_load_buf(&L, b, cut ? cut : len, err, sizeof err);
+    st = vp_sessionlog_load_buf(&L, b, cut ? cut : len, err, sizeof err);
     free(b);
     if (st != VP_OK) { free(v); return st; }
     *valid = L.n;
     st = vp_logverify_begin(v, &L.header);
     for (i = 0; st == VP_OK && i < L.n; i++) {
-        vp_log_record_t r;
-        st = vp_slog_record(&L, i, &r);
+        vp_logfmt_record_t r;
+        st = vp_sessionlog_record(&L, i, &r);
         if (st == VP_OK) st = vp_logverify_add(v, &r);
     }
     vp_logverify_end(v, res);
     free(v);
-    vp_slog_free(&L);
+    vp_sessionlog_free(&L);
     return st;
 }
 
@@ -204,7 +204,7 @@ static void test_crafted(void)
 
     /* a move through Omega with no probe */
     box_header(&c, 0, 2, 0, 0);
-    ev(&c, VP_LOG_EV_START);
+    ev(&c, VP_LOGFMT_EV_START);
     mv(&c, 1, 0, 0);                      /* outside, onto dOmega: free */
     bad = mv(&c, 0, 0, 0);
     expect(&c, "no_probe", 1, bad, 0, -1);
@@ -299,12 +299,12 @@ static void test_crafted(void)
     /* legitimate: one move covered by the outside part, two collinear probes end to end, and
      * the outside part again; across a PAUSE and a RESUME (the position carries over) */
     box_header(&c, 0.01, 2, 0, 0);
-    ev(&c, VP_LOG_EV_START);
+    ev(&c, VP_LOGFMT_EV_START);
     mv(&c, 1, 0, 0);
     pb(&c, 1, 0, 0, -1, 0, 0, 0.8, 0, 0);        /* free x in [0.2, 1] */
     mv(&c, 0.2, 0, 0);
-    ev(&c, VP_LOG_EV_PAUSE);
-    ev(&c, VP_LOG_EV_RESUME);
+    ev(&c, VP_LOGFMT_EV_PAUSE);
+    ev(&c, VP_LOGFMT_EV_RESUME);
     pb(&c, 0.2, 0, 0, -1, 0, 0, 2, 1, 1.21);     /* hit at x = -1.01: free to x = -1.0 */
     mv(&c, 1.5, 0, 0);                           /* back along both, out of Omega */
     mv(&c, -1.5, 0, 0);                          /* outside, probe 1, probe 2, outside */
@@ -313,7 +313,7 @@ static void test_crafted(void)
     mv(&c, 1, 0.999, 1);                         /* along dOmega */
     mv(&c, 1, -1, -1);                           /* along a face of Omega */
     mv(&c, 1, -1, -1);                           /* zero length */
-    ev(&c, VP_LOG_EV_DONE);
+    ev(&c, VP_LOGFMT_EV_DONE);
     expect(&c, "legit", 0, -1, 0, -1);
     CHECK(vp_logverify_run(&c.h, c.r, c.n, &r) == VP_OK);
     CHECK(r.ok && r.moves == 9 && r.probes == 2 && r.events == 4);
@@ -348,11 +348,11 @@ static void test_crafted(void)
 static void test_big(void)
 {
     enum { N = 250000 };
-    vp_log_header_t h;
+    vp_logfmt_header_t h;
     vp_planner_config_t cfg;
     vp_logverify_t *v = malloc(sizeof *v);
     vp_logverify_result_t r;
-    vp_log_record_t rec;
+    vp_logfmt_record_t rec;
     double pos[3] = { 1, 0, 0 }, t0, secs;
     uint64_t s = 88172645463325252ull;
     uint32_t seq = 0;
@@ -364,7 +364,7 @@ static void test_big(void)
     cfg.ninterior = 1;
     cfg.eps = 0.01;
     cfg.start[0] = 1;
-    vp_log_header_init(&h, &cfg, 1u << 20, VP_LOG_UNITS_NONE, "test", "big");
+    vp_logfmt_header_init(&h, &cfg, 1u << 20, VP_LOGFMT_UNITS_NONE, "test", "big");
     t0 = (double)clock() / CLOCKS_PER_SEC;
     st = vp_logverify_begin(v, &h);
     CHECK(st == VP_OK);
@@ -385,18 +385,18 @@ static void test_big(void)
         res.hit = i % 2;
         res.dist = 0.04;
         len = res.hit ? 0.04 : 0.05;
-        vp_log_record_probe(&rec, seq++, &cmd, &res, res.dist);
+        vp_logfmt_record_probe(&rec, seq++, &cmd, &res, res.dist);
         st = vp_logverify_add(v, &rec);
         cmd.kind = VP_CMD_MOVE;
         /* half way along the free part; one move in 1000 only 1e-7 long (too short for the
          * line index: the probe fired from its start proves it) */
         for (k = 0; k < 3; k++) cmd.to[k] = pos[k] + (i % 1000 == 499 ? 1e-7 : 0.5 * len) * cmd.dir[k];
-        vp_log_record_move(&rec, seq++, &cmd);
+        vp_logfmt_record_move(&rec, seq++, &cmd);
         if (st == VP_OK) st = vp_logverify_add(v, &rec);
         if (i % 1000 == 999) {
             /* then 1e-7 further: no probe was fired from either end, all probes are looked at */
             for (k = 0; k < 3; k++) cmd.to[k] += 1e-7 * cmd.dir[k];
-            vp_log_record_move(&rec, seq++, &cmd);
+            vp_logfmt_record_move(&rec, seq++, &cmd);
             if (st == VP_OK) st = vp_logverify_add(v, &rec);
         }
         memcpy(pos, cmd.to, sizeof pos);
@@ -409,7 +409,7 @@ static void test_big(void)
         memcpy(cmd.to, pos, sizeof pos);
         cmd.to[0] += 0.01;
         cmd.to[1] += 1e-6;
-        vp_log_record_move(&rec, seq++, &cmd);
+        vp_logfmt_record_move(&rec, seq++, &cmd);
         if (st == VP_OK) st = vp_logverify_add(v, &rec);
     }
     vp_logverify_end(v, &r);
@@ -428,17 +428,17 @@ static void test_big(void)
 /* --mutate IN OUT */
 static int mutate(const char *in, const char *out)
 {
-    vp_slog_t L;
+    vp_sessionlog_t L;
     char err[1400];
     uint32_t i, pick = UINT32_MAX;
     FILE *f;
-    int st = vp_slog_load(&L, in, err, sizeof err), k;
+    int st = vp_sessionlog_load(&L, in, err, sizeof err), k;
     if (st != VP_OK) { fprintf(stderr, "%s\n", err); return 2; }
     for (i = L.n / 2; i < L.n && pick == UINT32_MAX; i++) {
-        vp_log_record_t r;
+        vp_logfmt_record_t r;
         const vp_planner_config_t *c = &L.header.cfg;
         int inside = 1;
-        if (vp_slog_record(&L, i, &r) != VP_OK || r.type != VP_LOG_MOVE) continue;
+        if (vp_sessionlog_record(&L, i, &r) != VP_OK || r.type != VP_LOGFMT_MOVE) continue;
         for (k = 0; k < 3; k++) {
             if (c->omega_kind == VP_OMEGA_BOX && !(r.target[k] > c->omega_lo[k] && r.target[k] < c->omega_hi[k])) inside = 0;
         }
@@ -449,22 +449,22 @@ static int mutate(const char *in, const char *out)
         }
         if (inside) pick = i;
     }
-    if (pick == UINT32_MAX) { fprintf(stderr, "no MOVE inside Omega in the second half\n"); vp_slog_free(&L); return 2; }
+    if (pick == UINT32_MAX) { fprintf(stderr, "no MOVE inside Omega in the second half\n"); vp_sessionlog_free(&L); return 2; }
     f = fopen(out, "wb");
-    if (!f) { vp_slog_free(&L); return 2; }
+    if (!f) { vp_sessionlog_free(&L); return 2; }
     fwrite(L.data, 1, L.off[pick], f);       /* the header and every record before it */
     for (i = pick; i < L.n; i++) {
-        vp_log_record_t r;
-        unsigned char b[VP_LOG_MAX_RECORD];
+        vp_logfmt_record_t r;
+        unsigned char b[VP_LOGFMT_MAX_RECORD];
         int n;
-        if (vp_slog_record(&L, i, &r) != VP_OK) break;
+        if (vp_sessionlog_record(&L, i, &r) != VP_OK) break;
         if (i == pick) memcpy(r.target, L.header.cfg.interior[0], sizeof r.target);
-        n = vp_log_record_encode(&r, b, sizeof b);
+        n = vp_logfmt_record_encode(&r, b, sizeof b);
         if (n > 0) fwrite(b, 1, (size_t)n, f);
     }
     st = ferror(f);
     fclose(f);
-    vp_slog_free(&L);
+    vp_sessionlog_free(&L);
     if (st) return 2;
     printf("%u\n", pick);
     return 0;

@@ -69,13 +69,13 @@ static void bad(const char *t, const char *want_loc, const char *want_msg)
     if (getenv("VP_VERBOSE")) printf("  %s\n", err);
 }
 
-int main(void)
+/* The two boards of boards/, read field by field, and the configs made from them. */
+static void test_two_boards(void)
 {
     vp_board_t b;
-    char err[400], loc[64];
-    int rc, a;
-    const char *t;
-
+    char err[400];
+    int rc;
+    int a;
     /* ---- the two boards ---- */
     rc = vp_board_load("boards/rpi4-gantry.ini", &b, err, sizeof err);
     CHECKF(rc == VP_OK, "%s", err);
@@ -125,7 +125,16 @@ int main(void)
     CHECK(!strcmp(b.name, "sim") && b.io == VP_BOARD_IO_SIM && !b.axis[0].step.chip[0] && !b.estop.chip[0]);
     CHECK(!strcmp(b.sim_surface, "sphere*80") && b.interior[0] == 0 && b.sim_energy == 6000);
     CHECK(b.cam_model.cx == 319.5 && b.cam_model.cy == 239.5);   /* centre defaults to the middle */
+}
 
+/* Broken boards: each error names the file, the line, the section and the key. */
+static void test_broken_boards(void)
+{
+    vp_board_t b;
+    char err[400];
+    char loc[64];
+    int rc;
+    const char *t;
     /* ---- broken boards ---- */
     CHECK(load_text("boards/rpi4-gantry.ini"));
     CHECK(vp_board_load("boards/no-such-board.ini", &b, err, sizeof err) == VP_EIO && strstr(err, "boards/no-such-board.ini"));
@@ -215,6 +224,15 @@ int main(void)
         rc = vp_board_parse(t, "rpi4.ini", &b, err, sizeof err);
         CHECKF(rc == VP_OK, "%s", err);
     }
+}
+
+/* Calibration files: written, read back by the board, broken ones named. */
+static void test_calibration_files(void)
+{
+    vp_board_t b;
+    char err[400];
+    int rc;
+    const char *t;
     /* ---- calibration files: written, read back by the board, broken ones named ---- */
     {
         char dir[] = "/tmp/vp_calib_XXXXXX", bpath[128], cpath[128], bt[65536];
@@ -258,6 +276,14 @@ int main(void)
         remove(bpath);
         rmdir(dir);
     }
+}
+
+/* A NUL byte inside a value, a device, a folder, a long path: refused, naming them. */
+static void test_nul_bytes(void)
+{
+    vp_board_t b;
+    char err[400];
+    int rc;
     /* ---- a NUL byte inside a value is refused naming the line (it was read as the part before
      * it: "steps_per_unit = 8<NUL>0" gave 8); a device or a folder is refused at once (a board
      * at /dev/zero was read for ever); a board path of any length is kept whole ---- */
@@ -307,5 +333,13 @@ int main(void)
     }
     printf("2 boards parsed; %d broken variants refused with file, line, section, key and reason; calibration files "
            "written, read back, broken ones named; NUL bytes, devices and folders refused\n", nbad);
+}
+
+int main(void)
+{
+    test_two_boards();
+    test_broken_boards();
+    test_calibration_files();
+    test_nul_bytes();
     return vp_test_done("test_port_board");
 }

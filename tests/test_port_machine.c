@@ -13,6 +13,7 @@
 #include "vp_meshcheck.h"
 #include "vp_meshio.h"
 #include "vp_planner.h"
+#include "vp_run.h"
 #include "vp_session.h"
 #include "vp_status.h"
 #include "vp_surface.h"
@@ -46,8 +47,52 @@ typedef struct scan_out {
     double hausdorff;
 } scan_out_t;
 
-/* A planner scan on a board's dry run (until DONE or cap commands): every probe against the
- * true object; at DONE the mesh is checked. */
+/* The device of the scan below: the machine, and every probe checked against the true object. */
+typedef struct scan_dev {
+    vp_machine_t *m;
+    vp_dryrun_t *d;
+    const vp_board_t *b;
+    scan_out_t *o;
+    double se;
+    long n;
+} scan_dev_t;
+
+static int scan_move(void *ctx, const vp_cmd_t *c, int *collided)
+{
+    scan_dev_t *s = ctx;
+    int rc = vp_machine_exec(s->m, c, NULL);
+    (void)collided;
+    CHECKF(rc == VP_OK, "command %ld (move): %s", s->n, vp_strerror(rc));
+    s->n++;
+    return rc;
+}
+
+static int scan_probe(void *ctx, const vp_cmd_t *c, vp_probe_result_t *res)
+{
+    scan_dev_t *s = ctx;
+    scan_out_t *o = s->o;
+    double t;
+    int truth, rc = vp_machine_exec(s->m, c, res);
+    CHECKF(rc == VP_OK, "command %ld (probe): %s", s->n, vp_strerror(rc));
+    s->n++;
+    if (rc != VP_OK) return rc;
+    truth = vp_surface_ray(s->d->surf, c->from, c->dir, c->range, &t);
+    if (res->hit && truth) {
+        double e = fabs(res->dist - t);
+        o->hits++;
+        s->se += e * e;
+        if (e > o->worst) o->worst = e;
+    } else if (res->hit) o->falsehits++;
+    else {
+        o->misses++;
+        if (truth && t < s->b->tri.min_range) o->blind++;
+        else if (truth) o->occluded++;
+    }
+    return VP_OK;
+}
+
+/* A planner scan on a board's dry run (until DONE or cap commands) through the core's run loop:
+ * every probe against the true object; at DONE the mesh is checked. */
 static void scan(const char *board, long cap, scan_out_t *o)
 {
     vp_board_t b;
@@ -58,7 +103,9 @@ static void scan(const char *board, long cap, scan_out_t *o)
     size_t arena_bytes = (size_t)64 << 20;
     void *arena = malloc(arena_bytes);
     char err[300];
-    double se = 0;
+    scan_dev_t sd;
+    vp_device_ops_t ops;
+    vp_run_result_t run;
     long n;
     clock_t t0 = clock();
     int rc = vp_board_load(board, &b, err, sizeof err);
@@ -73,35 +120,17 @@ static void scan(const char *board, long cap, scan_out_t *o)
     cfg.noise_tol = 2;
     cfg.confirm_misses = 2;
     CHECK(vp_planner_init(pl, arena, arena_bytes, &cfg) == VP_OK);
-    for (n = 0; n < cap; n++) {
-        vp_cmd_t c;
-        vp_probe_result_t res;
-        rc = vp_planner_next(pl, &c);
-        CHECKF(rc == VP_OK, "planner: %s", vp_strerror(rc));
-        if (rc != VP_OK) break;
-        if (c.kind == VP_CMD_DONE) { o->done = 1; break; }
-        rc = vp_machine_exec(m, &c, &res);
-        CHECKF(rc == VP_OK, "command %ld (%s): %s", n, c.kind == VP_CMD_MOVE ? "move" : "probe", vp_strerror(rc));
-        if (rc != VP_OK) break;
-        if (c.kind == VP_CMD_PROBE) {
-            double t;
-            int truth = vp_surface_ray(d->surf, c.from, c.dir, c.range, &t);
-            if (res.hit && truth) {
-                double e = fabs(res.dist - t);
-                o->hits++;
-                se += e * e;
-                if (e > o->worst) o->worst = e;
-            } else if (res.hit) o->falsehits++;
-            else {
-                o->misses++;
-                if (truth && t < b.tri.min_range) o->blind++;
-                else if (truth) o->occluded++;
-            }
-            CHECK(vp_planner_feed(pl, &res) == VP_OK);
-        }
-    }
+    memset(&sd, 0, sizeof sd);
+    sd.m = m; sd.d = d; sd.b = &b; sd.o = o;
+    ops.ctx = &sd;
+    ops.move = scan_move;
+    ops.probe = scan_probe;
+    rc = vp_run(pl, &ops, NULL, (unsigned long)cap, &run);
+    CHECKF(rc == VP_OK, "scan: %s", vp_strerror(rc));
+    o->done = run.done;
+    n = (long)run.commands;
+    o->rms = o->hits ? sqrt(sd.se / o->hits) : 0;
     o->commands = n;
-    o->rms = o->hits ? sqrt(se / o->hits) : 0;
     o->facets = vp_planner_num_facets(pl);
     if (o->done) {
         vp_mesh_t mesh;

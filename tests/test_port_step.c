@@ -122,6 +122,48 @@ static double worst_accel(int a, double amax)
     return worst;
 }
 
+/* The block iterator alone: Bresenham along the line, the trapezoid's timing, a stop halfway. */
+static void test_block_iterator(void)
+{
+    vp_step_block_t b;
+    double t;
+    uint32_t mask;
+    int k, a;
+    int32_t d[5] = { 1000, 600, -300, 0, 7 };
+    double rt[5] = { 1e4, 1e4, 1e4, 1e4, 1e4 }, ac[5] = { 1e5, 1e5, 1e5, 1e5, 1e5 };
+    int32_t p[5] = { 0, 0, 0, 0, 0 };
+    double worst = 0, tprev = 0;
+    CHECK(vp_step_block_init(&b, 5, d, rt, ac, 0) == VP_OK);
+    CHECK(b.n == 1000);
+    for (k = 1; vp_step_block_next(&b, &t, &mask); k++) {
+        CHECK(t > tprev);
+        tprev = t;
+        CHECK(mask & 1);
+        for (a = 0; a < 5; a++) {
+            if (mask & (1u << a)) p[a] += d[a] > 0 ? 1 : -1;
+            if (fabs(p[a] - (double)k * d[a] / 1000) > worst) worst = fabs(p[a] - (double)k * d[a] / 1000);
+        }
+    }
+    CHECK(k - 1 == 1000);
+    for (a = 0; a < 5; a++) CHECK(p[a] == d[a]);
+    CHECKF(worst <= 0.5 + 1e-12, "Bresenham off the line by %g steps", worst);
+    CHECKF(fabs(tprev - b.T) < 1e-12, "end %g vs %g", tprev, b.T);
+    /* 1000 steps at 1e4/s, 1e5/s^2: 0.1 s ramps over 500 steps -> a triangle of 0.2 s */
+    CHECKF(fabs(b.T - 0.2) < 1e-12 && fabs(b.vp - 1e4) < 1e-9, "T %g vp %g", b.T, b.vp);
+    /* a stop halfway decelerates over v^2/2a steps */
+    CHECK(vp_step_block_init(&b, 5, d, rt, ac, 0) == VP_OK);
+    for (k = 0; k < 250; k++) vp_step_block_next(&b, &t, &mask);
+    vp_step_block_stop(&b);
+    CHECKF(b.end == 250 + (uint32_t)floor(2 * 1e5 * 250 / (2 * 1e5)), "stop at %u", b.end);
+    {
+        int32_t bad[5] = { 5, 0, 0, 0, 0 };
+        double zr[5] = { 0, 1, 1, 1, 1 };
+        CHECK(vp_step_block_init(&b, 5, bad, zr, ac, 0) == VP_EINVAL);
+    }
+}
+
+/* One scenario on one recorded machine: each part below starts from the state the one before
+ * left (homed, moved, faulted), so they stay one function. */
 int main(void)
 {
     static vp_iorec_t rec;
@@ -129,43 +171,10 @@ int main(void)
     vp_step_config_t c;
     vp_step_t s;
     vp_io_t io;
-    vp_step_block_t b;
-    double pos[5], t;
-    uint32_t mask;
+    double pos[5];
     int i, k, a;
 
-    /* ---- the block iterator alone ---- */
-    {
-        int32_t d[5] = { 1000, 600, -300, 0, 7 };
-        double rt[5] = { 1e4, 1e4, 1e4, 1e4, 1e4 }, ac[5] = { 1e5, 1e5, 1e5, 1e5, 1e5 };
-        int32_t p[5] = { 0, 0, 0, 0, 0 };
-        double worst = 0, tprev = 0;
-        CHECK(vp_step_block_init(&b, 5, d, rt, ac, 0) == VP_OK);
-        CHECK(b.n == 1000);
-        for (k = 1; vp_step_block_next(&b, &t, &mask); k++) {
-            CHECK(t > tprev);
-            tprev = t;
-            CHECK(mask & 1);
-            for (a = 0; a < 5; a++) {
-                if (mask & (1u << a)) p[a] += d[a] > 0 ? 1 : -1;
-                if (fabs(p[a] - (double)k * d[a] / 1000) > worst) worst = fabs(p[a] - (double)k * d[a] / 1000);
-            }
-        }
-        CHECK(k - 1 == 1000);
-        for (a = 0; a < 5; a++) CHECK(p[a] == d[a]);
-        CHECKF(worst <= 0.5 + 1e-12, "Bresenham off the line by %g steps", worst);
-        CHECKF(fabs(tprev - b.T) < 1e-12, "end %g vs %g", tprev, b.T);
-        /* 1000 steps at 1e4/s, 1e5/s^2: 0.1 s ramps over 500 steps -> a triangle of 0.2 s */
-        CHECKF(fabs(b.T - 0.2) < 1e-12 && fabs(b.vp - 1e4) < 1e-9, "T %g vp %g", b.T, b.vp);
-        /* a stop halfway decelerates over v^2/2a steps */
-        CHECK(vp_step_block_init(&b, 5, d, rt, ac, 0) == VP_OK);
-        for (k = 0; k < 250; k++) vp_step_block_next(&b, &t, &mask);
-        vp_step_block_stop(&b);
-        CHECKF(b.end == 250 + (uint32_t)floor(2 * 1e5 * 250 / (2 * 1e5)), "stop at %u", b.end);
-        int32_t bad[5] = { 5, 0, 0, 0, 0 };
-        double zr[5] = { 0, 1, 1, 1, 1 };
-        CHECK(vp_step_block_init(&b, 5, bad, zr, ac, 0) == VP_EINVAL);
-    }
+    test_block_iterator();
 
     /* ---- config checks ---- */
     rec_config(&rc);

@@ -1,13 +1,14 @@
 /* Cortex-M4 image: the voroprobe core and planner with a static arena, linked freestanding.
  * Proves the core and the planner need no OS, no heap and no stdio, and measures their flash
- * and RAM use. The main loop is a whole scan: vp_planner_next -> a built-in simulated probe
- * (a ray cast against an analytic sphere, standing in for the rangefinder) -> vp_planner_feed,
- * until DONE; the figures are parked where a debugger can read them (vp_m4_result).
+ * and RAM use. The main loop is a whole scan through the core's run loop (vp_run): a built-in
+ * simulated probe (a ray cast against an analytic sphere, standing in for the rangefinder) is
+ * the device, until DONE; the figures are parked where a debugger can read them (vp_m4_result).
  * Built with -DVP_M4_HOST the same loop runs on the build machine and prints them
  * (tests/t_cortex_m4.sh), so the arena is known to be large enough for the scan. */
 #include <stdint.h>
 #include <string.h>
 #include "vp_planner.h"
+#include "vp_run.h"
 
 #ifndef VP_M4_ARENA_BYTES
 #define VP_M4_ARENA_BYTES (448u * 1024u)   /* see link.ld: this scan needs 272 KB */
@@ -43,35 +44,44 @@ static int vp_m4_sphere(const double o[3], const double d[3], double range, doub
     return 1;
 }
 
+/* The device: a MOVE is where it is told; a PROBE casts the ray against the sphere. */
+static int vp_m4_move(void *ctx, const vp_cmd_t *cmd, int *collided)
+{
+    (void)ctx; (void)cmd; (void)collided;
+    return VP_OK;
+}
+
+static int vp_m4_probe(void *ctx, const vp_cmd_t *cmd, vp_probe_result_t *res)
+{
+    (void)ctx;
+    res->dist = 0.0;
+    res->hit = vp_m4_sphere(cmd->from, cmd->dir, cmd->range, &res->dist);
+    return VP_OK;
+}
+
 int vp_m4_scan(void);
 int vp_m4_scan(void)
 {
     vp_planner_config_t cfg;
     vp_planner_stats_t st;
-    vp_cmd_t cmd;
-    uint32_t n = 0;
+    vp_device_ops_t dev;
+    vp_run_result_t run;
     int rc, k;
     memset(&cfg, 0, sizeof cfg);
+    memset(&run, 0, sizeof run);
     cfg.omega_kind = VP_OMEGA_BOX;
     for (k = 0; k < 3; k++) { cfg.omega_lo[k] = -1.5; cfg.omega_hi[k] = 1.5; }
     cfg.ninterior = 1;             /* interior[0] = the origin */
     cfg.eps = VP_M4_EPS;
     cfg.start[2] = 2.0;
+    dev.ctx = 0;
+    dev.move = vp_m4_move;
+    dev.probe = vp_m4_probe;
     rc = vp_planner_init(&pl, arena, sizeof arena, &cfg);
-    while (rc == VP_OK && n < VP_M4_MAX_COMMANDS) {
-        rc = vp_planner_next(&pl, &cmd);
-        if (rc != VP_OK || cmd.kind == VP_CMD_DONE) break;
-        n++;
-        if (cmd.kind == VP_CMD_PROBE) {
-            vp_probe_result_t res;
-            res.dist = 0.0;
-            res.hit = vp_m4_sphere(cmd.from, cmd.dir, cmd.range, &res.dist);
-            rc = vp_planner_feed(&pl, &res);
-        }                          /* a MOVE: the simulated device is where it is told */
-    }
+    if (rc == VP_OK) rc = vp_run(&pl, &dev, 0, VP_M4_MAX_COMMANDS, &run);
     vp_planner_get_stats(&pl, &st);
     vp_m4_result.status = rc;
-    vp_m4_result.commands = n;
+    vp_m4_result.commands = (uint32_t)run.commands;
     vp_m4_result.probes = (uint32_t)st.probes;
     vp_m4_result.hits = (uint32_t)st.hits;
     vp_m4_result.facets = vp_planner_num_facets(&pl);

@@ -1,30 +1,12 @@
 /* libFuzzer target: the OFF reader; what it accepts is written and read back unchanged. */
 #include <stddef.h>
 #include <stdint.h>
-#include <stdlib.h>
-#include <string.h>
-#include "vp_meshio.h"
+#include "fuzz_mesh.h"
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
-    vp_mesh_t m, m2;
-    char err[300];
-    vp_mesh_init(&m);
-    vp_mesh_init(&m2);
-    if (vp_mesh_read_off_buf(data, size, &m, err, sizeof err) == 0) {
-        unsigned char *out;
-        size_t len;
-        if (vp_mesh_write_buf(&m, VP_MESH_OFF, &out, &len) == 0) {
-            if (vp_mesh_read_off_buf(out, len, &m2, err, sizeof err) != 0 || m2.nv != m.nv || m2.nt != m.nt ||
-                (m.nt && memcmp(m.tri, m2.tri, 3 * m.nt * sizeof *m.tri) != 0))
-                __builtin_trap();
-            free(out);
-        }
-    }
-    (void)vp_mesh_read_buf(data, size, &m, err, sizeof err);
-    vp_mesh_free(&m);
-    vp_mesh_free(&m2);
+    fuzz_mesh_roundtrip(data, size, vp_mesh_read_off_buf, VP_MESH_OFF, 0, 1);
     return 0;
 }

@@ -1,4 +1,4 @@
-/* vp_logfile — see vp_logfile.h. */
+/* vp_logwriter — see vp_logwriter.h. */
 #include <errno.h>
 #include <fcntl.h>
 #include <stdlib.h>
@@ -7,22 +7,16 @@
 #include <sys/stat.h>
 #include <time.h>
 #include <unistd.h>
-#include "vp_logfile.h"
+#include "vp_logwriter.h"
+#include "vp_rtclock.h"
 
-static double now_s(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
-void vp_logfile_config_default(vp_logfile_config_t *c)
+void vp_logwriter_config_default(vp_logwriter_config_t *c)
 {
     memset(c, 0, sizeof *c);
     c->sync_records = 1;
 }
 
-int vp_logfile_parse_sync(const char *s, vp_logfile_config_t *c)
+int vp_logwriter_parse_sync(const char *s, vp_logwriter_config_t *c)
 {
     uint32_t rec = 0, ms = 0;
     if (!strcmp(s, "record")) { c->sync_records = 1; c->sync_ms = 0; return 0; }
@@ -45,16 +39,16 @@ int vp_logfile_parse_sync(const char *s, vp_logfile_config_t *c)
     return 0;
 }
 
-static void start(vp_logfile_t *f, int fd, const vp_logfile_config_t *cfg)
+static void start(vp_logwriter_t *f, int fd, const vp_logwriter_config_t *cfg)
 {
     memset(f, 0, sizeof *f);
     f->fd = fd;
     if (cfg) f->cfg = *cfg;
-    else vp_logfile_config_default(&f->cfg);
+    else vp_logwriter_config_default(&f->cfg);
 }
 
 /* Writes all of p (as far as the simulated power cut allows). */
-static int write_all(vp_logfile_t *f, const unsigned char *p, size_t n)
+static int write_all(vp_logwriter_t *f, const unsigned char *p, size_t n)
 {
     size_t allowed = n;
     int cut = 0;
@@ -81,7 +75,7 @@ static int write_all(vp_logfile_t *f, const unsigned char *p, size_t n)
     return VP_OK;
 }
 
-int vp_logfile_sync(vp_logfile_t *f)
+int vp_logwriter_sync(vp_logwriter_t *f)
 {
     if (f->fd < 0 || f->dead) return VP_EIO;
     if (fdatasync(f->fd) != 0) return VP_EIO;
@@ -110,7 +104,7 @@ static void sync_dir_of(const char *path)
 
 /* Opens path to write and takes an exclusive lock on it for as long as it stays open, without
  * changing a byte: a log another process is writing is left alone (f->busy, VP_EIO). */
-static int open_locked(vp_logfile_t *f, const char *path, int create)
+static int open_locked(vp_logwriter_t *f, const char *path, int create)
 {
     int fd = open(path, O_WRONLY | (create ? O_CREAT : 0), 0666), e;
     if (fd < 0) return VP_EIO;
@@ -126,23 +120,23 @@ static int open_locked(vp_logfile_t *f, const char *path, int create)
     return VP_OK;
 }
 
-int vp_logfile_create(vp_logfile_t *f, const char *path, const vp_log_header_t *h,
-                      const vp_logfile_config_t *cfg)
+int vp_logwriter_create(vp_logwriter_t *f, const char *path, const vp_logfmt_header_t *h,
+                      const vp_logwriter_config_t *cfg)
 {
-    unsigned char buf[VP_LOG_MAX_HEADER];
-    int n = vp_log_header_encode(h, buf, sizeof buf), st;
+    unsigned char buf[VP_LOGFMT_MAX_HEADER];
+    int n = vp_logfmt_header_encode(h, buf, sizeof buf), st;
     start(f, -1, cfg);
     if (n < 0) return n;
     if ((st = open_locked(f, path, 1)) != VP_OK) return st;
     if (ftruncate(f->fd, 0) != 0) return VP_EIO;   /* replaced only once it is ours */
     st = write_all(f, buf, (size_t)n);
-    if (st == VP_OK && !f->dead) st = vp_logfile_sync(f);
+    if (st == VP_OK && !f->dead) st = vp_logwriter_sync(f);
     if (st == VP_OK) sync_dir_of(path);
     return st;
 }
 
-int vp_logfile_create_copy(vp_logfile_t *f, const char *path, const void *data, uint64_t n,
-                           uint32_t next_seq, const vp_logfile_config_t *cfg)
+int vp_logwriter_create_copy(vp_logwriter_t *f, const char *path, const void *data, uint64_t n,
+                           uint32_t next_seq, const vp_logwriter_config_t *cfg)
 {
     const unsigned char *p = data;
     uint64_t left = n;
@@ -167,14 +161,14 @@ int vp_logfile_create_copy(vp_logfile_t *f, const char *path, const void *data, 
     return VP_OK;
 }
 
-int vp_logfile_open_append(vp_logfile_t *f, const char *path, uint64_t good_bytes,
-                           uint32_t next_seq, const vp_logfile_config_t *cfg)
+int vp_logwriter_open_append(vp_logwriter_t *f, const char *path, uint64_t good_bytes,
+                           uint32_t next_seq, const vp_logwriter_config_t *cfg)
 {
-    return vp_logfile_open_append_read(f, path, good_bytes, next_seq, UINT64_MAX, cfg);
+    return vp_logwriter_open_append_read(f, path, good_bytes, next_seq, UINT64_MAX, cfg);
 }
 
-int vp_logfile_open_append_read(vp_logfile_t *f, const char *path, uint64_t good_bytes, uint32_t next_seq,
-                                uint64_t read_size, const vp_logfile_config_t *cfg)
+int vp_logwriter_open_append_read(vp_logwriter_t *f, const char *path, uint64_t good_bytes, uint32_t next_seq,
+                                uint64_t read_size, const vp_logwriter_config_t *cfg)
 {
     struct stat sb;
     int st;
@@ -196,37 +190,37 @@ int vp_logfile_open_append_read(vp_logfile_t *f, const char *path, uint64_t good
     return VP_OK;
 }
 
-int vp_logfile_append(vp_logfile_t *f, vp_log_record_t *rec)
+int vp_logwriter_append(vp_logwriter_t *f, vp_logfmt_record_t *rec)
 {
-    unsigned char buf[VP_LOG_MAX_RECORD];
+    unsigned char buf[VP_LOGFMT_MAX_RECORD];
     int n, st;
     if (f->fd < 0 || f->dead) return VP_EIO;
     rec->seq = f->seq;
-    n = vp_log_record_encode(rec, buf, sizeof buf);
+    n = vp_logfmt_record_encode(rec, buf, sizeof buf);
     if (n < 0) return n;
     st = write_all(f, buf, (size_t)n);
     if (st != VP_OK) return st;
     f->seq++;
     f->records++;
-    if (f->unsynced++ == 0 && f->cfg.sync_ms) f->first_unsynced = now_s();
+    if (f->unsynced++ == 0 && f->cfg.sync_ms) f->first_unsynced = vp_rt_seconds();
     if ((f->cfg.sync_records && f->unsynced >= f->cfg.sync_records) ||
-        (f->cfg.sync_ms && (now_s() - f->first_unsynced) * 1000.0 >= (double)f->cfg.sync_ms))
-        return vp_logfile_sync(f);
+        (f->cfg.sync_ms && (vp_rt_seconds() - f->first_unsynced) * 1000.0 >= (double)f->cfg.sync_ms))
+        return vp_logwriter_sync(f);
     return VP_OK;
 }
 
-int vp_logfile_event(vp_logfile_t *f, uint32_t event, int32_t code, const char *text)
+int vp_logwriter_event(vp_logwriter_t *f, uint32_t event, int32_t code, const char *text)
 {
-    vp_log_record_t rec;
-    vp_log_record_event(&rec, 0, event, code, text);
-    return vp_logfile_append(f, &rec);
+    vp_logfmt_record_t rec;
+    vp_logfmt_record_event(&rec, 0, event, code, text);
+    return vp_logwriter_append(f, &rec);
 }
 
-int vp_logfile_close(vp_logfile_t *f)
+int vp_logwriter_close(vp_logwriter_t *f)
 {
     int st = VP_OK;
     if (f->fd < 0) return VP_OK;
-    if (!f->dead && f->unsynced) st = vp_logfile_sync(f);
+    if (!f->dead && f->unsynced) st = vp_logwriter_sync(f);
     if (close(f->fd) != 0 && st == VP_OK) st = VP_EIO;
     f->fd = -1;
     return st;

@@ -1,44 +1,44 @@
-/* vp_slog — see vp_slog.h. */
+/* vp_sessionlog — see vp_sessionlog.h. */
 #include <errno.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 #include "vp_file.h"
-#include "vp_slog.h"
+#include "vp_sessionlog.h"
 
-const char *vp_slog_event_name(uint32_t event)
+const char *vp_sessionlog_event_name(uint32_t event)
 {
     switch (event) {
-    case VP_LOG_EV_START: return "start";
-    case VP_LOG_EV_PAUSE: return "pause";
-    case VP_LOG_EV_RESUME: return "resume";
-    case VP_LOG_EV_FAULT: return "fault";
-    case VP_LOG_EV_DONE: return "done";
-    case VP_LOG_EV_CALIBRATION: return "calibration";
+    case VP_LOGFMT_EV_START: return "start";
+    case VP_LOGFMT_EV_PAUSE: return "pause";
+    case VP_LOGFMT_EV_RESUME: return "resume";
+    case VP_LOGFMT_EV_FAULT: return "fault";
+    case VP_LOGFMT_EV_DONE: return "done";
+    case VP_LOGFMT_EV_CALIBRATION: return "calibration";
     default: return "unknown";
     }
 }
 
-static int index_records(vp_slog_t *L, char *err, size_t errlen)
+static int index_records(vp_sessionlog_t *L, char *err, size_t errlen)
 {
-    vp_log_reader_t *r = malloc(sizeof *r);
+    vp_logfmt_reader_t *r = malloc(sizeof *r);
     size_t pos = 0, cap = 1024;
-    int st = VP_LOG_NEED_MORE;
+    int st = VP_LOGFMT_NEED_MORE;
     if (!r || !(L->off = malloc(cap * sizeof *L->off))) {
         free(r);
         snprintf(err, errlen, "out of memory");
         return VP_ENOMEM;
     }
-    vp_log_reader_init(r);
+    vp_logfmt_reader_init(r);
     while (pos < L->size) {
-        vp_log_record_t rec;
+        vp_logfmt_record_t rec;
         size_t used;
         uint64_t at = r->offset;
-        st = vp_log_reader_push(r, L->data + pos, L->size - pos, &used, &rec);
+        st = vp_logfmt_reader_push(r, L->data + pos, L->size - pos, &used, &rec);
         pos += used;
         if (st < 0) break;
-        if (st == VP_LOG_GOT_HEADER) L->header = r->header;
-        if (st != VP_LOG_GOT_RECORD) continue;
+        if (st == VP_LOGFMT_GOT_HEADER) L->header = r->header;
+        if (st != VP_LOGFMT_GOT_RECORD) continue;
         if (L->n == cap) {
             size_t *o = realloc(L->off, 2 * cap * sizeof *o);
             if (!o) { free(r); snprintf(err, errlen, "out of memory"); return VP_ENOMEM; }
@@ -46,40 +46,40 @@ static int index_records(vp_slog_t *L, char *err, size_t errlen)
             cap *= 2;
         }
         L->off[L->n++] = (size_t)at;
-        if (rec.type == VP_LOG_PROBE) { L->probes++; L->hits += rec.hit == 1; }
-        else if (rec.type == VP_LOG_MOVE) L->moves++;
-        else { L->events++; if (rec.event == VP_LOG_EV_DONE) L->done = 1; }
+        if (rec.type == VP_LOGFMT_PROBE) { L->probes++; L->hits += rec.hit == 1; }
+        else if (rec.type == VP_LOGFMT_MOVE) L->moves++;
+        else { L->events++; if (rec.event == VP_LOGFMT_EV_DONE) L->done = 1; }
     }
-    if (st >= 0) st = vp_log_reader_finish(r);
+    if (st >= 0) st = vp_logfmt_reader_finish(r);
     L->good_bytes = r->offset;
     L->status = st < 0 ? st : VP_OK;
-    L->reason = st < 0 ? r->reason : VP_LOG_R_OK;
+    L->reason = st < 0 ? r->reason : VP_LOGFMT_R_OK;
     if (!r->have_header) {
         int vst = r->status == VP_EVERSION ? VP_EVERSION : VP_ECORRUPT;
-        if (r->reason == VP_LOG_R_VERSION)
+        if (r->reason == VP_LOGFMT_R_VERSION)
             snprintf(err, errlen, "the log was written by a newer format version (%u; this build reads up to %u): "
                      "use a newer voroprobe", (unsigned)(L->size >= 10 ? L->data[8] | L->data[9] << 8 : 0),
-                     VP_LOG_VERSION);
-        else if (r->reason == VP_LOG_R_HEADER_CRC || r->reason == VP_LOG_R_HEADER) {
+                     VP_LOGFMT_VERSION);
+        else if (r->reason == VP_LOGFMT_R_HEADER_CRC || r->reason == VP_LOGFMT_R_HEADER) {
             /* the version field is believed only in an intact header */
             unsigned ver = (unsigned)(L->size >= 10 ? L->data[8] | L->data[9] << 8 : 0);
             unsigned long hl = L->size >= 16 ? (unsigned long)L->data[12] | (unsigned long)L->data[13] << 8 |
                                                (unsigned long)L->data[14] << 16 | (unsigned long)L->data[15] << 24 : 0;
             char why[200] = "";
-            if (ver > VP_LOG_VERSION && r->reason == VP_LOG_R_HEADER_CRC)
+            if (ver > VP_LOGFMT_VERSION && r->reason == VP_LOGFMT_R_HEADER_CRC)
                 snprintf(why, sizeof why, "; its version field reads %u, not a newer format: a newer log's header "
                          "would be intact", ver);
-            else if (ver > VP_LOG_VERSION)
+            else if (ver > VP_LOGFMT_VERSION)
                 snprintf(why, sizeof why, "; its version field reads %u (this build reads up to %u): damaged, or a "
-                         "newer format whose header this build cannot check", ver, VP_LOG_VERSION);
-            if (r->reason == VP_LOG_R_HEADER_CRC)
+                         "newer format whose header this build cannot check", ver, VP_LOGFMT_VERSION);
+            if (r->reason == VP_LOGFMT_R_HEADER_CRC)
                 snprintf(err, errlen, "unusable header: the header is damaged (header CRC mismatch over bytes 0..%lu)%s",
                          hl - 1, why);
             else
                 snprintf(err, errlen, "unusable header: the header is damaged (an invalid length, version or field)%s",
                          why);
         } else
-            snprintf(err, errlen, "unusable header: %s", vp_log_reason_text(r->reason));
+            snprintf(err, errlen, "unusable header: %s", vp_logfmt_reason_text(r->reason));
         free(r);
         return vst;
     }
@@ -87,7 +87,7 @@ static int index_records(vp_slog_t *L, char *err, size_t errlen)
     return VP_OK;
 }
 
-int vp_slog_load_buf(vp_slog_t *L, const void *buf, size_t len, char *err, size_t errlen)
+int vp_sessionlog_load_buf(vp_sessionlog_t *L, const void *buf, size_t len, char *err, size_t errlen)
 {
     int st;
     memset(L, 0, sizeof *L);
@@ -96,19 +96,19 @@ int vp_slog_load_buf(vp_slog_t *L, const void *buf, size_t len, char *err, size_
     if (len) memcpy(L->data, buf, len);
     L->size = len;
     st = index_records(L, err, errlen);
-    if (st != VP_OK) vp_slog_free(L);
+    if (st != VP_OK) vp_sessionlog_free(L);
     return st;
 }
 
 /* The first bytes of a log: its magic (a shorter file is left to the reader: truncated). */
 static const char *slog_head(const unsigned char *p, size_t n)
 {
-    if (n >= VP_LOG_MAGIC_LEN && memcmp(p, vp_log_magic, VP_LOG_MAGIC_LEN) != 0)
+    if (n >= VP_LOGFMT_MAGIC_LEN && memcmp(p, vp_logfmt_magic, VP_LOGFMT_MAGIC_LEN) != 0)
         return "bad magic (a voroprobe session log starts with \"VPLOG\")";
     return NULL;
 }
 
-int vp_slog_load(vp_slog_t *L, const char *path, char *err, size_t errlen)
+int vp_sessionlog_load(vp_sessionlog_t *L, const char *path, char *err, size_t errlen)
 {
     unsigned char *p = NULL;
     size_t n = 0;
@@ -116,7 +116,7 @@ int vp_slog_load(vp_slog_t *L, const char *path, char *err, size_t errlen)
     int st;
     memset(L, 0, sizeof *L);
     /* a regular file of bounded size (a device would be read until memory runs out) */
-    st = vp_file_read(path, VP_SLOG_MAX_FILE, "session log", slog_head, &p, &n, sub, sizeof sub);
+    st = vp_file_read(path, VP_SESSIONLOG_MAX_FILE, "session log", slog_head, &p, &n, sub, sizeof sub);
     if (st != VP_OK) {
         snprintf(err, errlen, "%s", sub);
         return st == VP_ECORRUPT ? VP_ECORRUPT : VP_EIO;
@@ -126,27 +126,27 @@ int vp_slog_load(vp_slog_t *L, const char *path, char *err, size_t errlen)
     st = index_records(L, sub, sizeof sub);
     if (st != VP_OK) {
         snprintf(err, errlen, "%s: %s", path, sub);
-        vp_slog_free(L);
+        vp_sessionlog_free(L);
     }
     return st;
 }
 
-void vp_slog_free(vp_slog_t *L)
+void vp_sessionlog_free(vp_sessionlog_t *L)
 {
     free(L->data);
     free(L->off);
     memset(L, 0, sizeof *L);
 }
 
-int vp_slog_record(const vp_slog_t *L, uint32_t i, vp_log_record_t *rec)
+int vp_sessionlog_record(const vp_sessionlog_t *L, uint32_t i, vp_logfmt_record_t *rec)
 {
     int st;
     if (i >= L->n) return VP_EINVAL;
-    st = vp_log_record_decode(L->data + L->off[i], L->size - L->off[i], rec, NULL);
+    st = vp_logfmt_record_decode(L->data + L->off[i], L->size - L->off[i], rec, NULL);
     return st < 0 ? st : VP_OK;
 }
 
-void vp_slog_stop_text(const vp_slog_t *L, char *buf, size_t n)
+void vp_sessionlog_stop_text(const vp_sessionlog_t *L, char *buf, size_t n)
 {
     if (L->status == VP_OK) {
         snprintf(buf, n, "complete: %u records, %llu bytes, all CRCs and sequence numbers good",
@@ -155,20 +155,20 @@ void vp_slog_stop_text(const vp_slog_t *L, char *buf, size_t n)
     }
     snprintf(buf, n, "reading stops at record %u (byte offset %llu): %s; records 0..%d "
              "(bytes 0..%llu) are valid and kept, %llu byte(s) after them are not used",
-             L->n, (unsigned long long)L->good_bytes, vp_log_reason_text(L->reason), (int)L->n - 1,
+             L->n, (unsigned long long)L->good_bytes, vp_logfmt_reason_text(L->reason), (int)L->n - 1,
              (unsigned long long)L->good_bytes, (unsigned long long)(L->size - L->good_bytes));
 }
 
 /* ---------- replay ---------- */
 
-void vp_replay_init_state(vp_replay_t *R, vp_planner_t *pl, const vp_slog_t *L)
+void vp_replay_init_state(vp_replay_t *R, vp_planner_t *pl, const vp_sessionlog_t *L)
 {
     memset(R, 0, sizeof *R);
     R->pl = pl;
     memcpy(R->pos, L->header.cfg.start, sizeof R->pos);
 }
 
-int vp_replay_open(vp_replay_t *R, const vp_slog_t *L, size_t arena, char *err, size_t errlen)
+int vp_replay_open(vp_replay_t *R, const vp_sessionlog_t *L, size_t arena, char *err, size_t errlen)
 {
     size_t bytes = arena ? arena : (size_t)L->header.arena_bytes;
     int st;
@@ -206,24 +206,24 @@ static const char *cmd_name(int kind)
 
 static const char *type_name(int type)
 {
-    return type == VP_LOG_MOVE ? "MOVE" : type == VP_LOG_PROBE ? "PROBE" : "EVENT";
+    return type == VP_LOGFMT_MOVE ? "MOVE" : type == VP_LOGFMT_PROBE ? "PROBE" : "EVENT";
 }
 
-int vp_replay_run(vp_replay_t *R, const vp_slog_t *L, uint32_t upto, char *err, size_t errlen)
+int vp_replay_run(vp_replay_t *R, const vp_sessionlog_t *L, uint32_t upto, char *err, size_t errlen)
 {
     if (upto > L->n) upto = L->n;
     while (R->applied < upto) {
-        vp_log_record_t rec;
-        vp_log_mismatch_t mm;
+        vp_logfmt_record_t rec;
+        vp_logfmt_mismatch_t mm;
         uint32_t i = R->applied;
-        int st = vp_slog_record(L, i, &rec);
+        int st = vp_sessionlog_record(L, i, &rec);
         if (st != VP_OK) {
             snprintf(err, errlen, "record %u (byte offset %zu) cannot be decoded", i, L->off[i]);
             return st;
         }
         memset(&mm, 0, sizeof mm);
-        if (rec.type == VP_LOG_EVENT) {
-            if (rec.event == VP_LOG_EV_DONE && !R->done) {
+        if (rec.type == VP_LOGFMT_EVENT) {
+            if (rec.event == VP_LOGFMT_EV_DONE && !R->done) {
                 /* the planner must agree that the session is complete */
                 vp_cmd_t cmd;
                 st = vp_planner_next(R->pl, &cmd);
@@ -238,9 +238,9 @@ int vp_replay_run(vp_replay_t *R, const vp_slog_t *L, uint32_t upto, char *err, 
             R->applied++;
             continue;
         }
-        st = vp_log_replay(R->pl, &rec, &mm);
+        st = vp_logfmt_replay(R->pl, &rec, &mm);
         if (st == VP_ECORRUPT && mm.field) {
-            if (mm.got_kind != (rec.type == VP_LOG_MOVE ? VP_CMD_MOVE : VP_CMD_PROBE))
+            if (mm.got_kind != (rec.type == VP_LOGFMT_MOVE ? VP_CMD_MOVE : VP_CMD_PROBE))
                 snprintf(err, errlen, "record %u (byte offset %zu): the log has a %s, the planner issued %s: "
                          "this log was made by another planner build or configuration", i, L->off[i],
                          type_name(rec.type), cmd_name(mm.got_kind));
@@ -255,7 +255,7 @@ int vp_replay_run(vp_replay_t *R, const vp_slog_t *L, uint32_t upto, char *err, 
                      vp_strerror(st));
             return st;
         }
-        if (rec.type == VP_LOG_MOVE) { memcpy(R->pos, rec.target, sizeof R->pos); R->moves++; }
+        if (rec.type == VP_LOGFMT_MOVE) { memcpy(R->pos, rec.target, sizeof R->pos); R->moves++; }
         else { R->probes++; R->hits += rec.hit == 1; }
         R->applied++;
     }
@@ -267,7 +267,7 @@ static int bits_eq(const double *a, const double *b, int n)
     return memcmp(a, b, (size_t)n * sizeof(double)) == 0;
 }
 
-int vp_slog_same_config(const vp_planner_config_t *a, uint64_t arena_a,
+int vp_sessionlog_same_config(const vp_planner_config_t *a, uint64_t arena_a,
                         const vp_planner_config_t *b, uint64_t arena_b, char *why, size_t n)
 {
     const char *f = NULL;
@@ -293,19 +293,19 @@ int vp_slog_same_config(const vp_planner_config_t *a, uint64_t arena_a,
 
 /* ---------- writer hook ---------- */
 
-int vp_slog_after(void *ctx, const vp_cmd_t *cmd, const vp_probe_result_t *res)
+int vp_sessionlog_after(void *ctx, const vp_cmd_t *cmd, const vp_probe_result_t *res)
 {
-    vp_slog_writer_t *w = ctx;
-    vp_log_record_t rec;
+    vp_sessionlog_writer_t *w = ctx;
+    vp_logfmt_record_t rec;
     int st;
     if (cmd->kind == VP_CMD_DONE) {
-        vp_log_record_event(&rec, 0, VP_LOG_EV_DONE, 0, "the planner says DONE");
+        vp_logfmt_record_event(&rec, 0, VP_LOGFMT_EV_DONE, 0, "the planner says DONE");
     } else if (cmd->kind == VP_CMD_MOVE) {
-        vp_log_record_move(&rec, 0, cmd);
+        vp_logfmt_record_move(&rec, 0, cmd);
     } else {
-        vp_log_record_probe(&rec, 0, cmd, res, w->raw ? *w->raw : NAN);
+        vp_logfmt_record_probe(&rec, 0, cmd, res, w->raw ? *w->raw : NAN);
     }
-    st = vp_logfile_append(&w->file, &rec);
+    st = vp_logwriter_append(&w->file, &rec);
     if (st != VP_OK) { w->failed = 1; return st; }
     w->commands++;
     if (cmd->kind != VP_CMD_DONE &&

@@ -1,18 +1,28 @@
 #include <math.h>
 #include "vp_rng.h"
 
-static uint64_t vp_splitmix64(uint64_t *x)
+uint64_t vp_splitmix_next(uint64_t *state)
 {
-    uint64_t z = (*x += 0x9e3779b97f4a7c15ULL);
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+    uint64_t z = (*state += 0x9E3779B97F4A7C15ull);
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
     return z ^ (z >> 31);
+}
+
+double vp_splitmix_uniform(uint64_t *state)
+{
+    return (double)(vp_splitmix_next(state) >> 11) * (1.0 / 9007199254740992.0);
+}
+
+uint64_t vp_mix64(uint64_t x)
+{
+    return vp_splitmix_next(&x);
 }
 
 void vp_rng_seed(vp_rng_t *r, uint64_t seed)
 {
     int i;
-    for (i = 0; i < 4; i++) r->s[i] = vp_splitmix64(&seed);
+    for (i = 0; i < 4; i++) r->s[i] = vp_splitmix_next(&seed);
 }
 
 static uint64_t vp_rotl(uint64_t x, int k) { return (x << k) | (x >> (64 - k)); }

@@ -1,43 +1,43 @@
-/* vp_slog — session logs on the host: loading a log file (keeping every valid record before
+/* vp_sessionlog — session logs on the host: loading a log file (keeping every valid record before
  * the first bad one), replaying it through the planner, and the vp_session hook that writes
  * one record per executed command. */
-#ifndef VP_SLOG_H
-#define VP_SLOG_H
+#ifndef VP_SESSIONLOG_H
+#define VP_SESSIONLOG_H
 #include <stddef.h>
 #include <signal.h>
 #include <stdio.h>
-#include "vp_log.h"
-#include "vp_logfile.h"
+#include "vp_logfmt.h"
+#include "vp_logwriter.h"
 #include "vp_planner.h"
 #include "vp_session.h"
 
 /* A loaded log: the file's bytes, the valid records' offsets, and where reading stopped. */
-typedef struct vp_slog {
-    vp_log_header_t header;
+typedef struct vp_sessionlog {
+    vp_logfmt_header_t header;
     unsigned char *data;
     size_t size;               /* file bytes */
     size_t *off;               /* offsets of the valid records */
     uint32_t n;                /* valid records */
     int status;                /* VP_OK: the file ends cleanly after record n-1 */
-    int reason;                /* VP_LOG_R_* when status != VP_OK */
+    int reason;                /* VP_LOGFMT_R_* when status != VP_OK */
     uint64_t good_bytes;       /* end of the last valid record */
     uint64_t probes, hits, moves, events;
     int done;                  /* a DONE event is among the records */
-} vp_slog_t;
+} vp_sessionlog_t;
 
 /* Loads path. Fails (err set) only when the file cannot be read or its header is unusable
  * (not a regular file, not a log, newer version, damaged header); damage after the header is kept in
  * status/reason and the records before it are loaded. A failed load holds nothing (no
- * vp_slog_free needed); a loaded one is freed with vp_slog_free. */
-#define VP_SLOG_MAX_FILE (1ULL << 33)   /* a larger file is refused (it is read whole) */
-int  vp_slog_load(vp_slog_t *L, const char *path, char *err, size_t errlen);
-int  vp_slog_load_buf(vp_slog_t *L, const void *buf, size_t len, char *err, size_t errlen);
-void vp_slog_free(vp_slog_t *L);
+ * vp_sessionlog_free needed); a loaded one is freed with vp_sessionlog_free. */
+#define VP_SESSIONLOG_MAX_FILE (1ULL << 33)   /* a larger file is refused (it is read whole) */
+int  vp_sessionlog_load(vp_sessionlog_t *L, const char *path, char *err, size_t errlen);
+int  vp_sessionlog_load_buf(vp_sessionlog_t *L, const void *buf, size_t len, char *err, size_t errlen);
+void vp_sessionlog_free(vp_sessionlog_t *L);
 /* Record i (< n), decoded again from the bytes. */
-int  vp_slog_record(const vp_slog_t *L, uint32_t i, vp_log_record_t *rec);
+int  vp_sessionlog_record(const vp_sessionlog_t *L, uint32_t i, vp_logfmt_record_t *rec);
 /* One line on where and why reading stopped ("complete" when it did not). */
-void vp_slog_stop_text(const vp_slog_t *L, char *buf, size_t n);
-const char *vp_slog_event_name(uint32_t event);
+void vp_sessionlog_stop_text(const vp_sessionlog_t *L, char *buf, size_t n);
+const char *vp_sessionlog_event_name(uint32_t event);
 
 /* Replay through a planner. */
 typedef struct vp_replay {
@@ -52,29 +52,29 @@ typedef struct vp_replay {
 } vp_replay_t;
 
 /* Creates the planner from the header (arena: the header's size unless arena != 0). */
-int  vp_replay_open(vp_replay_t *R, const vp_slog_t *L, size_t arena, char *err, size_t errlen);
+int  vp_replay_open(vp_replay_t *R, const vp_sessionlog_t *L, size_t arena, char *err, size_t errlen);
 /* Replays records [R->applied, upto) (upto > n: all) into R->pl (which may also be a planner
  * made elsewhere with the same configuration: set R->pl and call vp_replay_init_state). On a
  * mismatch err names the record, its offset and what differed. */
-int  vp_replay_run(vp_replay_t *R, const vp_slog_t *L, uint32_t upto, char *err, size_t errlen);
-void vp_replay_init_state(vp_replay_t *R, vp_planner_t *pl, const vp_slog_t *L);
+int  vp_replay_run(vp_replay_t *R, const vp_sessionlog_t *L, uint32_t upto, char *err, size_t errlen);
+void vp_replay_init_state(vp_replay_t *R, vp_planner_t *pl, const vp_sessionlog_t *L);
 void vp_replay_close(vp_replay_t *R);
 
 /* 1 if the two configurations (and arenas) are the same bit for bit; else 0 and a line
  * naming the first field that differs. */
-int  vp_slog_same_config(const vp_planner_config_t *a, uint64_t arena_a,
+int  vp_sessionlog_same_config(const vp_planner_config_t *a, uint64_t arena_a,
                          const vp_planner_config_t *b, uint64_t arena_b, char *why, size_t n);
 
-/* The writer hook: give vp_session_hooks_t { w, vp_slog_after }. */
-typedef struct vp_slog_writer {
-    vp_logfile_t file;
+/* The writer hook: give vp_session_hooks_t { w, vp_sessionlog_after }. */
+typedef struct vp_sessionlog_writer {
+    vp_logwriter_t file;
     const double *raw;         /* the device's raw reading of its last probe (NULL: NaN) */
     unsigned long commands;    /* commands logged by this writer */
     unsigned long stop_after;  /* pause after this many commands (0: never): VP_EABORT */
     const volatile sig_atomic_t *stop_flag; /* set by a signal: pause after this command */
     int stopped;               /* paused (stop_after or stop_flag) */
     int failed;                /* a write failed (or the simulated power cut happened) */
-} vp_slog_writer_t;
-int  vp_slog_after(void *ctx, const vp_cmd_t *cmd, const vp_probe_result_t *res);
+} vp_sessionlog_writer_t;
+int  vp_sessionlog_after(void *ctx, const vp_cmd_t *cmd, const vp_probe_result_t *res);
 
 #endif

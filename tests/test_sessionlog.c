@@ -1,6 +1,6 @@
 /* Session logs end to end, in-process: a scan of an analytic two-component object (torus +
  * sphere, exact distance functions, sphere tracing with + - * / sqrt only, noise and dropouts
- * from an integer hash of the probe number) logged through port/vp_logfile; the log replayed
+ * from an integer hash of the probe number) logged through port/vp_logwriter; the log replayed
  * through a fresh planner gives the same mesh bytes; the session cut at record boundaries and
  * at byte offsets (torn records), resumed, gives the same final mesh; damaged logs keep their
  * valid prefix (a damaged header is not taken for a newer version); a log being written is
@@ -13,19 +13,20 @@
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
-#include "vp_log.h"
-#include "vp_logfile.h"
+#include "vp_logfmt.h"
+#include "vp_logwriter.h"
 #include "vp_meshio.h"
 #include "vp_planner.h"
 #include "vp_session.h"
 #include "vp_simdev.h"
-#include "vp_slog.h"
+#include "vp_sessionlog.h"
 #include "vp_surface.h"
+#include "vp_rng.h"
 #include "vp_test.h"
 
 static int quick;
 static char dir[256];
-static const vp_logfile_config_t nosync = { 0, 0, 0 };  /* sync on close only: tests run fast */
+static const vp_logwriter_config_t nosync = { 0, 0, 0 };  /* sync on close only: tests run fast */
 
 /* ---------- the analytic device ---------- */
 
@@ -42,15 +43,8 @@ static double sdf(const double *p)
     return d1 < d2 ? d1 : d2;
 }
 
-static uint64_t mix64(uint64_t z)
-{
-    z += 0x9E3779B97F4A7C15ULL;
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ULL;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBULL;
-    return z ^ (z >> 31);
-}
 
-static double unit(uint64_t *s) { *s = mix64(*s); return (double)(*s >> 11) * (1.0 / 9007199254740992.0); }
+static double unit(uint64_t *s) { *s = vp_mix64(*s); return (double)(*s >> 11) * (1.0 / 9007199254740992.0); }
 
 static int adev_move(void *ctx, const vp_cmd_t *cmd, int *collided)
 {
@@ -148,13 +142,13 @@ static void mesh_bytes(const vp_planner_t *pl, unsigned char **out, size_t *len)
 
 /* Runs the scan from the planner's state with the device at (pos, nprobe), logging to w
  * (NULL: no log). */
-static int run(vp_planner_t *pl, adev_t *d, vp_slog_writer_t *w)
+static int run(vp_planner_t *pl, adev_t *d, vp_sessionlog_writer_t *w)
 {
     vp_device_ops_t ops;
     vp_session_hooks_t hooks;
     vp_session_result_t res;
     ops.ctx = d; ops.move = adev_move; ops.probe = adev_probe;
-    hooks.ctx = w; hooks.after = vp_slog_after;
+    hooks.ctx = w; hooks.after = vp_sessionlog_after;
     if (w) w->raw = &d->raw;
     return vp_session_run(pl, &ops, w ? &hooks : NULL, 0, NULL, &res);
 }
@@ -169,8 +163,8 @@ static void test_session(void)
     vp_planner_config_t c;
     vp_planner_t *pl = malloc(sizeof *pl);
     void *arena = malloc(ARENA);
-    vp_log_header_t h;
-    vp_slog_writer_t w;
+    vp_logfmt_header_t h;
+    vp_sessionlog_writer_t w;
     adev_t d;
     char path[300];
     int st;
@@ -179,13 +173,13 @@ static void test_session(void)
     memset(&d, 0, sizeof d);
     memcpy(d.pos, c.start, sizeof d.pos);
     memset(&w, 0, sizeof w);
-    vp_log_header_init(&h, &c, ARENA, VP_LOG_UNITS_MM, "test", "test_slog: torus + sphere");
+    vp_logfmt_header_init(&h, &c, ARENA, VP_LOGFMT_UNITS_MM, "test", "test_sessionlog: torus + sphere");
     snprintf(path, sizeof path, "%s/uncut.vplog", dir);
-    CHECK(vp_logfile_create(&w.file, path, &h, &nosync) == VP_OK);
-    CHECK(vp_logfile_event(&w.file, VP_LOG_EV_START, 0, "test") == VP_OK);
+    CHECK(vp_logwriter_create(&w.file, path, &h, &nosync) == VP_OK);
+    CHECK(vp_logwriter_event(&w.file, VP_LOGFMT_EV_START, 0, "test") == VP_OK);
     st = run(pl, &d, &w);
     CHECKF(st == VP_OK, "scan: %s", vp_strerror(st));
-    CHECK(vp_logfile_close(&w.file) == VP_OK);
+    CHECK(vp_logwriter_close(&w.file) == VP_OK);
     mesh_bytes(pl, &mesh0, &nmesh0);
     CHECK(read_file(path, &log0, &nlog0) == 0);
     {
@@ -206,13 +200,13 @@ static void test_session(void)
 
 static void test_replay(void)
 {
-    vp_slog_t L;
+    vp_sessionlog_t L;
     vp_replay_t R;
     char err[600];
     unsigned char *m, *re;
     size_t n, k, len = 0;
     uint32_t i;
-    CHECK(vp_slog_load_buf(&L, log0, nlog0, err, sizeof err) == VP_OK);
+    CHECK(vp_sessionlog_load_buf(&L, log0, nlog0, err, sizeof err) == VP_OK);
     CHECK(L.status == VP_OK && L.done && L.good_bytes == nlog0);
     CHECK(vp_replay_open(&R, &L, 0, err, sizeof err) == VP_OK);
     CHECKF(vp_replay_run(&R, &L, L.n, err, sizeof err) == VP_OK, "%s", err);
@@ -223,17 +217,17 @@ static void test_replay(void)
     vp_replay_close(&R);
     /* the core encoder rebuilds the file byte for byte from the decoded records */
     re = malloc(nlog0);
-    k = (size_t)vp_log_header_encode(&L.header, re, nlog0);
+    k = (size_t)vp_logfmt_header_encode(&L.header, re, nlog0);
     CHECK(k == L.off[0]);
     for (i = 0; i < L.n; i++) {
-        vp_log_record_t r;
-        CHECK(vp_slog_record(&L, i, &r) == VP_OK);
-        len = (size_t)vp_log_record_encode(&r, re + k, nlog0 - k);
+        vp_logfmt_record_t r;
+        CHECK(vp_sessionlog_record(&L, i, &r) == VP_OK);
+        len = (size_t)vp_logfmt_record_encode(&r, re + k, nlog0 - k);
         k += len;
     }
     CHECK(k == nlog0 && memcmp(re, log0, nlog0) == 0);
     free(re);
-    vp_slog_free(&L);
+    vp_sessionlog_free(&L);
 }
 
 /* ---------- cut and resume ---------- */
@@ -242,34 +236,34 @@ static void test_replay(void)
  * the continuation is appended to the cut file, which must then replay to mesh0 too. */
 static int resume_from(size_t bytes, int append)
 {
-    vp_slog_t L;
+    vp_sessionlog_t L;
     vp_replay_t R;
     char err[600], path[300];
     adev_t d;
     unsigned char *m;
     size_t n;
     int ok = 1, st;
-    if (vp_slog_load_buf(&L, log0, bytes, err, sizeof err) != VP_OK) {
+    if (vp_sessionlog_load_buf(&L, log0, bytes, err, sizeof err) != VP_OK) {
         /* a cut inside the header: nothing to resume from (a new session starts over) */
         return bytes < 400;
     }
     if (vp_replay_open(&R, &L, 0, err, sizeof err) != VP_OK || vp_replay_run(&R, &L, L.n, err, sizeof err) != VP_OK) {
         fprintf(stderr, "cut at %zu: %s\n", bytes, err);
-        vp_slog_free(&L);
+        vp_sessionlog_free(&L);
         return 0;
     }
     memset(&d, 0, sizeof d);
     memcpy(d.pos, R.pos, sizeof d.pos);
     d.nprobe = R.probes;
     if (append) {
-        vp_slog_writer_t w;
+        vp_sessionlog_writer_t w;
         memset(&w, 0, sizeof w);
         snprintf(path, sizeof path, "%s/cut.vplog", dir);
         ok = write_file(path, log0, bytes) == 0 &&
-             vp_logfile_open_append(&w.file, path, L.good_bytes, L.n, &nosync) == VP_OK &&
-             vp_logfile_event(&w.file, VP_LOG_EV_RESUME, 0, "test") == VP_OK;
+             vp_logwriter_open_append(&w.file, path, L.good_bytes, L.n, &nosync) == VP_OK &&
+             vp_logwriter_event(&w.file, VP_LOGFMT_EV_RESUME, 0, "test") == VP_OK;
         st = R.done ? VP_OK : run(R.pl, &d, &w);
-        ok = ok && st == VP_OK && vp_logfile_close(&w.file) == VP_OK;
+        ok = ok && st == VP_OK && vp_logwriter_close(&w.file) == VP_OK;
     } else {
         st = R.done ? VP_OK : run(R.pl, &d, NULL);
         ok = st == VP_OK;
@@ -278,12 +272,12 @@ static int resume_from(size_t bytes, int append)
     ok = ok && n == nmesh0 && memcmp(m, mesh0, n) == 0;
     free(m);
     vp_replay_close(&R);
-    vp_slog_free(&L);
+    vp_sessionlog_free(&L);
     if (ok && append) {
         /* the appended log: valid to its end, complete, and it replays to the same mesh */
         unsigned char *data;
         size_t len;
-        ok = read_file(path, &data, &len) == 0 && vp_slog_load_buf(&L, data, len, err, sizeof err) == VP_OK;
+        ok = read_file(path, &data, &len) == 0 && vp_sessionlog_load_buf(&L, data, len, err, sizeof err) == VP_OK;
         free(data);
         if (ok) {
             ok = L.status == VP_OK && L.done && vp_replay_open(&R, &L, 0, err, sizeof err) == VP_OK &&
@@ -294,7 +288,7 @@ static int resume_from(size_t bytes, int append)
                 free(m);
             }
             vp_replay_close(&R);
-            vp_slog_free(&L);
+            vp_sessionlog_free(&L);
         }
     }
     if (!ok) fprintf(stderr, "resume from %zu bytes%s: different final mesh or failure\n", bytes, append ? " (appending)" : "");
@@ -303,11 +297,11 @@ static int resume_from(size_t bytes, int append)
 
 static void test_resume(void)
 {
-    vp_slog_t L;
+    vp_sessionlog_t L;
     char err[600];
     uint64_t s = 777;
     int i, bad = 0, cuts = quick ? 12 : 60;
-    CHECK(vp_slog_load_buf(&L, log0, nlog0, err, sizeof err) == VP_OK);
+    CHECK(vp_sessionlog_load_buf(&L, log0, nlog0, err, sizeof err) == VP_OK);
     /* record boundaries: the first, the last, random ones */
     bad += !resume_from(L.off[0], 1);
     bad += !resume_from(nlog0, 0);
@@ -325,26 +319,26 @@ static void test_resume(void)
     bad += !resume_from(10, 0);
     CHECKF(bad == 0, "%d of %d resumed sessions differ", bad, 2 * cuts + 4);
     printf("resume: %d cuts (record boundaries and torn records) give the uncut mesh\n", 2 * cuts + 4);
-    vp_slog_free(&L);
+    vp_sessionlog_free(&L);
 }
 
 /* ---------- damage ---------- */
 
 static void test_damage(void)
 {
-    vp_slog_t L, L0;
+    vp_sessionlog_t L, L0;
     vp_replay_t R;
     char err[600], stop[600];
     unsigned char *bad = malloc(nlog0);
     uint32_t k;
-    CHECK(vp_slog_load_buf(&L0, log0, nlog0, err, sizeof err) == VP_OK);
+    CHECK(vp_sessionlog_load_buf(&L0, log0, nlog0, err, sizeof err) == VP_OK);
     k = L0.n / 2;
     /* one flipped bit in record k: records 0..k-1 kept and replayable */
     memcpy(bad, log0, nlog0);
     bad[L0.off[k] + 20] ^= 0x10;
-    CHECK(vp_slog_load_buf(&L, bad, nlog0, err, sizeof err) == VP_OK);
-    CHECK(L.status == VP_ECORRUPT && L.reason == VP_LOG_R_CRC && L.n == k && L.good_bytes == L0.off[k]);
-    vp_slog_stop_text(&L, stop, sizeof stop);
+    CHECK(vp_sessionlog_load_buf(&L, bad, nlog0, err, sizeof err) == VP_OK);
+    CHECK(L.status == VP_ECORRUPT && L.reason == VP_LOGFMT_R_CRC && L.n == k && L.good_bytes == L0.off[k]);
+    vp_sessionlog_stop_text(&L, stop, sizeof stop);
     {
         char want[64];
         snprintf(want, sizeof want, "record %u (byte offset %zu)", k, L0.off[k]);
@@ -353,48 +347,48 @@ static void test_damage(void)
     CHECK(vp_replay_open(&R, &L, 0, err, sizeof err) == VP_OK && vp_replay_run(&R, &L, L.n, err, sizeof err) == VP_OK);
     CHECK(R.applied == k && !R.done);
     vp_replay_close(&R);
-    vp_slog_free(&L);
+    vp_sessionlog_free(&L);
     /* a newer version (its header intact) is refused with a clear message; a damaged version
      * byte is a damaged header (it said "newer format version (257)") */
     memcpy(bad, log0, nlog0);
     bad[8] = 2;
     {
         size_t hl = (size_t)bad[12] | (size_t)bad[13] << 8 | (size_t)bad[14] << 16 | (size_t)bad[15] << 24;
-        uint32_t c = vp_log_crc32(0, bad, hl - 4);
+        uint32_t c = vp_logfmt_crc32(0, bad, hl - 4);
         int b;
         for (b = 0; b < 4; b++) bad[hl - 4 + (size_t)b] = (unsigned char)(c >> (8 * b));
     }
-    CHECKF(vp_slog_load_buf(&L, bad, nlog0, err, sizeof err) == VP_EVERSION && strstr(err, "newer format version (2;"),
+    CHECKF(vp_sessionlog_load_buf(&L, bad, nlog0, err, sizeof err) == VP_EVERSION && strstr(err, "newer format version (2;"),
            "%s", err);
-    vp_slog_free(&L);
+    vp_sessionlog_free(&L);
     memcpy(bad, log0, nlog0);
     bad[9] = 1;
-    CHECKF(vp_slog_load_buf(&L, bad, nlog0, err, sizeof err) == VP_ECORRUPT && strstr(err, "header is damaged") &&
+    CHECKF(vp_sessionlog_load_buf(&L, bad, nlog0, err, sizeof err) == VP_ECORRUPT && strstr(err, "header is damaged") &&
            strstr(err, "CRC") && strstr(err, "reads 257, not a newer format") && !strstr(err, "newer format version"),
            "%s", err);
-    vp_slog_free(&L);
+    vp_sessionlog_free(&L);
     /* not a log at all */
-    CHECK(vp_slog_load_buf(&L, "OFF\n3 1 0\n", 10, err, sizeof err) == VP_ECORRUPT && strstr(err, "magic") != NULL);
-    vp_slog_free(&L);
+    CHECK(vp_sessionlog_load_buf(&L, "OFF\n3 1 0\n", 10, err, sizeof err) == VP_ECORRUPT && strstr(err, "magic") != NULL);
+    vp_sessionlog_free(&L);
     /* another configuration (eps one ulp larger): the replay names the first differing record */
     {
-        vp_log_header_t h = L0.header;
+        vp_logfmt_header_t h = L0.header;
         size_t hl;
         int n;
         h.cfg.eps = nextafter(h.cfg.eps, 1.0);
-        n = vp_log_header_encode(&h, bad, nlog0);
+        n = vp_logfmt_header_encode(&h, bad, nlog0);
         hl = L0.off[0];
         CHECK(n == (int)hl);
         memcpy(bad + hl, log0 + hl, nlog0 - hl);
-        CHECK(vp_slog_load_buf(&L, bad, nlog0, err, sizeof err) == VP_OK && L.status == VP_OK);
+        CHECK(vp_sessionlog_load_buf(&L, bad, nlog0, err, sizeof err) == VP_OK && L.status == VP_OK);
         CHECK(vp_replay_open(&R, &L, 0, err, sizeof err) == VP_OK);
         CHECK(vp_replay_run(&R, &L, L.n, err, sizeof err) == VP_ECORRUPT);
         CHECKF(strstr(err, "record ") != NULL && strstr(err, "differs") != NULL, "%s", err);
         printf("changed eps: %s\n", err);
         vp_replay_close(&R);
-        vp_slog_free(&L);
+        vp_sessionlog_free(&L);
     }
-    vp_slog_free(&L0);
+    vp_sessionlog_free(&L0);
     free(bad);
 }
 
@@ -407,44 +401,44 @@ static void test_damage(void)
 static void test_lock(void)
 {
     vp_planner_config_t c;
-    vp_log_header_t h;
-    vp_logfile_t a, b;
+    vp_logfmt_header_t h;
+    vp_logwriter_t a, b;
     char path[300], other[300];
     unsigned char *before, *after;
     size_t nb, na;
     config(&c);
-    vp_log_header_init(&h, &c, ARENA, VP_LOG_UNITS_MM, "test", "test_slog: lock");
+    vp_logfmt_header_init(&h, &c, ARENA, VP_LOGFMT_UNITS_MM, "test", "test_sessionlog: lock");
     snprintf(path, sizeof path, "%s/lock.vplog", dir);
     snprintf(other, sizeof other, "%s/lock2.vplog", dir);
-    CHECK(vp_logfile_create(&a, path, &h, &nosync) == VP_OK && !a.busy);
-    CHECK(vp_logfile_event(&a, VP_LOG_EV_START, 0, "first writer") == VP_OK && vp_logfile_sync(&a) == VP_OK);
+    CHECK(vp_logwriter_create(&a, path, &h, &nosync) == VP_OK && !a.busy);
+    CHECK(vp_logwriter_event(&a, VP_LOGFMT_EV_START, 0, "first writer") == VP_OK && vp_logwriter_sync(&a) == VP_OK);
     CHECK(read_file(path, &before, &nb) == 0);
-    CHECK(vp_logfile_create(&b, path, &h, &nosync) == VP_EIO && b.busy && b.fd < 0);
-    CHECK(vp_logfile_open_append(&b, path, nb, 1, &nosync) == VP_EIO && b.busy && b.fd < 0);
-    CHECK(vp_logfile_create_copy(&b, path, before, 16, 0, &nosync) == VP_EIO && b.busy && b.fd < 0);
+    CHECK(vp_logwriter_create(&b, path, &h, &nosync) == VP_EIO && b.busy && b.fd < 0);
+    CHECK(vp_logwriter_open_append(&b, path, nb, 1, &nosync) == VP_EIO && b.busy && b.fd < 0);
+    CHECK(vp_logwriter_create_copy(&b, path, before, 16, 0, &nosync) == VP_EIO && b.busy && b.fd < 0);
     CHECK(read_file(path, &after, &na) == 0 && na == nb && memcmp(before, after, nb) == 0);
     free(after);
     /* the first writer goes on undisturbed */
-    CHECK(vp_logfile_event(&a, VP_LOG_EV_PAUSE, 0, "still mine") == VP_OK && vp_logfile_close(&a) == VP_OK);
+    CHECK(vp_logwriter_event(&a, VP_LOGFMT_EV_PAUSE, 0, "still mine") == VP_OK && vp_logwriter_close(&a) == VP_OK);
     /* closed: the lock is gone; but a log that grew after it was read (nb bytes) is not cut back */
     CHECK(read_file(path, &after, &na) == 0 && na > nb);
     free(after);
-    CHECK(vp_logfile_open_append_read(&b, path, nb, 1, nb, &nosync) == VP_EIO && b.changed && !b.busy && b.fd < 0);
+    CHECK(vp_logwriter_open_append_read(&b, path, nb, 1, nb, &nosync) == VP_EIO && b.changed && !b.busy && b.fd < 0);
     CHECK(read_file(path, &after, &na) == 0 && na > nb && memcmp(before, after, nb) == 0);
     free(after);
-    CHECK(vp_logfile_open_append_read(&b, path, nb, 1, na, &nosync) == VP_OK && !b.busy && !b.changed);
-    CHECK(vp_logfile_close(&b) == VP_OK);
+    CHECK(vp_logwriter_open_append_read(&b, path, nb, 1, na, &nosync) == VP_OK && !b.busy && !b.changed);
+    CHECK(vp_logwriter_close(&b) == VP_OK);
     /* a copy to another file is locked the same way, and appends after the copied bytes */
-    CHECK(vp_logfile_create_copy(&a, other, before, nb, 1, &nosync) == VP_OK && a.bytes == nb && a.seq == 1);
-    CHECK(vp_logfile_create(&b, other, &h, &nosync) == VP_EIO && b.busy);
-    CHECK(vp_logfile_event(&a, VP_LOG_EV_RESUME, 0, "copied") == VP_OK && vp_logfile_close(&a) == VP_OK);
+    CHECK(vp_logwriter_create_copy(&a, other, before, nb, 1, &nosync) == VP_OK && a.bytes == nb && a.seq == 1);
+    CHECK(vp_logwriter_create(&b, other, &h, &nosync) == VP_EIO && b.busy);
+    CHECK(vp_logwriter_event(&a, VP_LOGFMT_EV_RESUME, 0, "copied") == VP_OK && vp_logwriter_close(&a) == VP_OK);
     CHECK(read_file(other, &after, &na) == 0 && na > nb && memcmp(before, after, nb) == 0);
     {
-        vp_slog_t L;
+        vp_sessionlog_t L;
         char err[300];
-        CHECKF(vp_slog_load_buf(&L, after, na, err, sizeof err) == VP_OK && L.status == VP_OK && L.n == 2 &&
+        CHECKF(vp_sessionlog_load_buf(&L, after, na, err, sizeof err) == VP_OK && L.status == VP_OK && L.n == 2 &&
                L.events == 2, "%s", err);
-        vp_slog_free(&L);
+        vp_sessionlog_free(&L);
     }
     free(after);
     free(before);
@@ -457,9 +451,9 @@ static void test_lock(void)
 static void test_powercut(void)
 {
     vp_planner_config_t c;
-    vp_log_header_t h;
-    vp_slog_writer_t w;
-    vp_logfile_config_t fc;
+    vp_logfmt_header_t h;
+    vp_sessionlog_writer_t w;
+    vp_logwriter_config_t fc;
     vp_planner_t *pl = malloc(sizeof *pl);
     void *arena = malloc(ARENA);
     adev_t d;
@@ -472,20 +466,20 @@ static void test_powercut(void)
     memset(&d, 0, sizeof d);
     memcpy(d.pos, c.start, sizeof d.pos);
     memset(&w, 0, sizeof w);
-    vp_logfile_config_default(&fc);
+    vp_logwriter_config_default(&fc);
     CHECK(fc.sync_records == 1);
-    CHECK(vp_logfile_parse_sync("25,50ms", &fc) == 0 && fc.sync_records == 25 && fc.sync_ms == 50);
-    CHECK(vp_logfile_parse_sync("x", &fc) < 0 && vp_logfile_parse_sync("0", &fc) < 0);
-    CHECK(vp_logfile_parse_sync("close", &fc) == 0 && fc.sync_records == 0 && fc.sync_ms == 0);
+    CHECK(vp_logwriter_parse_sync("25,50ms", &fc) == 0 && fc.sync_records == 25 && fc.sync_ms == 50);
+    CHECK(vp_logwriter_parse_sync("x", &fc) < 0 && vp_logwriter_parse_sync("0", &fc) < 0);
+    CHECK(vp_logwriter_parse_sync("close", &fc) == 0 && fc.sync_records == 0 && fc.sync_ms == 0);
     fc.die_after_bytes = nlog0 / 3 + 17;
-    vp_log_header_init(&h, &c, ARENA, VP_LOG_UNITS_MM, "test", "test_slog: torus + sphere");
+    vp_logfmt_header_init(&h, &c, ARENA, VP_LOGFMT_UNITS_MM, "test", "test_sessionlog: torus + sphere");
     snprintf(path, sizeof path, "%s/cut.vplog", dir);
-    CHECK(vp_logfile_create(&w.file, path, &h, &fc) == VP_OK);
-    CHECK(vp_logfile_event(&w.file, VP_LOG_EV_START, 0, "test") == VP_OK);
+    CHECK(vp_logwriter_create(&w.file, path, &h, &fc) == VP_OK);
+    CHECK(vp_logwriter_event(&w.file, VP_LOGFMT_EV_START, 0, "test") == VP_OK);
     st = run(pl, &d, &w);
     CHECK(st == VP_EIO && w.file.dead && w.file.bytes == fc.die_after_bytes);
-    CHECK(vp_logfile_append(&w.file, &(vp_log_record_t){ .type = VP_LOG_MOVE }) == VP_EIO);
-    vp_logfile_close(&w.file);
+    CHECK(vp_logwriter_append(&w.file, &(vp_logfmt_record_t){ .type = VP_LOGFMT_MOVE }) == VP_EIO);
+    vp_logwriter_close(&w.file);
     /* the file is the uncut log's first bytes: a torn record at the end */
     CHECK(read_file(path, &data, &n) == 0 && n == fc.die_after_bytes && memcmp(data, log0, n) == 0);
     free(data);
@@ -529,7 +523,7 @@ int main(void)
     const char *q = getenv("VP_TEST_QUICK");
     const char *tmp = getenv("TMPDIR");
     quick = q && *q && strcmp(q, "0") != 0;
-    snprintf(dir, sizeof dir, "%s/vp_slog_XXXXXX", tmp && *tmp ? tmp : "/tmp");
+    snprintf(dir, sizeof dir, "%s/vp_sessionlog_XXXXXX", tmp && *tmp ? tmp : "/tmp");
     if (!mkdtemp(dir)) { perror("mkdtemp"); return 1; }
     test_session();
     test_replay();
@@ -546,5 +540,5 @@ int main(void)
     }
     free(log0);
     free(mesh0);
-    return vp_test_done("test_slog");
+    return vp_test_done("test_sessionlog");
 }

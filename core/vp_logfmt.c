@@ -1,9 +1,9 @@
-/* vp_log — see vp_log.h; the byte layout is in doc/session-log.md. */
+/* vp_logfmt — see vp_logfmt.h; the byte layout is in doc/session-log.md. */
 #include <string.h>
-#include "vp_log.h"
+#include "vp_logfmt.h"
 #include "vp_vec3.h"
 
-const unsigned char vp_log_magic[VP_LOG_MAGIC_LEN] = { 'V', 'P', 'L', 'O', 'G', '\r', '\n', 0x1a };
+const unsigned char vp_logfmt_magic[VP_LOGFMT_MAGIC_LEN] = { 'V', 'P', 'L', 'O', 'G', '\r', '\n', 0x1a };
 
 /* header: magic 8, version 2, flags 2, length 4, then fixed fields up to the interior points */
 #define HDR_FIXED 188u
@@ -17,7 +17,7 @@ static const uint32_t crc_nibble[16] = {
     0x9B64C2B0u, 0x86D3D2D4u, 0xA00AE278u, 0xBDBDF21Cu
 };
 
-uint32_t vp_log_crc32(uint32_t crc, const void *data, size_t len)
+uint32_t vp_logfmt_crc32(uint32_t crc, const void *data, size_t len)
 {
     const unsigned char *p = (const unsigned char *)data;
     size_t i;
@@ -65,45 +65,45 @@ static size_t bounded_len(const char *s, size_t max)
 
 /* ---------- header ---------- */
 
-void vp_log_header_init(vp_log_header_t *h, const vp_planner_config_t *cfg, uint64_t arena_bytes,
+void vp_logfmt_header_init(vp_logfmt_header_t *h, const vp_planner_config_t *cfg, uint64_t arena_bytes,
                         uint32_t units, const char *board, const char *note)
 {
     size_t n;
     memset(h, 0, sizeof *h);
-    h->version = VP_LOG_VERSION;
+    h->version = VP_LOGFMT_VERSION;
     h->units = units;
     if (cfg) h->cfg = *cfg;
     h->arena_bytes = arena_bytes;
-    n = bounded_len(board, VP_LOG_BOARD_MAX);
+    n = bounded_len(board, VP_LOGFMT_BOARD_MAX);
     memcpy(h->board, board ? board : "", n);
     h->board[n] = 0;
-    n = bounded_len(note, VP_LOG_NOTE_MAX);
+    n = bounded_len(note, VP_LOGFMT_NOTE_MAX);
     memcpy(h->note, note ? note : "", n);
     h->note[n] = 0;
 }
 
-int vp_log_header_size(const vp_log_header_t *h)
+int vp_logfmt_header_size(const vp_logfmt_header_t *h)
 {
     size_t bl, nl;
     if (!h || h->cfg.ninterior < 1 || h->cfg.ninterior > VP_PLANNER_MAX_SEEDS) return VP_EINVAL;
-    bl = bounded_len(h->board, VP_LOG_BOARD_MAX + 1);
-    nl = bounded_len(h->note, VP_LOG_NOTE_MAX + 1);
-    if (bl > VP_LOG_BOARD_MAX || nl > VP_LOG_NOTE_MAX) return VP_EINVAL;
+    bl = bounded_len(h->board, VP_LOGFMT_BOARD_MAX + 1);
+    nl = bounded_len(h->note, VP_LOGFMT_NOTE_MAX + 1);
+    if (bl > VP_LOGFMT_BOARD_MAX || nl > VP_LOGFMT_NOTE_MAX) return VP_EINVAL;
     return (int)(HDR_FIXED + 24u * h->cfg.ninterior + 2u + bl + 2u + nl + 4u);
 }
 
-int vp_log_header_encode(const vp_log_header_t *h, void *buf, size_t cap)
+int vp_logfmt_header_encode(const vp_logfmt_header_t *h, void *buf, size_t cap)
 {
     unsigned char *p = (unsigned char *)buf, *q;
     const vp_planner_config_t *c;
-    int size = vp_log_header_size(h);
+    int size = vp_logfmt_header_size(h);
     size_t bl, nl;
     uint32_t i;
     if (size < 0) return size;
     if (!buf || cap < (size_t)size) return VP_ENOMEM;
     c = &h->cfg;
-    memcpy(p, vp_log_magic, VP_LOG_MAGIC_LEN);
-    put16(p + 8, VP_LOG_VERSION);
+    memcpy(p, vp_logfmt_magic, VP_LOGFMT_MAGIC_LEN);
+    put16(p + 8, VP_LOGFMT_VERSION);
     put16(p + 10, 0);
     put32(p + 12, (uint32_t)size);
     put32(p + 16, h->units);
@@ -124,20 +124,20 @@ int vp_log_header_encode(const vp_log_header_t *h, void *buf, size_t cap)
     put32(p + 184, c->ninterior);
     q = p + HDR_FIXED;
     for (i = 0; i < c->ninterior; i++, q += 24) putd3(q, c->interior[i]);
-    bl = bounded_len(h->board, VP_LOG_BOARD_MAX);
+    bl = bounded_len(h->board, VP_LOGFMT_BOARD_MAX);
     put16(q, (uint32_t)bl);
     memcpy(q + 2, h->board, bl);
     q += 2 + bl;
-    nl = bounded_len(h->note, VP_LOG_NOTE_MAX);
+    nl = bounded_len(h->note, VP_LOGFMT_NOTE_MAX);
     put16(q, (uint32_t)nl);
     memcpy(q + 2, h->note, nl);
     q += 2 + nl;
-    put32(q, vp_log_crc32(0, p, (size_t)(q - p)));
+    put32(q, vp_logfmt_crc32(0, p, (size_t)(q - p)));
     return size;
 }
 
 /* Decodes a complete header of n bytes (length and CRC already checked). */
-static int header_decode(const unsigned char *p, uint32_t n, vp_log_header_t *h)
+static int header_decode(const unsigned char *p, uint32_t n, vp_logfmt_header_t *h)
 {
     vp_planner_config_t *c = &h->cfg;
     const unsigned char *q, *end = p + n - 4;
@@ -168,13 +168,13 @@ static int header_decode(const unsigned char *p, uint32_t n, vp_log_header_t *h)
     for (i = 0; i < c->ninterior; i++, q += 24) getd3(q, c->interior[i]);
     bl = get16(q);
     q += 2;
-    if (bl > VP_LOG_BOARD_MAX || (size_t)(end - q) < bl + 2u) return 0;
+    if (bl > VP_LOGFMT_BOARD_MAX || (size_t)(end - q) < bl + 2u) return 0;
     memcpy(h->board, q, bl);
     h->board[bl] = 0;
     q += bl;
     nl = get16(q);
     q += 2;
-    if (nl > VP_LOG_NOTE_MAX || (size_t)(end - q) != nl) return 0;
+    if (nl > VP_LOGFMT_NOTE_MAX || (size_t)(end - q) != nl) return 0;
     memcpy(h->note, q, nl);
     h->note[nl] = 0;
     /* every number the planner needs must be finite; embedded NULs are not text */
@@ -191,17 +191,17 @@ static int header_decode(const unsigned char *p, uint32_t n, vp_log_header_t *h)
 
 /* ---------- records ---------- */
 
-static void record_clear(vp_log_record_t *r, uint32_t seq, int type)
+static void record_clear(vp_logfmt_record_t *r, uint32_t seq, int type)
 {
     memset(r, 0, sizeof *r);
     r->seq = seq;
     r->type = type;
 }
 
-void vp_log_record_probe(vp_log_record_t *r, uint32_t seq, const vp_cmd_t *cmd,
+void vp_logfmt_record_probe(vp_logfmt_record_t *r, uint32_t seq, const vp_cmd_t *cmd,
                          const vp_probe_result_t *res, double raw)
 {
-    record_clear(r, seq, VP_LOG_PROBE);
+    record_clear(r, seq, VP_LOGFMT_PROBE);
     memcpy(r->origin, cmd->from, sizeof r->origin);
     memcpy(r->dir, cmd->dir, sizeof r->dir);
     r->range = cmd->range;
@@ -210,17 +210,17 @@ void vp_log_record_probe(vp_log_record_t *r, uint32_t seq, const vp_cmd_t *cmd,
     r->raw = raw;
 }
 
-void vp_log_record_move(vp_log_record_t *r, uint32_t seq, const vp_cmd_t *cmd)
+void vp_logfmt_record_move(vp_logfmt_record_t *r, uint32_t seq, const vp_cmd_t *cmd)
 {
-    record_clear(r, seq, VP_LOG_MOVE);
+    record_clear(r, seq, VP_LOGFMT_MOVE);
     memcpy(r->target, cmd->to, sizeof r->target);
 }
 
-void vp_log_record_event(vp_log_record_t *r, uint32_t seq, uint32_t event, int32_t code,
+void vp_logfmt_record_event(vp_logfmt_record_t *r, uint32_t seq, uint32_t event, int32_t code,
                          const char *text)
 {
-    size_t n = bounded_len(text, VP_LOG_TEXT_MAX);
-    record_clear(r, seq, VP_LOG_EVENT);
+    size_t n = bounded_len(text, VP_LOGFMT_TEXT_MAX);
+    record_clear(r, seq, VP_LOGFMT_EVENT);
     r->event = event;
     r->code = code;
     memcpy(r->text, text ? text : "", n);
@@ -228,38 +228,38 @@ void vp_log_record_event(vp_log_record_t *r, uint32_t seq, uint32_t event, int32
     r->text_len = (uint32_t)n;
 }
 
-int vp_log_record_size(const vp_log_record_t *r)
+int vp_logfmt_record_size(const vp_logfmt_record_t *r)
 {
     if (!r) return VP_EINVAL;
     switch (r->type) {
-    case VP_LOG_PROBE: return VP_LOG_PROBE_SIZE;
-    case VP_LOG_MOVE: return VP_LOG_MOVE_SIZE;
-    case VP_LOG_EVENT:
-        if (r->text_len > VP_LOG_TEXT_MAX || bounded_len(r->text, r->text_len) != r->text_len)
+    case VP_LOGFMT_PROBE: return VP_LOGFMT_PROBE_SIZE;
+    case VP_LOGFMT_MOVE: return VP_LOGFMT_MOVE_SIZE;
+    case VP_LOGFMT_EVENT:
+        if (r->text_len > VP_LOGFMT_TEXT_MAX || bounded_len(r->text, r->text_len) != r->text_len)
             return VP_EINVAL;
-        return (int)(VP_LOG_EVENT_BASE + r->text_len);
+        return (int)(VP_LOGFMT_EVENT_BASE + r->text_len);
     default: return VP_EINVAL;
     }
 }
 
-int vp_log_record_encode(const vp_log_record_t *r, void *buf, size_t cap)
+int vp_logfmt_record_encode(const vp_logfmt_record_t *r, void *buf, size_t cap)
 {
     unsigned char *p = (unsigned char *)buf;
-    int size = vp_log_record_size(r), k;
+    int size = vp_logfmt_record_size(r), k;
     if (size < 0) return size;
     if (!buf || cap < (size_t)size) return VP_ENOMEM;
     put32(p, (uint32_t)size);
     put32(p + 4, r->seq);
     put16(p + 8, (uint32_t)r->type);
     put16(p + 10, 0);
-    if (r->type == VP_LOG_PROBE) {
+    if (r->type == VP_LOGFMT_PROBE) {
         putd3(p + 12, r->origin);
         putd3(p + 36, r->dir);
         putd(p + 60, r->range);
         putd(p + 68, r->dist);
         putd(p + 76, r->raw);
         put32(p + 84, (uint32_t)r->hit);
-    } else if (r->type == VP_LOG_MOVE) {
+    } else if (r->type == VP_LOGFMT_MOVE) {
         putd3(p + 12, r->target);
     } else {
         put32(p + 12, r->event);
@@ -268,18 +268,18 @@ int vp_log_record_encode(const vp_log_record_t *r, void *buf, size_t cap)
         put16(p + 52, r->text_len);
         memcpy(p + 54, r->text, r->text_len);
     }
-    put32(p + size - 4, vp_log_crc32(0, p, (size_t)size - 4));
+    put32(p + size - 4, vp_logfmt_crc32(0, p, (size_t)size - 4));
     return size;
 }
 
-/* Decodes a complete record (length and CRC checked): a VP_LOG_R_* reason. */
-static int record_decode(const unsigned char *p, uint32_t n, vp_log_record_t *r)
+/* Decodes a complete record (length and CRC checked): a VP_LOGFMT_R_* reason. */
+static int record_decode(const unsigned char *p, uint32_t n, vp_logfmt_record_t *r)
 {
     uint32_t type = get16(p + 8), k;
     record_clear(r, get32(p + 4), (int)type);
-    if (type == VP_LOG_PROBE) {
+    if (type == VP_LOGFMT_PROBE) {
         uint32_t hit;
-        if (n != VP_LOG_PROBE_SIZE) return VP_LOG_R_LENGTH;
+        if (n != VP_LOGFMT_PROBE_SIZE) return VP_LOGFMT_R_LENGTH;
         getd3(p + 12, r->origin);
         getd3(p + 36, r->dir);
         r->range = getd(p + 60);
@@ -288,72 +288,72 @@ static int record_decode(const unsigned char *p, uint32_t n, vp_log_record_t *r)
         hit = get32(p + 84);
         if (hit > 2 || !vp_finite3(r->origin) || !vp_finite3(r->dir) || !vp_finite(r->range) ||
             !vp_finite(r->dist))
-            return VP_LOG_R_FIELD;
+            return VP_LOGFMT_R_FIELD;
         r->hit = (int)hit;
-    } else if (type == VP_LOG_MOVE) {
-        if (n != VP_LOG_MOVE_SIZE) return VP_LOG_R_LENGTH;
+    } else if (type == VP_LOGFMT_MOVE) {
+        if (n != VP_LOGFMT_MOVE_SIZE) return VP_LOGFMT_R_LENGTH;
         getd3(p + 12, r->target);
-        if (!vp_finite3(r->target)) return VP_LOG_R_FIELD;
-    } else if (type == VP_LOG_EVENT) {
-        if (n < VP_LOG_EVENT_BASE) return VP_LOG_R_LENGTH;
+        if (!vp_finite3(r->target)) return VP_LOGFMT_R_FIELD;
+    } else if (type == VP_LOGFMT_EVENT) {
+        if (n < VP_LOGFMT_EVENT_BASE) return VP_LOGFMT_R_LENGTH;
         r->event = get32(p + 12);
         r->code = (int32_t)get32(p + 16);
         for (k = 0; k < 4; k++) r->value[k] = getd(p + 20 + 8 * k);
         r->text_len = get16(p + 52);
-        if (r->text_len > VP_LOG_TEXT_MAX || n != VP_LOG_EVENT_BASE + r->text_len) return VP_LOG_R_LENGTH;
+        if (r->text_len > VP_LOGFMT_TEXT_MAX || n != VP_LOGFMT_EVENT_BASE + r->text_len) return VP_LOGFMT_R_LENGTH;
         memcpy(r->text, p + 54, r->text_len);
         r->text[r->text_len] = 0;
-        if (bounded_len(r->text, r->text_len) != r->text_len) return VP_LOG_R_FIELD;
+        if (bounded_len(r->text, r->text_len) != r->text_len) return VP_LOGFMT_R_FIELD;
     } else {
-        return VP_LOG_R_TYPE;
+        return VP_LOGFMT_R_TYPE;
     }
-    if (get16(p + 10) != 0) return VP_LOG_R_FIELD;
-    return VP_LOG_R_OK;
+    if (get16(p + 10) != 0) return VP_LOGFMT_R_FIELD;
+    return VP_LOGFMT_R_OK;
 }
 
-int vp_log_record_decode(const void *buf, size_t len, vp_log_record_t *rec, int *reason)
+int vp_logfmt_record_decode(const void *buf, size_t len, vp_logfmt_record_t *rec, int *reason)
 {
     const unsigned char *p = (const unsigned char *)buf;
     uint32_t n;
-    int why = VP_LOG_R_OK;
+    int why = VP_LOGFMT_R_OK;
     if (!buf || !rec) return VP_EINVAL;
-    if (len < 4) why = VP_LOG_R_TRUNCATED;
-    else if ((n = get32(p)) < REC_FRAME || n > VP_LOG_MAX_RECORD) why = VP_LOG_R_LENGTH;
-    else if (len < n) why = VP_LOG_R_TRUNCATED;
-    else if (vp_log_crc32(0, p, n - 4) != get32(p + n - 4)) why = VP_LOG_R_CRC;
+    if (len < 4) why = VP_LOGFMT_R_TRUNCATED;
+    else if ((n = get32(p)) < REC_FRAME || n > VP_LOGFMT_MAX_RECORD) why = VP_LOGFMT_R_LENGTH;
+    else if (len < n) why = VP_LOGFMT_R_TRUNCATED;
+    else if (vp_logfmt_crc32(0, p, n - 4) != get32(p + n - 4)) why = VP_LOGFMT_R_CRC;
     else why = record_decode(p, n, rec);
     if (reason) *reason = why;
-    return why == VP_LOG_R_OK ? (int)n : VP_ECORRUPT;
+    return why == VP_LOGFMT_R_OK ? (int)n : VP_ECORRUPT;
 }
 
 /* ---------- reader ---------- */
 
-const char *vp_log_reason_text(int reason)
+const char *vp_logfmt_reason_text(int reason)
 {
     switch (reason) {
-    case VP_LOG_R_OK: return "ok";
-    case VP_LOG_R_TRUNCATED: return "truncated (the data ends inside it: a torn write)";
-    case VP_LOG_R_MAGIC: return "not a voroprobe session log (bad magic)";
-    case VP_LOG_R_VERSION: return "written by a newer log format version";
-    case VP_LOG_R_HEADER: return "invalid header";
-    case VP_LOG_R_HEADER_CRC: return "header CRC mismatch";
-    case VP_LOG_R_LENGTH: return "impossible record length";
-    case VP_LOG_R_CRC: return "CRC mismatch";
-    case VP_LOG_R_SEQUENCE: return "wrong sequence number";
-    case VP_LOG_R_TYPE: return "unknown record type";
-    case VP_LOG_R_FIELD: return "invalid field value";
+    case VP_LOGFMT_R_OK: return "ok";
+    case VP_LOGFMT_R_TRUNCATED: return "truncated (the data ends inside it: a torn write)";
+    case VP_LOGFMT_R_MAGIC: return "not a voroprobe session log (bad magic)";
+    case VP_LOGFMT_R_VERSION: return "written by a newer log format version";
+    case VP_LOGFMT_R_HEADER: return "invalid header";
+    case VP_LOGFMT_R_HEADER_CRC: return "header CRC mismatch";
+    case VP_LOGFMT_R_LENGTH: return "impossible record length";
+    case VP_LOGFMT_R_CRC: return "CRC mismatch";
+    case VP_LOGFMT_R_SEQUENCE: return "wrong sequence number";
+    case VP_LOGFMT_R_TYPE: return "unknown record type";
+    case VP_LOGFMT_R_FIELD: return "invalid field value";
     default: return "unknown reason";
     }
 }
 
-void vp_log_reader_init(vp_log_reader_t *r)
+void vp_logfmt_reader_init(vp_logfmt_reader_t *r)
 {
     memset(r, 0, sizeof *r);
     r->status = VP_OK;
-    r->need = VP_LOG_MAGIC_LEN;   /* the magic first, then version, flags and length */
+    r->need = VP_LOGFMT_MAGIC_LEN;   /* the magic first, then version, flags and length */
 }
 
-static int reader_fail(vp_log_reader_t *r, int status, int reason)
+static int reader_fail(vp_logfmt_reader_t *r, int status, int reason)
 {
     r->status = status;
     r->reason = reason;
@@ -364,16 +364,16 @@ static int reader_fail(vp_log_reader_t *r, int status, int reason)
 }
 
 /* The first `need` bytes of the current item are in buf: check them, maybe ask for more. */
-static int reader_step(vp_log_reader_t *r, vp_log_record_t *rec)
+static int reader_step(vp_logfmt_reader_t *r, vp_logfmt_record_t *rec)
 {
     const unsigned char *p = r->buf;
     uint32_t n;
     int why;
     if (!r->have_header) {
-        if (r->have == VP_LOG_MAGIC_LEN) {
-            if (memcmp(p, vp_log_magic, VP_LOG_MAGIC_LEN) != 0) return reader_fail(r, VP_ECORRUPT, VP_LOG_R_MAGIC);
+        if (r->have == VP_LOGFMT_MAGIC_LEN) {
+            if (memcmp(p, vp_logfmt_magic, VP_LOGFMT_MAGIC_LEN) != 0) return reader_fail(r, VP_ECORRUPT, VP_LOGFMT_R_MAGIC);
             r->need = 16;
-            return VP_LOG_NEED_MORE;
+            return VP_LOGFMT_NEED_MORE;
         }
         if (r->have == 16) {
             /* the length and the CRC at its end keep their places in every version: a version
@@ -381,45 +381,45 @@ static int reader_step(vp_log_reader_t *r, vp_log_record_t *rec)
              * version byte is a damaged header, not a newer format) */
             uint32_t ver = get16(p + 8);
             n = get32(p + 12);
-            if (ver == 0 || n < HDR_FIXED + 24u + 8u || n > VP_LOG_MAX_HEADER)
-                return reader_fail(r, VP_ECORRUPT, VP_LOG_R_HEADER);
+            if (ver == 0 || n < HDR_FIXED + 24u + 8u || n > VP_LOGFMT_MAX_HEADER)
+                return reader_fail(r, VP_ECORRUPT, VP_LOGFMT_R_HEADER);
             r->need = n;
-            return VP_LOG_NEED_MORE;
+            return VP_LOGFMT_NEED_MORE;
         }
         n = r->need;
-        if (vp_log_crc32(0, p, n - 4) != get32(p + n - 4)) return reader_fail(r, VP_ECORRUPT, VP_LOG_R_HEADER_CRC);
-        if (get16(p + 8) > VP_LOG_VERSION) return reader_fail(r, VP_EVERSION, VP_LOG_R_VERSION);
-        if (!header_decode(p, n, &r->header)) return reader_fail(r, VP_ECORRUPT, VP_LOG_R_HEADER);
+        if (vp_logfmt_crc32(0, p, n - 4) != get32(p + n - 4)) return reader_fail(r, VP_ECORRUPT, VP_LOGFMT_R_HEADER_CRC);
+        if (get16(p + 8) > VP_LOGFMT_VERSION) return reader_fail(r, VP_EVERSION, VP_LOGFMT_R_VERSION);
+        if (!header_decode(p, n, &r->header)) return reader_fail(r, VP_ECORRUPT, VP_LOGFMT_R_HEADER);
         r->have_header = 1;
         r->offset += n;
         r->have = 0;
         r->need = 4;
-        return VP_LOG_GOT_HEADER;
+        return VP_LOGFMT_GOT_HEADER;
     }
     if (r->have == 4) {
         n = get32(p);
-        if (n < REC_FRAME || n > VP_LOG_MAX_RECORD) return reader_fail(r, VP_ECORRUPT, VP_LOG_R_LENGTH);
+        if (n < REC_FRAME || n > VP_LOGFMT_MAX_RECORD) return reader_fail(r, VP_ECORRUPT, VP_LOGFMT_R_LENGTH);
         r->need = n;
-        return VP_LOG_NEED_MORE;
+        return VP_LOGFMT_NEED_MORE;
     }
     n = r->need;
-    if (vp_log_crc32(0, p, n - 4) != get32(p + n - 4)) return reader_fail(r, VP_ECORRUPT, VP_LOG_R_CRC);
-    if (get32(p + 4) != r->records) return reader_fail(r, VP_ECORRUPT, VP_LOG_R_SEQUENCE);
+    if (vp_logfmt_crc32(0, p, n - 4) != get32(p + n - 4)) return reader_fail(r, VP_ECORRUPT, VP_LOGFMT_R_CRC);
+    if (get32(p + 4) != r->records) return reader_fail(r, VP_ECORRUPT, VP_LOGFMT_R_SEQUENCE);
     why = record_decode(p, n, rec);
-    if (why != VP_LOG_R_OK) return reader_fail(r, VP_ECORRUPT, why);
+    if (why != VP_LOGFMT_R_OK) return reader_fail(r, VP_ECORRUPT, why);
     r->records++;
     r->offset += n;
     r->have = 0;
     r->need = 4;
-    return VP_LOG_GOT_RECORD;
+    return VP_LOGFMT_GOT_RECORD;
 }
 
-int vp_log_reader_push(vp_log_reader_t *r, const void *data, size_t len, size_t *used,
-                       vp_log_record_t *rec)
+int vp_logfmt_reader_push(vp_logfmt_reader_t *r, const void *data, size_t len, size_t *used,
+                       vp_logfmt_record_t *rec)
 {
     const unsigned char *d = (const unsigned char *)data;
     size_t pos = 0;
-    int st = VP_LOG_NEED_MORE;
+    int st = VP_LOGFMT_NEED_MORE;
     if (used) *used = 0;
     if (r->status != VP_OK) return r->status;
     if (!rec || (!d && len)) return VP_EINVAL;
@@ -431,16 +431,16 @@ int vp_log_reader_push(vp_log_reader_t *r, const void *data, size_t len, size_t 
         pos += take;
         if (r->have < r->need) break;
         st = reader_step(r, rec);
-        if (st != VP_LOG_NEED_MORE) break;
+        if (st != VP_LOGFMT_NEED_MORE) break;
     }
     if (used) *used = pos;
     return st;
 }
 
-int vp_log_reader_finish(vp_log_reader_t *r)
+int vp_logfmt_reader_finish(vp_logfmt_reader_t *r)
 {
     if (r->status != VP_OK) return r->status;
-    if (!r->have_header || r->have > 0) return reader_fail(r, VP_ECORRUPT, VP_LOG_R_TRUNCATED);
+    if (!r->have_header || r->have > 0) return reader_fail(r, VP_ECORRUPT, VP_LOGFMT_R_TRUNCATED);
     return VP_OK;
 }
 
@@ -454,20 +454,20 @@ static int same_bits(const double *a, const double *b, int n)
     return 1;
 }
 
-int vp_log_replay(vp_planner_t *pl, const vp_log_record_t *rec, vp_log_mismatch_t *mm)
+int vp_logfmt_replay(vp_planner_t *pl, const vp_logfmt_record_t *rec, vp_logfmt_mismatch_t *mm)
 {
     vp_cmd_t cmd;
     vp_probe_result_t res;
     const char *bad = NULL;
     int st;
     if (!pl || !rec) return VP_EINVAL;
-    if (rec->type == VP_LOG_EVENT) return VP_OK;
+    if (rec->type == VP_LOGFMT_EVENT) return VP_OK;
     st = vp_planner_next(pl, &cmd);
     if (st != VP_OK) return st;
-    if (rec->type == VP_LOG_MOVE) {
+    if (rec->type == VP_LOGFMT_MOVE) {
         if (cmd.kind != VP_CMD_MOVE) bad = "kind";
         else if (!same_bits(cmd.to, rec->target, 3)) bad = "target";
-    } else if (rec->type == VP_LOG_PROBE) {
+    } else if (rec->type == VP_LOGFMT_PROBE) {
         if (cmd.kind != VP_CMD_PROBE) bad = "kind";
         else if (!same_bits(cmd.from, rec->origin, 3)) bad = "origin";
         else if (!same_bits(cmd.dir, rec->dir, 3)) bad = "dir";
@@ -484,7 +484,7 @@ int vp_log_replay(vp_planner_t *pl, const vp_log_record_t *rec, vp_log_mismatch_
         }
         return VP_ECORRUPT;
     }
-    if (rec->type == VP_LOG_PROBE) {
+    if (rec->type == VP_LOGFMT_PROBE) {
         res.hit = rec->hit;
         res.dist = rec->dist;
         return vp_planner_feed(pl, &res);

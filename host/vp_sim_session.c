@@ -1,12 +1,12 @@
-/* vp_simlog — see vp_simlog.h. */
+/* vp_sim_session — see vp_sim_session.h. */
 #include <errno.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 #include "vp_note.h"
-#include "vp_simlog.h"
+#include "vp_sim_session.h"
 
-void vp_simlog_init(vp_simlog_t *g)
+void vp_sim_session_init(vp_sim_session_t *g)
 {
     memset(g, 0, sizeof *g);
     /* a simulated device: sync ten times a second (--sync record for every record) */
@@ -14,16 +14,16 @@ void vp_simlog_init(vp_simlog_t *g)
     g->w.file.fd = -1;
 }
 
-void vp_simlog_free(vp_simlog_t *g)
+void vp_sim_session_free(vp_sim_session_t *g)
 {
-    if (g->w.file.fd >= 0) vp_logfile_close(&g->w.file);
-    if (g->have_L) vp_slog_free(&g->L);
+    if (g->w.file.fd >= 0) vp_logwriter_close(&g->w.file);
+    if (g->have_L) vp_sessionlog_free(&g->L);
     g->have_L = 0;
 }
 
 /* ---------- the options as text: the log's note ---------- */
 
-void vp_simlog_note(const vp_sim_options_t *o, char *buf, size_t n)
+void vp_sim_session_note(const vp_sim_options_t *o, char *buf, size_t n)
 {
     size_t len = 0;
     buf[0] = 0;
@@ -49,7 +49,7 @@ void vp_simlog_note(const vp_sim_options_t *o, char *buf, size_t n)
 
 /* ---------- begin / end ---------- */
 
-int vp_simlog_set_path(vp_simlog_t *g, const vp_sim_options_t *o, char *err, size_t errlen)
+int vp_sim_session_set_path(vp_sim_session_t *g, const vp_sim_options_t *o, char *err, size_t errlen)
 {
     g->path[0] = 0;
     if (g->no_log && !g->resume) return VP_OK;
@@ -59,14 +59,14 @@ int vp_simlog_set_path(vp_simlog_t *g, const vp_sim_options_t *o, char *err, siz
     return VP_OK;
 }
 
-int vp_simlog_begin(vp_simlog_t *g, vp_sim_t *s, const vp_sim_options_t *o, FILE *msg,
+int vp_sim_session_begin(vp_sim_session_t *g, vp_sim_t *s, const vp_sim_options_t *o, FILE *msg,
                     char *err, size_t errlen)
 {
     char why[200], stop[600];
     int st;
     s->raw = NAN;
     if (g->no_log && !g->resume) return VP_OK;
-    if ((st = vp_simlog_set_path(g, o, err, errlen)) != VP_OK) return st;
+    if ((st = vp_sim_session_set_path(g, o, err, errlen)) != VP_OK) return st;
     if (!g->path[0]) return VP_OK;
     if (vp_mkdirs_for(g->path) != 0) {
         snprintf(err, errlen, "cannot create the folder of %s: %s", g->path, strerror(errno));
@@ -74,13 +74,13 @@ int vp_simlog_begin(vp_simlog_t *g, vp_sim_t *s, const vp_sim_options_t *o, FILE
     }
     if (g->resume) {
         vp_replay_t R;
-        if (!vp_slog_same_config(&g->L.header.cfg, g->L.header.arena_bytes, &s->cfg, (uint64_t)o->arena,
+        if (!vp_sessionlog_same_config(&g->L.header.cfg, g->L.header.arena_bytes, &s->cfg, (uint64_t)o->arena,
                                  why, sizeof why)) {
             snprintf(err, errlen, "%s: the scan configuration is not the logged one (%s): resume with "
                      "the options the log was made with", g->resume, why);
             return VP_EINVAL;
         }
-        vp_slog_stop_text(&g->L, stop, sizeof stop);
+        vp_sessionlog_stop_text(&g->L, stop, sizeof stop);
         if (msg) fprintf(msg, "resume %s: %s\n", g->resume, stop);
         vp_replay_init_state(&R, s->pl, &g->L);
         st = vp_replay_run(&R, &g->L, g->L.n, why, sizeof why);
@@ -94,27 +94,27 @@ int vp_simlog_begin(vp_simlog_t *g, vp_sim_t *s, const vp_sim_options_t *o, FILE
         if (g->no_log) return VP_OK;
         if (strcmp(g->path, g->resume) != 0) {
             /* --log elsewhere: the valid part of the resumed log, then the new records */
-            st = vp_logfile_create_copy(&g->w.file, g->path, g->L.data, g->L.good_bytes, g->L.n, &g->fcfg);
+            st = vp_logwriter_create_copy(&g->w.file, g->path, g->L.data, g->L.good_bytes, g->L.n, &g->fcfg);
             if (st == VP_OK && g->complete) {  /* nothing to append */
-                st = vp_logfile_close(&g->w.file);
+                st = vp_logwriter_close(&g->w.file);
                 if (st == VP_OK) return VP_OK;
             }
         } else if (g->complete)
             return VP_OK;   /* nothing to append */
         else
-            st = vp_logfile_open_append_read(&g->w.file, g->path, g->L.good_bytes, g->L.n, (uint64_t)g->L.size,
+            st = vp_logwriter_open_append_read(&g->w.file, g->path, g->L.good_bytes, g->L.n, (uint64_t)g->L.size,
                                              &g->fcfg);
         if (st == VP_OK) {
             snprintf(why, sizeof why, "resumed after record %d", (int)g->L.n - 1);
-            st = vp_logfile_event(&g->w.file, VP_LOG_EV_RESUME, 0, why);
+            st = vp_logwriter_event(&g->w.file, VP_LOGFMT_EV_RESUME, 0, why);
         }
     } else {
-        vp_log_header_t h;
-        char note[VP_LOG_NOTE_MAX + 1];
-        vp_simlog_note(o, note, sizeof note);
-        vp_log_header_init(&h, &s->cfg, (uint64_t)o->arena, VP_LOG_UNITS_NONE, "host-sim", note);
-        st = vp_logfile_create(&g->w.file, g->path, &h, &g->fcfg);
-        if (st == VP_OK) st = vp_logfile_event(&g->w.file, VP_LOG_EV_START, 0, "voroprobe sim");
+        vp_logfmt_header_t h;
+        char note[VP_LOGFMT_NOTE_MAX + 1];
+        vp_sim_session_note(o, note, sizeof note);
+        vp_logfmt_header_init(&h, &s->cfg, (uint64_t)o->arena, VP_LOGFMT_UNITS_NONE, "host-sim", note);
+        st = vp_logwriter_create(&g->w.file, g->path, &h, &g->fcfg);
+        if (st == VP_OK) st = vp_logwriter_event(&g->w.file, VP_LOGFMT_EV_START, 0, "voroprobe sim");
     }
     if (st != VP_OK) {
         if (g->w.file.dead) { g->active = 1; g->w.failed = 1; return VP_OK; } /* cut at once */
@@ -132,19 +132,19 @@ int vp_simlog_begin(vp_simlog_t *g, vp_sim_t *s, const vp_sim_options_t *o, FILE
     g->w.raw = &s->raw;
     g->w.stop_after = g->stop_after;
     g->hooks.ctx = &g->w;
-    g->hooks.after = vp_slog_after;
+    g->hooks.after = vp_sessionlog_after;
     s->hooks = &g->hooks;
     return VP_OK;
 }
 
-int vp_simlog_end(vp_simlog_t *g, vp_sim_t *s, FILE *msg)
+int vp_sim_session_end(vp_sim_session_t *g, vp_sim_t *s, FILE *msg)
 {
     int st = s->run.status;
     if (!g->active) return 0;
     if (g->w.file.dead) {
         if (msg) fprintf(msg, "sim: simulated power cut: the log %s stops at byte %llu; resume with --resume %s\n",
                          g->path, (unsigned long long)g->w.file.bytes, g->path);
-        vp_logfile_close(&g->w.file);
+        vp_logwriter_close(&g->w.file);
         return 1;
     }
     if (!g->w.failed) {
@@ -152,19 +152,19 @@ int vp_simlog_end(vp_simlog_t *g, vp_sim_t *s, FILE *msg)
             char t[80];
             snprintf(t, sizeof t, "paused after %lu commands (%s)", g->w.commands,
                      g->w.stop_flag && *g->w.stop_flag ? "a signal" : "--stop-after");
-            vp_logfile_event(&g->w.file, VP_LOG_EV_PAUSE, 0, t);
+            vp_logwriter_event(&g->w.file, VP_LOGFMT_EV_PAUSE, 0, t);
             if (msg) fprintf(msg, "sim: %s; the mesh so far is written; resume with --resume %s\n", t, g->path);
         } else if (st != VP_OK) {
-            vp_logfile_event(&g->w.file, VP_LOG_EV_FAULT, st, vp_strerror(st));
+            vp_logwriter_event(&g->w.file, VP_LOGFMT_EV_FAULT, st, vp_strerror(st));
         }
     }
-    if (vp_logfile_close(&g->w.file) != VP_OK || g->w.failed) {
+    if (vp_logwriter_close(&g->w.file) != VP_OK || g->w.failed) {
         if (msg) fprintf(msg, "sim: writing the session log %s failed: %s\n", g->path, strerror(errno));
     }
     return 0;
 }
 
-void vp_simlog_report(const vp_simlog_t *g, FILE *f)
+void vp_sim_session_report(const vp_sim_session_t *g, FILE *f)
 {
     if (!g->path[0] || g->no_log) return;
     if (g->complete && !g->active)

@@ -1,0 +1,17 @@
+/* vp_device — what the run loop (vp_run) needs of a scanner: execute the planner's MOVE and
+ * PROBE. A device is host-sim, a real machine through port/ (vp_machine), a logged session
+ * being replayed, or the Cortex-M4 image's built-in probe; the loop does not know which. */
+#ifndef VP_DEVICE_H
+#define VP_DEVICE_H
+#include "vp_planner.h"
+
+typedef struct vp_device_ops {
+    void *ctx;
+    /* executes a straight move; *collided (may be ignored) reports a collision seen by a
+     * simulator. Returns VP_OK or an error (the scan stops). */
+    int (*move)(void *ctx, const vp_cmd_t *cmd, int *collided);
+    /* executes a probe; fills res. */
+    int (*probe)(void *ctx, const vp_cmd_t *cmd, vp_probe_result_t *res);
+} vp_device_ops_t;
+
+#endif
