@@ -84,6 +84,7 @@ typedef struct vp_planner_stats {
                                   (S within the noise of that end): the facet dropped */
     uint64_t unproven;         /* segments an inference took for free that no probe covers:
                                   never added to the free graph */
+    uint64_t manifold_refinements; /* facets refined because an edge had not two facets */
     uint64_t stalls;           /* steps that made no progress (bounded: see VP_ESTALL) */
     double travel;             /* length of all MOVEs */
     double travel_prev_chains; /* what the same moves cost along prev chains (the paper's

@@ -42,6 +42,68 @@ static int probe_around_edge(vp_planner_t *pl, uint32_t t0, uint32_t x, uint32_t
     return (int)pushed;
 }
 
+/* The manifold criterion (as CGAL's surface mesher refines non-manifold places): when probing
+ * around the edges that do not have exactly two facets finds nothing more, the largest facet at
+ * each such edge is refined like a bad ball, down to a floor on its radius so that it ends on
+ * sharp edges and corners (inserted centres are farther than the floor from every sample). */
+#define MANIFOLD_FLOOR_REL 0.01 /* of eps: the smallest ball refined for the manifold criterion */
+/* 1 if a side of a tet around edge (x, y) of Del(E) is blocked: a Voronoi edge there could not
+ * be probed (occluded from dOmega for a device with a body, too close, degenerate), so the hole
+ * is one the device cannot see, and refining there would only add samples it cannot close */
+static int ring_blocked(const vp_planner_t *pl, uint32_t t0, uint32_t x, uint32_t y)
+{
+    uint32_t cur = t0, other, limit = RING_MAX;
+    const uint32_t *w = vp_dt_tet(&pl->dt, t0);
+    int k, ex = -1;
+    for (k = 0; k < 4; k++)
+        if (w[k] != x && w[k] != y) { ex = k; break; }
+    if (ex < 0) return 1;
+    other = w[ex];
+    do {
+        const uint32_t *c = vp_dt_tet(&pl->dt, cur);
+        int f, ix = -1;
+        for (f = 0; f < 4; f++)
+            if (side_get(pl, cur, f) & SIDE_BLOCKED) return 1;
+        for (k = 0; k < 4; k++)
+            if (c[k] == other) ix = k;
+        if (ix < 0) return 1;
+        for (k = 0; k < 4; k++)
+            if (c[k] != x && c[k] != y && c[k] != other) break;
+        cur = c[4 + ix] >> 2;
+        other = c[k];
+    } while (cur != t0 && --limit);
+    return 0;
+}
+
+static int refine_at_edges(vp_planner_t *pl, const uint32_t *tab, uint32_t slots)
+{
+    uint32_t i, refined = 0;
+    for (i = 0; i < slots; i++) {
+        uint32_t a = tab[3 * i], b = tab[3 * i + 1], k, best = NONE;
+        if (a == NONE || tab[3 * i + 2] == 2) continue;
+        for (k = 0; k < pl->pool.nfrec; k++) {
+            const vp_frec_t *f = &pl->pool.frec[k];
+            int ha, hb;
+            if (f->v[0] == NONE || (f->flags & FREC_STUCK)) continue;
+            ha = f->v[0] == a || f->v[1] == a || f->v[2] == a;
+            hb = f->v[0] == b || f->v[1] == b || f->v[2] == b;
+            if (ha && hb && (best == NONE || f->r > pl->pool.frec[best].r)) best = k;
+        }
+        if (best == NONE || pl->pool.frec[best].heap != NONE ||
+            !(pl->pool.frec[best].r > MANIFOLD_FLOOR_REL * pl->cfg.eps))
+            continue;
+        {
+            int fi;
+            uint32_t t = vp_pl_find_facet(pl, pl->pool.frec[best].v, &fi, 3u * slots);
+            if (t == NONE || ring_blocked(pl, t, a, b)) continue;
+        }
+        VP_TRY(vp_pl_heap_push(pl, best));
+        refined++;
+    }
+    pl->st.manifold_refinements += refined;
+    return (int)refined;
+}
+
 VP_PL_API int vp_pl_close_holes(vp_planner_t *pl)
 {
     /* edge counts in a scratch hash: 3 words per slot (a, b, count) */
@@ -83,6 +145,12 @@ VP_PL_API int vp_pl_close_holes(vp_planner_t *pl)
         if (n < 0) return n;
         pushed += (uint32_t)n;
         holes++;
+    }
+    if (holes > 0 && pushed == 0) {
+        /* the manifold criterion first: refining at the open edges is local; the exhaustive
+         * detect_access below probes every edge of every active vertex */
+        int r = refine_at_edges(pl, tab, slots);
+        if (r != 0) return r;
     }
     if (holes > 0 && pushed == 0 && !pl->close.exhaustive) {
         /* no active vertex next to the holes: detect_access in full from every active vertex

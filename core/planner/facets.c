@@ -86,7 +86,7 @@ static void heap_down(vp_planner_t *pl, uint32_t i)
     }
 }
 
-static int heap_push(vp_planner_t *pl, uint32_t k)
+VP_PL_API int vp_pl_heap_push(vp_planner_t *pl, uint32_t k)
 {
     if (pl->pool.nheap >= pl->pool.cap_heap) return VP_ENOMEM;
     pl->pool.heap[pl->pool.nheap] = k;
@@ -193,7 +193,7 @@ VP_PL_API int vp_pl_frec_add(vp_planner_t *pl, const uint32_t *fv, const double 
     pl->pool.fhash[h] = k;
     pl->pool.nfacets++;
     *out = k;
-    if (f->r > pl->cfg.eps || facet_too_sharp(pl, v)) return heap_push(pl, k);
+    if (f->r > pl->cfg.eps || facet_too_sharp(pl, v)) return vp_pl_heap_push(pl, k);
     return VP_OK;
 }
 
@@ -210,6 +210,6 @@ VP_PL_API void vp_pl_frec_set_ball(vp_planner_t *pl, uint32_t k, const double *c
     if (f->heap != NONE) {
         heap_up(pl, f->heap);
     } else if (r > pl->cfg.eps && !(f->flags & FREC_STUCK)) {
-        (void)heap_push(pl, k);
+        (void)vp_pl_heap_push(pl, k);
     }
 }

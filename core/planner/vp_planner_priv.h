@@ -202,6 +202,7 @@ VP_PL_API void vp_pl_frec_delete(vp_planner_t *pl, uint32_t k);
 VP_PL_API uint32_t vp_pl_frec_lookup(const vp_planner_t *pl, const uint32_t *fv);
 VP_PL_API void vp_pl_frec_set_ball(vp_planner_t *pl, uint32_t k, const double *c);
 VP_PL_API void vp_pl_heap_remove(vp_planner_t *pl, uint32_t k);
+VP_PL_API int vp_pl_heap_push(vp_planner_t *pl, uint32_t k);
 
 /* tasks.c */
 VP_PL_API int vp_pl_edge_geom(const vp_planner_t *pl, uint32_t t, int f, edgegeom_t *g);
