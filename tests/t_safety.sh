@@ -17,8 +17,9 @@
 # VP_TEST_QUICK=1: eps 0.1 and 0.05 only, 15 s per run. VP_SAFETY_JOBS: parallel runs (2).
 # The results table is printed and kept in $BUILD/safety/results.txt with every run's files
 # (moves: the JSON's count, or for a hung run the moves its log holds; first: the first move
-# through or inside the object by the CGAL checker). Closing these meshes is not asked here
-# (sharp edges are the adaptive-sizing work): an open mesh must exit 4, never 0.
+# through or inside the object by the CGAL checker). An open mesh must exit 4, never 0; the
+# polyhedra, the zero-area faces and the smooth meshes that the planner closes (flat faces on
+# their facet lines, the manifold criterion) must stay closed at every eps (must-close).
 set -u
 BUILD=${BUILD:-build}
 VP=${VP:-$BUILD/voroprobe}
@@ -58,6 +59,11 @@ if [ "${1:-}" = "--one" ]; then
       *) verdict="$verdict exit-$rc-says-$status";;
     esac
     if [ "$closed" = true ] && [ "$rc" != 0 ]; then verdict="$verdict closed-but-exit-$rc"; fi
+    # objects the planner closes (flat faces, sharp edges, zero-area faces): a regression if not
+    case "$name" in
+      cube|box|tetra|octa|cylinder32|cone32|icosphere2|icosphere2-degen|bear|ellipe0.003|sphere966)
+        [ "$closed" = true ] || verdict="$verdict must-close";;
+    esac
   fi
   # the independent check, on whatever the log holds (a hung run's log too)
   cthrough="-"; cinside="-"; cfirst="-"; cmoves="-"

@@ -47,9 +47,10 @@ static int probe_around_edge(vp_planner_t *pl, uint32_t t0, uint32_t x, uint32_t
  * each such edge is refined like a bad ball, down to a floor on its radius so that it ends on
  * sharp edges and corners (inserted centres are farther than the floor from every sample). */
 #define MANIFOLD_FLOOR_REL 0.01 /* of eps: the smallest ball refined for the manifold criterion */
-/* 1 if a side of a tet around edge (x, y) of Del(E) is blocked: a Voronoi edge there could not
- * be probed (occluded from dOmega for a device with a body, too close, degenerate), so the hole
- * is one the device cannot see, and refining there would only add samples it cannot close */
+/* 1 if a side of a tet around edge (x, y) of Del(E) is blocked as unseen: a Voronoi edge there
+ * could not be probed (occluded from dOmega for a device with a body, or too close), so the hole
+ * is one the device cannot see, and refining there would only add samples it cannot close (a
+ * degenerate edge is no such reason: refinement is what removes it) */
 static int ring_blocked(const vp_planner_t *pl, uint32_t t0, uint32_t x, uint32_t y)
 {
     uint32_t cur = t0, other, limit = RING_MAX;
@@ -63,7 +64,7 @@ static int ring_blocked(const vp_planner_t *pl, uint32_t t0, uint32_t x, uint32_
         const uint32_t *c = vp_dt_tet(&pl->dt, cur);
         int f, ix = -1;
         for (f = 0; f < 4; f++)
-            if (side_get(pl, cur, f) & SIDE_BLOCKED) return 1;
+            if ((side_get(pl, cur, f) & (SIDE_BLOCKED | SIDE_DEGEN)) == SIDE_BLOCKED) return 1;
         for (k = 0; k < 4; k++)
             if (c[k] == other) ix = k;
         if (ix < 0) return 1;

@@ -238,7 +238,7 @@ static int expect_hit(const vp_planner_t *pl, uint32_t t, int f, const double *o
  * probe from): marked so that no rule asks for it again, which bounds the work of closing. */
 static int task_unprobeable(vp_planner_t *pl, uint32_t t, int f)
 {
-    side_set(pl, t, f, side_get(pl, t, f) | SIDE_BLOCKED);
+    side_set(pl, t, f, side_get(pl, t, f) | SIDE_BLOCKED | SIDE_DEGEN);
     pl->st.stalls++;
     return 0;
 }

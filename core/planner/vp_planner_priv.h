@@ -45,7 +45,9 @@
 #define SIDE_MASK    3u
 #define SIDE_QUEUED  4u  /* a probe task is pending */
 #define SIDE_FORCED  8u  /* probed although both ends are known free (closing a hole) */
-#define SIDE_BLOCKED 16u /* the probe from this end saw something too close to measure */
+#define SIDE_BLOCKED 16u /* not probed again from this end: too close to measure, occluded from
+                           dOmega (a device with a body), or degenerate (with SIDE_DEGEN) */
+#define SIDE_DEGEN   32u /* blocked because the edge is degenerate, not because it is unseen */
 
 /* record flags */
 #define REC_OUT 1u       /* on or outside dOmega: joins every other such record outside */
