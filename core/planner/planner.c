@@ -77,7 +77,7 @@ int vp_planner_init(vp_planner_t *pl, void *arena, size_t bytes, const vp_planne
     cur = (unsigned char *)arena;
     end = cur + bytes;
     /* the split, per 100 units, from the peaks measured per output vertex (README): the
-     * triangulation at least 29, records 20, proofs 16, free edges 6, facets 7, tasks 7, hash
+     * triangulation at least 28, records 20, proofs 16, free edges 6, facets 7, tasks 7, hash
      * 2-4, path search and hole scratch 8, paths 1, heap 1, route 1 */
     unit = bytes / 100;
     if (bytes < ARENA_MIN) return VP_ENOMEM;
@@ -109,7 +109,9 @@ int vp_planner_init(vp_planner_t *pl, void *arena, size_t bytes, const vp_planne
         pl->pool.cap_task < POOL_MIN || pl->route.cap < POOL_MIN || pl->pool.cap_astar < SCRATCH_MIN)
         return VP_ENOMEM;
     dtb = (size_t)(end - cur);
-    if (dtb < 29 * unit) return VP_ENOMEM;
+    /* the other shares take at most 71.2 units (the hash up to 4): the triangulation gets the
+     * rest, never less than 28 (it needs 23-27 at 2.5 KB per output vertex) */
+    if (dtb < 28 * unit) return VP_ENOMEM;
     st = vp_dt_init(&pl->dt, cur, dtb, KPAY * 4);
     if (st != VP_OK) return st == VP_EINVAL ? VP_ENOMEM : st;
     pl->pool.hash_mask = hwords - 1;
