@@ -62,9 +62,10 @@ SIM_SRC  := $(sort $(wildcard sim/*.c))
 PORT_SRC := $(sort $(wildcard port/*.c))
 HOSTL_SRC := $(sort $(wildcard host/*.c))
 CLI_SRC  := $(sort $(wildcard cli/*.c))
-TEST_SRC := $(sort $(wildcard tests/test_*.c))
+# the C tests, by the layer they exercise (tests/core, mesh, sim, port, host)
+TEST_SRC := $(sort $(wildcard tests/*/test_*.c))
 ifneq ($(HAVE_GMP),1)
-TEST_SRC := $(filter-out tests/test_gmp_%,$(TEST_SRC))
+TEST_SRC := $(filter-out tests/core/test_gmp_%,$(TEST_SRC))
 endif
 
 CORE_OBJ := $(CORE_SRC:%.c=$(BUILD)/%.o)
@@ -169,7 +170,7 @@ $(LIBHOST): $(HOSTL_OBJ)
 $(PROG): $(CLI_OBJ) $(LIBS) $(CONFIG)
 	$(CC) $(OPT) -o $@ $(CLI_OBJ) $(LIBS) $(PORT_LIBS) $(LDLIBS)
 
-$(BUILD)/tests/test_gmp_%: tests/test_gmp_%.c tests/vp_test.h $(LIBS) $(CONFIG)
+$(BUILD)/tests/core/test_gmp_%: tests/core/test_gmp_%.c tests/vp_test.h $(LIBS) $(CONFIG)
 	@mkdir -p $(@D)
 	$(CC) $(HOST_CFLAGS) -Itests -o $@ $< $(LIBS) $(PORT_LIBS) -lgmp $(LDLIBS)
 

@@ -24,7 +24,7 @@ run_one() {
        tail -n 15 "$logdir/$name.log" | sed 's/^/      /';;
   esac
 }
-for t in "$BUILD"/tests/test_*; do
+for t in "$BUILD"/tests/*/test_*; do
   [ -x "$t" ] || continue
   run_one "$(basename "$t")" "$t"
 done

@@ -9,7 +9,7 @@ A="$B/aarch64"
 make --no-print-directory -s BUILD="$A" CROSS=aarch64-linux-gnu- tests >"$B/aarch64-build.log" 2>&1 || {
   tail -20 "$B/aarch64-build.log"; echo "aarch64 build failed"; exit 1; }
 fail=0; n=0
-for t in "$A"/tests/test_*; do
+for t in "$A"/tests/*/test_*; do
   [ -x "$t" ] || continue
   name=$(basename "$t")
   out=$(VP_TEST_QUICK=1 timeout 600 qemu-aarch64 -L /usr/aarch64-linux-gnu "$t" 2>&1); rc=$?
@@ -18,7 +18,7 @@ for t in "$A"/tests/test_*; do
   # lines starting with "fingerprint" must equal the native run's
   fa=$(echo "$out" | grep '^fingerprint' || true)
   if [ -n "$fa" ]; then
-    fx=$("$B/tests/$name" 2>/dev/null | grep '^fingerprint' || true)
+    fx=$("$B/tests/${t#"$A"/tests/}" 2>/dev/null | grep '^fingerprint' || true)
     if [ "$fa" != "$fx" ]; then echo "aarch64 $name: fingerprint differs:"; echo " arm: $fa"; echo " x86: $fx"; fail=1
     else echo "aarch64 $name: same fingerprint as x86-64: $(echo "$fa" | head -1)"; fi
   fi

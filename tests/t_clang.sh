@@ -8,7 +8,7 @@ C="$B/clang"
 make --no-print-directory -s BUILD="$C" CC=clang tests >"$B/clang-build.log" 2>&1 || {
   tail -20 "$B/clang-build.log"; echo "clang build failed"; exit 1; }
 fail=0
-for t in "$C"/tests/test_dt "$C"/tests/test_gmp_pred; do
+for t in "$C"/tests/core/test_dt "$C"/tests/core/test_gmp_pred; do
   [ -x "$t" ] || continue
   "$t" >"$B/clang-$(basename "$t").log" 2>&1 || { echo "clang $(basename "$t") failed"; tail -5 "$B/clang-$(basename "$t").log"; fail=1; }
 done

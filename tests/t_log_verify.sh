@@ -16,7 +16,7 @@
 set -u
 B=${BUILD:-build}
 VP=${VP:-$B/voroprobe}
-T=$B/tests/test_logverify
+T=$B/tests/host/test_logverify
 tmp=$(mktemp -d) || exit 1
 trap 'rm -rf "$tmp"' EXIT
 fail=0

@@ -10,7 +10,7 @@ if ! [ -x "$PY" ] || ! "$PY" -c "import open3d" >/dev/null 2>&1; then
 fi
 tmp=$(mktemp -d) || exit 1
 trap 'rm -rf "$tmp"' EXIT
-"$BUILD/tests/test_meshio" --write-ply "$tmp/torus.ply" || { echo "FAIL: test_meshio --write-ply"; exit 1; }
+"$BUILD/tests/mesh/test_meshio" --write-ply "$tmp/torus.ply" || { echo "FAIL: test_meshio --write-ply"; exit 1; }
 "$PY" - "$tmp/torus.ply" "$tmp/torus.ply.ascii.ply" <<'PYEOF'
 import math, sys
 import numpy as np

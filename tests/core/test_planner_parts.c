@@ -5,7 +5,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include "../core/planner/vp_planner_priv.h"
+#include "../../core/planner/vp_planner_priv.h"
 #include "vp_test.h"
 
 #define ARENA (16u << 20)

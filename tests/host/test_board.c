@@ -341,5 +341,5 @@ int main(void)
     test_broken_boards();
     test_calibration_files();
     test_nul_bytes();
-    return vp_test_done("test_port_board");
+    return vp_test_done("test_board");
 }
