@@ -40,7 +40,7 @@ int vp_sim_parse_option(vp_sim_options_t *o, int argc, char **argv, int *i, char
         strcmp(a, "--noise") && strcmp(a, "--dropout") && strcmp(a, "--clearance") &&
         strcmp(a, "--max-range") && strcmp(a, "--min-range") && strcmp(a, "--arena") && strcmp(a, "--omega") &&
         strcmp(a, "--seed") && strcmp(a, "--hausdorff") && strcmp(a, "--confirm") && strcmp(a, "--margin") &&
-        strcmp(a, "--angle"))
+        strcmp(a, "--angle") && strcmp(a, "--size-rel") && strcmp(a, "--min-size"))
         return 1;
     if (!val) { snprintf(err, errlen, "%s needs a value", a); return -1; }
     (*i)++;
@@ -92,6 +92,12 @@ int vp_sim_parse_option(vp_sim_options_t *o, int argc, char **argv, int *i, char
     } else if (!strcmp(a, "--angle")) {
         if (!(v >= 0 && v <= 30)) { snprintf(err, errlen, "--angle must be in [0, 30] degrees"); return -1; }
         o->min_angle = v;
+    } else if (!strcmp(a, "--size-rel")) {
+        if (!(v > 0 && v < 1)) { snprintf(err, errlen, "--size-rel must be in (0, 1) (the sizing field's eps; 0.1-0.5 is usual)"); return -1; }
+        o->size_rel = v;
+    } else if (!strcmp(a, "--min-size")) {
+        if (!(v > 0 && v < 1e150)) { snprintf(err, errlen, "--min-size must be > 0 (object units)"); return -1; }
+        o->min_size = v;
     } else if (!strcmp(a, "--confirm")) {
         if (!(v >= 0 && v <= 16)) { snprintf(err, errlen, "--confirm must be in 0..16"); return -1; }
         o->confirm = (int)v;

@@ -49,6 +49,10 @@ typedef struct vp_planner_config {
                                     Voronoi edge along its line from dOmega */
     double min_angle;            /* optional angle bound in degrees (0: off, at most 30): a
                                     facet with a smaller angle is refined like a bad ball */
+    double size_rel;             /* > 0: the sizing field of paper 002, a ball is bad when its
+                                    radius exceeds g(c) = size_rel min_p (dM(p) + |c - p|),
+                                    held to [min_size, eps]; 0: eps everywhere (below 1) */
+    double min_size;             /* the sizing field's floor (> 0 and <= eps with size_rel) */
     uint32_t flags;              /* VP_PLAN_* */
 } vp_planner_config_t;
 
@@ -181,6 +185,7 @@ typedef struct vp_pl_seed {
 /* Closing holes and H2: close.c (and the exhaustive flag read by tasks.c). */
 typedef struct vp_pl_close {
     uint64_t mark;           /* probes + insertions + 1 when holes were last closed */
+    uint64_t size_mark;      /* insertions + 1 at the last pass of the sizing field */
     int exhaustive;          /* detect_access in full until the next insertion */
     uint32_t h2_done;        /* bit i: o_i is enclosed by the mesh */
     uint8_t h2_tries[VP_PLANNER_MAX_SEEDS];

@@ -282,6 +282,8 @@ int vp_sessionlog_same_config(const vp_planner_config_t *a, uint64_t arena_a,
     else if (!bits_eq(&a->noise_tol, &b->noise_tol, 1)) f = "noise tolerance";
     else if (!bits_eq(&a->clearance, &b->clearance, 1)) f = "clearance";
     else if (!bits_eq(&a->min_angle, &b->min_angle, 1)) f = "angle bound";
+    else if (!bits_eq(&a->size_rel, &b->size_rel, 1)) f = "sizing field (--size-rel)";
+    else if (!bits_eq(&a->min_size, &b->min_size, 1)) f = "size floor (--min-size)";
     else if (a->confirm_misses != b->confirm_misses) f = "confirm misses";
     else if (a->flags != b->flags) f = "planner flags";
     else if (arena_a != arena_b) f = "arena size";

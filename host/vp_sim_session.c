@@ -38,6 +38,8 @@ void vp_sim_session_note(const vp_sim_options_t *o, char *buf, size_t n)
     vp_note_put_num(buf, n, &len, "--max-range", o->max_range);
     if (o->min_range > 0) vp_note_put_num(buf, n, &len, "--min-range", o->min_range);
     if (o->min_angle > 0) vp_note_put_num(buf, n, &len, "--angle", o->min_angle);
+    if (o->size_rel > 0) vp_note_put_num(buf, n, &len, "--size-rel", o->size_rel);
+    if (o->min_size > 0) vp_note_put_num(buf, n, &len, "--min-size", o->min_size);
     vp_note_put_opt(buf, n, &len, "--arena", "%zu", o->arena);
     vp_note_put_str(buf, n, &len, "--omega", o->omega_ball ? "ball" : "box");
     vp_note_put_num(buf, n, &len, "--margin", o->omega_margin);

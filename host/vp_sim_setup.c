@@ -143,6 +143,18 @@ int vp_sim_open(vp_sim_t *s, const vp_sim_options_t *o, char *err, size_t errlen
                                        : o->dropout > 0 ? (int)ceil(log(1e-6) / log(o->dropout)) - 1 : 0);
     s->cfg.clearance = o->clearance;
     s->cfg.min_angle = o->min_angle;
+    if (o->size_rel > 0) {
+        s->cfg.size_rel = o->size_rel;
+        s->cfg.min_size = o->min_size > 0 ? o->min_size : s->cfg.eps / 10.0;
+        if (s->cfg.min_size > s->cfg.eps) {
+            snprintf(err, errlen, "--min-size %.6g is above eps %.6g (the sizing field lies between them)",
+                     s->cfg.min_size, s->cfg.eps);
+            return VP_EINVAL;
+        }
+    } else if (o->min_size > 0) {
+        snprintf(err, errlen, "--min-size is the floor of the sizing field: give --size-rel too");
+        return VP_EINVAL;
+    }
     s->cfg.max_range = o->max_range;
     s->cfg.flags = o->flags;
     memset(&dc, 0, sizeof dc);

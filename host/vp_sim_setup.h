@@ -16,6 +16,7 @@ typedef struct vp_sim_options {
     double eps, eps_rel;
     const char *out;          /* PREFIX; NULL: do not write */
     double noise, dropout, clearance, max_range, min_range, min_angle;
+    double size_rel, min_size;  /* the sizing field (0: off); its floor (0: eps / 10) */
     int confirm;              /* -1: default */
     size_t arena;
     int omega_ball;

@@ -94,6 +94,16 @@ mkdir -p "$d" && cp "$tmp/sphere.off" "$d/the object.off"
 "$VP" sim --resume "$tmp/lpc.vplog" $S >"$tmp/lp.txt" 2>&1 || { bad "resume of an off: scan at a long path"; tail -3 "$tmp/lp.txt"; }
 cmp -s "$tmp/lp.ply" "$tmp/lpc.ply" || bad "off: scan at a long path: resumed mesh differs"
 
+# the sizing field (--size-rel, --min-size): a version 2 header; replayed and resumed bit for bit
+"$VP" sim --surface ellipsoid --eps 0.3 --size-rel 0.15 --min-size 0.01 --out "$tmp/sz" $S >/dev/null 2>&1 || bad "sim --size-rel: exit $?"
+"$VP" replay "$tmp/sz.vplog" --out "$tmp/sz.re" >/dev/null 2>&1 && cmp -s "$tmp/sz.ply" "$tmp/sz.re.ply" || bad "sizing field: replay differs"
+"$VP" log dump "$tmp/sz.vplog" | head -5 | grep -q -- "--size-rel 0.15" || bad "sizing field: not in the log's note"
+"$VP" sim --surface ellipsoid --eps 0.3 --size-rel 0.15 --min-size 0.01 --out "$tmp/szp" $S --stop-after 500 >/dev/null 2>&1
+"$VP" sim --resume "$tmp/szp.vplog" $S >/dev/null 2>&1 || bad "sizing field: resume"
+cmp -s "$tmp/sz.ply" "$tmp/szp.ply" || bad "sizing field: paused + resumed mesh differs"
+"$VP" sim --surface ellipsoid --eps 0.3 --min-size 0.01 --out "$tmp/szb" $S >/dev/null 2>"$tmp/e.txt" && bad "--min-size without --size-rel accepted"
+echo "sizing field: a version 2 log, replayed and resumed bit for bit"
+
 # a pause is resumable too
 "$VP" sim --surface torus --eps-rel 0.05 --noise 0.0005 --dropout 0.1 --out "$tmp/pa" $S --stop-after 3000 >/dev/null 2>&1
 "$VP" log dump "$tmp/pa.vplog" | tail -1 | grep -q "EVENT pause" || bad "--stop-after wrote no PAUSE event"
@@ -135,7 +145,7 @@ echo "damaged log: record $((nrec / 2 - 1)) at byte $off named; the valid part r
 # ---- a newer format version is refused (the header intact: its CRC rewritten; the CRC-32 of
 # the header's first H-4 bytes is the one in gzip's trailer)
 cp "$L" "$tmp/new.vplog"
-printf '\002' | dd of="$tmp/new.vplog" bs=1 seek=8 conv=notrunc 2>/dev/null
+printf '\003' | dd of="$tmp/new.vplog" bs=1 seek=8 conv=notrunc 2>/dev/null
 hl=$(od -An -tu4 -j12 -N4 "$tmp/new.vplog" | tr -d ' ')
 head -c $((hl - 4)) "$tmp/new.vplog" | gzip -c | tail -c 8 | head -c 4 |
   dd of="$tmp/new.vplog" bs=1 seek=$((hl - 4)) conv=notrunc 2>/dev/null

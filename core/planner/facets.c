@@ -54,7 +54,92 @@ VP_PL_API uint32_t vp_pl_frec_lookup(const vp_planner_t *pl, const uint32_t *fv)
     return found ? pl->pool.fhash[h] : NONE;
 }
 
-/* ---------- the bad-ball heap (max on radius) ---------- */
+/* ---------- the sizing field (paper 002, section 6) ----------
+ * g(x) = size_rel * min_p (dM(p) + |x - p|): size_rel times the 1-Lipschitz extension of dM from
+ * the samples p; dM(p), the distance to the medial axis, is estimated by the distance to p's
+ * poles: the farthest vertex of its Voronoi cell (at infinity on the hull), and the farthest
+ * one on the other side. The min is taken over the facet's own vertices (the samples nearest
+ * its ball centre), and g is held to [min_size, eps]: the floor ends refinement on sharp edges,
+ * where dM goes to 0. A ball is bad when r > g(c), i.e. r > size_rel dM / (1 - size_rel). */
+static double pole_distance(vp_planner_t *pl, uint32_t v)
+{
+    const double *p = vp_dt_point(&pl->dt, v);
+    uint32_t *tets = pl->pool.astar, i;
+    int n = vp_dt_incident_tets(&pl->dt, v, tets, (int)pl->pool.cap_astar), unbounded = 0;
+    double far = -1.0, other = -1.0, u[3] = { 0, 0, 0 }, c[3], d[3], dist;
+    if (n <= 0) return VP_PL_HUGE;
+    for (i = 0; i < (uint32_t)n; i++) {
+        if (vp_dt_is_ghost(&pl->dt, tets[i])) { unbounded = 1; continue; }
+        if (vp_dt_circumcenter(&pl->dt, tets[i], c) != VP_OK) continue;
+        vp_sub3(d, c, p);
+        dist = vp_norm3(d);
+        if (dist > far) { far = dist; memcpy(u, d, sizeof u); }
+    }
+    if (unbounded) {
+        /* the first pole is at infinity, outward: away from the neighbours' centroid */
+        double m[3] = { 0, 0, 0 };
+        uint32_t cnt = 0, k;
+        for (i = 0; i < (uint32_t)n; i++) {
+            const uint32_t *w = vp_dt_tet(&pl->dt, tets[i]);
+            for (k = 0; k < 4; k++)
+                if (w[k] != v && w[k] != VP_DT_GHOST) {
+                    const double *q = vp_dt_point(&pl->dt, w[k]);
+                    m[0] += q[0]; m[1] += q[1]; m[2] += q[2];
+                    cnt++;
+                }
+        }
+        if (cnt == 0) return VP_PL_HUGE;
+        for (k = 0; k < 3; k++) u[k] = p[k] - m[k] / (double)cnt;
+    }
+    for (i = 0; i < (uint32_t)n; i++) {
+        if (vp_dt_is_ghost(&pl->dt, tets[i]) || vp_dt_circumcenter(&pl->dt, tets[i], c) != VP_OK) continue;
+        vp_sub3(d, c, p);
+        if (vp_dot3(d, u) < 0.0 && (dist = vp_norm3(d)) > other) other = dist;
+    }
+    if (unbounded) return other >= 0.0 ? other : VP_PL_HUGE;
+    if (far < 0.0) return VP_PL_HUGE;
+    return other >= 0.0 && other < far ? other : far;
+}
+
+/* The largest ball radius allowed at ball centre c of facet v: eps, or the sizing field. */
+VP_PL_API double vp_pl_size_bound(vp_planner_t *pl, const uint32_t *v, const double *c)
+{
+    double g = VP_PL_HUGE;
+    int k;
+    if (!(pl->cfg.size_rel > 0.0)) return pl->cfg.eps;
+    for (k = 0; k < 3; k++) {
+        double x = pl->cfg.size_rel * (pole_distance(pl, v[k]) + vp_dist3(c, vp_dt_point(&pl->dt, v[k])));
+        if (x < g) g = x;
+    }
+    if (g < pl->cfg.min_size) g = pl->cfg.min_size;
+    return g < pl->cfg.eps ? g : pl->cfg.eps;
+}
+
+/* The facet's place in the heap's order, and 1 if its ball is bad */
+static int facet_rate(vp_planner_t *pl, vp_frec_t *f)
+{
+    double b = vp_pl_size_bound(pl, f->v, f->c);
+    f->key = pl->cfg.size_rel > 0.0 ? f->r / b : f->r;
+    return f->r > b;
+}
+
+/* With the sizing field: every facet rated again (dM estimates shrink as samples arrive); the
+ * ones now bad are queued. Returns how many. */
+VP_PL_API int vp_pl_size_pass(vp_planner_t *pl)
+{
+    uint32_t k, n = 0;
+    for (k = 0; k < pl->pool.nfrec; k++) {
+        vp_frec_t *f = &pl->pool.frec[k];
+        if (f->v[0] == NONE || f->heap != NONE || (f->flags & FREC_STUCK)) continue;
+        if (facet_rate(pl, f)) {
+            VP_TRY(vp_pl_heap_push(pl, k));
+            n++;
+        }
+    }
+    return (int)n;
+}
+
+/* ---------- the bad-ball heap (max on key: the radius, or radius over size bound) ---------- */
 
 static void heap_swap(vp_planner_t *pl, uint32_t i, uint32_t j)
 {
@@ -68,7 +153,7 @@ static void heap_up(vp_planner_t *pl, uint32_t i)
 {
     while (i > 0) {
         uint32_t p = (i - 1) / 2;
-        if (!(pl->pool.frec[pl->pool.heap[p]].r < pl->pool.frec[pl->pool.heap[i]].r)) break;
+        if (!(pl->pool.frec[pl->pool.heap[p]].key < pl->pool.frec[pl->pool.heap[i]].key)) break;
         heap_swap(pl, i, p);
         i = p;
     }
@@ -78,8 +163,8 @@ static void heap_down(vp_planner_t *pl, uint32_t i)
 {
     for (;;) {
         uint32_t l = 2 * i + 1, r = l + 1, m = i;
-        if (l < pl->pool.nheap && pl->pool.frec[pl->pool.heap[l]].r > pl->pool.frec[pl->pool.heap[m]].r) m = l;
-        if (r < pl->pool.nheap && pl->pool.frec[pl->pool.heap[r]].r > pl->pool.frec[pl->pool.heap[m]].r) m = r;
+        if (l < pl->pool.nheap && pl->pool.frec[pl->pool.heap[l]].key > pl->pool.frec[pl->pool.heap[m]].key) m = l;
+        if (r < pl->pool.nheap && pl->pool.frec[pl->pool.heap[r]].key > pl->pool.frec[pl->pool.heap[m]].key) m = r;
         if (m == i) break;
         heap_swap(pl, i, m);
         i = m;
@@ -193,7 +278,7 @@ VP_PL_API int vp_pl_frec_add(vp_planner_t *pl, const uint32_t *fv, const double 
     pl->pool.fhash[h] = k;
     pl->pool.nfacets++;
     *out = k;
-    if (f->r > pl->cfg.eps || facet_too_sharp(pl, v)) return vp_pl_heap_push(pl, k);
+    if (facet_rate(pl, f) || facet_too_sharp(pl, v)) return vp_pl_heap_push(pl, k);
     return VP_OK;
 }
 
@@ -208,8 +293,9 @@ VP_PL_API void vp_pl_frec_set_ball(vp_planner_t *pl, uint32_t k, const double *c
     f->c[0] = c[0]; f->c[1] = c[1]; f->c[2] = c[2];
     f->r = r;
     if (f->heap != NONE) {
+        (void)facet_rate(pl, f);
         heap_up(pl, f->heap);
-    } else if (r > pl->cfg.eps && !(f->flags & FREC_STUCK)) {
+    } else if (facet_rate(pl, f) && !(f->flags & FREC_STUCK)) {
         (void)vp_pl_heap_push(pl, k);
     }
 }

@@ -69,6 +69,10 @@ int vp_planner_init(vp_planner_t *pl, void *arena, size_t bytes, const vp_planne
         if (!vp_finite3(cfg->interior[i]) || !vp_pl_omega_inside(cfg, cfg->interior[i])) return VP_EINVAL;
     if (!vp_finite3(cfg->start) || vp_pl_omega_inside(cfg, cfg->start)) return VP_EINVAL;
     if (!(cfg->min_angle >= 0.0) || cfg->min_angle > MIN_ANGLE_MAX) return VP_EINVAL;
+    /* the sizing field needs a floor to end on sharp edges (dM -> 0 there) */
+    if (!(cfg->size_rel >= 0.0) || !(cfg->size_rel < 1.0) || !(cfg->min_size >= 0.0) ||
+        (cfg->size_rel > 0.0 && !(cfg->min_size > 0.0 && cfg->min_size <= cfg->eps)))
+        return VP_EINVAL;
     if (!(cfg->max_range >= 0.0) || !(cfg->noise_tol >= 0.0) || !(cfg->clearance >= 0.0) ||
         cfg->max_range > CFG_MAX || cfg->noise_tol > CFG_MAX || cfg->clearance > CFG_MAX)
         return VP_EINVAL;
@@ -208,6 +212,13 @@ static int phase_step(vp_planner_t *pl, int *done)
             return pl->error;
         }
         if (pl->pool.nheap > 0) return vp_pl_refine(pl);
+        if (pl->cfg.size_rel > 0.0 && pl->close.size_mark != pl->st.insertions + 1) {
+            /* the sizing field's dM estimates shrank with the samples since the balls were
+             * rated: rate them all again before closing */
+            pl->close.size_mark = pl->st.insertions + 1;
+            st = vp_pl_size_pass(pl);
+            if (st != 0) return st < 0 ? st : VP_OK;
+        }
         pl->phase = PH_CLOSE;
         return VP_OK;
     case PH_CLOSE:

@@ -271,12 +271,12 @@ static uint32_t choose_ball(const vp_planner_t *pl)
     double rmin, bestd;
     if ((pl->cfg.flags & VP_PLAN_LARGEST) || pl->pool.nheap < 2) return best;
     /* among the balls at least NEAR_BALL_SHARE of the largest, the nearest to the device */
-    rmin = NEAR_BALL_SHARE * pl->pool.frec[best].r;
+    rmin = NEAR_BALL_SHARE * pl->pool.frec[best].key;
     bestd = vp_dist3(pl->dev.pos, pl->pool.frec[best].c);
     for (i = 1; i < pl->pool.nheap; i++) {
         const vp_frec_t *f = &pl->pool.frec[pl->pool.heap[i]];
         double d;
-        if (f->r < rmin) continue;
+        if (f->key < rmin) continue;
         d = vp_dist3(pl->dev.pos, f->c);
         if (d < bestd) { bestd = d; best = pl->pool.heap[i]; }
     }

@@ -109,6 +109,7 @@ struct vp_frec {
     uint32_t hint;     /* a tet that had the facet (checked before use) */
     double c[3];       /* ball centre (the hit) */
     double r;          /* ball radius */
+    double key;        /* the heap's order: r, or r / g(c) with the sizing field (bad above 1) */
     uint32_t proof;    /* the probe that found the ball: free up to its centre, less the noise */
 };
 
@@ -205,6 +206,8 @@ VP_PL_API uint32_t vp_pl_frec_lookup(const vp_planner_t *pl, const uint32_t *fv)
 VP_PL_API void vp_pl_frec_set_ball(vp_planner_t *pl, uint32_t k, const double *c);
 VP_PL_API void vp_pl_heap_remove(vp_planner_t *pl, uint32_t k);
 VP_PL_API int vp_pl_heap_push(vp_planner_t *pl, uint32_t k);
+VP_PL_API double vp_pl_size_bound(vp_planner_t *pl, const uint32_t *v, const double *c);
+VP_PL_API int vp_pl_size_pass(vp_planner_t *pl);
 
 /* tasks.c */
 VP_PL_API int vp_pl_edge_geom(const vp_planner_t *pl, uint32_t t, int f, edgegeom_t *g);

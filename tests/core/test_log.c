@@ -51,7 +51,8 @@ static int header_equal(const vp_logfmt_header_t *a, const vp_logfmt_header_t *b
                 x->confirm_misses == y->confirm_misses && x->flags == y->flags &&
                 same(x->eps, y->eps) && same(x->omega_radius, y->omega_radius) &&
                 same(x->max_range, y->max_range) && same(x->noise_tol, y->noise_tol) &&
-                same(x->clearance, y->clearance) && same(x->min_angle, y->min_angle);
+                same(x->clearance, y->clearance) && same(x->min_angle, y->min_angle) &&
+                same(x->size_rel, y->size_rel) && same(x->min_size, y->min_size);
     for (k = 0; k < 3; k++)
         ok = ok && same(x->omega_lo[k], y->omega_lo[k]) && same(x->omega_hi[k], y->omega_hi[k]) &&
              same(x->omega_center[k], y->omega_center[k]) && same(x->start[k], y->start[k]);
@@ -182,7 +183,7 @@ static void test_roundtrip(void)
         }
     }
     /* the planner configuration the format covers: a new field needs a new format version */
-    CHECKF(sizeof(vp_planner_config_t) == 560,
+    CHECKF(sizeof(vp_planner_config_t) == 576,
            "vp_planner_config_t changed (%zu bytes): update core/vp_logfmt.c, doc/session-log.md, VP_LOGFMT_VERSION",
            sizeof(vp_planner_config_t));
 }
@@ -267,7 +268,7 @@ static void test_errors(void)
     make_header(&h, 1);
     hl = (size_t)vp_logfmt_header_encode(&h, buf, sizeof buf);
     /* a newer version with a valid CRC is refused as newer */
-    buf[8] = 2;
+    buf[8] = VP_LOGFMT_VERSION + 1;
     put_crc(buf, hl);
     vp_logfmt_reader_init(&r);
     CHECK(vp_logfmt_reader_push(&r, buf, hl, &used, &rec) == VP_EVERSION && r.reason == VP_LOGFMT_R_VERSION);
@@ -318,9 +319,48 @@ static void test_errors(void)
     CHECK(strlen(vp_logfmt_reason_text(VP_LOGFMT_R_CRC)) > 0 && strlen(vp_logfmt_reason_text(99)) > 0);
 }
 
+/* The sizing field's two numbers: a header with them is version 2 and 16 bytes longer, read
+ * back bit for bit; without them the header stays version 1, byte for byte as before (so
+ * uniform sessions log exactly what they did); a version 2 header missing them, or with a
+ * non-finite one, is refused as damaged. */
+static void test_sizing_header(void)
+{
+    vp_logfmt_header_t h, g;
+    vp_logfmt_reader_t r;
+    vp_logfmt_record_t rec;
+    unsigned char a[VP_LOGFMT_MAX_HEADER], b[VP_LOGFMT_MAX_HEADER];
+    size_t used;
+    int na, nb;
+    make_header(&h, 2);
+    na = vp_logfmt_header_encode(&h, a, sizeof a);
+    CHECK(na > 0 && a[8] == 1 && h.version == 1);
+    h.cfg.size_rel = 0.25;
+    h.cfg.min_size = bits_double(0x3F847AE147AE147Bull); /* 0.01 */
+    nb = vp_logfmt_header_encode(&h, b, sizeof b);
+    CHECK(nb == na + 16 && b[8] == 2);
+    vp_logfmt_reader_init(&r);
+    CHECK(vp_logfmt_reader_push(&r, b, (size_t)nb, &used, &rec) == VP_LOGFMT_GOT_HEADER && used == (size_t)nb);
+    g = r.header;
+    h.version = 2;
+    CHECK(header_equal(&g, &h));
+    /* version 2 without its numbers: the bytes before the CRC are the note's end */
+    memcpy(b, a, (size_t)na);
+    b[8] = 2;
+    put_crc(b, (size_t)na);
+    vp_logfmt_reader_init(&r);
+    CHECK(vp_logfmt_reader_push(&r, b, (size_t)na, &used, &rec) == VP_ECORRUPT && r.reason == VP_LOGFMT_R_HEADER);
+    /* a NaN size_rel */
+    h.cfg.size_rel = bits_double(0x7FF8000000000000ull);
+    nb = vp_logfmt_header_encode(&h, b, sizeof b);
+    CHECK(nb == na + 16);
+    vp_logfmt_reader_init(&r);
+    CHECK(vp_logfmt_reader_push(&r, b, (size_t)nb, &used, &rec) == VP_ECORRUPT);
+}
+
 int main(void)
 {
     test_crc();
+    test_sizing_header();
     test_roundtrip();
     test_truncation();
     test_bitflips();

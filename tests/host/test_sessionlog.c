@@ -351,14 +351,14 @@ static void test_damage(void)
     /* a newer version (its header intact) is refused with a clear message; a damaged version
      * byte is a damaged header (it said "newer format version (257)") */
     memcpy(bad, log0, nlog0);
-    bad[8] = 2;
+    bad[8] = VP_LOGFMT_VERSION + 1;
     {
         size_t hl = (size_t)bad[12] | (size_t)bad[13] << 8 | (size_t)bad[14] << 16 | (size_t)bad[15] << 24;
         uint32_t c = vp_logfmt_crc32(0, bad, hl - 4);
         int b;
         for (b = 0; b < 4; b++) bad[hl - 4 + (size_t)b] = (unsigned char)(c >> (8 * b));
     }
-    CHECKF(vp_sessionlog_load_buf(&L, bad, nlog0, err, sizeof err) == VP_EVERSION && strstr(err, "newer format version (2;"),
+    CHECKF(vp_sessionlog_load_buf(&L, bad, nlog0, err, sizeof err) == VP_EVERSION && strstr(err, "newer format version (3;"),
            "%s", err);
     vp_sessionlog_free(&L);
     memcpy(bad, log0, nlog0);
