@@ -6,39 +6,61 @@
 
 /* ---------- closing: every edge of the mesh must have exactly two facets ---------- */
 
-/* Queues forced probes around edge (x, y) of Del(E): from every active tet of the ring, each
- * unknown facet. Returns the number of probes queued, or a negative status. */
 #define RING_MAX 4096u /* tets turned around one edge at most: a ring has some 5; this only
                          stops a walk on a broken ring */
+
+/* Turning around edge (x, y) of Del(E), tet by tet: ring_start puts the walk at t0 (0: t0 does
+ * not hold the edge); ring_step moves to the next tet of the ring, 0 when back at t0 or when the
+ * ring is broken (*broken then set). */
+typedef struct ring { uint32_t t0, cur, other, x, y, left; } ring_t;
+
+static int ring_start(const vp_planner_t *pl, ring_t *r, uint32_t t0, uint32_t x, uint32_t y)
+{
+    const uint32_t *w = vp_dt_tet(&pl->dt, t0);
+    int k;
+    r->t0 = r->cur = t0;
+    r->x = x;
+    r->y = y;
+    r->left = RING_MAX;
+    for (k = 0; k < 4; k++)
+        if (w[k] != x && w[k] != y) { r->other = w[k]; return 1; }
+    return 0;
+}
+
+static int ring_step(const vp_planner_t *pl, ring_t *r, int *broken)
+{
+    const uint32_t *c = vp_dt_tet(&pl->dt, r->cur);
+    int k, ix = -1;
+    for (k = 0; k < 4; k++)
+        if (c[k] == r->other) ix = k;
+    if (ix < 0) { *broken = 1; return 0; }
+    for (k = 0; k < 4; k++)
+        if (c[k] != r->x && c[k] != r->y && c[k] != r->other) break;
+    r->cur = c[4 + ix] >> 2;
+    r->other = c[k];
+    return r->cur != r->t0 && --r->left;
+}
+
+/* Queues forced probes around edge (x, y) of Del(E): from every active tet of the ring, each
+ * unknown facet. Returns the number of probes queued, or a negative status. */
 static int probe_around_edge(vp_planner_t *pl, uint32_t t0, uint32_t x, uint32_t y)
 {
-    uint32_t cur = t0, other, limit = RING_MAX, pushed = 0;
-    const uint32_t *w = vp_dt_tet(&pl->dt, t0);
-    int k, ex = -1;
-    for (k = 0; k < 4; k++)
-        if (w[k] != x && w[k] != y) { ex = k; break; }
-    if (ex < 0) return 0;
-    other = w[ex];
+    ring_t r;
+    uint32_t pushed = 0;
+    int broken = 0;
+    if (!ring_start(pl, &r, t0, x, y)) return 0;
     do {
-        const uint32_t *c = vp_dt_tet(&pl->dt, cur);
-        int f, ix = -1;
-        if (tet_active(pl, cur))
+        int f;
+        if (tet_active(pl, r.cur))
             for (f = 0; f < 4; f++) {
-                unsigned s = side_get(pl, cur, f);
+                unsigned s = side_get(pl, r.cur, f);
                 if ((s & SIDE_MASK) != SIDE_UNKNOWN || (s & (SIDE_QUEUED | SIDE_BLOCKED)) ||
-                    vp_pl_facet_has_ghost(pl, cur, f))
+                    vp_pl_facet_has_ghost(pl, r.cur, f))
                     continue;
-                VP_TRY(vp_pl_task_push(pl, cur, f, 1));
+                VP_TRY(vp_pl_task_push(pl, r.cur, f, 1));
                 pushed++;
             }
-        for (k = 0; k < 4; k++)
-            if (c[k] == other) ix = k;
-        if (ix < 0) break;
-        for (k = 0; k < 4; k++)
-            if (c[k] != x && c[k] != y && c[k] != other) break;
-        cur = c[4 + ix] >> 2;
-        other = c[k];
-    } while (cur != t0 && --limit);
+    } while (ring_step(pl, &r, &broken));
     return (int)pushed;
 }
 
@@ -53,27 +75,15 @@ static int probe_around_edge(vp_planner_t *pl, uint32_t t0, uint32_t x, uint32_t
  * degenerate edge is no such reason: refinement is what removes it) */
 static int ring_blocked(const vp_planner_t *pl, uint32_t t0, uint32_t x, uint32_t y)
 {
-    uint32_t cur = t0, other, limit = RING_MAX;
-    const uint32_t *w = vp_dt_tet(&pl->dt, t0);
-    int k, ex = -1;
-    for (k = 0; k < 4; k++)
-        if (w[k] != x && w[k] != y) { ex = k; break; }
-    if (ex < 0) return 1;
-    other = w[ex];
+    ring_t r;
+    int broken = 0;
+    if (!ring_start(pl, &r, t0, x, y)) return 1;
     do {
-        const uint32_t *c = vp_dt_tet(&pl->dt, cur);
-        int f, ix = -1;
+        int f;
         for (f = 0; f < 4; f++)
-            if ((side_get(pl, cur, f) & (SIDE_BLOCKED | SIDE_DEGEN)) == SIDE_BLOCKED) return 1;
-        for (k = 0; k < 4; k++)
-            if (c[k] == other) ix = k;
-        if (ix < 0) return 1;
-        for (k = 0; k < 4; k++)
-            if (c[k] != x && c[k] != y && c[k] != other) break;
-        cur = c[4 + ix] >> 2;
-        other = c[k];
-    } while (cur != t0 && --limit);
-    return 0;
+            if ((side_get(pl, r.cur, f) & (SIDE_BLOCKED | SIDE_DEGEN)) == SIDE_BLOCKED) return 1;
+    } while (ring_step(pl, &r, &broken));
+    return broken;
 }
 
 static int refine_at_edges(vp_planner_t *pl, const uint32_t *tab, uint32_t slots)
