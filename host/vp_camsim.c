@@ -4,6 +4,7 @@
 #include <string.h>
 #include "vp_camsim.h"
 #include "vp_status.h"
+#include "vp_vec3.h"
 
 #define VP_PI 3.14159265358979323846
 
@@ -104,12 +105,12 @@ int vp_camsim_render(const vp_camsim_config_t *c, const vp_camsim_scene_t *sc, c
         for (i = 0; i < 3; i++) tr.point[i] = o[i] + t * d[i];
         if (sc->surf) vp_surface_normal(sc->surf, tr.point, n);
         else for (i = 0; i < 3; i++) n[i] = sc->plane_n[i];
-        cos_i = n[0] * d[0] + n[1] * d[1] + n[2] * d[2];
+        cos_i = vp_dot3(n, d);
         if (cos_i > 0) { for (i = 0; i < 3; i++) n[i] = -n[i]; cos_i = -cos_i; }   /* the lit side */
         cos_i = -cos_i;
         for (i = 0; i < 3; i++) vc[i] = cpos[i] - tr.point[i];
-        lc = sqrt(vc[0] * vc[0] + vc[1] * vc[1] + vc[2] * vc[2]);
-        cos_e = (n[0] * vc[0] + n[1] * vc[1] + n[2] * vc[2]) / lc;
+        lc = vp_norm3(vc);
+        cos_e = (vp_dot3(n, vc)) / lc;
         tr.visible = cos_e > 0.02 && vp_camsim_proj(c, rot, pos, tr.point, tr.uv) && tr.uv[0] >= 0 &&
                      tr.uv[0] <= w - 1 && tr.uv[1] >= 0 && tr.uv[1] <= h - 1;
         if (tr.visible && sc->surf) {
@@ -122,10 +123,10 @@ int vp_camsim_render(const vp_camsim_config_t *c, const vp_camsim_scene_t *sc, c
             /* footprint: beam radius across, stretched by 1/cos along the slant */
             for (i = 0; i < 3; i++) t1[i] = d[i] + cos_i * n[i];
             {
-                double l1 = sqrt(t1[0] * t1[0] + t1[1] * t1[1] + t1[2] * t1[2]);
+                double l1 = vp_norm3(t1);
                 if (l1 < 1e-9) { double a[3] = { 1, 0, 0 }; if (fabs(n[0]) > 0.9) { a[0] = 0; a[1] = 1; }
-                                 t1[0] = a[1] * n[2] - a[2] * n[1]; t1[1] = a[2] * n[0] - a[0] * n[2]; t1[2] = a[0] * n[1] - a[1] * n[0];
-                                 l1 = sqrt(t1[0] * t1[0] + t1[1] * t1[1] + t1[2] * t1[2]); }
+                                 vp_cross3(t1, a, n);
+                                 l1 = vp_norm3(t1); }
                 for (i = 0; i < 3; i++) t1[i] /= l1;
             }
             t2[0] = n[1] * t1[2] - n[2] * t1[1];

@@ -4,10 +4,12 @@
 #include <stdlib.h>
 #include <string.h>
 #include "vp_certify.h"
+#include "vp_meshcheck.h"
 #include "vp_dt.h"
 #include "vp_kdtree.h"
 #include "vp_pred.h"
 #include "vp_status.h"
+#include "vp_vec3.h"
 
 /* ---------- exact sums of products (Shewchuk's expansions; no FMA: -ffp-contract=off) ---------- */
 
@@ -82,26 +84,10 @@ int vp_cert_cmp_radius(const double p[3], const double q[3], double r)
 
 /* ---------- H1 ---------- */
 
-typedef struct { uint32_t a, b, f; } edge_t;
-
-static int cmp_edge(const void *x, const void *y)
-{
-    const edge_t *p = x, *q = y;
-    if (p->a != q->a) return p->a < q->a ? -1 : 1;
-    if (p->b != q->b) return p->b < q->b ? -1 : 1;
-    return p->f < q->f ? -1 : p->f > q->f;
-}
-
-static uint32_t uf_find(uint32_t *par, uint32_t x)
-{
-    while (par[x] != x) { par[x] = par[par[x]]; x = par[x]; }
-    return x;
-}
-
 static int check_h1(const vp_mesh_t *m, vp_cert_t *c, size_t maxl, FILE *rep)
 {
     size_t nt = m->nt, ne = 3 * nt, i, j, listed = 0;
-    edge_t *e = malloc((ne + 1) * sizeof *e);
+    vp_edge_rec_t *e = malloc((ne + 1) * sizeof *e);
     uint32_t *par = malloc((nt + 1) * sizeof *par), *start = calloc(m->nv + 1, sizeof *start);
     uint32_t *link = malloc((2 * ne + 1) * sizeof *link), *fill;
     if (!e || !par || !start || !link) { free(e); free(par); free(start); free(link); return VP_ENOMEM; }
@@ -124,10 +110,10 @@ static int check_h1(const vp_mesh_t *m, vp_cert_t *c, size_t maxl, FILE *rep)
             e[3 * i + (size_t)k].f = (uint32_t)i;
         }
     }
-    qsort(e, ne, sizeof *e, cmp_edge);
+    qsort(e, ne, sizeof *e, vp_edge_cmp);
     for (i = 0; i < ne; i = j) {
         for (j = i + 1; j < ne && e[j].a == e[i].a && e[j].b == e[i].b; j++) {
-            uint32_t x = uf_find(par, e[i].f), y = uf_find(par, e[j].f);
+            uint32_t x = vp_uf_find(par, e[i].f), y = vp_uf_find(par, e[j].f);
             if (x != y) par[x < y ? y : x] = x < y ? x : y;
         }
         c->edges++;
@@ -249,11 +235,11 @@ static int check_h2(const vp_mesh_t *m, const vp_cert_config_t *cfg, vp_cert_t *
     for (f = 0; f < m->nt; f++) {
         int k;
         for (k = 1; k < 3; k++) {
-            uint32_t x = uf_find(par, m->tri[3 * f]), y = uf_find(par, m->tri[3 * f + (size_t)k]);
+            uint32_t x = vp_uf_find(par, m->tri[3 * f]), y = vp_uf_find(par, m->tri[3 * f + (size_t)k]);
             if (x != y) par[x < y ? y : x] = x < y ? x : y;
         }
     }
-    for (f = 0; f < m->nt; f++) label[f] = uf_find(par, m->tri[3 * f]);
+    for (f = 0; f < m->nt; f++) label[f] = vp_uf_find(par, m->tri[3 * f]);
     for (i = 0; i < m->nv; i++) {
         int k;
         for (k = 0; k < 3; k++) {
@@ -376,8 +362,8 @@ static int check_h3_bare(const vp_mesh_t *m, const vp_cert_config_t *cfg, vp_cer
         double ab = dist3(a, b), bc = dist3(b, cc), ca = dist3(cc, a), u[3], w[3], n[3], area2, R;
         int k, n_inc, found = 0;
         for (k = 0; k < 3; k++) { u[k] = b[k] - a[k]; w[k] = cc[k] - a[k]; }
-        n[0] = u[1] * w[2] - u[2] * w[1]; n[1] = u[2] * w[0] - u[0] * w[2]; n[2] = u[0] * w[1] - u[1] * w[0];
-        area2 = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+        vp_cross3(n, u, w);
+        area2 = vp_norm3(n);
         R = area2 > 0 ? ab * bc * ca / (2.0 * area2) : INFINITY;
         if (R > c->max_radius) { c->max_radius = R; c->max_radius_facet = f; }
         if (!(R <= cfg->eps * (1.0 + 1e-12))) {

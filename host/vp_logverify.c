@@ -1,6 +1,7 @@
 /* vp_logverify — a proof check of a session log from the log alone (see vp_logverify.h).
  * Nothing here comes from core/vp_planner.c: the free space is rebuilt from the records. */
 #include "vp_logverify.h"
+#include "vp_vec3.h"
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -29,12 +30,11 @@ struct vp_lv_entry {
 #define LV_HO 1e-6
 #define LV_ORIGIN_SEED 0x6A09E667F3BCC909ull
 
-static double dot3(const double *a, const double *b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
 
 static double dist3(const double *a, const double *b)
 {
     double d[3] = { a[0] - b[0], a[1] - b[1], a[2] - b[2] };
-    return sqrt(dot3(d, d));
+    return sqrt(vp_dot3(d, d));
 }
 
 static int64_t cell(double x, double h)
@@ -71,7 +71,7 @@ static uint64_t key3(const int64_t *k)
 /* the foot of the perpendicular from the origin onto the line through p along unit u */
 static void foot(const double *p, const double *u, double *c)
 {
-    double s = dot3(p, u);
+    double s = vp_dot3(p, u);
     int k;
     for (k = 0; k < 3; k++) c[k] = p[k] - s * u[k];
 }
@@ -152,7 +152,7 @@ int vp_logverify_begin(vp_logverify_t *v, const vp_logfmt_header_t *h)
             v->centre[k] = 0.5 * c->omega_lo[k] + 0.5 * c->omega_hi[k];
             e[k] = c->omega_hi[k] - c->omega_lo[k];
         }
-        v->diam = sqrt(dot3(e, e));
+        v->diam = sqrt(vp_dot3(e, e));
     } else {
         return VP_EINVAL;
     }
@@ -215,9 +215,9 @@ static int outside_part(vp_logverify_t *v, const double *p, const double *q, siz
             w[k] = q[k] - p[k];
             a[k] = p[k] - c->omega_center[k];
         }
-        A = dot3(w, w);
-        B = 2.0 * dot3(a, w);
-        C = dot3(a, a) - r * r;
+        A = vp_dot3(w, w);
+        B = 2.0 * vp_dot3(a, w);
+        C = vp_dot3(a, a) - r * r;
         D = B * B - 4.0 * A * C;
         if (A == 0.0) {
             if (C >= 0.0) return push_iv(v, n, 0.0, 1.0);
@@ -244,13 +244,13 @@ static int probe_part(vp_logverify_t *v, const vp_lv_probe_t *pr, const double *
         wp[k] = p[k] - pr->o[k];
         wq[k] = q[k] - pr->o[k];
     }
-    ap = dot3(wp, pr->d);
-    aq = dot3(wq, pr->d);
+    ap = vp_dot3(wp, pr->d);
+    aq = vp_dot3(wq, pr->d);
     for (k = 0; k < 3; k++) {
         dp[k] = wp[k] - ap * pr->d[k];
         dq[k] = wq[k] - aq * pr->d[k];
     }
-    if (dot3(dp, dp) > t2 || dot3(dq, dq) > t2) return VP_OK;
+    if (vp_dot3(dp, dp) > t2 || vp_dot3(dq, dq) > t2) return VP_OK;
     (*on_line)++;
     if (aq == ap) return ap >= 0.0 && ap <= pr->len ? push_iv(v, n, 0.0, 1.0) : VP_OK;
     {
@@ -332,7 +332,7 @@ static int probe_parts(vp_logverify_t *v, const double *p, const double *q, doub
     eu = 3.0 * v->tol / len + 1e-12;
     for (i = 0; i < 3; i++) u[i] = (q[i] - p[i]) / len;
     foot(p, u, c);
-    ec = v->tol + 2.0 * sqrt(dot3(p, p)) * eu + 1e-12 * (sqrt(dot3(p, p)) + v->diam);
+    ec = v->tol + 2.0 * sqrt(vp_dot3(p, p)) * eu + 1e-12 * (sqrt(vp_dot3(p, p)) + v->diam);
     for (i = 0; i < 3; i++) {
         lo[i] = u[i] - eu; hi[i] = u[i] + eu;
         lo[3 + i] = c[i] - ec; hi[3 + i] = c[i] + ec;
@@ -440,7 +440,7 @@ static int add_probe(vp_logverify_t *v, const vp_logfmt_record_t *r)
         }
         return VP_OK;   /* fired from where the device was not: proves nothing */
     }
-    dl = sqrt(dot3(r->dir, r->dir));
+    dl = sqrt(vp_dot3(r->dir, r->dir));
     if (!(dl > 0.0) || !isfinite(dl)) { R->probes_bad++; return VP_OK; }
     if (r->hit == 1) {
         double nt = v->cfg.noise_tol > 0.0 ? v->cfg.noise_tol : 0.0;

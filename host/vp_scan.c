@@ -381,7 +381,7 @@ static double vp_sphere_way(const double o[3], double rs, const double a[3], con
         um[0] = ua[1] * t[2] - ua[2] * t[1];
         um[1] = ua[2] * t[0] - ua[0] * t[2];
         um[2] = ua[0] * t[1] - ua[1] * t[0];
-        dd = um[0] * um[0] + um[1] * um[1] + um[2] * um[2];
+        dd = vp_dot3(um, um);
     }
     for (k = 0; k < 3; k++) um[k] /= sqrt(dd);
     memcpy(prev, a, sizeof prev);
@@ -389,7 +389,7 @@ static double vp_sphere_way(const double o[3], double rs, const double a[3], con
     if (rb < rs) rb = rs;
     for (half = 0; half < 2; half++) {
         const double *u0 = half ? um : ua, *u1 = half ? ub : um;
-        double c0 = u0[0] * u1[0] + u0[1] * u1[1] + u0[2] * u1[2];
+        double c0 = vp_dot3(u0, u1);
         ang = acos(c0 > 1 ? 1 : c0 < -1 ? -1 : c0);
         n = (int)ceil(ang / (15.0 * 3.14159265358979323846 / 180.0));
         if (n < 1) n = 1;

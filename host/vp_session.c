@@ -1,6 +1,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "vp_rtclock.h"
+#include "vp_meshcheck.h"
 #include "vp_run.h"
 #include "vp_session.h"
 
@@ -103,90 +104,4 @@ int vp_session_mesh(const vp_planner_t *pl, vp_mesh_t *m)
     }
     free(map);
     return vp_mesh_orient(m);
-}
-
-/* Orients every connected component consistently (breadth-first across shared edges) and
- * outward (positive volume). The planner orients each facet by the side its probe came from;
- * this makes the file right even where a probe came at a grazing angle. Returns the number of
- * facets flipped against the planner's choice through *flipped (may be NULL). */
-typedef struct { uint32_t a, b, f; } half_t;
-
-static int cmp_half(const void *x, const void *y)
-{
-    const half_t *p = x, *q = y;
-    if (p->a != q->a) return p->a < q->a ? -1 : 1;
-    if (p->b != q->b) return p->b < q->b ? -1 : 1;
-    return p->f < q->f ? -1 : p->f > q->f;
-}
-
-int vp_mesh_orient(vp_mesh_t *m)
-{
-    size_t nt = m->nt, i, nh = 3 * nt;
-    half_t *h = malloc((nh + 1) * sizeof *h);
-    uint32_t *queue = malloc((nt + 1) * sizeof *queue), *comp = malloc((nt + 1) * sizeof *comp);
-    unsigned char *flip = calloc(nt + 1, 1);
-    uint32_t ncomp = 0;
-    if (!h || !queue || !comp || !flip) { free(h); free(queue); free(comp); free(flip); return VP_ENOMEM; }
-    for (i = 0; i < nt; i++) {
-        int e;
-        for (e = 0; e < 3; e++) {
-            uint32_t a = m->tri[3 * i + (size_t)e], b = m->tri[3 * i + (size_t)((e + 1) % 3)];
-            h[3 * i + (size_t)e].a = a < b ? a : b;
-            h[3 * i + (size_t)e].b = a < b ? b : a;
-            h[3 * i + (size_t)e].f = (uint32_t)i;
-        }
-        comp[i] = UINT32_MAX;
-    }
-    qsort(h, nh, sizeof *h, cmp_half);
-    for (i = 0; i < nt; i++) {
-        size_t qh = 0, qt = 0;
-        double vol = 0.0;
-        size_t j;
-        if (comp[i] != UINT32_MAX) continue;
-        comp[i] = ncomp;
-        queue[qt++] = (uint32_t)i;
-        while (qh < qt) {
-            uint32_t f = queue[qh++];
-            int e;
-            for (e = 0; e < 3; e++) {
-                uint32_t a = m->tri[3 * (size_t)f + (size_t)e], b = m->tri[3 * (size_t)f + (size_t)((e + 1) % 3)];
-                half_t key;
-                size_t lo = 0, hi = nh;
-                if (flip[f]) { uint32_t t = a; a = b; b = t; }
-                key.a = a < b ? a : b; key.b = a < b ? b : a; key.f = 0;
-                while (lo < hi) { size_t mid = (lo + hi) / 2; if (cmp_half(&h[mid], &key) < 0) lo = mid + 1; else hi = mid; }
-                /* only a manifold edge (exactly two faces) carries orientation across */
-                if (lo + 1 < nh && h[lo].a == key.a && h[lo].b == key.b && h[lo + 1].a == key.a &&
-                    h[lo + 1].b == key.b && !(lo + 2 < nh && h[lo + 2].a == key.a && h[lo + 2].b == key.b)) {
-                    uint32_t g = h[lo].f == f ? h[lo + 1].f : h[lo].f;
-                    int k, same = 0;
-                    if (comp[g] != UINT32_MAX) continue;
-                    /* g must traverse the edge b -> a */
-                    for (k = 0; k < 3; k++)
-                        if (m->tri[3 * (size_t)g + (size_t)k] == a && m->tri[3 * (size_t)g + (size_t)((k + 1) % 3)] == b) same = 1;
-                    flip[g] = (unsigned char)same;
-                    comp[g] = ncomp;
-                    queue[qt++] = g;
-                }
-            }
-        }
-        for (j = 0; j < qt; j++) {
-            const uint32_t *t = m->tri + 3 * (size_t)queue[j];
-            const double *a = m->xyz + 3 * (size_t)t[0], *b = m->xyz + 3 * (size_t)t[flip[queue[j]] ? 2 : 1],
-                         *c = m->xyz + 3 * (size_t)t[flip[queue[j]] ? 1 : 2];
-            vol += a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) +
-                   a[2] * (b[0] * c[1] - b[1] * c[0]);
-        }
-        if (vol < 0.0)
-            for (j = 0; j < qt; j++) flip[queue[j]] ^= 1;
-        ncomp++;
-    }
-    for (i = 0; i < nt; i++)
-        if (flip[i]) {
-            uint32_t t = m->tri[3 * i + 1];
-            m->tri[3 * i + 1] = m->tri[3 * i + 2];
-            m->tri[3 * i + 2] = t;
-        }
-    free(h); free(queue); free(comp); free(flip);
-    return VP_OK;
 }

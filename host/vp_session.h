@@ -36,7 +36,4 @@ int vp_progress_due(double *next_report);
  * faces oriented outward). */
 int vp_session_mesh(const vp_planner_t *pl, vp_mesh_t *m);
 
-/* Orients each connected component of m consistently and outward (positive volume). */
-int vp_mesh_orient(vp_mesh_t *m);
-
 #endif

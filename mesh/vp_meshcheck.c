@@ -6,6 +6,7 @@
 #include <string.h>
 #include "vp_meshcheck.h"
 #include "vp_status.h"
+#include "vp_vec3.h"
 
 typedef struct vp_dedge { uint32_t lo, hi; uint32_t face; uint32_t forward; } vp_dedge_t;
 
@@ -18,13 +19,21 @@ static int vp_dedge_cmp(const void *pa, const void *pb)
     return 0;
 }
 
-static uint32_t vp_uf_find(uint32_t *par, uint32_t x)
+int vp_edge_cmp(const void *x, const void *y)
+{
+    const vp_edge_rec_t *p = x, *q = y;
+    if (p->a != q->a) return p->a < q->a ? -1 : 1;
+    if (p->b != q->b) return p->b < q->b ? -1 : 1;
+    return p->f < q->f ? -1 : p->f > q->f;
+}
+
+uint32_t vp_uf_find(uint32_t *par, uint32_t x)
 {
     while (par[x] != x) { par[x] = par[par[x]]; x = par[x]; }
     return x;
 }
 
-static void vp_uf_join(uint32_t *par, uint32_t a, uint32_t b)
+void vp_uf_join(uint32_t *par, uint32_t a, uint32_t b)
 {
     a = vp_uf_find(par, a); b = vp_uf_find(par, b);
     if (a != b) { if (a < b) par[b] = a; else par[a] = b; }
@@ -42,8 +51,8 @@ static double vp_angle(const double *p, const double *q, const double *r)
     double u[3], v[3], c[3];
     int k;
     for (k = 0; k < 3; k++) { u[k] = q[k] - p[k]; v[k] = r[k] - p[k]; }
-    c[0] = u[1] * v[2] - u[2] * v[1]; c[1] = u[2] * v[0] - u[0] * v[2]; c[2] = u[0] * v[1] - u[1] * v[0];
-    return atan2(sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]), u[0] * v[0] + u[1] * v[1] + u[2] * v[2]);
+    vp_cross3(c, u, v);
+    return atan2(vp_norm3(c), vp_dot3(u, v));
 }
 
 void vp_meshcheck_free(vp_meshcheck_t *r)
@@ -100,7 +109,7 @@ static void vp_mc_faces(const vp_mesh_t *m, vp_mc_ws_t *w, vp_meshcheck_t *r)
             double u[3], v[3], n[3];
             int k;
             for (k = 0; k < 3; k++) { u[k] = b[k] - a[k]; v[k] = cc[k] - a[k]; }
-            n[0] = u[1] * v[2] - u[2] * v[1]; n[1] = u[2] * v[0] - u[0] * v[2]; n[2] = u[0] * v[1] - u[1] * v[0];
+            vp_cross3(n, u, v);
             if (n[0] == 0 && n[1] == 0 && n[2] == 0) w->bad_face[f] = 1;
             else {
                 double a0 = vp_angle(a, b, cc), a1 = vp_angle(b, cc, a), a2 = vp_angle(cc, a, b), mn;
@@ -217,9 +226,9 @@ static int vp_mc_components(const vp_mesh_t *m, vp_mc_ws_t *w, vp_meshcheck_t *r
         int k;
         vp_tri_vec(m, f, &a, &b, &cc);
         for (k = 0; k < 3; k++) { u[k] = b[k] - a[k]; v[k] = cc[k] - a[k]; }
-        n[0] = u[1] * v[2] - u[2] * v[1]; n[1] = u[2] * v[0] - u[0] * v[2]; n[2] = u[0] * v[1] - u[1] * v[0];
+        vp_cross3(n, u, v);
         cp->faces++;
-        cp->area += 0.5 * sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+        cp->area += 0.5 * vp_norm3(n);
         cp->volume += (a[0] * (b[1] * cc[2] - b[2] * cc[1]) - a[1] * (b[0] * cc[2] - b[2] * cc[0]) +
                        a[2] * (b[0] * cc[1] - b[1] * cc[0])) / 6.0;
         if (w->bad_face[f]) cp->manifold = 0;
@@ -355,4 +364,80 @@ void vp_meshcheck_print(const vp_meshcheck_t *r, void *file)
         fprintf(f, "  component %d: faces %lu euler %ld genus %d boundary loops %lu area %.6g volume %.6g\n", c,
                 (unsigned long)r->comp[c].faces, r->comp[c].euler, r->comp[c].genus,
                 (unsigned long)r->comp[c].boundary_loops, r->comp[c].area, r->comp[c].volume);
+}
+
+/* Orients every connected component consistently (breadth-first across shared edges) and
+ * outward (positive volume). The planner orients each facet by the side its probe came from;
+ * this makes the file right even where a probe came at a grazing angle. Returns the number of
+ * facets flipped against the planner's choice through *flipped (may be NULL). */
+int vp_mesh_orient(vp_mesh_t *m)
+{
+    size_t nt = m->nt, i, nh = 3 * nt;
+    vp_edge_rec_t *h = malloc((nh + 1) * sizeof *h);
+    uint32_t *queue = malloc((nt + 1) * sizeof *queue), *comp = malloc((nt + 1) * sizeof *comp);
+    unsigned char *flip = calloc(nt + 1, 1);
+    uint32_t ncomp = 0;
+    if (!h || !queue || !comp || !flip) { free(h); free(queue); free(comp); free(flip); return VP_ENOMEM; }
+    for (i = 0; i < nt; i++) {
+        int e;
+        for (e = 0; e < 3; e++) {
+            uint32_t a = m->tri[3 * i + (size_t)e], b = m->tri[3 * i + (size_t)((e + 1) % 3)];
+            h[3 * i + (size_t)e].a = a < b ? a : b;
+            h[3 * i + (size_t)e].b = a < b ? b : a;
+            h[3 * i + (size_t)e].f = (uint32_t)i;
+        }
+        comp[i] = UINT32_MAX;
+    }
+    qsort(h, nh, sizeof *h, vp_edge_cmp);
+    for (i = 0; i < nt; i++) {
+        size_t qh = 0, qt = 0;
+        double vol = 0.0;
+        size_t j;
+        if (comp[i] != UINT32_MAX) continue;
+        comp[i] = ncomp;
+        queue[qt++] = (uint32_t)i;
+        while (qh < qt) {
+            uint32_t f = queue[qh++];
+            int e;
+            for (e = 0; e < 3; e++) {
+                uint32_t a = m->tri[3 * (size_t)f + (size_t)e], b = m->tri[3 * (size_t)f + (size_t)((e + 1) % 3)];
+                vp_edge_rec_t key;
+                size_t lo = 0, hi = nh;
+                if (flip[f]) { uint32_t t = a; a = b; b = t; }
+                key.a = a < b ? a : b; key.b = a < b ? b : a; key.f = 0;
+                while (lo < hi) { size_t mid = (lo + hi) / 2; if (vp_edge_cmp(&h[mid], &key) < 0) lo = mid + 1; else hi = mid; }
+                /* only a manifold edge (exactly two faces) carries orientation across */
+                if (lo + 1 < nh && h[lo].a == key.a && h[lo].b == key.b && h[lo + 1].a == key.a &&
+                    h[lo + 1].b == key.b && !(lo + 2 < nh && h[lo + 2].a == key.a && h[lo + 2].b == key.b)) {
+                    uint32_t g = h[lo].f == f ? h[lo + 1].f : h[lo].f;
+                    int k, same = 0;
+                    if (comp[g] != UINT32_MAX) continue;
+                    /* g must traverse the edge b -> a */
+                    for (k = 0; k < 3; k++)
+                        if (m->tri[3 * (size_t)g + (size_t)k] == a && m->tri[3 * (size_t)g + (size_t)((k + 1) % 3)] == b) same = 1;
+                    flip[g] = (unsigned char)same;
+                    comp[g] = ncomp;
+                    queue[qt++] = g;
+                }
+            }
+        }
+        for (j = 0; j < qt; j++) {
+            const uint32_t *t = m->tri + 3 * (size_t)queue[j];
+            const double *a = m->xyz + 3 * (size_t)t[0], *b = m->xyz + 3 * (size_t)t[flip[queue[j]] ? 2 : 1],
+                         *c = m->xyz + 3 * (size_t)t[flip[queue[j]] ? 1 : 2];
+            vol += a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) +
+                   a[2] * (b[0] * c[1] - b[1] * c[0]);
+        }
+        if (vol < 0.0)
+            for (j = 0; j < qt; j++) flip[queue[j]] ^= 1;
+        ncomp++;
+    }
+    for (i = 0; i < nt; i++)
+        if (flip[i]) {
+            uint32_t t = m->tri[3 * i + 1];
+            m->tri[3 * i + 1] = m->tri[3 * i + 2];
+            m->tri[3 * i + 2] = t;
+        }
+    free(h); free(queue); free(comp); free(flip);
+    return VP_OK;
 }

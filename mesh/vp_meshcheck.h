@@ -44,4 +44,14 @@ void vp_meshcheck_free(vp_meshcheck_t *r);
 /* One line per fact, for logs and the CLI. */
 void vp_meshcheck_print(const vp_meshcheck_t *r, void *file /* FILE* */);
 
+/* An undirected edge {a, b} (a < b) of face f; vp_edge_cmp sorts by a, then b, then f. */
+typedef struct vp_edge_rec { uint32_t a, b, f; } vp_edge_rec_t;
+int vp_edge_cmp(const void *x, const void *y);
+/* Union-find over parents par[] (par[x] == x: a root; path halving; the smaller index is the root). */
+uint32_t vp_uf_find(uint32_t *par, uint32_t x);
+void     vp_uf_join(uint32_t *par, uint32_t a, uint32_t b);
+
+/* Orients each connected component of m consistently and outward (positive volume). */
+int vp_mesh_orient(vp_mesh_t *m);
+
 #endif

@@ -4,6 +4,7 @@
 #include <string.h>
 #include "vp_meshgen.h"
 #include "vp_status.h"
+#include "vp_vec3.h"
 
 /* Midpoint vertex of edge (a,b), created once: open addressing on the sorted pair. */
 typedef struct vp_midmap { uint64_t *key; uint32_t *val; size_t cap; } vp_midmap_t;
@@ -19,7 +20,7 @@ static uint32_t vp_midpoint(vp_midmap_t *mm, vp_mesh_t *m, size_t *nv, uint32_t 
         h = (h + 1) & (mm->cap - 1);
     }
     for (k = 0; k < 3; k++) p[k] = 0.5 * (m->xyz[3 * a + k] + m->xyz[3 * b + k]);
-    n = sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]);
+    n = vp_norm3(p);
     for (k = 0; k < 3; k++) m->xyz[3 * *nv + k] = p[k] / n;
     mm->key[h] = key;
     mm->val[h] = (uint32_t)*nv;
@@ -79,7 +80,7 @@ int vp_meshgen_icosphere(int level, vp_mesh_t *m)
         const double *a = m->xyz + 3 * m->tri[3 * f], *b = m->xyz + 3 * m->tri[3 * f + 1], *c = m->xyz + 3 * m->tri[3 * f + 2];
         double u[3], v[3], n[3];
         for (k = 0; k < 3; k++) { u[k] = b[k] - a[k]; v[k] = c[k] - a[k]; }
-        n[0] = u[1] * v[2] - u[2] * v[1]; n[1] = u[2] * v[0] - u[0] * v[2]; n[2] = u[0] * v[1] - u[1] * v[0];
+        vp_cross3(n, u, v);
         if (n[0] * (a[0] + b[0] + c[0]) + n[1] * (a[1] + b[1] + c[1]) + n[2] * (a[2] + b[2] + c[2]) < 0) {
             uint32_t s = m->tri[3 * f + 1]; m->tri[3 * f + 1] = m->tri[3 * f + 2]; m->tri[3 * f + 2] = s;
         }

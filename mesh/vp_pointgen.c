@@ -6,6 +6,7 @@
 #include "vp_file.h"
 #include "vp_pointgen.h"
 #include "vp_rng.h"
+#include "vp_vec3.h"
 
 static double *alloc_points(size_t n, char *err, size_t errlen)
 {
@@ -62,7 +63,7 @@ int vp_pointgen_sphere(size_t n, uint64_t seed, double **xyz, size_t *count, cha
             v[0] = 2.0 * vp_splitmix_uniform(&s) - 1.0;
             v[1] = 2.0 * vp_splitmix_uniform(&s) - 1.0;
             v[2] = 2.0 * vp_splitmix_uniform(&s) - 1.0;
-            r2 = v[0] * v[0] + v[1] * v[1] + v[2] * v[2];
+            r2 = vp_dot3(v, v);
         } while (r2 > 1.0 || r2 < 1e-6);
         r2 = 1.0 / sqrt(r2);
         p[3 * i] = v[0] * r2; p[3 * i + 1] = v[1] * r2; p[3 * i + 2] = v[2] * r2;

@@ -1,5 +1,6 @@
 #include <math.h>
 #include "vp_rng.h"
+#include "vp_vec3.h"
 
 uint64_t vp_splitmix_next(uint64_t *state)
 {
@@ -62,7 +63,7 @@ void vp_rng_unit3(vp_rng_t *r, double v[3])
     double n2;
     do {
         v[0] = vp_rng_normal(r); v[1] = vp_rng_normal(r); v[2] = vp_rng_normal(r);
-        n2 = v[0] * v[0] + v[1] * v[1] + v[2] * v[2];
+        n2 = vp_dot3(v, v);
     } while (n2 < 1e-20);
     n2 = 1.0 / sqrt(n2);
     v[0] *= n2; v[1] *= n2; v[2] *= n2;

@@ -3,6 +3,7 @@
 #include <string.h>
 #include "vp_kin.h"
 #include "vp_status.h"
+#include "vp_vec3.h"
 
 #define VP_DEG (3.14159265358979323846 / 180.0)
 
@@ -13,7 +14,7 @@ static int vp_kin_finite(const double *v, int n)
     return 1;
 }
 
-static double vp_kin_norm(const double v[3]) { return sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]); }
+static double vp_kin_norm(const double v[3]) { return vp_norm3(v); }
 
 int vp_kin_init(vp_kin_t *k, const vp_kin_config_t *cfg)
 {
@@ -40,7 +41,7 @@ static void vp_kin_rot(double pan, double tilt, double r[9])
 
 static void vp_kin_mul(const double r[9], const double v[3], double out[3])
 {
-    out[0] = r[0] * v[0] + r[1] * v[1] + r[2] * v[2];
+    out[0] = vp_dot3(r, v);
     out[1] = r[3] * v[0] + r[4] * v[1] + r[5] * v[2];
     out[2] = r[6] * v[0] + r[7] * v[1] + r[8] * v[2];
 }

@@ -9,7 +9,7 @@
 
 static int vp_unit(double v[3])
 {
-    double n = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+    double n = vp_norm3(v);
     if (!(n > 1e-12) || !isfinite(n)) return 0;
     v[0] /= n; v[1] /= n; v[2] /= n;
     return 1;

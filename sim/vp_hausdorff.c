@@ -7,6 +7,7 @@
 #include "vp_rng.h"
 #include "vp_status.h"
 #include "vp_surface.h"
+#include "vp_vec3.h"
 
 static void vp_tri_vec(const vp_mesh_t *m, size_t f, const double **a, const double **b, const double **c)
 {
@@ -59,8 +60,8 @@ int vp_hausdorff(const vp_mesh_t *m, const vp_surface_t *s, size_t n, uint64_t s
         int k;
         vp_tri_vec(m, f, &a, &b, &c);
         for (k = 0; k < 3; k++) { u[k] = b[k] - a[k]; v[k] = c[k] - a[k]; }
-        nn[0] = u[1] * v[2] - u[2] * v[1]; nn[1] = u[2] * v[0] - u[0] * v[2]; nn[2] = u[0] * v[1] - u[1] * v[0];
-        acc += 0.5 * sqrt(nn[0] * nn[0] + nn[1] * nn[1] + nn[2] * nn[2]);
+        vp_cross3(nn, u, v);
+        acc += 0.5 * vp_norm3(nn);
         cdf[f] = acc;
         for (k = 0; k < 3; k++) vface[m->tri[3 * f + k]] = f;
     }
@@ -135,9 +136,9 @@ int vp_hausdorff(const vp_mesh_t *m, const vp_surface_t *s, size_t n, uint64_t s
             /* tangent basis */
             if (fabs(nrm[0]) < 0.9) { t1[0] = 0; t1[1] = nrm[2]; t1[2] = -nrm[1]; }
             else { t1[0] = -nrm[2]; t1[1] = 0; t1[2] = nrm[0]; }
-            len = sqrt(t1[0] * t1[0] + t1[1] * t1[1] + t1[2] * t1[2]);
+            len = vp_norm3(t1);
             for (j = 0; j < 3; j++) t1[j] /= len;
-            t2[0] = nrm[1] * t1[2] - nrm[2] * t1[1]; t2[1] = nrm[2] * t1[0] - nrm[0] * t1[2]; t2[2] = nrm[0] * t1[1] - nrm[1] * t1[0];
+            vp_cross3(t2, nrm, t1);
             for (k = 0; k < 4; k++) {
                 double y[3], q[3], d;
                 double a = (k == 0) - (k == 1), b = (k == 2) - (k == 3);

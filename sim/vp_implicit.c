@@ -408,9 +408,9 @@ static int vp_bernstein_first(const double a[5], double *u)
 static void vp_quartic_coeffs(int kind, const double q[3], const double d[3], double c[5])
 {
     if (kind == VP_IMP_TORUS) {
-        double A = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
-        double B = 2 * (q[0] * d[0] + q[1] * d[1] + q[2] * d[2]);
-        double C = q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + (1.0 - VP_TORUS_R2);
+        double A = vp_dot3(d, d);
+        double B = 2 * (vp_dot3(q, d));
+        double C = vp_dot3(q, q) + (1.0 - VP_TORUS_R2);
         double Ap = d[0] * d[0] + d[1] * d[1];
         double Bp = 2 * (q[0] * d[0] + q[1] * d[1]);
         double Cp = q[0] * q[0] + q[1] * q[1];
@@ -437,9 +437,9 @@ static void vp_quartic_coeffs(int kind, const double q[3], const double d[3], do
 /* Roots of |d|^2 t^2 + 2 b t + c with c = |o|^2 - 1 (after scaling): first crossing in (t0,t1]. */
 static int vp_quadric_first(const double o[3], const double d[3], double t0, double t1, double *t)
 {
-    double A = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
-    double B = o[0] * d[0] + o[1] * d[1] + o[2] * d[2];
-    double C = o[0] * o[0] + o[1] * o[1] + o[2] * o[2] - 1;
+    double A = vp_dot3(d, d);
+    double B = vp_dot3(o, d);
+    double C = vp_dot3(o, o) - 1;
     double disc = B * B - A * C, q, r1, r2;
     if (!(disc > 0) || A == 0) return 0;
     q = -(B + (B >= 0 ? sqrt(disc) : -sqrt(disc)));
@@ -533,7 +533,7 @@ double vp_imp_closest_exact(int kind, const double p[3], double q[3])
 {
     int k;
     if (kind == VP_IMP_SPHERE) {
-        double n = sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]);
+        double n = vp_norm3(p);
         if (n == 0) { q[0] = 1; q[1] = q[2] = 0; return 1; }
         for (k = 0; k < 3; k++) q[k] = p[k] / n;
         return fabs(n - 1);
@@ -543,7 +543,7 @@ double vp_imp_closest_exact(int kind, const double p[3], double q[3])
         if (rho > 0) { c[0] = p[0] / rho; c[1] = p[1] / rho; } else { c[0] = 1; c[1] = 0; }
         c[2] = 0;
         for (k = 0; k < 3; k++) v[k] = p[k] - c[k];
-        dc = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+        dc = vp_norm3(v);
         if (dc == 0) { v[0] = c[0]; v[1] = c[1]; v[2] = 0; dc = 1; for (k = 0; k < 3; k++) q[k] = c[k] + 0.3 * v[k]; return 0.3; }
         for (k = 0; k < 3; k++) q[k] = c[k] + 0.3 * v[k] / dc;
         return fabs(dc - 0.3);
@@ -564,7 +564,7 @@ int vp_imp_project(int kind, const double p[3], double q[3])
     double x[3];
     memcpy(x, p, sizeof x);
     for (it = 0; it < 30; it++) {
-        double g[3], f = vp_imp_grad(kind, x, g), gg = g[0] * g[0] + g[1] * g[1] + g[2] * g[2], s;
+        double g[3], f = vp_imp_grad(kind, x, g), gg = vp_dot3(g, g), s;
         if (!(gg > 0) || !isfinite(f)) return -1;
         s = f / gg;
         for (k = 0; k < 3; k++) x[k] -= s * g[k];
@@ -608,7 +608,7 @@ static int vp_lagrange_step(int kind, const double p[3], const double q[3], doub
     double g[3], f, gg, lam, a[4][4], b[4], x[4], h = 1e-6 * (1 + fabs(q[0]) + fabs(q[1]) + fabs(q[2]));
     int i, j;
     f = vp_imp_grad(kind, q, g);
-    gg = g[0] * g[0] + g[1] * g[1] + g[2] * g[2];
+    gg = vp_dot3(g, g);
     if (!(gg > 0)) return -1;
     lam = ((p[0] - q[0]) * g[0] + (p[1] - q[1]) * g[1] + (p[2] - q[2]) * g[2]) / gg;
     for (j = 0; j < 3; j++) {
@@ -644,7 +644,7 @@ double vp_imp_foot(int kind, const double p[3], const double start[3], double q[
         }
         if (!ok) {
             vp_imp_grad(kind, cur, g);
-            gn = sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
+            gn = vp_norm3(g);
             if (!(gn > 0)) break;
             for (k = 0; k < 3; k++) n[k] = g[k] / gn;
             w = (p[0] - cur[0]) * n[0] + (p[1] - cur[1]) * n[1] + (p[2] - cur[2]) * n[2];

@@ -5,6 +5,7 @@
 #include "vp_rng.h"
 #include "vp_simdev.h"
 #include "vp_status.h"
+#include "vp_vec3.h"
 
 struct vp_simdev {
     const vp_surface_t *surf;
@@ -13,8 +14,6 @@ struct vp_simdev {
     uint64_t nprobe;     /* probes done: the next probe's number */
     vp_simdev_stats_t st;
 };
-
-static int vp_finite3(const double p[3]) { return isfinite(p[0]) && isfinite(p[1]) && isfinite(p[2]); }
 
 static int vp_in_box(const vp_simdev_config_t *c, const double p[3])
 {
@@ -76,7 +75,7 @@ int vp_simdev_probe(vp_simdev_t *d, const double dir[3], double range, vp_simdev
     memset(&r, 0, sizeof r);
     r.true_t = -1;
     if (!d || !dir || !vp_finite3(dir) || !(range > 0)) { r.status = VP_EINVAL; goto out; }
-    n2 = dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2];
+    n2 = vp_dot3(dir, dir);
     if (fabs(n2 - 1) > 1e-9) { r.status = VP_EINVAL; goto out; }
     if (d->cfg.max_range > 0 && range > d->cfg.max_range) range = d->cfg.max_range;
     /* The draws of probe k come from a generator seeded by (seed, k) alone. */

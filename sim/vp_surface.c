@@ -152,7 +152,7 @@ static int vp_shell_try(const vp_term_t *T, vp_rng_t *r, double q[3], int *in_sh
     vp_cell_box(T, T->cells[vp_rng_below(r, T->ncells)], lo, hi);
     for (k = 0; k < 3; k++) x[k] = lo[k] + vp_rng_uniform(r) * (hi[k] - lo[k]);
     f = vp_imp_grad(T->kind, x, g);
-    gn = sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
+    gn = vp_norm3(g);
     *in_shell = fabs(f) < T->shell * gn;
     if (!*in_shell) return 0;
     if (vp_imp_project(T->kind, x, q) < 0) return 0;
@@ -307,8 +307,8 @@ static int vp_mesh_term_init(vp_term_t *T, const char *path, char *err, size_t e
                          *d = T->mesh.xyz + 3 * T->mesh.tri[3 * f + 2];
             double u[3], v[3], n[3], ar;
             for (k = 0; k < 3; k++) { u[k] = b[k] - a[k]; v[k] = d[k] - a[k]; }
-            n[0] = u[1] * v[2] - u[2] * v[1]; n[1] = u[2] * v[0] - u[0] * v[2]; n[2] = u[0] * v[1] - u[1] * v[0];
-            ar = 0.5 * sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+            vp_cross3(n, u, v);
+            ar = 0.5 * vp_norm3(n);
             acc += ar;
             T->cdf[f] = acc;
             c = mc.comp_of_face[f];
@@ -321,13 +321,12 @@ static int vp_mesh_term_init(vp_term_t *T, const char *path, char *err, size_t e
             size_t ff = bestface[c];
             const double *a = T->mesh.xyz + 3 * T->mesh.tri[3 * ff], *b = T->mesh.xyz + 3 * T->mesh.tri[3 * ff + 1],
                          *d = T->mesh.xyz + 3 * T->mesh.tri[3 * ff + 2];
-            double g[3], u[3], v[3], n[3], nn, th, m[3];
+            double g[3], u[3], v[3], n[3], th, m[3];
             int side, found = 0;
             for (k = 0; k < 3; k++) { g[k] = (a[k] + b[k] + d[k]) / 3; u[k] = b[k] - a[k]; v[k] = d[k] - a[k]; }
-            n[0] = u[1] * v[2] - u[2] * v[1]; n[1] = u[2] * v[0] - u[0] * v[2]; n[2] = u[0] * v[1] - u[1] * v[0];
-            nn = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
-            for (k = 0; k < 3; k++) n[k] /= nn;
-            for (side = -1; side <= 1 && !found; side += 2) {
+            vp_cross3(n, u, v);
+            /* a component of zero-area faces only: no direction, no interior point */
+            for (side = vp_normalize3(n) ? -1 : 3; side <= 1 && !found; side += 2) {
                 double dir[3];
                 for (k = 0; k < 3; k++) dir[k] = side * n[k];
                 if (!vp_bvh_ray(T->bvh, g, dir, 1e-12 * (1 + fabs(g[0]) + fabs(g[1]) + fabs(g[2])), DBL_MAX, &th, NULL)) continue;
@@ -437,7 +436,7 @@ static int vp_imp_segment_collides(const vp_term_t *T, const double a[3], const 
         if (s < 0) s = 0;
         if (s > 1) s = 1;
         for (k = 0; k < 3; k++) c[k] = a[k] + s * d[k];
-        return sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]) <= 1 + r;
+        return vp_norm3(c) <= 1 + r;
     }
     st[0].t0 = 0; st[0].t1 = 1;
     while (sp > 0) {
@@ -730,13 +729,13 @@ void vp_surface_normal(const vp_surface_t *s, const double p[3], double n[3])
             vp_bvh_closest(T->bvh, l, q, &f);
             a = T->mesh.xyz + 3 * T->mesh.tri[3 * f]; b = T->mesh.xyz + 3 * T->mesh.tri[3 * f + 1]; c = T->mesh.xyz + 3 * T->mesh.tri[3 * f + 2];
             for (k = 0; k < 3; k++) { u[k] = b[k] - a[k]; v[k] = c[k] - a[k]; }
-            n[0] = u[1] * v[2] - u[2] * v[1]; n[1] = u[2] * v[0] - u[0] * v[2]; n[2] = u[0] * v[1] - u[1] * v[0];
+            vp_cross3(n, u, v);
             for (k = 0; k < 3; k++) n[k] *= T->orient;
         } else {
             vp_imp_grad(T->kind, l, n);
         }
     }
-    nn = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    nn = vp_norm3(n);
     if (nn > 0) for (k = 0; k < 3; k++) n[k] /= nn;
 }
 
