@@ -2,7 +2,8 @@
 # Issue 12 regression: the probe moves only through space proven free, on any closed mesh.
 # For every mesh in tests/meshes/ (cube, box, tetrahedron, octahedron, bow-ties, cylinder, cone,
 # an icosphere with zero-area faces: tests/meshes/make_meshes.py) and ../shared/meshes/*.off,
-# at eps-rel 0.1, 0.05 and 0.03, `voroprobe sim --surface off:MESH --json` must
+# at eps-rel 0.1, 0.05 and 0.03, and at 0.05 with the sizing field (a0.05: --size-rel 0.25),
+# `voroprobe sim --surface off:MESH --json` must
 #   - finish (no hang: a run gets VP_SAFETY_TIMEOUT seconds, default 30; a healthy one takes
 #     under 2 s here),
 #   - report "collisions":0 (host-sim checks every move against the object),
@@ -31,9 +32,11 @@ CG="$D/cgal_moves"
 if [ "${1:-}" = "--one" ]; then
   mesh=$2; eps=$3
   name=$(basename "$mesh" .off); out="$D/runs/$name-$eps"
+  # a0.05: eps-rel 0.05 with the adaptive sizing field (--size-rel 0.25, floor eps/10)
+  case $eps in a*) epsv=${eps#a}; sizing="--size-rel 0.25";; *) epsv=$eps; sizing="";; esac
   rm -f "$out".*
   t0=$(date +%s%N)
-  timeout -k 5 "$SAFETY_TIMEOUT" "$VP" sim --surface "off:$mesh" --eps-rel "$eps" --out "$out" --json --quiet \
+  timeout -k 5 "$SAFETY_TIMEOUT" "$VP" sim --surface "off:$mesh" --eps-rel "$epsv" $sizing --out "$out" --json --quiet \
     --hausdorff 0 >"$out.stdout" 2>"$out.stderr"
   rc=$?
   ms=$(( ($(date +%s%N) - t0) / 1000000 ))
@@ -60,8 +63,9 @@ if [ "${1:-}" = "--one" ]; then
     esac
     if [ "$closed" = true ] && [ "$rc" != 0 ]; then verdict="$verdict closed-but-exit-$rc"; fi
     # objects the planner closes (flat faces, sharp edges, zero-area faces): a regression if not
-    case "$name" in
-      cube|box|tetra|octa|cylinder32|cone32|icosphere2|icosphere2-degen|bear|ellipe0.003|sphere966)
+    case "$name:$eps" in
+      *:a*) ;; # the sizing field's runs: safety and honesty only (octa stays open there, fandisk too)
+      cube:*|box:*|tetra:*|octa:*|cylinder32:*|cone32:*|icosphere2:*|icosphere2-degen:*|bear:*|ellipe0.003:*|sphere966:*)
         [ "$closed" = true ] || verdict="$verdict must-close";;
     esac
   fi
@@ -106,7 +110,7 @@ fi
 # ---------- the main run ----------
 [ -x "$VP" ] || { echo "FAIL: $VP is not built"; exit 1; }
 QUICK=${VP_TEST_QUICK:-0}
-EPS=${VP_SAFETY_EPS:-"0.1 0.05 0.03"}
+EPS=${VP_SAFETY_EPS:-"0.1 0.05 0.03 a0.05"}
 SAFETY_TIMEOUT=${VP_SAFETY_TIMEOUT:-30}
 if [ "$QUICK" != 0 ]; then EPS=${VP_SAFETY_EPS:-"0.1 0.05"}; SAFETY_TIMEOUT=${VP_SAFETY_TIMEOUT:-15}; fi
 JOBS=${VP_SAFETY_JOBS:-2}
@@ -226,7 +230,13 @@ export HAVE_VERIFY
 meshes=$(ls tests/meshes/*.off)
 if [ -d "$SHARED" ]; then meshes="$meshes $(ls "$SHARED"/*.off)"
 else echo "note: $SHARED not found: its meshes are skipped"; fi
-for m in $meshes; do for e in $EPS; do echo "$m $e"; done; done >"$D/cases.txt"
+# the bow-tie sharing an edge is not a manifold: under the sizing field it refines along that
+# edge down to the floor (2 million moves, 25 s here) and still ends open; its uniform runs
+# cover it
+for m in $meshes; do for e in $EPS; do
+  case "$(basename "$m" .off):$e" in bowtie:a*) continue;; esac
+  echo "$m $e"
+done; done >"$D/cases.txt"
 ncase=$(wc -l <"$D/cases.txt")
 xargs -P "$JOBS" -n 2 sh "$0" --one <"$D/cases.txt"
 
