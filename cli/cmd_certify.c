@@ -221,6 +221,10 @@ static int certify_report(const certify_args_t *o, const certify_input_t *in, co
     if (c.reach_ok > 0) printf("    eps < 0.091 reach: holds (%.9g < %.9g)\n", eps, 0.091 * reach);
     else if (c.reach_ok == 0) printf("    eps < 0.091 reach: FAILS (%.9g >= 0.091 * %.9g = %.9g)\n", eps, reach, 0.091 * reach);
     else printf("    eps < 0.091 reach: not checked (no --reach): it needs reach(S) > %.9g\n", eps / 0.091);
+    if (c.eps_prime >= 0.0)
+        printf("    non-uniform (paper 002): every ball has r <= eps' dM(c) with eps' = %.4g (largest at facet %zu; dM "
+               "estimated from the samples' poles, an estimate, not a bound; 0.091 is the paper's limit)\n",
+               c.eps_prime, c.eps_prime_facet);
     if (c.h1 > 0 && c.h2 > 0 && c.h3 > 0) {
         if (c.reach_ok > 0) {
             printf("guarantees (000 Theorem 2.1): the mesh is ambient isotopic to S; Hausdorff distance <= 4.5 diam/reach^2 "

@@ -395,6 +395,73 @@ static int check_h3_bare(const vp_mesh_t *m, const vp_cert_config_t *cfg, vp_cer
     return VP_OK;
 }
 
+/* The distance from mesh vertex v (dt vertex id) to its poles (paper 002, after Amenta and
+ * Bern): the farthest Voronoi vertex of its cell (at infinity, outward, when the cell is
+ * unbounded) and the farthest one on the other side; the nearer is taken as dM(v). */
+static double pole_dm(const vp_dt_t *dt, uint32_t id, uint32_t *tets, int cap)
+{
+    const double *p = vp_dt_point(dt, id);
+    int n = vp_dt_incident_tets(dt, id, tets, cap), i, k, unbounded = 0;
+    double far = -1.0, other = -1.0, u[3] = { 0, 0, 0 }, c[3], d[3], m[3] = { 0, 0, 0 };
+    unsigned cnt = 0;
+    if (n <= 0) return INFINITY;
+    for (i = 0; i < n; i++) {
+        const uint32_t *w = vp_dt_tet(dt, tets[i]);
+        if (vp_dt_is_ghost(dt, tets[i])) { unbounded = 1; continue; }
+        for (k = 0; k < 4; k++)
+            if (w[k] != id) {
+                const double *q = vp_dt_point(dt, w[k]);
+                m[0] += q[0]; m[1] += q[1]; m[2] += q[2];
+                cnt++;
+            }
+        if (vp_dt_circumcenter(dt, tets[i], c) != VP_OK) continue;
+        vp_sub3(d, c, p);
+        if (vp_norm3(d) > far) { far = vp_norm3(d); memcpy(u, d, sizeof u); }
+    }
+    if (unbounded && cnt) for (k = 0; k < 3; k++) u[k] = p[k] - m[k] / (double)cnt;
+    for (i = 0; i < n; i++) {
+        if (vp_dt_is_ghost(dt, tets[i]) || vp_dt_circumcenter(dt, tets[i], c) != VP_OK) continue;
+        vp_sub3(d, c, p);
+        if (vp_dot3(d, u) < 0.0 && vp_norm3(d) > other) other = vp_norm3(d);
+    }
+    if (unbounded) return other >= 0.0 ? other : INFINITY;
+    return other >= 0.0 && other < far ? other : far;
+}
+
+/* eps' = max over balls of r / dM(c), dM(c) = min over the facet's vertices (dM(v) + |c - v|) */
+static int estimate_eps_prime(const vp_mesh_t *m, const vp_cert_config_t *cfg, vp_cert_t *c)
+{
+    size_t bytes = 1024 * (m->nv + 64) + ((size_t)1 << 20), f;
+    void *mem = malloc(bytes);
+    uint32_t *ids = malloc((m->nv + 1) * sizeof *ids), tets[4096];
+    double *dm = malloc((m->nv + 1) * sizeof *dm);
+    vp_dt_t dt;
+    int st;
+    c->eps_prime = -1.0;
+    if (!mem || !ids || !dm) { free(mem); free(ids); free(dm); return VP_ENOMEM; }
+    st = vp_dt_init(&dt, mem, bytes, 0);
+    if (st == VP_OK) st = vp_dt_insert_batch(&dt, m->xyz, (uint32_t)m->nv, ids);
+    if (st == VP_OK) {
+        for (f = 0; f < m->nv; f++) dm[f] = pole_dm(&dt, ids[f], tets, 4096);
+        for (f = 0; f < m->nt; f++) {
+            const uint32_t *t = m->tri + 3 * f;
+            const double *ctr = cfg->centers + 3 * f;
+            double r = dist3(ctr, m->xyz + 3 * (size_t)t[0]), g = INFINITY, e;
+            int k;
+            for (k = 0; k < 3; k++) {
+                double x = dm[t[k]] + dist3(ctr, m->xyz + 3 * (size_t)t[k]);
+                if (x < g) g = x;
+            }
+            e = r / g;
+            if (e > c->eps_prime) { c->eps_prime = e; c->eps_prime_facet = f; }
+        }
+    }
+    free(mem);
+    free(ids);
+    free(dm);
+    return st == VP_OK ? VP_OK : st == VP_EINVAL ? VP_EINVAL : VP_ENOMEM;
+}
+
 int vp_certify(const vp_mesh_t *m, const vp_cert_config_t *cfg, vp_cert_t *out, FILE *rep)
 {
     size_t maxl;
@@ -406,6 +473,8 @@ int vp_certify(const vp_mesh_t *m, const vp_cert_config_t *cfg, vp_cert_t *out, 
     if ((st = check_h2(m, cfg, out, rep)) != VP_OK) return st;
     st = cfg->centers ? check_h3_balls(m, cfg, out, maxl, rep) : check_h3_bare(m, cfg, out, maxl, rep);
     if (st != VP_OK) return st;
+    out->eps_prime = -1.0;
+    if (cfg->centers && m->nt > 0 && (st = estimate_eps_prime(m, cfg, out)) != VP_OK) return st;
     out->reach_ok = cfg->reach > 0 ? cfg->eps < 0.091 * cfg->reach : -1;
     if (cfg->reach > 0 && cfg->diam > 0)
         out->hausdorff_bound = 4.5 * cfg->diam / (cfg->reach * cfg->reach) * cfg->eps * cfg->eps;

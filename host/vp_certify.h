@@ -46,6 +46,11 @@ typedef struct vp_cert {
     size_t max_radius_facet;
     double max_spread;           /* largest relative difference of a ball's three radii */
     double hausdorff_bound;      /* 4.5 diam / reach^2 * eps^2 when reach and diam are known */
+    /* paper 002's non-uniform loose eps-sample: every ball has r <= eps' dM(c); dM estimated
+     * from the mesh vertices' poles in Del(vertices) and extended 1-Lipschitz to the centres
+     * (an estimate, not a bound: dM of the true surface is unknown). With balls only; -1: none */
+    double eps_prime;
+    size_t eps_prime_facet;
 } vp_cert_t;
 
 /* Checks everything it can; prints offenders (and nothing else) to report (may be NULL).

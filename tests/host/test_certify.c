@@ -150,6 +150,12 @@ static void test_scans(void)
                "ball %.4g, loose eps-sample with eps' = max r/dM = %.4g, %zu crossing(s) the probes did not see\n",
                surf[j], sc.cfg.eps, sc.s.mesh.nt, cr, rmax, el, unseen);
         CHECKF(rmax <= sc.cfg.eps, "%s: a crossing with a ball of radius %.6g > eps %.6g", surf[j], rmax, sc.cfg.eps);
+        /* certify's eps' (dM from the samples' poles) against the true one (dM of the surface):
+         * the estimate is the paper's, so within a factor of the truth, never off by more */
+        printf("%s: certify's non-uniform eps' %.4g (poles), true max r/dM over its balls %.4g\n", surf[j],
+               c.eps_prime, el);
+        CHECKF(c.eps_prime >= 0.5 * el && c.eps_prime <= 2.0 * el, "%s: eps' estimated %.4g, true %.4g", surf[j],
+               c.eps_prime, el);
         CHECKF(unseen == 0, "%s: %zu restricted facets missing from the mesh", surf[j], unseen);
         CHECK(cr >= sc.s.mesh.nt);
         scan_close(&sc);
