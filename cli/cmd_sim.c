@@ -61,6 +61,12 @@ static void sim_usage(FILE *f)
         "                     between --min-size and eps (then the largest ball); 0.1-0.5 is usual\n"
         "  --min-size F       the sizing field's floor (object units; default eps/10): it ends\n"
         "                     refinement on sharp edges and thin parts\n"
+        "  --accuracy H       the target: the mesh within H of the object (two-sided Hausdorff);\n"
+        "                     chooses eps (diagonal/20), the sizing field (sqrt(4 H/diagonal), at most\n"
+        "                     0.3) and its floor (H); the simulator measures the result against H\n"
+        "                     (exit 6 when it is farther). Not with --eps, --size-rel, --min-size\n"
+        "  --accuracy-rel R   the same with H = R times the bounding-box diagonal\n");
+    fprintf(f,
         "  --arena BYTES      memory given to the planner (default 512M; K, M, G suffixes)\n"
         "  --omega box|ball   the known region containing the object (default box: the bounding box\n"
         "                     grown by 10%% of its diagonal)\n"
@@ -75,7 +81,8 @@ static void sim_usage(FILE *f)
         "Exit status (the JSON's \"status\" says the same): 0 closed (DONE, a closed 2-manifold\n"
         "around every component), 1 error (the scan stopped; the mesh so far is written), 2 usage,\n"
         "3 stopped (--stop-after, Ctrl-C or SIGTERM: a PAUSE event, resumable), 4 not_closed (DONE but\n"
-        "the mesh is open or misses a component: run certify), 5 collision (a move touched the object).\n\n"
+        "the mesh is open or misses a component: run certify), 5 collision (a move touched the object),\n"
+        "6 not_within_target (closed, but farther from the object than --accuracy).\n\n"
         "%s\n", vp_surface_help());
 }
 
@@ -104,7 +111,17 @@ int vp_cli_sim(int argc, char **argv)
         return 1;
     }
     if (!o.surface) { fprintf(stderr, "sim: --surface is required (see --help)\n"); return 2; }
-    if (!(o.eps > 0.0) && !(o.eps_rel > 0.0)) { fprintf(stderr, "sim: give --eps or --eps-rel (see --help)\n"); return 2; }
+    if (o.accuracy > 0.0 || o.accuracy_rel > 0.0) {
+        /* the target chooses eps, the sizing field and its floor, and is measured */
+        if (o.eps > 0.0 || o.eps_rel > 0.0 || o.size_rel > 0.0 || o.min_size > 0.0) {
+            fprintf(stderr, "sim: --accuracy chooses eps, --size-rel and --min-size: give it alone\n");
+            return 2;
+        }
+        if (o.hausdorff == 0) { fprintf(stderr, "sim: --accuracy is measured: --hausdorff 0 would skip that\n"); return 2; }
+    } else if (!(o.eps > 0.0) && !(o.eps_rel > 0.0)) {
+        fprintf(stderr, "sim: give --eps, --eps-rel or --accuracy (see --help)\n");
+        return 2;
+    }
     /* every output path is checked before anything is scanned or written */
     if (vp_sim_check_out(&o, err, sizeof err) != VP_OK || vp_sim_session_set_path(&g, &o, err, sizeof err) != VP_OK) {
         fprintf(stderr, "sim: %s\n", err);

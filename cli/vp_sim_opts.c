@@ -40,7 +40,8 @@ int vp_sim_parse_option(vp_sim_options_t *o, int argc, char **argv, int *i, char
         strcmp(a, "--noise") && strcmp(a, "--dropout") && strcmp(a, "--clearance") &&
         strcmp(a, "--max-range") && strcmp(a, "--min-range") && strcmp(a, "--arena") && strcmp(a, "--omega") &&
         strcmp(a, "--seed") && strcmp(a, "--hausdorff") && strcmp(a, "--confirm") && strcmp(a, "--margin") &&
-        strcmp(a, "--angle") && strcmp(a, "--size-rel") && strcmp(a, "--min-size"))
+        strcmp(a, "--angle") && strcmp(a, "--size-rel") && strcmp(a, "--min-size") &&
+        strcmp(a, "--accuracy") && strcmp(a, "--accuracy-rel"))
         return 1;
     if (!val) { snprintf(err, errlen, "%s needs a value", a); return -1; }
     (*i)++;
@@ -95,6 +96,14 @@ int vp_sim_parse_option(vp_sim_options_t *o, int argc, char **argv, int *i, char
     } else if (!strcmp(a, "--size-rel")) {
         if (!(v > 0 && v < 1)) { snprintf(err, errlen, "--size-rel must be in (0, 1) (the sizing field's eps; 0.1-0.5 is usual)"); return -1; }
         o->size_rel = v;
+    } else if (!strcmp(a, "--accuracy") || !strcmp(a, "--accuracy-rel")) {
+        int rel = !strcmp(a, "--accuracy-rel");
+        if (!(v > 0 && (rel ? v < 0.5 : v < 1e150))) {
+            snprintf(err, errlen, "%s must be > 0%s", a, rel ? " and below 0.5 (of the bounding-box diagonal)" : " (object units)");
+            return -1;
+        }
+        if (o->accuracy > 0 || o->accuracy_rel > 0) { snprintf(err, errlen, "give one of --accuracy and --accuracy-rel"); return -1; }
+        if (rel) o->accuracy_rel = v; else o->accuracy = v;
     } else if (!strcmp(a, "--min-size")) {
         if (!(v > 0 && v < 1e150)) { snprintf(err, errlen, "--min-size must be > 0 (object units)"); return -1; }
         o->min_size = v;

@@ -7,13 +7,15 @@
  *   3  stopped    paused on purpose (--stop-after, Ctrl-C, SIGTERM): resumable from the log
  *   4  not_closed DONE, but the mesh is not closed or misses a component (certify says where)
  *   5  collision  a move touched the object (simulator or dry run): the one promise broken
+ *   6  not_within_target  closed, but the measured Hausdorff distance is above the accuracy
+ *                         target (sim --accuracy: only a simulation can measure it)
  */
 #ifndef VP_OUTCOME_H
 #define VP_OUTCOME_H
 
 enum vp_exit {
     VP_EXIT_CLOSED = 0, VP_EXIT_ERROR = 1, VP_EXIT_USAGE = 2, VP_EXIT_STOPPED = 3,
-    VP_EXIT_NOT_CLOSED = 4, VP_EXIT_COLLISION = 5
+    VP_EXIT_NOT_CLOSED = 4, VP_EXIT_COLLISION = 5, VP_EXIT_NOT_WITHIN_TARGET = 6
 };
 
 typedef struct vp_outcome_in {
@@ -22,6 +24,7 @@ typedef struct vp_outcome_in {
     unsigned long collisions;
     int closed_manifold;    /* the mesh, checked */
     unsigned missing_components;
+    int beyond_target;      /* the measured Hausdorff distance exceeds the accuracy target */
 } vp_outcome_in_t;
 
 int vp_outcome(const vp_outcome_in_t *in);   /* the exit status */

@@ -30,7 +30,7 @@ void vp_sim_session_note(const vp_sim_options_t *o, char *buf, size_t n)
     vp_note_put(buf, n, &len, "sim");
     vp_note_put_str(buf, n, &len, "--surface", o->surface ? o->surface : "");
     if (o->eps > 0) vp_note_put_num(buf, n, &len, "--eps", o->eps);
-    else vp_note_put_num(buf, n, &len, "--eps-rel", o->eps_rel);
+    else if (o->eps_rel > 0) vp_note_put_num(buf, n, &len, "--eps-rel", o->eps_rel);
     vp_note_put_num(buf, n, &len, "--noise", o->noise);
     vp_note_put_num(buf, n, &len, "--dropout", o->dropout);
     if (o->confirm >= 0) vp_note_put_opt(buf, n, &len, "--confirm", "%d", o->confirm);
@@ -39,6 +39,8 @@ void vp_sim_session_note(const vp_sim_options_t *o, char *buf, size_t n)
     if (o->min_range > 0) vp_note_put_num(buf, n, &len, "--min-range", o->min_range);
     if (o->min_angle > 0) vp_note_put_num(buf, n, &len, "--angle", o->min_angle);
     if (o->size_rel > 0) vp_note_put_num(buf, n, &len, "--size-rel", o->size_rel);
+    if (o->accuracy > 0) vp_note_put_num(buf, n, &len, "--accuracy", o->accuracy);
+    if (o->accuracy_rel > 0) vp_note_put_num(buf, n, &len, "--accuracy-rel", o->accuracy_rel);
     if (o->min_size > 0) vp_note_put_num(buf, n, &len, "--min-size", o->min_size);
     vp_note_put_opt(buf, n, &len, "--arena", "%zu", o->arena);
     vp_note_put_str(buf, n, &len, "--omega", o->omega_ball ? "ball" : "box");

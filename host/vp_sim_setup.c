@@ -129,7 +129,12 @@ int vp_sim_open(vp_sim_t *s, const vp_sim_options_t *o, char *err, size_t errlen
     for (k = 0; k < 3; k++) s->diag += (hi[k] - lo[k]) * (hi[k] - lo[k]);
     s->diag = sqrt(s->diag);
     s->components = vp_surface_components(s->surf);
-    eps = o->eps > 0 ? o->eps : o->eps_rel * s->diag;
+    s->target = o->accuracy > 0 ? o->accuracy : o->accuracy_rel * s->diag;
+    /* an accuracy target H: the sizing field with eps' = sqrt(4 H / diag) (a ball of radius
+     * r = eps' dM on a surface of curvature radius dM lies within about r^2 / (2 dM) of it, and
+     * dM is at most diag / 2), its floor H (on a sharp edge a facet cuts about its own size off),
+     * eps diag / 20; the result is measured against the target, never assumed */
+    eps = s->target > 0 ? s->diag / 20.0 : o->eps > 0 ? o->eps : o->eps_rel * s->diag;
     /* a device with a body stays outside Omega: Omega keeps twice its radius from the object */
     st = vp_sim_config(s->surf, eps, o->omega_ball,
                        o->clearance > 0 && 2.0 * o->clearance > o->omega_margin * s->diag
@@ -143,7 +148,11 @@ int vp_sim_open(vp_sim_t *s, const vp_sim_options_t *o, char *err, size_t errlen
                                        : o->dropout > 0 ? (int)ceil(log(1e-6) / log(o->dropout)) - 1 : 0);
     s->cfg.clearance = o->clearance;
     s->cfg.min_angle = o->min_angle;
-    if (o->size_rel > 0) {
+    if (s->target > 0) {
+        double e = sqrt(4.0 * s->target / s->diag);
+        s->cfg.size_rel = e < 0.3 ? e : 0.3;
+        s->cfg.min_size = s->target < s->cfg.eps ? s->target : s->cfg.eps;
+    } else if (o->size_rel > 0) {
         s->cfg.size_rel = o->size_rel;
         s->cfg.min_size = o->min_size > 0 ? o->min_size : s->cfg.eps / 10.0;
         if (s->cfg.min_size > s->cfg.eps) {
@@ -250,6 +259,7 @@ int vp_sim_exit(const vp_sim_t *s)
     in.collisions = ds.collisions;
     in.closed_manifold = s->have_check && s->check.closed_manifold;
     in.missing_components = st.missing_components;
+    in.beyond_target = s->target > 0 && s->have_haus && s->haus.hausdorff > s->target;
     return vp_outcome(&in);
 }
 
@@ -280,12 +290,17 @@ void vp_sim_report(const vp_sim_t *s, const vp_sim_options_t *o, FILE *f)
                 s->run.planner_seconds, s->run.total_seconds, st.arena_peak,
                 nv ? (double)st.arena_peak / nv : 0.0);
         if (o->out && s->written) fprintf(f, "wrote %s.ply and %s.off\n", o->out, o->out);
+        if (s->target > 0 && s->have_haus)
+            fprintf(f, "accuracy: target %.6g, measured Hausdorff %.6g: %s (sizing field eps' %.3g, floor %.6g, "
+                    "eps %.6g)\n", s->target, s->haus.hausdorff, s->haus.hausdorff <= s->target ? "within" : "NOT within",
+                    s->cfg.size_rel, s->cfg.min_size, s->cfg.eps);
         if (st.unproven || st.stalls)
             fprintf(f, "safety: %llu segments an inference proposed were not proven free (never travelled); "
                     "%llu sides could not be probed\n", (unsigned long long)st.unproven, (unsigned long long)st.stalls);
         fprintf(f, "result: %s (exit %d)%s\n", vp_outcome_name(ex), ex,
                 ex == VP_EXIT_NOT_CLOSED ? ": the mesh is not closed around every component; certify names where" :
                 ex == VP_EXIT_COLLISION ? ": a move touched the object" :
+                ex == VP_EXIT_NOT_WITHIN_TARGET ? ": the mesh is farther from the object than the accuracy target" :
                 ex == VP_EXIT_ERROR ? ": the scan stopped on an error; the mesh so far is written" : "");
     }
     if (o->json) {
@@ -298,7 +313,7 @@ void vp_sim_report(const vp_sim_t *s, const vp_sim_options_t *o, FILE *f)
                 "\"total_seconds\":%.4f,\"arena_bytes_peak\":%zu,\"insertions\":%llu,\"routes\":%llu,"
                 "\"astar_expansions\":%llu,\"astar_fallbacks\":%llu,\"shortcut_probes\":%llu,"
                 "\"escalations\":%llu,\"reseeds\":%llu,\"missing_components\":%u,\"unproven\":%llu,"
-                "\"stalls\":%llu}\n",
+                "\"stalls\":%llu,\"accuracy_target\":%.6g,\"size_rel\":%.6g,\"min_size\":%.6g}\n",
                 o->surface, s->cfg.eps, vp_outcome_name(ex), ex, vp_strerror(s->run.status), nv, (unsigned)s->mesh.nt,
                 (unsigned long long)st.probes, (unsigned long long)st.hits,
                 (unsigned long long)st.misses, (unsigned long long)st.reprobes,
@@ -311,7 +326,8 @@ void vp_sim_report(const vp_sim_t *s, const vp_sim_options_t *o, FILE *f)
                 (unsigned long long)st.routes, (unsigned long long)st.astar_expansions,
                 (unsigned long long)st.astar_fallbacks, (unsigned long long)st.shortcut_probes,
                 (unsigned long long)st.escalations, (unsigned long long)st.reseeds, st.missing_components,
-                (unsigned long long)st.unproven, (unsigned long long)st.stalls);
+                (unsigned long long)st.unproven, (unsigned long long)st.stalls, s->target, s->cfg.size_rel,
+                s->cfg.min_size);
     }
 }
 

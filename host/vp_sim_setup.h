@@ -17,6 +17,8 @@ typedef struct vp_sim_options {
     const char *out;          /* PREFIX; NULL: do not write */
     double noise, dropout, clearance, max_range, min_range, min_angle;
     double size_rel, min_size;  /* the sizing field (0: off); its floor (0: eps / 10) */
+    double accuracy, accuracy_rel; /* the Hausdorff target (absolute, or of the diagonal; 0: none):
+                                      chooses eps, the sizing field and its floor */
     int confirm;              /* -1: default */
     size_t arena;
     int omega_ball;
@@ -44,6 +46,7 @@ typedef struct vp_sim {
     double min_angle;
     const vp_session_hooks_t *hooks; /* passed to vp_session_run (the session log); may be NULL */
     double raw;                      /* the last probe's raw reading (NaN: no return) */
+    double target;                   /* the accuracy target in object units (0: none) */
     int paused;                      /* stopped on purpose (resumable) */
     int written;                     /* vp_sim_finish wrote PREFIX.ply and PREFIX.off */
 } vp_sim_t;
