@@ -62,7 +62,7 @@ static void sim_usage(FILE *f)
         "  --min-size F       the sizing field's floor (object units; default eps/10): it ends\n"
         "                     refinement on sharp edges and thin parts\n"
         "  --accuracy H       the target: the mesh within H of the object (two-sided Hausdorff);\n"
-        "                     chooses eps (diagonal/20), the sizing field (sqrt(4 H/diagonal), at most\n"
+        "                     chooses eps (diagonal/20), the sizing field (sqrt(8 H/diagonal), at most\n"
         "                     0.3) and its floor (H); the simulator measures the result against H\n"
         "                     (exit 6 when it is farther). Not with --eps, --size-rel, --min-size\n"
         "  --accuracy-rel R   the same with H = R times the bounding-box diagonal\n");
