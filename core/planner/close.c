@@ -115,7 +115,7 @@ static int refine_at_edges(vp_planner_t *pl, const uint32_t *tab, uint32_t slots
     return (int)refined;
 }
 
-VP_PL_API int vp_pl_close_holes(vp_planner_t *pl)
+VP_PL_API int vp_pl_close_holes(vp_planner_t *pl, int refine_only)
 {
     /* edge counts in a scratch hash: 3 words per slot (a, b, count) */
     uint32_t slots = 1, i, *tab = pl->pool.astar, pushed = 0, holes = 0;
@@ -135,6 +135,7 @@ VP_PL_API int vp_pl_close_holes(vp_planner_t *pl)
             tab[3 * h + 2]++;
         }
     }
+    if (refine_only) return refine_at_edges(pl, tab, slots);
     for (i = 0; i < slots; i++) {
         uint32_t fv[3], a = tab[3 * i], b = tab[3 * i + 1], t, k;
         int fi, n;

@@ -225,12 +225,16 @@ static int phase_step(vp_planner_t *pl, int *done)
         /* closing again with nothing probed or inserted since the last try cannot do better:
          * the holes stay (certify names them) */
         if (pl->close.mark == pl->st.probes + pl->st.insertions + 1) {
+            /* the probes queued around the holes all resolved without probing: refining at
+             * the open edges (the manifold criterion) is what is left, else the holes stay */
+            st = vp_pl_close_holes(pl, 1);
+            if (st > 0) { pl->phase = PH_RUN; return VP_OK; }
             pl->st.stalls++;
             pl->phase = PH_COMPONENTS;
-            return VP_OK;
+            return st;
         }
         pl->close.mark = pl->st.probes + pl->st.insertions + 1;
-        st = vp_pl_close_holes(pl);
+        st = vp_pl_close_holes(pl, 0);
         pl->phase = st > 0 ? PH_RUN : PH_COMPONENTS;
         return st > 0 ? VP_OK : st;
     case PH_COMPONENTS:
