@@ -86,20 +86,29 @@ static int ring_blocked(const vp_planner_t *pl, uint32_t t0, uint32_t x, uint32_
     return broken;
 }
 
+/* A facet record with edge (a, b): the first one, or with `largest` the largest ball among the
+ * ones not stuck. NONE when there is none. */
+static uint32_t edge_facet(const vp_planner_t *pl, uint32_t a, uint32_t b, int largest)
+{
+    uint32_t k, best = NONE;
+    for (k = 0; k < pl->pool.nfrec; k++) {
+        const vp_frec_t *f = &pl->pool.frec[k];
+        if (f->v[0] == NONE || (largest && (f->flags & FREC_STUCK))) continue;
+        if (!(f->v[0] == a || f->v[1] == a || f->v[2] == a) || !(f->v[0] == b || f->v[1] == b || f->v[2] == b))
+            continue;
+        if (!largest) return k;
+        if (best == NONE || f->r > pl->pool.frec[best].r) best = k;
+    }
+    return best;
+}
+
 static int refine_at_edges(vp_planner_t *pl, const uint32_t *tab, uint32_t slots)
 {
     uint32_t i, refined = 0;
     for (i = 0; i < slots; i++) {
-        uint32_t a = tab[3 * i], b = tab[3 * i + 1], k, best = NONE;
+        uint32_t a = tab[3 * i], b = tab[3 * i + 1], best;
         if (a == NONE || tab[3 * i + 2] == 2) continue;
-        for (k = 0; k < pl->pool.nfrec; k++) {
-            const vp_frec_t *f = &pl->pool.frec[k];
-            int ha, hb;
-            if (f->v[0] == NONE || (f->flags & FREC_STUCK)) continue;
-            ha = f->v[0] == a || f->v[1] == a || f->v[2] == a;
-            hb = f->v[0] == b || f->v[1] == b || f->v[2] == b;
-            if (ha && hb && (best == NONE || f->r > pl->pool.frec[best].r)) best = k;
-        }
+        best = edge_facet(pl, a, b, 1);
         if (best == NONE || pl->pool.frec[best].heap != NONE ||
             !(pl->pool.frec[best].r > MANIFOLD_FLOOR_REL * pl->cfg.eps))
             continue;
@@ -137,21 +146,13 @@ VP_PL_API int vp_pl_close_holes(vp_planner_t *pl, int refine_only)
     }
     if (refine_only) return refine_at_edges(pl, tab, slots);
     for (i = 0; i < slots; i++) {
-        uint32_t fv[3], a = tab[3 * i], b = tab[3 * i + 1], t, k;
+        uint32_t a = tab[3 * i], b = tab[3 * i + 1], t;
         int fi, n;
         if (a == NONE || tab[3 * i + 2] == 2) continue;
         /* a facet record with this edge gives a tet to turn around it from */
-        t = NONE;
-        for (k = 0; k < pl->pool.nfrec && t == NONE; k++) {
-            const vp_frec_t *f = &pl->pool.frec[k];
-            int ha, hb;
-            if (f->v[0] == NONE) continue;
-            ha = f->v[0] == a || f->v[1] == a || f->v[2] == a;
-            hb = f->v[0] == b || f->v[1] == b || f->v[2] == b;
-            if (ha && hb) { memcpy(fv, f->v, sizeof fv); t = k; }
-        }
+        t = edge_facet(pl, a, b, 0);
         if (t == NONE) continue;
-        t = vp_pl_find_facet(pl, fv, &fi, 3u * slots); /* the table stays whole */
+        t = vp_pl_find_facet(pl, pl->pool.frec[t].v, &fi, 3u * slots); /* the table stays whole */
         if (t == NONE) continue;
         n = probe_around_edge(pl, t, a, b);
         if (n < 0) return n;

@@ -13,7 +13,6 @@
  * objects where they fail (flat faces, sharp edges: one crossing per edge no longer holds)
  * the check refuses the segment, and it is never travelled. */
 #define PROOF_CHAIN_MAX 64u /* pieces of one walked ray looked at */
-/* free-graph edges: FEDGE_WORDS words each: a, b, next at a, next at b, proof */
 
 static int proof_new(vp_planner_t *pl, const double *o, const double *d, double len, uint32_t prev,
                      uint32_t *out)
@@ -31,37 +30,36 @@ static int proof_new(vp_planner_t *pl, const double *o, const double *d, double 
     return VP_OK;
 }
 
+/* 1 if x lies within tol of the line through p's origin along p's direction; *s its parameter */
+static int on_line(const vp_proof_t *p, const double *x, double tol, double *s)
+{
+    double d[3];
+    int k;
+    vp_sub3(d, x, p->o);
+    *s = vp_dot3(d, p->d);
+    for (k = 0; k < 3; k++) d[k] -= *s * p->d[k];
+    return vp_dot3(d, d) <= tol * tol;
+}
+
 /* 1 if proof id shows every point of [a, b] free: within pl->ptol of the ray and of its free
  * part (the union of the pieces of its chain), or the whole segment outside Omega. */
 VP_PL_API int vp_pl_proof_covers(const vp_planner_t *pl, uint32_t id, const double *a, const double *b)
 {
-    double lo[PROOF_CHAIN_MAX], hi[PROOF_CHAIN_MAX], sa, sb, need0, need1, cur, x[3], tol = pl->ptol;
+    double lo[PROOF_CHAIN_MAX], hi[PROOF_CHAIN_MAX], sa, sb, need0, need1, cur, tol = pl->ptol;
     const vp_proof_t *p;
     uint32_t n = 0, i, j;
-    int k;
     if (id == PROOF_OUTSIDE) return !vp_pl_seg_enters_omega(&pl->cfg, a, b);
     if (id >= pl->pool.nproof) return 0;
     p = &pl->pool.proof[id];
     /* both ends on the ray's line */
-    vp_sub3(x, a, p->o);
-    sa = vp_dot3(x, p->d);
-    for (k = 0; k < 3; k++) x[k] -= sa * p->d[k];
-    if (!(vp_dot3(x, x) <= tol * tol)) return 0;
-    vp_sub3(x, b, p->o);
-    sb = vp_dot3(x, p->d);
-    for (k = 0; k < 3; k++) x[k] -= sb * p->d[k];
-    if (!(vp_dot3(x, x) <= tol * tol)) return 0;
+    if (!on_line(p, a, tol, &sa) || !on_line(p, b, tol, &sb)) return 0;
     need0 = sa < sb ? sa : sb;
     need1 = sa < sb ? sb : sa;
     /* the free intervals of the chain on that line */
     for (i = id; i != PROOF_NONE && i < pl->pool.nproof && n < PROOF_CHAIN_MAX; i = pl->pool.proof[i].prev) {
         const vp_proof_t *q = &pl->pool.proof[i];
         double s0;
-        if (!(vp_dot3(q->d, p->d) > 1.0 - DIR_COS_EPS)) break;
-        vp_sub3(x, q->o, p->o);
-        s0 = vp_dot3(x, p->d);
-        for (k = 0; k < 3; k++) x[k] -= s0 * p->d[k];
-        if (!(vp_dot3(x, x) <= tol * tol)) break;
+        if (!(vp_dot3(q->d, p->d) > 1.0 - DIR_COS_EPS) || !on_line(p, q->o, tol, &s0)) break;
         /* insertion by start */
         for (j = n; j > 0 && lo[j - 1] > s0; j--) { lo[j] = lo[j - 1]; hi[j] = hi[j - 1]; }
         lo[j] = s0;
