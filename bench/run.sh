@@ -4,3 +4,5 @@ B=${1:-build}
 sh bench/delaunay.sh "$B"
 echo
 sh bench/planner.sh "$B"
+echo
+sh bench/accuracy.sh "$B"

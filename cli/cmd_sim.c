@@ -59,12 +59,15 @@ static void sim_usage(FILE *f)
         "  --size-rel E       adaptive sizing (paper 002): a ball is refined when its radius is above\n"
         "                     g(c) = min_p (E dM(p) + |c - p|), dM from the samples' poles, held\n"
         "                     between --min-size and eps (then the largest ball); 0.1-0.5 is usual\n"
-        "  --min-size F       the sizing field's floor (object units; default eps/10): it ends\n"
-        "                     refinement on sharp edges and thin parts\n"
+        "  --min-size F       the floor of the sizing field (object units; default eps/10) or of\n"
+        "                     the distance bound (default none): no ball smaller is refined\n"
+        "  --max-distance D   the distance bound: a facet is refined where it strays farther than\n"
+        "                     D from the surface, at its ball centre (the bound of CGAL's mesher)\n"
+        "                     or, from the tangent planes at its vertices, across a sharp edge\n"
         "  --accuracy H       the target: the mesh within H of the object (two-sided Hausdorff);\n"
-        "                     chooses eps (diagonal/20), the sizing field (sqrt(8 H/diagonal), at most\n"
-        "                     0.3) and its floor (H); the simulator measures the result against H\n"
-        "                     (exit 6 when it is farther). Not with --eps, --size-rel, --min-size\n"
+        "                     chooses eps (diagonal/20), the distance bound (H/3) and its floor\n"
+        "                     (H/4); the simulator measures the result against H (exit 6 when it\n"
+        "                     is farther). Not with --eps, --size-rel, --min-size, --max-distance\n"
         "  --accuracy-rel R   the same with H = R times the bounding-box diagonal\n");
     fprintf(f,
         "  --arena BYTES      memory given to the planner (default 512M; K, M, G suffixes)\n"
@@ -113,8 +116,8 @@ int vp_cli_sim(int argc, char **argv)
     if (!o.surface) { fprintf(stderr, "sim: --surface is required (see --help)\n"); return 2; }
     if (o.accuracy > 0.0 || o.accuracy_rel > 0.0) {
         /* the target chooses eps, the sizing field and its floor, and is measured */
-        if (o.eps > 0.0 || o.eps_rel > 0.0 || o.size_rel > 0.0 || o.min_size > 0.0) {
-            fprintf(stderr, "sim: --accuracy chooses eps, --size-rel and --min-size: give it alone\n");
+        if (o.eps > 0.0 || o.eps_rel > 0.0 || o.size_rel > 0.0 || o.min_size > 0.0 || o.max_distance > 0.0) {
+            fprintf(stderr, "sim: --accuracy chooses eps, the distance bound and its floor: give it alone\n");
             return 2;
         }
         if (o.hausdorff == 0) { fprintf(stderr, "sim: --accuracy is measured: --hausdorff 0 would skip that\n"); return 2; }

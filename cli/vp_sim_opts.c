@@ -40,7 +40,7 @@ int vp_sim_parse_option(vp_sim_options_t *o, int argc, char **argv, int *i, char
         strcmp(a, "--noise") && strcmp(a, "--dropout") && strcmp(a, "--clearance") &&
         strcmp(a, "--max-range") && strcmp(a, "--min-range") && strcmp(a, "--arena") && strcmp(a, "--omega") &&
         strcmp(a, "--seed") && strcmp(a, "--hausdorff") && strcmp(a, "--confirm") && strcmp(a, "--margin") &&
-        strcmp(a, "--angle") && strcmp(a, "--size-rel") && strcmp(a, "--min-size") &&
+        strcmp(a, "--angle") && strcmp(a, "--size-rel") && strcmp(a, "--min-size") && strcmp(a, "--max-distance") &&
         strcmp(a, "--accuracy") && strcmp(a, "--accuracy-rel"))
         return 1;
     if (!val) { snprintf(err, errlen, "%s needs a value", a); return -1; }
@@ -104,6 +104,9 @@ int vp_sim_parse_option(vp_sim_options_t *o, int argc, char **argv, int *i, char
         }
         if (o->accuracy > 0 || o->accuracy_rel > 0) { snprintf(err, errlen, "give one of --accuracy and --accuracy-rel"); return -1; }
         if (rel) o->accuracy_rel = v; else o->accuracy = v;
+    } else if (!strcmp(a, "--max-distance")) {
+        if (!(v > 0 && v < 1e150)) { snprintf(err, errlen, "--max-distance must be > 0 (object units)"); return -1; }
+        o->max_distance = v;
     } else if (!strcmp(a, "--min-size")) {
         if (!(v > 0 && v < 1e150)) { snprintf(err, errlen, "--min-size must be > 0 (object units)"); return -1; }
         o->min_size = v;

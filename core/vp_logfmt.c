@@ -63,6 +63,16 @@ static size_t bounded_len(const char *s, size_t max)
     return n;
 }
 
+/* after the note, version 2: the sizing field's two numbers (size_rel, min_size); version 3:
+ * those and the distance bound; a version 1 header has none. The oldest version that holds
+ * the configuration is written. */
+static int sizing(const vp_planner_config_t *c) { return c->size_rel != 0.0 || c->min_size != 0.0; }
+static uint32_t header_version(const vp_planner_config_t *c)
+{
+    return c->max_distance != 0.0 ? 3u : sizing(c) ? 2u : 1u;
+}
+static uint32_t ext_bytes(uint32_t version) { return version >= 3u ? 24u : version == 2u ? 16u : 0u; }
+
 /* ---------- header ---------- */
 
 void vp_logfmt_header_init(vp_logfmt_header_t *h, const vp_planner_config_t *cfg, uint64_t arena_bytes,
@@ -70,7 +80,7 @@ void vp_logfmt_header_init(vp_logfmt_header_t *h, const vp_planner_config_t *cfg
 {
     size_t n;
     memset(h, 0, sizeof *h);
-    h->version = cfg && (cfg->size_rel != 0.0 || cfg->min_size != 0.0) ? 2u : 1u; /* as encoded */
+    h->version = cfg ? header_version(cfg) : 1u; /* as encoded */
     h->units = units;
     if (cfg) h->cfg = *cfg;
     h->arena_bytes = arena_bytes;
@@ -82,10 +92,6 @@ void vp_logfmt_header_init(vp_logfmt_header_t *h, const vp_planner_config_t *cfg
     h->note[n] = 0;
 }
 
-/* version 2: the sizing field's two numbers after the note (a version 1 header has none) */
-#define SIZING_EXT 16u
-static int sizing(const vp_planner_config_t *c) { return c->size_rel != 0.0 || c->min_size != 0.0; }
-
 int vp_logfmt_header_size(const vp_logfmt_header_t *h)
 {
     size_t bl, nl;
@@ -93,7 +99,7 @@ int vp_logfmt_header_size(const vp_logfmt_header_t *h)
     bl = bounded_len(h->board, VP_LOGFMT_BOARD_MAX + 1);
     nl = bounded_len(h->note, VP_LOGFMT_NOTE_MAX + 1);
     if (bl > VP_LOGFMT_BOARD_MAX || nl > VP_LOGFMT_NOTE_MAX) return VP_EINVAL;
-    return (int)(HDR_FIXED + 24u * h->cfg.ninterior + 2u + bl + 2u + nl + (sizing(&h->cfg) ? SIZING_EXT : 0u) + 4u);
+    return (int)(HDR_FIXED + 24u * h->cfg.ninterior + 2u + bl + 2u + nl + ext_bytes(header_version(&h->cfg)) + 4u);
 }
 
 int vp_logfmt_header_encode(const vp_logfmt_header_t *h, void *buf, size_t cap)
@@ -107,7 +113,7 @@ int vp_logfmt_header_encode(const vp_logfmt_header_t *h, void *buf, size_t cap)
     if (!buf || cap < (size_t)size) return VP_ENOMEM;
     c = &h->cfg;
     memcpy(p, vp_logfmt_magic, VP_LOGFMT_MAGIC_LEN);
-    put16(p + 8, sizing(c) ? 2u : 1u);
+    put16(p + 8, header_version(c));
     put16(p + 10, 0);
     put32(p + 12, (uint32_t)size);
     put32(p + 16, h->units);
@@ -136,10 +142,11 @@ int vp_logfmt_header_encode(const vp_logfmt_header_t *h, void *buf, size_t cap)
     put16(q, (uint32_t)nl);
     memcpy(q + 2, h->note, nl);
     q += 2 + nl;
-    if (sizing(c)) {
+    if (header_version(c) >= 2u) {
         putd(q, c->size_rel);
         putd(q + 8, c->min_size);
-        q += SIZING_EXT;
+        if (header_version(c) >= 3u) putd(q + 16, c->max_distance);
+        q += ext_bytes(header_version(c));
     }
     put32(q, vp_logfmt_crc32(0, p, (size_t)(q - p)));
     return size;
@@ -183,13 +190,17 @@ static int header_decode(const unsigned char *p, uint32_t n, vp_logfmt_header_t 
     q += bl;
     nl = get16(q);
     q += 2;
-    if (nl > VP_LOGFMT_NOTE_MAX || (size_t)(end - q) != nl + (h->version >= 2u ? SIZING_EXT : 0u)) return 0;
+    if (h->version < 1u || h->version > VP_LOGFMT_VERSION) return 0;
+    if (nl > VP_LOGFMT_NOTE_MAX || (size_t)(end - q) != nl + ext_bytes(h->version)) return 0;
     memcpy(h->note, q, nl);
     h->note[nl] = 0;
     if (h->version >= 2u) {
         c->size_rel = getd(q + nl);
         c->min_size = getd(q + nl + 8);
-        if (!vp_finite(c->size_rel) || !vp_finite(c->min_size) || !sizing(c)) return 0;
+        if (h->version >= 3u) c->max_distance = getd(q + nl + 16);
+        if (!vp_finite(c->size_rel) || !vp_finite(c->min_size) || !vp_finite(c->max_distance) ||
+            header_version(c) != h->version)
+            return 0;
     }
     /* every number the planner needs must be finite; embedded NULs are not text */
     if (!vp_finite(c->eps) || !vp_finite3(c->omega_lo) || !vp_finite3(c->omega_hi) ||

@@ -19,8 +19,9 @@
 #include "vp_planner.h"
 #include "vp_status.h"
 
-#define VP_LOGFMT_VERSION     2u  /* 2 adds the sizing field (size_rel, min_size) after the note;
-                                     a header without it is written as version 1 */
+#define VP_LOGFMT_VERSION     3u  /* 2 adds the sizing field (size_rel, min_size) after the note,
+                                     3 the distance bound too; a header is written in the
+                                     oldest version that holds its configuration */
 #define VP_LOGFMT_MAGIC_LEN   8
 #define VP_LOGFMT_BOARD_MAX   63     /* bytes of the board name */
 #define VP_LOGFMT_NOTE_MAX    1023   /* bytes of the free-form note */

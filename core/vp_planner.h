@@ -53,6 +53,12 @@ typedef struct vp_planner_config {
                                     radius exceeds g(c) = size_rel min_p (dM(p) + |c - p|),
                                     held to [min_size, eps]; 0: eps everywhere (below 1) */
     double min_size;             /* the sizing field's floor (> 0 and <= eps with size_rel) */
+    double max_distance;         /* > 0: a ball is also bad when its centre (on the surface) is
+                                    farther than this from its facet's circumcentre, i.e. the
+                                    facet strays that far from the surface there (the distance
+                                    bound of Boissonnat-Oudot and CGAL's mesher), or leaves
+                                    the tangent planes at its vertices that far (a sharp
+                                    edge cut off); never below noise_tol; 0: off */
     uint32_t flags;              /* VP_PLAN_* */
 } vp_planner_config_t;
 

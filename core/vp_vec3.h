@@ -43,6 +43,14 @@ static inline void vp_sub3(double *o, const double *a, const double *b)
     o[2] = a[2] - b[2];
 }
 
+/* o = a + b (o may be a or b) */
+static inline void vp_add3(double *o, const double *a, const double *b)
+{
+    o[0] = a[0] + b[0];
+    o[1] = a[1] + b[1];
+    o[2] = a[2] + b[2];
+}
+
 /* o = a x b (o must be neither a nor b) */
 static inline void vp_cross3(double *o, const double *a, const double *b)
 {

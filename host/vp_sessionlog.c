@@ -284,6 +284,7 @@ int vp_sessionlog_same_config(const vp_planner_config_t *a, uint64_t arena_a,
     else if (!bits_eq(&a->min_angle, &b->min_angle, 1)) f = "angle bound";
     else if (!bits_eq(&a->size_rel, &b->size_rel, 1)) f = "sizing field (--size-rel)";
     else if (!bits_eq(&a->min_size, &b->min_size, 1)) f = "size floor (--min-size)";
+    else if (!bits_eq(&a->max_distance, &b->max_distance, 1)) f = "distance bound (--max-distance)";
     else if (a->confirm_misses != b->confirm_misses) f = "confirm misses";
     else if (a->flags != b->flags) f = "planner flags";
     else if (arena_a != arena_b) f = "arena size";

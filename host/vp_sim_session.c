@@ -42,6 +42,7 @@ void vp_sim_session_note(const vp_sim_options_t *o, char *buf, size_t n)
     if (o->accuracy > 0) vp_note_put_num(buf, n, &len, "--accuracy", o->accuracy);
     if (o->accuracy_rel > 0) vp_note_put_num(buf, n, &len, "--accuracy-rel", o->accuracy_rel);
     if (o->min_size > 0) vp_note_put_num(buf, n, &len, "--min-size", o->min_size);
+    if (o->max_distance > 0) vp_note_put_num(buf, n, &len, "--max-distance", o->max_distance);
     vp_note_put_opt(buf, n, &len, "--arena", "%zu", o->arena);
     vp_note_put_str(buf, n, &len, "--omega", o->omega_ball ? "ball" : "box");
     vp_note_put_num(buf, n, &len, "--margin", o->omega_margin);

@@ -116,9 +116,14 @@ int vp_sim_check_out(const vp_sim_options_t *o, char *err, size_t errlen)
     return vp_path_cat(path, sizeof path, o->out, ".off", err, errlen);
 }
 
-/* measured at --accuracy-rel 0.002: 4 left bear, knot, torus, ellipsoid, genus2 at 0.2-0.4 of
- * the target, 12 put bear and knot beyond it (1.1-1.2), 8 gives 0.3-0.85 on all of them */
-#define ACCURACY_E2 8.0
+/* An accuracy target H sets the distance bound to H / ACCURACY_SHARE and its floor to
+ * H / ACCURACY_FLOOR (measured: see the README's accuracy table) */
+#ifndef ACCURACY_SHARE
+#define ACCURACY_SHARE 3.0
+#endif
+#ifndef ACCURACY_FLOOR
+#define ACCURACY_FLOOR 4.0
+#endif
 
 int vp_sim_open(vp_sim_t *s, const vp_sim_options_t *o, char *err, size_t errlen)
 {
@@ -134,10 +139,10 @@ int vp_sim_open(vp_sim_t *s, const vp_sim_options_t *o, char *err, size_t errlen
     s->diag = sqrt(s->diag);
     s->components = vp_surface_components(s->surf);
     s->target = o->accuracy > 0 ? o->accuracy : o->accuracy_rel * s->diag;
-    /* an accuracy target H: the sizing field with eps' = sqrt(ACCURACY_E2 H / diag) (a ball of
-     * radius r = eps' dM on a surface of curvature radius dM lies within about r^2 / (2 dM) of it,
-     * and dM is at most diag / 2), its floor H (on a sharp edge a facet cuts about its own size
-     * off), eps diag / 20; the result is measured against the target, never assumed */
+    /* an accuracy target H: a facet is refined where it strays more than H / ACCURACY_SHARE from
+     * the surface at its ball centre, or (across a sharp edge, from the tangent planes at its
+     * vertices) along an edge; eps diag / 20; the result is measured against the target,
+     * never assumed */
     eps = s->target > 0 ? s->diag / 20.0 : o->eps > 0 ? o->eps : o->eps_rel * s->diag;
     /* a device with a body stays outside Omega: Omega keeps twice its radius from the object */
     st = vp_sim_config(s->surf, eps, o->omega_ball,
@@ -153,9 +158,8 @@ int vp_sim_open(vp_sim_t *s, const vp_sim_options_t *o, char *err, size_t errlen
     s->cfg.clearance = o->clearance;
     s->cfg.min_angle = o->min_angle;
     if (s->target > 0) {
-        double e = sqrt(ACCURACY_E2 * s->target / s->diag);
-        s->cfg.size_rel = e < 0.3 ? e : 0.3;
-        s->cfg.min_size = s->target < s->cfg.eps ? s->target : s->cfg.eps;
+        s->cfg.max_distance = s->target / ACCURACY_SHARE;
+        s->cfg.min_size = s->target / ACCURACY_FLOOR < s->cfg.eps ? s->target / ACCURACY_FLOOR : s->cfg.eps;
     } else if (o->size_rel > 0) {
         s->cfg.size_rel = o->size_rel;
         s->cfg.min_size = o->min_size > 0 ? o->min_size : s->cfg.eps / 10.0;
@@ -164,10 +168,13 @@ int vp_sim_open(vp_sim_t *s, const vp_sim_options_t *o, char *err, size_t errlen
                      s->cfg.min_size, s->cfg.eps);
             return VP_EINVAL;
         }
-    } else if (o->min_size > 0) {
-        snprintf(err, errlen, "--min-size is the floor of the sizing field: give --size-rel too");
+    } else if (o->min_size > 0 && !(o->max_distance > 0)) {
+        snprintf(err, errlen, "--min-size is the floor of the sizing field or the distance bound: give --size-rel or --max-distance too");
         return VP_EINVAL;
+    } else if (o->min_size > 0) {
+        s->cfg.min_size = o->min_size;
     }
+    if (o->max_distance > 0) s->cfg.max_distance = o->max_distance;
     s->cfg.max_range = o->max_range;
     s->cfg.flags = o->flags;
     memset(&dc, 0, sizeof dc);
@@ -295,9 +302,14 @@ void vp_sim_report(const vp_sim_t *s, const vp_sim_options_t *o, FILE *f)
                 nv ? (double)st.arena_peak / nv : 0.0);
         if (o->out && s->written) fprintf(f, "wrote %s.ply and %s.off\n", o->out, o->out);
         if (s->target > 0 && s->have_haus)
-            fprintf(f, "accuracy: target %.6g, measured Hausdorff %.6g: %s (sizing field eps' %.3g, floor %.6g, "
+        {
+            fprintf(f, "accuracy: target %.6g, measured Hausdorff %.6g: %s (distance bound %.6g, floor %.6g, "
                     "eps %.6g)\n", s->target, s->haus.hausdorff, s->haus.hausdorff <= s->target ? "within" : "NOT within",
-                    s->cfg.size_rel, s->cfg.min_size, s->cfg.eps);
+                    s->cfg.max_distance, s->cfg.min_size, s->cfg.eps);
+            if (s->cfg.noise_tol > s->cfg.max_distance)
+                fprintf(f, "accuracy: the hits are trusted to %.6g only (4 x the noise): the distance bound is "
+                        "that, above the target's share\n", s->cfg.noise_tol);
+        }
         if (st.unproven || st.stalls)
             fprintf(f, "safety: %llu segments an inference proposed were not proven free (never travelled); "
                     "%llu sides could not be probed\n", (unsigned long long)st.unproven, (unsigned long long)st.stalls);
@@ -317,7 +329,7 @@ void vp_sim_report(const vp_sim_t *s, const vp_sim_options_t *o, FILE *f)
                 "\"total_seconds\":%.4f,\"arena_bytes_peak\":%zu,\"insertions\":%llu,\"routes\":%llu,"
                 "\"astar_expansions\":%llu,\"astar_fallbacks\":%llu,\"shortcut_probes\":%llu,"
                 "\"escalations\":%llu,\"reseeds\":%llu,\"missing_components\":%u,\"unproven\":%llu,"
-                "\"stalls\":%llu,\"accuracy_target\":%.6g,\"size_rel\":%.6g,\"min_size\":%.6g}\n",
+                "\"stalls\":%llu,\"accuracy_target\":%.6g,\"size_rel\":%.6g,\"min_size\":%.6g,\"max_distance\":%.6g}\n",
                 o->surface, s->cfg.eps, vp_outcome_name(ex), ex, vp_strerror(s->run.status), nv, (unsigned)s->mesh.nt,
                 (unsigned long long)st.probes, (unsigned long long)st.hits,
                 (unsigned long long)st.misses, (unsigned long long)st.reprobes,
@@ -331,7 +343,7 @@ void vp_sim_report(const vp_sim_t *s, const vp_sim_options_t *o, FILE *f)
                 (unsigned long long)st.astar_fallbacks, (unsigned long long)st.shortcut_probes,
                 (unsigned long long)st.escalations, (unsigned long long)st.reseeds, st.missing_components,
                 (unsigned long long)st.unproven, (unsigned long long)st.stalls, s->target, s->cfg.size_rel,
-                s->cfg.min_size);
+                s->cfg.min_size, s->cfg.max_distance);
     }
 }
 

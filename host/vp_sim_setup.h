@@ -17,6 +17,7 @@ typedef struct vp_sim_options {
     const char *out;          /* PREFIX; NULL: do not write */
     double noise, dropout, clearance, max_range, min_range, min_angle;
     double size_rel, min_size;  /* the sizing field (0: off); its floor (0: eps / 10) */
+    double max_distance;      /* the distance bound (0: off) */
     double accuracy, accuracy_rel; /* the Hausdorff target (absolute, or of the diagonal; 0: none):
                                       chooses eps, the sizing field and its floor */
     int confirm;              /* -1: default */

@@ -1,31 +1,85 @@
 #!/bin/sh
-# sim --accuracy / --accuracy-rel: the target chooses eps, the sizing field and its floor, and the
-# simulator measures the mesh against it (two-sided Hausdorff): exit 0 within it, 6 beyond it
-# (a case that must be caught: the coarse icosphere at 0.5% of its diagonal, where the rule's
-# floor is too coarse for its edges), 2 when combined with the settings it chooses.
+# sim --accuracy / --accuracy-rel: the target chooses eps, the distance bound and its floor, and
+# the result is measured against it (two-sided Hausdorff): exit 0 within it, 6 beyond it.
+#   - smooth, flat-faced and CAD objects close with their genus, and CGAL (tests/cgal_object.cpp,
+#     PMP::approximate_Hausdorff_distance on CGAL's own samples, not voroprobe's measure) finds
+#     every mesh within the target; the session logs pass `log verify`
+#   - the checker must fail: the same mesh moved by a known amount is measured at least that far
+#   - a target the rangefinder's noise cannot meet is caught (exit 6, and the summary says why)
+#   - misuse is refused (exit 2)
 set -u
 BUILD=${BUILD:-build}
 VP=${VP:-$BUILD/voroprobe}
+D="$BUILD/accuracy"
+mkdir -p "$D"
 tmp=$(mktemp -d) || exit 1
 trap 'rm -rf "$tmp"' EXIT
 fail=0
 bad() { echo "FAIL: $*"; fail=1; }
 field() { tail -n 1 "$1" | sed -n "s/.*\"$2\":\([^,}]*\).*/\1/p" | tr -d '"'; }
 
-"$VP" sim --surface sphere --accuracy-rel 0.01 --out "$tmp/s" --json --quiet >"$tmp/s.txt" 2>&1; rc=$?
-h=$(field "$tmp/s.txt" hausdorff); t=$(field "$tmp/s.txt" accuracy_target)
-[ $rc -eq 0 ] && [ "$(field "$tmp/s.txt" status)" = closed ] || bad "sphere --accuracy-rel 0.01: exit $rc"
-awk -v h="$h" -v t="$t" 'BEGIN { exit !(h > 0 && t > 0 && h <= t) }' || bad "sphere: Hausdorff $h above the target $t"
-"$VP" log dump "$tmp/s.vplog" | head -5 | grep -q -- "--accuracy-rel 0.01" || bad "the target is not in the log's note"
+# ---- the independent measure
+CG="$D/cgal_object"
+if [ -f /usr/include/CGAL/Polygon_mesh_processing/distance.h ] && command -v g++ >/dev/null 2>&1; then
+  if [ ! -x "$CG" ] || [ tests/cgal_object.cpp -nt "$CG" ]; then
+    g++ -O2 -o "$CG.tmp" tests/cgal_object.cpp -lgmp -lmpfr >"$D/build.log" 2>&1 && mv "$CG.tmp" "$CG" ||
+      { bad "tests/cgal_object.cpp does not build (log: $D/build.log)"; rm -f "$CG"; }
+  fi
+else
+  bad "no CGAL (libcgal-dev): the accuracy would be measured by voroprobe alone"
+fi
+chaus() { "$CG" hausdorff "$1" "$2" | sed -n 's/.*"hausdorff":\([^,}]*\).*/\1/p'; }
 
-"$VP" sim --surface off:tests/meshes/icosphere2.off --accuracy-rel 0.005 --out "$tmp/i" --json --quiet >"$tmp/i.txt" 2>&1; rc=$?
-hi=$(field "$tmp/i.txt" hausdorff); ti=$(field "$tmp/i.txt" accuracy_target)
-[ $rc -eq 6 ] && [ "$(field "$tmp/i.txt" status)" = not_within_target ] || bad "icosphere beyond its target: exit $rc (6 expected)"
-awk -v h="$hi" -v t="$ti" 'BEGIN { exit !(h > t) }' || bad "icosphere: exit 6 but Hausdorff $hi within $ti"
+# ---- the checker must fail: the cube moved by 0.01 along x is at least 0.01 away
+if [ -x "$CG" ]; then
+  # (OFF: the header line, comments, the counts, then the 8 vertices)
+  awk '/^#/ || NF == 0 { next } !h { print; h = 1; next } !c { print; c = 1; next }
+       n < 8 { print $1 + 0.01, $2, $3; n++; next } { print }' tests/meshes/cube.off >"$tmp/moved.off"
+  h=$(chaus tests/meshes/cube.off "$tmp/moved.off")
+  awk -v h="$h" 'BEGIN { exit !(h >= 0.0099 && h < 0.0102) }' || bad "CGAL measure: the cube moved by 0.01 measured at $h"
+  h=$(chaus tests/meshes/cube.off tests/meshes/cube.off)
+  awk -v h="$h" 'BEGIN { exit !(h < 1e-9) }' || bad "CGAL measure: the cube against itself measured at $h"
+fi
 
+# ---- objects: closed, right genus, within the target by both measures, the log verified
+summary=""
+for c in sphere:0.01:0 torus:0.01:1 off:tests/meshes/cube.off:0.005:0 off:tests/meshes/tetra.off:0.01:0 \
+         off:tests/meshes/cylinder32.off:0.005:0 off:../shared/meshes/fandisk.off:0.01:0 \
+         off:../shared/meshes/knot.off:0.01:1; do
+  g=${c##*:}; r=${c%:*}; r=${r##*:}; s=${c%:*:*}
+  case $s in off:*) [ -f "${s#off:}" ] || { echo "skip $s (not found)"; continue; };; esac
+  n=$(echo "$s" | sed 's|.*/||; s|\.off$||')
+  "$VP" sim --surface "$s" --accuracy-rel "$r" --out "$tmp/$n" --json --quiet >"$tmp/$n.txt" 2>&1; rc=$?
+  h=$(field "$tmp/$n.txt" hausdorff); t=$(field "$tmp/$n.txt" accuracy_target); v=$(field "$tmp/$n.txt" vertices)
+  [ $rc -eq 0 ] && [ "$(field "$tmp/$n.txt" status)" = closed ] || { bad "$n --accuracy-rel $r: exit $rc"; tail -3 "$tmp/$n.txt"; }
+  [ "$(field "$tmp/$n.txt" genus)" = "$g" ] || bad "$n: genus $(field "$tmp/$n.txt" genus), $g expected"
+  awk -v h="$h" -v t="$t" 'BEGIN { exit !(h > 0 && t > 0 && h <= t) }' || bad "$n: Hausdorff $h above the target $t"
+  awk -v d="$(field "$tmp/$n.txt" max_distance)" -v t="$t" 'BEGIN { exit !(d > 0 && d < t) }' || bad "$n: no distance bound below the target"
+  hc=-
+  case $s in
+    off:*) if [ -x "$CG" ]; then
+             hc=$(chaus "${s#off:}" "$tmp/$n.off")
+             awk -v h="$hc" -v t="$t" 'BEGIN { exit !(h > 0 && h <= t) }' || bad "$n: CGAL measures $hc, above the target $t"
+           fi;;
+  esac
+  "$VP" log verify "$tmp/$n.vplog" >"$tmp/$n.verify" 2>&1 || { bad "$n: log verify failed"; tail -3 "$tmp/$n.verify"; }
+  summary="$summary $n:${v}v,H/T=$(awk -v h="$h" -v t="$t" 'BEGIN { printf "%.2f", h / t }'),cgal=$(awk -v h="$hc" -v t="$t" 'BEGIN { if (h == "-") print "-"; else printf "%.2f", h / t }')"
+done
+"$VP" log dump "$tmp/sphere.vplog" | head -5 | grep -q -- "--accuracy-rel 0.01" || bad "the target is not in the log's note"
+
+# ---- a target the noise cannot meet: caught, and said why
+"$VP" sim --surface sphere --accuracy-rel 0.005 --noise 0.01 --out "$tmp/n" >"$tmp/n.txt" 2>&1; rc=$?
+[ $rc -eq 6 ] && grep -q "NOT within" "$tmp/n.txt" && grep -q "noise" "$tmp/n.txt" ||
+  { bad "noise 0.01 against a target of 0.0175: exit $rc (6 expected)"; tail -4 "$tmp/n.txt"; }
+
+# ---- misuse
 "$VP" sim --surface sphere --accuracy 0.01 --eps 0.1 --out "$tmp/x" >/dev/null 2>"$tmp/e.txt"; rc=$?
 [ $rc -eq 2 ] && grep -q "give it alone" "$tmp/e.txt" || bad "--accuracy with --eps: exit $rc"
+"$VP" sim --surface sphere --accuracy 0.01 --max-distance 0.001 --out "$tmp/x" >/dev/null 2>&1; rc=$?
+[ $rc -eq 2 ] || bad "--accuracy with --max-distance: exit $rc"
 "$VP" sim --surface sphere --accuracy 0.01 --hausdorff 0 --out "$tmp/x" >/dev/null 2>&1 && bad "--accuracy with --hausdorff 0 accepted"
+"$VP" sim --surface sphere --eps 0.1 --max-distance -1 --out "$tmp/x" >/dev/null 2>&1; rc=$?
+[ $rc -eq 2 ] || bad "--max-distance -1: exit $rc"
 
-[ $fail -eq 0 ] && echo "accuracy: sphere within its target (Hausdorff $h <= $t), the coarse icosphere caught beyond it ($hi > $ti, exit 6), misuse refused"
+[ $fail -eq 0 ] && echo "accuracy: within the target by voroprobe's and CGAL's measures:$summary; the moved cube measured right, noise beyond the target caught (exit 6), misuse refused"
 exit $fail

@@ -145,7 +145,7 @@ echo "damaged log: record $((nrec / 2 - 1)) at byte $off named; the valid part r
 # ---- a newer format version is refused (the header intact: its CRC rewritten; the CRC-32 of
 # the header's first H-4 bytes is the one in gzip's trailer)
 cp "$L" "$tmp/new.vplog"
-printf '\003' | dd of="$tmp/new.vplog" bs=1 seek=8 conv=notrunc 2>/dev/null
+printf '\377' | dd of="$tmp/new.vplog" bs=1 seek=8 conv=notrunc 2>/dev/null
 hl=$(od -An -tu4 -j12 -N4 "$tmp/new.vplog" | tr -d ' ')
 head -c $((hl - 4)) "$tmp/new.vplog" | gzip -c | tail -c 8 | head -c 4 |
   dd of="$tmp/new.vplog" bs=1 seek=$((hl - 4)) conv=notrunc 2>/dev/null

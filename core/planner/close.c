@@ -69,6 +69,7 @@ static int probe_around_edge(vp_planner_t *pl, uint32_t t0, uint32_t x, uint32_t
  * each such edge is refined like a bad ball, down to a floor on its radius so that it ends on
  * sharp edges and corners (inserted centres are farther than the floor from every sample). */
 #define MANIFOLD_FLOOR_REL 0.01 /* of eps: the smallest ball refined for the manifold criterion */
+#define MANIFOLD_FLOOR_MIN 0.25 /* of the distance bound's floor, when that is smaller */
 /* 1 if a side of a tet around edge (x, y) of Del(E) is blocked as unseen: a Voronoi edge there
  * could not be probed (occluded from dOmega for a device with a body, or too close), so the hole
  * is one the device cannot see, and refining there would only add samples it cannot close (a
@@ -105,12 +106,16 @@ static uint32_t edge_facet(const vp_planner_t *pl, uint32_t a, uint32_t b, int l
 static int refine_at_edges(vp_planner_t *pl, const uint32_t *tab, uint32_t slots)
 {
     uint32_t i, refined = 0;
+    /* with a distance bound the features found can be finer than eps / 100: the floor follows
+     * the bound's own floor */
+    double floor = MANIFOLD_FLOOR_REL * pl->cfg.eps;
+    if (pl->cfg.max_distance > 0.0 && MANIFOLD_FLOOR_MIN * pl->cfg.min_size < floor)
+        floor = MANIFOLD_FLOOR_MIN * pl->cfg.min_size;
     for (i = 0; i < slots; i++) {
         uint32_t a = tab[3 * i], b = tab[3 * i + 1], best;
         if (a == NONE || tab[3 * i + 2] == 2) continue;
         best = edge_facet(pl, a, b, 1);
-        if (best == NONE || pl->pool.frec[best].heap != NONE ||
-            !(pl->pool.frec[best].r > MANIFOLD_FLOOR_REL * pl->cfg.eps))
+        if (best == NONE || pl->pool.frec[best].heap != NONE || !(pl->pool.frec[best].r > floor))
             continue;
         {
             int fi;

@@ -54,6 +54,116 @@ VP_PL_API uint32_t vp_pl_frec_lookup(const vp_planner_t *pl, const uint32_t *fv)
     return found ? pl->pool.fhash[h] : NONE;
 }
 
+/* ---------- the samples' poles (Amenta and Bern): normals, distances to the medial axis ---------- */
+
+/* The centroid of v's Delaunay neighbours (inside their hull); 0 if v has none. */
+static int star_centroid(const vp_planner_t *pl, uint32_t v, const uint32_t *tets, int n, double *m)
+{
+    uint32_t cnt = 0, k;
+    int i;
+    m[0] = m[1] = m[2] = 0.0;
+    for (i = 0; i < n; i++) {
+        const uint32_t *w = vp_dt_tet(&pl->dt, tets[i]);
+        for (k = 0; k < 4; k++)
+            if (w[k] != v && w[k] != VP_DT_GHOST) {
+                const double *q = vp_dt_point(&pl->dt, w[k]);
+                m[0] += q[0]; m[1] += q[1]; m[2] += q[2];
+                cnt++;
+            }
+    }
+    if (cnt == 0) return 0;
+    for (k = 0; k < 3; k++) m[k] /= (double)cnt;
+    return 1;
+}
+
+/* The tets around sample v (in the scratch) and the direction u to its first pole: the
+ * farthest vertex of its Voronoi cell, or on the hull (the cell unbounded, *unbounded = 1)
+ * away from the neighbours' centroid. Returns the number of tets, 0 if no direction. */
+static int first_pole(vp_planner_t *pl, uint32_t v, double *u, int *unbounded)
+{
+    const double *p = vp_dt_point(&pl->dt, v);
+    uint32_t *tets = pl->pool.astar;
+    int n = vp_dt_incident_tets(&pl->dt, v, tets, (int)pl->pool.cap_astar), i;
+    double far = -1.0, c[3], d[3], dist;
+    *unbounded = 0;
+    u[0] = u[1] = u[2] = 0.0;
+    if (n <= 0) return 0;
+    for (i = 0; i < n; i++) {
+        if (vp_dt_is_ghost(&pl->dt, tets[i])) { *unbounded = 1; continue; }
+        if (vp_dt_circumcenter(&pl->dt, tets[i], c) != VP_OK) continue;
+        vp_sub3(d, c, p);
+        dist = vp_norm3(d);
+        if (dist > far) { far = dist; memcpy(u, d, sizeof d); }
+    }
+    if (*unbounded) {
+        double m[3];
+        if (!star_centroid(pl, v, tets, n, m)) return 0;
+        vp_sub3(u, p, m);
+        return n;
+    }
+    return far < 0.0 ? 0 : n;
+}
+
+static double pole_distance(vp_planner_t *pl, uint32_t v)
+{
+    const double *p = vp_dt_point(&pl->dt, v);
+    const uint32_t *tets = pl->pool.astar;
+    double u[3], c[3], d[3], dist, far = -1.0, other = -1.0;
+    int unbounded, n = first_pole(pl, v, u, &unbounded), i;
+    if (n == 0) return VP_PL_HUGE;
+    for (i = 0; i < n; i++) {
+        if (vp_dt_is_ghost(&pl->dt, tets[i]) || vp_dt_circumcenter(&pl->dt, tets[i], c) != VP_OK) continue;
+        vp_sub3(d, c, p);
+        dist = vp_norm3(d);
+        if (dist > far) far = dist;
+        if (vp_dot3(d, u) < 0.0 && dist > other) other = dist;
+    }
+    if (unbounded) return other >= 0.0 ? other : VP_PL_HUGE;
+    if (far < 0.0) return VP_PL_HUGE;
+    return other >= 0.0 && other < far ? other : far;
+}
+
+/* The pole vector at sample v (not unit; zero if none), the normal estimate of Amenta and Bern;
+ * on the hull (the first pole at infinity) the second pole, the farthest Voronoi vertex on
+ * the inner side, whose side is told by the sum of the outward normals of the hull facets at v
+ * (the neighbours' centroid says which side of those is out). The tets around v stay in the
+ * scratch; returns how many. */
+static int pole_vector(vp_planner_t *pl, uint32_t v, double *nrm)
+{
+    const uint32_t *tets = pl->pool.astar;
+    const double *p = vp_dt_point(&pl->dt, v);
+    double m[3], e1[3], e2[3], h[3], c[3], s, dist, other = -1.0, best[3] = { 0, 0, 0 };
+    int unbounded, n = first_pole(pl, v, nrm, &unbounded), i;
+    if (n == 0 || !unbounded) return n;
+    vp_sub3(m, p, nrm); /* the centroid */
+    nrm[0] = nrm[1] = nrm[2] = 0.0;
+    for (i = 0; i < n; i++) {
+        const uint32_t *w = vp_dt_tet(&pl->dt, tets[i]);
+        if (!vp_dt_is_ghost(&pl->dt, tets[i])) continue;
+        vp_sub3(e1, vp_dt_point(&pl->dt, w[1]), vp_dt_point(&pl->dt, w[0]));
+        vp_sub3(e2, vp_dt_point(&pl->dt, w[2]), vp_dt_point(&pl->dt, w[0]));
+        vp_cross3(h, e1, e2);
+        vp_sub3(e1, vp_dt_point(&pl->dt, w[0]), m);
+        s = vp_dot3(h, e1);
+        if (s < 0.0) vp_sub3(nrm, nrm, h);
+        else if (s > 0.0) vp_add3(nrm, nrm, h);
+    }
+    if (!(vp_dot3(nrm, nrm) > 0.0)) vp_sub3(nrm, p, m);
+    for (i = 0; i < n; i++) {
+        if (vp_dt_is_ghost(&pl->dt, tets[i]) || vp_dt_circumcenter(&pl->dt, tets[i], c) != VP_OK) continue;
+        vp_sub3(e1, c, p);
+        if (vp_dot3(e1, nrm) < 0.0 && (dist = vp_norm3(e1)) > other) { other = dist; memcpy(best, e1, sizeof best); }
+    }
+    if (other > 0.0) { nrm[0] = -best[0]; nrm[1] = -best[1]; nrm[2] = -best[2]; }
+    return n;
+}
+
+/* The unit normal estimate at sample v (zero if none): its pole vector */
+static void sample_normal(vp_planner_t *pl, uint32_t v, double *nrm)
+{
+    if (pole_vector(pl, v, nrm) == 0 || !vp_normalize3(nrm)) nrm[0] = nrm[1] = nrm[2] = 0.0;
+}
+
 /* ---------- the sizing field (paper 002, section 6) ----------
  * g(x) = size_rel * min_p (dM(p) + |x - p|): size_rel times the 1-Lipschitz extension of dM from
  * the samples p; dM(p), the distance to the medial axis, is estimated by the distance to p's
@@ -61,45 +171,6 @@ VP_PL_API uint32_t vp_pl_frec_lookup(const vp_planner_t *pl, const uint32_t *fv)
  * one on the other side. The min is taken over the facet's own vertices (the samples nearest
  * its ball centre), and g is held to [min_size, eps]: the floor ends refinement on sharp edges,
  * where dM goes to 0. A ball is bad when r > g(c), i.e. r > size_rel dM / (1 - size_rel). */
-static double pole_distance(vp_planner_t *pl, uint32_t v)
-{
-    const double *p = vp_dt_point(&pl->dt, v);
-    uint32_t *tets = pl->pool.astar, i;
-    int n = vp_dt_incident_tets(&pl->dt, v, tets, (int)pl->pool.cap_astar), unbounded = 0;
-    double far = -1.0, other = -1.0, u[3] = { 0, 0, 0 }, c[3], d[3], dist;
-    if (n <= 0) return VP_PL_HUGE;
-    for (i = 0; i < (uint32_t)n; i++) {
-        if (vp_dt_is_ghost(&pl->dt, tets[i])) { unbounded = 1; continue; }
-        if (vp_dt_circumcenter(&pl->dt, tets[i], c) != VP_OK) continue;
-        vp_sub3(d, c, p);
-        dist = vp_norm3(d);
-        if (dist > far) { far = dist; memcpy(u, d, sizeof u); }
-    }
-    if (unbounded) {
-        /* the first pole is at infinity, outward: away from the neighbours' centroid */
-        double m[3] = { 0, 0, 0 };
-        uint32_t cnt = 0, k;
-        for (i = 0; i < (uint32_t)n; i++) {
-            const uint32_t *w = vp_dt_tet(&pl->dt, tets[i]);
-            for (k = 0; k < 4; k++)
-                if (w[k] != v && w[k] != VP_DT_GHOST) {
-                    const double *q = vp_dt_point(&pl->dt, w[k]);
-                    m[0] += q[0]; m[1] += q[1]; m[2] += q[2];
-                    cnt++;
-                }
-        }
-        if (cnt == 0) return VP_PL_HUGE;
-        for (k = 0; k < 3; k++) u[k] = p[k] - m[k] / (double)cnt;
-    }
-    for (i = 0; i < (uint32_t)n; i++) {
-        if (vp_dt_is_ghost(&pl->dt, tets[i]) || vp_dt_circumcenter(&pl->dt, tets[i], c) != VP_OK) continue;
-        vp_sub3(d, c, p);
-        if (vp_dot3(d, u) < 0.0 && (dist = vp_norm3(d)) > other) other = dist;
-    }
-    if (unbounded) return other >= 0.0 ? other : VP_PL_HUGE;
-    if (far < 0.0) return VP_PL_HUGE;
-    return other >= 0.0 && other < far ? other : far;
-}
 
 /* The largest ball radius allowed at ball centre c of facet v: eps, or the sizing field. */
 VP_PL_API double vp_pl_size_bound(vp_planner_t *pl, const uint32_t *v, const double *c)
@@ -115,12 +186,194 @@ VP_PL_API double vp_pl_size_bound(vp_planner_t *pl, const uint32_t *v, const dou
     return g < pl->cfg.eps ? g : pl->cfg.eps;
 }
 
-/* The facet's place in the heap's order, and 1 if its ball is bad */
+/* ---------- the distance bound: how far a facet strays from the surface ---------- */
+
+/* The unit normal of facet record f, oriented out (zero if degenerate) */
+static void frec_normal(const vp_planner_t *pl, const vp_frec_t *f, double *nrm)
+{
+    double e1[3], e2[3];
+    vp_sub3(e1, vp_dt_point(&pl->dt, f->v[1]), vp_dt_point(&pl->dt, f->v[0]));
+    vp_sub3(e2, vp_dt_point(&pl->dt, f->v[2]), vp_dt_point(&pl->dt, f->v[0]));
+    vp_cross3(nrm, e1, e2);
+    if (f->flags & FREC_FLIP) { nrm[0] = -nrm[0]; nrm[1] = -nrm[1]; nrm[2] = -nrm[2]; }
+    if (!vp_normalize3(nrm)) nrm[0] = nrm[1] = nrm[2] = 0.0;
+}
+
+/* How sharply the restricted surface bends at facet f: the largest angle theta between its
+ * normal and a neighbour's across one of its edges (the restricted facets around the edge, in
+ * the Delaunay tets around it). A cap of radius r on a tip or a sharp edge whose faces' normals
+ * differ by theta cuts off about r tan(theta / 2) (a cone of half-angle beta has
+ * theta = pi - 2 beta and its tip r / tan beta above the cap); on a smooth part of curvature
+ * radius rho it is about r^2 / rho, twice the facet's sagitta. Returns tan(theta / 2), at most
+ * BEND_MAX. */
+#define BEND_MAX 12.0
+#ifndef BEND_SHARE
+#define BEND_SHARE 1.5
+#endif
+static double facet_bend(vp_planner_t *pl, const vp_frec_t *f)
+{
+    uint32_t *tets = pl->pool.astar;
+    double fn[3], gn[3], c, t, worst = 0.0;
+    int e, n, i, j;
+    frec_normal(pl, f, fn);
+    if (vp_dot3(fn, fn) == 0.0) return 0.0;
+    for (e = 0; e < 3; e++) {
+        uint32_t a = f->v[e], b = f->v[(e + 1) % 3], x = f->v[(e + 2) % 3];
+        n = vp_dt_incident_tets(&pl->dt, a, tets, (int)pl->pool.cap_astar);
+        for (i = 0; i < n; i++) {
+            const uint32_t *w = vp_dt_tet(&pl->dt, tets[i]);
+            int hasb = 0;
+            for (j = 0; j < 4; j++) hasb |= w[j] == b;
+            if (!hasb) continue;
+            /* the facets of this tet through edge ab: with each of the other two vertices */
+            for (j = 0; j < 4; j++) {
+                uint32_t fv[3], g;
+                if (w[j] == a || w[j] == b || w[j] == x || w[j] == VP_DT_GHOST) continue;
+                fv[0] = a; fv[1] = b; fv[2] = w[j];
+                g = vp_pl_frec_lookup(pl, fv);
+                if (g == NONE) continue;
+                frec_normal(pl, &pl->pool.frec[g], gn);
+                if (vp_dot3(gn, gn) == 0.0) continue;
+                /* tan(theta / 2) = |fn - gn| / |fn + gn| for unit normals */
+                c = vp_dot3(fn, gn);
+                t = 1.0 + c > 0.0 ? sqrt((1.0 - c) / (1.0 + c)) : BEND_MAX;
+                if (t > worst) worst = t;
+            }
+        }
+    }
+    return worst < BEND_MAX ? worst : BEND_MAX;
+}
+
+/* The distance from ball centre c to the circumcentre of facet v: c lies on the facet's dual
+ * Voronoi edge, the line through the circumcentre normal to the facet, so it is
+ * sqrt(r^2 - R^2) for the ball radius r and the facet's circumradius R. */
+static double facet_distance(const vp_planner_t *pl, const vp_frec_t *f)
+{
+    const double *a = vp_dt_point(&pl->dt, f->v[0]), *b = vp_dt_point(&pl->dt, f->v[1]),
+                 *c = vp_dt_point(&pl->dt, f->v[2]);
+    double ab[3], ac[3], bc[3], n[3], n2, rr2, d2;
+    vp_sub3(ab, b, a); vp_sub3(ac, c, a); vp_sub3(bc, c, b);
+    vp_cross3(n, ab, ac);
+    n2 = vp_dot3(n, n);
+    if (!(n2 > 0.0)) return f->r;
+    rr2 = vp_dot3(ab, ab) * vp_dot3(ac, ac) * vp_dot3(bc, bc) / (4.0 * n2);
+    d2 = f->r * f->r - rr2;
+    return d2 > 0.0 ? sqrt(d2) : 0.0;
+}
+
+/* How deep the facet lies under (or over) the surface, from the tangent planes T_i at its
+ * vertices v_i (normals n_i: the poles, sample_normal): near the facet the surface is about the
+ * envelope of the three planes, so a point x of the facet lies about min_i |n_i . (x - v_i)|
+ * from it, on the side where all three agree. The largest of that over the facet is at a point
+ * where two or three of the planes are equally far (on an edge, or inside). On a smooth part it
+ * is twice the sagitta; at a sharp edge or corner cut off by the facet it is 1-2 times the cut,
+ * where the facet's own ball centre may lie close to the facet. */
+#ifndef TILT_SHARE
+#define TILT_SHARE 2.0
+#endif
+
+static double envelope_depth(const double (*v)[3], const double (*n)[3], double sgn)
+{
+    double m[3][3], best = 0.0, t, a, b, det, lam[3];
+    int i, j, k;
+    /* m[i][j]: how far v_j lies beyond plane i, on the side sgn (depth at vertex j of plane i) */
+    for (i = 0; i < 3; i++)
+        for (j = 0; j < 3; j++) {
+            double d[3];
+            vp_sub3(d, v[j], v[i]);
+            m[i][j] = -sgn * vp_dot3(n[i], d);
+        }
+    /* on edge ij, at x = (1 - t) v_i + t v_j: plane i is t m[i][j] away, plane j (1 - t) m[j][i] */
+    for (i = 0; i < 3; i++) {
+        j = (i + 1) % 3;
+        k = (i + 2) % 3;
+        a = m[i][j];
+        b = m[j][i];
+        if (!(a > 0.0 && b > 0.0)) continue;
+        t = b / (a + b);
+        a *= t;
+        /* the third plane at that point */
+        b = (1.0 - t) * m[k][i] + t * m[k][j];
+        if (b < a) a = b;
+        if (a > best) best = a;
+    }
+    /* inside: the point where the three planes are equally far, x = sum lam_j v_j with
+     * sum_j lam_j m[i][j] = h for every i and sum lam = 1 (eliminate h: two equations) */
+    {
+        double r0[3], r1[3];
+        for (j = 0; j < 3; j++) {
+            r0[j] = m[0][j] - m[1][j];
+            r1[j] = m[1][j] - m[2][j];
+        }
+        /* lam_2 = 1 - lam_0 - lam_1: r.lam = 0 becomes a 2x2 system */
+        a = r0[0] - r0[2]; b = r0[1] - r0[2];
+        t = r1[0] - r1[2]; det = a * (r1[1] - r1[2]) - b * t;
+        if (det != 0.0) {
+            lam[0] = (-r0[2] * (r1[1] - r1[2]) + b * r1[2]) / det;
+            lam[1] = (-a * r1[2] + t * r0[2]) / det;
+            lam[2] = 1.0 - lam[0] - lam[1];
+            if (lam[0] >= 0.0 && lam[1] >= 0.0 && lam[2] >= 0.0) {
+                double h = lam[0] * m[0][0] + lam[1] * m[0][1] + lam[2] * m[0][2];
+                if (h > best) best = h;
+            }
+        }
+    }
+    return best;
+}
+
+static double facet_tilt(vp_planner_t *pl, const vp_frec_t *f)
+{
+    double n[3][3], v[3][3], e1[3], e2[3], fn[3], len, up, down;
+    int i;
+    for (i = 0; i < 3; i++) memcpy(v[i], vp_dt_point(&pl->dt, f->v[i]), sizeof v[i]);
+    vp_sub3(e1, v[1], v[0]);
+    vp_sub3(e2, v[2], v[0]);
+    vp_cross3(fn, e1, e2);
+    for (i = 0; i < 3; i++) {
+        sample_normal(pl, f->v[i], n[i]);
+        len = vp_norm3(n[i]);
+        if (!(len > 0.0)) return 0.0;
+        if (vp_dot3(n[i], fn) < 0.0) len = -len; /* all on the facet's side */
+        n[i][0] /= len; n[i][1] /= len; n[i][2] /= len;
+    }
+    /* the surface above the facet (a convex part) or below it (a concave one) */
+    up = envelope_depth((const double (*)[3])v, (const double (*)[3])n, -1.0);
+    down = envelope_depth((const double (*)[3])v, (const double (*)[3])n, 1.0);
+    if (down > up) up = down;
+    for (i = 0; i < 3; i++) {
+        /* each edge alone, whichever side each plane puts the other end (noisy normals) */
+        int j = (i + 1) % 3;
+        double a, b;
+        vp_sub3(e1, v[j], v[i]);
+        a = fabs(vp_dot3(e1, n[i]));
+        b = fabs(vp_dot3(e1, n[j]));
+        if (a + b > 0.0 && a * b / (a + b) > up) up = a * b / (a + b);
+    }
+    return up;
+}
+
+/* The facet's place in the heap's order, and 1 if its ball is bad: its radius above the size
+ * bound, or (with a distance bound) its centre too far from the facet, unless the ball is
+ * already at the floor min_size. The key is how far over its bounds the ball is. */
 static int facet_rate(vp_planner_t *pl, vp_frec_t *f)
 {
-    double b = vp_pl_size_bound(pl, f->v, f->c);
-    f->key = pl->cfg.size_rel > 0.0 ? f->r / b : f->r;
-    return f->r > b;
+    double b = vp_pl_size_bound(pl, f->v, f->c), d;
+    int bad = f->r > b;
+    f->key = pl->cfg.size_rel > 0.0 || pl->cfg.max_distance > 0.0 ? f->r / b : f->r;
+    if (pl->cfg.max_distance > 0.0 && f->r > pl->cfg.min_size) {
+        /* hits are trusted to noise_tol: no bound below it can be seen, nor met */
+        double bound = pl->cfg.max_distance > pl->cfg.noise_tol ? pl->cfg.max_distance : pl->cfg.noise_tol;
+        d = facet_distance(pl, f) / bound;
+        if (d > 1.0) bad = 1;
+        if (d > f->key) f->key = d;
+        d = facet_tilt(pl, f) / (TILT_SHARE * bound);
+        if (d > 1.0) bad = 1;
+        if (d > f->key) f->key = d;
+        d = f->r * facet_bend(pl, f) / (BEND_SHARE * bound);
+        if (d > 1.0) bad = 1;
+        if (d > f->key) f->key = d;
+    }
+    return bad;
 }
 
 /* With the sizing field: every facet rated again (dM estimates shrink as samples arrive); the

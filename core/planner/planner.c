@@ -73,6 +73,7 @@ int vp_planner_init(vp_planner_t *pl, void *arena, size_t bytes, const vp_planne
     if (!(cfg->size_rel >= 0.0) || !(cfg->size_rel < 1.0) || !(cfg->min_size >= 0.0) ||
         (cfg->size_rel > 0.0 && !(cfg->min_size > 0.0 && cfg->min_size <= cfg->eps)))
         return VP_EINVAL;
+    if (!(cfg->max_distance >= 0.0) || cfg->max_distance > CFG_MAX || cfg->min_size > cfg->eps) return VP_EINVAL;
     if (!(cfg->max_range >= 0.0) || !(cfg->noise_tol >= 0.0) || !(cfg->clearance >= 0.0) ||
         cfg->max_range > CFG_MAX || cfg->noise_tol > CFG_MAX || cfg->clearance > CFG_MAX)
         return VP_EINVAL;
@@ -212,7 +213,7 @@ static int phase_step(vp_planner_t *pl, int *done)
             return pl->error;
         }
         if (pl->pool.nheap > 0) return vp_pl_refine(pl);
-        if (pl->cfg.size_rel > 0.0 && pl->close.size_mark != pl->st.insertions + 1) {
+        if ((pl->cfg.size_rel > 0.0 || pl->cfg.max_distance > 0.0) && pl->close.size_mark != pl->st.insertions + 1) {
             /* the sizing field's dM estimates shrank with the samples since the balls were
              * rated: rate them all again before closing */
             pl->close.size_mark = pl->st.insertions + 1;

@@ -52,7 +52,8 @@ static int header_equal(const vp_logfmt_header_t *a, const vp_logfmt_header_t *b
                 same(x->eps, y->eps) && same(x->omega_radius, y->omega_radius) &&
                 same(x->max_range, y->max_range) && same(x->noise_tol, y->noise_tol) &&
                 same(x->clearance, y->clearance) && same(x->min_angle, y->min_angle) &&
-                same(x->size_rel, y->size_rel) && same(x->min_size, y->min_size);
+                same(x->size_rel, y->size_rel) && same(x->min_size, y->min_size) &&
+                same(x->max_distance, y->max_distance);
     for (k = 0; k < 3; k++)
         ok = ok && same(x->omega_lo[k], y->omega_lo[k]) && same(x->omega_hi[k], y->omega_hi[k]) &&
              same(x->omega_center[k], y->omega_center[k]) && same(x->start[k], y->start[k]);
@@ -183,7 +184,7 @@ static void test_roundtrip(void)
         }
     }
     /* the planner configuration the format covers: a new field needs a new format version */
-    CHECKF(sizeof(vp_planner_config_t) == 576,
+    CHECKF(sizeof(vp_planner_config_t) == 584,
            "vp_planner_config_t changed (%zu bytes): update core/vp_logfmt.c, doc/session-log.md, VP_LOGFMT_VERSION",
            sizeof(vp_planner_config_t));
 }
@@ -355,6 +356,51 @@ static void test_sizing_header(void)
     CHECK(nb == na + 16);
     vp_logfmt_reader_init(&r);
     CHECK(vp_logfmt_reader_push(&r, b, (size_t)nb, &used, &rec) == VP_ECORRUPT);
+    /* the distance bound: version 3, 24 bytes, with or without the sizing field */
+    h.cfg.size_rel = 0.0;
+    h.cfg.min_size = bits_double(0x3F50624DD2F1A9FCull); /* 0.001 */
+    h.cfg.max_distance = bits_double(0x3F5A36E2EB1C432Dull); /* 0.0004 */
+    nb = vp_logfmt_header_encode(&h, b, sizeof b);
+    CHECK(nb == na + 24 && b[8] == 3);
+    vp_logfmt_reader_init(&r);
+    CHECK(vp_logfmt_reader_push(&r, b, (size_t)nb, &used, &rec) == VP_LOGFMT_GOT_HEADER && used == (size_t)nb);
+    g = r.header;
+    h.version = 3;
+    CHECK(header_equal(&g, &h) && g.cfg.max_distance == h.cfg.max_distance);
+    /* version 3 whose distance bound is 0 is not what an encoder writes: damaged */
+    {
+        vp_logfmt_header_t z = h;
+        unsigned char c[VP_LOGFMT_MAX_HEADER];
+        int nc;
+        z.cfg.max_distance = 0.0;
+        nc = vp_logfmt_header_encode(&z, c, sizeof c);
+        CHECK(nc == na + 16 && c[8] == 2);
+        memcpy(c, b, (size_t)nb);
+        memset(c + nb - 12, 0, 8); /* the distance bound's bytes */
+        put_crc(c, (size_t)nb);
+        vp_logfmt_reader_init(&r);
+        CHECK(vp_logfmt_reader_push(&r, c, (size_t)nb, &used, &rec) == VP_ECORRUPT && r.reason == VP_LOGFMT_R_HEADER);
+        /* nor a version 2 header with 24 bytes after the note */
+        memcpy(c, b, (size_t)nb);
+        c[8] = 2;
+        put_crc(c, (size_t)nb);
+        vp_logfmt_reader_init(&r);
+        CHECK(vp_logfmt_reader_push(&r, c, (size_t)nb, &used, &rec) == VP_ECORRUPT);
+    }
+    /* the planner takes the bound and refuses a negative or infinite one */
+    {
+        static unsigned char arena[4 << 20];
+        static vp_planner_t pl;
+        vp_planner_config_t cfg = h.cfg;
+        CHECK(vp_planner_init(&pl, arena, sizeof arena, &cfg) == VP_OK);
+        cfg.max_distance = -1.0;
+        CHECK(vp_planner_init(&pl, arena, sizeof arena, &cfg) == VP_EINVAL);
+        cfg.max_distance = bits_double(0x7FF0000000000000ull);
+        CHECK(vp_planner_init(&pl, arena, sizeof arena, &cfg) == VP_EINVAL);
+        cfg.max_distance = 0.0004;
+        cfg.min_size = 2.0 * cfg.eps; /* a floor above eps */
+        CHECK(vp_planner_init(&pl, arena, sizeof arena, &cfg) == VP_EINVAL);
+    }
 }
 
 int main(void)
