@@ -6,3 +6,5 @@ echo
 sh bench/planner.sh "$B"
 echo
 sh bench/accuracy.sh "$B"
+echo
+sh bench/sizing.sh "$B"

@@ -16,6 +16,10 @@
  * Predicates: the inline filters of vp_pred.h with static bounds for the bounding box of all
  * vertex records (p included), so most tests cost a determinant and one comparison; the exact
  * stages run only when a filter cannot decide.
+ *
+ * Removal of a vertex (vp_dt_remove, at the end of the file) refills its star with tets of the
+ * Delaunay triangulation of its link, built with the same code in a second vp_dt_t inside the
+ * free space.
  */
 #include <math.h>
 #include <string.h>
@@ -27,6 +31,7 @@
 #define VMASK 0x7FFFFFFFu
 #define DEAD 0xFFFFFFFFu
 #define VDUP 0xFFFFFFFEu /* vertex record of a duplicate point: never inserted */
+#define VPEND VP_DT_PENDING /* vertex record waiting while the set is flat (dim < 3) */
 
 #if defined(__GNUC__) && !defined(VP_NO_PREFETCH)
 #define PREFETCH(addr) __builtin_prefetch(addr)
@@ -126,10 +131,24 @@ int vp_dt_init(vp_dt_t *dt, void *mem, size_t bytes, size_t payload_bytes)
     return VP_OK;
 }
 
-/* Grows the bounding box to hold p (finite) and updates the static filter bounds: 0 while
- * every coordinate is a multiple of 2^lowbit and the box is small enough in those units for
- * the filters' floating-point determinants to be exact (integer grids). Extents only grow
- * and lowbit only drops, so once neither filter is exact, lowbit is no longer tracked. */
+/* The static filter bounds for the box and lowbit: 0 while every coordinate is a multiple of
+ * 2^lowbit and the box is small enough in those units for the filters' floating-point
+ * determinants to be exact (integer grids). */
+static void box_bounds(vp_dt_t *dt)
+{
+    int xo = 0, xi = 0;
+    if (dt->lowbit != VP_DT_LOWBIT_OFF) {
+        xo = vp_orient3d_box_exact(dt->box_lo, dt->box_hi, dt->lowbit);
+        xi = vp_insphere_box_exact(dt->box_lo, dt->box_hi, dt->lowbit);
+        if (!xo && !xi) dt->lowbit = VP_DT_LOWBIT_OFF;
+    }
+    dt->sbound_o3 = xo ? 0.0 : vp_orient3d_static_bound(dt->box_lo, dt->box_hi);
+    dt->sbound_is = xi ? 0.0 : vp_insphere_static_bound(dt->box_lo, dt->box_hi);
+}
+
+/* Grows the bounding box to hold p (finite) and updates the static filter bounds. Extents
+ * only grow and lowbit only drops, so once neither filter is exact, lowbit is no longer
+ * tracked. */
 static void box_add(vp_dt_t *dt, const double *p)
 {
     int k, grown = 0;
@@ -141,16 +160,7 @@ static void box_add(vp_dt_t *dt, const double *p)
             if (b < dt->lowbit) { dt->lowbit = b; grown = 1; }
         }
     }
-    if (grown) {
-        int xo = 0, xi = 0;
-        if (dt->lowbit != VP_DT_LOWBIT_OFF) {
-            xo = vp_orient3d_box_exact(dt->box_lo, dt->box_hi, dt->lowbit);
-            xi = vp_insphere_box_exact(dt->box_lo, dt->box_hi, dt->lowbit);
-            if (!xo && !xi) dt->lowbit = VP_DT_LOWBIT_OFF;
-        }
-        dt->sbound_o3 = xo ? 0.0 : vp_orient3d_static_bound(dt->box_lo, dt->box_hi);
-        dt->sbound_is = xi ? 0.0 : vp_insphere_static_bound(dt->box_lo, dt->box_hi);
-    }
+    if (grown) box_bounds(dt);
 }
 
 int vp_dt_alive(const vp_dt_t *dt, uint32_t t)
@@ -717,8 +727,9 @@ static void glue_small(vp_dt_t *dt, const uint32_t *list, int n)
         }
 }
 
-/* Creates the first finite tet and its four ghosts from span[0..3], then inserts every other
- * pending vertex up to `last`. On failure everything returns to the flat (pending) state. */
+/* Creates the first finite tet and its four ghosts from span[0..3] (span[3] is `last`, the
+ * vertex being inserted), then inserts every other pending vertex. On failure everything
+ * returns to the flat (pending) state. */
 static int build_first(vp_dt_t *dt, uint32_t last)
 {
     uint32_t s[4], list[5], v, dup;
@@ -748,15 +759,16 @@ static int build_first(vp_dt_t *dt, uint32_t last)
     note_high_water(dt, 0);
     for (v = 0; v <= last; v++) {
         uint32_t t;
-        if (VREC(dt, v).tet != VP_DT_NONE || v == s[0] || v == s[1] || v == s[2] || v == s[3])
+        if (VREC(dt, v).tet != VPEND || v == s[0] || v == s[1] || v == s[2] || v == s[3])
             continue;
         st = walk(dt, PT(dt, v), dt->last_tet, &t, dt->sbound_o3);
         if (st == VP_OK) st = dig_and_fill(dt, v, t, &dup);
         if (st != VP_OK) {
-            /* back to flat: no tets, every vertex pending */
+            /* back to flat: no tets, every vertex pending (removed and duplicate records
+             * stay as they are; `last` is given back by the caller) */
             uint32_t w;
             for (w = 0; w <= last; w++)
-                if (VREC(dt, w).tet != VDUP) VREC(dt, w).tet = VP_DT_NONE;
+                if (VREC(dt, w).tet < VPEND) VREC(dt, w).tet = VPEND;
             dt->ntet_slots = dt->nfree = dt->nalive = dt->nghost = 0;
             dt->free_head = dt->last_tet = VP_DT_NONE;
             dt->ninserted = 0;
@@ -777,7 +789,7 @@ static int insert_flat(vp_dt_t *dt, uint32_t vid, uint32_t *dupv)
     const double *p = PT(dt, vid);
     uint32_t v;
     for (v = 0; v < vid; v++)
-        if (VREC(dt, v).tet != VDUP && same_point(PT(dt, v), p)) { *dupv = v; return VP_EDUP; }
+        if (VREC(dt, v).tet == VPEND && same_point(PT(dt, v), p)) { *dupv = v; return VP_EDUP; }
     switch (dt->dim) {
     case -1: dt->span[0] = vid; dt->dim = 0; break;
     case 0: dt->span[1] = vid; dt->dim = 1; break;
@@ -793,6 +805,7 @@ static int insert_flat(vp_dt_t *dt, uint32_t vid, uint32_t *dupv)
             return build_first(dt, vid);
         }
     }
+    VREC(dt, vid).tet = VPEND;
     return VP_OK;
 }
 
@@ -1092,7 +1105,17 @@ int vp_dt_check(const vp_dt_t *dt)
     uint32_t t, v, nalive = 0, nghost = 0, nfree = 0;
     uint64_t edges = 0;
     if (!dt) return VP_EINVAL;
-    if (dt->dim < 3) return dt->ntet_slots == 0 ? VP_OK : VP_EDEGEN;
+    if (dt->dim < 3) {
+        /* flat: no tets; records pending, removed or duplicate; span pending */
+        int k;
+        if (dt->ntet_slots || dt->nalive || dt->nfree || dt->ninserted || dt->dim < -1)
+            return VP_EDEGEN;
+        for (v = 0; v < dt->nvert; v++)
+            if (VREC(dt, v).tet < VPEND) return VP_EDEGEN;
+        for (k = 0; k <= dt->dim; k++)
+            if (dt->span[k] >= dt->nvert || VREC(dt, dt->span[k]).tet != VPEND) return VP_EDEGEN;
+        return VP_OK;
+    }
     for (t = dt->free_head; t != VP_DT_NONE; t = TET(dt, t)[4]) {
         if (t >= dt->ntet_slots || TET(dt, t)[0] != DEAD || ++nfree > dt->nfree) return VP_EDEGEN;
     }
@@ -1104,7 +1127,7 @@ int vp_dt_check(const vp_dt_t *dt)
         nalive++;
         for (k = 0; k < 4; k++) {
             if (w[k] & MARK) return VP_EDEGEN;
-            if (w[k] == VP_DT_GHOST ? k != 3 : (w[k] >= dt->nvert || VREC(dt, w[k]).tet >= VDUP))
+            if (w[k] == VP_DT_GHOST ? k != 3 : (w[k] >= dt->nvert || VREC(dt, w[k]).tet >= VPEND))
                 return VP_EDEGEN;
         }
         if (w[0] == w[1] || w[0] == w[2] || w[0] == w[3] || w[1] == w[2] || w[1] == w[3] ||
@@ -1139,7 +1162,7 @@ int vp_dt_check(const vp_dt_t *dt)
         uint64_t nv = 1, nins = 0;
         for (v = 0; v < dt->nvert; v++) {
             uint32_t vt = VREC(dt, v).tet;
-            if (vt == VDUP) continue;
+            if (vt == VDUP || vt == VP_DT_NONE) continue; /* never inserted, or removed */
             if (vt >= dt->ntet_slots || !tet_has(TET(dt, vt), v)) return VP_EDEGEN;
             nins++;
         }
@@ -1147,6 +1170,419 @@ int vp_dt_check(const vp_dt_t *dt)
         nv += nins;
         /* closed 3-manifold (S^3 with the ghost vertex): V - E + F - T = 0, F = 2T */
         if (nv + nalive != edges) return VP_EDEGEN;
+    }
+    return VP_OK;
+}
+
+/* ---- vertex removal ----
+ *
+ * The star of v (every tet containing v, ghost tets included) is the cavity; its boundary
+ * facets (each star tet's facet opposite v) form the link of v, a triangulated sphere. The
+ * Delaunay triangulation of the remaining points restricted to the cavity consists of tets
+ * with vertices among the link vertices (and the ghost), each with an empty perturbed
+ * circumsphere; with fewer points such a tet stays Delaunay, and the perturbation depends on
+ * the points only, so these tets, and the boundary facets, are tets and facets of the small
+ * triangulation of the link vertices. That one is built in the scratch space with the same
+ * predicates (a second vp_dt_t on a block of the free space); the tet on the inner side of each
+ * boundary facet is kept, then every tet reached from kept ones without crossing a boundary
+ * facet. The kept tets replace the star: the star's slots first, then the free list, then new
+ * slots; they are glued to the outside through the boundary facets.
+ *
+ * When the link vertices are coplanar (v on the hull, above a flat part of the rest), the
+ * cavity is filled with ghost tets only; one more point behind that plane (the far vertex of
+ * a tet outside a boundary facet) makes the small triangulation 3D without adding a tet to
+ * the cavity. With no such point the rest is flat: the pending mode.
+ *
+ * Scratch, from the top of the free space down: the star's tets (the killed list), their
+ * vertices, per star tet the outside reference and 4 * tet + index of v, the link vertices and
+ * their saved tet words (local ids are tags in the vertex records' tet words, as in the
+ * insertion), then the block of the small triangulation, above a reserve for new tet slots.
+ * The created lists go over the top of that block once it has been read. Nothing of the
+ * triangulation is written before every allocation has succeeded, except the tags, which a
+ * failure puts back. */
+
+#define RM_PAY 5u            /* payload words of the small triangulation's tets: */
+                             /* the kept index (or NONE), then per facet its boundary facet */
+#define RM_SEED 0xFFFFFFFEu  /* kept (a boundary facet is on it), not yet numbered */
+#define RM_FLAT 1            /* internal: the rest of the set is flat */
+
+typedef struct rm_star {
+    uint32_t nk;          /* tets in the star */
+    uint32_t nfin;        /* finite ones */
+    uint32_t nlink;       /* finite link vertices (local ids 0 .. nlink-1) */
+    uint32_t cap;         /* capacity of glob / oldw */
+    uint32_t *killed;     /* the star's tets */
+    uint32_t *kverts;     /* their 4 vertices each */
+    uint32_t *outs;       /* per star tet: 4 * tet + facet across its facet opposite v */
+    uint32_t *from;       /* per star tet: 4 * tet + index of v */
+    uint32_t *glob;       /* local id -> vertex */
+    uint32_t *oldw;       /* the link vertices' tet words before the tags */
+} rm_star_t;
+
+/* The flat state (dim, span) of the pending records as inserting them in index order leaves
+ * it; the set is known to be flat. */
+static void flat_replay(vp_dt_t *dt)
+{
+    uint32_t v;
+    dt->dim = -1;
+    for (v = 0; v < dt->nvert && dt->dim < 2; v++) {
+        if (VREC(dt, v).tet != VPEND) continue;
+        if (dt->dim == -1) {
+            dt->span[0] = v;
+            dt->dim = 0;
+        } else if (dt->dim == 0) {
+            dt->span[1] = v;
+            dt->dim = 1;
+        } else if (!collinear(PT(dt, dt->span[0]), PT(dt, dt->span[1]), PT(dt, v))) {
+            dt->span[2] = v;
+            dt->dim = 2;
+        }
+    }
+    dt->nkilled = dt->ncreated = 0;
+}
+
+/* A removal that leaves the set flat: every tet goes, the other vertices become pending. */
+static void drop_to_flat(vp_dt_t *dt, uint32_t v)
+{
+    uint32_t w;
+    for (w = 0; w < dt->nvert; w++)
+        if (VREC(dt, w).tet < VPEND) VREC(dt, w).tet = VPEND;
+    VREC(dt, v).tet = VP_DT_NONE;
+    dt->ntet_slots = dt->nfree = dt->nalive = dt->nghost = 0;
+    dt->free_head = dt->last_tet = VP_DT_NONE;
+    dt->ninserted = 0;
+    flat_replay(dt);
+}
+
+static void rm_untag(vp_dt_t *dt, const rm_star_t *S)
+{
+    uint32_t i;
+    for (i = 0; i < S->nlink; i++) VREC(dt, S->glob[i]).tet = S->oldw[i];
+}
+
+/* Collects the star of v (breadth-first from t0, marks in word 0 cleared again) at the top of
+ * the free space, lays out the arrays of S below it and tags the link vertices with local ids.
+ * VP_ENOMEM (nothing changed) when the free space cannot hold them with room to spare. */
+static int rm_star(vp_dt_t *dt, uint32_t v, uint32_t t0, rm_star_t *S)
+{
+    unsigned char *lo = gap_lo(dt);
+    uint32_t *top = (uint32_t *)((uintptr_t)gap_hi(dt) & ~(uintptr_t)7u);
+    size_t room = (uintptr_t)top > (uintptr_t)lo ? (size_t)((unsigned char *)top - lo) / 4u : 0;
+    uint32_t nk = 1, q;
+    if (room < 256) return VP_ENOMEM;
+    TET(dt, t0)[0] |= MARK;
+    top[-1] = t0;
+    for (q = 0; q < nk; q++) {
+        const uint32_t *w = TET(dt, top[-1 - (ptrdiff_t)q]);
+        int i;
+        for (i = 0; i < 4; i++) {
+            uint32_t u, *uw;
+            if ((w[i] & VMASK) == v) continue; /* the facet opposite v: the boundary */
+            u = w[4 + i] >> 2;
+            uw = TET(dt, u);
+            if (uw[0] & MARK) continue;
+            if (16u * ((size_t)nk + 1u) + 64u > room) {
+                for (q = 0; q < nk; q++) TET(dt, top[-1 - (ptrdiff_t)q])[0] &= VMASK;
+                return VP_ENOMEM;
+            }
+            uw[0] |= MARK;
+            top[-1 - (ptrdiff_t)nk++] = u;
+        }
+    }
+    S->nk = nk;
+    S->killed = top - nk;
+    for (q = 0; q < nk; q++) TET(dt, S->killed[q])[0] &= VMASK;
+    S->kverts = S->killed - 4 * (size_t)nk;
+    S->outs = S->kverts - nk;
+    S->from = S->outs - nk;
+    S->cap = nk + 4u;
+    S->glob = S->from - S->cap;
+    S->oldw = S->glob - S->cap;
+    S->nfin = 0;
+    for (q = 0; q < nk; q++) {
+        uint32_t t = S->killed[q], iv;
+        const uint32_t *w = TET(dt, t);
+        memcpy(S->kverts + 4 * (size_t)q, w, 4 * sizeof(uint32_t));
+        for (iv = 0; w[iv] != v; iv++) {}
+        S->outs[q] = w[4 + iv];
+        S->from[q] = 4u * t + iv;
+        S->nfin += w[3] != VP_DT_GHOST;
+    }
+    /* the link vertices, numbered in order of appearance */
+    S->nlink = 0;
+    for (q = 0; q < nk; q++) {
+        uint32_t iv = S->from[q] & 3u, m;
+        for (m = 0; m < 3; m++) {
+            uint32_t x = S->kverts[4 * (size_t)q + FI[iv][m]];
+            if (x == VP_DT_GHOST || (VREC(dt, x).tet & VTAG)) continue;
+            if (S->nlink + 1u >= S->cap) { /* not a sphere: never in a valid triangulation */
+                rm_untag(dt, S);
+                return VP_EDEGEN;
+            }
+            S->glob[S->nlink] = x;
+            S->oldw[S->nlink] = VREC(dt, x).tet;
+            VREC(dt, x).tet = VTAG | S->nlink;
+            S->nlink++;
+        }
+    }
+    return VP_OK;
+}
+
+/* Builds the Delaunay triangulation of the link vertices in mem[0 .. S->oldw), vertex i of
+ * it being link vertex i. A flat link gets one more vertex (*wid) behind its plane. RM_FLAT
+ * when the remaining set is flat. */
+static int rm_link_dt(const vp_dt_t *dt, rm_star_t *S, unsigned char *mem, vp_dt_t *sd,
+                      uint32_t *wid)
+{
+    unsigned char *end = (unsigned char *)S->oldw;
+    uint32_t i, sv, q, x = VP_DT_NONE;
+    int k, st;
+    *wid = VP_DT_NONE;
+    if ((uintptr_t)end < (uintptr_t)mem + 2048u) return VP_ENOMEM;
+    if (vp_dt_init(sd, mem, (size_t)(end - mem), RM_PAY * sizeof(uint32_t)) != VP_OK)
+        return VP_ENOMEM;
+    /* the filters' box: the link's, with the whole set's lowbit (valid for every point) */
+    for (k = 0; k < 3; k++) sd->box_lo[k] = sd->box_hi[k] = PT(dt, S->glob[0])[k];
+    for (i = 1; i < S->nlink; i++) {
+        const double *p = PT(dt, S->glob[i]);
+        for (k = 0; k < 3; k++) {
+            if (p[k] < sd->box_lo[k]) sd->box_lo[k] = p[k];
+            if (p[k] > sd->box_hi[k]) sd->box_hi[k] = p[k];
+        }
+    }
+    sd->lowbit = dt->lowbit;
+    box_bounds(sd);
+    for (i = 0; i < S->nlink; i++) {
+        st = vp_dt_insert(sd, PT(dt, S->glob[i]), VP_DT_NONE, &sv);
+        if (st != VP_OK) return st == VP_ENOMEM ? VP_ENOMEM : VP_EDEGEN;
+        if (sv != i) return VP_EDEGEN;
+    }
+    if (sd->dim == 3) return VP_OK;
+    /* a flat link: the far vertex of a finite tet outside a finite boundary facet */
+    for (q = 0; q < S->nk && x == VP_DT_NONE; q++) {
+        uint32_t out = S->outs[q];
+        if (S->kverts[4 * (size_t)q + 3] == VP_DT_GHOST) continue;
+        x = TET(dt, out >> 2)[out & 3u];
+        if (x == VP_DT_GHOST) x = VP_DT_NONE;
+    }
+    if (x == VP_DT_NONE) /* every finite tet contains v: the rest is the link, flat */
+        return S->nfin == dt->nalive - dt->nghost ? RM_FLAT : VP_EDEGEN;
+    S->glob[S->nlink] = x;
+    st = vp_dt_insert(sd, PT(dt, x), VP_DT_NONE, &sv);
+    if (st != VP_OK) return st == VP_ENOMEM ? VP_ENOMEM : VP_EDEGEN;
+    if (sv != S->nlink || sd->dim != 3) return VP_EDEGEN;
+    *wid = sv;
+    return VP_OK;
+}
+
+/* The oriented local ids of boundary facet q (the ghost stays VP_DT_GHOST). */
+static void rm_bface(const vp_dt_t *dt, const rm_star_t *S, uint32_t q, uint32_t f[3])
+{
+    uint32_t iv = S->from[q] & 3u, m;
+    for (m = 0; m < 3; m++) {
+        uint32_t x = S->kverts[4 * (size_t)q + FI[iv][m]];
+        f[m] = x == VP_DT_GHOST ? x : VREC(dt, x).tet & VMASK;
+    }
+}
+
+static void sort3(const uint32_t f[3], uint32_t s[3])
+{
+    uint32_t a = f[0], b = f[1], c = f[2], t;
+    if (a > b) { t = a; a = b; b = t; }
+    if (b > c) { t = b; b = c; c = t; }
+    if (a > b) { t = a; a = b; b = t; }
+    s[0] = a; s[1] = b; s[2] = c;
+}
+
+static uint32_t rm_hash(const uint32_t s[3], uint32_t mask)
+{
+    return ((s[0] * 0x9E3779B1u) ^ (s[1] * 0x85EBCA77u) ^ (s[2] * 0xC2B2AE3Du)) >> 7 & mask;
+}
+
+/* Selects the small triangulation's tets inside the cavity (payload marks, see RM_PAY): the
+ * facet table of the boundary and a queue in its free space. *nkept, *ngk: kept tets, of
+ * which ghost tets; *scratch_end: the end of the table and queue. VP_EDEGEN if a boundary
+ * facet is missing or the fill leaks through one (never for a valid triangulation). */
+static int rm_select(const vp_dt_t *dt, const rm_star_t *S, vp_dt_t *sd, uint32_t wid,
+                     uint32_t *nkept, uint32_t *ngk, unsigned char **scratch_end)
+{
+    uint32_t hbits = 4, mask, q, t, K = 0, nmatch = 0, ng = 0, *tab, *queue;
+    while ((1u << hbits) < 2u * S->nk) hbits++;
+    mask = (1u << hbits) - 1u;
+    tab = (uint32_t *)(((uintptr_t)gap_lo(sd) + 7u) & ~(uintptr_t)7u);
+    queue = tab + 4 * ((size_t)mask + 1u);
+    if ((uintptr_t)(queue + sd->nalive) > (uintptr_t)gap_hi(sd)) return VP_ENOMEM;
+    *scratch_end = (unsigned char *)(queue + sd->nalive);
+    for (q = 0; q <= mask; q++) tab[4 * q] = VP_DT_NONE;
+    for (q = 0; q < S->nk; q++) {
+        uint32_t f[3], s[3], h;
+        rm_bface(dt, S, q, f);
+        sort3(f, s);
+        for (h = rm_hash(s, mask); tab[4 * h] != VP_DT_NONE; h = (h + 1u) & mask) {}
+        tab[4 * h] = s[0]; tab[4 * h + 1] = s[1]; tab[4 * h + 2] = s[2]; tab[4 * h + 3] = q;
+    }
+    for (t = 0; t < sd->ntet_slots; t++) {
+        uint32_t *w = TET(sd, t);
+        if (w[0] != DEAD) memset(w + 8, 0xFF, RM_PAY * sizeof(uint32_t));
+    }
+    /* each facet once, from the tet with the smaller index */
+    for (t = 0; t < sd->ntet_slots; t++) {
+        uint32_t *w = TET(sd, t), j;
+        if (w[0] == DEAD) continue;
+        for (j = 0; j < 4; j++) {
+            uint32_t u = w[4 + j] >> 2, f[3], s[3], h, b[3], bid;
+            if (u < t) continue;
+            f[0] = w[FI[j][0]]; f[1] = w[FI[j][1]]; f[2] = w[FI[j][2]];
+            if (f[0] == wid || f[1] == wid || f[2] == wid) continue;
+            sort3(f, s);
+            for (h = rm_hash(s, mask); tab[4 * h] != VP_DT_NONE; h = (h + 1u) & mask)
+                if (tab[4 * h] == s[0] && tab[4 * h + 1] == s[1] && tab[4 * h + 2] == s[2]) break;
+            if (tab[4 * h] == VP_DT_NONE) continue;
+            bid = tab[4 * h + 3];
+            rm_bface(dt, S, bid, b);
+            nmatch++;
+            /* the same orientation: the cavity (where v was) is on t's side */
+            if ((f[0] == b[0] && f[1] == b[1]) || (f[0] == b[1] && f[1] == b[2]) ||
+                (f[0] == b[2] && f[1] == b[0])) {
+                w[8 + 1 + j] = bid;
+                w[8] = RM_SEED;
+            } else {
+                uint32_t *uw = TET(sd, u);
+                uw[8 + 1 + (w[4 + j] & 3u)] = bid;
+                uw[8] = RM_SEED;
+            }
+        }
+    }
+    if (nmatch != S->nk) return VP_EDEGEN;
+    for (t = 0; t < sd->ntet_slots; t++) {
+        uint32_t *w = TET(sd, t);
+        if (w[0] != DEAD && w[8] == RM_SEED) {
+            w[8] = K;
+            queue[K++] = t;
+        }
+    }
+    for (q = 0; q < K; q++) {
+        const uint32_t *w = TET(sd, queue[q]);
+        uint32_t j;
+        if (w[0] == wid || w[1] == wid || w[2] == wid || w[3] == wid) return VP_EDEGEN;
+        ng += w[3] == VP_DT_GHOST;
+        for (j = 0; j < 4; j++) {
+            uint32_t *uw;
+            if (w[8 + 1 + j] != VP_DT_NONE) continue;
+            uw = TET(sd, w[4 + j] >> 2);
+            if (uw[8 + 1 + (w[4 + j] & 3u)] != VP_DT_NONE) return VP_EDEGEN;
+            if (uw[8] != VP_DT_NONE) continue;
+            if (K == sd->nalive) return VP_EDEGEN;
+            uw[8] = K;
+            queue[K++] = w[4 + j] >> 2;
+        }
+    }
+    *nkept = K;
+    *ngk = ng;
+    return VP_OK;
+}
+
+/* Replaces the star by the kept tets (nothing can fail here). */
+static void rm_commit(vp_dt_t *dt, const rm_star_t *S, const vp_dt_t *sd, uint32_t v,
+                      uint32_t K, uint32_t ngk, uint32_t *created, uint32_t *cfrom)
+{
+    uint32_t k, t, q, ng_star = S->nk - S->nfin;
+    for (k = 0; k < K; k++) created[k] = k < S->nk ? S->killed[k] : tet_take(dt);
+    for (q = K; q < S->nk; q++) tet_release(dt, S->killed[q]);
+    for (t = 0; t < sd->ntet_slots; t++) {
+        const uint32_t *sw = TET(sd, t);
+        uint32_t slot, *W, i, cf = VP_DT_NONE;
+        if (sw[0] == DEAD || sw[8] == VP_DT_NONE) continue;
+        slot = created[sw[8]];
+        W = TET(dt, slot);
+        for (i = 0; i < 4; i++) W[i] = sw[i] == VP_DT_GHOST ? VP_DT_GHOST : S->glob[sw[i]];
+        for (i = 0; i < 4; i++) {
+            uint32_t bid = sw[8 + 1 + i], r;
+            if (bid != VP_DT_NONE) {
+                r = S->outs[bid];
+                W[4 + i] = r;
+                TET(dt, r >> 2)[4 + (r & 3u)] = 4u * slot + i;
+                if (cf == VP_DT_NONE) cf = S->from[bid];
+            } else {
+                r = sw[4 + i];
+                W[4 + i] = 4u * created[TET(sd, r >> 2)[8]] + (r & 3u);
+            }
+        }
+        cfrom[sw[8]] = cf;
+        for (i = 0; i < 4; i++)
+            if (W[i] != VP_DT_GHOST) VREC(dt, W[i]).tet = slot; /* the link's tags go too */
+    }
+    VREC(dt, v).tet = VP_DT_NONE;
+    dt->ninserted--;
+    dt->nalive = dt->nalive - S->nk + K;
+    dt->nghost = dt->nghost - ng_star + ngk;
+    dt->killed = S->killed;
+    dt->killed_verts = S->kverts;
+    dt->created = created;
+    dt->created_from = cfrom;
+    dt->nkilled = S->nk;
+    dt->ncreated = K;
+    dt->last_tet = created[0];
+}
+
+int vp_dt_remove(vp_dt_t *dt, uint32_t v)
+{
+    rm_star_t S;
+    vp_dt_t sd;
+    uint32_t t0, K = 0, ngk = 0, wid, extra, *created;
+    size_t X = 0, need;
+    unsigned char *scratch_end = NULL;
+    int st, attempt;
+    if (!dt || v >= dt->nvert) return VP_EINVAL;
+    t0 = VREC(dt, v).tet;
+    if (t0 == VPEND) { /* flat set: a pending vertex just leaves it */
+        VREC(dt, v).tet = VP_DT_NONE;
+        flat_replay(dt);
+        return VP_OK;
+    }
+    if (dt->dim < 3 || !vp_dt_alive(dt, t0) || !tet_has(TET(dt, t0), v)) return VP_EINVAL;
+    if (dt->ninserted <= 4) {
+        drop_to_flat(dt, v);
+        return VP_OK;
+    }
+    st = rm_star(dt, v, t0, &S);
+    if (st != VP_OK) return st;
+    /* new tet slots (beyond the star's and the free list's) grow from the bottom of the free
+     * space: the small triangulation sits above a reserve for them, rebuilt once if short */
+    for (attempt = 0;; attempt++) {
+        st = rm_link_dt(dt, &S, gap_lo(dt) + X, &sd, &wid);
+        if (st == RM_FLAT) {
+            rm_untag(dt, &S);
+            drop_to_flat(dt, v);
+            return VP_OK;
+        }
+        if (st == VP_OK) st = rm_select(dt, &S, &sd, wid, &K, &ngk, &scratch_end);
+        if (st != VP_OK) {
+            rm_untag(dt, &S);
+            return st;
+        }
+        extra = K > S.nk + dt->nfree ? K - S.nk - dt->nfree : 0;
+        need = (size_t)extra * dt->stride * sizeof(uint32_t);
+        if (need <= X) break;
+        if (attempt) {
+            rm_untag(dt, &S);
+            return VP_ENOMEM;
+        }
+        X = (need + 7u) & ~(size_t)7u;
+    }
+    /* the created lists over the top of the small triangulation's block (its tets stay) */
+    if ((size_t)((unsigned char *)S.oldw - gap_lo(&sd)) < 2u * (size_t)K * sizeof(uint32_t)) {
+        rm_untag(dt, &S);
+        return VP_ENOMEM;
+    }
+    created = S.oldw - K;
+    rm_commit(dt, &S, &sd, v, K, ngk, created, created - K);
+    {
+        /* the scratch at its peak: S's arrays, and the small triangulation's block at the
+         * most it held (its own high water, or its tets, table, queue and vertex records) */
+        size_t blk = (size_t)(scratch_end - sd.mem_lo) + (size_t)sd.nvert * sizeof(vp_dt_vertex_t);
+        if (sd.high_water > blk) blk = sd.high_water;
+        note_high_water(dt, (size_t)(gap_hi(dt) - (unsigned char *)S.oldw) + blk);
     }
     return VP_OK;
 }

@@ -18,6 +18,9 @@
  *
  * Errors: every fallible call returns VP_OK (0) or a negative VP_E* status and leaves the
  * triangulation unchanged and valid.
+ *
+ * Vertex records are never renumbered: a removed vertex (vp_dt_remove) keeps its record, with
+ * `tet` VP_DT_NONE, and a point inserted later gets a new record.
  */
 #ifndef VP_DT_H
 #define VP_DT_H
@@ -28,6 +31,7 @@
 
 #define VP_DT_GHOST 0x3FFFFFFFu /* the infinite vertex */
 #define VP_DT_NONE  0xFFFFFFFFu /* no tet / no vertex */
+#define VP_DT_PENDING 0xFFFFFFFDu /* vertex record's tet while the set is flat (dim < 3) */
 #define VP_DT_MAX_VERTICES 0x3FFFFFF0u
 #define VP_DT_LOWBIT_NONE 100000   /* lowbit before any nonzero coordinate */
 #define VP_DT_LOWBIT_OFF (-100000) /* lowbit no longer tracked */
@@ -35,7 +39,10 @@
 /* One vertex record: 32 bytes. */
 typedef struct vp_dt_vertex {
     double xyz[3];
-    uint32_t tet;   /* one tet containing the vertex; VP_DT_NONE while not in the triangulation */
+    uint32_t tet;   /* one tet containing the vertex; VP_DT_PENDING while the set is still flat
+                     * (dim < 3: the vertex waits for the first tet); VP_DT_NONE when it is not
+                     * in the set (removed, or a record being inserted); other values above
+                     * VP_DT_MAX_VERTICES: a duplicate record of a batch, never inserted */
     uint32_t aux;   /* free for the caller (the triangulation never reads it) */
 } vp_dt_vertex_t;
 
@@ -47,10 +54,10 @@ typedef struct vp_dt {
     uint32_t ntet_slots;             /* tet records ever used (alive + free) */
     uint32_t nfree, free_head;       /* dead tets, chained through word 4 */
     uint32_t nalive, nghost;         /* alive tets, of which ghost tets */
-    uint32_t nvert;                  /* vertex records (inserted, pending or duplicate) */
+    uint32_t nvert;                  /* vertex records (inserted, pending, removed or duplicate) */
     uint32_t ninserted;              /* vertices that are in the triangulation */
     uint32_t last_tet;               /* a recently created tet: default start of walks */
-    uint32_t nkilled, ncreated;      /* the last insertion's lists, see vp_dt_last_* */
+    uint32_t nkilled, ncreated;      /* the last insertion's or removal's lists, vp_dt_last_* */
     uint32_t *killed, *created;      /* point into the scratch space */
     uint32_t *killed_verts;          /* 4 vertices of each killed tet, as they were */
     uint32_t *created_from;          /* per created tet: 4 * killed tet + facet of its boundary facet */
@@ -87,6 +94,29 @@ int vp_dt_insert_in_conflict(vp_dt_t *dt, const double p[3], uint32_t conflict_t
  * VP_ENOMEM the triangulation is valid and holds the points inserted so far; ids of the points
  * left out are VP_DT_NONE. */
 int vp_dt_insert_batch(vp_dt_t *dt, const double *xyz, uint32_t n, uint32_t *ids);
+
+/* Removes vertex v: afterwards the triangulation is exactly the one of the remaining points
+ * (vp_insphere_sos perturbs by the points' lexicographic order, never by index or insertion
+ * order, so the Delaunay triangulation of a point set is unique: the same tets, ghost tets
+ * included, as inserting the remaining points from scratch in any order). Method: the star of
+ * v is the cavity; the Delaunay triangulation of its link vertices is built in the scratch
+ * space with the same predicates, and its tets on the inner side of the cavity's boundary
+ * facets replace the star. The new tets take the star's slots first, then free-list slots,
+ * then new ones; star slots left over go to the free list for later insertions. v's record
+ * stays, its tet set to VP_DT_NONE, so no other index changes; re-inserting the same point
+ * makes a new record (a new index). A removal that leaves the set flat (fewer than 4 points,
+ * or all coplanar) drops every tet and returns to the pending mode, as if the remaining points
+ * had been inserted from scratch (dim and span as for them in index order; their records
+ * VP_DT_PENDING); in the pending mode a pending vertex can be removed too (dim and span are
+ * recomputed in one pass over the records).
+ * Needs free space only as scratch (36 bytes per tet of v's star and the small triangulation,
+ * 52 bytes per tet of it: 6 KB on average, 22 KB at most, for uniform points), and new tet
+ * slots only where the cavity's new tets outnumber the star and the free list:
+ * VP_ENOMEM when the free space is too small, VP_EINVAL for an index that is not a vertex of
+ * the set (out of range, VP_DT_GHOST, removed, a duplicate record); both change nothing.
+ * Lists (vp_dt_last_*): killed = the star of v; created = the tets that fill it. A removal
+ * that drops to the pending mode kills every tet and leaves both lists empty. */
+int vp_dt_remove(vp_dt_t *dt, uint32_t v);
 
 /* The tet containing p (a ghost tet if p is outside the hull), walking from hint. */
 int vp_dt_locate(vp_dt_t *dt, const double p[3], uint32_t hint, uint32_t *tet);
@@ -139,8 +169,8 @@ int vp_dt_voronoi_edge(const vp_dt_t *dt, uint32_t t, int i, vp_dt_vedge_t *e);
  * VP_ENOMEM if cap is too small, VP_EINVAL for a vertex not in the triangulation. */
 int vp_dt_incident_tets(const vp_dt_t *dt, uint32_t v, uint32_t *out, int cap);
 
-/* The tets the last successful insertion created and killed. Valid until the next call that
- * modifies the triangulation. Both are empty after the insertion that made the set 3D for the
+/* The tets the last successful insertion (or removal) created and killed. Valid until the next
+ * call that modifies the triangulation. Both are empty after the insertion that made the set 3D for the
  * first time (every tet is new then). Killed slots are reused for created tets; their payload bytes
  * are left exactly as they were, so read a killed tet's payload before writing the payload of
  * a created one. */
@@ -153,7 +183,9 @@ static inline const uint32_t *vp_dt_last_killed_vertices(const vp_dt_t *dt)
 { return dt->killed_verts; }
 /* For created tet q (order of vp_dt_last_created): 4 * t + i where facet i of killed tet t
  * was the cavity boundary facet this tet is built on. The new tet's copy of that facet is the
- * one opposite the new vertex; its Voronoi edge lies on the same line as before, shortened. */
+ * one opposite the new vertex; its Voronoi edge lies on the same line as before, shortened.
+ * After a removal: one cavity boundary facet the created tet holds (its lowest facet index
+ * among them), or VP_DT_NONE for a created tet with no facet on the cavity boundary. */
 static inline const uint32_t *vp_dt_last_created_from(const vp_dt_t *dt)
 { return dt->created_from; }
 

@@ -140,6 +140,9 @@ typedef struct vp_pl_pools {
     vp_proof_t *proof; uint32_t nproof, cap_proof;    /* free parts of probes: proof.c */
     uint32_t *astar; uint32_t cap_astar;              /* scratch, see VP_PL_SCRATCH in the
                                                          private header for who owns it when */
+    double *nrm; uint32_t cap_nrm;                    /* per sample: its normal estimate, valid
+                                                         while the sample record's aux is 1
+                                                         (facets.c; update.c clears it) */
 } vp_pl_pools_t;
 
 /* The current route: written by route.c (plan_route, route_push), consumed one MOVE at a time

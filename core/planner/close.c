@@ -6,41 +6,6 @@
 
 /* ---------- closing: every edge of the mesh must have exactly two facets ---------- */
 
-#define RING_MAX 4096u /* tets turned around one edge at most: a ring has some 5; this only
-                         stops a walk on a broken ring */
-
-/* Turning around edge (x, y) of Del(E), tet by tet: ring_start puts the walk at t0 (0: t0 does
- * not hold the edge); ring_step moves to the next tet of the ring, 0 when back at t0 or when the
- * ring is broken (*broken then set). */
-typedef struct ring { uint32_t t0, cur, other, x, y, left; } ring_t;
-
-static int ring_start(const vp_planner_t *pl, ring_t *r, uint32_t t0, uint32_t x, uint32_t y)
-{
-    const uint32_t *w = vp_dt_tet(&pl->dt, t0);
-    int k;
-    r->t0 = r->cur = t0;
-    r->x = x;
-    r->y = y;
-    r->left = RING_MAX;
-    for (k = 0; k < 4; k++)
-        if (w[k] != x && w[k] != y) { r->other = w[k]; return 1; }
-    return 0;
-}
-
-static int ring_step(const vp_planner_t *pl, ring_t *r, int *broken)
-{
-    const uint32_t *c = vp_dt_tet(&pl->dt, r->cur);
-    int k, ix = -1;
-    for (k = 0; k < 4; k++)
-        if (c[k] == r->other) ix = k;
-    if (ix < 0) { *broken = 1; return 0; }
-    for (k = 0; k < 4; k++)
-        if (c[k] != r->x && c[k] != r->y && c[k] != r->other) break;
-    r->cur = c[4 + ix] >> 2;
-    r->other = c[k];
-    return r->cur != r->t0 && --r->left;
-}
-
 /* Queues forced probes around edge (x, y) of Del(E): from every active tet of the ring, each
  * unknown facet. Returns the number of probes queued, or a negative status. */
 static int probe_around_edge(vp_planner_t *pl, uint32_t t0, uint32_t x, uint32_t y)

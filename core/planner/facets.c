@@ -158,10 +158,21 @@ static int pole_vector(vp_planner_t *pl, uint32_t v, double *nrm)
     return n;
 }
 
-/* The unit normal estimate at sample v (zero if none): its pole vector */
+/* The unit normal estimate at sample v (zero if none): its pole vector. It depends on v's star
+ * only, so it is kept (pool.nrm) until an insertion changes that star (vp_pl_after_insert
+ * clears the record's aux). */
 static void sample_normal(vp_planner_t *pl, uint32_t v, double *nrm)
 {
+    vp_dt_vertex_t *rec = &pl->dt.vtop[-(ptrdiff_t)v];
+    if (v < pl->pool.cap_nrm && rec->aux == 1u) {
+        memcpy(nrm, pl->pool.nrm + 3 * (size_t)v, 3 * sizeof(double));
+        return;
+    }
     if (pole_vector(pl, v, nrm) == 0 || !vp_normalize3(nrm)) nrm[0] = nrm[1] = nrm[2] = 0.0;
+    if (v < pl->pool.cap_nrm) {
+        memcpy(pl->pool.nrm + 3 * (size_t)v, nrm, 3 * sizeof(double));
+        rec->aux = 1u;
+    }
 }
 
 /* ---------- the sizing field (paper 002, section 6) ----------
@@ -210,34 +221,53 @@ static void frec_normal(const vp_planner_t *pl, const vp_frec_t *f, double *nrm)
 #ifndef BEND_SHARE
 #define BEND_SHARE 1.5
 #endif
+/* The largest tan(theta / 2) between unit normal fn and the restricted facets (a, b, o) */
+static double bend_at(vp_planner_t *pl, const double *fn, uint32_t a, uint32_t b, uint32_t o, double worst)
+{
+    uint32_t fv[3], g;
+    double gn[3], c, t;
+    if (o == VP_DT_GHOST) return worst;
+    fv[0] = a; fv[1] = b; fv[2] = o;
+    g = vp_pl_frec_lookup(pl, fv);
+    if (g == NONE) return worst;
+    frec_normal(pl, &pl->pool.frec[g], gn);
+    if (vp_dot3(gn, gn) == 0.0) return worst;
+    /* tan(theta / 2) = sqrt((1 - cos theta) / (1 + cos theta)) for unit normals */
+    c = vp_dot3(fn, gn);
+    t = 1.0 + c > 0.0 ? sqrt((1.0 - c) / (1.0 + c)) : BEND_MAX;
+    return t > worst ? t : worst;
+}
+
 static double facet_bend(vp_planner_t *pl, const vp_frec_t *f)
 {
-    uint32_t *tets = pl->pool.astar;
-    double fn[3], gn[3], c, t, worst = 0.0;
-    int e, n, i, j;
+    double fn[3], worst = 0.0;
+    int e, held = 0, broken = 0, k;
     frec_normal(pl, f, fn);
     if (vp_dot3(fn, fn) == 0.0) return 0.0;
+    if (vp_dt_alive(&pl->dt, f->hint)) {
+        const uint32_t *w = vp_dt_tet(&pl->dt, f->hint);
+        for (k = 0; k < 4; k++) held += w[k] == f->v[0] || w[k] == f->v[1] || w[k] == f->v[2];
+    }
     for (e = 0; e < 3; e++) {
         uint32_t a = f->v[e], b = f->v[(e + 1) % 3], x = f->v[(e + 2) % 3];
-        n = vp_dt_incident_tets(&pl->dt, a, tets, (int)pl->pool.cap_astar);
-        for (i = 0; i < n; i++) {
-            const uint32_t *w = vp_dt_tet(&pl->dt, tets[i]);
-            int hasb = 0;
-            for (j = 0; j < 4; j++) hasb |= w[j] == b;
-            if (!hasb) continue;
-            /* the facets of this tet through edge ab: with each of the other two vertices */
-            for (j = 0; j < 4; j++) {
-                uint32_t fv[3], g;
-                if (w[j] == a || w[j] == b || w[j] == x || w[j] == VP_DT_GHOST) continue;
-                fv[0] = a; fv[1] = b; fv[2] = w[j];
-                g = vp_pl_frec_lookup(pl, fv);
-                if (g == NONE) continue;
-                frec_normal(pl, &pl->pool.frec[g], gn);
-                if (vp_dot3(gn, gn) == 0.0) continue;
-                /* tan(theta / 2) = |fn - gn| / |fn + gn| for unit normals */
-                c = vp_dot3(fn, gn);
-                t = 1.0 + c > 0.0 ? sqrt((1.0 - c) / (1.0 + c)) : BEND_MAX;
-                if (t > worst) worst = t;
+        if (held == 3) {
+            /* around the edge from the facet's tet: each facet (a, b, o) of the ring once */
+            ring_t r;
+            if (ring_start(pl, &r, f->hint, a, b))
+                do {
+                    if (r.other != x) worst = bend_at(pl, fn, a, b, r.other, worst);
+                } while (ring_step(pl, &r, &broken));
+        } else {
+            /* the record's tet is gone: the tets around a that hold b */
+            uint32_t *tets = pl->pool.astar;
+            int n = vp_dt_incident_tets(&pl->dt, a, tets, (int)pl->pool.cap_astar), i, j;
+            for (i = 0; i < n; i++) {
+                const uint32_t *w = vp_dt_tet(&pl->dt, tets[i]);
+                int hasb = 0;
+                for (j = 0; j < 4; j++) hasb |= w[j] == b;
+                if (!hasb) continue;
+                for (j = 0; j < 4; j++)
+                    if (w[j] != a && w[j] != b && w[j] != x) worst = bend_at(pl, fn, a, b, w[j], worst);
             }
         }
     }

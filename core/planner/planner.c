@@ -115,8 +115,18 @@ int vp_planner_init(vp_planner_t *pl, void *arena, size_t bytes, const vp_planne
         return VP_ENOMEM;
     dtb = (size_t)(end - cur);
     /* the other shares take at most 71.2 units (the hash up to 4): the triangulation gets the
-     * rest, never less than 28 (it needs 23-27 at 2.5 KB per output vertex) */
+     * rest, never less than 28 (it needs 23-27 at 2.5 KB per output vertex); with a distance
+     * bound the samples' normal cache takes a 16th of it where that leaves 28 (some 400 bytes
+     * of triangulation per sample: the cache has room for nearly every one) */
     if (dtb < 28 * unit) return VP_ENOMEM;
+    if (cfg->max_distance > 0.0) {
+        size_t nb = dtb / 16;
+        if (dtb - nb < 28 * unit) nb = dtb - 28 * unit;
+        pl->pool.cap_nrm = (uint32_t)(nb / (3 * sizeof(double)) < 0xFFFFFFF0u ? nb / (3 * sizeof(double)) : 0xFFFFFFF0u);
+        pl->pool.nrm = pl->pool.cap_nrm > 0 ? carve(&cur, end, (size_t)pl->pool.cap_nrm * 3 * sizeof(double)) : NULL;
+        if (!pl->pool.nrm) pl->pool.cap_nrm = 0;
+        dtb = (size_t)(end - cur);
+    }
     st = vp_dt_init(&pl->dt, cur, dtb, KPAY * 4);
     if (st != VP_OK) return st == VP_EINVAL ? VP_ENOMEM : st;
     pl->pool.hash_mask = hwords - 1;

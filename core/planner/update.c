@@ -85,10 +85,13 @@ VP_PL_API int vp_pl_after_insert(vp_planner_t *pl, uint32_t pv)
     kpay = pl->pool.astar;
     kbound = kpay + KPAY * nk;
     ckidx = kbound + nk;
-    /* the killed tets' payloads, before created tets overwrite their slots */
+    /* the killed tets' payloads, before created tets overwrite their slots; their vertices'
+     * stars changed, so their normal estimates (facets.c) are stale */
     for (q = 0; q < nk; q++) {
         memcpy(kpay + KPAY * q, pay(pl, killed[q]), KPAY * sizeof(uint32_t));
         kbound[q] = 0;
+        for (ki = 0; ki < 4; ki++)
+            if (kverts[4 * q + ki] < pl->pool.cap_nrm) pl->dt.vtop[-(ptrdiff_t)kverts[4 * q + ki]].aux = 0;
     }
     for (q = 0; q < nc; q++) {
         uint32_t ks = cfrom[q] >> 2;

@@ -655,6 +655,646 @@ static void test_filters(void)
     CHECKF(decided > 150000, "the static filter decided only %d of 300000", decided);
 }
 
+
+/* ---- vertex removal ---- */
+
+/* Every tet, ghost tets included, as its 4 vertices' coordinates sorted (the ghost as
+ * (+inf, +inf, +inf), last): the triangulation as a set, whatever the vertex and tet numbers. */
+static size_t all_keys(const vp_dt_t *dt, tetkey_t **out)
+{
+    size_t n = 0;
+    uint32_t t;
+    tetkey_t *k = xmalloc(sizeof *k * (dt->nalive + 1));
+    for (t = 0; t < dt->ntet_slots; t++) {
+        const uint32_t *v;
+        int i;
+        if (!vp_dt_alive(dt, t)) continue;
+        v = vp_dt_tet(dt, t);
+        for (i = 0; i < 4; i++) {
+            if (v[i] == VP_DT_GHOST) {
+                k[n].c[3 * i] = k[n].c[3 * i + 1] = k[n].c[3 * i + 2] = INFINITY;
+            } else {
+                memcpy(k[n].c + 3 * i, vp_dt_point(dt, v[i]), 3 * sizeof(double));
+            }
+        }
+        qsort(k[n].c, 4, 3 * sizeof(double), cmp_pt);
+        n++;
+    }
+    qsort(k, n, sizeof *k, cmp_key);
+    *out = k;
+    return n;
+}
+
+/* a vertex record that is part of the set: in a tet, or pending while the set is flat */
+static int present(const vp_dt_t *dt, uint32_t v)
+{
+    uint32_t t = vp_dt_vertex(dt, v)->tet;
+    return t == VP_DT_PENDING || t < dt->ntet_slots;
+}
+
+/* The triangulation equals the one built from scratch from the points still present (in a
+ * shuffled order, one by one or as a batch): the same tets, ghost tets included, tet for tet,
+ * or for a flat set the same dimension and pending points. */
+static int equals_scratch(const vp_dt_t *dt, uint64_t seed)
+{
+    size_t n = 0, i;
+    uint32_t v, npend = 0;
+    double *pts = xmalloc(3 * sizeof(double) * (dt->nvert + 1));
+    tri_t t;
+    int ok;
+    for (v = 0; v < dt->nvert; v++)
+        if (present(dt, v)) memcpy(pts + 3 * n++, vp_dt_point(dt, v), 3 * sizeof(double));
+    shuffle(pts, n, seed);
+    tri_open(&t, (1u << 16) + n * 600, 0);
+    if (seed & 1) {
+        CHECK(vp_dt_insert_batch(&t.dt, pts, (uint32_t)n, NULL) == VP_OK);
+    } else {
+        for (i = 0; i < n; i++) CHECK(vp_dt_insert(&t.dt, pts + 3 * i, VP_DT_NONE, NULL) == VP_OK);
+    }
+    ok = t.dt.dim == dt->dim && t.dt.ninserted == dt->ninserted &&
+         t.dt.nalive == dt->nalive && t.dt.nghost == dt->nghost;
+    if (ok && dt->dim == 3) {
+        tetkey_t *ka, *kb;
+        size_t na = all_keys(dt, &ka), nb = all_keys(&t.dt, &kb);
+        ok = na == nb && memcmp(ka, kb, na * sizeof *ka) == 0;
+        free(ka); free(kb);
+    } else if (ok) {
+        for (v = 0; v < dt->nvert; v++) npend += vp_dt_vertex(dt, v)->tet == VP_DT_PENDING;
+        ok = npend == n;
+    }
+    tri_close(&t);
+    free(pts);
+    return ok;
+}
+
+static int tet_holds(const uint32_t *w, uint32_t x)
+{
+    return w[0] == x || w[1] == x || w[2] == x || w[3] == x;
+}
+
+typedef struct {
+    long removals, with_ghosts, grew, shrank, drops;
+} rmstats_t;
+
+/* Removes v (a vertex in a 3D triangulation with >= 4 payload bytes) and checks what a
+ * removal promises besides validity: killed = exactly the tets that held v, as they were;
+ * created = live tets without v; every other tet keeps its slot, vertices and payload (its
+ * neighbours change only towards the cavity); the slots: star first, then the free list,
+ * then new ones; each created tet's created_from names a killed tet's facet opposite v that
+ * the created tet holds. */
+static void remove_checked(tri_t *tr, uint32_t v, rmstats_t *rs)
+{
+    vp_dt_t *dt = &tr->dt;
+    uint32_t T = dt->ntet_slots, t, k, nk, nc, star = 0, nfree0 = dt->nfree, nalive0 = dt->nalive;
+    uint32_t stride = dt->stride, ghosts = 0, dim0 = (uint32_t)dt->dim;
+    uint32_t *before, *mark;
+    const uint32_t *killed, *created, *kverts, *cfrom;
+    int st;
+    for (t = 0; t < T; t++)
+        if (vp_dt_alive(dt, t)) *(uint32_t *)vp_dt_payload(dt, t) = 0xA0000000u ^ t;
+    before = xmalloc((size_t)T * stride * 4 + 4);
+    memcpy(before, dt->tets, (size_t)T * stride * 4);
+    for (t = 0; t < T; t++)
+        if (vp_dt_alive(dt, t) && tet_holds(before + (size_t)t * stride, v)) {
+            star++;
+            ghosts += vp_dt_is_ghost(dt, t);
+        }
+    st = vp_dt_remove(dt, v);
+    CHECKF(st == VP_OK, "remove %u: status %d", v, st);
+    mark = calloc((size_t)(T > dt->ntet_slots ? T : dt->ntet_slots) + 8, sizeof *mark);
+    if (!mark) exit(2);
+    rs->removals++;
+    rs->with_ghosts += ghosts > 0;
+    CHECK(vp_dt_vertex(dt, v)->tet == VP_DT_NONE);
+    if (st != VP_OK || dt->dim < 3) {
+        rs->drops += dt->dim < 3 && dim0 == 3;
+        free(before); free(mark);
+        return;
+    }
+    killed = vp_dt_last_killed(dt, &nk);
+    created = vp_dt_last_created(dt, &nc);
+    kverts = vp_dt_last_killed_vertices(dt);
+    cfrom = vp_dt_last_created_from(dt);
+    CHECKF(nk == star, "killed %u, star %u", nk, star);
+    {
+        long bad_killed = 0, bad_created = 0, bad_from = 0, bad_other = 0, with_from = 0;
+        for (k = 0; k < nk; k++) {
+            const uint32_t *b = before + (size_t)killed[k] * stride;
+            bad_killed += !(killed[k] < T && tet_holds(b, v) && mark[killed[k]] == 0) ||
+                          memcmp(kverts + 4 * k, b, 16) != 0;
+            mark[killed[k]] = 1;
+        }
+        for (k = 0; k < nc; k++) {
+            bad_created += !(created[k] < dt->ntet_slots && vp_dt_alive(dt, created[k])) ||
+                           tet_holds(vp_dt_tet(dt, created[k]), v) || (mark[created[k]] & 2);
+            mark[created[k]] |= 2;
+            if (cfrom[k] != VP_DT_NONE) {
+                uint32_t kt = cfrom[k] >> 2, i = cfrom[k] & 3u, j, found = 0, m;
+                with_from++;
+                for (j = 0; j < nk && killed[j] != kt; j++) {}
+                for (m = 0; j < nk && m < 4; m++)
+                    if (m != i) found += tet_holds(vp_dt_tet(dt, created[k]), kverts[4 * j + m]);
+                bad_from += !(j < nk && kverts[4 * j + i] == v && found == 3);
+            }
+        }
+        for (t = 0; t < dt->ntet_slots; t++) {
+            const uint32_t *w;
+            if (!vp_dt_alive(dt, t)) continue;
+            w = vp_dt_tet(dt, t);
+            if (tet_holds(w, v)) { bad_other++; continue; }
+            if (mark[t] & 2) continue; /* created */
+            if (t >= T || (mark[t] & 1)) { bad_other++; continue; } /* neither created nor kept */
+            bad_other += memcmp(w, before + (size_t)t * stride, 16) != 0 ||
+                         *(const uint32_t *)vp_dt_payload(dt, t) != (0xA0000000u ^ t);
+            for (k = 0; k < 4; k++) {
+                uint32_t was = before[(size_t)t * stride + 4 + k];
+                if (!(mark[was >> 2] & 1)) bad_other += w[4 + k] != was;
+            }
+        }
+        CHECKF(bad_killed == 0, "remove %u: %ld killed tets wrong", v, bad_killed);
+        CHECKF(bad_created == 0, "remove %u: %ld created tets wrong", v, bad_created);
+        CHECKF(bad_from == 0 && with_from > 0, "remove %u: %ld created_from wrong", v, bad_from);
+        CHECKF(bad_other == 0, "remove %u: %ld other tets changed", v, bad_other);
+    }
+    /* the star's slots first, then the free list, then new slots */
+    {
+        uint32_t more = nc > nk ? nc - nk : 0, from_free = more < nfree0 ? more : nfree0;
+        CHECK(dt->ntet_slots == T + (more - from_free));
+        CHECK(dt->nfree == nfree0 - from_free + (nk > nc ? nk - nc : 0));
+        CHECK(dt->nalive == nalive0 - nk + nc);
+        for (k = 0; k < nc && k < nk && mark[created[k]] == 3; k++) {} /* star slots first */
+        CHECK(k == (nc < nk ? nc : nk));
+        rs->grew += dt->ntet_slots > T;
+        rs->shrank += nc < nk;
+    }
+    free(before);
+    free(mark);
+}
+
+/* Random points: random subsets removed one at a time down to 3 points (the pending mode);
+ * every list and slot promise and vp_dt_check after each removal, from-scratch equality at
+ * checkpoints; then a larger set at checkpoints only. */
+static void test_remove_random(void)
+{
+    size_t n, i;
+    double *xyz;
+    char err[128];
+    tri_t t;
+    uint32_t *ids, *order;
+    rmstats_t rs = { 0, 0, 0, 0, 0 };
+    vp_pointgen_uniform(400, 31, &xyz, &n, err, sizeof err);
+    tri_open(&t, 4u << 20, 4);
+    ids = xmalloc(n * sizeof *ids);
+    order = xmalloc(n * sizeof *order);
+    CHECK(vp_dt_insert_batch(&t.dt, xyz, (uint32_t)n, ids) == VP_OK);
+    for (i = 0; i < n; i++) order[i] = ids[i];
+    {
+        uint64_t s = 77;
+        for (i = n; i > 1; i--) {
+            size_t j = (size_t)(vp_splitmix_next(&s) % i);
+            uint32_t x = order[i - 1]; order[i - 1] = order[j]; order[j] = x;
+        }
+    }
+    for (i = 0; i + 3 < n; i++) {
+        remove_checked(&t, order[i], &rs);
+        CHECKF(vp_dt_check(&t.dt) == VP_OK, "after removing %zu", i + 1);
+        CHECK(t.dt.ninserted == (t.dt.dim == 3 ? n - i - 1 : 0));
+        if (i % 25 == 0 || i + 40 > n) CHECKF(equals_scratch(&t.dt, i), "after removing %zu", i + 1);
+    }
+    CHECK(t.dt.dim == 2 && t.dt.ntet_slots == 0 && rs.drops == 1);
+    printf("random: removals %ld with ghosts %ld grew %ld shrank %ld drops %ld\n", rs.removals, rs.with_ghosts, rs.grew, rs.shrank, rs.drops);
+    CHECK(rs.with_ghosts > 20 && rs.shrank > 300);
+    free(ids); free(order);
+    tri_close(&t);
+    free(xyz);
+
+    /* 20000 points, 90% removed: checkpoints */
+    vp_pointgen_uniform(20000, 32, &xyz, &n, err, sizeof err);
+    tri_open(&t, 16u << 20, 0);
+    ids = xmalloc(n * sizeof *ids);
+    CHECK(vp_dt_insert_batch(&t.dt, xyz, (uint32_t)n, ids) == VP_OK);
+    {
+        uint64_t s = 78;
+        size_t removed = 0;
+        for (i = n; i > 1; i--) {
+            size_t j = (size_t)(vp_splitmix_next(&s) % i);
+            uint32_t x = ids[i - 1]; ids[i - 1] = ids[j]; ids[j] = x;
+        }
+        for (i = 0; i < n * 9 / 10; i++) {
+            CHECK(vp_dt_remove(&t.dt, ids[i]) == VP_OK);
+            removed++;
+            if (removed % 6000 == 0 || removed == n * 9 / 10) {
+                CHECK(vp_dt_check(&t.dt) == VP_OK);
+                CHECKF(equals_scratch(&t.dt, removed), "after %zu removals", removed);
+            }
+        }
+        /* the freed slots hold the next insertions: no new slot until the free list is used */
+        {
+            uint32_t slots = t.dt.ntet_slots, nfree = t.dt.nfree;
+            CHECK(nfree > 50000);
+            for (i = 0; i < 1000; i++) { /* removed points again: new records */
+                double p[3];
+                uint32_t v;
+                memcpy(p, vp_dt_point(&t.dt, ids[i]), sizeof p);
+                CHECK(vp_dt_insert(&t.dt, p, VP_DT_NONE, &v) == VP_OK && v >= n);
+            }
+            CHECK(t.dt.ntet_slots == slots && t.dt.nfree < nfree);
+            CHECK(vp_dt_check(&t.dt) == VP_OK);
+        }
+    }
+    free(ids);
+    tri_close(&t);
+    free(xyz);
+}
+
+/* vertices of ghost tets (on the hull), smallest index first */
+static uint32_t hull_vertex(const vp_dt_t *dt)
+{
+    uint32_t t, best = VP_DT_NONE;
+    for (t = 0; t < dt->ntet_slots; t++) {
+        const uint32_t *w = vp_dt_tet(dt, t);
+        int i;
+        if (!vp_dt_alive(dt, t) || w[3] != VP_DT_GHOST) continue;
+        for (i = 0; i < 3; i++) if (w[i] < best) best = w[i];
+    }
+    return best;
+}
+
+/* Adversarial orders on one set: insertion order, reverse, hull vertices first; each all the
+ * way down to the empty set (through the pending mode), then everything inserted again. */
+static void test_remove_orders(void)
+{
+    size_t n, i;
+    double *xyz;
+    char err[128];
+    int mode;
+    vp_pointgen_uniform(300, 41, &xyz, &n, err, sizeof err);
+    for (mode = 0; mode < 3; mode++) {
+        tri_t t;
+        rmstats_t rs = { 0, 0, 0, 0, 0 };
+        uint32_t v;
+        tri_open(&t, 4u << 20, 4);
+        for (i = 0; i < n; i++) {
+            CHECK(vp_dt_insert(&t.dt, xyz + 3 * i, VP_DT_NONE, &v) == VP_OK);
+            CHECK(v == i);
+        }
+        for (i = 0; i < n; i++) {
+            if (mode == 0) v = (uint32_t)i;
+            else if (mode == 1) v = (uint32_t)(n - 1 - i);
+            else {
+                v = t.dt.dim == 3 ? hull_vertex(&t.dt) : VP_DT_NONE;
+                if (v == VP_DT_NONE) /* flat: the first pending one */
+                    for (v = 0; v < t.dt.nvert && vp_dt_vertex(&t.dt, v)->tet != VP_DT_PENDING; v++) {}
+            }
+            if (t.dt.dim == 3) {
+                remove_checked(&t, v, &rs);
+            } else {
+                CHECK(vp_dt_vertex(&t.dt, v)->tet == VP_DT_PENDING);
+                CHECK(vp_dt_remove(&t.dt, v) == VP_OK);
+            }
+            CHECKF(vp_dt_check(&t.dt) == VP_OK, "mode %d step %zu", mode, i);
+            if (i % 20 == 0 || i + 10 > n) CHECKF(equals_scratch(&t.dt, 3 * i + (uint64_t)mode), "mode %d step %zu", mode, i);
+        }
+        CHECK(t.dt.dim == -1 && t.dt.ninserted == 0 && t.dt.ntet_slots == 0);
+        if (mode == 2) CHECK(rs.with_ghosts == rs.removals);
+        /* everything again: new records, the same triangulation as at the start */
+        for (i = 0; i < n; i++) {
+            CHECK(vp_dt_insert(&t.dt, xyz + 3 * i, VP_DT_NONE, &v) == VP_OK);
+            CHECK(v == n + i);
+        }
+        CHECK(vp_dt_check(&t.dt) == VP_OK);
+        CHECK(equals_scratch(&t.dt, 5));
+        tri_close(&t);
+    }
+    free(xyz);
+}
+
+/* Removes every vertex of pts[0..n) but `keep`, in a shuffled order, with the full checks and
+ * from-scratch equality after every `every` removals. */
+static void remove_all_but(const double *pts, size_t n, size_t keep, uint64_t seed, int every,
+                           const char *what)
+{
+    tri_t t;
+    uint32_t *ids = xmalloc(n * sizeof *ids);
+    rmstats_t rs = { 0, 0, 0, 0, 0 };
+    size_t i;
+    tri_open(&t, 8u << 20, 4);
+    CHECK(vp_dt_insert_batch(&t.dt, pts, (uint32_t)n, ids) == VP_OK);
+    for (i = n; i > 1; i--) {
+        size_t j = (size_t)(vp_splitmix_next(&seed) % i);
+        uint32_t x = ids[i - 1]; ids[i - 1] = ids[j]; ids[j] = x;
+    }
+    for (i = 0; i + keep < n; i++) {
+        if (t.dt.dim == 3) remove_checked(&t, ids[i], &rs);
+        else CHECK(vp_dt_remove(&t.dt, ids[i]) == VP_OK);
+        CHECKF(vp_dt_check(&t.dt) == VP_OK, "%s: step %zu", what, i);
+        if ((int)(i % (size_t)every) == 0 || i + keep + 8 > n)
+            CHECKF(equals_scratch(&t.dt, seed + i), "%s: step %zu", what, i);
+    }
+    printf("%s: removals %ld with ghosts %ld grew %ld shrank %ld drops %ld\n", what, rs.removals, rs.with_ghosts, rs.grew, rs.shrank, rs.drops);
+    free(ids);
+    tri_close(&t);
+}
+
+
+/* Two skew lines of 40 points and one point between them, as one batch: removing that point
+ * brings back the quadratic triangulation (8 times the tets of its star: new slots beyond the
+ * free list). */
+static void skew_with_centre(double *p)
+{
+    int i;
+    p[0] = 20.25; p[1] = 20.1; p[2] = 0.5;
+    for (i = 0; i < 40; i++) {
+        double *q = p + 3 + 6 * i;
+        q[0] = i; q[1] = 0; q[2] = 0;
+        q[3] = 0; q[4] = i + 0.5; q[5] = 1;
+    }
+}
+
+/* Degenerate sets: the integer grid (cospherical and coplanar everywhere), the integer points
+ * of a sphere and its centre (the centre's link is the whole sphere), the surface of a cube
+ * grid (coplanar hull faces, every vertex on the hull), two skew lines (quadratic size, stars
+ * of linear size), nearly coplanar layers; and flat links (a pyramid's apex). */
+static void test_remove_degenerate(void)
+{
+    size_t n, i;
+    double *xyz, pts[3 * 4096];
+    char err[128];
+    int x, y, z;
+    vp_pointgen_grid(6, 51, &xyz, &n, err, sizeof err);
+    remove_all_but(xyz, n, 2, 1, 1, "grid 6");
+    free(xyz);
+    /* sphere of radius 15: the centre first, then the rest */
+    n = 0;
+    pts[0] = pts[1] = pts[2] = 0.0;
+    n = 1;
+    for (x = -15; x <= 15; x++)
+        for (y = -15; y <= 15; y++)
+            for (z = -15; z <= 15; z++)
+                if (x * x + y * y + z * z == 225) {
+                    pts[3 * n] = x; pts[3 * n + 1] = y; pts[3 * n + 2] = z;
+                    n++;
+                }
+    {
+        tri_t t;
+        rmstats_t rs = { 0, 0, 0, 0, 0 };
+        uint32_t v0;
+        tri_open(&t, 8u << 20, 4);
+        CHECK(vp_dt_insert(&t.dt, pts, VP_DT_NONE, &v0) == VP_OK);
+        CHECK(vp_dt_insert_batch(&t.dt, pts + 3, (uint32_t)(n - 1), NULL) == VP_OK);
+        CHECK(vp_dt_check(&t.dt) == VP_OK);
+        remove_checked(&t, v0, &rs);
+        CHECK(vp_dt_check(&t.dt) == VP_OK);
+        CHECK(equals_scratch(&t.dt, 2));
+        CHECK(equals_scratch(&t.dt, 3));
+        tri_close(&t);
+    }
+    remove_all_but(pts, n, 0, 2, 5, "sphere 15");
+    /* the surface of the 7^3 grid */
+    n = 0;
+    for (x = 0; x < 7; x++)
+        for (y = 0; y < 7; y++)
+            for (z = 0; z < 7; z++)
+                if (x == 0 || x == 6 || y == 0 || y == 6 || z == 0 || z == 6) {
+                    pts[3 * n] = x; pts[3 * n + 1] = y; pts[3 * n + 2] = z;
+                    n++;
+                }
+    remove_all_but(pts, n, 0, 3, 3, "cube surface");
+    /* two skew lines */
+    n = 0;
+    for (i = 0; i < 40; i++) {
+        pts[3 * n] = (double)i; pts[3 * n + 1] = 0; pts[3 * n + 2] = 0; n++;
+        pts[3 * n] = 0; pts[3 * n + 1] = (double)i + 0.5; pts[3 * n + 2] = 1; n++;
+    }
+    remove_all_but(pts, n, 0, 4, 2, "skew lines");
+    {
+        tri_t t;
+        rmstats_t rs = { 0, 0, 0, 0, 0 };
+        uint32_t ids[81], nk, nc;
+        skew_with_centre(pts);
+        tri_open(&t, 4u << 20, 4);
+        CHECK(vp_dt_insert_batch(&t.dt, pts, 81, ids) == VP_OK);
+        remove_checked(&t, ids[0], &rs);
+        vp_dt_last_killed(&t.dt, &nk);
+        vp_dt_last_created(&t.dt, &nc);
+        CHECKF(rs.grew == 1 && nc > 4 * nk, "killed %u created %u", nk, nc);
+        CHECK(vp_dt_check(&t.dt) == VP_OK && equals_scratch(&t.dt, 9));
+        tri_close(&t);
+    }
+    /* nearly coplanar layers, one ulp apart */
+    n = 0;
+    for (x = 0; x < 12; x++)
+        for (y = 0; y < 12; y++) {
+            pts[3 * n] = x * 0.1; pts[3 * n + 1] = y * 0.1;
+            pts[3 * n + 2] = ((x * 7 + y * 3) % 3 == 0) ? nextafter(1.0, 2.0) : 1.0;
+            n++;
+        }
+    remove_all_but(pts, n, 0, 5, 4, "layers");
+    /* a pyramid: a 5 x 5 planar grid, an apex above it and one point below */
+    {
+        tri_t t;
+        rmstats_t rs = { 0, 0, 0, 0, 0 };
+        uint32_t apex, below, v, base0;
+        double p[3];
+        tri_open(&t, 4u << 20, 4);
+        for (x = 0; x < 5; x++)
+            for (y = 0; y < 5; y++) {
+                p[0] = x; p[1] = y; p[2] = 0;
+                CHECK(vp_dt_insert(&t.dt, p, VP_DT_NONE, &v) == VP_OK);
+            }
+        base0 = 0;
+        CHECK(t.dt.dim == 2);
+        p[0] = 2; p[1] = 2; p[2] = 3;
+        CHECK(vp_dt_insert(&t.dt, p, VP_DT_NONE, &apex) == VP_OK);
+        p[0] = 1; p[1] = 3; p[2] = -1;
+        CHECK(vp_dt_insert(&t.dt, p, VP_DT_NONE, &below) == VP_OK);
+        CHECK(t.dt.dim == 3 && vp_dt_check(&t.dt) == VP_OK);
+        remove_checked(&t, apex, &rs); /* its link is the flat base: ghost tets fill the cavity */
+        CHECK(t.dt.dim == 3 && vp_dt_check(&t.dt) == VP_OK && equals_scratch(&t.dt, 1));
+        remove_checked(&t, below, &rs); /* the rest is flat: the pending mode */
+        CHECK(t.dt.dim == 2 && t.dt.ntet_slots == 0 && t.dt.ninserted == 0);
+        CHECK(vp_dt_check(&t.dt) == VP_OK && equals_scratch(&t.dt, 2));
+        CHECK(vp_dt_vertex(&t.dt, base0)->tet == VP_DT_PENDING);
+        CHECK(vp_dt_remove(&t.dt, apex) == VP_EINVAL); /* already removed */
+        /* the apex again: a new record, 3D again, as from scratch */
+        p[0] = 2; p[1] = 2; p[2] = 3;
+        CHECK(vp_dt_insert(&t.dt, p, VP_DT_NONE, &v) == VP_OK);
+        CHECK(v == t.dt.nvert - 1 && v != apex);
+        CHECK(t.dt.dim == 3 && vp_dt_check(&t.dt) == VP_OK && equals_scratch(&t.dt, 3));
+        /* base points go until the rest is flat (the apex over collinear points, or 3 points) */
+        for (v = 0; v < 25 && t.dt.dim == 3; v++) {
+            remove_checked(&t, v, &rs);
+            CHECKF(vp_dt_check(&t.dt) == VP_OK, "pyramid base %u", v);
+            CHECKF(equals_scratch(&t.dt, v), "pyramid base %u", v);
+        }
+        CHECK(t.dt.dim < 3 && t.dt.ninserted == 0 && rs.drops == 2);
+        /* pending vertices go one by one: dim and span follow */
+        while (t.dt.dim >= 0) {
+            for (v = 0; v < t.dt.nvert && vp_dt_vertex(&t.dt, v)->tet != VP_DT_PENDING; v++) {}
+            CHECK(vp_dt_remove(&t.dt, v) == VP_OK);
+            CHECK(vp_dt_check(&t.dt) == VP_OK && equals_scratch(&t.dt, v));
+        }
+        tri_close(&t);
+    }
+}
+
+/* Insertions (new points and removed points again) and removals interleaved: validity after
+ * every step, equality with a from-scratch build every 40 steps, dead tets reused. */
+static void test_remove_interleaved(void)
+{
+    tri_t t;
+    uint64_t s = 61;
+    double *pool;
+    uint32_t *vid, npool = 900, live = 0, step, reused = 0;
+    rmstats_t rs = { 0, 0, 0, 0, 0 };
+    size_t i;
+    pool = xmalloc(3 * sizeof(double) * npool);
+    vid = xmalloc(sizeof *vid * npool);
+    for (i = 0; i < 3 * (size_t)npool; i++) pool[i] = vp_splitmix_uniform(&s);
+    for (i = 0; i < npool; i++) vid[i] = VP_DT_NONE;
+    tri_open(&t, 8u << 20, 4);
+    for (step = 0; step < 2000; step++) {
+        uint32_t k = (uint32_t)(vp_splitmix_next(&s) % npool);
+        int want_insert = live < 20 || (live < 250 && vp_splitmix_next(&s) % 2);
+        if (want_insert) {
+            while (vid[k] != VP_DT_NONE) k = (k + 1) % npool;
+            {
+                uint32_t v, slots = t.dt.ntet_slots, nfree = t.dt.nfree, old = t.dt.nvert, nk, nc;
+                CHECK(vp_dt_insert(&t.dt, pool + 3 * k, VP_DT_NONE, &v) == VP_OK);
+                CHECK(v == old);
+                vp_dt_last_killed(&t.dt, &nk);
+                vp_dt_last_created(&t.dt, &nc);
+                if (t.dt.dim == 3 && nk > 0 && nc - nk <= nfree) {
+                    CHECK(t.dt.ntet_slots == slots);
+                    reused += nfree > 0;
+                }
+                vid[k] = v;
+                live++;
+            }
+        } else {
+            while (vid[k] == VP_DT_NONE) k = (k + 1) % npool;
+            if (t.dt.dim == 3) remove_checked(&t, vid[k], &rs);
+            else CHECK(vp_dt_remove(&t.dt, vid[k]) == VP_OK);
+            CHECK(vp_dt_remove(&t.dt, vid[k]) == VP_EINVAL);
+            vid[k] = VP_DT_NONE;
+            live--;
+        }
+        CHECKF(vp_dt_check(&t.dt) == VP_OK, "step %u", step);
+        if (step % 40 == 0) CHECKF(equals_scratch(&t.dt, step), "step %u", step);
+    }
+    printf("interleaved: reused %u removals %ld grew %ld\n", reused, rs.removals, rs.grew);
+    CHECK(reused > 100 && rs.removals > 800);
+    tri_close(&t);
+    free(pool);
+    free(vid);
+}
+
+/* Bad input: refused, nothing changed. */
+static void test_remove_bad_input(void)
+{
+    tri_t t;
+    size_t n;
+    double *xyz, dups[6];
+    char err[128];
+    snap_t sn;
+    uint32_t v, dup_rec = VP_DT_NONE;
+    vp_pointgen_uniform(100, 71, &xyz, &n, err, sizeof err);
+    tri_open(&t, 1u << 20, 0);
+    CHECK(vp_dt_insert_batch(&t.dt, xyz, (uint32_t)n, NULL) == VP_OK);
+    memcpy(dups, xyz, 24);
+    dups[3] = 0.25; dups[4] = 0.5; dups[5] = 0.75;
+    CHECK(vp_dt_insert_batch(&t.dt, dups, 2, NULL) == VP_OK); /* one duplicate record */
+    for (v = 0; v < t.dt.nvert; v++)
+        if (!present(&t.dt, v)) dup_rec = v;
+    CHECK(dup_rec != VP_DT_NONE);
+    CHECK(vp_dt_remove(&t.dt, 7) == VP_OK);
+    snap_take(&sn, &t.dt);
+    CHECK(vp_dt_remove(NULL, 0) == VP_EINVAL);
+    CHECK(vp_dt_remove(&t.dt, t.dt.nvert) == VP_EINVAL);
+    CHECK(vp_dt_remove(&t.dt, t.dt.nvert + 1000) == VP_EINVAL);
+    CHECK(vp_dt_remove(&t.dt, VP_DT_GHOST) == VP_EINVAL);
+    CHECK(vp_dt_remove(&t.dt, VP_DT_NONE) == VP_EINVAL);
+    CHECK(vp_dt_remove(&t.dt, 7) == VP_EINVAL);       /* removed already */
+    CHECK(vp_dt_remove(&t.dt, dup_rec) == VP_EINVAL); /* a duplicate record */
+    CHECK(snap_same(&sn, &t.dt));
+    CHECK(vp_dt_check(&t.dt) == VP_OK);
+    snap_free(&sn);
+    tri_close(&t);
+    free(xyz);
+}
+
+/* A tight arena: a removal that cannot get its scratch returns VP_ENOMEM and leaves the
+ * triangulation exactly as it was; with more room the same removals go through. */
+static void test_remove_enomem(void)
+{
+    size_t n, i, bytes;
+    double *xyz;
+    char err[128];
+    int failed = 0, done = 0, failed_then_done = 0;
+    vp_pointgen_uniform(300, 81, &xyz, &n, err, sizeof err);
+    for (bytes = 24000; bytes < 120000; bytes = bytes * 9 / 8 + 8) {
+        tri_t t;
+        uint32_t v;
+        int last_failed = 0;
+        tri_open(&t, bytes, 4);
+        for (i = 0; i < n; i++)
+            if (vp_dt_insert(&t.dt, xyz + 3 * i, VP_DT_NONE, NULL) != VP_OK) break;
+        if (t.dt.dim < 3) { tri_close(&t); continue; }
+        for (v = 0; v < t.dt.nvert; v += 3) {
+            snap_t sn;
+            int st;
+            if (!present(&t.dt, v) || t.dt.dim < 3) continue;
+            snap_take(&sn, &t.dt);
+            st = vp_dt_remove(&t.dt, v);
+            CHECKF(st == VP_OK || st == VP_ENOMEM, "status %d", st);
+            if (st == VP_ENOMEM) {
+                CHECKF(snap_same(&sn, &t.dt), "changed by a failed removal, arena %zu", bytes);
+                failed++;
+                last_failed = 1;
+            } else {
+                done++;
+                failed_then_done += last_failed;
+                last_failed = 0;
+            }
+            if (st == VP_ENOMEM || done % 16 == 0) CHECK(vp_dt_check(&t.dt) == VP_OK);
+            snap_free(&sn);
+        }
+        CHECK(vp_dt_check(&t.dt) == VP_OK);
+        tri_close(&t);
+    }
+    printf("enomem: failed %d done %d failed_then_done %d\n", failed, done, failed_then_done);
+    CHECKF(failed > 10 && done > 100, "failed %d done %d", failed, done);
+    /* a removal that needs new tet slots (the skew lines' centre) in arenas too small for it */
+    {
+        double pts[3 * 81];
+        int f2 = 0, d2 = 0;
+        skew_with_centre(pts);
+        for (bytes = 40000; bytes < 400000; bytes = bytes * 9 / 8) {
+            tri_t t;
+            uint32_t ids[81];
+            snap_t sn;
+            int st;
+            tri_open(&t, bytes, 4);
+            if (vp_dt_insert_batch(&t.dt, pts, 81, ids) != VP_OK) { tri_close(&t); continue; }
+            snap_take(&sn, &t.dt);
+            st = vp_dt_remove(&t.dt, ids[0]);
+            CHECKF(st == VP_OK || st == VP_ENOMEM, "status %d", st);
+            if (st == VP_ENOMEM) {
+                CHECKF(snap_same(&sn, &t.dt), "changed by a failed removal, arena %zu", bytes);
+                f2++;
+            } else {
+                CHECK(equals_scratch(&t.dt, 1));
+                d2++;
+            }
+            CHECK(vp_dt_check(&t.dt) == VP_OK);
+            snap_free(&sn);
+            tri_close(&t);
+        }
+        CHECKF(f2 > 2 && d2 > 2, "failed %d done %d", f2, d2);
+    }
+    free(xyz);
+}
+
 /* A fingerprint of a fixed triangulation: compared across x86-64 and aarch64 by t_cross. */
 static void print_fingerprint(void)
 {
@@ -690,6 +1330,12 @@ int main(void)
     test_queries();
     test_adversarial();
     test_filters();
+    test_remove_bad_input();
+    test_remove_random();
+    test_remove_orders();
+    test_remove_degenerate();
+    test_remove_interleaved();
+    test_remove_enomem();
     print_fingerprint();
     return vp_test_done("test_dt");
 }
