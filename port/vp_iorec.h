@@ -3,7 +3,14 @@
  * answer like hardware: each axis has a motor (counts STEP rising edges while enabled, in the
  * direction of its DIR line), a carriage coupled to it with mechanical slack (backlash), limit
  * switches that close when the carriage reaches them, and a scripted e-stop.
- * Used by the tests and by dry runs (cap 0: count and simulate, keep no edges). */
+ * Used by the tests and by dry runs (cap 0: count and simulate, keep no edges).
+ *
+ * A latency model (off unless asked for): each write and read costs write_ns / read_ns of the
+ * clock (an edge is stamped when its write completes), and with latency = VP_IOREC_LAT_LINUX
+ * every wait returns late by a draw from a built-in histogram of a stock (non-PREEMPT_RT) Linux
+ * kernel: half under 2 us, a tail of 0.05% beyond 1 ms up to 8 ms. The draws come from a seeded
+ * generator: the same seed gives the same run. Glitches: the first glitch_reads reads at or
+ * after glitch_at see glitch_bits active (a sample-long spike on a switch line). */
 #ifndef VP_IOREC_H
 #define VP_IOREC_H
 #include <stddef.h>
@@ -14,7 +21,11 @@ typedef struct vp_iorec_edge {
     int64_t t_ns;
     uint8_t line;            /* output bit number (VP_IO_* bit index) */
     uint8_t value;
+    int32_t late_ns;         /* rising STEP edges: how long after the last wait's deadline the
+                                write began (the step's lateness); 0 otherwise */
 } vp_iorec_edge_t;
+
+enum { VP_IOREC_LAT_NONE = 0, VP_IOREC_LAT_LINUX = 1 };
 
 typedef struct vp_iorec_config {
     vp_iorec_edge_t *buf;    /* caller's edge buffer; NULL/0: keep none */
@@ -29,6 +40,12 @@ typedef struct vp_iorec_config {
     int64_t estop_at, estop_until;    /* e-stop pressed for t in [at, until); at < 0: never */
     uint32_t stuck_inputs;            /* inputs forced active (broken switch tests) */
     int64_t stall_at, stall_ns;       /* the first wait past stall_at returns stall_ns late (an OS stall) */
+    uint32_t write_ns, read_ns;       /* cost of one write / read on the clock */
+    int latency;                      /* VP_IOREC_LAT_*: late wake-ups */
+    uint64_t seed;                    /* of the latency draws */
+    uint32_t glitch_bits;             /* inputs forced active for glitch_reads reads from glitch_at */
+    int64_t glitch_at;
+    uint32_t glitch_reads;
 } vp_iorec_config_t;
 
 typedef struct vp_iorec {
@@ -41,6 +58,11 @@ typedef struct vp_iorec {
     uint64_t steps_disabled;           /* pulses while the driver was disabled (lost) */
     int32_t motor[VP_IO_MAX_AXES], carriage[VP_IO_MAX_AXES];
     uint64_t pulses[VP_IO_MAX_AXES];
+    uint64_t rng;                      /* latency model state */
+    int64_t wait_t;                    /* deadline of the last wait */
+    uint64_t waits, late_waits;        /* waits; those the model made late */
+    int64_t late_max_ns;               /* worst drawn lateness */
+    uint64_t reads, glitched;          /* reads; reads the glitch touched */
 } vp_iorec_t;
 
 void     vp_iorec_init(vp_iorec_t *r, const vp_iorec_config_t *cfg);

@@ -115,7 +115,7 @@ typedef struct vp_run {
     int32_t latch;       /* position of `axis` when `watch` was first seen */
 } vp_run_t;
 
-static void vp_step_emit(vp_step_t *s, int kind, int axis, const char *what)
+static void vp_step_emit_late(vp_step_t *s, int kind, int axis, const char *what, int64_t late_ns, uint64_t count)
 {
     vp_step_event_t ev;
     if (!s->cfg.event) return;
@@ -123,7 +123,22 @@ static void vp_step_emit(vp_step_t *s, int kind, int axis, const char *what)
     ev.axis = axis;
     ev.t_ns = s->io.now(s->io.ctx);
     ev.what = what;
+    ev.late_ns = late_ns;
+    ev.count = count;
     s->cfg.event(s->cfg.event_ctx, &ev);
+}
+
+static void vp_step_emit(vp_step_t *s, int kind, int axis, const char *what)
+{
+    vp_step_emit_late(s, kind, axis, what, 0, 0);
+}
+
+int vp_step_late_bucket(int64_t late_ns)
+{
+    int64_t us = late_ns / 1000;
+    int i = 0;
+    while (us > 0 && i < VP_STEP_LATE_BUCKETS - 1) { us >>= 1; i++; }
+    return i;
 }
 
 static uint32_t vp_step_all(int naxes, uint32_t (*bit)(int))
@@ -156,14 +171,48 @@ static int vp_step_trip(vp_step_t *s, int fault, int kind, int axis, const char 
     return fault == VP_STEP_FAULT_IO ? VP_EIO : VP_EABORT;
 }
 
-/* Inputs seen before a step: VP_OK to go on, or VP_EABORT after tripping. */
+/* One input sample through the debouncer: a bit changes level after cfg.debounce consecutive
+ * samples at the new level; deb_at keeps the axis position at the first of them. */
+static int vp_step_sample(vp_step_t *s, uint32_t *deb)
+{
+    uint32_t in = 0, diff;
+    int b;
+    if (s->io.read(s->io.ctx, &in) < 0) return VP_EIO;
+    s->st.polls++;
+    diff = (in ^ s->deb) & ((1u << VP_IO_NIN) - 1);
+    for (b = 0; b < VP_IO_NIN; b++) {
+        if (!(diff & (1u << b))) { s->deb_n[b] = 0; continue; }
+        if (!s->deb_n[b] && b < 16 && (b & 7) < s->cfg.naxes) s->deb_at[b] = s->pos[b & 7];
+        if (++s->deb_n[b] >= s->cfg.debounce) { s->deb ^= 1u << b; s->deb_n[b] = 0; }
+    }
+    *deb = s->deb;
+    return VP_OK;
+}
+
+/* 1 while an input change is being confirmed. */
+static int vp_step_deb_busy(const vp_step_t *s)
+{
+    int b;
+    for (b = 0; b < VP_IO_NIN; b++) if (s->deb_n[b]) return 1;
+    return 0;
+}
+
+/* cfg.debounce samples back to back: the debounced levels of inputs that hold still. */
+static int vp_step_settle(vp_step_t *s, uint32_t *deb)
+{
+    uint32_t k;
+    for (k = 0; k < s->cfg.debounce; k++) VP_TRY(vp_step_sample(s, deb));
+    return VP_OK;
+}
+
+/* Debounced inputs seen between steps: VP_OK to go on, or VP_EABORT after tripping. */
 static int vp_step_check(vp_step_t *s, const vp_step_block_t *b, vp_run_t *r, uint32_t in)
 {
     int i;
     if (in & VP_IO_ESTOP) return vp_step_trip(s, VP_STEP_FAULT_ESTOP, VP_STEP_EV_ESTOP, -1, "e-stop");
     if (r->mode == VP_RUN_HOME && r->watch && (in & r->watch) && !r->triggered) {
         r->triggered = 1;
-        r->latch = s->pos[r->axis];
+        r->latch = s->deb_at[r->watch & VP_IO_LIM_MIN(r->axis) ? r->axis : 8 + r->axis];
     }
     if (s->cfg.no_hard_limits) return VP_OK;
     for (i = 0; i < b->naxes; i++) {
@@ -177,17 +226,25 @@ static int vp_step_check(vp_step_t *s, const vp_step_block_t *b, vp_run_t *r, ui
 static int vp_step_poll(vp_step_t *s, const vp_step_block_t *b, vp_run_t *r)
 {
     uint32_t in = 0;
-    if (s->io.read(s->io.ctx, &in) < 0)
+    if (vp_step_sample(s, &in) < 0)
         return vp_step_trip(s, VP_STEP_FAULT_IO, VP_STEP_EV_ESTOP, -1, "input read failed");
-    s->st.polls++;
     return vp_step_check(s, b, r, in);
+}
+
+/* Shortest interval (ns) after one of h1 ns that keeps the speed-up within a (steps/s^2),
+ * speeds taken at interval midpoints: (1/h2 - 1/h1) / ((h1 + h2) / 2) <= a. */
+static int64_t vp_step_min_next(int64_t h1_ns, double a)
+{
+    double h1 = h1_ns * 1e-9, B = a * h1 / 2 + 1 / h1;
+    return (int64_t)ceil(2 / (B + sqrt(B * B + 2 * a)) * 1e9);
 }
 
 /* Runs one block through the backend: direction, enable, then timed pulses. */
 static int vp_step_run_block(vp_step_t *s, vp_step_block_t *b, vp_run_t *r)
 {
-    uint32_t dmask = 0, dval = 0, mask, smask, sval;
-    int64_t start, t_ns, wake = 0, now;
+    uint32_t dmask = 0, dval = 0, mask, smask;
+    int64_t start, t_ns, wake = 0, now, shift = 0, prev = -1, hprev = 0, hcap, late, rise, worst = 0;
+    uint64_t nretime = 0;
     double t;
     int i, rc;
     const int64_t poll = s->cfg.poll_ns;
@@ -213,24 +270,47 @@ static int vp_step_run_block(vp_step_t *s, vp_step_block_t *b, vp_run_t *r)
     if (s->cfg.lead_ns > wake) wake = s->cfg.lead_ns;
     start = s->io.now(s->io.ctx) + wake;
     s->st.blocks++;
+    /* the rate cap as an interval (1 ns of deadline rounding allowed) */
+    hcap = (int64_t)floor(1e9 / b->v);
     while (vp_step_block_next(b, &t, &mask)) {
-        t_ns = start + (int64_t)llround(t * 1e9);
-        /* long waits are cut into polls so the e-stop is seen within poll_ns */
+        t_ns = start + shift + (int64_t)llround(t * 1e9);
+        /* the limiter: never sooner than the rate cap or the acceleration allow after the
+         * interval the motor really had (after a late step: the re-entry ramp) */
+        if (prev >= 0) {
+            int64_t early = prev + hcap;
+            if (hprev > 0) { int64_t e2 = prev + vp_step_min_next(hprev, b->a); if (e2 > early) early = e2; }
+            if (t_ns < early) { if (early - t_ns > 1000) s->st.limited++; shift += early - t_ns; t_ns = early; }
+        }
+        /* long waits are cut into polls so the e-stop is seen within poll_ns (shorter while a
+         * change is being confirmed by the debouncer) */
         for (;;) {
+            int64_t p = vp_step_deb_busy(s) ? poll / s->cfg.debounce : poll;
             now = s->io.now(s->io.ctx);
-            if (t_ns - now <= poll) break;
-            s->io.wait_until(s->io.ctx, now + poll);
+            if (t_ns - now <= p) break;
+            s->io.wait_until(s->io.ctx, now + p);
             VP_TRY(vp_step_poll(s, b, r));
         }
         s->io.wait_until(s->io.ctx, t_ns);
-        /* late (the OS stalled us): shift the rest of the move rather than bunch steps */
         now = s->io.now(s->io.ctx);
-        if (now - t_ns > (int64_t)s->cfg.max_late_ns) { start += now - t_ns; s->st.retimed++; }
-        VP_TRY(vp_step_poll(s, b, r));
-        /* homing: the switch closed; this tick goes out, then a decelerating stop */
-        if (r->triggered && !b->stopping) vp_step_block_stop(b);
+        late = now > t_ns ? now - t_ns : 0;
+        s->st.late_hist[vp_step_late_bucket(late)]++;
+        if (late > s->st.late_max_ns) s->st.late_max_ns = late;
+        if (late > (int64_t)s->cfg.max_late_ns) {
+            if (s->cfg.late_fault) {   /* no pulse: stop, homing needed */
+                s->st.late_faults++;
+                vp_step_write(s, vp_step_all(s->cfg.naxes, vp_bit_step) | vp_step_all(s->cfg.naxes, vp_bit_en), 0);
+                s->enabled = 0;
+                s->homed = 0;
+                s->fault = VP_STEP_FAULT_LATE;
+                s->fault_t = now;
+                vp_step_emit_late(s, VP_STEP_EV_LATE, -1, "late step", late, 1);
+                return VP_EABORT;
+            }
+            s->st.retimed++;
+            nretime++;
+            if (late > worst) worst = late;
+        }
         smask = 0;
-        sval = 0;
         for (i = 0; i < b->naxes; i++) {
             if (!(mask & (1u << i))) continue;
             smask |= VP_IO_STEP(i);
@@ -238,13 +318,22 @@ static int vp_step_run_block(vp_step_t *s, vp_step_block_t *b, vp_run_t *r)
             if (r->mode == VP_RUN_BACKLASH) s->st.backlash_steps[i]++;
             else s->pos[i] += b->delta[i] > 0 ? 1 : -1;
         }
-        sval = smask;
-        rc = vp_step_write(s, smask, sval);
-        s->io.wait_until(s->io.ctx, t_ns + s->cfg.pulse_ns);
+        rc = vp_step_write(s, smask, smask);
+        /* the actual rising edge: the pulse is timed from it, and the rest of the move shifts
+         * by its lag (the limiter then keeps the re-entry within the acceleration) */
+        rise = s->io.now(s->io.ctx);
+        if (rise > t_ns) shift += rise - t_ns;
+        if (prev >= 0) hprev = rise - prev;
+        prev = rise;
+        s->io.wait_until(s->io.ctx, rise + s->cfg.pulse_ns);
         if (vp_step_write(s, smask, 0) < 0 || rc < 0)
             return vp_step_trip(s, VP_STEP_FAULT_IO, VP_STEP_EV_ESTOP, -1, "write failed");
+        /* inputs after the falling edge; homing: the switch closed, decelerate to a stop */
+        VP_TRY(vp_step_poll(s, b, r));
+        if (r->triggered && !b->stopping) vp_step_block_stop(b);
     }
     s->st.move_time += vp_step_block_time(b, b->end);
+    if (nretime) vp_step_emit_late(s, VP_STEP_EV_RETIME, -1, "late steps: profile re-entered", worst, nretime);
     return VP_OK;
 }
 
@@ -300,6 +389,8 @@ int vp_step_init(vp_step_t *s, const vp_step_config_t *cfg, const vp_io_t *io)
     if (!s->cfg.lead_ns) s->cfg.lead_ns = 200000;
     if (!s->cfg.poll_ns) s->cfg.poll_ns = 1000000;
     if (!s->cfg.max_late_ns) s->cfg.max_late_ns = 100000;
+    if (!s->cfg.debounce) s->cfg.debounce = 1;
+    if (s->cfg.debounce > 64) return VP_EINVAL;
     if (!(s->cfg.max_step_rate >= 0) || s->cfg.max_step_rate > 1e9 / (2.0 * s->cfg.pulse_ns)) return VP_EINVAL;
     if (!s->cfg.max_step_rate) s->cfg.max_step_rate = 1e9 / (2.0 * s->cfg.pulse_ns);
     for (i = 0; i < cfg->naxes; i++) {
@@ -357,7 +448,7 @@ int vp_step_clear_fault(vp_step_t *s)
 {
     uint32_t in = 0;
     if (!s) return VP_EINVAL;
-    if (s->io.read(s->io.ctx, &in) < 0) return VP_EIO;
+    if (vp_step_settle(s, &in) < 0) return VP_EIO;
     if (in & VP_IO_ESTOP) return VP_EABORT;
     if (s->fault) vp_step_emit(s, VP_STEP_EV_CLEARED, -1, "fault cleared");
     s->fault = VP_STEP_FAULT_NONE;
@@ -444,22 +535,22 @@ static int vp_step_home_axis(vp_step_t *s, int i)
     vp_run_t r;
     if (pull < 1) pull = 1;
     seek = (int32_t)ceil(1.5 * (a->travel_max - a->travel_min) * spu) + 2 * pull;
-    if (s->io.read(s->io.ctx, &in) < 0) return vp_step_home_fail(s, i, VP_EIO, "input read failed");
+    if (vp_step_settle(s, &in) < 0) return vp_step_home_fail(s, i, VP_EIO, "input read failed");
     if (in & sw) { /* already on the switch: leave it first */
         VP_TRY(vp_step_home_move(s, i, -dir * pull, a->home_seek * spu, 0, &r));
-        if (s->io.read(s->io.ctx, &in) < 0 || (in & sw)) return vp_step_home_fail(s, i, VP_EIO, "limit switch stays closed");
+        if (vp_step_settle(s, &in) < 0 || (in & sw)) return vp_step_home_fail(s, i, VP_EIO, "limit switch stays closed");
     }
     VP_TRY(vp_step_home_move(s, i, dir * seek, a->home_seek * spu, sw, &r));
     if (!r.triggered) return vp_step_home_fail(s, i, VP_ETIMEOUT, "limit switch not found");
     VP_TRY(vp_step_home_move(s, i, -dir * pull, a->home_seek * spu, 0, &r));
-    if (s->io.read(s->io.ctx, &in) < 0 || (in & sw)) return vp_step_home_fail(s, i, VP_EIO, "limit switch stays closed");
+    if (vp_step_settle(s, &in) < 0 || (in & sw)) return vp_step_home_fail(s, i, VP_EIO, "limit switch stays closed");
     VP_TRY(vp_step_home_move(s, i, dir * 2 * pull, a->home_feed * spu, sw, &r));
     if (!r.triggered) return vp_step_home_fail(s, i, VP_ETIMEOUT, "limit switch lost on slow approach");
     /* the latched step is where the switch closes: home_pos */
     s->pos[i] = vp_step_to_steps(s, i, a->home_pos) + (s->pos[i] - r.latch);
     VP_TRY(vp_step_home_move(s, i, vp_step_to_steps(s, i, a->home_pos - dir * a->home_pulloff) - s->pos[i],
                              a->home_seek * spu, 0, &r));
-    if (s->io.read(s->io.ctx, &in) < 0 || (in & sw)) return vp_step_home_fail(s, i, VP_EIO, "limit switch stays closed");
+    if (vp_step_settle(s, &in) < 0 || (in & sw)) return vp_step_home_fail(s, i, VP_EIO, "limit switch stays closed");
     vp_step_emit(s, VP_STEP_EV_HOMED, i, "axis homed");
     return VP_OK;
 }

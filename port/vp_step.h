@@ -6,13 +6,24 @@
  * step by Bresenham on the dominant ticks, so every axis starts and ends together and each stays
  * within half a step of the line. The profile's speed and acceleration are the largest that
  * keep every axis within its own max speed and acceleration (the most constrained axis rules).
- * Step times come from the exact profile (no accumulated drift), as absolute ns deadlines; a
- * deadline met late by more than max_late_ns delays the rest of the move (never a burst).
+ * Step times come from the exact profile (no accumulated drift), as absolute ns deadlines.
+ *
+ * Timing guarantees (whatever the OS does): each pulse ends pulse_ns after its actual rising
+ * edge (the time read after the write); inputs are read after the falling edge, never between
+ * a deadline and its rising edge; no rising edge follows the one before sooner than the block's
+ * rate cap (<= max_step_rate) or sooner than the acceleration allows from the interval the motor
+ * really had (a limiter on the actual edges). A late wake-up thus only ever stretches one
+ * interval: the rest of the move is shifted and the motor re-accelerates into the profile at the
+ * axis' acceleration (never a burst, never a speed jump). A step later than max_late_ns is a
+ * retime (counted, VP_STEP_EV_RETIME), or with late_fault a fault before the pulse (homing
+ * needed). Every step's lateness goes into a log2 histogram.
+ * Inputs are debounced: a level change is taken after `debounce` consecutive equal samples
+ * (the homing latch is the position at the first of them).
  *
  * Also: steps per unit, direction inversion, enable lines, backlash take-up before a reversing
  * move (extra steps not counted in the position), soft travel limits (a move leaving travel is
  * refused before any step), homing against limit switches (seek, pull off, slow locate, pull
- * off; the switch position is latched), and an e-stop input polled before every step pulse and
+ * off; the switch position is latched), and an e-stop input polled after every step pulse and
  * at least every poll_ns: no pulse after it is seen, drivers disabled, a fault reported through
  * the event callback. A fault blocks moves until vp_step_clear_fault() and a new homing; the
  * caller's session is untouched.
@@ -42,13 +53,15 @@ typedef struct vp_step_axis {
 } vp_step_axis_t;
 
 enum { VP_STEP_EV_ESTOP = 1, VP_STEP_EV_LIMIT, VP_STEP_EV_HOME_FAIL, VP_STEP_EV_HOMED,
-       VP_STEP_EV_CLEARED };
+       VP_STEP_EV_CLEARED, VP_STEP_EV_RETIME, VP_STEP_EV_LATE };
 
 typedef struct vp_step_event {
     int kind;                /* VP_STEP_EV_* */
     int axis;                /* -1 if none */
     int64_t t_ns;
     const char *what;        /* short constant text */
+    int64_t late_ns;         /* VP_STEP_EV_RETIME, VP_STEP_EV_LATE: worst lateness */
+    uint64_t count;          /* VP_STEP_EV_RETIME: retimes in the block just run */
 } vp_step_event_t;
 
 typedef struct vp_step_config {
@@ -59,17 +72,20 @@ typedef struct vp_step_config {
     uint32_t enable_ns;      /* drivers wake this long after enable (0: 1 ms) */
     uint32_t lead_ns;        /* first deadline of a block this far ahead (0: 200 us) */
     uint32_t poll_ns;        /* inputs read at least this often while waiting (0: 1 ms) */
-    uint32_t max_late_ns;    /* a step later than this shifts the rest of the move instead of
-                                a catch-up burst of steps (0: 100 us) */
+    uint32_t max_late_ns;    /* a step later than this is a retime, or a fault with late_fault
+                                (0: 100 us); any lateness is absorbed without a burst */
+    uint32_t debounce;       /* samples an input level must hold to be taken (0: 1) */
+    int late_fault;          /* 1: a retime faults instead (VP_STEP_FAULT_LATE, homing needed) */
     double max_step_rate;    /* backend limit in steps/s per axis (0: 1e9 / (2 pulse_ns)) */
     int allow_unhomed;       /* 1: moves allowed before homing */
     int no_hard_limits;      /* 1: a switch closing during a move is not a fault */
-    void (*event)(void *ctx, const vp_step_event_t *ev);   /* faults and homing, may be NULL */
+    void (*event)(void *ctx, const vp_step_event_t *ev);   /* faults, homing and retimes (once
+                                                              after a block), may be NULL */
     void *event_ctx;
 } vp_step_config_t;
 
 enum { VP_STEP_FAULT_NONE = 0, VP_STEP_FAULT_ESTOP, VP_STEP_FAULT_LIMIT, VP_STEP_FAULT_HOME,
-       VP_STEP_FAULT_IO };
+       VP_STEP_FAULT_IO, VP_STEP_FAULT_LATE };
 
 /* One block: Bresenham over `delta` with a rest-to-rest trapezoid on the dominant axis. */
 typedef struct vp_step_block {
@@ -95,11 +111,17 @@ void vp_step_block_stop(vp_step_block_t *b);
 /* Dominant step rate at the last tick (steps/s, the profile's value). */
 double vp_step_block_rate(const vp_step_block_t *b);
 
+#define VP_STEP_LATE_BUCKETS 12               /* ... [10] < 1.024 ms, [11] >= 1.024 ms */
+
 typedef struct vp_step_stats {
     uint64_t steps[VP_STEP_MAX_AXES];        /* pulses issued (backlash included) */
     uint64_t backlash_steps[VP_STEP_MAX_AXES];
     uint64_t moves, blocks, refused, polls;
-    uint64_t retimed;                        /* late steps that shifted the rest of a move */
+    uint64_t retimed;                        /* steps later than max_late_ns (profile re-entered) */
+    uint64_t late_faults;                    /* the same with late_fault: moves stopped */
+    uint64_t limited;                        /* steps the re-entry limiter held back > 1 us */
+    uint64_t late_hist[VP_STEP_LATE_BUCKETS];/* step lateness: [0] < 1 us, [i] < 2^i us, last: more */
+    int64_t late_max_ns;
     double move_time;                        /* s of motion (profile time) */
 } vp_step_stats_t;
 
@@ -112,6 +134,9 @@ typedef struct vp_step {
     uint32_t out;                            /* current output levels */
     int enabled, homed, fault;
     int64_t fault_t;
+    uint32_t deb;                            /* debounced input levels */
+    uint8_t deb_n[VP_IO_NIN];                /* consecutive samples differing from deb */
+    int32_t deb_at[VP_IO_NIN];               /* limit bits: axis position at the first of them */
     vp_step_stats_t st;
 } vp_step_t;
 
@@ -134,6 +159,8 @@ void vp_step_position(const vp_step_t *s, double *units);
 int  vp_step_set_position(vp_step_t *s, const double *units);
 /* Clears a fault once the e-stop is released (VP_EABORT while it is pressed); homing needed. */
 int  vp_step_clear_fault(vp_step_t *s);
+/* Bucket of a lateness in the histogram. */
+int  vp_step_late_bucket(int64_t late_ns);
 /* Unit value -> steps (rounded), as the stepper does. */
 int32_t vp_step_to_steps(const vp_step_t *s, int axis, double units);
 
