@@ -151,12 +151,7 @@ CC_=${CC:-gcc}
 "$CC_" -std=c99 -O2 -ffp-contract=off -D_POSIX_C_SOURCE=200809L -Icore -Imesh -o "$D/vp_remove" "$D/vp_remove.c" \
   "$B/libvpmesh.a" "$B/libvpcore.a" -lm 2>"$D/vp_remove-build.log" || { echo "vp_remove: build failed ($D/vp_remove-build.log)"; exit 1; }
 cgalr=""
-if [ -f /usr/include/CGAL/Delaunay_triangulation_3.h ]; then
-  if [ ! -x "$D/cgal_remove" ] || [ bench/cgal_remove.cpp -nt "$D/cgal_remove" ]; then
-    g++ -O2 -DNDEBUG -o "$D/cgal_remove" bench/cgal_remove.cpp -lgmp -lmpfr 2>"$D/cgal-remove-build.log" || true
-  fi
-  [ -x "$D/cgal_remove" ] && cgalr="$D/cgal_remove"
-fi
+[ -n "$cgal" ] && cgalr="$cgal" # the same program: with a list of indices it times removal
 echo
 echo "Vertex removal: vp_dt_remove vs CGAL Delaunay_triangulation_3::remove, a fixed random $RFRAC of the points, median of $RUNS"
 printf '%-16s %8s %8s %9s %9s %8s %9s %9s %6s %6s %6s\n' set points removed vp_s cgal_s ratio tets cgal_tets equal valid slots+
