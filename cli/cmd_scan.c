@@ -220,10 +220,28 @@ static void scan_progress(scan_run_t *r, int final)
     fflush(stderr);
 }
 
+/* The step timing report (retimes, late faults, lateness histogram) as an EVENT record: logged
+ * before the session's last event (DONE, PAUSE or FAULT stays last). */
+static int scan_log_stepping(scan_run_t *r)
+{
+    vp_logfmt_record_t ev;
+    char text[VP_LOGFMT_TEXT_MAX + 1];
+    double v[4];
+    int st;
+    vp_scan_step_report(r->dev, text, sizeof text, v);
+    vp_logfmt_record_event(&ev, 0, VP_LOGFMT_EV_STEPPING, 0, text);
+    memcpy(ev.value, v, sizeof v);
+    st = vp_logwriter_append(&r->w.file, &ev);
+    if (st != VP_OK) r->w.failed = 1;
+    return st;
+}
+
 static int scan_after(void *ctx, const vp_cmd_t *cmd, const vp_probe_result_t *res)
 {
     scan_run_t *r = ctx;
-    int st = vp_sessionlog_after(&r->w, cmd, res);
+    int st = cmd->kind == VP_CMD_DONE ? scan_log_stepping(r) : VP_OK;
+    if (st != VP_OK) return st;
+    st = vp_sessionlog_after(&r->w, cmd, res);
     if (st != VP_OK) return st;
     if (cmd->kind == VP_CMD_DONE) return VP_OK;
     r->n++;
@@ -601,6 +619,7 @@ static int scan_home(scan_job_t *j)
     if (st != VP_OK && !j->run.paused) {
         fprintf(stderr, "scan: %s\n", err);
         snprintf(text, sizeof text, "%.250s", err);
+        scan_log_stepping(&j->run);
         vp_logwriter_event(&j->run.w.file, VP_LOGFMT_EV_FAULT, st, text);
         fprintf(stderr, "scan: stopped before the scan went on; the log %s is resumable: voroprobe scan --log %s --resume\n",
                 j->o.log, j->o.log);
@@ -635,6 +654,7 @@ static int scan_go(scan_job_t *j)
         fprintf(stderr, "scan: writing the session log %s failed: %s; the scan stopped\n", j->o.log, strerror(errno));
     } else if (j->run.paused) {
         snprintf(text, sizeof text, "paused after %lu commands (Ctrl-C)", j->run.n);
+        scan_log_stepping(&j->run);
         vp_logwriter_event(&j->run.w.file, VP_LOGFMT_EV_PAUSE, 0, text);
         fprintf(stderr, "scan: %s; resume with: voroprobe scan --log %s --resume\n", text, j->o.log);
         j->rc = VP_EXIT_STOPPED;
@@ -649,12 +669,14 @@ static int scan_go(scan_job_t *j)
         else
             snprintf(text, sizeof text, "command %lu (probe from %.6g %.6g %.6g along %.4f %.4f %.4f): %.120s", j->run.n + 1,
                      c->from[0], c->from[1], c->from[2], c->dir[0], c->dir[1], c->dir[2], why);
+        scan_log_stepping(&j->run);
         vp_logwriter_event(&j->run.w.file, VP_LOGFMT_EV_FAULT, j->dev.fault, text);
         fprintf(stderr, "scan: stopped at %s\nscan: the log %s is resumable: voroprobe scan --log %s --resume%s\n", text,
                 j->o.log, j->o.log, j->dev.m->step.fault == VP_STEP_FAULT_ESTOP ? " (after releasing the e-stop)" : "");
     } else {
         snprintf(text, sizeof text, "planner: %s", st == VP_ERANGE ? "the probe towards an interior point found no "
                  "surface: is [omega] interior inside the object?" : vp_strerror(st));
+        scan_log_stepping(&j->run);
         vp_logwriter_event(&j->run.w.file, VP_LOGFMT_EV_FAULT, st, text);
         fprintf(stderr, "scan: the scan stopped: %s%s\n", text, st == VP_ENOMEM ? " (the arena is full: --arena)" : "");
         if (j->dev.unreadable) {
@@ -702,6 +724,12 @@ static int scan_report(scan_job_t *j)
                    "%.0f s of machine time%s\n", j->dev.hits + j->dev.misses + j->dev.too_close, j->dev.hits, nh, j->dev.misses,
                    j->dev.too_close, tc, m->st.moves,
                    m->st.travel, mt, j->o.dry ? " (simulated)" : "");
+        }
+        {
+            char rep[VP_LOGFMT_TEXT_MAX + 1];
+            double v[4];
+            vp_scan_step_report(&j->dev, rep, sizeof rep, v);
+            printf("%s%s\n", rep, j->o.dry ? " (simulated)" : "");
         }
         printf("planner: %llu probes in all, largest ball %.4g mm (eps %g), arena peak %zu bytes\n",
                (unsigned long long)ps.probes, ps.max_ball, j->o.eps, ps.arena_peak);

@@ -54,7 +54,8 @@ enum vp_logfmt_event {
     VP_LOGFMT_EV_RESUME = 3,      /* the log was replayed and the scan goes on */
     VP_LOGFMT_EV_FAULT = 4,       /* the scan stopped on an error (code: VP_E*) */
     VP_LOGFMT_EV_DONE = 5,        /* the planner said DONE: the session is complete */
-    VP_LOGFMT_EV_CALIBRATION = 6  /* device calibration (value[]: device-specific, text says) */
+    VP_LOGFMT_EV_CALIBRATION = 6, /* device calibration (value[]: device-specific, text says) */
+    VP_LOGFMT_EV_STEPPING = 7     /* the step timing of the scan: retimes, faults, lateness */
 };
 
 typedef struct vp_logfmt_record {

@@ -42,6 +42,9 @@ static const vp_bkey_t k_timing[] = {
     { "spin_us", K_NUM, B(spin_us), 1, 0, 1000, R_NO },
     { "max_step_rate", K_NUM, B(max_step_rate), 1, 1, 500000, R_NO },
     { "rt_priority", K_INT, B(rt_priority), 1, 0, 99, R_NO },
+    { "debounce", K_INT, B(debounce), 1, 1, 64, R_NO },
+    { "max_late_us", K_NUM, B(max_late_us), 1, 1, 1e6, R_NO },
+    { "on_late", K_STR, B(on_late), 16, ANY, R_NO },
     { NULL, 0, 0, 0, 0, 0, 0 } };
 static const vp_bkey_t k_axis[] = {
     { "step", K_PIN, A(step), 0, ANY, R_GPIO },
@@ -346,6 +349,13 @@ static int vp_board_key(void *user, const char *section, const char *key, const 
             }
         }
         if (!strcmp(key, "calibration") && !*val) { snprintf(msg, ml, "expected a file name"); return VP_EINVAL; }
+        if (!strcmp(key, "on_late")) {
+            if (strcmp(val, "reenter") && strcmp(val, "fault")) {
+                snprintf(msg, ml, "expected reenter or fault, got '%s'", val);
+                return VP_EINVAL;
+            }
+            c->b->late_fault = !strcmp(val, "fault");
+        }
         if (!strcmp(key, "near_spots")) {
             if (strcmp(val, "too-close") && strcmp(val, "measure")) {
                 snprintf(msg, ml, "expected too-close or measure, got '%s'", val);
@@ -638,6 +648,9 @@ static void vp_board_defaults(vp_board_t *b)
     b->enable_ms = 2;
     b->poll_ms = 1;
     b->spin_us = 50;
+    b->debounce = 3;
+    b->max_late_us = 100;
+    strcpy(b->on_late, "reenter");
     b->origin_tol = 0.1;
     strcpy(b->camera.backend, "v4l2");
     strcpy(b->camera.device, "/dev/video0");
@@ -852,6 +865,9 @@ void vp_board_step_config(const vp_board_t *b, vp_step_config_t *c)
     c->enable_ns = (uint32_t)llround(b->enable_ms * 1e6);
     c->poll_ns = (uint32_t)llround(b->poll_ms * 1e6);
     c->max_step_rate = b->max_step_rate;
+    c->debounce = (uint32_t)b->debounce;
+    c->max_late_ns = (uint32_t)llround(b->max_late_us * 1000);
+    c->late_fault = b->late_fault;
 }
 
 void vp_board_kin_config(const vp_board_t *b, vp_kin_config_t *k)

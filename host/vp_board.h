@@ -43,6 +43,10 @@ typedef struct vp_board {
     /* [timing] */
     double pulse_us, dir_setup_us, enable_ms, poll_ms, spin_us, max_step_rate;
     int rt_priority;
+    int debounce;                        /* samples a switch or e-stop level must hold (3) */
+    double max_late_us;                  /* a step later than this is a retime (100) */
+    char on_late[16];                    /* "reenter" (default) or "fault" */
+    int late_fault;                      /* on_late = fault */
     /* [head] */
     double tilt_offset[3], laser_offset[3], origin_tol;
     /* [camera] */

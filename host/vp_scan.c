@@ -84,7 +84,8 @@ static vp_scan_ev_t vp_scan_last_ev;
 static void vp_scan_event(void *ctx, const vp_step_event_t *ev)
 {
     (void)ctx;
-    if (ev->kind == VP_STEP_EV_HOMED || ev->kind == VP_STEP_EV_CLEARED) return;
+    /* retimes are counted in the stepper's statistics (vp_scan_step_report) */
+    if (ev->kind == VP_STEP_EV_HOMED || ev->kind == VP_STEP_EV_CLEARED || ev->kind == VP_STEP_EV_RETIME) return;
     vp_scan_last_ev.kind = ev->kind;
     vp_scan_last_ev.axis = ev->axis;
     vp_scan_last_ev.what = ev->what;
@@ -167,6 +168,29 @@ void vp_scan_unreadable_text(const vp_scan_dev_t *d, char *buf, size_t n)
              "model's span", d->unread_why[0], d->unread_why[1], d->unread_why[2], d->unread_why[3]);
 }
 
+void vp_scan_step_report(const vp_scan_dev_t *d, char *buf, size_t n, double value[4])
+{
+    const vp_step_stats_t *st;
+    size_t len;
+    int i;
+    value[0] = value[1] = value[2] = value[3] = 0;
+    if (!d->m) { snprintf(buf, n, "step timing: no machine"); return; }
+    st = &d->m->step.st;
+    value[0] = (double)st->retimed;
+    value[1] = (double)st->late_faults;
+    value[2] = st->late_max_ns * 1e-3;
+    value[3] = (double)st->limited;
+    snprintf(buf, n, "step timing: %llu retimes, %llu late faults (max_late_us %g, on_late %s), worst %.1f us late; "
+             "steps by lateness <1,2,4..1024,more us:", (unsigned long long)st->retimed,
+             (unsigned long long)st->late_faults, d->board.max_late_us, d->board.late_fault ? "fault" : "reenter",
+             st->late_max_ns * 1e-3);
+    for (i = 0; i < VP_STEP_LATE_BUCKETS; i++) {
+        len = strlen(buf);
+        if (len + 1 >= n) break;
+        snprintf(buf + len, n - len, "%s%llu", i ? "," : " ", (unsigned long long)st->late_hist[i]);
+    }
+}
+
 void vp_scan_fault_text(const vp_scan_dev_t *d, char *buf, size_t n)
 {
     const vp_scan_ev_t *e = &vp_scan_last_ev;
@@ -181,6 +205,10 @@ void vp_scan_fault_text(const vp_scan_dev_t *d, char *buf, size_t n)
         return;
     case VP_STEP_FAULT_HOME:
         snprintf(buf, n, "homing axis %s failed: %s", ax, e->what ? e->what : "?");
+        return;
+    case VP_STEP_FAULT_LATE:
+        snprintf(buf, n, "a step came %.0f us late (max_late_us %g, on_late = fault): pulses stopped, drivers off; "
+                 "homing needed", d->m->step.st.late_max_ns * 1e-3, d->board.max_late_us);
         return;
     default: break;
     }

@@ -69,6 +69,10 @@ vp_device_ops_t vp_scan_ops(vp_scan_dev_t *d);
  * was proven free), then the joints the log left, step for step. msg: notes (may be NULL). */
 int  vp_scan_return(vp_scan_dev_t *d, const vp_sessionlog_t *L, uint32_t n, const double start[3], FILE *msg,
                     char *err, size_t errlen);
+/* The step timing report (EVENT VP_LOGFMT_EV_STEPPING, logged before the session's last event)
+ * and the summary: text, and value[] = retimes, late faults,
+ * worst lateness (us), steps held back by the re-entry limiter. */
+void vp_scan_step_report(const vp_scan_dev_t *d, char *buf, size_t n, double value[4]);
 /* Why the last command failed, in words (e-stop, limit switch, camera, travel). */
 void vp_scan_fault_text(const vp_scan_dev_t *d, char *buf, size_t n);
 /* The unreadable frames by reason, in words. */

@@ -15,6 +15,7 @@ const char *vp_sessionlog_event_name(uint32_t event)
     case VP_LOGFMT_EV_FAULT: return "fault";
     case VP_LOGFMT_EV_DONE: return "done";
     case VP_LOGFMT_EV_CALIBRATION: return "calibration";
+    case VP_LOGFMT_EV_STEPPING: return "stepping";
     default: return "unknown";
     }
 }

@@ -223,13 +223,18 @@ static int vp_step_check(vp_step_t *s, const vp_step_block_t *b, vp_run_t *r, ui
     return VP_OK;
 }
 
-static int vp_step_poll(vp_step_t *s, const vp_step_block_t *b, vp_run_t *r)
+/* n samples (1 between steps; cfg.debounce before a block: a switch already closed is seen
+ * before the first step), then the checks. */
+static int vp_step_poll_n(vp_step_t *s, const vp_step_block_t *b, vp_run_t *r, uint32_t n)
 {
-    uint32_t in = 0;
-    if (vp_step_sample(s, &in) < 0)
-        return vp_step_trip(s, VP_STEP_FAULT_IO, VP_STEP_EV_ESTOP, -1, "input read failed");
+    uint32_t in = 0, k;
+    for (k = 0; k < n; k++)
+        if (vp_step_sample(s, &in) < 0)
+            return vp_step_trip(s, VP_STEP_FAULT_IO, VP_STEP_EV_ESTOP, -1, "input read failed");
     return vp_step_check(s, b, r, in);
 }
+
+static int vp_step_poll(vp_step_t *s, const vp_step_block_t *b, vp_run_t *r) { return vp_step_poll_n(s, b, r, 1); }
 
 /* Shortest interval (ns) after one of h1 ns that keeps the speed-up within a (steps/s^2),
  * speeds taken at interval midpoints: (1/h2 - 1/h1) / ((h1 + h2) / 2) <= a. */
@@ -243,7 +248,7 @@ static int64_t vp_step_min_next(int64_t h1_ns, double a)
 static int vp_step_run_block(vp_step_t *s, vp_step_block_t *b, vp_run_t *r)
 {
     uint32_t dmask = 0, dval = 0, mask, smask;
-    int64_t start, t_ns, wake = 0, now, shift = 0, prev = -1, hprev = 0, hcap, late, rise, worst = 0;
+    int64_t start, t_ns, wake = 0, now, shift = 0, prev = -1, hmot = 0, hcap, late, rise, worst = 0;
     uint64_t nretime = 0;
     double t;
     int i, rc;
@@ -255,8 +260,8 @@ static int vp_step_run_block(vp_step_t *s, vp_step_block_t *b, vp_run_t *r)
         if ((b->delta[i] > 0) != (s->cfg.axis[i].invert_dir != 0)) dval |= VP_IO_DIR(i);
         if (r->mode != VP_RUN_BACKLASH) s->last_dir[i] = (int8_t)(b->delta[i] > 0 ? 1 : -1);
     }
-    /* read once before anything moves */
-    VP_TRY(vp_step_poll(s, b, r));
+    /* read before anything moves */
+    VP_TRY(vp_step_poll_n(s, b, r, s->cfg.debounce));
     if ((s->out & dmask) != dval) {
         if (vp_step_write(s, dmask, dval) < 0) return vp_step_trip(s, VP_STEP_FAULT_IO, VP_STEP_EV_ESTOP, -1, "write failed");
         wake = s->cfg.dir_setup_ns;
@@ -274,11 +279,11 @@ static int vp_step_run_block(vp_step_t *s, vp_step_block_t *b, vp_run_t *r)
     hcap = (int64_t)floor(1e9 / b->v);
     while (vp_step_block_next(b, &t, &mask)) {
         t_ns = start + shift + (int64_t)llround(t * 1e9);
-        /* the limiter: never sooner than the rate cap or the acceleration allow after the
-         * interval the motor really had (after a late step: the re-entry ramp) */
+        /* the limiter: never sooner after the last wake-up than the rate cap or the acceleration
+         * allow from the motor's interval (after a retime: the re-entry ramp) */
         if (prev >= 0) {
             int64_t early = prev + hcap;
-            if (hprev > 0) { int64_t e2 = prev + vp_step_min_next(hprev, b->a); if (e2 > early) early = e2; }
+            if (hmot > 0) { int64_t e2 = prev + vp_step_min_next(hmot, b->a); if (e2 > early) early = e2; }
             if (t_ns < early) { if (early - t_ns > 1000) s->st.limited++; shift += early - t_ns; t_ns = early; }
         }
         /* long waits are cut into polls so the e-stop is seen within poll_ns (shorter while a
@@ -319,12 +324,14 @@ static int vp_step_run_block(vp_step_t *s, vp_step_block_t *b, vp_run_t *r)
             else s->pos[i] += b->delta[i] > 0 ? 1 : -1;
         }
         rc = vp_step_write(s, smask, smask);
-        /* the actual rising edge: the pulse is timed from it, and the rest of the move shifts
-         * by its lag (the limiter then keeps the re-entry within the acceleration) */
+        /* the pulse is timed from the actual rising edge (read after the write) */
         rise = s->io.now(s->io.ctx);
-        if (rise > t_ns) shift += rise - t_ns;
-        if (prev >= 0) hprev = rise - prev;
-        prev = rise;
+        /* the schedule goes on from the wake-up: lateness shifts the rest of the move (never a
+         * catch-up burst). Up to max_late_ns it is phase jitter (the motor keeps the commanded
+         * interval); beyond, a real slow-down the limiter ramps up from. */
+        shift += late;
+        if (prev >= 0) hmot = late > (int64_t)s->cfg.max_late_ns ? now - prev : t_ns - prev;
+        prev = now;
         s->io.wait_until(s->io.ctx, rise + s->cfg.pulse_ns);
         if (vp_step_write(s, smask, 0) < 0 || rc < 0)
             return vp_step_trip(s, VP_STEP_FAULT_IO, VP_STEP_EV_ESTOP, -1, "write failed");

@@ -12,11 +12,12 @@
  * edge (the time read after the write); inputs are read after the falling edge, never between
  * a deadline and its rising edge; no rising edge follows the one before sooner than the block's
  * rate cap (<= max_step_rate) or sooner than the acceleration allows from the interval the motor
- * really had (a limiter on the actual edges). A late wake-up thus only ever stretches one
- * interval: the rest of the move is shifted and the motor re-accelerates into the profile at the
- * axis' acceleration (never a burst, never a speed jump). A step later than max_late_ns is a
- * retime (counted, VP_STEP_EV_RETIME), or with late_fault a fault before the pulse (homing
- * needed). Every step's lateness goes into a log2 histogram.
+ * really had (a limiter on the wake-up times). A late wake-up thus only ever stretches one
+ * interval and shifts the rest of the move (never a catch-up burst). Lateness up to max_late_ns
+ * is phase jitter: the next interval is the planned one. A step later than that is a retime:
+ * the motor is taken to have slowed to that interval and re-accelerates into the profile at the
+ * block's acceleration (counted; VP_STEP_EV_RETIME after the block), or with late_fault a fault
+ * before the pulse (homing needed). Every step's lateness goes into a log2 histogram.
  * Inputs are debounced: a level change is taken after `debounce` consecutive equal samples
  * (the homing latch is the position at the first of them).
  *
@@ -73,7 +74,7 @@ typedef struct vp_step_config {
     uint32_t lead_ns;        /* first deadline of a block this far ahead (0: 200 us) */
     uint32_t poll_ns;        /* inputs read at least this often while waiting (0: 1 ms) */
     uint32_t max_late_ns;    /* a step later than this is a retime, or a fault with late_fault
-                                (0: 100 us); any lateness is absorbed without a burst */
+                                (0: 100 us); less is phase jitter; never a burst either way */
     uint32_t debounce;       /* samples an input level must hold to be taken (0: 1) */
     int late_fault;          /* 1: a retime faults instead (VP_STEP_FAULT_LATE, homing needed) */
     double max_step_rate;    /* backend limit in steps/s per axis (0: 1e9 / (2 pulse_ns)) */

@@ -106,6 +106,7 @@ static void test_two_boards(void)
         vp_io_t io;
         vp_board_step_config(&b, &sc);
         CHECK(sc.naxes == 5 && sc.pulse_ns == 4000 && sc.dir_setup_ns == 2000 && sc.enable_ns == 2000000 && sc.max_step_rate == 20000);
+        CHECK(sc.debounce == 3 && sc.max_late_ns == 100000 && sc.late_fault == 0);
         memset(&rcf, 0, sizeof rcf);
         rcf.naxes = 5;
         rcf.estop_at = -1;
@@ -153,7 +154,7 @@ static void test_broken_boards(void)
     bad(t, "rpi4.ini: ", "missing section [estop]: a board that drives motors needs an e-stop input");
     t = edit("dir = gpiochip0:23", "dir = gpiochip0:27");
     snprintf(loc, sizeof loc, "rpi4.ini:%d: ", line_of(t, "[axis.y]") + 2);
-    bad(t, loc, "[axis.y] dir: gpiochip0:27 is already [axis.x] dir (line 26)");
+    bad(t, loc, "[axis.y] dir: gpiochip0:27 is already [axis.x] dir (line 29)");
     t = edit("limit_max = gpiochip0:21 pull-up", "limit_max = gpiochip0:17 pull-up");
     bad(t, LOC("limit_max = gpiochip0:17"), "[axis.z] limit_max: gpiochip0:17 is already [axis.x] step");
     t = edit("step = gpiochip0:5", "step = gpio5");
@@ -183,6 +184,10 @@ static void test_broken_boards(void)
         "circumradius): y from 37.8 to 262.2 is not within axis.y travel 0..300 less the head's reach 65.0 mm; use a smaller box, or a ball");
     t = edit("start = 200, 150, 232", "start = 200, 150, 150");
     bad(t, LOC("start = 200"), "[omega] start: the device must start outside Omega");
+    t = edit("on_late = reenter", "on_late = ignore");
+    bad(t, LOC("on_late = ignore"), "[timing] on_late: expected reenter or fault, got 'ignore'");
+    t = edit("debounce = 3", "debounce = 0");
+    bad(t, LOC("debounce = 0"), "[timing] debounce: 0 is outside 1..64");
     t = edit("near_spots = too-close", "near_spots = guess");
     bad(t, LOC("near_spots = guess"), "[rangefinder] near_spots: expected too-close or measure, got 'guess'");
     t = edit("name = rpi4-gantry", "name = rpi4-gantry\nlog_sync = often");

@@ -2,8 +2,9 @@
  * speed and acceleration limits checked from the recorded edge timestamps, every axis within
  * half a step of the straight line (they start and end together), soft limits refuse before any
  * edge, homing against switches (order, latch, failures), backlash take-up against a carriage
- * with slack, direction inversion, e-stop (no pulse after it, drivers off within poll_ns, fault,
- * resumable after release and homing), hard limits, and the generator's own step throughput. */
+ * with slack, direction inversion, e-stop (no pulse after the read that sees it, drivers off
+ * within poll_ns, fault, resumable after release and homing), hard limits, an OS stall (no
+ * bunching, no speed-up beyond the acceleration), and the generator's own step throughput. */
 #include <math.h>
 #include <stdint.h>
 #include <stdlib.h>
