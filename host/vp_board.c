@@ -92,6 +92,7 @@ static const vp_bkey_t k_camera[] = {
     { "look_at", K_NUMS, B(look_at), 3, -1e5, 1e5, R_YES },
     { "up", K_NUMS, B(up), 3, -1e5, 1e5, R_NO },
     { "timeout_ms", K_INT, B(timeout_ms), 1, 1, 60000, R_NO },
+    { "latency_frames", K_INT, B(latency_frames), 1, 0, 64, R_NO },
     { NULL, 0, 0, 0, 0, 0, 0 } };
 static const vp_bkey_t k_range[] = {
     { "min_range", K_NUM, B(min_range), 1, POS, 1e5, R_YES },
@@ -120,6 +121,8 @@ static const vp_bkey_t k_sim[] = {
     { "texture", K_NUM, B(sim_texture), 1, 0, 255, R_NO },
     { "spot_energy", K_NUM, B(sim_energy), 1, POS, 1e9, R_NO },
     { "seed", K_NUM, B(sim_seed), 1, 0, 9e15, R_NO },
+    { "frame_ms", K_NUM, B(sim_frame_ms), 1, 0, 1000, R_NO },
+    { "latency_frames", K_INT, B(sim_latency), 1, 0, 64, R_NO },
     { "camera_position", K_NUMS, B(sim_cam_pos), 3, -1e4, 1e4, R_NO },
     { "camera_look_at", K_NUMS, B(sim_cam_look), 3, -1e5, 1e5, R_NO },
     { NULL, 0, 0, 0, 0, 0, 0 } };
@@ -656,6 +659,7 @@ static void vp_board_defaults(vp_board_t *b)
     strcpy(b->camera.device, "/dev/video0");
     b->up[2] = 1;
     b->timeout_ms = 1000;
+    b->latency_frames = 2;
     b->settle_ms = 20;
     b->sim_blur = 1.2;
     b->sim_noise = 2;
@@ -886,6 +890,7 @@ void vp_board_machine_config(const vp_board_t *b, vp_machine_config_t *m)
     m->settle_ns = (uint32_t)llround(b->settle_ms * 1e6);
     m->timeout_ms = b->timeout_ms;
     m->use_laser_line = b->laser.chip[0] != 0;
+    m->latency_frames = b->latency_frames;
     m->spot.band = b->band;
 }
 

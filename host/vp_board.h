@@ -54,6 +54,8 @@ typedef struct vp_board {
     vp_camera_model_t cam_model;         /* intrinsics and pose in the tilt frame */
     double look_at[3], up[3];
     int timeout_ms;
+    int latency_frames;                  /* frames after a laser switch that may still show the old
+                                            state (2); vp_machine_measure_latency measures it */
     /* [rangefinder] */
     double min_range, max_range, band, settle_ms;
     double line[4], model[3];
@@ -79,6 +81,8 @@ typedef struct vp_board {
     char sim_surface[256];
     double sim_blur, sim_noise, sim_ambient, sim_gradient, sim_texture, sim_energy;
     double sim_seed;
+    double sim_frame_ms;                 /* > 0: the simulated camera streams at this period */
+    int sim_latency;                     /* and hands frames over this many frames late */
     double sim_cam_pos[3], sim_cam_look[3];  /* camera_position / camera_look_at */
     vp_camera_model_t sim_cam;           /* the camera as mounted on the simulated head (default:
                                             the [camera] model; a dry run renders with it) */

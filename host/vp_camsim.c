@@ -61,8 +61,8 @@ static void vp_camsim_spot(float *acc, int w, int h, double u, double v, double 
         }
 }
 
-int vp_camsim_render(const vp_camsim_config_t *c, const vp_camsim_scene_t *sc, const double rot[9], const double pos[3],
-                     vp_rng_t *rng, uint8_t *img, int stride, vp_camsim_truth_t *truth)
+static int vp_camsim_draw(const vp_camsim_config_t *c, const vp_camsim_scene_t *sc, const double rot[9], const double pos[3],
+                          vp_rng_t *rng, uint8_t *img, int stride, vp_camsim_truth_t *truth, int laser)
 {
     const int w = c->cam.width, h = c->cam.height;
     double ex[3] = { 1, 0, 0 }, o[3], d[3], cpos[3], t = 0, blur, beam, energy, maxr, tx, ty, phx, phy;
@@ -71,6 +71,7 @@ int vp_camsim_render(const vp_camsim_config_t *c, const vp_camsim_scene_t *sc, c
     int i, x, y;
     if (!c || !sc || !rot || !pos || !rng || !img || w < 8 || h < 8 || stride < w) return VP_EINVAL;
     memset(&tr, 0, sizeof tr);
+    tr.laser = laser;
     blur = c->blur_px > 0 ? c->blur_px : 1.2;
     beam = c->beam_radius > 0 ? c->beam_radius : 0.25;
     energy = c->spot_energy > 0 ? c->spot_energy : 3000;
@@ -119,7 +120,7 @@ int vp_camsim_render(const vp_camsim_config_t *c, const vp_camsim_scene_t *sc, c
             /* hidden if the object crosses the line of sight before the spot */
             if (vp_surface_ray(sc->surf, cpos, (double[3]){ -u[0], -u[1], -u[2] }, lc * (1 - 1e-6) - 1e-6, &th)) tr.visible = 0;
         }
-        if (tr.visible) {
+        if (tr.visible && laser) {
             /* footprint: beam radius across, stretched by 1/cos along the slant */
             for (i = 0; i < 3; i++) t1[i] = d[i] + cos_i * n[i];
             {
@@ -154,6 +155,21 @@ int vp_camsim_render(const vp_camsim_config_t *c, const vp_camsim_scene_t *sc, c
     if (c->lamp_peak > 0 && c->lamp_sigma > 0)
         vp_camsim_spot(acc, w, h, c->lamp_uv[0], c->lamp_uv[1], c->lamp_peak * 2 * VP_PI * c->lamp_sigma * c->lamp_sigma,
                        c->lamp_sigma * c->lamp_sigma, 0, c->lamp_sigma * c->lamp_sigma);
+    if (c->highlight_peak > 0) {
+        /* an ambient highlight beside the laser line: where the beam's image would be for a
+         * surface at highlight_dist, moved across the line; lit whatever the laser does */
+        double p1[3], p2[3], u1[2], u2[2], e[2], l, sg = c->highlight_sigma > 0 ? c->highlight_sigma : 1.5;
+        for (i = 0; i < 3; i++) p1[i] = p2[i] = c->laser_offset[i];
+        p1[0] += c->highlight_dist;
+        p2[0] += c->highlight_dist + 1;
+        if (vp_camera_project(&c->cam, p1, u1) && vp_camera_project(&c->cam, p2, u2)) {
+            e[0] = u2[0] - u1[0]; e[1] = u2[1] - u1[1];
+            l = sqrt(e[0] * e[0] + e[1] * e[1]);
+            if (l > 1e-12) { e[0] /= l; e[1] /= l; } else { e[0] = 1; e[1] = 0; }
+            vp_camsim_spot(acc, w, h, u1[0] - c->highlight_off_px * e[1], u1[1] + c->highlight_off_px * e[0],
+                           c->highlight_peak * 2 * VP_PI * sg * sg, sg * sg, 0, sg * sg);
+        }
+    }
     for (i = 0; i < c->hot_pixels; i++) acc[vp_rng_below(rng, (uint64_t)w * h)] = 255;
     /* noise, quantisation, saturation */
     for (y = 0; y < h; y++)
@@ -167,7 +183,15 @@ int vp_camsim_render(const vp_camsim_config_t *c, const vp_camsim_scene_t *sc, c
     return VP_OK;
 }
 
+int vp_camsim_render(const vp_camsim_config_t *c, const vp_camsim_scene_t *sc, const double rot[9], const double pos[3],
+                     vp_rng_t *rng, uint8_t *img, int stride, vp_camsim_truth_t *truth)
+{
+    return vp_camsim_draw(c, sc, rot, pos, rng, img, stride, truth, 1);
+}
+
 /* ---- the camera backend ---- */
+
+#define VP_CAMSIM_HIST 32
 
 struct vp_camsim {
     vp_camsim_config_t cfg;
@@ -178,7 +202,13 @@ struct vp_camsim {
     void *ctx;
     uint8_t *buf;
     int busy;
-    vp_camsim_truth_t last;
+    vp_camsim_truth_t last, prev;
+    vp_camsim_stream_t st;
+    int64_t next;                          /* sequence number of the next frame to hand out */
+    int64_t last_seq, last_ts;             /* of the frame handed out last (-1: none) */
+    int64_t handed;                        /* frames handed out */
+    int64_t hist_t[VP_CAMSIM_HIST];        /* the laser line as seen at mark/capture times */
+    int hist_on[VP_CAMSIM_HIST], nhist;
 };
 
 int vp_camsim_create(const vp_camsim_config_t *c, const vp_camsim_scene_t *sc, uint64_t seed,
@@ -197,7 +227,59 @@ int vp_camsim_create(const vp_camsim_config_t *c, const vp_camsim_scene_t *sc, u
     cs->pose = pose;
     cs->clock = clock;
     cs->ctx = ctx;
+    cs->last_seq = cs->last_ts = -1;
     *out = cs;
+    return VP_OK;
+}
+
+static int vp_camsim_laser_now(const vp_camsim_t *cs) { return cs->st.laser ? cs->st.laser(cs->ctx) != 0 : 1; }
+static int64_t vp_camsim_now(const vp_camsim_t *cs) { return cs->clock ? cs->clock(cs->ctx) : 0; }
+
+/* the laser line now, into the history (kept in time order) */
+static void vp_camsim_note(vp_camsim_t *cs)
+{
+    int64_t t = vp_camsim_now(cs);
+    int on = vp_camsim_laser_now(cs);
+    if (cs->nhist > 0 && cs->hist_t[(cs->nhist - 1) % VP_CAMSIM_HIST] == t) {
+        cs->hist_on[(cs->nhist - 1) % VP_CAMSIM_HIST] = on;
+        return;
+    }
+    cs->hist_t[cs->nhist % VP_CAMSIM_HIST] = t;
+    cs->hist_on[cs->nhist % VP_CAMSIM_HIST] = on;
+    cs->nhist++;
+}
+
+/* the laser line at time t: the last state noted at or before t (off before the history) */
+static int vp_camsim_laser_at(const vp_camsim_t *cs, int64_t t)
+{
+    int k, n = cs->nhist < VP_CAMSIM_HIST ? cs->nhist : VP_CAMSIM_HIST;
+    for (k = 1; k <= n; k++) {
+        int i = (cs->nhist - k) % VP_CAMSIM_HIST;
+        if (cs->hist_t[i] <= t) return cs->hist_on[i];
+    }
+    return 0;
+}
+
+/* Stream mode: frame s is exposed from s P (the laser as it was then), and handed over
+ * `latency` frames later, stamped then: at (s + latency) P + 1 ns. So after a mark at T the
+ * first `latency` frames handed out were exposed before T, though some are stamped after it. */
+static int64_t vp_camsim_at(const vp_camsim_t *cs, int64_t s) { return (s + cs->st.latency) * cs->st.period_ns + 1; }
+
+/* newest frame handed over by time t */
+static int64_t vp_camsim_newest(const vp_camsim_t *cs, int64_t t)
+{
+    return (t + cs->st.period_ns - 1) / cs->st.period_ns - 1 - cs->st.latency;
+}
+
+static int vp_camsim_mark(void *ctx, int64_t *next_seq)
+{
+    vp_camsim_t *cs = ctx;
+    vp_camsim_note(cs);
+    if (cs->st.period_ns > 0) {
+        int64_t d = vp_camsim_newest(cs, vp_camsim_now(cs));
+        if (d + 1 > cs->next) cs->next = d + 1;
+    }
+    *next_seq = cs->next;
     return VP_OK;
 }
 
@@ -205,18 +287,59 @@ static int vp_camsim_capture(void *ctx, int64_t not_before, int timeout_ms, vp_f
 {
     vp_camsim_t *cs = ctx;
     double rot[9], pos[3];
-    (void)not_before;
-    (void)timeout_ms;
+    int64_t s, ts, want = f->seq;
+    int laser, q;
     if (cs->busy) return VP_ESTATE;
+    vp_camsim_note(cs);
+    if (cs->st.period_ns <= 0) {
+        /* at once: the frame of now (frames below the sequence number asked for are skipped) */
+        s = want > cs->next ? want : cs->next;
+        ts = vp_camsim_now(cs);
+        laser = vp_camsim_laser_now(cs);
+    } else {
+        const int64_t P = cs->st.period_ns;
+        int64_t now = vp_camsim_now(cs), d = vp_camsim_newest(cs, now), deadline = now + (int64_t)timeout_ms * 1000000;
+        q = cs->st.queue > 0 ? cs->st.queue : 4;
+        s = cs->next;
+        if (s < d - q + 1) s = d - q + 1;          /* the queue keeps the newest q */
+        for (;;) {
+            int64_t at = vp_camsim_at(cs, s);
+            /* waiting frames below the number asked for, and those stamped before not_before, go
+             * back unseen; then wait for the one wanted */
+            if (s < want && !cs->st.every_frame) { s = want; continue; }
+            if (at < not_before) { s++; continue; }
+            if (at > now) {
+                if (at > deadline || !cs->st.wait_until) return VP_ETIMEOUT;
+                VP_TRY(cs->st.wait_until(cs->ctx, at));
+                now = vp_camsim_now(cs);
+            }
+            break;
+        }
+        ts = vp_camsim_at(cs, s);
+        laser = vp_camsim_laser_at(cs, s * P);
+    }
+    /* an injected fault: this frame numbered or stamped older than the one before */
+    cs->handed++;
+    if (cs->st.back_at > 0 && cs->handed == cs->st.back_at && cs->last_seq >= 0) {
+        if (cs->st.back_kind == 2) s = cs->last_seq - 1;
+        else ts = cs->last_ts - 1;
+    }
     cs->pose(cs->ctx, rot, pos);
-    VP_TRY(vp_camsim_render(&cs->cfg, &cs->scene, rot, pos, &cs->rng, cs->buf, cs->cfg.cam.width, &cs->last));
+    cs->prev = cs->last;
+    VP_TRY(vp_camsim_draw(&cs->cfg, &cs->scene, rot, pos, &cs->rng, cs->buf, cs->cfg.cam.width, &cs->last, laser));
+    cs->last.seq = s;
+    cs->last.t_ns = ts;
+    if (s + 1 > cs->next) cs->next = s + 1;
+    cs->last_seq = s;
+    cs->last_ts = ts;
     f->data = cs->buf;
     f->width = cs->cfg.cam.width;
     f->height = cs->cfg.cam.height;
     f->stride = cs->cfg.cam.width;
     f->step = 1;
-    f->t_ns = cs->clock ? cs->clock(cs->ctx) : 0;
+    f->t_ns = ts;
     f->index = 0;
+    f->seq = s;
     cs->busy = 1;
     return VP_OK;
 }
@@ -232,6 +355,7 @@ vp_cam_t vp_camsim_cam(vp_camsim_t *cs)
     c.release = vp_camsim_release;
     c.close = vp_camsim_close_cb;
     c.error = NULL;
+    c.mark = vp_camsim_mark;
     c.name = "camsim";
     return c;
 }
@@ -239,6 +363,27 @@ vp_cam_t vp_camsim_cam(vp_camsim_t *cs)
 void vp_camsim_seed(vp_camsim_t *cs, uint64_t seed) { vp_rng_seed(&cs->rng, seed); }
 
 const vp_camsim_truth_t *vp_camsim_last(const vp_camsim_t *cs) { return &cs->last; }
+const vp_camsim_truth_t *vp_camsim_prev(const vp_camsim_t *cs) { return &cs->prev; }
+vp_camsim_config_t *vp_camsim_config(vp_camsim_t *cs) { return &cs->cfg; }
+
+void vp_camsim_laser_switched(vp_camsim_t *cs) { if (cs) vp_camsim_note(cs); }
+
+vp_camsim_stream_t *vp_camsim_stream(vp_camsim_t *cs) { return &cs->st; }
+
+int vp_camsim_fault(vp_camsim_t *cs, int64_t at, int kind)
+{
+    if (!cs || at < 1 || kind < 1 || kind > 2) return VP_EINVAL;
+    cs->st.back_at = cs->handed + at;
+    cs->st.back_kind = kind;
+    return VP_OK;
+}
+
+int vp_camsim_set_stream(vp_camsim_t *cs, const vp_camsim_stream_t *s)
+{
+    if (!cs || !s || s->period_ns < 0 || s->latency < 0 || s->queue < 0 || (s->period_ns > 0 && !s->wait_until)) return VP_EINVAL;
+    cs->st = *s;
+    return VP_OK;
+}
 
 void vp_camsim_destroy(vp_camsim_t *cs)
 {

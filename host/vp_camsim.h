@@ -29,6 +29,11 @@ typedef struct vp_camsim_config {
     double lamp_peak;            /* > 0: a broad bright blob (a lamp, a glare) of this peak */
     double lamp_uv[2], lamp_sigma;   /* its centre and width, px */
     int hot_pixels;              /* this many isolated pixels stuck at 255 */
+    double highlight_peak;       /* > 0: an ambient highlight (a glint, a lamp's reflection) lit with
+                                    the laser off too, of this peak, near the laser line: */
+    double highlight_sigma;      /* its width, px (0: 1.5) */
+    double highlight_dist;       /* where the beam's image would be for a surface this far, mm */
+    double highlight_off_px;     /* and this far across the line, px */
     double max_range;            /* beam range, mm (0: 5000) */
 } vp_camsim_config_t;
 
@@ -46,6 +51,8 @@ typedef struct vp_camsim_truth {
     double energy;               /* rendered spot energy */
     double sigma_px;             /* spot size: (det of its covariance)^(1/4), px */
     double peak;                 /* spot peak above the background before clipping */
+    int laser;                   /* the laser was on during the exposure (the spot is drawn) */
+    int64_t seq, t_ns;           /* the frame's sequence number and time stamp (backend only) */
 } vp_camsim_truth_t;
 
 /* Renders one frame into img (cam.width x cam.height, stride bytes per row) for the head pose
@@ -61,10 +68,40 @@ int     vp_camsim_create(const vp_camsim_config_t *c, const vp_camsim_scene_t *s
                          void (*pose)(void *ctx, double rot[9], double pos[3]),
                          int64_t (*clock)(void *ctx), void *ctx, vp_camsim_t **out);
 vp_cam_t vp_camsim_cam(vp_camsim_t *cs);
+/* Streaming like a real camera (default: off, each capture renders at once with the laser as it
+ * is now, sequence numbers 0, 1, 2, ... and the clock's time stamp). With period_ns > 0 the
+ * camera exposes frame s from s * period_ns (its time stamp) and delivers it (1 + latency)
+ * frames later; up to `queue` delivered frames wait to be taken, oldest first (older ones are
+ * dropped), so a capture can return a frame exposed long before; mark() drains them. The spot is
+ * drawn when the laser was on at the frame's exposure start (the state seen at the last
+ * mark/capture at or before it, or vp_camsim_laser_switched: the dry run calls it on each laser
+ * write). */
+typedef struct vp_camsim_stream {
+    int64_t period_ns;           /* 0: no stream (as above) */
+    int latency;                 /* frames of pipeline delay after the frame's own */
+    int queue;                   /* frames waiting at most (0: 4) */
+    int (*laser)(void *ctx);     /* the laser line now (NULL: always on); ctx: create's */
+    int (*wait_until)(void *ctx, int64_t t_ns);   /* the clock's wait (needed with period_ns) */
+    int64_t back_at;             /* fault (>= 1): the back_at-th frame handed out (counting from 1) */
+    int back_kind;               /* comes stamped older than the one before (1) or numbered so (2) */
+    int every_frame;             /* hand over every frame, ignoring the caller's lowest sequence
+                                    number (as V4L2 does: the caller drops them) */
+} vp_camsim_stream_t;
+int     vp_camsim_set_stream(vp_camsim_t *cs, const vp_camsim_stream_t *s);
+/* The stream settings in use (tests change them between frames). */
+vp_camsim_stream_t *vp_camsim_stream(vp_camsim_t *cs);
+/* The laser line was just written (the dry run's GPIO calls it): its state is noted now. */
+void    vp_camsim_laser_switched(vp_camsim_t *cs);
+/* Fault injection (tests): the at-th frame handed out from now on comes stamped (kind 1) or
+ * numbered (kind 2) older than the one before it. */
+int     vp_camsim_fault(vp_camsim_t *cs, int64_t at, int kind);
+/* The renderer's configuration, to change between frames (tests). */
+vp_camsim_config_t *vp_camsim_config(vp_camsim_t *cs);
 /* Restarts the noise generator (e.g. per probe, so a resumed dry run sees the same frames). */
 void    vp_camsim_seed(vp_camsim_t *cs, uint64_t seed);
-/* Truth of the last frame captured. */
+/* Truth of the last frame captured, and of the one before it. */
 const vp_camsim_truth_t *vp_camsim_last(const vp_camsim_t *cs);
+const vp_camsim_truth_t *vp_camsim_prev(const vp_camsim_t *cs);
 void    vp_camsim_destroy(vp_camsim_t *cs);
 
 #endif

@@ -22,6 +22,25 @@ static void vp_dryrun_pose(void *ctx, double rot[9], double pos[3])
 }
 
 static int64_t vp_dryrun_clock(void *ctx) { return ((vp_dryrun_t *)ctx)->rec.now; }
+static int vp_dryrun_laser(void *ctx) { return (((vp_dryrun_t *)ctx)->rec.out & VP_IO_LASER) != 0; }
+static int vp_dryrun_wait(void *ctx, int64_t t)
+{
+    vp_dryrun_t *d = ctx;
+    vp_io_t io = vp_iorec_io(&d->rec);
+    return io.wait_until(io.ctx, t);
+}
+
+/* the GPIO as the machine sees it: the recording backend, and the camera told of laser switches */
+static int64_t vp_dryrun_io_now(void *ctx) { vp_dryrun_t *d = ctx; vp_io_t io = vp_iorec_io(&d->rec); return io.now(io.ctx); }
+static int vp_dryrun_io_read(void *ctx, uint32_t *in) { vp_dryrun_t *d = ctx; vp_io_t io = vp_iorec_io(&d->rec); return io.read(io.ctx, in); }
+static int vp_dryrun_io_write(void *ctx, uint32_t mask, uint32_t values)
+{
+    vp_dryrun_t *d = ctx;
+    vp_io_t io = vp_iorec_io(&d->rec);
+    int rc = io.write(io.ctx, mask, values);
+    if ((mask & VP_IO_LASER) && d->cs) vp_camsim_laser_switched(d->cs);
+    return rc;
+}
 
 void vp_dryrun_true_beam(const vp_dryrun_t *d, double origin[3], double dir[3])
 {
@@ -78,7 +97,11 @@ int vp_dryrun_open(const vp_board_t *b, const vp_dryrun_options_t *o, vp_dryrun_
         if (ax->home_dir > 0) { rc.has_max[a] = 1; rc.max_sw[a] = (int32_t)llround(ax->home_pos * ax->steps_per_unit); }
     }
     vp_iorec_init(&d->rec, &rc);
-    io = vp_iorec_io(&d->rec);
+    io.ctx = d;
+    io.now = vp_dryrun_io_now;
+    io.wait_until = vp_dryrun_wait;
+    io.write = vp_dryrun_io_write;
+    io.read = vp_dryrun_io_read;
     /* the camera: host-sim frames at the carriages' pose */
     memset(&cc, 0, sizeof cc);
     cc.cam = b->sim_cam.width ? b->sim_cam : b->cam_model;   /* as mounted ([sim] may move it) */
@@ -101,12 +124,33 @@ int vp_dryrun_open(const vp_board_t *b, const vp_dryrun_options_t *o, vp_dryrun_
                           vp_dryrun_clock, d, &d->cs);
     if (st != VP_OK) { vp_surface_close(d->surf); free(d); return st; }
     cam = vp_camsim_cam(d->cs);
+    {
+        /* the laser line seen by the camera, streaming as the board's [sim] says */
+        vp_camsim_stream_t cst;
+        memset(&cst, 0, sizeof cst);
+        cst.period_ns = (int64_t)llround(b->sim_frame_ms * 1e6);
+        cst.latency = b->sim_latency;
+        cst.laser = b->laser.chip[0] ? vp_dryrun_laser : NULL;
+        cst.wait_until = vp_dryrun_wait;
+        st = vp_camsim_set_stream(d->cs, &cst);
+        d->frame = malloc(2 * (size_t)cc.cam.width * (size_t)cc.cam.height);
+        if (st != VP_OK || !d->frame) {
+            vp_camsim_destroy(d->cs);
+            vp_surface_close(d->surf);
+            free(d->frame);
+            free(d);
+            return st != VP_OK ? st : VP_ENOMEM;
+        }
+    }
     vp_board_step_config(b, &sc);
     vp_board_machine_config(b, &mc);
+    mc.diff_buf = d->frame;
+    mc.diff_len = 2 * (size_t)cc.cam.width * (size_t)cc.cam.height;
     st = vp_machine_init(&d->m, &kc, &sc, &io, &cam, &b->tri, &mc);
     if (st != VP_OK) {
         snprintf(err, errlen, "%s: the machine configuration is refused", b->path);
         vp_camsim_destroy(d->cs);
+        free(d->frame);
         vp_surface_close(d->surf);
         free(d);
         return st;
@@ -122,5 +166,6 @@ void vp_dryrun_close(vp_dryrun_t *d)
     if (!d) return;
     vp_machine_close(&d->m);      /* closes (destroys) the renderer too */
     vp_surface_close(d->surf);
+    free(d->frame);
     free(d);
 }

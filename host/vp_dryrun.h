@@ -17,6 +17,7 @@ typedef struct vp_dryrun {
     vp_camsim_t *cs;
     vp_surface_t *surf;
     vp_board_t board;
+    uint8_t *frame;              /* the machine's diff_buf: 2 frames */
 } vp_dryrun_t;
 
 typedef struct vp_dryrun_options {

@@ -145,6 +145,14 @@ int vp_scan_open(vp_scan_dev_t *d, const vp_board_t *b, int dry, const char *sur
         vp_board_kin_config(b, &kc);
         vp_board_step_config(b, &sc);
         vp_board_machine_config(b, &mc);
+        mc.diff_len = 2 * (size_t)b->cam_model.width * (size_t)b->cam_model.height;
+        d->hw_frame = mc.diff_buf = malloc(mc.diff_len);
+        if (!mc.diff_buf) {
+            if (cam.close) cam.close(cam.ctx);
+            vp_gpiod_close(d->gpio);
+            d->gpio = NULL;
+            return VP_ENOMEM;
+        }
         io = vp_gpiod_io(d->gpio);
         st = vp_machine_init(&d->hw, &kc, &sc, &io, &cam, &b->tri, &mc);
         if (st != VP_OK) {
@@ -282,6 +290,8 @@ void vp_scan_close(vp_scan_dev_t *d)
     if (d->dr) vp_dryrun_close(d->dr);
     if (d->hw_open) vp_machine_close(&d->hw);
     if (d->gpio) vp_gpiod_close(d->gpio);
+    free(d->hw_frame);
+    d->hw_frame = NULL;
     d->dr = NULL;
     d->gpio = NULL;
     d->hw_open = 0;

@@ -25,6 +25,7 @@ typedef struct vp_scan_dev {
     vp_gpiod_t *gpio;             /* hardware */
     vp_machine_t hw;              /* the machine on the hardware backends */
     int hw_open;
+    uint8_t *hw_frame;            /* the machine's laser-off / difference frames (diff_buf) */
     vp_machine_t *m;              /* the machine in use */
     unsigned long long seed;      /* dry run: frames of probe k from (seed, k) */
     uint64_t probes;              /* probes executed (replayed ones included after a resume) */

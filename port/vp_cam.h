@@ -12,6 +12,9 @@ typedef struct vp_frame {
     int step;                /* bytes from one pixel to the next: 1 GREY, 2 YUYV (luma bytes) */
     int64_t t_ns;            /* exposure time stamp (CLOCK_MONOTONIC; simulated clock in dry runs) */
     int index;               /* backend buffer index, for release */
+    int64_t seq;             /* the camera's frame sequence number (-1: the backend gives none).
+                                On entry to capture: the lowest one the caller will accept (a hint:
+                                a backend may skip older frames; the caller checks again) */
 } vp_frame_t;
 
 #define VP_FRAME_PIX(f, x, y) ((f)->data[(size_t)(y) * (size_t)(f)->stride + (size_t)(x) * (size_t)(f)->step])
@@ -24,6 +27,11 @@ typedef struct vp_cam {
     void (*release)(void *ctx, vp_frame_t *f);
     void (*close)(void *ctx);                  /* releases everything, ctx included */
     const char *(*error)(void *ctx);           /* the last failure in words (may be NULL) */
+    /* May be NULL. The sequence number of the next frame the camera will deliver, now: frames
+     * already waiting in the queue are dropped (drained), so a frame carrying this number or a
+     * later one left the sensor after the call (pipeline latency aside: see vp_machine). Called
+     * right after the laser is switched. VP_OK or VP_EIO. */
+    int  (*mark)(void *ctx, int64_t *next_seq);
     const char *name;        /* "v4l2", "libcamera", "camsim" */
 } vp_cam_t;
 

@@ -42,6 +42,7 @@ struct Libcam {
     std::condition_variable cv;
     std::deque<Request *> done;
     std::string err;
+    int64_t last_seq = -1, last_ts = -1;   // newest frame taken from the queue
 
     void completed(Request *r)
     {
@@ -64,13 +65,6 @@ struct Libcam {
     }
 };
 
-int64_t mono_now()
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (int64_t)ts.tv_sec * 1000000000 + ts.tv_nsec;
-}
-
 int capture(void *ctx, int64_t not_before, int timeout_ms, vp_frame_t *f)
 {
     Libcam *lc = static_cast<Libcam *>(ctx);
@@ -88,8 +82,18 @@ int capture(void *ctx, int64_t not_before, int timeout_ms, vp_frame_t *f)
         }
         FrameBuffer *b = r->buffers().begin()->second;
         const FrameMetadata &md = b->metadata();
-        int64_t ts = (int64_t)md.timestamp;
-        bool stale = ts > 0 && ts < not_before && ts < mono_now() + 1000000000;
+        int64_t ts = (int64_t)md.timestamp, seq = (int64_t)md.sequence;
+        // a frame older than one already seen cannot be placed against the laser: refused
+        if (lc->last_seq >= 0 && (seq <= lc->last_seq || ts < lc->last_ts)) {
+            lc->err = "libcamera: frame " + std::to_string(seq) + " is not after frame " + std::to_string(lc->last_seq) +
+                      " (sequence number or time stamp went back): refused";
+            r->reuse(Request::ReuseBuffers);
+            lc->cam->queueRequest(r);
+            return VP_EIO;
+        }
+        lc->last_seq = seq;
+        lc->last_ts = ts;
+        bool stale = ts < not_before || seq < f->seq;
         if (md.status != FrameMetadata::FrameSuccess || stale) {
             r->reuse(Request::ReuseBuffers);
             lc->cam->queueRequest(r);
@@ -103,8 +107,36 @@ int capture(void *ctx, int64_t not_before, int timeout_ms, vp_frame_t *f)
         f->step = lc->step;
         f->t_ns = ts;
         f->index = (int)idx;
+        f->seq = seq;
         return VP_OK;
     }
+}
+
+// Drains the completed requests (back to the camera) and gives the next sequence number.
+int mark(void *ctx, int64_t *next_seq)
+{
+    Libcam *lc = static_cast<Libcam *>(ctx);
+    for (;;) {
+        Request *r;
+        {
+            std::lock_guard<std::mutex> lk(lc->mu);
+            if (lc->done.empty()) break;
+            r = lc->done.front();
+            lc->done.pop_front();
+        }
+        const FrameMetadata &md = r->buffers().begin()->second->metadata();
+        int64_t ts = (int64_t)md.timestamp, seq = (int64_t)md.sequence;
+        bool back = lc->last_seq >= 0 && (seq <= lc->last_seq || ts < lc->last_ts);
+        if (!back) { lc->last_seq = seq; lc->last_ts = ts; }
+        r->reuse(Request::ReuseBuffers);
+        lc->cam->queueRequest(r);
+        if (back) {
+            lc->err = "libcamera: frame " + std::to_string(seq) + " is not after frame " + std::to_string(lc->last_seq) + ": refused";
+            return VP_EIO;
+        }
+    }
+    *next_seq = lc->last_seq + 1;
+    return VP_OK;
 }
 
 void release(void *ctx, vp_frame_t *f)
@@ -201,6 +233,7 @@ extern "C" int vp_libcamera_open(const vp_libcamera_config_t *cfg, vp_cam_t *out
     out->release = release;
     out->close = close_cam;
     out->error = error;
+    out->mark = mark;
     out->name = "libcamera";
     return VP_OK;
 }

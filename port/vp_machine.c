@@ -24,6 +24,9 @@ int vp_machine_init(vp_machine_t *m, const vp_kin_config_t *kc, const vp_step_co
     m->tri = *tri;
     if (mc) m->cfg = *mc;
     if (m->cfg.timeout_ms <= 0) m->cfg.timeout_ms = 1000;
+    if (m->cfg.latency_frames < 0) return VP_EINVAL;
+    m->seen_seq = -1;
+    m->last.seq = m->last.seq_off = m->last.seq_mark = -1;
     vp_machine_sync(m);
     return VP_OK;
 }
@@ -60,11 +63,129 @@ int vp_machine_move(vp_machine_t *m, const vp_cmd_t *cmd)
     return vp_machine_goto(m, cmd->to);
 }
 
+static void vp_machine_laser(vp_machine_t *m, int on)
+{
+    if (m->cfg.use_laser_line) m->io.write(m->io.ctx, VP_IO_LASER, on ? VP_IO_LASER : 0);
+}
+
+static int vp_machine_refuse(vp_machine_t *m, int fault, int rc)
+{
+    m->last.fault = fault;
+    m->st.refused++;
+    return rc;
+}
+
+/* One frame stamped at or after t0 and numbered at least want (-1: any). A frame numbered or
+ * stamped older than one already taken is refused (VP_EIO), never passed over. */
+static int vp_machine_frame(vp_machine_t *m, int64_t t0, int64_t want, vp_frame_t *f)
+{
+    int k, rc;
+    for (k = 0;; k++) {
+        memset(f, 0, sizeof *f);
+        f->seq = want;
+        rc = m->cam.capture(m->cam.ctx, t0, m->cfg.timeout_ms, f);
+        if (rc < 0) { m->st.camera_errors++; return rc; }
+        m->st.frames++;
+        if (m->seen && ((f->seq >= 0 && f->seq <= m->seen_seq) || f->t_ns < m->seen_ts)) {
+            m->cam.release(m->cam.ctx, f);
+            return vp_machine_refuse(m, VP_FRAME_BACKWARDS, VP_EIO);
+        }
+        if (f->seq >= 0) m->seen_seq = f->seq;
+        m->seen_ts = f->t_ns;
+        m->seen = 1;
+        if (want < 0 || f->seq < 0 || f->seq >= want) return VP_OK;
+        /* from before the laser switch: dropped */
+        m->st.stale++;
+        m->cam.release(m->cam.ctx, f);
+        if (k > m->cfg.latency_frames + 64) { m->st.camera_errors++; return VP_ETIMEOUT; }
+    }
+}
+
+/* The laser was just switched: the camera's mark (taken now, after the switch), then a frame
+ * numbered at least mark + latency_frames and stamped after now. *proven: the frame is known to
+ * be from after the switch (a camera without sequence numbers or mark cannot show it). */
+static int vp_machine_grab(vp_machine_t *m, vp_frame_t *f, int *proven)
+{
+    int64_t t0 = m->io.now(m->io.ctx), next = -1, want = -1;
+    if (m->cam.mark) {
+        int rc = m->cam.mark(m->cam.ctx, &next);
+        if (rc < 0) { m->st.camera_errors++; return rc; }
+        want = next + m->cfg.latency_frames;
+    }
+    m->last.seq_mark = next;
+    VP_TRY(vp_machine_frame(m, t0, want, f));
+    *proven = want >= 0 && f->seq >= want;
+    return VP_OK;
+}
+
+/* The frame the spot is looked for in. With a laser line: a laser-off frame copied into diff_buf,
+ * then a laser-on frame, and diff_buf = on - off (clamped at 0); *held = 0. Without (or with
+ * single_frame): the camera's frame itself, *held = 1 (release it). The laser is off on return. */
+static int vp_machine_expose(vp_machine_t *m, vp_frame_t *out, int *held)
+{
+    vp_frame_t f;
+    size_t n;
+    int proven = 1, x, y, w, h, rc;
+    uint8_t *b = m->cfg.diff_buf;
+    *held = 0;
+    m->last.fault = VP_FRAME_OK;
+    m->last.seq_off = -1;
+    if (!m->cfg.use_laser_line || m->cfg.single_frame) {
+        vp_machine_laser(m, 1);
+        if (m->cfg.use_laser_line) rc = vp_machine_grab(m, &f, &proven);
+        else rc = vp_machine_frame(m, m->io.now(m->io.ctx), -1, &f);   /* the laser is always on */
+        vp_machine_laser(m, 0);
+        if (rc < 0) return rc;
+        if (!proven) { m->cam.release(m->cam.ctx, &f); return vp_machine_refuse(m, VP_FRAME_UNPROVEN, VP_EIO); }
+        *out = f;
+        *held = 1;
+        return VP_OK;
+    }
+    /* laser off: the scene's own light */
+    vp_machine_laser(m, 0);
+    VP_TRY(vp_machine_grab(m, &f, &proven));
+    w = f.width;
+    h = f.height;
+    n = (size_t)w * (size_t)h;
+    if (!proven || !b || m->cfg.diff_len < n || w < 1 || h < 1) {
+        m->cam.release(m->cam.ctx, &f);
+        return vp_machine_refuse(m, !proven ? VP_FRAME_UNPROVEN : VP_FRAME_NO_BUFFER, !proven ? VP_EIO : VP_ENOMEM);
+    }
+    for (y = 0; y < h; y++)
+        for (x = 0; x < w; x++) b[(size_t)y * w + x] = VP_FRAME_PIX(&f, x, y);
+    m->last.seq_off = f.seq;
+    m->cam.release(m->cam.ctx, &f);
+    /* laser on */
+    vp_machine_laser(m, 1);
+    rc = vp_machine_grab(m, &f, &proven);
+    vp_machine_laser(m, 0);
+    if (rc < 0) return rc;
+    if (!proven || f.width != w || f.height != h) {
+        m->cam.release(m->cam.ctx, &f);
+        return vp_machine_refuse(m, !proven ? VP_FRAME_UNPROVEN : VP_FRAME_SIZE, VP_EIO);
+    }
+    for (y = 0; y < h; y++)
+        for (x = 0; x < w; x++) {
+            int d = (int)VP_FRAME_PIX(&f, x, y) - (int)b[(size_t)y * w + x];
+            b[(size_t)y * w + x] = (uint8_t)(d > 0 ? d : 0);
+        }
+    memset(out, 0, sizeof *out);
+    out->data = b;
+    out->width = w;
+    out->height = h;
+    out->stride = w;
+    out->step = 1;
+    out->t_ns = f.t_ns;
+    out->seq = f.seq;
+    m->cam.release(m->cam.ctx, &f);
+    return VP_OK;
+}
+
 int vp_machine_probe(vp_machine_t *m, const vp_cmd_t *cmd, vp_probe_result_t *res)
 {
     double target[VP_KIN_JOINTS], o0[3], d[3], dist = 0;
     vp_frame_t f;
-    int n, rc, hit;
+    int n, rc, hit, held;
     int64_t t0;
     if (!m || !cmd || !res || cmd->kind != VP_CMD_PROBE) return VP_EINVAL;
     res->hit = 0;
@@ -82,16 +203,12 @@ int vp_machine_probe(vp_machine_t *m, const vp_cmd_t *cmd, vp_probe_result_t *re
     m->st.travel += vp_dist3(o0, m->last.origin);
     t0 = m->io.now(m->io.ctx);
     if (m->cfg.settle_ns) m->io.wait_until(m->io.ctx, t0 + m->cfg.settle_ns);
-    t0 = m->io.now(m->io.ctx);
-    /* expose */
-    if (m->cfg.use_laser_line) m->io.write(m->io.ctx, VP_IO_LASER, VP_IO_LASER);
-    rc = m->cam.capture(m->cam.ctx, t0, m->cfg.timeout_ms, &f);
-    if (m->cfg.use_laser_line) m->io.write(m->io.ctx, VP_IO_LASER, 0);
-    if (rc < 0) { m->st.camera_errors++; return rc; }
-    m->st.frames++;
+    /* expose: frames from after the laser switch only (vp_machine_expose) */
+    VP_TRY(vp_machine_expose(m, &f, &held));
     m->last.t_ns = f.t_ns;
+    m->last.seq = f.seq;
     hit = vp_laser_measure(&f, &m->cfg.spot, &m->tri, &m->ws, &m->last.spot, &dist);
-    m->cam.release(m->cam.ctx, &f);
+    if (held) m->cam.release(m->cam.ctx, &f);
     if (hit < 0) return hit;
     if (!hit && m->last.spot.result == VP_SPOT_FOUND) {
         /* a spot nearer than min_range is a surface too close, never free space: report it
@@ -190,14 +307,12 @@ int vp_machine_calibrate(vp_machine_t *m, const vp_calib_plan_t *p, vp_tri_model
         for (k = 0; k < frames; k++) {
             vp_frame_t f;
             vp_spot_t sp;
+            int held;
             int64_t t0 = m->io.now(m->io.ctx);
             if (m->cfg.settle_ns) m->io.wait_until(m->io.ctx, t0 + m->cfg.settle_ns);
-            t0 = m->io.now(m->io.ctx);
-            if (m->cfg.use_laser_line) m->io.write(m->io.ctx, VP_IO_LASER, VP_IO_LASER);
-            VP_TRY(m->cam.capture(m->cam.ctx, t0, m->cfg.timeout_ms, &f));
-            if (m->cfg.use_laser_line) m->io.write(m->io.ctx, VP_IO_LASER, 0);
+            VP_TRY(vp_machine_expose(m, &f, &held));
             w = vp_spot_find(&f, NULL, NULL, &m->ws, &sp);
-            m->cam.release(m->cam.ctx, &f);
+            if (held) m->cam.release(m->cam.ctx, &f);
             if (w < 0) return w;
             if (sp.result != VP_SPOT_FOUND) continue;
             uv[n][0] = sp.u;
@@ -208,4 +323,57 @@ int vp_machine_calibrate(vp_machine_t *m, const vp_calib_plan_t *p, vp_tri_model
     }
     if (n < 4) return VP_EDEGEN;
     return vp_tri_fit((const double (*)[2])uv, dist, n, 0, 0, out, rep);
+}
+
+int vp_machine_measure_latency(vp_machine_t *m, int trials, int max_frames, int *latency)
+{
+    vp_frame_t f, d;
+    vp_spot_t sp;
+    size_t n;
+    int64_t next, want;
+    int t, phase, x, y, w, h, worst = 0, rc;
+    uint8_t *ref = m ? m->cfg.diff_buf : NULL, *dif;
+    if (!m || !latency || trials < 1 || max_frames < 1) return VP_EINVAL;
+    if (!m->cfg.use_laser_line || !m->cam.mark || !ref) return VP_ESTATE;
+    for (t = 0; t < trials; t++) {
+        /* a reference with the laser off long enough */
+        vp_machine_laser(m, 0);
+        VP_TRY(m->cam.mark(m->cam.ctx, &next));
+        VP_TRY(vp_machine_frame(m, m->io.now(m->io.ctx), next + max_frames, &f));
+        w = f.width;
+        h = f.height;
+        n = (size_t)w * (size_t)h;
+        if (f.seq < 0 || m->cfg.diff_len < 2 * n) { m->cam.release(m->cam.ctx, &f); return VP_ESTATE; }
+        for (y = 0; y < h; y++)
+            for (x = 0; x < w; x++) ref[(size_t)y * w + x] = VP_FRAME_PIX(&f, x, y);
+        m->cam.release(m->cam.ctx, &f);
+        dif = ref + n;
+        memset(&d, 0, sizeof d);
+        d.data = dif; d.width = w; d.height = h; d.stride = w; d.step = 1;
+        /* switch on, then off: frames from the mark until the spot shows (is gone) */
+        for (phase = 1; phase >= 0; phase--) {
+            int k, seen = -1;
+            vp_machine_laser(m, phase);
+            VP_TRY(m->cam.mark(m->cam.ctx, &next));
+            for (k = 0, want = next; k <= max_frames; k++) {
+                rc = vp_machine_frame(m, 0, want, &f);
+                if (rc < 0) { vp_machine_laser(m, 0); return rc; }
+                for (y = 0; y < h; y++)
+                    for (x = 0; x < w; x++) {
+                        int v = (int)VP_FRAME_PIX(&f, x, y) - (int)ref[(size_t)y * w + x];
+                        dif[(size_t)y * w + x] = (uint8_t)(v > 0 ? v : 0);
+                    }
+                want = f.seq + 1;
+                m->cam.release(m->cam.ctx, &f);
+                rc = vp_spot_find(&d, &m->cfg.spot, &m->tri, &m->ws, &sp);
+                if (rc < 0) { vp_machine_laser(m, 0); return rc; }
+                if ((sp.result == VP_SPOT_FOUND) == phase) { seen = (int)(want - 1 - next); break; }
+            }
+            if (seen < 0) { vp_machine_laser(m, 0); return VP_ETIMEOUT; }
+            if (seen > worst) worst = seen;
+        }
+    }
+    vp_machine_laser(m, 0);
+    *latency = worst;
+    return VP_OK;
 }

@@ -1,8 +1,9 @@
 /* vp_machine — the scanner as one object: kinematics, step generator, GPIO backend, camera
  * backend and rangefinder model, executing the planner's commands:
  *   MOVE  -> vp_kin_move -> vp_step_move -> backend              (a straight line of the laser origin)
- *   PROBE -> vp_kin_aim (+ aim path) -> vp_step_move_path -> settle -> laser on -> capture
- *            -> spot -> distance -> laser off -> vp_probe_result_t
+ *   PROBE -> vp_kin_aim (+ aim path) -> vp_step_move_path -> settle -> laser off -> mark -> capture
+ *            (copied) -> laser on -> mark -> capture -> on minus off -> spot -> distance -> laser off
+ *            -> vp_probe_result_t
  * so a scan loop is:  while (vp_planner_next(pl, &cmd) == VP_OK && cmd.kind != VP_CMD_DONE) {
  *                         if (vp_machine_exec(m, &cmd, &res) < 0) break;   // fault: stop, resumable
  *                         if (cmd.kind == VP_CMD_PROBE) vp_planner_feed(pl, &res); }
@@ -29,19 +30,42 @@ typedef struct vp_machine_stats {
     unsigned long miss_reason[6];     /* by VP_SPOT_* + 3; [5]: spot found but out of range */
     unsigned long near;               /* spots nearer than min_range, reported as hits */
     double travel;                    /* laser origin path length, mm */
+    unsigned long stale;              /* frames dropped as older than the laser switch (sequence) */
+    unsigned long refused;            /* probes refused for their frames (vp_machine_last.fault) */
 } vp_machine_stats_t;
+
+/* Why a probe's frames were refused (VP_EIO, nothing read from them). */
+enum { VP_FRAME_OK = 0,
+       VP_FRAME_BACKWARDS = 1,        /* a frame numbered or stamped older than one already seen */
+       VP_FRAME_UNPROVEN = 2,         /* the camera gives no sequence number / mark: a frame cannot be
+                                         shown to be from after the laser switch */
+       VP_FRAME_NO_BUFFER = 3,        /* no room for the laser-off frame (diff_buf) */
+       VP_FRAME_SIZE = 4 };           /* the laser-on frame is not the size of the laser-off one */
 
 typedef struct vp_machine_last {
     double origin[3], dir[3];         /* the beam of the last probe */
     double point[3];                  /* its hit point (if hit) */
     vp_spot_t spot;
-    int64_t t_ns;                     /* frame time stamp */
+    int64_t t_ns;                     /* frame time stamp (of the laser-on frame) */
+    int64_t seq, seq_off;             /* sequence numbers of the laser-on and laser-off frames */
+    int64_t seq_mark;                 /* the camera's next sequence number right after the laser went on */
+    int fault;                        /* VP_FRAME_* of the last probe */
 } vp_machine_last_t;
 
 typedef struct vp_machine_config {
     uint32_t settle_ns;               /* wait after the aim before the exposure */
     int timeout_ms;                   /* camera (0: 1000) */
-    int use_laser_line;               /* 1: switch VP_IO_LASER on for each exposure */
+    int use_laser_line;               /* 1: switch VP_IO_LASER on for each exposure; then each probe
+                                         takes a laser-off and a laser-on frame and finds the spot in
+                                         their difference (on - off, clamped at 0): light present in
+                                         both (a highlight near the laser line) cancels */
+    int latency_frames;               /* frames after the camera's mark that may still show the laser
+                                         as it was before the switch: only a frame numbered at least
+                                         mark + latency_frames is used (board [camera] latency_frames;
+                                         measure it with vp_machine_measure_latency) */
+    uint8_t *diff_buf;                /* the caller's room for the laser-off frame: width x height */
+    size_t diff_len;
+    int single_frame;                 /* tests only: no laser-off frame, no differencing */
     vp_spot_config_t spot;
 } vp_machine_config_t;
 
@@ -57,6 +81,8 @@ typedef struct vp_machine {
     vp_machine_stats_t st;
     vp_machine_last_t last;
     vp_spot_ws_t ws;
+    int64_t seen_seq, seen_ts;        /* the newest frame taken (-1 / none: seen = 0) */
+    int seen;
 } vp_machine_t;
 
 /* Checks and wires the parts (VP_EINVAL for a bad kinematics or stepper configuration). */
@@ -104,6 +130,15 @@ typedef struct vp_calib_plan {
     int stations, frames;             /* >= 4; 0: 3 frames */
 } vp_calib_plan_t;
 int vp_machine_calibrate(vp_machine_t *m, const vp_calib_plan_t *p, vp_tri_model_t *out, vp_tri_fit_report_t *rep);
+
+/* The camera's pipeline latency in frames, from the head as it stands (aimed at a matte surface
+ * within range): `trials` times the laser is switched on, then off, and the frames from the mark
+ * after the switch are counted until the spot appears (disappears), each frame against a laser-off
+ * reference; *latency is the largest count. Needs a laser line, diff_buf and a camera with
+ * sequence numbers and mark (VP_ESTATE otherwise); VP_ETIMEOUT when the spot never changes within
+ * max_frames. On a real camera set latency_frames one above it (an exposure straddling the
+ * switch shows a partial spot). */
+int vp_machine_measure_latency(vp_machine_t *m, int trials, int max_frames, int *latency);
 
 /* Laser origin and beam direction now. */
 void vp_machine_beam(const vp_machine_t *m, double origin[3], double dir[3]);

@@ -26,6 +26,7 @@ typedef struct vp_v4l2 {
     char dev[128];
     char err[256];
     unsigned long dropped;
+    int64_t last_seq, last_ts;   /* newest frame dequeued (-1: none yet) */
 } vp_v4l2_t;
 
 static int vp_xioctl(int fd, unsigned long req, void *arg)
@@ -92,9 +93,22 @@ static int vp_v4l2_capture(void *ctx, int64_t not_before, int timeout_ms, vp_fra
             snprintf(v->err, sizeof v->err, "camera %s: VIDIOC_DQBUF: %s", v->dev, strerror(errno));
             return errno == ENODEV ? VP_ENODEV : VP_EIO;
         }
-        /* broken frames and frames exposed before the caller's moment go back to the driver */
-        if ((b.flags & V4L2_BUF_FLAG_ERROR) ||
-            ((b.flags & V4L2_BUF_FLAG_TIMESTAMP_MASK) == V4L2_BUF_FLAG_TIMESTAMP_MONOTONIC && vp_v4l2_ts(&b) < not_before)) {
+        /* a frame older than one already seen (time stamp or sequence number going back), or a
+         * clock that is not CLOCK_MONOTONIC, cannot be placed against the laser: refused, never
+         * passed over (the stale-frame check would be skipped) */
+        if ((b.flags & V4L2_BUF_FLAG_TIMESTAMP_MASK) != V4L2_BUF_FLAG_TIMESTAMP_MONOTONIC ||
+            (v->last_seq >= 0 && ((int64_t)b.sequence <= v->last_seq || vp_v4l2_ts(&b) < v->last_ts))) {
+            snprintf(v->err, sizeof v->err, "camera %s: frame %u at %lld ns is not after frame %lld at %lld ns "
+                     "(or its clock is not monotonic): refused", v->dev, b.sequence, (long long)vp_v4l2_ts(&b),
+                     (long long)v->last_seq, (long long)v->last_ts);
+            vp_xioctl(v->fd, VIDIOC_QBUF, &b);
+            return VP_EIO;
+        }
+        v->last_seq = (int64_t)b.sequence;
+        v->last_ts = vp_v4l2_ts(&b);
+        /* broken frames and frames exposed before the caller's moment (or below the sequence
+         * number asked for) go back to the driver */
+        if ((b.flags & V4L2_BUF_FLAG_ERROR) || vp_v4l2_ts(&b) < not_before || (int64_t)b.sequence < f->seq) {
             v->dropped++;
             vp_xioctl(v->fd, VIDIOC_QBUF, &b);
             continue;
@@ -106,6 +120,7 @@ static int vp_v4l2_capture(void *ctx, int64_t not_before, int timeout_ms, vp_fra
         f->step = v->step;
         f->t_ns = vp_v4l2_ts(&b);
         f->index = (int)b.index;
+        f->seq = (int64_t)b.sequence;
         return VP_OK;
     }
 }
@@ -121,6 +136,38 @@ static void vp_v4l2_release(void *ctx, vp_frame_t *f)
     if (vp_xioctl(v->fd, VIDIOC_QBUF, &b) < 0)
         snprintf(v->err, sizeof v->err, "camera %s: VIDIOC_QBUF: %s", v->dev, strerror(errno));
     f->data = NULL;
+}
+
+/* Drains the frames already waiting (back to the driver) and gives the next sequence number. */
+static int vp_v4l2_mark(void *ctx, int64_t *next_seq)
+{
+    vp_v4l2_t *v = ctx;
+    for (;;) {
+        struct v4l2_buffer b;
+        memset(&b, 0, sizeof b);
+        b.type = V4L2_BUF_TYPE_VIDEO_CAPTURE;
+        b.memory = V4L2_MEMORY_MMAP;
+        if (vp_xioctl(v->fd, VIDIOC_DQBUF, &b) < 0) {
+            if (errno == EAGAIN) break;
+            snprintf(v->err, sizeof v->err, "camera %s: VIDIOC_DQBUF: %s", v->dev, strerror(errno));
+            return VP_EIO;
+        }
+        if (v->last_seq >= 0 && ((int64_t)b.sequence <= v->last_seq || vp_v4l2_ts(&b) < v->last_ts)) {
+            snprintf(v->err, sizeof v->err, "camera %s: frame %u is not after frame %lld: refused", v->dev, b.sequence,
+                     (long long)v->last_seq);
+            vp_xioctl(v->fd, VIDIOC_QBUF, &b);
+            return VP_EIO;
+        }
+        v->last_seq = (int64_t)b.sequence;
+        v->last_ts = vp_v4l2_ts(&b);
+        v->dropped++;
+        if (vp_xioctl(v->fd, VIDIOC_QBUF, &b) < 0) {
+            snprintf(v->err, sizeof v->err, "camera %s: VIDIOC_QBUF: %s", v->dev, strerror(errno));
+            return VP_EIO;
+        }
+    }
+    *next_seq = v->last_seq + 1;
+    return VP_OK;
 }
 
 static void vp_v4l2_close(void *ctx) { vp_v4l2_free(ctx); }
@@ -142,6 +189,7 @@ int vp_v4l2_open(const vp_v4l2_config_t *cfg, vp_cam_t *cam, char *err, size_t e
     v = calloc(1, sizeof *v);
     if (!v) return VP_ENOMEM;
     v->fd = -1;
+    v->last_seq = v->last_ts = -1;
     snprintf(v->dev, sizeof v->dev, "%s", cfg->device);
     v->fd = open(cfg->device, O_RDWR | O_NONBLOCK);
     if (v->fd < 0) {
@@ -238,6 +286,7 @@ int vp_v4l2_open(const vp_v4l2_config_t *cfg, vp_cam_t *cam, char *err, size_t e
     cam->release = vp_v4l2_release;
     cam->close = vp_v4l2_close;
     cam->error = vp_v4l2_error;
+    cam->mark = vp_v4l2_mark;
     cam->name = "v4l2";
     return VP_OK;
 }

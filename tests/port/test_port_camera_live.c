@@ -19,6 +19,7 @@ int main(void)
     char err[300];
     size_t i;
     int opened = 0, k;
+    int64_t last_seq;
     if (glob("/dev/video*", 0, NULL, &g) != 0) TEST_SKIP("no /dev/video* on this machine");
     for (i = 0; i < g.gl_pathc && !opened; i++) {
         memset(&c, 0, sizeof c);
@@ -28,6 +29,7 @@ int main(void)
     }
     globfree(&g);
     if (!opened) TEST_SKIP("no usable capture device among /dev/video*");
+    last_seq = -1;
     for (k = 0; k < 5; k++) {
         vp_frame_t f;
         vp_spot_t sp;
@@ -35,10 +37,15 @@ int main(void)
         int64_t now;
         clock_gettime(CLOCK_MONOTONIC, &ts);
         now = (int64_t)ts.tv_sec * 1000000000 + ts.tv_nsec;
+        memset(&f, 0, sizeof f);
+        f.seq = -1;                      /* any sequence number */
         CHECKF(cam.capture(cam.ctx, now, 3000, &f) == VP_OK, "%s", cam.error ? cam.error(cam.ctx) : "");
         if (!f.data) break;
         CHECK(f.width > 0 && f.height > 0 && f.stride >= f.width * f.step);
         CHECK(f.t_ns >= now || f.t_ns == 0);
+        /* frames come numbered upwards */
+        CHECKF(f.seq > last_seq, "frame %lld after %lld", (long long)f.seq, (long long)last_seq);
+        last_seq = f.seq;
         CHECK(vp_spot_find(&f, NULL, NULL, &ws, &sp) == VP_OK);
         printf("%s frame %dx%d step %d: spot result %d noise %.1f\n", cam.name, f.width, f.height, f.step, sp.result, sp.noise);
         cam.release(cam.ctx, &f);

@@ -155,6 +155,11 @@ static void scan(const char *board, long cap, scan_out_t *o)
     if (o->done) printf("; mesh: %u facets, %s, genus %d, Hausdorff to the object %.2f mm (eps %.0f)", o->facets,
                         o->closed ? "closed manifold" : "NOT closed", o->genus, o->hausdorff, b.eps);
     printf("\n");
+    /* frames tied to the laser (the board's camera streams with latency on its dry run): no probe
+     * was refused for its frames */
+    printf("  frames: %lu taken, %lu dropped as older than the laser switch, %lu probes refused for their frames\n",
+           m->st.frames, m->st.stale, m->st.refused);
+    CHECK(m->st.refused == 0);
     vp_dryrun_close(d);
     free(arena);
     free(pl);
