@@ -158,11 +158,30 @@ int vp_cli_calibrate(int argc, char **argv)
         char why[300];
         dev.fault = st;
         vp_scan_fault_text(&dev, why, sizeof why);
-        if (st == VP_EDEGEN) fprintf(stderr, "calibrate: fewer than 4 spots found: is the target there, lit by the laser and in view?\n");
+        if (st == VP_EDEGEN)
+            fprintf(stderr, "calibrate: fewer than 4 spots found: is the target there, lit by the laser and in view? "
+                            "Or do the camera's frames lag the laser by more than [camera] latency_frames = %d?\n",
+                    b.latency_frames);
         else if (st == VP_ERANGE) fprintf(stderr, "calibrate: the stations (x = %g .. %g, y = %g, z = %g) are outside the machine's travel\n",
                                           plan.target_x - plan.d_far, plan.target_x - plan.d_near, plan.y, plan.z);
         else fprintf(stderr, "calibrate: %s\n", why);
         goto done;
+    }
+    {
+        /* the camera's pipeline latency, with the target in view (the spot looked for along the
+         * line just fitted): frames that may still show the laser as it was before a switch; the
+         * board's [camera] latency_frames must cover it */
+        vp_tri_model_t keep = dev.m->tri;
+        int lat = -1, lst;
+        dev.m->tri = fit;
+        lst = vp_machine_measure_latency(dev.m, 5, 16, &lat);
+        dev.m->tri = keep;
+        if (lst == VP_OK)
+            printf("camera latency: %d frame(s) measured after a laser switch (board: latency_frames = %d)%s\n", lat,
+                   b.latency_frames, lat > b.latency_frames ? ": RAISE latency_frames above it" : "");
+        else
+            printf("camera latency: not measured (%s)\n", lst == VP_ESTATE ? "no laser line or no frame sequence numbers"
+                                                                          : vp_strerror(lst));
     }
     {
         /* back away from the target along the stations' line (the way the head came) */

@@ -121,6 +121,16 @@ mm=$(sed -n 's/.*against the true model of the mounted camera .*: worst \([0-9.]
 off=$(sed -n 's/.*alone is off by up to \([0-9.]*\) mm.*/\1/p' "$tmp/cal.txt")
 [ -n "$px" ] && awk -v p="$px" 'BEGIN { exit !(p + 0 < 0.1) }' || { bad "calibrated model off by ${px:-?} px (bound 0.1)"; cat "$tmp/cal.txt"; }
 echo "calibration: fitted model within $px px ($mm mm) of the true one over 15..200 mm; the uncalibrated model was off by $off mm"
+# the camera's pipeline latency (the simulated camera hands frames over 2 frames late): measured,
+# and a camera later than the board allows is caught (the second latency_frames line is [sim]'s)
+grep -q "camera latency: 2 frame(s) measured after a laser switch (board: latency_frames = 2)\$" "$tmp/cal.txt" ||
+  { bad "calibrate: camera latency not measured as 2 frames"; grep latency "$tmp/cal.txt"; }
+awk '/^latency_frames = 2 / && ++n == 2 { sub(/= 2 /, "= 3 ") } { print }' "$tmp/mis.ini" >"$tmp/lat3.ini"
+"$VP" calibrate --board "$tmp/lat3.ini" --dry-run --out "$tmp/lat3.calib" >"$tmp/lat3.txt" 2>&1 &&
+  bad "calibrate: a camera 3 frames late on a board allowing 2 calibrated (its frames are all laser-off)"
+grep -q "lag the laser by more than \[camera\] latency_frames = 2" "$tmp/lat3.txt" ||
+  { bad "calibrate: a camera 3 frames late on a board allowing 2: the message does not name latency_frames"; tail -2 "$tmp/lat3.txt"; }
+echo "camera latency: 2 frames measured by calibrate; a camera 3 frames late on a board allowing 2 refused, naming latency_frames"
 grep "^fit:" "$tmp/cal.txt"
 "$VP" scan --board "$tmp/mis.ini" --dry-run --log "$tmp/mis1.vplog" $S --calib "$tmp/mis.calib" >"$tmp/m1.txt" 2>"$tmp/m1.err" ||
   { bad "scan with the calibration: exit $?"; tail -3 "$tmp/m1.err"; }
