@@ -353,18 +353,16 @@ static double envelope_depth(const double (*v)[3], const double (*n)[3], double 
 
 static double facet_tilt(vp_planner_t *pl, const vp_frec_t *f)
 {
-    double n[3][3], v[3][3], e1[3], e2[3], fn[3], len, up, down;
+    double n[3][3], v[3][3], e1[3], e2[3], fn[3], up, down;
     int i;
     for (i = 0; i < 3; i++) memcpy(v[i], vp_dt_point(&pl->dt, f->v[i]), sizeof v[i]);
     vp_sub3(e1, v[1], v[0]);
     vp_sub3(e2, v[2], v[0]);
     vp_cross3(fn, e1, e2);
     for (i = 0; i < 3; i++) {
-        sample_normal(pl, f->v[i], n[i]);
-        len = vp_norm3(n[i]);
-        if (!(len > 0.0)) return 0.0;
-        if (vp_dot3(n[i], fn) < 0.0) len = -len; /* all on the facet's side */
-        n[i][0] /= len; n[i][1] /= len; n[i][2] /= len;
+        sample_normal(pl, f->v[i], n[i]); /* unit, or zero */
+        if (vp_dot3(n[i], n[i]) == 0.0) return 0.0;
+        if (vp_dot3(n[i], fn) < 0.0) { n[i][0] = -n[i][0]; n[i][1] = -n[i][1]; n[i][2] = -n[i][2]; } /* on the facet's side */
     }
     /* the surface above the facet (a convex part) or below it (a concave one) */
     up = envelope_depth((const double (*)[3])v, (const double (*)[3])n, -1.0);

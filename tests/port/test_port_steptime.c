@@ -267,9 +267,9 @@ static void late_fault(void)
     CHECK(vp_step_move(&s, (double[NAX]){ 10, 10, 10, 0, 0 }) == VP_OK);
 }
 
-/* One machine, homed; a move of x toward its min switch with a glitch of `len` reads on `bits`
- * 50 ms in. Returns the move's status. */
-static int glitch_move(vp_step_t *s, vp_iorec_t *r, uint32_t bits, uint32_t len)
+/* A machine on the rpi4 settings over a recording backend that keeps no edges, with the
+ * glitch of `len` reads on `bits` at `at` (ns; len 0: none): ready, not homed. */
+static void glitch_machine(vp_step_t *s, vp_iorec_t *r, uint32_t bits, int64_t at, uint32_t len)
 {
     vp_iorec_config_t rc;
     vp_step_config_t c;
@@ -278,9 +278,19 @@ static int glitch_move(vp_step_t *s, vp_iorec_t *r, uint32_t bits, uint32_t len)
     rec(&rc, 0);
     rc.buf = NULL;
     rc.cap = 0;
+    rc.glitch_bits = bits;
+    rc.glitch_at = at;
+    rc.glitch_reads = len;
     vp_iorec_init(r, &rc);
     io = vp_iorec_io(r);
     CHECK(vp_step_init(s, &c, &io) == VP_OK);
+}
+
+/* One machine, homed; a move of x toward its min switch with a glitch of `len` reads on `bits`
+ * 50 ms in. Returns the move's status. */
+static int glitch_move(vp_step_t *s, vp_iorec_t *r, uint32_t bits, uint32_t len)
+{
+    glitch_machine(s, r, 0, 0, 0);
     CHECK(vp_step_home(s) == VP_OK);
     CHECK(vp_step_move(s, (double[NAX]){ 300, 10, 10, 0, 0 }) == VP_OK);
     r->cfg.glitch_bits = bits;
@@ -314,20 +324,8 @@ static void debounce(void)
      * position as without a glitch); a 3-sample one is taken for the switch, and the slow
      * approach then misses it */
     for (len = 0; len <= 3; len += len ? 2 : 1) {
-        vp_iorec_config_t rc;
-        vp_step_config_t c;
-        vp_io_t io;
         int st;
-        rpi4(&c);
-        rec(&rc, 0);
-        rc.buf = NULL;
-        rc.cap = 0;
-        rc.glitch_bits = VP_IO_LIM_MIN(0);
-        rc.glitch_at = 12000000000;
-        rc.glitch_reads = len;
-        vp_iorec_init(&r, &rc);
-        io = vp_iorec_io(&r);
-        CHECK(vp_step_init(&s, &c, &io) == VP_OK);
+        glitch_machine(&s, &r, VP_IO_LIM_MIN(0), 12000000000, len);
         st = vp_step_home(&s);
         CHECK(r.glitched == len);
         if (len < 3) CHECK(st == VP_OK);
