@@ -34,7 +34,8 @@ static int probe_around_edge(vp_planner_t *pl, uint32_t t0, uint32_t x, uint32_t
  * each such edge is refined like a bad ball, down to a floor on its radius so that it ends on
  * sharp edges and corners (inserted centres are farther than the floor from every sample). */
 #define MANIFOLD_FLOOR_REL 0.01 /* of eps: the smallest ball refined for the manifold criterion */
-#define MANIFOLD_FLOOR_MIN 0.25 /* of the distance bound's floor, when that is smaller */
+#define MANIFOLD_FLOOR_MIN 0.05 /* of the distance bound's floor, when that is smaller: a fin or
+                                 * a gap thinner than the floor is still resolved */
 /* 1 if a side of a tet around edge (x, y) of Del(E) is blocked as unseen: a Voronoi edge there
  * could not be probed (occluded from dOmega for a device with a body, or too close), so the hole
  * is one the device cannot see, and refining there would only add samples it cannot close (a
@@ -68,14 +69,20 @@ static uint32_t edge_facet(const vp_planner_t *pl, uint32_t a, uint32_t b, int l
     return best;
 }
 
-static int refine_at_edges(vp_planner_t *pl, const uint32_t *tab, uint32_t slots)
+/* The smallest ball the manifold criterion refines. With a distance bound the features found
+ * can be finer than eps / 100: the floor follows the bound's own floor. */
+static double manifold_floor(const vp_planner_t *pl)
 {
-    uint32_t i, refined = 0;
-    /* with a distance bound the features found can be finer than eps / 100: the floor follows
-     * the bound's own floor */
     double floor = MANIFOLD_FLOOR_REL * pl->cfg.eps;
     if (pl->cfg.max_distance > 0.0 && MANIFOLD_FLOOR_MIN * pl->cfg.min_size < floor)
         floor = MANIFOLD_FLOOR_MIN * pl->cfg.min_size;
+    return floor;
+}
+
+static int refine_at_edges(vp_planner_t *pl, const uint32_t *tab, uint32_t slots)
+{
+    uint32_t i, refined = 0;
+    double floor = manifold_floor(pl);
     for (i = 0; i < slots; i++) {
         uint32_t a = tab[3 * i], b = tab[3 * i + 1], best;
         if (a == NONE || tab[3 * i + 2] == 2) continue;
@@ -87,6 +94,72 @@ static int refine_at_edges(vp_planner_t *pl, const uint32_t *tab, uint32_t slots
             uint32_t t = vp_pl_find_facet(pl, pl->pool.frec[best].v, &fi, 3u * slots);
             if (t == NONE || ring_blocked(pl, t, a, b)) continue;
         }
+        VP_TRY(vp_pl_heap_push(pl, best));
+        refined++;
+    }
+    pl->st.manifold_refinements += refined;
+    return (int)refined;
+}
+
+/* 1 if the facets fl[0..n) around vertex v form one cycle: walking from facet to facet across
+ * the edges at v comes back to the first after all n (every edge has two facets here) */
+static int one_cycle(const vp_planner_t *pl, uint32_t v, const uint32_t *fl, uint32_t n)
+{
+    uint32_t steps = 1, cur = fl[0], x = NONE, start = NONE, i;
+    int k;
+    /* the link edge of facet cur: its two vertices other than v */
+    for (k = 0; k < 3; k++) {
+        uint32_t w = pl->pool.frec[cur].v[k];
+        if (w == v) continue;
+        if (start == NONE) start = w; else x = w;
+    }
+    while (x != start) {
+        uint32_t next = NONE, y = NONE;
+        for (i = 0; i < n && next == NONE; i++) {
+            const uint32_t *fv = pl->pool.frec[fl[i]].v;
+            if (fl[i] == cur || !(fv[0] == x || fv[1] == x || fv[2] == x)) continue;
+            next = fl[i];
+            for (k = 0; k < 3; k++)
+                if (fv[k] != v && fv[k] != x) y = fv[k];
+        }
+        if (next == NONE || y == NONE || ++steps > n) return 1; /* open: the edge test's case */
+        cur = next;
+        x = y;
+    }
+    return steps == n;
+}
+
+/* The manifold criterion at vertices: where every edge has its two facets but the facets
+ * around a vertex form two or more cycles (cones meeting at a point, as where a fin or a gap
+ * thinner than the samples' spacing is met), the largest facet at the vertex is refined, down
+ * to the same floor. The facets of each vertex are listed by a counting sort in the scratch. */
+static int refine_at_pinches(vp_planner_t *pl)
+{
+    uint32_t nv = pl->dt.nvert, *first = pl->pool.astar, *list, i, v, refined = 0;
+    double floor = manifold_floor(pl);
+    if ((size_t)nv + 1u + 3u * (size_t)pl->pool.nfrec > pl->pool.cap_astar) return 0; /* left to certify */
+    list = first + nv + 1;
+    memset(first, 0, ((size_t)nv + 1u) * sizeof *first);
+    for (i = 0; i < pl->pool.nfrec; i++)
+        if (pl->pool.frec[i].v[0] != NONE) {
+            first[pl->pool.frec[i].v[0] + 1]++; first[pl->pool.frec[i].v[1] + 1]++; first[pl->pool.frec[i].v[2] + 1]++;
+        }
+    for (v = 0; v < nv; v++) first[v + 1] += first[v];
+    /* fill: first[v] runs to the end of v's list, which is then where v + 1's begins */
+    for (i = 0; i < pl->pool.nfrec; i++)
+        if (pl->pool.frec[i].v[0] != NONE) {
+            int k;
+            for (k = 0; k < 3; k++) list[first[pl->pool.frec[i].v[k]]++] = i;
+        }
+    for (v = 0; v < nv; v++) {
+        uint32_t b = v == 0 ? 0 : first[v - 1], n = first[v] - b, best = NONE;
+        if (n < 3 || one_cycle(pl, v, list + b, n)) continue;
+        for (i = b; i < first[v]; i++) {
+            const vp_frec_t *f = &pl->pool.frec[list[i]];
+            if (f->flags & FREC_STUCK) continue;
+            if (best == NONE || f->r > pl->pool.frec[best].r) best = list[i];
+        }
+        if (best == NONE || pl->pool.frec[best].heap != NONE || !(pl->pool.frec[best].r > floor)) continue;
         VP_TRY(vp_pl_heap_push(pl, best));
         refined++;
     }
@@ -129,6 +202,7 @@ VP_PL_API int vp_pl_close_holes(vp_planner_t *pl, int refine_only)
         pushed += (uint32_t)n;
         holes++;
     }
+    if (holes == 0) return refine_at_pinches(pl);
     if (holes > 0 && pushed == 0) {
         /* the manifold criterion first: refining at the open edges is local; the exhaustive
          * detect_access below probes every edge of every active vertex */

@@ -380,14 +380,42 @@ static double facet_tilt(vp_planner_t *pl, const vp_frec_t *f)
     return up;
 }
 
+/* 1 if facet f lies at a corner: its vertices' normals point three ways (their determinant is
+ * large; along a sharp edge two of them agree, on a smooth part all three do). A cap on a corner
+ * or tip rounds it off with several facets, each bending only part of the way, so the bend
+ * there is held to a smaller share of the bound. */
+#ifndef CORNER_DET
+#define CORNER_DET 0.25
+#endif
+#ifndef CORNER_BEND_SHARE
+#define CORNER_BEND_SHARE 0.75
+#endif
+static int facet_at_corner(vp_planner_t *pl, const vp_frec_t *f)
+{
+    double n[3][3], x[3];
+    int i;
+    for (i = 0; i < 3; i++) sample_normal(pl, f->v[i], n[i]);
+    vp_cross3(x, n[1], n[2]);
+    return fabs(vp_dot3(n[0], x)) > CORNER_DET;
+}
+
 /* The facet's place in the heap's order, and 1 if its ball is bad: its radius above the size
  * bound, or (with a distance bound) its centre too far from the facet, unless the ball is
- * already at the floor min_size. The key is how far over its bounds the ball is. */
+ * already at the floor min_size; or its dual edge crosses S twice, down to DOUBLE_FLOOR of that
+ * floor (the manifold criterion's). The key is how far over its bounds the ball is. */
+#ifndef DOUBLE_FLOOR
+#define DOUBLE_FLOOR 0.05
+#endif
 static int facet_rate(vp_planner_t *pl, vp_frec_t *f)
 {
     double b = vp_pl_size_bound(pl, f->v, f->c), d;
     int bad = f->r > b;
     f->key = pl->cfg.size_rel > 0.0 || pl->cfg.max_distance > 0.0 ? f->r / b : f->r;
+    /* its dual Voronoi edge crosses S twice (a fin or a gap thinner than the samples are apart:
+     * the topological ball property fails there); the farther crossing is the ball kept */
+    if (pl->cfg.max_distance > 0.0 && (f->flags & FREC_DOUBLE) && f->r > DOUBLE_FLOOR * pl->cfg.min_size &&
+        f->r > pl->cfg.noise_tol)
+        bad = 1;
     if (pl->cfg.max_distance > 0.0 && f->r > pl->cfg.min_size) {
         /* hits are trusted to noise_tol: no bound below it can be seen, nor met */
         double bound = pl->cfg.max_distance > pl->cfg.noise_tol ? pl->cfg.max_distance : pl->cfg.noise_tol;
@@ -397,7 +425,7 @@ static int facet_rate(vp_planner_t *pl, vp_frec_t *f)
         d = facet_tilt(pl, f) / (TILT_SHARE * bound);
         if (d > 1.0) bad = 1;
         if (d > f->key) f->key = d;
-        d = f->r * facet_bend(pl, f) / (BEND_SHARE * bound);
+        d = f->r * facet_bend(pl, f) / ((facet_at_corner(pl, f) ? CORNER_BEND_SHARE : BEND_SHARE) * bound);
         if (d > 1.0) bad = 1;
         if (d > f->key) f->key = d;
     }
