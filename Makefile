@@ -45,6 +45,18 @@ $(warning pkg-config is missing: building without libgpiod and libcamera (make d
 endif
 endif
 endif
+# libpng: the pictures of host/vp_render (--png); libmicrohttpd: the live view (host/vp_live,
+# --serve). Without them those options say so.
+HAVE_PNG := $(if $(CROSS),,$(shell pkg-config --exists libpng 2>/dev/null && echo 1))
+HAVE_MHD := $(if $(CROSS),,$(shell pkg-config --exists libmicrohttpd 2>/dev/null && echo 1))
+ifeq ($(HAVE_PNG),1)
+LAYER_CFLAGS += -DVP_HAVE_PNG=1
+LDLIBS += -lpng
+endif
+ifeq ($(HAVE_MHD),1)
+LAYER_CFLAGS += -DVP_HAVE_MHD=1
+LDLIBS += -lmicrohttpd -lpthread
+endif
 ifeq ($(HAVE_GPIOD),1)
 LAYER_CFLAGS += -DVP_HAVE_GPIOD=1
 PORT_LIBS += -lgpiod
@@ -169,6 +181,20 @@ $(LIBHOST): $(HOSTL_OBJ)
 
 $(PROG): $(CLI_OBJ) $(LIBS) $(CONFIG)
 	$(CC) $(OPT) -o $@ $(CLI_OBJ) $(LIBS) $(PORT_LIBS) $(LDLIBS)
+
+# the pages of the report and of the live view (host/report/NAME.html) as C arrays
+# vp_NAME_page[] linked into the program (od, awk)
+CLI_OBJ += $(BUILD)/cli/vp_report_page.o
+$(PROG): $(BUILD)/cli/vp_report_page.o
+$(BUILD)/cli/vp_report_page.c: host/report/viewer.html host/report/live.html Makefile
+	@mkdir -p $(@D)
+	@{ echo '/* generated from host/report/viewer.html and live.html by the Makefile */'; echo '#include <stddef.h>'; \
+	  for f in viewer live; do a=vp_$${f}_page; \
+	  echo "extern const unsigned char $$a[]; extern const size_t $${a}_len;"; echo "const unsigned char $$a[] = {"; \
+	  od -An -v -tu1 host/report/$$f.html | awk '{ for (i = 1; i <= NF; i++) printf "%s,", $$i; print "" }'; \
+	  echo '0 };'; echo "const size_t $${a}_len = sizeof $$a - 1;"; done; } > $@
+$(BUILD)/cli/vp_report_page.o: $(BUILD)/cli/vp_report_page.c $(CONFIG)
+	$(CC) $(LAYER_CFLAGS) -c $< -o $@
 
 $(BUILD)/tests/core/test_gmp_%: tests/core/test_gmp_%.c tests/vp_test.h $(LIBS) $(CONFIG)
 	@mkdir -p $(@D)

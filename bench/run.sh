@@ -8,3 +8,9 @@ echo
 sh bench/accuracy.sh "$B"
 echo
 sh bench/sizing.sh "$B"
+echo
+sh bench/reconstruct.sh "$B"
+echo
+sh bench/report.sh "$B"
+echo
+sh bench/live.sh "$B"

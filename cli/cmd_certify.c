@@ -35,17 +35,6 @@ static void certify_usage(FILE *f)
         "Exit status: 0 no hypothesis broken, 1 a hypothesis broken (or an error), 2 usage.\n");
 }
 
-static int is_log(const char *path)
-{
-    unsigned char b[VP_LOGFMT_MAGIC_LEN];
-    FILE *f = fopen(path, "rb");
-    size_t n;
-    if (!f) return 0;
-    n = fread(b, 1, sizeof b, f);
-    fclose(f);
-    return n == sizeof b && memcmp(b, vp_logfmt_magic, sizeof b) == 0;
-}
-
 static const char *verdict(int v) { return v > 0 ? "holds" : v == 0 ? "FAILS" : "cannot be checked"; }
 
 /* The command line of certify. */
@@ -254,7 +243,7 @@ int vp_cli_certify(int argc, char **argv)
     vp_cert_t c;
     int st, fromlog, rc;
     if ((rc = certify_parse(argc, argv, &o)) >= 0) return rc;
-    fromlog = is_log(o.path);
+    fromlog = vp_sessionlog_is_log(o.path);
     memset(&in, 0, sizeof in);
     vp_mesh_init(&in.m);
     in.complete = 1;

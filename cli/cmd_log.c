@@ -9,6 +9,7 @@
 #include "vp_meshcheck.h"
 #include "vp_meshio.h"
 #include "vp_note.h"
+#include "vp_render.h"
 #include "vp_session.h"
 #include "vp_sim_opts.h"
 #include "vp_sim_setup.h"
@@ -18,6 +19,7 @@
 
 typedef struct logjob {
     const char *log, *out;
+    const char *png;       /* --png: a picture of the mesh (host/vp_render) */
     size_t arena;          /* 0: the header's */
     unsigned long upto;    /* replay only the first N records (0: all) */
     int quiet;
@@ -45,6 +47,15 @@ static int load_and_replay(logjob_t *j, const char *cmd)
     return 0;
 }
 
+/* --png: four views of the mesh; 0 written (or not asked), 1 failure (said) */
+static int job_png(const logjob_t *j, const char *cmd)
+{
+    char err[600];
+    if (!j->png || vp_render_png(&j->mesh, NULL, j->png, err, sizeof err) == VP_OK) return 0;
+    fprintf(stderr, "%s: %s\n", cmd, err);
+    return 1;
+}
+
 static void job_free(logjob_t *j)
 {
     vp_mesh_free(&j->mesh);
@@ -57,7 +68,7 @@ static int job_option(logjob_t *j, int argc, char **argv, int *i, const char *cm
 {
     const char *a = argv[*i], *val = *i + 1 < argc ? argv[*i + 1] : NULL;
     if (!strcmp(a, "--quiet")) { j->quiet = 1; return 0; }
-    if (strcmp(a, "--out") && strcmp(a, "--arena") && strcmp(a, "--upto")) {
+    if (strcmp(a, "--out") && strcmp(a, "--arena") && strcmp(a, "--upto") && strcmp(a, "--png")) {
         if (a[0] == '-' && a[1]) return 1;
         if (j->log) { fprintf(stderr, "%s: one log at a time ('%s' and '%s')\n", cmd, j->log, a); return -1; }
         j->log = a;
@@ -66,6 +77,7 @@ static int job_option(logjob_t *j, int argc, char **argv, int *i, const char *cm
     if (!val) { fprintf(stderr, "%s: %s needs a value\n", cmd, a); return -1; }
     (*i)++;
     if (!strcmp(a, "--out")) j->out = val;
+    else if (!strcmp(a, "--png")) j->png = val;
     else if (!strcmp(a, "--arena")) {
         if (vp_parse_size(val, &j->arena) || j->arena == 0) { fprintf(stderr, "%s: --arena: bad size '%s'\n", cmd, val); return -1; }
     } else {
@@ -113,6 +125,7 @@ static void replay_usage(FILE *f)
         "  --out PREFIX   output files (required)\n"
         "  --arena BYTES  planner arena (default: the size in the log header)\n"
         "  --upto N       replay only the first N records\n"
+        "  --png FILE     also a picture of the mesh (four views, drawn in software)\n"
         "  --quiet        no summary\n");
 }
 
@@ -132,7 +145,7 @@ int vp_cli_replay(int argc, char **argv)
     if (check_out(j.out, ".ply", "replay")) return 2;
     rc = load_and_replay(&j, "replay");
     if (rc == 0) rc = write_mesh(&j.mesh, j.out, ".ply", VP_MESH_PLY_BIN, "replay") ||
-                      write_mesh(&j.mesh, j.out, ".off", VP_MESH_OFF, "replay");
+                      write_mesh(&j.mesh, j.out, ".off", VP_MESH_OFF, "replay") || job_png(&j, "replay");
     if (rc == 0 && !j.quiet) {
         printf("replayed %u records of %s (%llu probes, %llu hits, %llu moves): every command equal to the logged one\n",
                j.R.applied, j.log, (unsigned long long)j.R.probes, (unsigned long long)j.R.hits,
@@ -161,6 +174,7 @@ static void mesh_usage(FILE *f)
         "  --points       also write PREFIX.points.ply: every probed surface point, with a unit\n"
         "                 normal pointing back to the probe's origin (binary or --ascii)\n"
         "  --upto N       only the first N records (the session as it was then)\n"
+        "  --png FILE     also a picture of the mesh (four views, drawn in software)\n"
         "  --arena BYTES  planner arena (default: the size in the log header)\n"
         "  --quiet        no summary\n");
 }
@@ -229,6 +243,7 @@ int vp_cli_mesh(int argc, char **argv)
     rc = load_and_replay(&j, "mesh");
     if (rc == 0) rc = write_mesh(&j.mesh, j.out, ".ply", ascii ? VP_MESH_PLY_ASCII : VP_MESH_PLY_BIN, "mesh");
     if (rc == 0 && off) rc = write_mesh(&j.mesh, j.out, ".off", VP_MESH_OFF, "mesh");
+    if (rc == 0) rc = job_png(&j, "mesh");
     if (rc == 0) {
         vp_meshcheck_t c;
         size_t npts = 0;

@@ -12,9 +12,11 @@
 #include "vp_note.h"
 #include "vp_logwriter.h"
 #include "vp_hausdorff.h"
+#include "vp_live_cli.h"
 #include "vp_meshcheck.h"
 #include "vp_meshio.h"
 #include "vp_outcome.h"
+#include "vp_progress.h"
 #include "vp_audit.h"
 #include "vp_rtclock.h"
 #include "vp_scan.h"
@@ -48,6 +50,7 @@ static void scan_usage(FILE *f)
         "                   gets VP_PROBE_TOO_CLOSE: never free, never sampled) or measure (a hit\n"
         "                   at the model's extrapolated distance); default: the board's near_spots\n"
         "  --quiet          no progress line\n"
+        VP_LIVE_CLI_HELP
         "Dry run (nothing moves, nothing sleeps):\n"
         "  --dry-run        the board's kinematics, step generator (recording GPIO backend on a\n"
         "                   simulated clock) and camera model (rendered frames) on host-sim\n"
@@ -203,21 +206,24 @@ typedef struct scan_run {
     vp_planner_t *pl;
     unsigned long n, stop_after;
     int paused, quiet, hw;
-    double next_report, wall0, t0;
+    double wall0, t0;
     uint64_t probes0;
+    vp_progress_t prog;    /* a bar on a terminal, periodic lines in a pipe or file */
 } scan_run_t;
 
 static void scan_progress(scan_run_t *r, int final)
 {
     vp_planner_stats_t st;
     double t = vp_scan_seconds(r->dev) - r->t0;
+    uint32_t nv = vp_planner_dt(r->pl)->ninserted, nf = vp_planner_num_facets(r->pl);
+    char text[300];
     vp_planner_get_stats(r->pl, &st);
-    fprintf(stderr, "\r  commands %-7lu probes %-6llu (%llu hits, %llu too close)  facets %-6u bad balls %-5u "
-            "largest ball %-7.3g  machine time %d:%02d:%02d%s",
-            r->n, (unsigned long long)st.probes, (unsigned long long)st.hits, (unsigned long long)st.too_close,
-            vp_planner_num_facets(r->pl), st.bad_balls, st.bad_balls ? st.max_ball : 0.0, (int)(t / 3600),
-            (int)fmod(t / 60, 60), (int)fmod(t, 60), final ? "\n" : "");
-    fflush(stderr);
+    snprintf(text, sizeof text, "  commands %-7lu probes %-6llu (%llu hits, %llu too close)  facets %-6u bad balls %-5u "
+             "largest ball %-7.3g  machine time %d:%02d:%02d",
+             r->n, (unsigned long long)st.probes, (unsigned long long)st.hits, (unsigned long long)st.too_close,
+             nf, st.bad_balls, st.bad_balls ? st.max_ball : 0.0, (int)(t / 3600), (int)fmod(t / 60, 60), (int)fmod(t, 60));
+    /* the bar: facets over the 2V - 4 of a closed mesh on the same samples (vp_session.c) */
+    vp_progress_print(&r->prog, nv > 3 ? fmin(1.0, nf / (2.0 * nv - 4.0)) : 0.0, text, final);
 }
 
 /* The step timing report (retimes, late faults, lateness histogram) as an EVENT record: logged
@@ -245,7 +251,7 @@ static int scan_after(void *ctx, const vp_cmd_t *cmd, const vp_probe_result_t *r
     if (st != VP_OK) return st;
     if (cmd->kind == VP_CMD_DONE) return VP_OK;
     r->n++;
-    if (!r->quiet && (vp_progress_due(&r->next_report) || r->hw)) scan_progress(r, 0);
+    if (!r->quiet && (vp_progress_tick(&r->prog) || (r->hw && r->prog.tty))) scan_progress(r, 0);
     if (r->stop_after && r->n == r->stop_after) raise(SIGINT);   /* a Ctrl-C, on purpose */
     if (vp_scan_stop) { r->paused = 1; return VP_EABORT; }
     return VP_OK;
@@ -287,6 +293,7 @@ typedef struct scan_job {
     int st_home;                    /* what homing left: VP_OK, or VP_EABORT when paused */
     uint32_t replayed;
     double wall0;
+    vp_live_cli_t live;             /* --serve: the live view */
 } scan_job_t;
 
 /* The command line into j->cl.
@@ -298,8 +305,10 @@ static int scan_parse(scan_job_t *j, int argc, char **argv)
     int i;
 
     scan_defaults(&j->cl);
+    vp_live_cli_init(&j->live);
     for (i = 1; i < argc; i++) {
         if (!strcmp(argv[i], "--help") || !strcmp(argv[i], "-h")) { scan_usage(stdout); return 0; }
+        if ((st = vp_live_cli_option(&j->live, argc, argv, &i, "scan")) <= 0) { if (st < 0) return 2; continue; }
         st = scan_option(&j->cl, argc, argv, &i, 0, err, sizeof err);
         if (st == 0) continue;
         if (st < 0) fprintf(stderr, "scan: %s\n", err);
@@ -537,6 +546,7 @@ static int scan_log_open(scan_job_t *j)
     j->run.dev = &j->dev;
     j->run.pl = j->pl;
     j->run.quiet = j->o.quiet;
+    vp_progress_init(&j->run.prog, stderr);
     j->run.hw = !j->o.dry;
     j->run.stop_after = j->o.stop_after;
     j->run.w.raw = &j->dev.raw;
@@ -640,15 +650,25 @@ static int scan_go(scan_job_t *j)
     if (st == VP_OK) {
         vp_device_ops_t ops = vp_scan_ops(&j->dev);
         vp_session_hooks_t hooks;
+        const vp_session_hooks_t *hp = &hooks;
         hooks.ctx = &j->run;
         hooks.after = scan_after;
+        if (vp_live_cli_begin(&j->live, j->pl, &hp, j->o.quiet ? NULL : stderr, "scan")) return 1;
         j->run.t0 = vp_scan_seconds(&j->dev);
         j->run.wall0 = vp_rt_seconds();
         j->run.probes0 = j->dev.probes;
         if (!j->o.quiet) fprintf(stderr, "scan: homed%s; scanning (Ctrl-C stops after the current command)\n", j->o.resume ? ", back where the log left off" : "");
-        vp_session_run(j->pl, &ops, &hooks, 0, NULL, &res);
+        vp_session_run(j->pl, &ops, hp, 0, NULL, &res);
         st = res.status;
         if (!j->o.quiet) scan_progress(&j->run, 1);
+        if (j->live.lv) { /* the live view's last frame: the mesh as the scan left it */
+            vp_mesh_t m;
+            vp_mesh_init(&m);
+            vp_session_mesh(j->pl, &m);
+            vp_live_cli_end(&j->live, st == VP_OK ? "done" : j->run.paused ? "stopped" : "error", &m,
+                            j->o.quiet ? NULL : stderr, "scan");
+            vp_mesh_free(&m);
+        }
     }
     if (j->run.w.failed) {
         fprintf(stderr, "scan: writing the session log %s failed: %s; the scan stopped\n", j->o.log, strerror(errno));

@@ -11,6 +11,8 @@
 #include "vp_meshcheck.h"
 #include "vp_meshio.h"
 #include "vp_outcome.h"
+#include "vp_live_cli.h"
+#include "vp_render.h"
 #include "vp_session.h"
 #include "vp_simdev.h"
 #include "vp_surface.h"
@@ -80,6 +82,8 @@ static void sim_usage(FILE *f)
         "  --seed N           seed of the simulated noise and dropouts (default 1)\n"
         "  --hausdorff N      surface samples for the Hausdorff measurement (default 20000, 0: skip)\n"
         "  --json             print one JSON object as the last line\n"
+        "  --png FILE         also a picture of the mesh (four views, drawn in software)\n"
+        VP_LIVE_CLI_HELP
         "  --quiet            no progress line\n\n"
         "Exit status (the JSON's \"status\" says the same): 0 closed (DONE, a closed 2-manifold\n"
         "around every component), 1 error (the scan stopped; the mesh so far is written), 2 usage,\n"
@@ -95,12 +99,17 @@ int vp_cli_sim(int argc, char **argv)
     vp_sim_t sim;
     vp_sim_session_t g;
     char err[1400];
+    const char *png = NULL;
+    vp_live_cli_t live;
     int st, i;
+    vp_live_cli_init(&live);
     vp_sim_options_default(&o);
     vp_sim_session_init(&g);
     for (i = 1; i < argc; i++) {
         const char *a = argv[i];
         if (!strcmp(a, "--help") || !strcmp(a, "-h")) { sim_usage(stdout); return 0; }
+        if (!strcmp(a, "--png") && i + 1 < argc) { png = argv[++i]; continue; }
+        if ((st = vp_live_cli_option(&live, argc, argv, &i, "sim")) <= 0) { if (st < 0) return 2; continue; }
         st = vp_sim_session_parse_option(&g, argc, argv, &i, err, sizeof err);
         if (st == 1) st = vp_sim_parse_option(&o, argc, argv, &i, err, sizeof err);
         if (st == 0) continue;
@@ -147,6 +156,11 @@ int vp_cli_sim(int argc, char **argv)
         sigaction(SIGTERM, &sa, NULL);
         g.w.stop_flag = &sim_stop;
     }
+    if (vp_live_cli_begin(&live, sim.pl, &sim.hooks, o.quiet ? NULL : stderr, "sim")) {
+        vp_sim_close(&sim);
+        vp_sim_session_free(&g);
+        return 1;
+    }
     st = g.complete ? VP_OK : vp_sim_run(&sim, o.quiet ? NULL : stderr);
     i = vp_sim_session_end(&g, &sim, stderr);
     if (g.active) vp_audit_keep(g.path); /* for an independent proof check (VP_AUDIT_DIR) */
@@ -166,6 +180,8 @@ int vp_cli_sim(int argc, char **argv)
         fprintf(stderr, "sim: the arena is full (--arena): the mesh so far is written\n");
     st = vp_sim_finish(&sim, &o, err, sizeof err);
     if (st != VP_OK) fprintf(stderr, "sim: %s\n", err);
+    vp_live_cli_end(&live, vp_outcome_name(vp_sim_exit(&sim)), &sim.mesh, o.quiet ? NULL : stderr, "sim");
+    if (st == VP_OK && png && (st = vp_render_png(&sim.mesh, NULL, png, err, sizeof err)) != VP_OK) fprintf(stderr, "sim: %s\n", err);
     if (!o.quiet || !o.json) vp_sim_session_report(&g, stdout);
     vp_sim_report(&sim, &o, stdout);
     i = st != VP_OK ? VP_EXIT_ERROR : vp_sim_exit(&sim);

@@ -10,10 +10,13 @@ static const struct vp_cli_cmd commands[] = {
     { "sim", vp_cli_sim, "scan a simulated object (host-sim) and write the mesh" },
     { "scan", vp_cli_scan, "scan an object on a board's machine (or --dry-run on host-sim), logged" },
     { "calibrate", vp_cli_calibrate, "fit the rangefinder model against a flat target; write the calibration" },
+    { "mcu", vp_cli_mcu, "scan with the planner on a microcontroller (qemu, serial, pipe), host-sim as the object" },
     { "replay", vp_cli_replay, "replay a session log through the planner, bit for bit, and mesh it" },
     { "mesh", vp_cli_mesh, "the mesh (and probed points) of a session log, complete or not" },
+    { "report", vp_cli_report, "one self-contained HTML page of a session log: 3D viewer, summary, plots" },
     { "certify", vp_cli_certify, "check the papers' hypotheses H1-H3 on a log or mesh, facet by facet" },
     { "log", vp_cli_log, "session logs: dump the records, check CRCs and what is recoverable" },
+    { "reconstruct", vp_cli_reconstruct, "a k-manifold from points in R^d: the tangential Delaunay complex" },
     { "bench-delaunay", vp_cli_bench_delaunay, "3D Delaunay of a point set (TetGen .node or generated)" },
 };
 

@@ -19,5 +19,8 @@ int vp_cli_log(int argc, char **argv);
 int vp_cli_certify(int argc, char **argv);
 int vp_cli_scan(int argc, char **argv);
 int vp_cli_calibrate(int argc, char **argv);
+int vp_cli_mcu(int argc, char **argv);
+int vp_cli_reconstruct(int argc, char **argv);
+int vp_cli_report(int argc, char **argv);
 
 #endif

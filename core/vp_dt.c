@@ -254,12 +254,14 @@ static int conflict(const vp_dt_t *dt, const uint32_t *v, const double *p, uint3
     return conflict_b(dt, v, p, dup, HUGE_VAL, 0);
 }
 
+#ifndef VP_CORE_MCU /* host tools and tests only (vp_status.h) */
 int vp_dt_in_conflict(const vp_dt_t *dt, uint32_t t, const double p[3])
 {
     uint32_t dup = VP_DT_NONE;
     if (!vp_dt_alive(dt, t) || !finite_point(p)) return 0;
     return conflict(dt, TET(dt, t), p, &dup);
 }
+#endif
 
 /* ---- tet slots ---- */
 
@@ -372,6 +374,7 @@ static int walk(vp_dt_t *dt, const double *p, uint32_t t, uint32_t *out, double 
     return VP_EDEGEN;
 }
 
+#ifndef VP_CORE_MCU /* host tools and tests only (vp_status.h) */
 int vp_dt_locate(vp_dt_t *dt, const double p[3], uint32_t hint, uint32_t *tet)
 {
     double lo[3], hi[3];
@@ -385,6 +388,7 @@ int vp_dt_locate(vp_dt_t *dt, const double p[3], uint32_t hint, uint32_t *tet)
     }
     return walk(dt, p, hint, tet, vp_orient3d_static_bound(lo, hi));
 }
+#endif
 
 /* ---- the cavity ---- */
 
@@ -811,12 +815,6 @@ static int insert_flat(vp_dt_t *dt, uint32_t vid, uint32_t *dupv)
 
 /* ---- public insertion ---- */
 
-/* free space a batch of n points needs: records, order, sort scratch, a cavity's worth */
-static size_t batch_bytes(uint32_t n)
-{
-    return (size_t)n * (sizeof(vp_dt_vertex_t) + sizeof(uint32_t)) + vp_sort_scratch_bytes(n) + 4096;
-}
-
 static int append_vertex(vp_dt_t *dt, const double p[3], uint32_t *vid)
 {
     vp_dt_vertex_t *r;
@@ -896,6 +894,13 @@ int vp_dt_insert_in_conflict(vp_dt_t *dt, const double p[3], uint32_t conflict_t
     return append_and_insert(dt, p, conflict_tet, 1, vertex);
 }
 
+#ifndef VP_CORE_MCU /* batch insertion: host tools only (vp_status.h) */
+/* free space a batch of n points needs: records, order, sort scratch, a cavity's worth */
+static size_t batch_bytes(uint32_t n)
+{
+    return (size_t)n * (sizeof(vp_dt_vertex_t) + sizeof(uint32_t)) + vp_sort_scratch_bytes(n) + 4096;
+}
+
 /* Sorts and inserts one chunk xyz[0..n) whose scratch fits in the free space. */
 static int insert_chunk(vp_dt_t *dt, const double *xyz, uint32_t n, uint32_t *ids, uint32_t id0)
 {
@@ -963,6 +968,7 @@ int vp_dt_insert_batch(vp_dt_t *dt, const double *xyz, uint32_t n, uint32_t *ids
     }
     return VP_OK;
 }
+#endif
 
 /* ---- queries ---- */
 
@@ -1061,6 +1067,8 @@ int vp_dt_incident_tets(const vp_dt_t *dt, uint32_t v, uint32_t *out, int cap)
     }
     return n;
 }
+
+#ifndef VP_CORE_MCU /* validation and vertex removal: host tools and tests only (vp_status.h) */
 
 /* ---- validation ---- */
 
@@ -1586,3 +1594,5 @@ int vp_dt_remove(vp_dt_t *dt, uint32_t v)
     }
     return VP_OK;
 }
+
+#endif /* VP_CORE_MCU */

@@ -88,6 +88,7 @@ int vp_dt_insert(vp_dt_t *dt, const double p[3], uint32_t hint, uint32_t *vertex
 int vp_dt_insert_in_conflict(vp_dt_t *dt, const double p[3], uint32_t conflict_tet,
                              uint32_t *vertex);
 
+#ifndef VP_CORE_MCU /* left out of a microcontroller build (vp_status.h): host tools and tests */
 /* Inserts n points (xyz[3*i..]) in a spatial order (Hilbert curve, BRIO rounds), sorting inside
  * the arena. ids (may be NULL) receives each point's vertex index (a duplicate gets the vertex
  * already there). Non-finite input is refused before anything changes (VP_EINVAL). On
@@ -129,6 +130,7 @@ int vp_dt_in_conflict(const vp_dt_t *dt, uint32_t t, const double p[3]);
  * Delaunay property on every facet (exact), the vertex-to-tet map, the Euler relation of the
  * closed triangulation (V - E + F - T = 0 with the ghost vertex). VP_OK or VP_EDEGEN. */
 int vp_dt_check(const vp_dt_t *dt);
+#endif
 
 /* --- access --- */
 static inline const uint32_t *vp_dt_tet(const vp_dt_t *dt, uint32_t t)

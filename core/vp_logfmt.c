@@ -214,6 +214,39 @@ static int header_decode(const unsigned char *p, uint32_t n, vp_logfmt_header_t 
     return 1;
 }
 
+/* The length a header's first 16 bytes give, 0 when impossible. The length and the CRC at its
+ * end keep their places in every version: a version above ours is believed only once the CRC
+ * says the header is intact (a damaged version byte is a damaged header, not a newer format). */
+static uint32_t header_length(const unsigned char *p)
+{
+    uint32_t ver = get16(p + 8), n = get32(p + 12);
+    return ver == 0 || n < HDR_FIXED + 24u + 8u || n > VP_LOGFMT_MAX_HEADER ? 0 : n;
+}
+
+/* A whole header of n bytes (n from header_length): VP_LOGFMT_R_OK with *h, or the reason. */
+static int header_whole(const unsigned char *p, uint32_t n, vp_logfmt_header_t *h)
+{
+    if (vp_logfmt_crc32(0, p, n - 4) != get32(p + n - 4)) return VP_LOGFMT_R_HEADER_CRC;
+    if (get16(p + 8) > VP_LOGFMT_VERSION) return VP_LOGFMT_R_VERSION;
+    return header_decode(p, n, h) ? VP_LOGFMT_R_OK : VP_LOGFMT_R_HEADER;
+}
+
+int vp_logfmt_header_decode(const void *buf, size_t len, vp_logfmt_header_t *h, int *reason)
+{
+    const unsigned char *p = (const unsigned char *)buf;
+    uint32_t n = 0;
+    int why;
+    if (!buf || !h) return VP_EINVAL;
+    if (len < 16) why = len >= VP_LOGFMT_MAGIC_LEN && memcmp(p, vp_logfmt_magic, VP_LOGFMT_MAGIC_LEN) != 0
+                            ? VP_LOGFMT_R_MAGIC : VP_LOGFMT_R_TRUNCATED;
+    else if (memcmp(p, vp_logfmt_magic, VP_LOGFMT_MAGIC_LEN) != 0) why = VP_LOGFMT_R_MAGIC;
+    else if ((n = header_length(p)) == 0) why = VP_LOGFMT_R_HEADER;
+    else if (len < n) why = VP_LOGFMT_R_TRUNCATED;
+    else why = header_whole(p, n, h);
+    if (reason) *reason = why;
+    return why == VP_LOGFMT_R_OK ? (int)n : why == VP_LOGFMT_R_VERSION ? VP_EVERSION : VP_ECORRUPT;
+}
+
 /* ---------- records ---------- */
 
 static void record_clear(vp_logfmt_record_t *r, uint32_t seq, int type)
@@ -353,6 +386,7 @@ int vp_logfmt_record_decode(const void *buf, size_t len, vp_logfmt_record_t *rec
 
 /* ---------- reader ---------- */
 
+#ifndef VP_CORE_MCU /* texts for people: host only (vp_status.h) */
 const char *vp_logfmt_reason_text(int reason)
 {
     switch (reason) {
@@ -370,7 +404,9 @@ const char *vp_logfmt_reason_text(int reason)
     default: return "unknown reason";
     }
 }
+#endif
 
+#ifndef VP_CORE_MCU /* the incremental reader: host only (vp_status.h) */
 void vp_logfmt_reader_init(vp_logfmt_reader_t *r)
 {
     memset(r, 0, sizeof *r);
@@ -401,20 +437,14 @@ static int reader_step(vp_logfmt_reader_t *r, vp_logfmt_record_t *rec)
             return VP_LOGFMT_NEED_MORE;
         }
         if (r->have == 16) {
-            /* the length and the CRC at its end keep their places in every version: a version
-             * above ours is believed only once the CRC says the header is intact (a damaged
-             * version byte is a damaged header, not a newer format) */
-            uint32_t ver = get16(p + 8);
-            n = get32(p + 12);
-            if (ver == 0 || n < HDR_FIXED + 24u + 8u || n > VP_LOGFMT_MAX_HEADER)
-                return reader_fail(r, VP_ECORRUPT, VP_LOGFMT_R_HEADER);
+            n = header_length(p);
+            if (n == 0) return reader_fail(r, VP_ECORRUPT, VP_LOGFMT_R_HEADER);
             r->need = n;
             return VP_LOGFMT_NEED_MORE;
         }
         n = r->need;
-        if (vp_logfmt_crc32(0, p, n - 4) != get32(p + n - 4)) return reader_fail(r, VP_ECORRUPT, VP_LOGFMT_R_HEADER_CRC);
-        if (get16(p + 8) > VP_LOGFMT_VERSION) return reader_fail(r, VP_EVERSION, VP_LOGFMT_R_VERSION);
-        if (!header_decode(p, n, &r->header)) return reader_fail(r, VP_ECORRUPT, VP_LOGFMT_R_HEADER);
+        why = header_whole(p, n, &r->header);
+        if (why != VP_LOGFMT_R_OK) return reader_fail(r, why == VP_LOGFMT_R_VERSION ? VP_EVERSION : VP_ECORRUPT, why);
         r->have_header = 1;
         r->offset += n;
         r->have = 0;
@@ -468,8 +498,11 @@ int vp_logfmt_reader_finish(vp_logfmt_reader_t *r)
     if (!r->have_header || r->have > 0) return reader_fail(r, VP_ECORRUPT, VP_LOGFMT_R_TRUNCATED);
     return VP_OK;
 }
+#endif
 
 /* ---------- replay ---------- */
+
+#ifndef VP_CORE_MCU /* replay: host only (vp_status.h) */
 
 static int same_bits(const double *a, const double *b, int n)
 {
@@ -516,3 +549,4 @@ int vp_logfmt_replay(vp_planner_t *pl, const vp_logfmt_record_t *rec, vp_logfmt_
     }
     return VP_OK;
 }
+#endif

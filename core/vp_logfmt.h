@@ -114,8 +114,15 @@ enum vp_logfmt_reason {
     VP_LOGFMT_R_TYPE,         /* unknown record type */
     VP_LOGFMT_R_FIELD         /* a field value is invalid (NaN coordinate, hit not 0/1, ...) */
 };
+#ifndef VP_CORE_MCU /* texts for people: host only (vp_status.h) */
 const char *vp_logfmt_reason_text(int reason);
+#endif
 
+/* A whole header in buf (len bytes, a record or more may follow): its size, with *h; or
+ * VP_ECORRUPT / VP_EVERSION (a newer format) with *reason (may be NULL), VP_EINVAL. */
+int vp_logfmt_header_decode(const void *buf, size_t len, vp_logfmt_header_t *h, int *reason);
+
+#ifndef VP_CORE_MCU /* the incremental reader: host only (vp_status.h) */
 /* Incremental reader: push bytes in any chunks. Allocation-free (buffers inside). */
 typedef struct vp_logfmt_reader {
     vp_logfmt_header_t header;    /* valid once have_header */
@@ -145,7 +152,9 @@ int vp_logfmt_reader_push(vp_logfmt_reader_t *r, const void *data, size_t len, s
 /* The data ended: VP_OK when it ended between records, else VP_ECORRUPT with reason
  * VP_LOGFMT_R_TRUNCATED (or the earlier error). */
 int vp_logfmt_reader_finish(vp_logfmt_reader_t *r);
+#endif
 
+#ifndef VP_CORE_MCU /* replay: host only (vp_status.h) */
 /* Replay of one record through the planner: EVENT records are skipped; for MOVE and PROBE
  * the planner's next command must equal the logged one bit for bit (a PROBE's result is then
  * fed). VP_OK; VP_ECORRUPT when the planner issued something else (*mismatch says what; a
@@ -156,5 +165,6 @@ typedef struct vp_logfmt_mismatch {
     vp_cmd_t got;
 } vp_logfmt_mismatch_t;
 int vp_logfmt_replay(vp_planner_t *pl, const vp_logfmt_record_t *rec, vp_logfmt_mismatch_t *mismatch);
+#endif
 
 #endif

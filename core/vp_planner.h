@@ -245,6 +245,11 @@ uint32_t vp_planner_facet_slots(const vp_planner_t *pl);
 int vp_planner_facet(const vp_planner_t *pl, uint32_t i, uint32_t v[3], double *radius,
                      double center[3]);
 uint32_t vp_planner_num_facets(const vp_planner_t *pl);
+/* What the planner is doing (for reports): finding the first samples (paper 000's seed), Delaunay
+ * refinement, closing (holes, the manifold criterion, every component enclosed), done. Refining
+ * again after a closing round counts as refinement. */
+typedef enum { VP_STAGE_SEED = 0, VP_STAGE_REFINE = 1, VP_STAGE_CLOSE = 2, VP_STAGE_DONE = 3 } vp_planner_stage_t;
+vp_planner_stage_t vp_planner_stage(const vp_planner_t *pl);
 const vp_dt_t *vp_planner_dt(const vp_planner_t *pl);
 void vp_planner_get_stats(const vp_planner_t *pl, vp_planner_stats_t *st);
 

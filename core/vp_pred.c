@@ -21,6 +21,9 @@
  * A zero permanent means every monomial has a factor p - q that is exactly 0 (a nonzero
  * difference rounds to nonzero, and nonzero products cannot underflow, see below): the answer
  * is 0 at once, as for coplanar points sharing a coordinate.
+ * Built with VP_CORE_MCU (vp_status.h: a microcontroller image) the tails leave out A', A, B
+ * and C and go from F straight to X (orient2d and cmp_dist, which have no inline filter: from
+ * A to X); the signs are the same.
  * A-C assume no overflow and no precision lost to underflow. A cheap magnitude check guards
  * them: every nonzero |coordinate| must lie in [2^lo, 2^hi) (per-degree window below). Inputs
  * whose exponents spread less than the window are first multiplied by an exact power of two
@@ -78,6 +81,7 @@
 #define W5_LO (-128)
 #define W5_HI 190
 
+#ifndef VP_CORE_MCU /* stages A', A, B, C: left out with VP_CORE_MCU (see the top) */
 /* ------------------------------------------------------------------------------------------
  * Error-free transformations (round-to-nearest-even doubles, no FMA).
  */
@@ -288,6 +292,8 @@ EFT_INLINE struct dd dd_minor(const struct dd *x, const struct dd *y)
     return dd_sub(dd_mul(x[0], y[1]), dd_mul(x[1], y[0]));
 }
 
+#endif /* VP_CORE_MCU */
+
 /* ------------------------------------------------------------------------------------------
  * Input magnitude checks and exact power-of-two rescaling.
  */
@@ -333,6 +339,7 @@ static double pow2(int s) /* 2^s, -1022 <= s <= 1023 */
     return r;
 }
 
+#ifndef VP_CORE_MCU /* stages A', A, B, C: left out with VP_CORE_MCU (see the top) */
 /* Copies the points times 2^s into out[] so that every nonzero |coordinate| lies in
  * [2^lo, 2^hi) (exact: the results are normal). Returns 0 when the spread is too wide. */
 static int rescale(const double *const *p, int np, int lo, int hi, double (*out)[3])
@@ -432,6 +439,8 @@ static int small_integers4(const double *a, const double *b, const double *c, co
     si_check(d, inv, &err, &big);
     return big < 0x1p51 && err == 0.0;
 }
+
+#endif /* VP_CORE_MCU */
 
 /* ------------------------------------------------------------------------------------------
  * Stage X: exact integers. Value = limbs (32 bits, little-endian); accumulators are two's
@@ -716,6 +725,7 @@ static int cmp_dist_big(const double *p, const double *q, const double *r)
  * Stage A roundings per monomial: 3 differences, product, minor, scale, 2 sums = 8.
  */
 
+#ifndef VP_CORE_MCU /* stages A', A, B, C: left out with VP_CORE_MCU (see the top) */
 /* Stage B: path of a monomial: minor product and difference, scale, 2 sums: m = 2, s = 3,
  * error <= 25.02 eps^2 P_abs; P_abs (exact differences) <= (1+eps)^3 P_h and the permanent of
  * the rounded differences P_h <= P / (1-eps)^5 (P as computed in stage A): < 25.1 eps^2 P.
@@ -793,9 +803,15 @@ static int orient3d_fp(const double *a, const double *b, const double *c, const 
     return orient3d_big(a, b, c, d);
 }
 
+#endif /* VP_CORE_MCU */
+
 static int orient3d_tail(const double *a, const double *b, const double *c, const double *d,
                          struct vp_pred_stats *st)
 {
+#ifdef VP_CORE_MCU
+    COUNT(st, stage[VP_STAGE_BIGINT]);
+    return orient3d_big(a, b, c, d);
+#else
     const double *p[4];
     double sc[4][3];
     p[0] = a;
@@ -804,10 +820,7 @@ static int orient3d_tail(const double *a, const double *b, const double *c, cons
     p[3] = d;
     /* 16 bits: minors < 2^33, terms < 2^49, det < 3 * 2^49 */
     if (small_integers4(a, b, c, d)) {
-        double ux = b[0] - a[0], uy = b[1] - a[1], uz = b[2] - a[2];
-        double vx = c[0] - a[0], vy = c[1] - a[1], vz = c[2] - a[2];
-        double wx = d[0] - a[0], wy = d[1] - a[1], wz = d[2] - a[2];
-        double det = (wz * (ux * vy - uy * vx) + vz * (uy * wx - ux * wy)) + uz * (vx * wy - vy * wx);
+        double det = vp_orient3d_det_(a, b, c, d);
         COUNT(st, stage[VP_STAGE_EXACTDIFF]);
         return det > 0.0 ? 1 : (det < 0.0 ? -1 : 0);
     }
@@ -821,6 +834,7 @@ static int orient3d_tail(const double *a, const double *b, const double *c, cons
         return orient3d_fp(sc[0], sc[1], sc[2], sc[3], st);
     }
     return orient3d_fp(a, b, c, d, st);
+#endif
 }
 
 int vp_orient3d_stats(const double *a, const double *b, const double *c, const double *d,
@@ -841,7 +855,7 @@ int vp_orient3d_tail(const double *a, const double *b, const double *c, const do
 
 int vp_orient3d(const double *a, const double *b, const double *c, const double *d)
 {
-    return vp_orient3d_fast(a, b, c, d);
+    return vp_orient3d_stats(a, b, c, d, 0);
 }
 
 /* ------------------------------------------------------------------------------------------
@@ -855,6 +869,7 @@ int vp_orient3d(const double *a, const double *b, const double *c, const double 
  * (scale + 2 sums), final 3 (product + 2 sums) = 16; the permanent takes the same path.
  */
 
+#ifndef VP_CORE_MCU /* stages A', A, B, C: left out with VP_CORE_MCU (see the top) */
 static const int other3[4][3] = { { 1, 2, 3 }, { 0, 2, 3 }, { 0, 1, 3 }, { 0, 1, 2 } };
 
 /* Stage B. Path of a monomial: lift (square, 2 sums), minor (product, difference), det3
@@ -987,9 +1002,15 @@ static int insphere_fp(const double *a, const double *b, const double *c, const 
     return insphere_big(a, b, c, d, e);
 }
 
+#endif /* VP_CORE_MCU */
+
 static int insphere_tail(const double *a, const double *b, const double *c, const double *d,
                          const double *e, struct vp_pred_stats *st)
 {
+#ifdef VP_CORE_MCU
+    COUNT(st, stage[VP_STAGE_BIGINT]);
+    return insphere_big(a, b, c, d, e);
+#else
     const double *p[5];
     double sc[5][3];
     p[0] = a;
@@ -1013,6 +1034,7 @@ static int insphere_tail(const double *a, const double *b, const double *c, cons
         return insphere_fp(sc[0], sc[1], sc[2], sc[3], sc[4], st);
     }
     return insphere_fp(a, b, c, d, e, st);
+#endif
 }
 
 int vp_insphere_stats(const double *a, const double *b, const double *c, const double *d,
@@ -1035,7 +1057,18 @@ int vp_insphere_tail(const double *a, const double *b, const double *c, const do
 int vp_insphere(const double *a, const double *b, const double *c, const double *d,
                 const double *e)
 {
-    return vp_insphere_fast(a, b, c, d, e);
+    return vp_insphere_stats(a, b, c, d, e, 0);
+}
+
+double vp_insphere_det(const double *a, const double *b, const double *c, const double *d,
+                       const double *e)
+{
+    return vp_insphere_det_(a, b, c, d, e);
+}
+
+double vp_orient3d_det(const double *a, const double *b, const double *c, const double *d)
+{
+    return vp_orient3d_det_(a, b, c, d);
 }
 
 int vp_orient3d_filter_ss(const double *a, const double *b, const double *c, const double *d)
@@ -1207,8 +1240,7 @@ int vp_insphere_sos_zero_b(const double *a, const double *b, const double *c, co
 int vp_insphere_sos(const double *a, const double *b, const double *c, const double *d,
                     const double *e)
 {
-    int s = vp_insphere_fast(a, b, c, d, e);
-    return s != 0 ? s : insphere_perturbed(a, b, c, d, e, 0, HUGE_VAL);
+    return vp_insphere_sos_stats(a, b, c, d, e, 0);
 }
 
 /* ------------------------------------------------------------------------------------------
@@ -1222,11 +1254,14 @@ static int orient2d_fp(const double *a, const double *b, const double *c, int i,
     double ui = b[i] - a[i], uj = b[j] - a[j], vi = c[i] - a[i], vj = c[j] - a[j];
     double l = ui * vj, r = uj * vi;
     double det = l - r, bound = O2_ERR_A * (fabs(l) + fabs(r));
+#ifndef VP_CORE_MCU
     double t1, t2, t3, t4, m[4];
+#endif
     if (det > bound || -det > bound || bound == 0.0) {
         COUNT(st, stage[VP_STAGE_FILTER]);
         return det > 0.0 ? 1 : (det < 0.0 ? -1 : 0);
     }
+#ifndef VP_CORE_MCU
     two_diff(b[i], a[i], &ui, &t1);
     two_diff(b[j], a[j], &uj, &t2);
     two_diff(c[i], a[i], &vi, &t3);
@@ -1235,6 +1270,7 @@ static int orient2d_fp(const double *a, const double *b, const double *c, int i,
         COUNT(st, stage[VP_STAGE_EXACTDIFF]);
         return exp_sign(m, prod_diff(ui, vj, uj, vi, m));
     }
+#endif
     COUNT(st, stage[VP_STAGE_BIGINT]);
     return orient2d_big(a, b, c, i, j);
 }
@@ -1243,7 +1279,9 @@ int vp_orient2d_proj_stats(const double *a, const double *b, const double *c, in
                            struct vp_pred_stats *st)
 {
     const double *p[3];
+#ifndef VP_CORE_MCU
     double sc[3][3];
+#endif
     int i = drop == 0 ? 1 : (drop == 1 ? 2 : 0);
     int j = drop == 0 ? 2 : (drop == 1 ? 0 : 1);
     p[0] = a;
@@ -1251,12 +1289,14 @@ int vp_orient2d_proj_stats(const double *a, const double *b, const double *c, in
     p[2] = c;
     if (!in_window(p, 3, 0x1p-398, 0x1p480)) {
         if (!all_finite(p, 3)) return 0;
-        if (!rescale(p, 3, W2_LO, W2_HI, sc)) {
-            COUNT(st, stage[VP_STAGE_BIGINT]);
-            return orient2d_big(a, b, c, i, j);
+#ifndef VP_CORE_MCU
+        if (rescale(p, 3, W2_LO, W2_HI, sc)) {
+            COUNT(st, rescaled);
+            return orient2d_fp(sc[0], sc[1], sc[2], i, j, st);
         }
-        COUNT(st, rescaled);
-        return orient2d_fp(sc[0], sc[1], sc[2], i, j, st);
+#endif
+        COUNT(st, stage[VP_STAGE_BIGINT]);
+        return orient2d_big(a, b, c, i, j);
     }
     return orient2d_fp(a, b, c, i, j, st);
 }
@@ -1278,12 +1318,15 @@ static int cmp_dist_fp(const double *p, const double *q, const double *r,
     double rx = r[0] - p[0], ry = r[1] - p[1], rz = r[2] - p[2];
     double sq = (qx * qx + qy * qy) + qz * qz, sr = (rx * rx + ry * ry) + rz * rz;
     double det = sq - sr, bound = CD_ERR_A * (sq + sr);
+#ifndef VP_CORE_MCU
     double dq[3], dr[3], hq[6], hr[6], h[12];
     int k, inexact = 0, nq, nr;
+#endif
     if (det > bound || -det > bound || bound == 0.0) {
         COUNT(st, stage[VP_STAGE_FILTER]);
         return det > 0.0 ? 1 : (det < 0.0 ? -1 : 0);
     }
+#ifndef VP_CORE_MCU
     for (k = 0; k < 3; k++) {
         double t;
         two_diff(q[k], p[k], &dq[k], &t);
@@ -1298,6 +1341,7 @@ static int cmp_dist_fp(const double *p, const double *q, const double *r,
         for (k = 0; k < nr; k++) hr[k] = -hr[k];
         return exp_sign(h, exp_sum(hq, nq, hr, nr, h));
     }
+#endif
     COUNT(st, stage[VP_STAGE_BIGINT]);
     return cmp_dist_big(p, q, r);
 }
@@ -1306,18 +1350,22 @@ int vp_cmp_dist_stats(const double *p, const double *q, const double *r,
                       struct vp_pred_stats *st)
 {
     const double *pt[3];
+#ifndef VP_CORE_MCU
     double sc[3][3];
+#endif
     pt[0] = p;
     pt[1] = q;
     pt[2] = r;
     if (!in_window(pt, 3, 0x1p-398, 0x1p480)) {
         if (!all_finite(pt, 3)) return 0;
-        if (!rescale(pt, 3, W2_LO, W2_HI, sc)) {
-            COUNT(st, stage[VP_STAGE_BIGINT]);
-            return cmp_dist_big(p, q, r);
+#ifndef VP_CORE_MCU
+        if (rescale(pt, 3, W2_LO, W2_HI, sc)) {
+            COUNT(st, rescaled);
+            return cmp_dist_fp(sc[0], sc[1], sc[2], st);
         }
-        COUNT(st, rescaled);
-        return cmp_dist_fp(sc[0], sc[1], sc[2], st);
+#endif
+        COUNT(st, stage[VP_STAGE_BIGINT]);
+        return cmp_dist_big(p, q, r);
     }
     return cmp_dist_fp(p, q, r, st);
 }

@@ -132,13 +132,32 @@ VP_PRED_INLINE int vp_pred_in_filter_window_(double mx, double my, double mz)
     return lo >= VP_PRED_FILTER_LO && hi <= VP_PRED_FILTER_HI;
 }
 
+/* The orient3d determinant of a, b, c, d in doubles, relative to a, in the fixed order of
+ * operations the filters' bounds are derived for. */
+static inline double vp_orient3d_det_(const double *a, const double *b, const double *c,
+                                      const double *d)
+{
+    double ux = b[0] - a[0], uy = b[1] - a[1], uz = b[2] - a[2];
+    double vx = c[0] - a[0], vy = c[1] - a[1], vz = c[2] - a[2];
+    double wx = d[0] - a[0], wy = d[1] - a[1], wz = d[2] - a[2];
+    return (wz * (ux * vy - uy * vx) + vz * (uy * wx - ux * wy)) + uz * (vx * wy - vy * wx);
+}
+
+/* The same determinant out of line, for a size-optimised build (see vp_insphere_det). */
+double vp_orient3d_det(const double *a, const double *b, const double *c, const double *d);
+#ifdef __OPTIMIZE_SIZE__
+#define VP_ORIENT3D_DET_ vp_orient3d_det
+#else
+#define VP_ORIENT3D_DET_ vp_orient3d_det_
+#endif
+
 static inline int vp_orient3d_filter(const double *a, const double *b, const double *c,
                                      const double *d)
 {
     double ux = b[0] - a[0], uy = b[1] - a[1], uz = b[2] - a[2];
     double vx = c[0] - a[0], vy = c[1] - a[1], vz = c[2] - a[2];
     double wx = d[0] - a[0], wy = d[1] - a[1], wz = d[2] - a[2];
-    double det = (wz * (ux * vy - uy * vx) + vz * (uy * wx - ux * wy)) + uz * (vx * wy - vy * wx);
+    double det = VP_ORIENT3D_DET_(a, b, c, d);
     double mx = vp_pred_max3_(fabs(ux), fabs(vx), fabs(wx));
     double my = vp_pred_max3_(fabs(uy), fabs(vy), fabs(wy));
     double mz = vp_pred_max3_(fabs(uz), fabs(vz), fabs(wz));
@@ -173,10 +192,21 @@ static inline double vp_insphere_det_(const double *a, const double *b, const do
     return det;
 }
 
+/* The same determinant out of line. A size-optimised build (-Os) has the inline filters below
+ * call it: one copy of its 40 operations (software calls on a core without a double FPU)
+ * instead of one in every caller. */
+double vp_insphere_det(const double *a, const double *b, const double *c, const double *d,
+                       const double *e);
+#ifdef __OPTIMIZE_SIZE__
+#define VP_INSPHERE_DET_ vp_insphere_det
+#else
+#define VP_INSPHERE_DET_ vp_insphere_det_
+#endif
+
 static inline int vp_insphere_filter(const double *a, const double *b, const double *c,
                                      const double *d, const double *e)
 {
-    double det = vp_insphere_det_(a, b, c, d, e), m[3];
+    double det = VP_INSPHERE_DET_(a, b, c, d, e), m[3];
     int k;
     for (k = 0; k < 3; k++) /* the largest coordinate difference to e, per axis */
         m[k] = vp_pred_max3_(vp_pred_max3_(fabs(a[k] - e[k]), fabs(b[k] - e[k]), fabs(c[k] - e[k])),
@@ -202,10 +232,7 @@ int vp_insphere_filter_ss(const double *a, const double *b, const double *c, con
 VP_PRED_INLINE int vp_orient3d_filter_b(const double *a, const double *b, const double *c,
                                         const double *d, double static_bound)
 {
-    double ux = b[0] - a[0], uy = b[1] - a[1], uz = b[2] - a[2];
-    double vx = c[0] - a[0], vy = c[1] - a[1], vz = c[2] - a[2];
-    double wx = d[0] - a[0], wy = d[1] - a[1], wz = d[2] - a[2];
-    double det = (wz * (ux * vy - uy * vx) + vz * (uy * wx - ux * wy)) + uz * (vx * wy - vy * wx);
+    double det = VP_ORIENT3D_DET_(a, b, c, d);
     if (det > static_bound) return 1;
     if (-det > static_bound) return -1;
     if (det == 0.0) return VP_PRED_UNSURE; /* the semi-static bound cannot decide it either */
@@ -259,7 +286,7 @@ VP_PRED_INLINE int vp_insphere_filter_b(const double *a, const double *b, const 
 VP_PRED_INLINE int vp_insphere_filter_b(const double *a, const double *b, const double *c,
                                         const double *d, const double *e, double static_bound)
 {
-    double det = vp_insphere_det_(a, b, c, d, e);
+    double det = VP_INSPHERE_DET_(a, b, c, d, e);
     if (det > static_bound) return 1;
     if (-det > static_bound) return -1;
     if (det == 0.0) return VP_PRED_UNSURE; /* the semi-static bound cannot decide it either */
@@ -284,19 +311,28 @@ int vp_lowest_bit(double x);
 int vp_orient3d_box_exact(const double lo[3], const double hi[3], int lowbit);
 int vp_insphere_box_exact(const double lo[3], const double hi[3], int lowbit);
 
-/* Exact signs: the inline filter, then the out-of-line stages. */
+/* Exact signs: the inline filter, then the out-of-line stages (a size-optimised build calls
+ * vp_orient3d / vp_insphere instead: the same filter and stages, one copy). */
 static inline int vp_orient3d_fast(const double *a, const double *b, const double *c,
                                    const double *d)
 {
+#ifdef __OPTIMIZE_SIZE__
+    return vp_orient3d(a, b, c, d);
+#else
     int s = vp_orient3d_filter(a, b, c, d);
     return s != VP_PRED_UNSURE ? s : vp_orient3d_tail(a, b, c, d);
+#endif
 }
 
 static inline int vp_insphere_fast(const double *a, const double *b, const double *c,
                                    const double *d, const double *e)
 {
+#ifdef __OPTIMIZE_SIZE__
+    return vp_insphere(a, b, c, d, e);
+#else
     int s = vp_insphere_filter(a, b, c, d, e);
     return s != VP_PRED_UNSURE ? s : vp_insphere_tail(a, b, c, d, e);
+#endif
 }
 
 #endif

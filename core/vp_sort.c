@@ -1,6 +1,8 @@
 #include <string.h>
 #include "vp_sort.h"
 
+#ifndef VP_CORE_MCU /* only vp_dt_insert_batch sorts: left out with it (vp_status.h) */
+
 #define HBITS 16u
 #define BRIO_MIN_ROUND 64u /* the first round holds about this many points */
 
@@ -132,3 +134,5 @@ void vp_sort_brio(const double *xyz, uint32_t n, uint32_t seed, uint32_t *order,
     }
     if (src_i != order) memcpy(order, src_i, (size_t)n * sizeof(uint32_t));
 }
+
+#endif /* VP_CORE_MCU */

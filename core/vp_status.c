@@ -1,5 +1,7 @@
 #include "vp_status.h"
 
+#ifndef VP_CORE_MCU /* texts for people: host only (vp_status.h) */
+
 const char *vp_strerror(int status)
 {
     switch (status) {
@@ -21,3 +23,4 @@ const char *vp_strerror(int status)
     default:          return status >= 0 ? "ok" : "unknown error";
     }
 }
+#endif

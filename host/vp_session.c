@@ -1,18 +1,25 @@
 #include <stdlib.h>
 #include <string.h>
+#include "vp_progress.h"
 #include "vp_rtclock.h"
 #include "vp_meshcheck.h"
 #include "vp_run.h"
 #include "vp_session.h"
 
-static void progress_line(FILE *f, const vp_planner_t *pl, int final)
+/* One progress line. The bar is how near the mesh is to closing: its facets over the 2V - 4 a
+ * closed mesh of genus 0 on the same V samples has (full when closed; a torus reads full at
+ * 2V facets too). There is no total to count to: the object's size is unknown. */
+static void progress_line(vp_progress_t *p, const vp_planner_t *pl, int final)
 {
     vp_planner_stats_t st;
+    char text[200];
+    uint32_t nv = vp_planner_dt(pl)->ninserted, nf = vp_planner_num_facets(pl);
+    double frac = nv > 3 ? (double)nf / (2.0 * nv - 4.0) : 0.0;
     vp_planner_get_stats(pl, &st);
-    fprintf(f, "\r  probes %-9llu vertices %-7u facets %-7u bad balls %-6u largest ball %.4g (eps %.4g)%s",
-            (unsigned long long)st.probes, vp_planner_dt(pl)->ninserted, vp_planner_num_facets(pl),
-            st.bad_balls, st.bad_balls ? st.max_ball : 0.0, pl->cfg.eps, final ? "\n" : "");
-    fflush(f);
+    snprintf(text, sizeof text, "%sprobes %-9llu vertices %-7u facets %-7u bad balls %-6u largest ball %.4g (eps %.4g)",
+             p->tty ? "closed " : "  progress: ", (unsigned long long)st.probes, nv, nf, st.bad_balls,
+             st.bad_balls ? st.max_ball : 0.0, pl->cfg.eps);
+    vp_progress_print(p, frac > 1.0 ? 1.0 : frac, text, final);
 }
 
 int vp_progress_due(double *next_report)
@@ -26,7 +33,7 @@ int vp_progress_due(double *next_report)
 typedef struct vp_session_run_ctx {
     const vp_session_hooks_t *hooks;
     FILE *progress;
-    double next_report;
+    vp_progress_t prog;
 } vp_session_run_ctx_t;
 
 static int vp_session_after(void *ctx, const vp_cmd_t *cmd, const vp_probe_result_t *res)
@@ -46,7 +53,7 @@ static double vp_session_clock(void *ctx)
 static void vp_session_progress(void *ctx, const vp_planner_t *pl, unsigned long commands)
 {
     vp_session_run_ctx_t *c = ctx;
-    if (c->progress && (commands & 1023u) == 0 && vp_progress_due(&c->next_report)) progress_line(c->progress, pl, 0);
+    if (c->progress && (commands & 1023u) == 0 && vp_progress_tick(&c->prog)) progress_line(&c->prog, pl, 0);
 }
 
 int vp_session_run(vp_planner_t *pl, const vp_device_ops_t *dev, const vp_session_hooks_t *hooks,
@@ -58,13 +65,13 @@ int vp_session_run(vp_planner_t *pl, const vp_device_ops_t *dev, const vp_sessio
     vp_run_result_t r;
     c.hooks = hooks;
     c.progress = progress;
-    c.next_report = w0 + 0.5;
+    vp_progress_init(&c.prog, progress);
     rh.ctx = &c;
     rh.after = vp_session_after;
     rh.clock = vp_session_clock;
     rh.progress = vp_session_progress;
     vp_run(pl, dev, &rh, max_commands, &r);
-    if (progress) progress_line(progress, pl, 1);
+    if (progress) progress_line(&c.prog, pl, 1);
     memset(out, 0, sizeof *out);
     out->status = r.status;
     out->collisions = r.collisions;

@@ -1,5 +1,6 @@
 /* vp_sessionlog — see vp_sessionlog.h. */
 #include <errno.h>
+#include <stdio.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -107,6 +108,17 @@ static const char *slog_head(const unsigned char *p, size_t n)
     if (n >= VP_LOGFMT_MAGIC_LEN && memcmp(p, vp_logfmt_magic, VP_LOGFMT_MAGIC_LEN) != 0)
         return "bad magic (a voroprobe session log starts with \"VPLOG\")";
     return NULL;
+}
+
+int vp_sessionlog_is_log(const char *path)
+{
+    unsigned char b[VP_LOGFMT_MAGIC_LEN];
+    FILE *f = fopen(path, "rb");
+    size_t n;
+    if (!f) return 0;
+    n = fread(b, 1, sizeof b, f);
+    fclose(f);
+    return n == sizeof b && memcmp(b, vp_logfmt_magic, sizeof b) == 0;
 }
 
 int vp_sessionlog_load(vp_sessionlog_t *L, const char *path, char *err, size_t errlen)

@@ -31,6 +31,9 @@ typedef struct vp_sessionlog {
  * vp_sessionlog_free needed); a loaded one is freed with vp_sessionlog_free. */
 #define VP_SESSIONLOG_MAX_FILE (1ULL << 33)   /* a larger file is refused (it is read whole) */
 int  vp_sessionlog_load(vp_sessionlog_t *L, const char *path, char *err, size_t errlen);
+/* 1 if the file at path begins with a session log's magic (what a command that takes a log or
+ * another file looks at first), 0 otherwise or when it cannot be read. */
+int  vp_sessionlog_is_log(const char *path);
 int  vp_sessionlog_load_buf(vp_sessionlog_t *L, const void *buf, size_t len, char *err, size_t errlen);
 void vp_sessionlog_free(vp_sessionlog_t *L);
 /* Record i (< n), decoded again from the bytes. */

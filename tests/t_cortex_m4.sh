@@ -1,8 +1,9 @@
 #!/bin/sh
 # core/ (the Delaunay core and the planner) compiles and links freestanding for a Cortex-M4
-# (arm-none-eabi-gcc -mcpu=cortex-m4 -mthumb -Os) into boards/cortex-m4's image with a static
-# arena and a built-in simulated probe; prints the .text size of the core and the image's flash
-# and RAM use with the planner linked. The firmware's scan loop also runs on the build machine
+# (arm-none-eabi-gcc -mcpu=cortex-m4 -mthumb -Os, with the microcontroller option VP_CORE_MCU
+# of core/vp_status.h) into boards/cortex-m4's image with a static arena and a built-in
+# simulated probe; prints the .text size of the core and the image's flash and RAM use with
+# the planner linked. The firmware's scan loop also runs on the build machine
 # (-DVP_M4_HOST, same sources, same arena) and must reach DONE: the arena is large enough.
 set -eu
 B=${BUILD:-build}
@@ -10,7 +11,7 @@ command -v arm-none-eabi-gcc >/dev/null || { echo "arm-none-eabi-gcc missing (ma
 O="$B/m4"; mkdir -p "$O"
 CF="-mcpu=cortex-m4 -mthumb -mfloat-abi=hard -mfpu=fpv4-sp-d16 -Os -ffreestanding -std=c99 -pedantic
     -Wall -Wextra -Werror -Wmissing-prototypes -Wshadow -ffp-contract=off -fno-math-errno
-    -ffunction-sections -fdata-sections -Icore"
+    -ffunction-sections -fdata-sections -Icore -DVP_CORE_MCU"
 objs=""
 # the planner as one unit (core/planner/unity: its shared functions static, as in one file)
 for c in core/*.c core/planner/unity/vp_planner_unity.c; do
@@ -32,7 +33,7 @@ arena=$(printf "%d" "0x$(arm-none-eabi-nm -S "$O/voroprobe-m4.elf" | awk '$4 == 
 set -- $(arm-none-eabi-size "$O/voroprobe-m4.elf" | awk 'NR==2 {print $1, $2, $3}')
 flash=$(( $1 + $2 )); ram=$(( $2 + $3 ))
 # the same loop on the build machine
-gcc -std=c99 -O2 -ffp-contract=off -DVP_M4_HOST -Icore boards/cortex-m4/firmware.c core/*.c core/planner/unity/vp_planner_unity.c -lm -o "$O/firmware-host"
+gcc -std=c99 -O2 -ffp-contract=off -DVP_M4_HOST -DVP_CORE_MCU -Icore boards/cortex-m4/firmware.c core/*.c core/planner/unity/vp_planner_unity.c -lm -o "$O/firmware-host"
 run=$("$O/firmware-host") || { echo "$run"; echo "the firmware's scan loop did not reach DONE"; exit 1; }
 echo "$run"
 echo "cortex-m4: core .text $text bytes ($(echo $objs | wc -w) objects, planner $ptext); image with the planner flash $flash bytes, RAM $ram bytes (static arena ${arena:-?} bytes included)"

@@ -2,7 +2,8 @@
 # Installs the Debian 12 packages voroprobe builds, tests and benchmarks with.
 # Usage: sh tools/install-deps.sh [build|check|bench]   (default: check)
 #   build  what build/voroprobe needs: the compilers, pkg-config (the Makefile asks it for the
-#          hardware libraries) and the hardware libraries libgpiod and libcamera
+#          hardware libraries) and the hardware libraries libgpiod and libcamera; libpng (--png)
+#          and libmicrohttpd (--serve)
 #   check  build + every tool a test script calls (make check)
 #   bench  check + CGAL, re-measured by bench/*.sh (make bench)
 # The Makefile calls it before `make`, `make demo` (build), `make check` (check) and `make bench`
@@ -13,18 +14,19 @@
 # findutils); tests/*.sh use no bc and no file.
 set -u
 GROUP=${1:-check}
-BUILD_PKGS="build-essential pkg-config libgpiod-dev libcamera-dev"
+BUILD_PKGS="build-essential pkg-config libgpiod-dev libcamera-dev libpng-dev libmicrohttpd-dev"
 # clang + libclang-rt-14-dev + llvm: t_clang, t_fuzz_smoke (libFuzzer); gcc-arm-none-eabi +
 # libnewlib-arm-none-eabi: t_cortex_m4; gcc-aarch64-linux-gnu + libc6-dev-arm64-cross +
 # qemu-user: t_aarch64, t_cross_device, t_session_log; libgmp-dev: test_gmp_pred; binutils
 # (nm, readelf): t_core_symbols, t_backends, t_cross_device; python3-open3d + python3-numpy:
-# t_ply_open3d, t_mesh_open3d, t_session_log; libv4l-dev, libinih-dev, libpng-dev: kept for
+# t_ply_open3d, t_mesh_open3d, t_session_log; chromium: t_report (headless); libv4l-dev, libinih-dev, libpng-dev: kept for
 # port/ (nothing links them at present); libcgal-dev (with libgmp-dev, libmpfr-dev): the exact
 # segment/mesh checker of t_safety (tests/cgal_moves.cpp) and bench/cgal_*.cpp.
+# qemu-system-arm (with gcc-arm-none-eabi, python3): t_qemu_m4 (the MPS2 AN386 image).
 CHECK_PKGS="$BUILD_PKGS clang libclang-rt-14-dev llvm gcc-arm-none-eabi libnewlib-arm-none-eabi \
 gcc-aarch64-linux-gnu libc6-dev-arm64-cross qemu-user libgmp-dev libv4l-dev libinih-dev libpng-dev \
-python3 python3-numpy python3-open3d binutils libcgal-dev"
-BENCH_PKGS="$CHECK_PKGS"
+python3 python3-numpy python3-open3d chromium binutils libcgal-dev qemu-system-arm"
+BENCH_PKGS="$CHECK_PKGS python3-gudhi"  # python3-gudhi: bench/reconstruct.sh (GUDHI's TangentialComplex)
 case $GROUP in
   build) PKGS=$BUILD_PKGS;;
   check) PKGS=$CHECK_PKGS;;

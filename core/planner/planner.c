@@ -348,6 +348,16 @@ int vp_planner_feed(vp_planner_t *pl, const vp_probe_result_t *res)
 
 uint32_t vp_planner_facet_slots(const vp_planner_t *pl) { return pl->pool.nfrec; }
 uint32_t vp_planner_num_facets(const vp_planner_t *pl) { return pl->pool.nfacets; }
+
+vp_planner_stage_t vp_planner_stage(const vp_planner_t *pl)
+{
+    switch (pl->phase) {
+    case PH_SEED: return VP_STAGE_SEED;
+    case PH_RUN: case PH_RESEED: return VP_STAGE_REFINE;
+    case PH_CLOSE: case PH_COMPONENTS: return VP_STAGE_CLOSE;
+    default: return VP_STAGE_DONE;
+    }
+}
 const vp_dt_t *vp_planner_dt(const vp_planner_t *pl) { return &pl->dt; }
 
 int vp_planner_facet(const vp_planner_t *pl, uint32_t i, uint32_t v[3], double *radius, double center[3])

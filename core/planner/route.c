@@ -321,6 +321,18 @@ static uint32_t chain_root(const vp_planner_t *pl, uint32_t r)
     return r;
 }
 
+/* One step up the prev chain from record *x: its length added to *l, and with route != 0 its
+ * upper end appended to the route. */
+static int chain_step(vp_planner_t *pl, uint32_t *x, double *l, int route)
+{
+    uint32_t p = pl->pool.vrec[*x].prev;
+    int st;
+    *l += vp_dist3(pl->pool.vrec[*x].p, pl->pool.vrec[p].p);
+    if (route && (st = vp_pl_route_push(pl, pl->pool.vrec[p].p, pl->pool.vrec[*x].proof)) != VP_OK) return st;
+    *x = p;
+    return VP_OK;
+}
+
 /* Length of the prev-chain (tree) path from record a to record b, or to the outside point gp
  * when b == NONE. The paper's device travels these. With route != 0 the path is appended to
  * the route. */
@@ -333,33 +345,22 @@ static int tree_path(vp_planner_t *pl, uint32_t a, uint32_t b, const double *gp,
     int st;
     *len = 0.0;
     if (b == NONE) {
-        while (pl->pool.vrec[x].prev != x) {
-            uint32_t p = pl->pool.vrec[x].prev;
-            l += vp_dist3(pl->pool.vrec[x].p, pl->pool.vrec[p].p);
-            if (route && (st = vp_pl_route_push(pl, pl->pool.vrec[p].p, pl->pool.vrec[x].proof)) != VP_OK) return st;
-            x = p;
-        }
+        while (pl->pool.vrec[x].prev != x)
+            if ((st = chain_step(pl, &x, &l, route)) != VP_OK) return st;
         st = outside_route(pl, pl->pool.vrec[x].p, gp, !route, &ol);
         *len = l + ol;
         return st;
     }
     /* climb to the common ancestor; y's half is kept to be walked downwards */
-    while (pl->pool.vrec[x].depth > pl->pool.vrec[y].depth) {
-        uint32_t p = pl->pool.vrec[x].prev;
-        l += vp_dist3(pl->pool.vrec[x].p, pl->pool.vrec[p].p);
-        if (route && (st = vp_pl_route_push(pl, pl->pool.vrec[p].p, pl->pool.vrec[x].proof)) != VP_OK) return st;
-        x = p;
-    }
+    while (pl->pool.vrec[x].depth > pl->pool.vrec[y].depth)
+        if ((st = chain_step(pl, &x, &l, route)) != VP_OK) return st;
     while (pl->pool.vrec[y].depth > pl->pool.vrec[x].depth) {
         if (ny >= pl->route.cap_path) return VP_ENOMEM;
         pl->route.path[ny++] = y;
         y = pl->pool.vrec[y].prev;
     }
     while (x != y && !(pl->pool.vrec[x].prev == x && pl->pool.vrec[y].prev == y)) {
-        uint32_t p = pl->pool.vrec[x].prev;
-        l += vp_dist3(pl->pool.vrec[x].p, pl->pool.vrec[p].p);
-        if (route && (st = vp_pl_route_push(pl, pl->pool.vrec[p].p, pl->pool.vrec[x].proof)) != VP_OK) return st;
-        x = p;
+        if ((st = chain_step(pl, &x, &l, route)) != VP_OK) return st;
         if (ny >= pl->route.cap_path) return VP_ENOMEM;
         pl->route.path[ny++] = y;
         y = pl->pool.vrec[y].prev;
