@@ -36,6 +36,8 @@ static void mcu_usage(FILE *f)
         "log and, at DONE, the mesh of the log (as `voroprobe mesh` does).\n"
         "  --qemu IMAGE       run IMAGE (BUILD/m4/voroprobe-an386.elf, from\n"
         "                     sh boards/cortex-m4/build.sh) on qemu-system-arm -M mps2-an386\n"
+        "  --machine M        qemu's machine (default mps2-an386; netduinoplus2, an STM32F405, for\n"
+        "                     BUILD/m4/voroprobe-stm32f405.elf)\n"
         "  --qemu-bin PATH    the qemu-system-arm program (default: from PATH)\n"
         "  --icount N         qemu's -icount shift=N (default 3: 8 ns per instruction): the\n"
         "                     board's time follows its instructions, so step edges are timed the\n"
@@ -105,7 +107,7 @@ int vp_cli_mcu(int argc, char **argv)
     vp_logfmt_header_t h;
     vp_sessionlog_t L;
     vp_replay_t R;
-    const char *qemu_image = NULL, *serial = NULL, *sock = NULL, *exec = NULL, *qemu_bin = NULL;
+    const char *qemu_image = NULL, *serial = NULL, *sock = NULL, *exec = NULL, *qemu_bin = NULL, *machine = NULL;
     char err[1400], note[VP_LOGFMT_NOTE_MAX + 1], logpath[VP_PATH_MAX];
     unsigned char *hbuf = NULL;
     double corrupt = 0, timeout = 20, baud = 115200, icount = 3;
@@ -118,12 +120,13 @@ int vp_cli_mcu(int argc, char **argv)
         double *num = NULL;
         if (!strcmp(a, "--help") || !strcmp(a, "-h")) { mcu_usage(stdout); return 0; }
         if (!strcmp(a, "--qemu") || !strcmp(a, "--serial") || !strcmp(a, "--socket") || !strcmp(a, "--exec") ||
-            !strcmp(a, "--qemu-bin")) {
+            !strcmp(a, "--qemu-bin") || !strcmp(a, "--machine")) {
             if (!v) { fprintf(stderr, "mcu: %s needs a value\n", a); return 2; }
             if (!strcmp(a, "--qemu")) qemu_image = v, links++;
             else if (!strcmp(a, "--serial")) serial = v, links++;
             else if (!strcmp(a, "--socket")) sock = v, links++;
             else if (!strcmp(a, "--exec")) exec = v, links++;
+            else if (!strcmp(a, "--machine")) machine = v;
             else qemu_bin = v;
             i++;
             continue;
@@ -166,7 +169,7 @@ int vp_cli_mcu(int argc, char **argv)
     hbuf = malloc(VP_LOGFMT_MAX_HEADER);
     hn = hbuf ? vp_logfmt_header_encode(&h, hbuf, VP_LOGFMT_MAX_HEADER) : VP_ENOMEM;
     if (hn < 0) { fprintf(stderr, "mcu: the session header: %s\n", vp_strerror(hn)); free(hbuf); vp_sim_close(&sim); return 1; }
-    if (qemu_image) st = vp_mcu_open_qemu(&link, qemu_bin, qemu_image, (int)icount, err, sizeof err);
+    if (qemu_image) st = vp_mcu_open_qemu(&link, qemu_bin, machine, qemu_image, (int)icount, err, sizeof err);
     else if (exec) st = vp_mcu_open_exec(&link, exec, err, sizeof err);
     else if (serial) st = vp_mcu_open_serial(&link, serial, (long)baud, err, sizeof err);
     else st = vp_mcu_open_socket(&link, sock, err, sizeof err);
@@ -182,8 +185,9 @@ int vp_cli_mcu(int argc, char **argv)
         signal(SIGPIPE, SIG_IGN);
     }
     if (!o.quiet)
-        fprintf(stderr, "voroprobe mcu: %s, eps %.6g, link %s%s\n", o.surface, sim.cfg.eps,
-                qemu_image ? "qemu mps2-an386 " : serial ? "serial " : sock ? "socket " : "pipe to ",
+        fprintf(stderr, "voroprobe mcu: %s, eps %.6g, link %s%s%s%s\n", o.surface, sim.cfg.eps,
+                qemu_image ? "qemu " : serial ? "serial " : sock ? "socket " : "pipe to ",
+                qemu_image ? (machine ? machine : "mps2-an386") : "", qemu_image ? " " : "",
                 qemu_image ? qemu_image : serial ? serial : sock ? sock : exec);
     memset(&mo, 0, sizeof mo);
     mo.header = hbuf;

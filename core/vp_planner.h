@@ -134,6 +134,7 @@ typedef struct vp_pl_pools {
     uint32_t *fedge; uint32_t nfedge, cap_fedge;      /* free graph: route.c (edge_add) */
     vp_frec_t *frec; uint32_t nfrec, cap_frec, frec_free, nfacets; /* facets.c */
     uint32_t *fhash; uint32_t hash_mask, ntomb;       /* facet key -> frec index: facets.c */
+    uint32_t room;                                    /* headroom of one update (update.c) */
     int fhash_dirty;                                  /* facets.c: rebuild before a lookup */
     uint32_t *heap; uint32_t nheap, cap_heap;         /* bad balls, max-heap on radius: facets.c */
     vp_task_t *task; uint32_t ntask, cap_task;        /* pending probes (a stack): tasks.c */

@@ -112,7 +112,8 @@ static int spawn(vp_mcu_link_t *l, char *const argv[], char *err, size_t errlen)
     return VP_OK;
 }
 
-int vp_mcu_open_qemu(vp_mcu_link_t *l, const char *qemu, const char *image, int icount, char *err, size_t errlen)
+int vp_mcu_open_qemu(vp_mcu_link_t *l, const char *qemu, const char *machine, const char *image, int icount,
+                     char *err, size_t errlen)
 {
     char shift[32];
     char *argv[16];
@@ -130,7 +131,7 @@ int vp_mcu_open_qemu(vp_mcu_link_t *l, const char *qemu, const char *image, int 
         return VP_EINVAL;
     }
     argv[n++] = (char *)qemu;
-    argv[n++] = "-M"; argv[n++] = "mps2-an386";
+    argv[n++] = "-M"; argv[n++] = (char *)(machine ? machine : "mps2-an386");
     argv[n++] = "-nodefaults"; argv[n++] = "-display"; argv[n++] = "none"; argv[n++] = "-net"; argv[n++] = "none";
     argv[n++] = "-serial"; argv[n++] = "stdio";
     argv[n++] = "-kernel"; argv[n++] = (char *)image;

@@ -25,8 +25,10 @@ typedef struct vp_mcu_link {
 } vp_mcu_link_t;
 
 /* Opens the link. VP_OK, or an error with a message in err. qemu: the qemu-system-arm
- * program (NULL: from PATH); icount >= 0 gives -icount shift=icount. */
-int  vp_mcu_open_qemu(vp_mcu_link_t *l, const char *qemu, const char *image, int icount, char *err, size_t errlen);
+ * program (NULL: from PATH); machine: its -M (NULL: mps2-an386; netduinoplus2 for the
+ * STM32F405 image), whose first UART is the link; icount >= 0 gives -icount shift=icount. */
+int  vp_mcu_open_qemu(vp_mcu_link_t *l, const char *qemu, const char *machine, const char *image, int icount,
+                      char *err, size_t errlen);
 int  vp_mcu_open_exec(vp_mcu_link_t *l, const char *program, char *err, size_t errlen);
 int  vp_mcu_open_serial(vp_mcu_link_t *l, const char *device, long baud, char *err, size_t errlen);
 int  vp_mcu_open_socket(vp_mcu_link_t *l, const char *path, char *err, size_t errlen);

@@ -42,6 +42,9 @@ res=$(pipe_ok "$T/old.err" 1 100) && fail "the pipe check passed carriage-return
 
 # a terminal: script(1) gives sim a pseudo-terminal
 command -v script >/dev/null 2>&1 || { echo "no script(1): the terminal half is skipped"; exit 77; }
+# (a chroot without /dev/pts has no pseudo-terminal to give: then only the pipe half ran)
+script -qec true "$T/probe.txt" >/dev/null 2>&1 ||
+  { echo "t_progress: pipe: $pipe_lines, no CR; the terminal half skipped: script(1) cannot open a pseudo-terminal here"; exit 77; }
 script -qec "$VP sim --surface genus2 --eps 0.03 --no-log --out $T/c --hausdorff 0" "$T/tty.txt" >/dev/null 2>&1 \
   || fail "sim under script exited $?"
 grep -q "$CR$ESC\[K\[[#.]*\] *[0-9]*% closed probes" "$T/tty.txt" || fail "no bar redrawn in place on the terminal"

@@ -10,6 +10,7 @@
 #define MIN_ANGLE_MAX 30.0 /* degrees: above it Delaunay refinement need not terminate */
 #define ARENA_MIN (64u * 1024u)
 #define POOL_MIN 64u
+#define ROUTE_MIN 32u
 #define SCRATCH_MIN 1024u
 #define ROUTE_CAP_MAX 4096u
 /* the slack of a proof check, relative to Omega's size (1 + its circumradius): the rounding of
@@ -18,6 +19,10 @@
 #define DEG_TO_RAD 0.017453292519943295
 
 /* ---------- arena ---------- */
+
+/* Shares of the arena per 100 units (vp_planner_init): records, facets, free edges, scratch,
+ * tasks, route (in 24-byte points), proofs, the triangulation's least; [1] below SMALL_ARENA. */
+static const unsigned char split[2][8] = {{20, 7, 6, 8, 7, 1, PROOF_SHARE, 28}, {23, 14, 6, 4, 5, 2, 15, 24}};
 
 static void *carve(unsigned char **cur, unsigned char *end, size_t bytes)
 {
@@ -50,6 +55,7 @@ int vp_planner_init(vp_planner_t *pl, void *arena, size_t bytes, const vp_planne
 {
     unsigned char *cur, *end;
     size_t dtb, unit;
+    const unsigned char *sh;
     uint32_t i, hwords;
     int k, st;
     if (!pl || !arena || !cfg) return VP_EINVAL;
@@ -83,18 +89,23 @@ int vp_planner_init(vp_planner_t *pl, void *arena, size_t bytes, const vp_planne
     end = cur + bytes;
     /* the split, per 100 units, from the peaks measured per output vertex (README): the
      * triangulation at least 28, records 20, proofs 16, free edges 6, facets 7, tasks 7, hash
-     * 2-4, path search and hole scratch 8, paths 1, heap 1, route 1 */
+     * 2-4, path search and hole scratch 8, paths 1, heap 1, route 1. Below SMALL_ARENA (a
+     * microcontroller's RAM, some 100 vertices) the split of a small mesh, whose facets and
+     * proofs weigh more and whose scratch needs less (split[1]): the triangulation at least
+     * 24, records 23, proofs 15, free edges 6, facets 14, tasks 5, scratch 4, route 2. */
     unit = bytes / 100;
     if (bytes < ARENA_MIN) return VP_ENOMEM;
-    pl->pool.cap_vrec = (uint32_t)(20 * unit / sizeof(vp_vrec_t));
-    pl->pool.cap_frec = (uint32_t)(7 * unit / sizeof(vp_frec_t));
-    pl->pool.cap_fedge = (uint32_t)(6 * unit / (4 * FEDGE_WORDS));
+    sh = split[bytes < SMALL_ARENA];
+    pl->pool.room = bytes < SMALL_ARENA ? (uint32_t)(bytes / ROOM_BYTES) : ROOM_SMALL;
+    pl->pool.cap_vrec = (uint32_t)(sh[0] * unit / sizeof(vp_vrec_t));
+    pl->pool.cap_frec = (uint32_t)(sh[1] * unit / sizeof(vp_frec_t));
+    pl->pool.cap_fedge = (uint32_t)(sh[2] * unit / (4 * FEDGE_WORDS));
     for (hwords = 1; (size_t)hwords * 2 * 4 <= 4 * unit; hwords <<= 1) {}
-    pl->pool.cap_astar = (uint32_t)(8 * unit / 4);
+    pl->pool.cap_astar = (uint32_t)(sh[3] * unit / 4);
     pl->route.cap_path = (uint32_t)(unit / 4);
-    pl->pool.cap_task = (uint32_t)(7 * unit / sizeof(vp_task_t));
+    pl->pool.cap_task = (uint32_t)(sh[4] * unit / sizeof(vp_task_t));
     pl->pool.cap_heap = (uint32_t)(unit / 4);
-    pl->route.cap = (uint32_t)(unit / 24);
+    pl->route.cap = (uint32_t)(sh[5] * unit / 24);
     if (pl->route.cap > ROUTE_CAP_MAX) pl->route.cap = ROUTE_CAP_MAX;
     pl->pool.vrec = carve(&cur, end, (size_t)pl->pool.cap_vrec * sizeof(vp_vrec_t));
     pl->pool.frec = carve(&cur, end, (size_t)pl->pool.cap_frec * sizeof(vp_frec_t));
@@ -106,22 +117,22 @@ int vp_planner_init(vp_planner_t *pl, void *arena, size_t bytes, const vp_planne
     pl->pool.heap = carve(&cur, end, (size_t)pl->pool.cap_heap * 4);
     pl->route.pts = carve(&cur, end, (size_t)pl->route.cap * 24);
     pl->route.proof = carve(&cur, end, (size_t)pl->route.cap * 4);
-    pl->pool.cap_proof = (uint32_t)(PROOF_SHARE * unit / sizeof(vp_proof_t));
+    pl->pool.cap_proof = (uint32_t)(sh[6] * unit / sizeof(vp_proof_t));
     pl->pool.proof = carve(&cur, end, (size_t)pl->pool.cap_proof * sizeof(vp_proof_t));
     if (!pl->route.proof || !pl->pool.proof || pl->pool.cap_proof < POOL_MIN) return VP_ENOMEM;
     if (!pl->pool.vrec || !pl->pool.frec || !pl->pool.fedge || !pl->pool.fhash || !pl->pool.astar || !pl->route.path ||
         !pl->pool.task || !pl->pool.heap || !pl->route.pts || pl->pool.cap_vrec < POOL_MIN || pl->pool.cap_frec < POOL_MIN ||
-        pl->pool.cap_task < POOL_MIN || pl->route.cap < POOL_MIN || pl->pool.cap_astar < SCRATCH_MIN)
+        pl->pool.cap_task < POOL_MIN || pl->route.cap < ROUTE_MIN || pl->pool.cap_astar < SCRATCH_MIN)
         return VP_ENOMEM;
     dtb = (size_t)(end - cur);
     /* the other shares take at most 71.2 units (the hash up to 4): the triangulation gets the
      * rest, never less than 28 (it needs 23-27 at 2.5 KB per output vertex); with a distance
      * bound the samples' normal cache takes a 16th of it where that leaves 28 (some 400 bytes
      * of triangulation per sample: the cache has room for nearly every one) */
-    if (dtb < 28 * unit) return VP_ENOMEM;
+    if (dtb < sh[7] * unit) return VP_ENOMEM;
     if (cfg->max_distance > 0.0) {
         size_t nb = dtb / 16;
-        if (dtb - nb < 28 * unit) nb = dtb - 28 * unit;
+        if (dtb - nb < sh[7] * unit) nb = dtb - sh[7] * unit;
         pl->pool.cap_nrm = (uint32_t)(nb / (3 * sizeof(double)) < 0xFFFFFFF0u ? nb / (3 * sizeof(double)) : 0xFFFFFFF0u);
         pl->pool.nrm = pl->pool.cap_nrm > 0 ? carve(&cur, end, (size_t)pl->pool.cap_nrm * 3 * sizeof(double)) : NULL;
         if (!pl->pool.nrm) pl->pool.cap_nrm = 0;

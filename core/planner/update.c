@@ -255,14 +255,14 @@ VP_PL_API uint32_t vp_pl_find_facet(vp_planner_t *pl, const uint32_t *fv, int *f
 
 /* Room for one insertion's update in every pool, checked before inserting: the update then
  * never runs out halfway (VP_ENOMEM leaves the mesh whole and exportable). A cavity has some
- * tens of tets: records and free edges (up to 4 per new tet) get ROOM_BIG, the rest ROOM_SMALL. */
-#define ROOM_BIG 512u
-#define ROOM_SMALL 256u
+ * tens of tets: records and free edges (up to 4 per new tet) get twice pool.room, the rest
+ * pool.room (ROOM_SMALL; vp_planner_init). */
 VP_PL_API int vp_pl_pools_have_room(const vp_planner_t *pl)
 {
-    return pl->pool.nvrec + ROOM_BIG <= pl->pool.cap_vrec && pl->pool.nfedge + ROOM_BIG <= pl->pool.cap_fedge &&
-           pl->pool.nfrec + ROOM_SMALL <= pl->pool.cap_frec && pl->pool.ntask + ROOM_SMALL <= pl->pool.cap_task &&
-           pl->pool.nheap + ROOM_SMALL <= pl->pool.cap_heap && 4u * (pl->pool.nfacets + ROOM_SMALL) < pl->pool.hash_mask;
+    uint32_t r = pl->pool.room;
+    return pl->pool.nvrec + 2 * r <= pl->pool.cap_vrec && pl->pool.nfedge + 2 * r <= pl->pool.cap_fedge &&
+           pl->pool.nfrec + r <= pl->pool.cap_frec && pl->pool.ntask + r <= pl->pool.cap_task &&
+           pl->pool.nheap + r <= pl->pool.cap_heap && 4u * (pl->pool.nfacets + r) < pl->pool.hash_mask;
 }
 
 /* A ball within 30% of the largest is about as urgent (refining it shrinks the largest radius

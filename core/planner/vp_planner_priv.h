@@ -145,6 +145,18 @@ struct vp_frec {
 #define PROOF_OUTSIDE   0xFFFFFFFDu
 #define FEDGE_WORDS 5u
 #define KPAY 6u /* payload words of a tet: record, sides, four side proofs */
+/* Headroom of one insertion's update (vp_pl_pools_have_room): pool.room entries of facets,
+ * tasks, heap and hash, twice that of records and free edges. ROOM_SMALL from SMALL_ARENA up;
+ * below it one per ROOM_BYTES of arena (32 at the least arena, 50 at 100 KiB), as a small arena
+ * never has 256 to spare. One update is bounded by its cavity (at most one record and one facet,
+ * four tasks and free edges per new tet). Measured per refinement step: up to 102 tasks, 52
+ * records, 88 free edges in sessions of thousands of vertices (fandisk at accuracy 0.005, a
+ * cavity of 214 tets); in the 15 scans of up to 150 vertices a small arena holds (spheres, tori,
+ * blobs, cube, tetra, fandisk, knot, with noise and dropouts) up to 26 tasks, 15 records and 20
+ * free edges (cavities of at most 56 tets): at 100 KiB pool.room is nearly twice the largest. */
+#define ROOM_SMALL 256u
+#define SMALL_ARENA (256u * 1024u)
+#define ROOM_BYTES 2048u
 #define PROOF_SHARE 16u /* of the arena's 100 units: the proofs (one per probe that proved something) */
 #define HASH_EMPTY 0xFFFFFFFFu
 typedef struct edgegeom {
