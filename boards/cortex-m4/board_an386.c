@@ -28,7 +28,6 @@
 #define FPGAIO_BUTTON 0x40028008u
 #define NVIC_ISER0    0xE000E100u
 #define NVIC_IPR(n)   (0xE000E400u + (n))
-#define SCB_CPACR     0xE000ED88u
 #define SCB_SHPR3     0xE000ED20u
 #define SYST_CSR      0xE000E010u
 #define SYST_RVR      0xE000E014u
@@ -42,8 +41,6 @@ const char mcu_board_name[] = "mps2-an386";
  * qemu's timers without -icount and the 1.9 us a DRV8825 needs) */
 const mcu_axes_config_t mcu_axes = { 100u, 10000u, 1000000u, 300u, SYSCLK_HZ };
 
-static volatile uint8_t rx_ring[1024];
-static volatile uint32_t rx_head, rx_tail;
 static uint32_t gpio_out;
 
 void mcu_hal_init(void)
@@ -68,15 +65,6 @@ void mcu_hal_init(void)
 uint32_t mcu_hal_now(void)
 {
     return 0xFFFFFFFFu - REG(DT_VALUE(DT2));
-}
-
-int mcu_hal_getc(void)
-{
-    int c;
-    if (rx_tail == rx_head) return -1;
-    c = rx_ring[rx_tail % sizeof rx_ring];
-    rx_tail++;
-    return c;
 }
 
 void mcu_hal_write(const uint8_t *p, size_t n)
@@ -147,9 +135,8 @@ void mcu_hal_laser(int on)
 void vp_uart0_rx_handler(void);
 void vp_dualtimer_handler(void);
 void vp_reset_handler(void);
-void vp_default_handler(void);
 void vp_systick_handler(void);
-extern uint32_t _sidata, _sdata, _edata, _sbss, _ebss, _estack;
+extern uint32_t _estack;
 
 void vp_uart0_rx_handler(void)
 {
@@ -157,7 +144,7 @@ void vp_uart0_rx_handler(void)
     REG(UART_INT) = 2u;
     while (REG(UART_STATE) & 2u) {
         uint8_t c = (uint8_t)REG(UART_DATA);
-        if (rx_head - rx_tail < sizeof rx_ring) { rx_ring[rx_head % sizeof rx_ring] = c; rx_head++; }
+        mcu_rx_put(c);
     }
 }
 
@@ -166,22 +153,13 @@ void vp_dualtimer_handler(void)
     mcu_motion_edge();
 }
 
-void vp_default_handler(void)
-{
-    for (;;) {}
-}
-
 void vp_systick_handler(void)
 {
 }
 
 void vp_reset_handler(void)
 {
-    uint32_t *src = &_sidata, *dst = &_sdata;
-    while (dst < &_edata) *dst++ = *src++;
-    for (dst = &_sbss; dst < &_ebss; dst++) *dst = 0;
-    REG(SCB_CPACR) |= 0xFu << 20;      /* the FPU: CP10, CP11 full access */
-    __asm__ volatile ("dsb\n\tisb");
+    mcu_crt_init();
     mcu_main();
     vp_default_handler();
 }

@@ -58,7 +58,6 @@
 #define NVIC_ISER1   0xE000E104u
 #define NVIC_IPR(n)  (0xE000E400u + (n))
 #define SCB_SHPR3    0xE000ED20u
-#define SCB_CPACR    0xE000ED88u
 #define SYST_CSR     0xE000E010u
 #define SYST_RVR     0xE000E014u
 #define SYST_CVR     0xE000E018u
@@ -70,8 +69,6 @@ const char mcu_board_name[] = "stm32f405";
 /* 100 steps per unit, 10,000 steps/s, 1,000,000 steps/s^2, 12 us pulses (as on the AN386) */
 const mcu_axes_config_t mcu_axes = { 100u, 10000u, 1000000u, 252u, TICK_HZ };
 
-static volatile uint8_t rx_ring[1024];
-static volatile uint32_t rx_head, rx_tail;
 static uint32_t ns_lo, ns_hi;          /* qemu: TIM5's last count, its wraps */
 static int on_qemu;                    /* the RCC reads as zero: qemu's model (see above) */
 static uint32_t due, after;            /* qemu: the next edge's time, the interval after it */
@@ -137,15 +134,6 @@ uint32_t mcu_hal_now(void)
     t = ((uint64_t)ns_hi << 32 | lo) * (TICK_HZ / 1000000u) / 1000u;
     __asm__ volatile ("msr primask, %0" :: "r"(pm) : "memory");
     return (uint32_t)t;
-}
-
-int mcu_hal_getc(void)
-{
-    int c;
-    if (rx_tail == rx_head) return -1;
-    c = rx_ring[rx_tail % sizeof rx_ring];
-    rx_tail++;
-    return c;
 }
 
 void mcu_hal_write(const uint8_t *p, size_t n)
@@ -238,26 +226,20 @@ void mcu_hal_laser(int on)
 void vp_usart1_handler(void);
 void vp_tim2_handler(void);
 void vp_reset_handler(void);
-void vp_default_handler(void);
 void vp_systick_handler(void);
-extern uint32_t _sidata, _sdata, _edata, _sbss, _ebss, _estack;
+extern uint32_t _ebss, _estack;
 
 void vp_usart1_handler(void)
 {
     while (REG(USART_SR) & 1u << 5) {
         uint8_t c = (uint8_t)REG(USART_DR);   /* the read clears RXNE */
-        if (rx_head - rx_tail < sizeof rx_ring) { rx_ring[rx_head % sizeof rx_ring] = c; rx_head++; }
+        mcu_rx_put(c);
     }
 }
 
 void vp_tim2_handler(void)
 {
     mcu_motion_edge();
-}
-
-void vp_default_handler(void)
-{
-    for (;;) {}
 }
 
 void vp_systick_handler(void)
@@ -268,14 +250,11 @@ void vp_systick_handler(void)
 
 void vp_reset_handler(void)
 {
-    uint32_t *src = &_sidata, *dst = &_sdata;
-    while (dst < &_edata) *dst++ = *src++;
-    for (dst = &_sbss; dst < &_ebss; dst++) *dst = 0;
+    uint32_t *src, *dst = &_ebss;
+    mcu_crt_init();
     /* the free RAM below the stack painted, so a debugger sees how deep the stack went */
     __asm__ volatile ("mov %0, sp" : "=r"(src));
     for (src -= 16; dst < src; dst++) *dst = 0xA5A5A5A5u;
-    REG(SCB_CPACR) |= 0xFu << 20;      /* the FPU: CP10, CP11 full access */
-    __asm__ volatile ("dsb\n\tisb");
     mcu_main();
     vp_default_handler();
 }

@@ -31,7 +31,7 @@ for c in core/*.c core/planner/unity/vp_planner_unity.c; do
   arm-none-eabi-gcc $CF -pedantic -c "$c" -o "$o"
   objs="$objs $o"
 done
-for c in $MCU_SRC $D/board_an386.c; do
+for c in $MCU_SRC $D/mcu_start.c $D/board_an386.c; do
   o="$O/an386/$(basename "$c" .c).o"
   arm-none-eabi-gcc $CF -pedantic -c "$c" -o "$o"
   objs="$objs $o"
@@ -45,7 +45,7 @@ gcc $WARN -pedantic $FP -O2 -D_POSIX_C_SOURCE=200809L -Icore -include $D/mcu.h $
 # the STM32F405: the core's objects are the same (no arena in them); the MCU's own files again
 sobjs=""
 for o in $objs; do case $o in */mcu_*.o|*/board_*.o) ;; *) sobjs="$sobjs $o" ;; esac; done
-for c in $MCU_SRC $D/board_stm32f405.c; do
+for c in $MCU_SRC $D/mcu_start.c $D/board_stm32f405.c; do
   o="$O/stm32f405/$(basename "$c" .c).o"
   arm-none-eabi-gcc $CF0 $STM_ARENA -pedantic -c "$c" -o "$o"
   sobjs="$sobjs $o"

@@ -70,6 +70,11 @@ int mcu_motion_move(const double from[3], const double to[3], mcu_move_report_t 
 /* The step timer's interrupt: one edge. */
 void mcu_motion_edge(void);
 
+/* ---- the images' shared start-up and receive ring (mcu_start.c) ---- */
+void mcu_crt_init(void);        /* .data copied, .bss cleared, the FPU enabled */
+void mcu_rx_put(uint8_t c);     /* a received byte, from the UART's interrupt (dropped when full) */
+void vp_default_handler(void);
+
 /* ---- the session: HELLO, START, the scan, DONE (mcu_scan.c) ---- */
 void mcu_main(void);
 extern const char mcu_board_name[];

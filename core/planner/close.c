@@ -34,8 +34,6 @@ static int probe_around_edge(vp_planner_t *pl, uint32_t t0, uint32_t x, uint32_t
  * each such edge is refined like a bad ball, down to a floor on its radius so that it ends on
  * sharp edges and corners (inserted centres are farther than the floor from every sample). */
 #define MANIFOLD_FLOOR_REL 0.01 /* of eps: the smallest ball refined for the manifold criterion */
-#define MANIFOLD_FLOOR_MIN 0.05 /* of the distance bound's floor, when that is smaller: a fin or
-                                 * a gap thinner than the floor is still resolved */
 /* 1 if a side of a tet around edge (x, y) of Del(E) is blocked as unseen: a Voronoi edge there
  * could not be probed (occluded from dOmega for a device with a body, or too close), so the hole
  * is one the device cannot see, and refining there would only add samples it cannot close (a

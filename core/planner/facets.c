@@ -401,11 +401,8 @@ static int facet_at_corner(vp_planner_t *pl, const vp_frec_t *f)
 
 /* The facet's place in the heap's order, and 1 if its ball is bad: its radius above the size
  * bound, or (with a distance bound) its centre too far from the facet, unless the ball is
- * already at the floor min_size; or its dual edge crosses S twice, down to DOUBLE_FLOOR of that
- * floor (the manifold criterion's). The key is how far over its bounds the ball is. */
-#ifndef DOUBLE_FLOOR
-#define DOUBLE_FLOOR 0.05
-#endif
+ * already at the floor min_size; or its dual edge crosses S twice, down to MANIFOLD_FLOOR_MIN of
+ * that floor (the manifold criterion's). The key is how far over its bounds the ball is. */
 static int facet_rate(vp_planner_t *pl, vp_frec_t *f)
 {
     double b = vp_pl_size_bound(pl, f->v, f->c), d;
@@ -413,7 +410,7 @@ static int facet_rate(vp_planner_t *pl, vp_frec_t *f)
     f->key = pl->cfg.size_rel > 0.0 || pl->cfg.max_distance > 0.0 ? f->r / b : f->r;
     /* its dual Voronoi edge crosses S twice (a fin or a gap thinner than the samples are apart:
      * the topological ball property fails there); the farther crossing is the ball kept */
-    if (pl->cfg.max_distance > 0.0 && (f->flags & FREC_DOUBLE) && f->r > DOUBLE_FLOOR * pl->cfg.min_size &&
+    if (pl->cfg.max_distance > 0.0 && (f->flags & FREC_DOUBLE) && f->r > MANIFOLD_FLOOR_MIN * pl->cfg.min_size &&
         f->r > pl->cfg.noise_tol)
         bad = 1;
     if (pl->cfg.max_distance > 0.0 && f->r > pl->cfg.min_size) {

@@ -157,6 +157,10 @@ struct vp_frec {
 #define ROOM_SMALL 256u
 #define SMALL_ARENA (256u * 1024u)
 #define ROOM_BYTES 2048u
+/* The manifold criterion's floor with a distance bound (close.c), and how far a facet whose
+ * Voronoi edge crosses S twice is refined (facets.c): this share of the bound's floor min_size,
+ * so that a fin or a gap thinner than the floor is still resolved. */
+#define MANIFOLD_FLOOR_MIN 0.05
 #define PROOF_SHARE 16u /* of the arena's 100 units: the proofs (one per probe that proved something) */
 #define HASH_EMPTY 0xFFFFFFFFu
 typedef struct edgegeom {
