@@ -419,7 +419,7 @@ static int log_dump(const char *path, int mode)
                 printf("MOVE to %.17g %.17g %.17g\n", r.target[0], r.target[1], r.target[2]);
             } else {
                 printf("EVENT %s code %d", vp_sessionlog_event_name(r.event), (int)r.code);
-                if (r.event == VP_LOGFMT_EV_CALIBRATION)
+                if (r.event == VP_LOGFMT_EV_CALIBRATION || r.event == VP_LOGFMT_EV_CONTACT)
                     printf(" values %.17g %.17g %.17g %.17g", r.value[0], r.value[1], r.value[2], r.value[3]);
                 printf(" '%s'\n", r.text);
             }
@@ -450,6 +450,8 @@ static int log_dump(const char *path, int mode)
             else
                 printf(",,,,,,,,,,");
             if (r.type == VP_LOGFMT_PROBE && r.hit == 1) printf("%.17g,%.17g,%.17g,", p[0], p[1], p[2]);
+            else if (r.type == VP_LOGFMT_EVENT && r.event == VP_LOGFMT_EV_CONTACT)
+                printf("%.17g,%.17g,%.17g,", r.value[1], r.value[2], r.value[3]);
             else printf(",,,");
             if (r.type == VP_LOGFMT_MOVE) printf("%.17g,%.17g,%.17g,", r.target[0], r.target[1], r.target[2]);
             else printf(",,,");
@@ -607,6 +609,9 @@ static int log_verify(const char *path, int json)
         printf("; %llu of %llu probes NOT from the device's position (first: record %u)",
                (unsigned long long)res->probes_off_position, (unsigned long long)res->probes, res->probe[0].record);
     if (res->probes_bad) printf("; %llu probe(s) with a zero direction (prove nothing)", (unsigned long long)res->probes_bad);
+    if (res->contacts)
+        printf("; %llu contact(s) withdrew %llu free part(s)", (unsigned long long)res->contacts,
+               (unsigned long long)res->withdrawn);
     printf("\n");
     if (json) {
         printf("{\"moves\":%llu,\"probes\":%llu,\"unproven_moves\":%llu,\"first_unproven_record\":",
@@ -619,7 +624,8 @@ static int log_verify(const char *path, int json)
         json_num(stdout, res->unproven_length);
         printf(",\"tol\":");
         json_num(stdout, res->tol);
-        printf(",\"index_fallbacks\":%llu", (unsigned long long)res->scans);
+        printf(",\"index_fallbacks\":%llu,\"contacts\":%llu,\"withdrawn\":%llu", (unsigned long long)res->scans,
+               (unsigned long long)res->contacts, (unsigned long long)res->withdrawn);
         printf(",\"log_complete\":%s,\"ok\":%s}\n", L.status == VP_OK ? "true" : "false", res->ok ? "true" : "false");
     }
     st = res->ok ? 0 : 1;

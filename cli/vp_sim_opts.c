@@ -35,6 +35,28 @@ int vp_sim_parse_option(vp_sim_options_t *o, int argc, char **argv, int *i, char
     if (!strcmp(a, "--paper")) { o->flags |= VP_PLAN_PAPER | VP_PLAN_PREV_CHAINS | VP_PLAN_LARGEST; return 0; }
     if (!strcmp(a, "--largest")) { o->flags |= VP_PLAN_LARGEST; return 0; }
     if (!strcmp(a, "--prev-chains")) { o->flags |= VP_PLAN_PREV_CHAINS; return 0; }
+    if (!strcmp(a, "--contact")) { o->contact = 1; return 0; }
+    if (!strcmp(a, "--dark")) {
+        double *d;
+        char *e;
+        const char *q = val;
+        int k;
+        if (!val) { snprintf(err, errlen, "--dark needs X,Y,Z,R"); return -1; }
+        if (o->ndark >= VP_SIMDEV_MAX_DARK) { snprintf(err, errlen, "--dark: at most %d patches", VP_SIMDEV_MAX_DARK); return -1; }
+        d = o->dark[o->ndark];
+        for (k = 0; k < 4; k++) {
+            d[k] = strtod(q, &e);
+            if (e == q || !isfinite(d[k]) || (k < 3 && *e != ',') || (k == 3 && *e)) {
+                snprintf(err, errlen, "--dark takes X,Y,Z,R (a ball: the surface inside it returns no spot), not '%s'", val);
+                return -1;
+            }
+            q = e + 1;
+        }
+        if (!(d[3] > 0)) { snprintf(err, errlen, "--dark: the radius must be > 0"); return -1; }
+        o->ndark++;
+        (*i)++;
+        return 0;
+    }
     if (strncmp(a, "--", 2) != 0) return 1;
     if (strcmp(a, "--surface") && strcmp(a, "--eps") && strcmp(a, "--eps-rel") && strcmp(a, "--out") &&
         strcmp(a, "--noise") && strcmp(a, "--dropout") && strcmp(a, "--clearance") &&

@@ -12,6 +12,10 @@ typedef struct vp_device_ops {
     int (*move)(void *ctx, const vp_cmd_t *cmd, int *collided);
     /* executes a probe; fills res. */
     int (*probe)(void *ctx, const vp_cmd_t *cmd, vp_probe_result_t *res);
+    /* after a MOVE: 1 when the head's contact switch stopped it, *at the distance from the
+     * move's start to where the switch closed (the head has backed off to that point); 0 for a
+     * move made whole. NULL: the head has no contact switch. */
+    int (*touched)(void *ctx, double *at);
 } vp_device_ops_t;
 
 #endif

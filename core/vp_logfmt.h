@@ -55,7 +55,9 @@ enum vp_logfmt_event {
     VP_LOGFMT_EV_FAULT = 4,       /* the scan stopped on an error (code: VP_E*) */
     VP_LOGFMT_EV_DONE = 5,        /* the planner said DONE: the session is complete */
     VP_LOGFMT_EV_CALIBRATION = 6, /* device calibration (value[]: device-specific, text says) */
-    VP_LOGFMT_EV_STEPPING = 7     /* the step timing of the scan: retimes, faults, lateness */
+    VP_LOGFMT_EV_STEPPING = 7,    /* the step timing of the scan: retimes, faults, lateness */
+    VP_LOGFMT_EV_CONTACT = 8      /* right after a MOVE: the head's contact switch stopped it;
+                                     value[0] the distance along the move, value[1..3] the point */
 };
 
 typedef struct vp_logfmt_record {

@@ -25,6 +25,7 @@
 #define VP_OMEGA_BOX 0
 #define VP_OMEGA_BALL 1
 #define VP_PLANNER_MAX_SEEDS 16
+#define VP_PLANNER_MAX_CONTACTS 16 /* contacts kept apart; more widen the nearest one's reach */
 
 /* planner options (flags) */
 #define VP_PLAN_PAPER        0x1u /* detect_access as published: probe every edge of every
@@ -96,6 +97,9 @@ typedef struct vp_planner_stats {
                                   never added to the free graph */
     uint64_t manifold_refinements; /* facets refined because an edge had not two facets */
     uint64_t stalls;           /* steps that made no progress (bounded: see VP_ESTALL) */
+    uint64_t contacts;         /* moves the head's contact switch stopped (vp_planner_touch) */
+    uint64_t revoked;          /* proofs of free space a contact showed false */
+    uint64_t dark_misses;      /* misses not taken as proof: the ray passed near a contact */
     double travel;             /* length of all MOVEs */
     double travel_prev_chains; /* what the same moves cost along prev chains (the paper's
                                   paths); equal to travel with VP_PLAN_PREV_CHAINS */
@@ -201,6 +205,17 @@ typedef struct vp_pl_close {
     uint8_t h2_tries[VP_PLANNER_MAX_SEEDS];
 } vp_pl_close_t;
 
+/* Contacts (contact.c): where the head touched S during a MOVE that a miss had shown free (a
+ * dark or shiny surface that returned no spot). A miss whose ray passes within reach of one is
+ * not taken as proof of free space. */
+typedef struct vp_pl_contact {
+    double at[VP_PLANNER_MAX_CONTACTS][3];
+    double reach[VP_PLANNER_MAX_CONTACTS];
+    uint32_t n;
+    int moved;                             /* the last command was a MOVE: a touch may follow */
+    double move_from[3];                   /* that MOVE's start */
+} vp_pl_contact_t;
+
 /* High-water marks of the pools whose use goes up and down (for stats.arena_peak). */
 typedef struct vp_pl_peak {
     uint32_t task, heap, route, astar, path;
@@ -221,6 +236,7 @@ typedef struct vp_planner {
     vp_pl_shortcut_t sc;
     vp_pl_seed_t seed;
     vp_pl_close_t close;
+    vp_pl_contact_t contact;
     vp_pl_peak_t peak;
     vp_planner_stats_t st;   /* counters, written where things happen */
 } vp_planner_t;
@@ -237,6 +253,18 @@ int vp_planner_next(vp_planner_t *pl, vp_cmd_t *cmd);
 
 /* The result of the last PROBE. VP_EINVAL for NaN or a negative distance (nothing changes). */
 int vp_planner_feed(vp_planner_t *pl, const vp_probe_result_t *res);
+
+/* The last MOVE stopped at distance `at` from its start: the head's contact switch closed, so S
+ * is there although the probes had shown the segment free (a surface the rangefinder cannot
+ * see: black, shiny). Call it before the next vp_planner_next(). The planner withdraws every
+ * proof of free space whose ray passes through the contact point, distrusts misses near it from
+ * now on, takes the point as a sample, and routes the device back along the move to its start
+ * (the next MOVE goes from the contact point there). VP_EINVAL for NaN or `at` outside the
+ * move; VP_ESTATE when the last command was not a MOVE or a touch was already reported for it;
+ * VP_ERANGE when the contact lies outside Omega (Omega must hold the object: assumption A2). */
+#ifndef VP_CORE_MCU /* a microcontroller core leaves the contact safety net out (vp_status.h) */
+int vp_planner_touch(vp_planner_t *pl, double at);
+#endif
 
 /* The mesh: restricted facets with their vertices (indices into vp_planner_dt()), oriented with
  * the normal (b-a)x(c-a) pointing out of the object. vp_planner_facet returns the ball radius

@@ -28,9 +28,27 @@ int vp_run(vp_planner_t *pl, const vp_device_ops_t *dev, const vp_run_hooks_t *h
             break;
         }
         if (cmd.kind == VP_CMD_MOVE) {
+#ifndef VP_CORE_MCU
+            double at = 0.0;
+            int touched;
+            st = dev->move(dev->ctx, &cmd, &collided);
+            out->collisions += collided != 0;
+            touched = st == VP_OK && dev->touched && dev->touched(dev->ctx, &at) == 1;
+            res.hit = 1;
+            res.dist = at;
+            if (st == VP_OK && after) st = after(hctx, &cmd, touched ? &res : NULL);
+            if (st == VP_OK && touched) {
+                /* logged first; the planner learns where the head touched */
+                out->contacts++;
+                c0 = vp_run_clock(hooks);
+                st = vp_planner_touch(pl, at);
+                out->planner_seconds += vp_run_clock(hooks) - c0;
+            }
+#else /* a microcontroller core has no contact safety net (VP_PL_CONTACTS) */
             st = dev->move(dev->ctx, &cmd, &collided);
             out->collisions += collided != 0;
             if (st == VP_OK && after) st = after(hctx, &cmd, NULL);
+#endif
             if (st != VP_OK) break;
         } else {
             int hst = VP_OK;

@@ -1,6 +1,8 @@
 /* vp_run — the scan loop, once for every device: allocation-free, no clock, no stdio.
  *
  *     vp_planner_next -> MOVE:  dev->move  -> hooks->after(cmd, NULL)
+ *                               stopped by contact: hooks->after(cmd, {hit 1, dist at})
+ *                               -> vp_planner_touch
  *                     -> PROBE: dev->probe -> hooks->after(cmd, res) -> vp_planner_feed
  *                     -> DONE:  hooks->after(cmd, NULL), stop
  *
@@ -15,8 +17,9 @@
 
 typedef struct vp_run_hooks {
     void *ctx;
-    /* after each executed command (res NULL for MOVE and DONE): non-zero stops the scan with
-     * that status. May be NULL. */
+    /* after each executed command (res NULL for MOVE and DONE; for a MOVE the contact switch
+     * stopped, hit 1 and dist the distance along it): non-zero stops the scan with that
+     * status. May be NULL. */
     int (*after)(void *ctx, const vp_cmd_t *cmd, const vp_probe_result_t *res);
     /* seconds on some monotonic clock, read around each planner call to add up the planner's
      * share (out->planner_seconds). May be NULL: not timed. */
@@ -30,6 +33,7 @@ typedef struct vp_run_result {
     int done;                   /* the planner said DONE */
     unsigned long commands;     /* MOVE and PROBE commands executed */
     unsigned long collisions;   /* moves the device reported as collided */
+    unsigned long contacts;     /* moves the head's contact switch stopped */
     double planner_seconds;     /* inside vp_planner_next/feed (0 without hooks->clock) */
 } vp_run_result_t;
 

@@ -250,6 +250,7 @@ static int probe_part(vp_logverify_t *v, const vp_lv_probe_t *pr, const double *
         dp[k] = wp[k] - ap * pr->d[k];
         dq[k] = wq[k] - aq * pr->d[k];
     }
+    if (!(pr->len >= 0.0)) return VP_OK; /* withdrawn by a contact */
     if (vp_dot3(dp, dp) > t2 || vp_dot3(dq, dq) > t2) return VP_OK;
     (*on_line)++;
     if (aq == ap) return ap >= 0.0 && ap <= pr->len ? push_iv(v, n, 0.0, 1.0) : VP_OK;
@@ -383,6 +384,7 @@ static int check_move(vp_logverify_t *v, const vp_logfmt_record_t *r)
     int k, st;
     memcpy(p, R->pos, sizeof p);
     memcpy(q, r->target, sizeof q);
+    memcpy(v->from, p, sizeof v->from);
     memcpy(R->pos, q, sizeof R->pos);
     R->moves++;
     len = dist3(p, q);
@@ -419,14 +421,13 @@ static int check_move(vp_logverify_t *v, const vp_logfmt_record_t *r)
     return VP_OK;
 }
 
+static int add_free(vp_logverify_t *v, const double *origin, const double *u, double len);
+
 static int add_probe(vp_logverify_t *v, const vp_logfmt_record_t *r)
 {
     vp_logverify_result_t *R = &v->res;
-    vp_lv_probe_t *P;
-    double off = dist3(r->origin, R->pos), dl, len, u[3], c[3], nu[3];
-    int64_t k[6];
-    uint32_t id;
-    int i, st;
+    double off = dist3(r->origin, R->pos), dl, len, u[3];
+    int i;
     R->probes++;
     if (!(off <= v->tol)) {
         R->probes_off_position++;
@@ -452,6 +453,18 @@ static int add_probe(vp_logverify_t *v, const vp_logfmt_record_t *r)
         return VP_OK;   /* too close: nothing measured, nothing free */
     }
     if (!(len > 0.0) || !isfinite(len)) return VP_OK;
+    for (i = 0; i < 3; i++) u[i] = r->dir[i] / dl;
+    return add_free(v, r->origin, u, len);
+}
+
+/* A free part o .. o + len u (u unit, o absolute) into the store and its three hash entries. */
+static int add_free(vp_logverify_t *v, const double *origin, const double *u, double len)
+{
+    vp_lv_probe_t *P;
+    double c[3], nu[3];
+    int64_t k[6];
+    uint32_t id;
+    int i, st;
     if (v->npr + 1 > v->cap_pr) {
         /* the probes and their per-move stamps grow together */
         size_t cap = v->cap_pr;
@@ -466,9 +479,8 @@ static int add_probe(vp_logverify_t *v, const vp_logfmt_record_t *r)
     id = (uint32_t)v->npr;
     P = &v->pr[id];
     for (i = 0; i < 3; i++) {
-        u[i] = r->dir[i] / dl;
         nu[i] = -u[i];
-        P->o[i] = r->origin[i] - v->centre[i];
+        P->o[i] = origin[i] - v->centre[i];
         P->d[i] = u[i];
     }
     P->len = len;
@@ -484,11 +496,44 @@ static int add_probe(vp_logverify_t *v, const vp_logfmt_record_t *r)
     return VP_OK;
 }
 
+/* CONTACT: the MOVE before stopped at value[0] along it, where the surface is. */
+static int add_contact(vp_logverify_t *v, const vp_logfmt_record_t *r)
+{
+    vp_logverify_result_t *R = &v->res;
+    double d[3], u[3], c[3], len, at = r->value[0];
+    size_t i;
+    int k;
+    vp_sub3(d, R->pos, v->from);
+    len = sqrt(vp_dot3(d, d));
+    if (!(at >= 0.0) || !(at <= len + v->tol)) return VP_OK; /* not on the move: nothing learnt */
+    for (k = 0; k < 3; k++) {
+        u[k] = len > 0.0 ? d[k] / len : 0.0;
+        c[k] = v->from[k] + at * u[k];
+    }
+    R->contacts++;
+    /* every free part through the point was wrong */
+    for (i = 0; i < v->npr; i++) {
+        vp_lv_probe_t *P = &v->pr[i];
+        double w[3], s, e[3];
+        if (!(P->len >= 0.0)) continue;
+        for (k = 0; k < 3; k++) w[k] = c[k] - v->centre[k] - P->o[k];
+        s = vp_dot3(w, P->d);
+        if (s < 0.0) s = 0.0;
+        if (s > P->len) s = P->len;
+        for (k = 0; k < 3; k++) e[k] = w[k] - s * P->d[k];
+        if (vp_dot3(e, e) <= v->tol * v->tol) { P->len = -1.0; R->withdrawn++; }
+    }
+    memcpy(R->pos, c, sizeof R->pos);
+    /* the head travelled up to the point */
+    return at > 0.0 && len > 0.0 ? add_free(v, v->from, u, at) : VP_OK;
+}
+
 int vp_logverify_add(vp_logverify_t *v, const vp_logfmt_record_t *r)
 {
     int st = VP_OK;
     if (r->type == VP_LOGFMT_MOVE) st = check_move(v, r);
     else if (r->type == VP_LOGFMT_PROBE) st = add_probe(v, r);
+    else if (r->event == VP_LOGFMT_EV_CONTACT) { v->res.events++; st = add_contact(v, r); }
     else v->res.events++;   /* START, PAUSE, RESUME, FAULT, DONE, ...: the device stays */
     if (st != VP_OK) return st;
     v->index++;

@@ -12,6 +12,10 @@
  *   position is counted as a violation and proves nothing);
  * - everything outside Omega (the header's box or ball) is free (assumption A2: Omega contains
  *   the object); a point on dOmega counts as outside;
+ * - a CONTACT event (the head's contact switch stopped the MOVE before it at value[0] along
+ *   it) puts the device at that point; every earlier free part that passes through the point
+ *   is withdrawn (the surface is there: the probe that showed it free was wrong), and the part
+ *   of the move up to the point is free (the head travelled it);
  * - a move is proven when the segment parameter interval [0,1] is covered by its part outside
  *   Omega and the free parts of earlier probes on its line (both its ends within tol of the
  *   probe's line), the uncovered length adding up to at most tol.
@@ -62,6 +66,8 @@ typedef struct vp_logverify_result {
     uint64_t probes_off_position; /* probes fired from where the device was not */
     uint64_t probes_bad;       /* probes with a zero direction (prove nothing; also counted) */
     uint64_t moves_outside;    /* moves wholly outside Omega */
+    uint64_t contacts;         /* CONTACT events */
+    uint64_t withdrawn;        /* free parts a contact showed false */
     uint64_t scans;            /* moves too short for the line index that the probes fired
                                   from their ends did not prove (all probes scanned) */
     double unproven_length;    /* summed over the unproven moves */
@@ -87,6 +93,7 @@ typedef struct vp_logverify {
     double (*iv)[2]; size_t cap_iv;             /* per-move interval scratch */
     uint32_t *seen; uint32_t stamp;             /* per-probe stamp: counted once per move */
     uint32_t index;                             /* next record index */
+    double from[3];                             /* where the last MOVE started */
     vp_logverify_result_t res;
 } vp_logverify_t;
 

@@ -363,6 +363,7 @@ vp_device_ops_t vp_scan_ops(vp_scan_dev_t *d)
     ops.ctx = d;
     ops.move = vp_scan_dev_move;
     ops.probe = vp_scan_dev_probe;
+    ops.touched = NULL;
     return ops;
 }
 

@@ -6,6 +6,7 @@
 #include <string.h>
 #include "vp_file.h"
 #include "vp_sessionlog.h"
+#include "vp_vec3.h"
 
 const char *vp_sessionlog_event_name(uint32_t event)
 {
@@ -17,6 +18,7 @@ const char *vp_sessionlog_event_name(uint32_t event)
     case VP_LOGFMT_EV_DONE: return "done";
     case VP_LOGFMT_EV_CALIBRATION: return "calibration";
     case VP_LOGFMT_EV_STEPPING: return "stepping";
+    case VP_LOGFMT_EV_CONTACT: return "contact";
     default: return "unknown";
     }
 }
@@ -236,6 +238,21 @@ int vp_replay_run(vp_replay_t *R, const vp_sessionlog_t *L, uint32_t upto, char 
         }
         memset(&mm, 0, sizeof mm);
         if (rec.type == VP_LOGFMT_EVENT) {
+            if (rec.event == VP_LOGFMT_EV_CONTACT) {
+                /* the head touched during the MOVE before: the planner learns it again */
+                double d[3], len;
+                int k;
+                st = vp_planner_touch(R->pl, rec.value[0]);
+                if (st != VP_OK) {
+                    snprintf(err, errlen, "record %u (byte offset %zu): the planner refused the logged contact: %s",
+                             i, L->off[i], vp_strerror(st));
+                    return st;
+                }
+                vp_sub3(d, R->pos, R->from);
+                len = sqrt(vp_dot3(d, d));
+                for (k = 0; k < 3; k++) R->pos[k] = R->from[k] + rec.value[0] * (len > 0.0 ? d[k] / len : 0.0);
+                R->contacts++;
+            }
             if (rec.event == VP_LOGFMT_EV_DONE && !R->done) {
                 /* the planner must agree that the session is complete */
                 vp_cmd_t cmd;
@@ -268,7 +285,11 @@ int vp_replay_run(vp_replay_t *R, const vp_sessionlog_t *L, uint32_t upto, char 
                      vp_strerror(st));
             return st;
         }
-        if (rec.type == VP_LOGFMT_MOVE) { memcpy(R->pos, rec.target, sizeof R->pos); R->moves++; }
+        if (rec.type == VP_LOGFMT_MOVE) {
+            memcpy(R->from, R->pos, sizeof R->from);
+            memcpy(R->pos, rec.target, sizeof R->pos);
+            R->moves++;
+        }
         else { R->probes++; R->hits += rec.hit == 1; }
         R->applied++;
     }
@@ -318,6 +339,19 @@ int vp_sessionlog_after(void *ctx, const vp_cmd_t *cmd, const vp_probe_result_t 
         vp_logfmt_record_event(&rec, 0, VP_LOGFMT_EV_DONE, 0, "the planner says DONE");
     } else if (cmd->kind == VP_CMD_MOVE) {
         vp_logfmt_record_move(&rec, 0, cmd);
+        if (res && res->hit == 1) {
+            /* the contact switch stopped it: the MOVE, then where */
+            double d[3], len;
+            int k;
+            st = vp_logwriter_append(&w->file, &rec);
+            if (st != VP_OK) { w->failed = 1; return st; }
+            vp_sub3(d, cmd->to, cmd->from);
+            len = sqrt(vp_dot3(d, d));
+            vp_logfmt_record_event(&rec, 0, VP_LOGFMT_EV_CONTACT, 0, "the contact switch stopped the move");
+            rec.value[0] = res->dist;
+            /* as the planner and the simulated device form it: the unit direction first */
+            for (k = 0; k < 3; k++) rec.value[1 + k] = cmd->from[k] + res->dist * (len > 0.0 ? d[k] / len : 0.0);
+        }
     } else {
         vp_logfmt_record_probe(&rec, 0, cmd, res, w->raw ? *w->raw : NAN);
     }

@@ -48,9 +48,11 @@ typedef struct vp_replay {
     void *arena;
     uint32_t applied;          /* records replayed */
     double pos[3];             /* device position after them */
+    double from[3];            /* where the last MOVE started */
     uint64_t probes;           /* PROBE records replayed (the device's probe count) */
     uint64_t hits;             /* of which hits */
     uint64_t moves;            /* MOVE records replayed */
+    uint64_t contacts;         /* CONTACT events replayed (moves the contact switch stopped) */
     int done;                  /* the planner said DONE after the last record */
 } vp_replay_t;
 

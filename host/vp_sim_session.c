@@ -50,6 +50,15 @@ void vp_sim_session_note(const vp_sim_options_t *o, char *buf, size_t n)
     if ((o->flags & VP_PLAN_PAPER) != 0) vp_note_put(buf, n, &len, "--paper");
     if ((o->flags & VP_PLAN_LARGEST) != 0) vp_note_put(buf, n, &len, "--largest");
     if ((o->flags & VP_PLAN_PREV_CHAINS) != 0) vp_note_put(buf, n, &len, "--prev-chains");
+    if (o->contact) vp_note_put(buf, n, &len, "--contact");
+    {
+        int i;
+        for (i = 0; i < o->ndark; i++) {
+            char v[128];
+            snprintf(v, sizeof v, "%.17g,%.17g,%.17g,%.17g", o->dark[i][0], o->dark[i][1], o->dark[i][2], o->dark[i][3]);
+            vp_note_put_str(buf, n, &len, "--dark", v);
+        }
+    }
 }
 
 /* ---------- begin / end ---------- */

@@ -138,6 +138,7 @@ int vp_sim_open(vp_sim_t *s, const vp_sim_options_t *o, char *err, size_t errlen
     for (k = 0; k < 3; k++) s->diag += (hi[k] - lo[k]) * (hi[k] - lo[k]);
     s->diag = sqrt(s->diag);
     s->components = vp_surface_components(s->surf);
+    s->contact = o->contact;
     s->target = o->accuracy > 0 ? o->accuracy : o->accuracy_rel * s->diag;
     /* an accuracy target H: a facet is refined where it strays more than H / ACCURACY_SHARE from
      * the surface at its ball centre, or (across a sharp edge, from the tangent planes at its
@@ -184,6 +185,9 @@ int vp_sim_open(vp_sim_t *s, const vp_sim_options_t *o, char *err, size_t errlen
     dc.max_range = o->max_range;
     dc.min_range = o->min_range;
     dc.seed = o->seed;
+    dc.ndark = o->ndark;
+    memcpy(dc.dark, o->dark, sizeof dc.dark);
+    dc.contact = o->contact;
     st = vp_simdev_create(s->surf, &dc, s->cfg.start, &s->dev);
     if (st != VP_OK) { snprintf(err, errlen, "cannot create the simulated device: %s", vp_strerror(st)); return st; }
     s->pl = malloc(sizeof *s->pl);
@@ -204,7 +208,16 @@ static int dev_move(void *ctx, const vp_cmd_t *cmd, int *collided)
     vp_simdev_move_t r;
     int st = vp_simdev_move(s->dev, cmd->to, &r);
     *collided = r.collided;
+    s->touched = r.touched;
+    s->touch_at = r.at;
     return st == VP_OK || st == VP_EABORT ? VP_OK : st;
+}
+
+static int dev_touched(void *ctx, double *at)
+{
+    vp_sim_t *s = ctx;
+    *at = s->touch_at;
+    return s->touched;
 }
 
 static int dev_probe(void *ctx, const vp_cmd_t *cmd, vp_probe_result_t *res)
@@ -225,6 +238,7 @@ int vp_sim_run(vp_sim_t *s, FILE *progress)
     ops.ctx = s;
     ops.move = dev_move;
     ops.probe = dev_probe;
+    ops.touched = s->contact ? dev_touched : NULL;
     return vp_session_run(s->pl, &ops, s->hooks, 0, progress, &s->run);
 }
 
@@ -310,6 +324,11 @@ void vp_sim_report(const vp_sim_t *s, const vp_sim_options_t *o, FILE *f)
                 fprintf(f, "accuracy: the hits are trusted to %.6g only (4 x the noise): the distance bound is "
                         "that, above the target's share\n", s->cfg.noise_tol);
         }
+        if (o->contact || o->ndark)
+            fprintf(f, "contact: %llu move(s) stopped by the contact switch, %llu proof(s) of free space withdrawn, "
+                    "%llu miss(es) near a contact not trusted; dark patches read %lu probe(s) as misses\n",
+                    (unsigned long long)st.contacts, (unsigned long long)st.revoked,
+                    (unsigned long long)st.dark_misses, ds.dark_misses);
         if (st.unproven || st.stalls)
             fprintf(f, "safety: %llu segments an inference proposed were not proven free (never travelled); "
                     "%llu sides could not be probed\n", (unsigned long long)st.unproven, (unsigned long long)st.stalls);
@@ -320,6 +339,11 @@ void vp_sim_report(const vp_sim_t *s, const vp_sim_options_t *o, FILE *f)
                 ex == VP_EXIT_ERROR ? ": the scan stopped on an error; the mesh so far is written" : "");
     }
     if (o->json) {
+        char touch[200] = "";
+        if (o->contact || o->ndark)
+            snprintf(touch, sizeof touch, ",\"contacts\":%llu,\"revoked\":%llu,\"dark_misses\":%llu,\"dark_probes\":%lu",
+                     (unsigned long long)st.contacts, (unsigned long long)st.revoked,
+                     (unsigned long long)st.dark_misses, ds.dark_misses);
         fprintf(f, "{\"surface\":\"%s\",\"eps\":%.9g,\"status\":\"%s\",\"exit\":%d,\"planner_status\":\"%s\","
                 "\"vertices\":%u,\"facets\":%u,"
                 "\"probes\":%llu,\"hits\":%llu,\"misses\":%llu,\"reprobes\":%llu,\"moves\":%llu,"
@@ -329,7 +353,7 @@ void vp_sim_report(const vp_sim_t *s, const vp_sim_options_t *o, FILE *f)
                 "\"total_seconds\":%.4f,\"arena_bytes_peak\":%zu,\"insertions\":%llu,\"routes\":%llu,"
                 "\"astar_expansions\":%llu,\"astar_fallbacks\":%llu,\"shortcut_probes\":%llu,"
                 "\"escalations\":%llu,\"reseeds\":%llu,\"missing_components\":%u,\"unproven\":%llu,"
-                "\"stalls\":%llu,\"accuracy_target\":%.6g,\"size_rel\":%.6g,\"min_size\":%.6g,\"max_distance\":%.6g}\n",
+                "\"stalls\":%llu,\"accuracy_target\":%.6g,\"size_rel\":%.6g,\"min_size\":%.6g,\"max_distance\":%.6g%s}\n",
                 o->surface, s->cfg.eps, vp_outcome_name(ex), ex, vp_strerror(s->run.status), nv, (unsigned)s->mesh.nt,
                 (unsigned long long)st.probes, (unsigned long long)st.hits,
                 (unsigned long long)st.misses, (unsigned long long)st.reprobes,
@@ -343,7 +367,7 @@ void vp_sim_report(const vp_sim_t *s, const vp_sim_options_t *o, FILE *f)
                 (unsigned long long)st.astar_fallbacks, (unsigned long long)st.shortcut_probes,
                 (unsigned long long)st.escalations, (unsigned long long)st.reseeds, st.missing_components,
                 (unsigned long long)st.unproven, (unsigned long long)st.stalls, s->target, s->cfg.size_rel,
-                s->cfg.min_size, s->cfg.max_distance);
+                s->cfg.min_size, s->cfg.max_distance, touch);
     }
 }
 

@@ -28,6 +28,9 @@ typedef struct vp_sim_options {
     unsigned long long seed;
     size_t hausdorff;
     int json, quiet;
+    int ndark;                /* dark patches: the rangefinder sees no spot there (--dark) */
+    double dark[VP_SIMDEV_MAX_DARK][4];
+    int contact;              /* the head has a contact switch (--contact) */
 } vp_sim_options_t;
 
 typedef struct vp_sim {
@@ -50,6 +53,9 @@ typedef struct vp_sim {
     double target;                   /* the accuracy target in object units (0: none) */
     int paused;                      /* stopped on purpose (resumable) */
     int written;                     /* vp_sim_finish wrote PREFIX.ply and PREFIX.off */
+    int contact;                     /* the device has a contact switch */
+    int touched;                     /* the last move stopped on contact ... */
+    double touch_at;                 /* ... this far along it */
 } vp_sim_t;
 
 void vp_sim_options_default(vp_sim_options_t *o);

@@ -27,7 +27,8 @@ int vp_simdev_create(const vp_surface_t *s, const vp_simdev_config_t *cfg, const
     vp_simdev_t *d;
     if (!s || !start || !out || !vp_finite3(start)) return VP_EINVAL;
     if (cfg && (cfg->clearance < 0 || cfg->noise_sigma < 0 || cfg->dropout < 0 || cfg->dropout > 1 ||
-                cfg->min_range < 0 || cfg->max_range < 0)) return VP_EINVAL;
+                cfg->min_range < 0 || cfg->max_range < 0 || cfg->ndark < 0 || cfg->ndark > VP_SIMDEV_MAX_DARK))
+        return VP_EINVAL;
     d = calloc(1, sizeof *d);
     if (!d) return VP_ENOMEM;
     d->surf = s;
@@ -39,9 +40,29 @@ int vp_simdev_create(const vp_surface_t *s, const vp_simdev_config_t *cfg, const
 
 void vp_simdev_destroy(vp_simdev_t *d) { free(d); }
 
+/* Where along [p, p + len u] the device first touches the object: the point's first crossing,
+ * or for a ball of radius c the first place within c of the surface (sphere tracing: each step
+ * is the distance to the surface less c, so no contact is stepped over). 1 and *t, or 0. */
+#define TOUCH_TOL_REL 1e-12
+static int first_touch(const vp_simdev_t *d, const double p[3], const double u[3], double len, double *t)
+{
+    double c = d->cfg.clearance, s = 0.0, tol = TOUCH_TOL_REL * (1.0 + len + sqrt(vp_dot3(p, p)));
+    int k, steps;
+    if (!(c > 0.0)) return vp_surface_ray(d->surf, p, u, len, t);
+    for (steps = 0; steps < 100000 && s <= len; steps++) {
+        double q[3], gap;
+        for (k = 0; k < 3; k++) q[k] = p[k] + s * u[k];
+        if (vp_surface_inside(d->surf, q)) { *t = s; return 1; }
+        gap = vp_surface_distance(d->surf, q) - c;
+        if (gap <= tol) { *t = s; return 1; }
+        s += gap;
+    }
+    return 0;
+}
+
 int vp_simdev_move(vp_simdev_t *d, const double target[3], vp_simdev_move_t *res)
 {
-    vp_simdev_move_t r = { VP_OK, 0, 0 };
+    vp_simdev_move_t r = { VP_OK, 0, 0, 0.0, 0 };
     double len;
     if (!d || !target || !vp_finite3(target)) { r.status = VP_EINVAL; goto out; }
     /* The travel box is convex: a segment stays inside iff its end does (start is inside). */
@@ -52,7 +73,30 @@ int vp_simdev_move(vp_simdev_t *d, const double target[3], vp_simdev_move_t *res
     }
     len = sqrt((target[0] - d->pos[0]) * (target[0] - d->pos[0]) + (target[1] - d->pos[1]) * (target[1] - d->pos[1]) +
                (target[2] - d->pos[2]) * (target[2] - d->pos[2]));
-    r.collided = vp_surface_segment_collides(d->surf, d->pos, target, d->cfg.clearance);
+    if (d->cfg.contact) {
+        /* the device may stand on S (it touched there): the way back is checked from just off it */
+        double u[3], p0[3], skip = 0.0, t;
+        int k;
+        for (k = 0; k < 3; k++) u[k] = len > 0.0 ? (target[k] - d->pos[k]) / len : 0.0;
+        skip = 1e-9 * (1.0 + len + sqrt(vp_dot3(d->pos, d->pos)));
+        if (skip > len) skip = len;
+        for (k = 0; k < 3; k++) p0[k] = d->pos[k] + skip * u[k];
+        if (len > skip && first_touch(d, p0, u, len - skip, &t)) {
+            /* the switch closes at the touch: the device stops there */
+            double at = skip + t;
+            d->st.contacts++;
+            d->st.moves++;
+            d->st.travel += at;
+            r.touched = 1;
+            r.at = at;
+            r.length = at;
+            for (k = 0; k < 3; k++) d->pos[k] += at * u[k];
+            goto out;
+        }
+        r.collided = len > skip && vp_surface_segment_collides(d->surf, p0, target, d->cfg.clearance);
+    } else {
+        r.collided = vp_surface_segment_collides(d->surf, d->pos, target, d->cfg.clearance);
+    }
     if (r.collided) {
         d->st.collisions++;
         if (d->cfg.stop_on_collision) { d->st.refused_moves++; r.status = VP_EABORT; goto out; }
@@ -86,6 +130,17 @@ int vp_simdev_probe(vp_simdev_t *d, const double dir[3], double range, vp_simdev
     d->st.probes++;
     if (!vp_surface_ray(d->surf, d->pos, dir, range, &t)) { d->st.misses++; goto out; }
     r.true_t = t;
+    for (k = 0; k < d->cfg.ndark; k++) {
+        double q[3], e[3];
+        int j;
+        for (j = 0; j < 3; j++) { q[j] = d->pos[j] + t * dir[j]; e[j] = q[j] - d->cfg.dark[k][j]; }
+        if (vp_dot3(e, e) <= d->cfg.dark[k][3] * d->cfg.dark[k][3]) {
+            /* a dark patch: no spot, the rangefinder reads nothing */
+            d->st.dark_misses++;
+            d->st.misses++;
+            goto out;
+        }
+    }
     if (t < d->cfg.min_range) { d->st.too_close++; r.too_close = 1; goto out; }
     if (u < d->cfg.dropout) { d->st.dropouts++; d->st.misses++; goto out; }
     t += noise;

@@ -14,6 +14,8 @@
 
 typedef struct vp_simdev vp_simdev_t;
 
+#define VP_SIMDEV_MAX_DARK 8
+
 typedef struct vp_simdev_config {
     double   clearance;          /* device body radius for move checks (0 = a point) */
     int      has_limits;         /* travel box on: moves ending or passing outside are refused */
@@ -24,17 +26,29 @@ typedef struct vp_simdev_config {
     double   min_range;          /* a surface nearer than this is reported as too close (no distance) */
     double   max_range;          /* probe range cap (0: only the per-probe range) */
     uint64_t seed;               /* PRNG seed for noise and dropouts */
+    /* Dark patches: parts of the surface the rangefinder cannot see (black, shiny). A probe
+     * whose first crossing lies in one of these balls (centre x, y, z, radius) reads a miss. */
+    int      ndark;
+    double   dark[VP_SIMDEV_MAX_DARK][4];
+    /* The head's contact switch: a move stops where the device first touches the object (the
+     * point, or the clearance ball) and the device stands there (a machine's overtravel past
+     * the trigger and its back-off are the port's business: port/vp_machine). */
+    int      contact;
 } vp_simdev_config_t;            /* all-zero = exact point device without limits */
 
 typedef struct vp_simdev_stats {
     unsigned long moves, refused_moves, collisions;
     unsigned long probes, hits, misses, dropouts, too_close;
+    unsigned long dark_misses;   /* probes that met S on a dark patch: read as misses */
+    unsigned long contacts;      /* moves the contact switch stopped */
     double travel;               /* total length moved */
 } vp_simdev_stats_t;
 
 typedef struct vp_simdev_move {
     int    status;     /* VP_OK, VP_ERANGE (outside the travel box), VP_EABORT (collision refused), VP_EINVAL */
     int    collided;   /* the segment met the object or came within the clearance */
+    int    touched;    /* the contact switch stopped the move */
+    double at;         /* ... this far along it (where the device now stands) */
     double length;     /* length moved (0 if refused) */
 } vp_simdev_move_t;
 

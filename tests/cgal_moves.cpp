@@ -143,7 +143,11 @@ static void read_off(const char *path, std::vector<Point> *pts, std::vector<std:
 
 // ---------- moves ----------
 
-struct Move { Point to; long long seq; };
+// contact: the head's contact switch stopped the move at `to` (a point of the surface)
+struct Move { Point to; long long seq; bool contact; };
+
+// the share of a move at a contact point left out of the check (the touch itself)
+static const double CONTACT_SHARE = 1e-9;
 
 static std::vector<std::string> split_csv(const std::string &line)
 {
@@ -177,7 +181,7 @@ static void read_moves(const char *path, bool *have_start, Point *start, std::ve
     std::ifstream f(path);
     if (!f) die(std::string(path) + ": cannot open");
     std::string line;
-    int col_seq = -1, col_type = -1, col_x = -1, col_y = -1, col_z = -1;
+    int col_seq = -1, col_type = -1, col_x = -1, col_y = -1, col_z = -1, col_ev = -1, col_px = -1;
     bool csv = false;
     long long lineno = 0;
     while (std::getline(f, line)) {
@@ -191,6 +195,8 @@ static void read_moves(const char *path, bool *have_start, Point *start, std::ve
                 else if (h[i] == "target_x") col_x = (int)i;
                 else if (h[i] == "target_y") col_y = (int)i;
                 else if (h[i] == "target_z") col_z = (int)i;
+                else if (h[i] == "event") col_ev = (int)i;
+                else if (h[i] == "point_x") col_px = (int)i;
             }
             if (col_seq < 0 || col_type < 0 || col_x < 0 || col_y < 0 || col_z < 0)
                 die(where + ": CSV header lacks seq, type or target_x/y/z");
@@ -202,8 +208,17 @@ static void read_moves(const char *path, bool *have_start, Point *start, std::ve
             if (line.empty()) continue;
             int need = std::max(std::max(col_seq, col_type), std::max(col_x, std::max(col_y, col_z)));
             if ((int)c.size() <= need) die(where + ": short CSV row");
+            if (c[col_type] == "event" && col_ev >= 0 && col_px >= 0 && (int)c.size() > col_px + 2 &&
+                c[col_ev] == "contact") {
+                // the move before stopped where the head touched: it ends there
+                if (moves->empty() || !parse_point(c[col_px], c[col_px + 1], c[col_px + 2], &moves->back().to))
+                    die(where + ": bad contact row");
+                moves->back().contact = true;
+                continue;
+            }
             if (c[col_type] != "move") continue;
             Move m;
+            m.contact = false;
             if (!parse_long(c[col_seq], &m.seq) || !parse_point(c[col_x], c[col_y], c[col_z], &m.to)) die(where + ": bad move row");
             moves->push_back(m);
             continue;
@@ -218,14 +233,18 @@ static void read_moves(const char *path, bool *have_start, Point *start, std::ve
         if (w[0] == "start" && w.size() == 4) {
             if (!parse_point(w[1], w[2], w[3], start)) die(where + ": bad start");
             *have_start = true;
+        } else if (w[0] == "contact" && w.size() == 4) {
+            if (moves->empty() || !parse_point(w[1], w[2], w[3], &moves->back().to)) die(where + ": bad contact");
+            moves->back().contact = true;
         } else if (w[0] == "move" && (w.size() == 4 || w.size() == 5)) {
             Move m;
             m.seq = -1;
+            m.contact = false;
             size_t o = w.size() == 5 ? 2 : 1;
             if (w.size() == 5 && !parse_long(w[1], &m.seq)) die(where + ": bad move number");
             if (!parse_point(w[o], w[o + 1], w[o + 2], &m.to)) die(where + ": bad move");
             moves->push_back(m);
-        } else die(where + ": expected `start X Y Z` or `move [SEQ] X Y Z`");
+        } else die(where + ": expected `start X Y Z`, `move [SEQ] X Y Z` or `contact X Y Z`");
     }
 }
 
@@ -308,15 +327,21 @@ int main(int argc, char **argv)
         return false;
     };
 
-    size_t through = 0, inside = 0, listed = 0, odd = 0;
+    size_t through = 0, inside = 0, listed = 0, odd = 0, contacts = 0;
     long long first = -1, first_seq = -1;
     Point from = start;
+    bool on_contact = false;
     for (size_t i = 0; i < moves.size(); i++) {
         const Move &m = moves[i];
         const char *what = nullptr;
-        if (touches(from, m.to)) { through++; what = "through"; }
+        // a move the contact switch stopped touches the surface at its end, and the next one
+        // leaves from there: those touches (the last or first 1e-9 of the move) are allowed
+        Point p = from, q = m.to;
+        if (on_contact && from != m.to) p = from + CONTACT_SHARE * (m.to - from);
+        if (m.contact && from != m.to) { q = from + (1.0 - CONTACT_SHARE) * (m.to - from); contacts++; }
+        if (touches(p, q)) { through++; what = "through"; }
         else {
-            CGAL::Bounded_side s0 = side(from), s1 = side(m.to);
+            CGAL::Bounded_side s0 = side(p), s1 = side(q);
             if (s0 == CGAL::ON_BOUNDED_SIDE && s1 == CGAL::ON_BOUNDED_SIDE) { inside++; what = "inside"; }
             else if (s0 != s1) odd++;   // cannot be: the segment meets no triangle
         }
@@ -329,7 +354,9 @@ int main(int argc, char **argv)
             }
         }
         from = m.to;
+        on_contact = m.contact;
     }
+    if (contacts) std::printf("contacts %zu (moves ending where the head touched)\n", contacts);
     std::printf("mesh %s: %zu vertices, %zu triangles (%zu zero-area)\n", mesh_path, pts.size(), tris.size(), degenerate);
     if (odd) std::printf("warning: %zu move(s) with ends on both sides and no triangle met (inconsistent mesh)\n", odd);
     if (first < 0) std::printf("moves %zu, through %zu, inside %zu, first none\n", moves.size(), through, inside);

@@ -286,7 +286,9 @@ VP_PL_API int vp_pl_check_components(vp_planner_t *pl)
         reseed_dir(pl->close.h2_tries[i]++, d);
         te = vp_pl_omega_exit(&pl->cfg, o, d);
         for (k = 0; k < 3; k++) q[k] = o[k] + te * d[k];
-        VP_TRY(vp_pl_plan_route(pl, NONE, q));
+        k = vp_pl_plan_route(pl, NONE, q);
+        if (k < 0) return k;
+        if (VP_PL_CONTACTS && k == PL_UNREACHABLE) { pl->close.h2_tries[i] = RESEED_TRIES; continue; }
         for (k = 0; k < 3; k++) d[k] = -d[k];
         pl->phase = PH_RESEED;
         return vp_pl_seed_issue(pl, d, te);

@@ -172,6 +172,9 @@ static void issue_probe(vp_planner_t *pl, vp_cmd_t *cmd, const double *from, con
     memcpy(pl->dev.iss_d, cmd->dir, sizeof pl->dev.iss_d);
     pl->dev.iss_range = cmd->range;
     pl->probe.cur_proof = PROOF_NONE;
+#if VP_PL_CONTACTS
+    pl->contact.moved = 0;
+#endif
     pl->st.probes++;
 }
 
@@ -187,6 +190,10 @@ static int issue_move(vp_planner_t *pl, vp_cmd_t *cmd)
     memcpy(cmd->to, to, sizeof cmd->to);
     pl->st.travel += vp_dist3(pl->dev.pos, to);
     pl->st.moves++;
+#if VP_PL_CONTACTS
+    pl->contact.moved = 1;
+    memcpy(pl->contact.move_from, pl->dev.pos, sizeof pl->contact.move_from);
+#endif
     memcpy(pl->dev.pos, to, sizeof pl->dev.pos);
     return VP_OK;
 }
@@ -301,6 +308,9 @@ int vp_planner_next(vp_planner_t *pl, vp_cmd_t *cmd)
             st = phase_step(pl, &done);
             if (done) {
                 cmd->kind = VP_CMD_DONE;
+#if VP_PL_CONTACTS
+                pl->contact.moved = 0;
+#endif
                 vp_pl_note_peak(pl);
                 return VP_OK;
             }
@@ -311,6 +321,27 @@ int vp_planner_next(vp_planner_t *pl, vp_cmd_t *cmd)
     }
 }
 
+/* The straight way is not free: the searched route stands (searched now if it was deferred).
+ * When no way is known any more (a contact withdrew them), the prepared probe is dropped. */
+static int shortcut_search(vp_planner_t *pl)
+{
+    if (pl->route.deferred) {
+        int st;
+        pl->route.deferred = 0;
+        st = vp_pl_route_full(pl, pl->sc.from, pl->sc.to);
+        if (st < 0) return st;
+#if VP_PL_CONTACTS
+        if (st == PL_UNREACHABLE) {
+            pl->route.n = 0;
+            pl->dev.at = pl->sc.from;
+            vp_pl_probe_drop(pl);
+        }
+#endif
+    }
+    pl->route.i = 0;
+    return VP_OK;
+}
+
 /* The answer to a shortcut probe: a hit keeps the searched route (searching it now if it was
  * deferred); a miss, confirmed, makes the straight way a free edge and the route. */
 static int shortcut_feed(vp_planner_t *pl, const vp_probe_result_t *res)
@@ -319,12 +350,7 @@ static int shortcut_feed(vp_planner_t *pl, const vp_probe_result_t *res)
     pl->sc.pending = 0;
     if (res->hit) {
         pl->st.hits++;
-        if (pl->route.deferred) {
-            pl->route.deferred = 0;
-            VP_TRY(vp_pl_route_full(pl, pl->sc.from, pl->sc.to));
-        }
-        pl->route.i = 0; /* the searched route stands */
-        return VP_OK;
+        return shortcut_search(pl);
     }
     pl->st.misses++;
     if (pl->sc.tries < pl->cfg.confirm_misses) {
@@ -333,9 +359,10 @@ static int shortcut_feed(vp_planner_t *pl, const vp_probe_result_t *res)
         pl->sc.pending = 1;
         return VP_OK;
     }
+    VP_TRY(vp_pl_probe_proof(pl, res, &pf));
+    if (VP_PL_CONTACTS && pf == PROOF_NONE && pl->contact.n > 0) return shortcut_search(pl); /* a miss near a contact proves nothing */
     /* the straight way is free: take it */
     pl->route.deferred = 0;
-    VP_TRY(vp_pl_probe_proof(pl, res, &pf));
     VP_TRY(vp_pl_edge_add(pl, pl->sc.from, pl->sc.to, pf));
     pl->route.n = pl->route.i = 0;
     return vp_pl_route_push(pl, pl->pool.vrec[pl->sc.to].p, pf);

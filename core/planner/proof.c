@@ -30,6 +30,14 @@ static int proof_new(vp_planner_t *pl, const double *o, const double *d, double 
     return VP_OK;
 }
 
+#if VP_PL_CONTACTS
+/* A proof of its own (no chain): a segment the head has travelled (contact.c). */
+VP_PL_API int vp_pl_proof_add(vp_planner_t *pl, const double *o, const double *d, double len, uint32_t *out)
+{
+    return proof_new(pl, o, d, len, PROOF_NONE, out);
+}
+#endif
+
 /* 1 if x lies within tol of the line through p's origin along p's direction; *s its parameter */
 static int on_line(const vp_proof_t *p, const double *x, double tol, double *s)
 {
@@ -51,6 +59,7 @@ VP_PL_API int vp_pl_proof_covers(const vp_planner_t *pl, uint32_t id, const doub
     if (id == PROOF_OUTSIDE) return !vp_pl_seg_enters_omega(&pl->cfg, a, b);
     if (id >= pl->pool.nproof) return 0;
     p = &pl->pool.proof[id];
+    if (VP_PL_CONTACTS && !(p->len >= 0.0)) return 0; /* withdrawn by a contact */
     /* both ends on the ray's line */
     if (!on_line(p, a, tol, &sa) || !on_line(p, b, tol, &sb)) return 0;
     need0 = sa < sb ? sa : sb;
@@ -60,6 +69,7 @@ VP_PL_API int vp_pl_proof_covers(const vp_planner_t *pl, uint32_t id, const doub
         const vp_proof_t *q = &pl->pool.proof[i];
         double s0;
         if (!(vp_dot3(q->d, p->d) > 1.0 - DIR_COS_EPS) || !on_line(p, q->o, tol, &s0)) break;
+        if (VP_PL_CONTACTS && !(q->len >= 0.0)) continue; /* a withdrawn piece covers nothing */
         /* insertion by start */
         for (j = n; j > 0 && lo[j - 1] > s0; j--) { lo[j] = lo[j - 1]; hi[j] = hi[j - 1]; }
         lo[j] = s0;
@@ -84,6 +94,13 @@ VP_PL_API int vp_pl_probe_proof(vp_planner_t *pl, const vp_probe_result_t *res, 
     if (res->hit == VP_PROBE_TOO_CLOSE) return VP_OK;
     len = res->hit ? res->dist - pl->cfg.noise_tol : pl->dev.iss_range;
     if (res->hit && len > pl->dev.iss_range) len = pl->dev.iss_range;
+#if VP_PL_CONTACTS
+    /* near a contact a miss may be a surface the rangefinder cannot see: no proof */
+    if (pl->contact.n > 0 && len > 0.0 && vp_pl_contact_distrusts(pl, pl->dev.iss_o, pl->dev.iss_d, len)) {
+        if (!res->hit) pl->st.dark_misses++;
+        return VP_OK;
+    }
+#endif
     st = proof_new(pl, pl->dev.iss_o, pl->dev.iss_d, len, pl->probe.chain_proof, out);
     if (st == VP_OK) pl->probe.cur_proof = *out;
     return st;

@@ -123,6 +123,14 @@ VP_PL_API int vp_pl_edge_add(vp_planner_t *pl, uint32_t a, uint32_t b, uint32_t 
     w[4] = proof;
     pl->pool.vrec[a].adj = e;
     pl->pool.vrec[b].adj = e;
+    if (VP_PL_CONTACTS && ((pl->pool.vrec[a].flags ^ pl->pool.vrec[b].flags) & REC_LOST)) {
+        /* a lost record joined again (contact.c): its prev chain goes through this edge */
+        uint32_t x = (pl->pool.vrec[a].flags & REC_LOST) ? a : b, y = x == a ? b : a;
+        pl->pool.vrec[x].flags &= ~REC_LOST;
+        pl->pool.vrec[x].prev = y;
+        pl->pool.vrec[x].depth = pl->pool.vrec[y].depth + 1;
+        pl->pool.vrec[x].proof = proof;
+    }
     return VP_OK;
 }
 
@@ -147,6 +155,18 @@ VP_PL_API int vp_pl_rec_link(vp_planner_t *pl, const double *p, uint32_t prev, u
     return VP_OK;
 }
 
+/* 1 for a proof a contact withdrew (contact.c) */
+static int proof_withdrawn(const vp_planner_t *pl, uint32_t id)
+{
+    return VP_PL_CONTACTS && id < pl->pool.nproof && !(pl->pool.proof[id].len >= 0.0);
+}
+
+/* 1 for a record a contact cut off from the outside (contact.c) */
+static int rec_lost(const vp_planner_t *pl, uint32_t r)
+{
+    return VP_PL_CONTACTS && (pl->pool.vrec[r].flags & REC_LOST);
+}
+
 /* the proof of a free edge between records a and b that covers them, or PROOF_NONE */
 static uint32_t edge_proof(const vp_planner_t *pl, uint32_t a, uint32_t b)
 {
@@ -154,7 +174,7 @@ static uint32_t edge_proof(const vp_planner_t *pl, uint32_t a, uint32_t b)
     for (e = pl->pool.vrec[a].adj; e != NONE;) {
         const uint32_t *w = pl->pool.fedge + FEDGE_WORDS * e;
         int isa = w[0] == a;
-        if ((isa ? w[1] : w[0]) == b) return w[4];
+        if ((isa ? w[1] : w[0]) == b && !proof_withdrawn(pl, w[4])) return w[4];
         e = isa ? w[2] : w[3];
     }
     return PROOF_NONE;
@@ -327,6 +347,7 @@ static int chain_step(vp_planner_t *pl, uint32_t *x, double *l, int route)
 {
     uint32_t p = pl->pool.vrec[*x].prev;
     int st;
+    if (rec_lost(pl, *x) || proof_withdrawn(pl, pl->pool.vrec[*x].proof)) return PL_UNREACHABLE;
     *l += vp_dist3(pl->pool.vrec[*x].p, pl->pool.vrec[p].p);
     if (route && (st = vp_pl_route_push(pl, pl->pool.vrec[p].p, pl->pool.vrec[*x].proof)) != VP_OK) return st;
     *x = p;
@@ -344,6 +365,7 @@ static int tree_path(vp_planner_t *pl, uint32_t a, uint32_t b, const double *gp,
     const double *last;
     int st;
     *len = 0.0;
+    if (rec_lost(pl, a) || (b != NONE && rec_lost(pl, b))) return PL_UNREACHABLE;
     if (b == NONE) {
         while (pl->pool.vrec[x].prev != x)
             if ((st = chain_step(pl, &x, &l, route)) != VP_OK) return st;
@@ -356,12 +378,14 @@ static int tree_path(vp_planner_t *pl, uint32_t a, uint32_t b, const double *gp,
         if ((st = chain_step(pl, &x, &l, route)) != VP_OK) return st;
     while (pl->pool.vrec[y].depth > pl->pool.vrec[x].depth) {
         if (ny >= pl->route.cap_path) return VP_ENOMEM;
+        if (rec_lost(pl, y) || proof_withdrawn(pl, pl->pool.vrec[y].proof)) return PL_UNREACHABLE;
         pl->route.path[ny++] = y;
         y = pl->pool.vrec[y].prev;
     }
     while (x != y && !(pl->pool.vrec[x].prev == x && pl->pool.vrec[y].prev == y)) {
         if ((st = chain_step(pl, &x, &l, route)) != VP_OK) return st;
         if (ny >= pl->route.cap_path) return VP_ENOMEM;
+        if (rec_lost(pl, y) || proof_withdrawn(pl, pl->pool.vrec[y].proof)) return PL_UNREACHABLE;
         pl->route.path[ny++] = y;
         y = pl->pool.vrec[y].prev;
     }
@@ -482,8 +506,10 @@ static int astar_path(vp_planner_t *pl, uint32_t a, uint32_t b, const double *gp
             const uint32_t *w = pl->pool.fedge + FEDGE_WORDS * e;
             int isa = w[0] == cur;
             uint32_t nb = isa ? w[1] : w[0];
-            st = astar_relax(&s, cur, nb, pl->pool.vrec[cur].g + vp_dist3(pl->pool.vrec[cur].p, pl->pool.vrec[nb].p), 0);
-            if (st != VP_OK) return st;
+            if (!proof_withdrawn(pl, w[4])) {
+                st = astar_relax(&s, cur, nb, pl->pool.vrec[cur].g + vp_dist3(pl->pool.vrec[cur].p, pl->pool.vrec[nb].p), 0);
+                if (st != VP_OK) return st;
+            }
             e = isa ? w[2] : w[3];
         }
         if (pl->pool.vrec[cur].flags & REC_OUT) {
@@ -585,7 +611,7 @@ VP_PL_API int vp_pl_plan_route(vp_planner_t *pl, uint32_t b, const double *gp)
     if (!(pl->cfg.flags & VP_PLAN_PREV_CHAINS)) {
         /* what the same move costs along prev chains (reported beside the travel) */
         st = tree_path(pl, pl->dev.at, b, gp, 0, &tl);
-        if (st != VP_OK) return st;
+        if (st < 0) return st;
         pl->st.travel_prev_chains += tl;
     }
     if (!(pl->cfg.flags & VP_PLAN_PREV_CHAINS) && b != NONE) {
@@ -594,7 +620,7 @@ VP_PL_API int vp_pl_plan_route(vp_planner_t *pl, uint32_t b, const double *gp)
         for (e = pl->pool.vrec[cur].adj; e != NONE;) {
             const uint32_t *w = pl->pool.fedge + FEDGE_WORDS * e;
             int isa = w[0] == cur;
-            if ((isa ? w[1] : w[0]) == b) {
+            if ((isa ? w[1] : w[0]) == b && !proof_withdrawn(pl, w[4])) {
                 pl->dev.at = b;
                 pl->st.direct_routes++;
                 return vp_pl_route_push(pl, pl->pool.vrec[b].p, w[4]);
@@ -630,6 +656,12 @@ VP_PL_API int vp_pl_plan_route(vp_planner_t *pl, uint32_t b, const double *gp)
     if (st != VP_OK) {
         /* the prev chains: always a way (and the only one with VP_PLAN_PREV_CHAINS) */
         st = tree_path(pl, pl->dev.at, b, gp, 1, &tl);
+        if (st == PL_UNREACHABLE) {
+            /* a contact withdrew the proofs of every known way there */
+            pl->route.n = 0;
+            pl->sc.to = NONE;
+            return st;
+        }
         if (st != VP_OK) return st;
         if (pl->cfg.flags & VP_PLAN_PREV_CHAINS) pl->st.travel_prev_chains += tl;
     }

@@ -45,6 +45,7 @@ VP_PL_API int vp_pl_seed_miss_on(vp_planner_t *pl)
         vp_probe_result_t miss = { 0, 0.0 };
         uint32_t pf;
         VP_TRY(vp_pl_probe_proof(pl, &miss, &pf));
+        if (VP_PL_CONTACTS && pf == PROOF_NONE) return 0; /* a miss near a contact: no way on */
         VP_TRY(vp_pl_walk_on(pl, pl->dev.at, pf, e));
         pl->probe.chain_proof = pf;
     }

@@ -315,6 +315,11 @@ VP_PL_API int vp_pl_task_start(vp_planner_t *pl, vp_task_t *k)
     range = vp_pl_clamp_range(pl, range);
     if (goal != NONE) st = vp_pl_plan_route(pl, goal, NULL);
     else st = vp_pl_plan_route(pl, NONE, o);
+    if (VP_PL_CONTACTS && st == PL_UNREACHABLE) {
+        /* a contact withdrew every known way there: unseen from this end */
+        side_set(pl, t, f, side_get(pl, t, f) | SIDE_BLOCKED);
+        return 0;
+    }
     if (st != VP_OK) { pl->error = st; return 0; }
     memcpy(pl->probe.origin, o, sizeof o);
     memcpy(pl->probe.dir, g.dir, sizeof g.dir);
@@ -332,6 +337,17 @@ VP_PL_API int vp_pl_task_start(vp_planner_t *pl, vp_task_t *k)
     }
     return 1;
 }
+
+#if VP_PL_CONTACTS
+/* The prepared probe will not be made (its origin is out of reach): its side is unseen. */
+VP_PL_API void vp_pl_probe_drop(vp_planner_t *pl)
+{
+    vp_task_t *k = &pl->probe.task;
+    pl->probe.ready = 0;
+    if (vp_dt_alive(&pl->dt, k->tet))
+        side_set(pl, k->tet, k->facet, (side_get(pl, k->tet, k->facet) & ~(SIDE_QUEUED | SIDE_FORCED)) | SIDE_BLOCKED);
+}
+#endif
 
 /* The result of the probe of the current task. */
 VP_PL_API int vp_pl_task_finish(vp_planner_t *pl, const vp_probe_result_t *res)
@@ -398,6 +414,11 @@ VP_PL_API int vp_pl_task_finish(vp_planner_t *pl, const vp_probe_result_t *res)
         uint32_t pf;
         VP_TRY(vp_pl_probe_proof(pl, res, &pf));
         k->proof = pf;
+    }
+    if (VP_PL_CONTACTS && k->proof == PROOF_NONE && pl->contact.n > 0) {
+        /* a miss near a contact proves nothing: the edge is unseen from here */
+        side_set(pl, t, f, side_get(pl, t, f) | SIDE_BLOCKED);
+        return VP_OK;
     }
     if (vp_pl_probe_limited(pl)) {
         /* range-limited: the free part ends here; walk there and probe on */

@@ -51,6 +51,8 @@
 
 /* record flags */
 #define REC_OUT 1u       /* on or outside dOmega: joins every other such record outside */
+#define REC_LOST 2u      /* no longer joined to the outside by proofs that stand (contact.c):
+                            its prev chain is not a way */
 
 /* facet record flags */
 #define FREC_FLIP 1u     /* (v0,v1,v2) is oriented inward: swap two for output */
@@ -141,6 +143,17 @@ struct vp_frec {
 #define DIR_COS_EPS 1e-12
 #define VP_PL_HUGE 1e300
 
+/* VP_PL_CONTACTS: the contact safety net (contact.c) is built. A microcontroller core
+ * (VP_CORE_MCU) leaves it out, and with it every test for a withdrawn proof or a lost record:
+ * none can occur there (its scanner has no contact switch). */
+#ifndef VP_CORE_MCU
+#define VP_PL_CONTACTS 1
+#else
+#define VP_PL_CONTACTS 0
+#endif
+
+/* plan_route: no way known to the goal (a contact withdrew the proofs of every way there) */
+#define PL_UNREACHABLE 1
 #define PROOF_NONE      0xFFFFFFFFu
 #define PROOF_OUTSIDE   0xFFFFFFFDu
 #define FEDGE_WORDS 5u
@@ -229,7 +242,15 @@ static inline void side_free(vp_planner_t *pl, uint32_t t, int f, uint32_t proof
 }
 static inline uint32_t side_proof(const vp_planner_t *pl, uint32_t t, int f) { return pay(pl, t)[2 + f]; }
 
+/* contact.c */
+#if VP_PL_CONTACTS
+VP_PL_API int vp_pl_contact_distrusts(const vp_planner_t *pl, const double *o, const double *d, double len);
+#endif
+
 /* proof.c */
+#if VP_PL_CONTACTS
+VP_PL_API int vp_pl_proof_add(vp_planner_t *pl, const double *o, const double *d, double len, uint32_t *out);
+#endif
 VP_PL_API int vp_pl_probe_proof(vp_planner_t *pl, const vp_probe_result_t *res, uint32_t *out);
 VP_PL_API int vp_pl_proof_covers(const vp_planner_t *pl, uint32_t id, const double *a, const double *b);
 
@@ -269,6 +290,9 @@ VP_PL_API int vp_pl_exhaustive(const vp_planner_t *pl);
 VP_PL_API int vp_pl_explore(vp_planner_t *pl, uint32_t t);
 VP_PL_API int vp_pl_facet_has_ghost(const vp_planner_t *pl, uint32_t t, int f);
 VP_PL_API void vp_pl_task_compact(vp_planner_t *pl);
+#if VP_PL_CONTACTS
+VP_PL_API void vp_pl_probe_drop(vp_planner_t *pl);
+#endif
 VP_PL_API int vp_pl_task_finish(vp_planner_t *pl, const vp_probe_result_t *res);
 VP_PL_API int vp_pl_task_push(vp_planner_t *pl, uint32_t t, int f, int forced);
 VP_PL_API int vp_pl_task_start(vp_planner_t *pl, vp_task_t *k);

@@ -196,11 +196,40 @@ static void expect(const crafted_t *c, const char *name, uint64_t unproven, long
     write_log(c, name, a.ok ? 0 : 1, first, first_off);
 }
 
+/* CONTACT: the MOVE before it stopped `at` along it */
+static uint32_t ct(crafted_t *c, double at)
+{
+    vp_logfmt_record_event(&c->r[c->n], (uint32_t)c->n, VP_LOGFMT_EV_CONTACT, 0, "crafted contact");
+    c->r[c->n].value[0] = at;
+    return (uint32_t)c->n++;
+}
+
 static void test_crafted(void)
 {
     crafted_t c;
     vp_logverify_result_t r;
     uint32_t bad, valid;
+
+    /* a contact: the miss that showed the way free is withdrawn; the travelled stretch stays */
+    box_header(&c, 0, 2, 0, 0);
+    mv(&c, 1, 0, 0);
+    pb(&c, 1, 0, 0, -1, 0, 0, 2, 0, 0);   /* a miss through Omega (a dark surface at x = 0.2) */
+    mv(&c, -0.5, 0, 0);
+    ct(&c, 0.8);                          /* the switch closed at x = 0.2 */
+    mv(&c, 0.6, 0, 0);                    /* back along the travelled stretch: free */
+    bad = mv(&c, 0.1, 0, 0);              /* on through the contact: the miss no longer proves it */
+    expect(&c, "contact", 1, bad, 0, -1);
+    CHECK(vp_logverify_run(&c.h, c.r, c.n, &r) == VP_OK);
+    CHECK(r.contacts == 1 && r.withdrawn == 1 && r.nmoves_listed == 1);
+    CHECK(fabs(r.move[0].gap_s0 - 0.4 / 0.5) < 1e-9 && r.move[0].gap_s1 == 1.0);
+    /* the same log without its CONTACT event: every move proven (what the event changes) */
+    box_header(&c, 0, 2, 0, 0);
+    mv(&c, 1, 0, 0);
+    pb(&c, 1, 0, 0, -1, 0, 0, 2, 0, 0);
+    mv(&c, -0.5, 0, 0);
+    mv(&c, 0.6, 0, 0);
+    mv(&c, 0.1, 0, 0);
+    expect(&c, "contact_unlogged", 0, -1, 0, -1);
 
     /* a move through Omega with no probe */
     box_header(&c, 0, 2, 0, 0);

@@ -11,5 +11,8 @@
 #include "../tasks.c"
 #include "../update.c"
 #include "../close.c"
+#ifndef VP_CORE_MCU /* the contact safety net: not on a microcontroller (VP_PL_CONTACTS) */
+#include "../contact.c"
+#endif
 #include "../seed.c"
 #include "../planner.c"

@@ -1,0 +1,236 @@
+/* contact.c — the contact safety net: a MOVE stopped by the head's contact switch.
+ *
+ * A miss is the planner's proof of free space, and a surface the rangefinder cannot see (black,
+ * shiny, a spot lost in glare) also gives a miss. A head with a contact switch stops when it
+ * touches; vp_planner_touch() is told where along the MOVE that happened. Then:
+ *   - every proof whose ray passes through the contact point is false: withdrawn (its length
+ *     set below 0, so no check accepts it again), with the free edges, prev links and free
+ *     Voronoi edges that named it;
+ *   - the records no longer joined to R^3 \ Omega by proven-free edges are lost: the prev
+ *     chains are rebuilt over what is left (breadth first from the records outside Omega), and
+ *     the Voronoi vertices of lost records become inactive again;
+ *   - a probe whose free part passes within reach of a contact proves nothing from now on
+ *     (proof.c): a miss there is read as "unseen" (the side is blocked, not free);
+ *   - the contact point is a point of S: it is inserted as a sample;
+ *   - the device backs off along the move to its start, over the part it has just travelled.
+ * The head never travels a segment twice that a contact contradicted, so each contact closes
+ * one false way; the mesh around a surface the rangefinder cannot see stays open and certify
+ * names it. */
+#include "vp_planner_priv.h"
+
+/* a probe's free part passing this close to a contact proves nothing: eps, at least this many
+ * times the noise tolerance */
+#define CONTACT_REACH_NOISE 4.0
+
+static int proof_revoked(const vp_planner_t *pl, uint32_t id)
+{
+    return id < pl->pool.nproof && pl->pool.proof[id].len < 0.0;
+}
+
+/* 1 if the free part of proof q (its own piece) passes within tol of x */
+static int proof_near(const vp_proof_t *q, const double *x, double tol)
+{
+    double d[3], s, e2;
+    int k;
+    if (!(q->len >= 0.0)) return 0;
+    vp_sub3(d, x, q->o);
+    s = vp_dot3(d, q->d);
+    if (s < 0.0) s = 0.0;
+    if (s > q->len) s = q->len;
+    e2 = 0.0;
+    for (k = 0; k < 3; k++) {
+        double r = x[k] - (q->o[k] + s * q->d[k]);
+        e2 += r * r;
+    }
+    return e2 <= tol * tol;
+}
+
+/* 1 if the segment o + [0, len] d passes within reach of a contact: not a proof */
+VP_PL_API int vp_pl_contact_distrusts(const vp_planner_t *pl, const double *o, const double *d, double len)
+{
+    vp_proof_t q;
+    uint32_t i;
+    memcpy(q.o, o, sizeof q.o);
+    memcpy(q.d, d, sizeof q.d);
+    q.len = len;
+    for (i = 0; i < pl->contact.n; i++)
+        if (proof_near(&q, pl->contact.at[i], pl->contact.reach[i])) return 1;
+    return 0;
+}
+
+/* Keeps contact c with its reach; when the table is full, the nearest kept contact's reach
+ * grows to cover c's (a larger zone distrusted: never a smaller one). */
+static void contact_keep(vp_planner_t *pl, const double *c, double reach)
+{
+    vp_pl_contact_t *ct = &pl->contact;
+    uint32_t i, best = 0;
+    double bd = VP_PL_HUGE;
+    if (ct->n < VP_PLANNER_MAX_CONTACTS) {
+        memcpy(ct->at[ct->n], c, 3 * sizeof(double));
+        ct->reach[ct->n++] = reach;
+        return;
+    }
+    for (i = 0; i < ct->n; i++) {
+        double d = vp_dist3(ct->at[i], c);
+        if (d < bd) { bd = d; best = i; }
+    }
+    if (bd + reach > ct->reach[best]) ct->reach[best] = bd + reach;
+}
+
+/* Rebuilds the prev chains over the free edges whose proofs stand, breadth first from the
+ * records outside Omega; records not reached are lost (REC_LOST). The queue is pool.astar
+ * (VP_PL_SCRATCH: nobody holds it between commands). */
+static int rebuild_chains(vp_planner_t *pl)
+{
+    uint32_t *q = pl->pool.astar, nq = 0, head = 0, i;
+    for (i = 0; i < pl->pool.nvrec; i++) {
+        vp_vrec_t *r = &pl->pool.vrec[i];
+        if (r->flags & REC_OUT) {
+            if (nq >= pl->pool.cap_astar) return VP_ENOMEM;
+            r->flags &= ~REC_LOST;
+            r->prev = i;
+            r->depth = 0;
+            r->proof = PROOF_NONE;
+            q[nq++] = i;
+        } else {
+            r->flags |= REC_LOST;
+        }
+    }
+    while (head < nq) {
+        uint32_t cur = q[head++], e;
+        for (e = pl->pool.vrec[cur].adj; e != NONE;) {
+            const uint32_t *w = pl->pool.fedge + FEDGE_WORDS * e;
+            int isa = w[0] == cur;
+            uint32_t nb = isa ? w[1] : w[0];
+            vp_vrec_t *r = &pl->pool.vrec[nb];
+            if ((r->flags & REC_LOST) && !proof_revoked(pl, w[4])) {
+                if (nq >= pl->pool.cap_astar) return VP_ENOMEM;
+                r->flags &= ~REC_LOST;
+                r->prev = cur;
+                r->depth = pl->pool.vrec[cur].depth + 1;
+                r->proof = w[4];
+                q[nq++] = nb;
+            }
+            e = isa ? w[2] : w[3];
+        }
+    }
+    return VP_OK;
+}
+
+/* Tets: a side proven free by a withdrawn proof is unknown again; a Voronoi vertex whose
+ * record is lost is inactive again. */
+static void reset_tets(vp_planner_t *pl)
+{
+    uint32_t t;
+    int f;
+    for (t = 0; t < pl->dt.ntet_slots; t++) {
+        uint32_t rec;
+        if (!vp_dt_alive(&pl->dt, t)) continue;
+        for (f = 0; f < 4; f++) {
+            unsigned s = side_get(pl, t, f);
+            if ((s & SIDE_MASK) == SIDE_FREE && proof_revoked(pl, side_proof(pl, t, f)))
+                side_set(pl, t, f, s & ~SIDE_MASK);
+        }
+        rec = tet_rec(pl, t);
+        if (rec != NONE && rec != VREC_OUT && (pl->pool.vrec[rec].flags & REC_LOST)) pay(pl, t)[0] = NONE;
+    }
+}
+
+/* the record standing at point p (exactly), else NONE */
+static uint32_t rec_at(const vp_planner_t *pl, const double *p)
+{
+    uint32_t i;
+    for (i = pl->pool.nvrec; i-- > 0;) {
+        const double *q = pl->pool.vrec[i].p;
+        if (q[0] == p[0] && q[1] == p[1] && q[2] == p[2] && !(pl->pool.vrec[i].flags & REC_LOST)) return i;
+    }
+    return NONE;
+}
+
+static int touch_at(vp_planner_t *pl, double at)
+{
+    double u[3], len, c[3], tol, back[3];
+    uint32_t i, from_rec, v, touch = PROOF_NONE;
+    int k, st;
+    vp_sub3(u, pl->dev.pos, pl->contact.move_from);
+    len = sqrt(vp_dot3(u, u));
+    if (!(at >= 0.0) || !(at <= len + pl->ptol)) return VP_EINVAL;
+    if (at > len) at = len;
+    if (len > 0.0)
+        for (k = 0; k < 3; k++) u[k] /= len;
+    for (k = 0; k < 3; k++) c[k] = pl->contact.move_from[k] + at * u[k];
+    /* Omega holds the object (A2): a contact outside it breaks the assumption every proof
+     * outside Omega rests on */
+    if (!vp_pl_omega_inside(&pl->cfg, c)) return VP_ERANGE;
+    /* the seeds' probes start outside Omega: a contact before them is not expected */
+    if (pl->phase == PH_SEED || pl->dt.dim < 3) return VP_EUNSAFE;
+    pl->contact.moved = 0;
+    pl->st.contacts++;
+    /* every proof through the contact point is false */
+    tol = pl->ptol + pl->cfg.noise_tol;
+    for (i = 0; i < pl->pool.nproof; i++)
+        if (proof_near(&pl->pool.proof[i], c, tol)) {
+            pl->pool.proof[i].len = -1.0;
+            pl->st.revoked++;
+        }
+    contact_keep(pl, c, pl->cfg.eps > CONTACT_REACH_NOISE * pl->cfg.noise_tol ? pl->cfg.eps
+                                                                             : CONTACT_REACH_NOISE * pl->cfg.noise_tol);
+    /* the part travelled up to the contact is free: the way back */
+    memcpy(back, pl->contact.move_from, sizeof back);
+    if (at > 0.0) VP_TRY(vp_pl_proof_add(pl, back, u, at, &touch));
+    /* what the device was about to do is dropped: its route and probe go back to the queue */
+    if (pl->probe.ready && pl->probe.task.off > 0.0) {
+        /* a walked ray goes on from where the device was to stand: not any more */
+        vp_pl_probe_drop(pl);
+    } else if (pl->probe.ready) {
+        pl->probe.ready = 0;
+        if (pl->phase == PH_RUN || pl->phase == PH_CLOSE) {
+            if (pl->pool.ntask >= pl->pool.cap_task) vp_pl_task_compact(pl);
+            if (pl->pool.ntask >= pl->pool.cap_task) return VP_ENOMEM;
+            pl->pool.task[pl->pool.ntask++] = pl->probe.task;
+        }
+    }
+    if (pl->phase == PH_RESEED) pl->phase = PH_COMPONENTS;
+    pl->sc.pending = 0;
+    pl->route.deferred = 0;
+    pl->route.n = pl->route.i = 0;
+    VP_TRY(rebuild_chains(pl));
+    reset_tets(pl);
+    /* the device stands at the contact; it backs off to the move's start */
+    from_rec = rec_at(pl, back);
+    if (from_rec == NONE) {
+        st = vp_pl_rec_new(pl, back, NONE, vp_pl_omega_inside(&pl->cfg, back) ? REC_LOST : REC_OUT, &from_rec);
+        if (st != VP_OK) return st;
+    }
+    memcpy(pl->dev.pos, c, sizeof c);
+    pl->dev.at = from_rec;
+    if (at > 0.0) VP_TRY(vp_pl_route_push(pl, back, touch));
+    /* the contact point is a sample of S */
+    if (!vp_pl_pools_have_room(pl)) return VP_ENOMEM;
+    st = vp_dt_insert(&pl->dt, c, VP_DT_NONE, &v);
+    if (st == VP_EDUP) return VP_OK;
+    if (st != VP_OK) return st;
+    pl->st.insertions++;
+    pl->close.exhaustive = 0;
+    if (pl->phase != PH_RUN) pl->phase = PH_RUN;
+    st = vp_pl_after_insert(pl, v);
+    vp_pl_note_peak(pl);
+    return st;
+}
+
+int vp_planner_touch(vp_planner_t *pl, double at)
+{
+    int st;
+    if (!pl) return VP_EINVAL;
+    if (pl->error) return pl->error;
+    if (!pl->contact.moved || pl->dev.awaiting) return VP_ESTATE;
+    {
+        double d[3], len;
+        vp_sub3(d, pl->dev.pos, pl->contact.move_from);
+        len = sqrt(vp_dot3(d, d));
+        if (!(at >= 0.0) || !(at <= len + pl->ptol)) return VP_EINVAL;
+    }
+    st = touch_at(pl, at);
+    if (st < 0) pl->error = st;
+    return st;
+}

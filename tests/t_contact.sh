@@ -1,0 +1,97 @@
+#!/bin/sh
+# The contact safety net: a surface the rangefinder cannot see (host-sim --dark: a black or
+# shiny patch, read as a miss, i.e. as free space) and a head with a contact switch (--contact).
+# For a sphere, a cube, the CAD part fandisk, dino and a sphere with two patches,
+# `voroprobe sim ... --contact` must
+#   - stop on contact (contacts > 0) and report 0 collisions,
+#   - have every move, up to where the switch closed, outside the object by the independent
+#     exact checker tests/cgal_moves.cpp (CGAL; a CONTACT event ends its move at the touch),
+#   - pass `voroprobe log verify` (a contact withdraws the free parts through its point),
+#   - exit honestly: 0 only when the mesh is a closed manifold, else 4 (the unseen patch).
+# The case the checkers must catch: the same sphere without the switch drives through the
+# object (host-sim counts collisions, CGAL counts the moves through and inside).
+# A session cut after its first contacts and resumed from its log ends with the same mesh.
+# The checker itself: a move ending on a face is "through" unless a contact line ends it there.
+set -u
+BUILD=${BUILD:-build}
+VP=${VP:-$BUILD/voroprobe}
+D="$BUILD/contact"
+CG="$BUILD/safety/cgal_moves"
+SM=../shared/meshes
+rm -rf "$D"; mkdir -p "$D" "$BUILD/safety"
+fail=0
+bad() { echo "FAIL: $*"; fail=1; }
+field() { sed -n "s/.*\"$2\":\([^,}]*\).*/\1/p" "$1" | tr -d '"'; }
+
+if [ -f /usr/include/CGAL/Side_of_triangle_mesh.h ] && command -v g++ >/dev/null 2>&1; then
+  if [ ! -x "$CG" ] || [ tests/cgal_moves.cpp -nt "$CG" ]; then
+    g++ -O2 -o "$CG.tmp" tests/cgal_moves.cpp -lgmp -lmpfr >"$D/cgal_moves-build.log" 2>&1 && mv "$CG.tmp" "$CG" ||
+      { bad "tests/cgal_moves.cpp does not build (log: $D/cgal_moves-build.log)"; rm -f "$CG"; }
+  fi
+else
+  echo "no CGAL (libcgal-dev): the independent move check cannot run"; exit 1
+fi
+
+# ---- the checker: a move ending on the top face of the unit cube, and the way back
+printf 'start 0.5 0.5 2\nmove 0.5 0.5 1\nmove 0.5 0.5 2\n' >"$D/self1.moves"
+got=$("$CG" tests/meshes/cube.off "$D/self1.moves" | tail -n 1)
+[ "$got" = "moves 2, through 2, inside 0, first 1" ] || bad "cgal_moves: a move onto a face: '$got'"
+printf 'start 0.5 0.5 2\nmove 0.5 0.5 0.5\ncontact 0.5 0.5 1\nmove 0.5 0.5 2\n' >"$D/self2.moves"
+got=$("$CG" tests/meshes/cube.off "$D/self2.moves" | tail -n 1)
+[ "$got" = "moves 2, through 0, inside 0, first none" ] || bad "cgal_moves: a move stopped on a face: '$got'"
+printf 'start 0.5 0.5 2\nmove 0.5 0.5 0.5\ncontact 0.5 0.5 0.9\nmove 0.5 0.5 2\n' >"$D/self3.moves"
+got=$("$CG" tests/meshes/cube.off "$D/self3.moves" | tail -n 1)
+[ "$got" = "moves 2, through 2, inside 0, first 1" ] || bad "cgal_moves: a contact inside the object: '$got'"
+
+# ---- one case: NAME MESH OPTIONS...
+run() {
+  name=$1; mesh=$2; shift 2
+  o="$D/$name"
+  "$VP" sim --surface "off:$mesh" "$@" --contact --json --quiet --hausdorff 0 --out "$o" --log "$o.vplog" >"$o.json" 2>"$o.err"
+  rc=$?
+  coll=$(field "$o.json" collisions); contacts=$(field "$o.json" contacts); closed=$(field "$o.json" closed_manifold)
+  [ "$coll" = 0 ] || bad "$name: collisions $coll"
+  [ -n "$contacts" ] && [ "$contacts" -gt 0 ] || bad "$name: no contact (the dark patch was never met?)"
+  case "$rc:$closed" in 0:true|4:false) ;; *) bad "$name: exit $rc with closed_manifold $closed";; esac
+  start=$("$VP" log dump "$o.vplog" | sed -n '/^# start /{s/^# start \([^ ]*\) \([^ ]*\) \([^ ,]*\),.*/\1,\2,\3/p;q;}')
+  "$VP" log dump "$o.vplog" --csv >"$o.csv" || bad "$name: log dump"
+  "$CG" "$mesh" "$o.csv" --start "$start" >"$o.cgal" 2>&1
+  cg=$(tail -n 1 "$o.cgal"); cgc=$(sed -n 's/^contacts \([0-9]*\).*/\1/p' "$o.cgal")
+  case "$cg" in "moves "*", through 0, inside 0, first none") ;; *) bad "$name: CGAL: $cg";; esac
+  [ "${cgc:-0}" = "$contacts" ] || bad "$name: CGAL saw ${cgc:-0} contacts, the session $contacts"
+  "$VP" log verify "$o.vplog" >"$o.verify" 2>&1 || bad "$name: log verify: $(tail -n 1 "$o.verify")"
+  printf '%-14s exit %s, %s vertices, %s probes, contacts %s, proofs withdrawn %s, misses not trusted %s, collisions %s; CGAL: %s\n' \
+    "$name" "$rc" "$(field "$o.json" vertices)" "$(field "$o.json" probes)" "$contacts" "$(field "$o.json" revoked)" \
+    "$(field "$o.json" dark_misses)" "$coll" "$cg"
+}
+run sphere966 $SM/sphere966.off --eps-rel 0.05 --dark 0,0,10,5
+run sphere-2dark $SM/sphere966.off --eps-rel 0.04 --dark 10,0,0,4 --dark 0,-10,0,6
+run cube tests/meshes/cube.off --eps-rel 0.05 --dark 0.5,0.5,1,0.3
+run fandisk $SM/fandisk.off --eps-rel 0.05 --dark 0.2966,0.15655,0.2075,0.15
+run dino $SM/dino.off --eps-rel 0.03 --dark 0.115434,-0.555923,1.60466,0.3
+
+# ---- without the switch the head goes through the object: both checkers must see it
+o="$D/nocontact"
+"$VP" sim --surface "off:$SM/sphere966.off" --eps-rel 0.05 --dark 0,0,10,5 --stop-after 3000 --json --quiet \
+  --hausdorff 0 --log "$o.vplog" >"$o.json" 2>"$o.err"
+coll=$(field "$o.json" collisions)
+[ -n "$coll" ] && [ "$coll" -gt 0 ] || bad "without the contact switch: collisions '$coll' (expected > 0)"
+start=$("$VP" log dump "$o.vplog" | sed -n '/^# start /{s/^# start \([^ ]*\) \([^ ]*\) \([^ ,]*\),.*/\1,\2,\3/p;q;}')
+"$VP" log dump "$o.vplog" --csv >"$o.csv"
+cg=$("$CG" $SM/sphere966.off "$o.csv" --start "$start" | tail -n 1)
+case "$cg" in *", through 0, inside 0, first none") bad "without the contact switch CGAL sees no move through: $cg";; esac
+echo "without the switch: host-sim collisions $coll; CGAL: $cg"
+
+# ---- cut after some contacts, resumed: the same mesh as the whole session
+o="$D/cut"
+"$VP" sim --surface "off:$SM/sphere966.off" --eps-rel 0.05 --dark 0,0,10,5 --contact --stop-after 900 --quiet \
+  --hausdorff 0 --out "$o" --log "$o.vplog" >/dev/null 2>&1
+c1=$("$VP" log dump "$o.vplog" | grep -c "EVENT contact")
+"$VP" sim --resume "$o.vplog" --quiet >/dev/null 2>&1
+[ "$c1" -gt 0 ] || bad "the cut session had no contact before its cut"
+cmp -s "$o.off" "$D/sphere966.off" || bad "resumed after $c1 contacts: the mesh differs from the whole session's"
+"$VP" log verify "$o.vplog" >/dev/null 2>&1 || bad "the resumed log does not verify"
+echo "cut at command 900 after $c1 contact(s), resumed: mesh identical to the whole session's"
+
+[ $fail = 0 ] || exit 1
+echo "contact safety net: 5 objects with dark patches, 0 collisions, every move outside the object by CGAL up to its contact, logs verified; without the switch $coll collisions"
