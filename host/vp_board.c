@@ -75,6 +75,9 @@ static const vp_bkey_t k_head[] = {
     { "tilt_offset", K_NUMS, B(tilt_offset), 3, -1e4, 1e4, R_NO },
     { "laser_offset", K_NUMS, B(laser_offset), 3, -1e4, 1e4, R_YES },
     { "origin_tol", K_NUM, B(origin_tol), 1, POS, 10, R_NO },
+    { "contact", K_PIN, B(contact), 0, ANY, R_NO },
+    { "contact_stop", K_NUM, B(contact_stop), 1, POS, 1000, R_NO },
+    { "contact_halt", K_BOOL, B(contact_halt), 0, ANY, R_NO },
     { NULL, 0, 0, 0, 0, 0, 0 } };
 static const vp_bkey_t k_camera[] = {
     { "backend", K_STR, B(camera.backend), 16, ANY, R_NO },
@@ -335,6 +338,7 @@ static int vp_board_key(void *user, const char *section, const char *key, const 
         break;
     }
     case K_PIN:
+        if (!strcmp(key, "contact") && !strcmp(val, "sim")) { c->b->contact_sim = 1; break; }
         VP_TRY(vp_pin(val, (vp_gpio_pin_t *)(void *)ptr, msg, ml));
         break;
     case K_STR:
@@ -415,6 +419,7 @@ static int vp_board_pins(const vp_bctx_t *c, char *err, size_t el)
     }
     if (b->estop.chip[0]) { u[n].pin = &b->estop; u[n].sec = S_ESTOP; u[n].key = "pin"; u[n].out = 0; n++; }
     if (b->laser.chip[0]) { u[n].pin = &b->laser; u[n].sec = S_LASER; u[n].key = "pin"; u[n].out = 1; n++; }
+    if (b->contact.chip[0]) { u[n].pin = &b->contact; u[n].sec = S_HEAD; u[n].key = "contact"; u[n].out = 0; n++; }
     for (i = 0; i < n; i++)
         for (j = 0; j < i; j++) {
             if (strcmp(u[i].pin->chip, u[j].pin->chip) || u[i].pin->offset != u[j].pin->offset) continue;
@@ -626,6 +631,38 @@ static int vp_board_check_omega(vp_bctx_t *c, char *err, size_t el)
     return VP_OK;
 }
 
+int vp_board_has_contact(const vp_board_t *b) { return b && (b->contact.chip[0] || b->contact_sim); }
+
+/* The contact switch: the head must stop within the stylus's overtravel (contact_stop). A MOVE
+ * translates x, y, z together; its stop from a touch is at most vp_step_contact_reach over them
+ * (the deceleration from the fastest coordinated speed, |V| max_i(V_i / A_i) / 2, plus the
+ * debounce samples' steps). */
+static int vp_board_check_contact(vp_bctx_t *c, char *err, size_t el)
+{
+    static const int xyz[3] = { 0, 1, 2 };
+    vp_board_t *b = c->b;
+    vp_step_config_t sc;
+    double speed;
+    if (b->contact_sim && b->io != VP_BOARD_IO_SIM)
+        return vp_bad(c, S_HEAD, "contact", err, el, "'sim' is the dry run's switch: a board with io = gpiod needs a pin");
+    if (!vp_board_has_contact(b)) {
+        if (vp_seen(c, S_HEAD, "contact_stop") || vp_seen(c, S_HEAD, "contact_halt"))
+            return vp_bad(c, S_HEAD, vp_seen(c, S_HEAD, "contact_stop") ? "contact_stop" : "contact_halt", err, el,
+                          "needs a contact switch ([head] contact = PIN)");
+        return VP_OK;
+    }
+    vp_board_step_config(b, &sc);
+    b->contact_reach = vp_step_contact_reach(&sc, xyz, 3, &speed);
+    if (b->contact_stop > 0 && b->contact_stop < b->contact_reach)
+        return vp_bad(c, S_HEAD, "contact_stop", err, el,
+                      "%g mm is below the head's stop from a touch, %.3f mm: a MOVE at full speed on x, y and z "
+                      "(%.1f mm/s) decelerates over |V| max(V_i/A_i)/2%s, and %d debounce samples add up to a step "
+                      "each; lower max_speed, raise accel%s", b->contact_stop, b->contact_reach, speed,
+                      b->contact_halt ? " (0: contact_halt)" : "", b->debounce,
+                      b->contact_halt ? "" : " or set contact_halt = yes");
+    return VP_OK;
+}
+
 /* A loaded board, checked part by part; defaults filled in. */
 static int vp_board_check(vp_bctx_t *c, char *err, size_t el)
 {
@@ -634,6 +671,7 @@ static int vp_board_check(vp_bctx_t *c, char *err, size_t el)
     VP_TRY(vp_board_check_camera(c, err, el));
     VP_TRY(vp_board_check_range(c, err, el));
     VP_TRY(vp_board_check_fixture(c, err, el));
+    VP_TRY(vp_board_check_contact(c, err, el));
     return vp_board_check_omega(c, err, el);
 }
 
@@ -645,7 +683,7 @@ static void vp_board_defaults(vp_board_t *b)
         b->axis[a].step.offset = b->axis[a].dir.offset = b->axis[a].enable.offset = -1;
         b->axis[a].lim_min.offset = b->axis[a].lim_max.offset = -1;
     }
-    b->estop.offset = b->laser.offset = -1;
+    b->estop.offset = b->laser.offset = b->contact.offset = -1;
     b->pulse_us = 4;
     b->dir_setup_us = 2;
     b->enable_ms = 2;
@@ -872,6 +910,7 @@ void vp_board_step_config(const vp_board_t *b, vp_step_config_t *c)
     c->debounce = (uint32_t)b->debounce;
     c->max_late_ns = (uint32_t)llround(b->max_late_us * 1000);
     c->late_fault = b->late_fault;
+    c->contact_halt = b->contact_halt;
 }
 
 void vp_board_kin_config(const vp_board_t *b, vp_kin_config_t *k)
@@ -892,6 +931,7 @@ void vp_board_machine_config(const vp_board_t *b, vp_machine_config_t *m)
     m->use_laser_line = b->laser.chip[0] != 0;
     m->latency_frames = b->latency_frames;
     m->spot.band = b->band;
+    m->contact = vp_board_has_contact(b);
 }
 
 void vp_board_planner_config(const vp_board_t *b, vp_planner_config_t *c)
@@ -924,6 +964,7 @@ void vp_board_gpiod_config(const vp_board_t *b, vp_gpiod_config_t *g)
     }
     if (b->laser.chip[0]) g->out[24] = b->laser;
     if (b->estop.chip[0]) g->in[16] = b->estop;
+    if (b->contact.chip[0]) g->in[17] = b->contact;
     g->rt_priority = b->rt_priority;
     g->spin_ns = (int64_t)llround(b->spin_us * 1000);
     g->consumer = "voroprobe";

@@ -49,6 +49,11 @@ typedef struct vp_board {
     int late_fault;                      /* on_late = fault */
     /* [head] */
     double tilt_offset[3], laser_offset[3], origin_tol;
+    vp_gpio_pin_t contact;               /* the head's contact switch (a touch probe at the laser origin) */
+    int contact_sim;                     /* contact = sim: the dry run's switch only (io = sim) */
+    double contact_stop;                 /* mm the stylus can travel past its trigger (0: not given) */
+    int contact_halt;                    /* no pulse after a touch is confirmed (no deceleration) */
+    double contact_reach;                /* the most a move travels from a touch to rest (mm, at load) */
     /* [camera] */
     vp_cam_config_t camera;
     vp_camera_model_t cam_model;         /* intrinsics and pose in the tilt frame */
@@ -101,6 +106,8 @@ typedef struct vp_board_calib {
  * inconsistent machine); err gets "file:line: [section] key: reason". */
 int  vp_board_load(const char *path, vp_board_t *b, char *err, size_t errlen);
 int  vp_board_parse(const char *text, const char *name, vp_board_t *b, char *err, size_t errlen);
+/* 1 if the board has a contact switch on its head ([head] contact). */
+int  vp_board_has_contact(const vp_board_t *b);
 
 /* A calibration file (INI: [calibration] about the fit, [rangefinder] line and model) replaces
  * the board's rangefinder model (b->calibrated = 2, b->calib_path = path; the board's

@@ -5,6 +5,7 @@
 #include <string.h>
 #include "vp_dryrun.h"
 #include "vp_status.h"
+#include "vp_vec3.h"
 
 /* joints from the carriages (the physical truth, backlash included) */
 static void vp_dryrun_joints(const vp_dryrun_t *d, double j[VP_KIN_JOINTS])
@@ -40,6 +41,32 @@ static int vp_dryrun_io_write(void *ctx, uint32_t mask, uint32_t values)
     int rc = io.write(io.ctx, mask, values);
     if ((mask & VP_IO_LASER) && d->cs) vp_camsim_laser_switched(d->cs);
     return rc;
+}
+
+/* The contact input: the true laser origin inside the object. The surface is asked again only
+ * when the origin leaves the ball (radius: its distance to the surface) around the point it was
+ * last asked at. */
+static int vp_dryrun_contact(void *ctx, const int32_t *carriage)
+{
+    vp_dryrun_t *d = ctx;
+    double j[VP_KIN_JOINTS], o[3], dir[3];
+    int a;
+    if (d->touch_known && !memcmp(carriage, d->touch_carriage, sizeof d->touch_carriage)) return d->touch_in;
+    for (a = 0; a < VP_KIN_JOINTS; a++) j[a] = carriage[a] / d->board.axis[a].ax.steps_per_unit;
+    vp_kin_forward(&d->touch_kin, j, o, dir);
+    memcpy(d->touch_carriage, carriage, sizeof d->touch_carriage);
+    if (d->touch_known && vp_dist3(o, d->touch_origin) < d->touch_clear) return d->touch_in;
+    if (d->flat_target) {
+        d->touch_in = o[0] >= d->target_x;
+        d->touch_clear = fabs(o[0] - d->target_x);
+    } else {
+        d->touch_in = vp_surface_inside(d->surf, o);
+        d->touch_clear = vp_surface_distance(d->surf, o);
+    }
+    memcpy(d->touch_origin, o, sizeof d->touch_origin);
+    d->touch_known = 1;
+    d->touch_evals++;
+    return d->touch_in;
 }
 
 void vp_dryrun_true_beam(const vp_dryrun_t *d, double origin[3], double dir[3])
@@ -95,6 +122,13 @@ int vp_dryrun_open(const vp_board_t *b, const vp_dryrun_options_t *o, vp_dryrun_
         rc.slack[a] = (int32_t)llround(ax->backlash * ax->steps_per_unit);
         if (ax->home_dir < 0) { rc.has_min[a] = 1; rc.min_sw[a] = (int32_t)llround(ax->home_pos * ax->steps_per_unit); }
         if (ax->home_dir > 0) { rc.has_max[a] = 1; rc.max_sw[a] = (int32_t)llround(ax->home_pos * ax->steps_per_unit); }
+    }
+    if (vp_board_has_contact(b)) {
+        d->touch_kin = kin;
+        d->flat_target = opt.flat_target;
+        d->target_x = opt.target_x;
+        rc.contact = vp_dryrun_contact;
+        rc.contact_ctx = d;
     }
     vp_iorec_init(&d->rec, &rc);
     io.ctx = d;

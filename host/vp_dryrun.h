@@ -1,7 +1,9 @@
 /* vp_dryrun — a board's machine with host-sim at the hardware boundary: the same vp_machine
  * (kinematics, step generator, rangefinder) on the recording GPIO backend (simulated clock,
  * switches where the board's homing expects them, carriages with the board's backlash as slack)
- * and on vp_camsim frames rendered at the carriages' true pose. Nothing sleeps. */
+ * and on vp_camsim frames rendered at the carriages' true pose. Nothing sleeps. A board with a
+ * contact switch ([head] contact) gets one that closes while the true laser origin (the probe
+ * point) is inside the object. */
 #ifndef VP_DRYRUN_H
 #define VP_DRYRUN_H
 #include <stddef.h>
@@ -18,6 +20,16 @@ typedef struct vp_dryrun {
     vp_surface_t *surf;
     vp_board_t board;
     uint8_t *frame;              /* the machine's diff_buf: 2 frames */
+    /* the contact switch: the object (or the flat target x >= target_x) at the true origin */
+    vp_kin_t touch_kin;
+    int flat_target;
+    double target_x;
+    int32_t touch_carriage[VP_KIN_JOINTS];   /* where it was last evaluated */
+    double touch_origin[3], touch_clear;     /* the origin there, and a ball around it in which
+                                                the answer stays the same (its distance to the
+                                                surface) */
+    int touch_known, touch_in;
+    unsigned long touch_evals;               /* surface queries made */
 } vp_dryrun_t;
 
 typedef struct vp_dryrun_options {

@@ -218,9 +218,15 @@ void vp_scan_fault_text(const vp_scan_dev_t *d, char *buf, size_t n)
         snprintf(buf, n, "a step came %.0f us late (max_late_us %g, on_late = fault): pulses stopped, drivers off; "
                  "homing needed", d->m->step.st.late_max_ns * 1e-3, d->board.max_late_us);
         return;
+    case VP_STEP_FAULT_CONTACT:
+        snprintf(buf, n, "the contact switch stayed closed after the head backed off a touch (a stuck switch or a "
+                 "broken wire): drivers off; check the probe, then home");
+        return;
     default: break;
     }
-    if (st == VP_ERANGE) snprintf(buf, n, "the command is outside the machine's travel (refused, nothing moved)");
+    if (st == VP_ESTATE && d->m && d->m->touched)
+        snprintf(buf, n, "after a touch the next move must back off it, not go further in (refused, nothing moved)");
+    else if (st == VP_ERANGE) snprintf(buf, n, "the command is outside the machine's travel (refused, nothing moved)");
     else if (st == VP_ETIMEOUT) snprintf(buf, n, "camera: no frame in time");
     else if (st == VP_EIO) snprintf(buf, n, "I/O error (GPIO or camera)%s%s", d->m && d->m->cam.error ? ": " : "",
                                     d->m && d->m->cam.error ? d->m->cam.error(d->m->cam.ctx) : "");

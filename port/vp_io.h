@@ -2,7 +2,8 @@
  *
  * Lines are logical bits; the backend maps them to pins and applies electrical polarity
  * (active-low enables, normally-closed switches). Outputs: STEP/DIR/EN per axis and the laser.
- * Inputs: a min and a max limit switch per axis and the e-stop. 1 = active (asserted). */
+ * Inputs: a min and a max limit switch per axis, the e-stop and the head's contact switch (a
+ * touch probe's stylus: closed when the probe point touches the object). 1 = active (asserted). */
 #ifndef VP_IO_H
 #define VP_IO_H
 #include <stdint.h>
@@ -17,7 +18,8 @@
 #define VP_IO_LIM_MIN(a) (1u << (a))
 #define VP_IO_LIM_MAX(a) (1u << (8 + (a)))
 #define VP_IO_ESTOP      (1u << 16)
-#define VP_IO_NIN        17
+#define VP_IO_CONTACT    (1u << 17)
+#define VP_IO_NIN        18
 
 /* Filled by a backend; ctx is the backend's own state. All return VP_OK or a VP_E* code. */
 typedef struct vp_io {

@@ -47,6 +47,7 @@ uint32_t vp_iorec_inputs(const vp_iorec_t *r)
         if (r->cfg.has_max[i] && r->carriage[i] >= r->cfg.max_sw[i]) in |= VP_IO_LIM_MAX(i);
     }
     if (r->cfg.estop_at >= 0 && r->now >= r->cfg.estop_at && r->now < r->cfg.estop_until) in |= VP_IO_ESTOP;
+    if (r->cfg.contact && r->cfg.contact(r->cfg.contact_ctx, r->carriage)) in |= VP_IO_CONTACT;
     return in;
 }
 

@@ -2,7 +2,8 @@
  * every output edge captured with its timestamp, and a small machine behind the pins so inputs
  * answer like hardware: each axis has a motor (counts STEP rising edges while enabled, in the
  * direction of its DIR line), a carriage coupled to it with mechanical slack (backlash), limit
- * switches that close when the carriage reaches them, and a scripted e-stop.
+ * switches that close when the carriage reaches them, a scripted e-stop, and the head's contact
+ * switch as the caller's function of the carriages (a wall in a test, the object in a dry run).
  * Used by the tests and by dry runs (cap 0: count and simulate, keep no edges).
  *
  * A latency model (off unless asked for): each write and read costs write_ns / read_ns of the
@@ -46,6 +47,10 @@ typedef struct vp_iorec_config {
     uint32_t glitch_bits;             /* inputs forced active for glitch_reads reads from glitch_at */
     int64_t glitch_at;
     uint32_t glitch_reads;
+    /* the contact input (VP_IO_CONTACT): 1 while the carriages (steps) put the probe on the
+     * object; NULL: never closed */
+    int (*contact)(void *ctx, const int32_t *carriage);
+    void *contact_ctx;
 } vp_iorec_config_t;
 
 typedef struct vp_iorec {

@@ -34,6 +34,7 @@ int vp_machine_init(vp_machine_t *m, const vp_kin_config_t *kc, const vp_step_co
 int vp_machine_home(vp_machine_t *m)
 {
     int rc = vp_step_home(&m->step);
+    m->touched = 0;
     vp_machine_sync(m);
     return rc;
 }
@@ -49,6 +50,7 @@ int vp_machine_goto(vp_machine_t *m, const double p[3])
     int rc;
     VP_TRY(vp_kin_move(&m->kin, m->j, p, t));
     vp_machine_beam(m, o0, d);
+    m->touched = 0;                  /* the host's own move: the next MOVE starts from here */
     rc = vp_step_move(&m->step, t);
     vp_machine_sync(m);
     vp_machine_beam(m, o1, d);
@@ -56,11 +58,68 @@ int vp_machine_goto(vp_machine_t *m, const double p[3])
     return rc;
 }
 
+/* A MOVE watching the contact switch (see vp_machine.h). */
+static int vp_machine_touch_move(vp_machine_t *m, const vp_cmd_t *cmd)
+{
+    double way[2][VP_KIN_JOINTS], jl[VP_KIN_JOINTS], o0[3], o1[3], d[3], seg[3], len, at;
+    vp_step_contact_t c;
+    int k, n = 1, watch = VP_STEP_WATCH_STOP, rc;
+    for (k = 0; k < 3; k++) if (!isfinite(cmd->from[k]) || !isfinite(cmd->to[k])) return VP_EINVAL;
+    if (m->touched) {
+        /* backing off a contact: never further along the touching move's direction */
+        double adv = 0;
+        for (k = 0; k < 3; k++) adv += (cmd->to[k] - m->touch_point[k]) * m->touch_dir[k];
+        if (adv > 1e-6) return VP_ESTATE;
+        VP_TRY(vp_kin_move(&m->kin, m->j, m->touch_point, way[0]));
+        n = 2;
+        watch = VP_STEP_WATCH_RELEASE;
+    }
+    VP_TRY(vp_kin_move(&m->kin, n == 2 ? way[0] : m->j, cmd->to, way[n - 1]));
+    m->st.moves++;
+    vp_machine_beam(m, o0, d);
+    rc = vp_step_move_watch(&m->step, &way[0][0], n, watch, &c);
+    vp_machine_sync(m);
+    vp_machine_beam(m, o1, d);
+    m->st.travel += vp_dist3(o0, o1);
+    if (rc < 0) return rc;
+    m->touched = 0;
+    if (!c.hit) return VP_OK;
+    /* the trigger: the latched joints through the forward kinematics, along the commanded line */
+    for (k = 0; k < VP_KIN_JOINTS; k++) jl[k] = c.latch[k] / m->step.cfg.axis[k].steps_per_unit;
+    vp_kin_forward(&m->kin, jl, m->last.contact_point, d);
+    for (k = 0; k < 3; k++) seg[k] = cmd->to[k] - cmd->from[k];
+    len = vp_norm3(seg);
+    at = 0;
+    if (len > 0 && !c.at_start) {
+        for (k = 0; k < 3; k++) at += (m->last.contact_point[k] - cmd->from[k]) * seg[k] / len;
+        if (at < 0) at = 0;
+        if (at > len) at = len;
+    }
+    m->last.contact = 1;
+    m->last.contact_at = at;
+    m->last.overtravel = vp_dist3(m->last.contact_point, o1);
+    m->touched = 1;
+    memcpy(m->touch_point, m->last.contact_point, sizeof m->touch_point);
+    for (k = 0; k < 3; k++) m->touch_dir[k] = len > 0 ? seg[k] / len : 0;
+    m->contacts++;
+    return VP_OK;
+}
+
 int vp_machine_move(vp_machine_t *m, const vp_cmd_t *cmd)
 {
     if (!m || !cmd || cmd->kind != VP_CMD_MOVE) return VP_EINVAL;
+    m->last.contact = 0;
+    m->last.contact_at = m->last.overtravel = 0;
+    if (m->cfg.contact) return vp_machine_touch_move(m, cmd);
     m->st.moves++;
     return vp_machine_goto(m, cmd->to);
+}
+
+int vp_machine_contact(const vp_machine_t *m, double *at)
+{
+    if (!m || !m->last.contact) return 0;
+    if (at) *at = m->last.contact_at;
+    return 1;
 }
 
 static void vp_machine_laser(vp_machine_t *m, int on)

@@ -12,7 +12,19 @@
  * (steps are quantised); `last` keeps that beam and the measured point. A spot seen nearer than
  * the rangefinder's min_range is reported as a hit (extrapolated): a surface that close is never
  * free space. A surface so near that its spot leaves the frame is not seen at all: keep the
- * planner's clearance above that distance (see the board's [rangefinder] min_range). */
+ * planner's clearance above that distance (see the board's [rangefinder] min_range).
+ *
+ * A contact switch on the head (cfg.contact: a touch probe at the laser origin) is the safety
+ * net for surfaces the rangefinder cannot see (black, shiny: no spot, read as free space). A
+ * MOVE watches it: when it closes the joints at the trigger are latched, the head decelerates at
+ * the axes' accelerations and stops, and the MOVE returns VP_OK with last.contact = 1, the
+ * trigger's distance along the commanded segment (last.contact_at) and how far past it the head
+ * stopped (last.overtravel). A contact already closed when a MOVE starts (touching at rest) is a
+ * contact at 0: nothing moves. The MOVE after a contact must back off (not advance along the
+ * touching move's direction; VP_ESTATE, nothing moved): the head first returns along the line to
+ * the trigger point (where the planner believes it stands), then makes the move; the contact
+ * must open on the way, else the machine faults (VP_EABORT, step.fault VP_STEP_FAULT_CONTACT:
+ * a stuck switch or a broken wire reads closed forever; homing needed). */
 #ifndef VP_MACHINE_H
 #define VP_MACHINE_H
 #include "vp_cam.h"
@@ -50,6 +62,10 @@ typedef struct vp_machine_last {
     int64_t seq, seq_off;             /* sequence numbers of the laser-on and laser-off frames */
     int64_t seq_mark;                 /* the camera's next sequence number right after the laser went on */
     int fault;                        /* VP_FRAME_* of the last probe */
+    int contact;                      /* the last MOVE stopped on the contact switch */
+    double contact_at;                /* its trigger: distance along the MOVE from cmd->from */
+    double overtravel;                /* how far past the trigger the laser origin stopped (mm) */
+    double contact_point[3];          /* the laser origin at the trigger (latched joints) */
 } vp_machine_last_t;
 
 typedef struct vp_machine_config {
@@ -66,6 +82,8 @@ typedef struct vp_machine_config {
     uint8_t *diff_buf;                /* the caller's room for the laser-off frame: width x height */
     size_t diff_len;
     int single_frame;                 /* tests only: no laser-off frame, no differencing */
+    int contact;                      /* 1: the head has a contact switch (VP_IO_CONTACT); MOVEs
+                                         watch it */
     vp_spot_config_t spot;
 } vp_machine_config_t;
 
@@ -83,6 +101,10 @@ typedef struct vp_machine {
     vp_spot_ws_t ws;
     int64_t seen_seq, seen_ts;        /* the newest frame taken (-1 / none: seen = 0) */
     int seen;
+    int touched;                      /* a MOVE stopped on the contact: the next one backs off */
+    double touch_point[3], touch_dir[3];  /* the trigger point and that MOVE's unit direction
+                                             (0 for a contact at rest on a null MOVE) */
+    unsigned long contacts;           /* MOVEs stopped on the contact */
 } vp_machine_t;
 
 /* Checks and wires the parts (VP_EINVAL for a bad kinematics or stepper configuration). */
@@ -90,10 +112,14 @@ int vp_machine_init(vp_machine_t *m, const vp_kin_config_t *kc, const vp_step_co
                     const vp_cam_t *cam, const vp_tri_model_t *tri, const vp_machine_config_t *mc);
 /* Homing cycle (vp_step_home), then the joints are known. */
 int vp_machine_home(vp_machine_t *m);
-/* Laser origin to p with pan/tilt unchanged (e.g. to the planner's start after homing). */
+/* Laser origin to p with pan/tilt unchanged (e.g. to the planner's start after homing); the
+ * contact is not watched, and a pending back-off from a touch is dropped. */
 int vp_machine_goto(vp_machine_t *m, const double p[3]);
 /* The two halves of exec, for loops that keep them apart. */
 int vp_machine_move(vp_machine_t *m, const vp_cmd_t *cmd);
+/* 1 and *at (the trigger's distance along that MOVE, planner units) when the last MOVE stopped
+ * on the contact switch; 0 otherwise (at may be NULL). */
+int vp_machine_contact(const vp_machine_t *m, double *at);
 int vp_machine_probe(vp_machine_t *m, const vp_cmd_t *cmd, vp_probe_result_t *res);
 /* One planner command. VP_OK (a probe's miss is a result, not an error); VP_ERANGE (outside
  * travel: refused, nothing moved); VP_EABORT (e-stop, hard limit: stopped, fault set, homing

@@ -113,6 +113,9 @@ typedef struct vp_run {
     uint32_t watch;      /* VP_RUN_HOME: input bit that stops the block (0: none) */
     int triggered;
     int32_t latch;       /* position of `axis` when `watch` was first seen */
+    int contact;         /* VP_RUN_MOVE: VP_STEP_WATCH_* */
+    int armed;           /* the contact was seen open: its closing stops the move */
+    vp_step_contact_t *c;
 } vp_run_t;
 
 static void vp_step_emit_late(vp_step_t *s, int kind, int axis, const char *what, int64_t late_ns, uint64_t count)
@@ -183,6 +186,7 @@ static int vp_step_sample(vp_step_t *s, uint32_t *deb)
     for (b = 0; b < VP_IO_NIN; b++) {
         if (!(diff & (1u << b))) { s->deb_n[b] = 0; continue; }
         if (!s->deb_n[b] && b < 16 && (b & 7) < s->cfg.naxes) s->deb_at[b] = s->pos[b & 7];
+        if (!s->deb_n[b] && (1u << b) == VP_IO_CONTACT) memcpy(s->contact_at, s->pos, sizeof s->contact_at);
         if (++s->deb_n[b] >= s->cfg.debounce) { s->deb ^= 1u << b; s->deb_n[b] = 0; }
     }
     *deb = s->deb;
@@ -210,6 +214,14 @@ static int vp_step_check(vp_step_t *s, const vp_step_block_t *b, vp_run_t *r, ui
 {
     int i;
     if (in & VP_IO_ESTOP) return vp_step_trip(s, VP_STEP_FAULT_ESTOP, VP_STEP_EV_ESTOP, -1, "e-stop");
+    if (r->contact) {
+        /* the touch latch: every axis at the first of the confirming samples */
+        if (!(in & VP_IO_CONTACT)) r->armed = 1;
+        else if (r->armed && !r->triggered) {
+            r->triggered = 1;
+            memcpy(r->c->latch, s->contact_at, sizeof r->c->latch);
+        }
+    }
     if (r->mode == VP_RUN_HOME && r->watch && (in & r->watch) && !r->triggered) {
         r->triggered = 1;
         r->latch = s->deb_at[r->watch & VP_IO_LIM_MIN(r->axis) ? r->axis : 8 + r->axis];
@@ -262,6 +274,7 @@ static int vp_step_run_block(vp_step_t *s, vp_step_block_t *b, vp_run_t *r)
     }
     /* read before anything moves */
     VP_TRY(vp_step_poll_n(s, b, r, s->cfg.debounce));
+    if (r->contact && r->triggered) return VP_OK;
     if ((s->out & dmask) != dval) {
         if (vp_step_write(s, dmask, dval) < 0) return vp_step_trip(s, VP_STEP_FAULT_IO, VP_STEP_EV_ESTOP, -1, "write failed");
         wake = s->cfg.dir_setup_ns;
@@ -294,6 +307,11 @@ static int vp_step_run_block(vp_step_t *s, vp_step_block_t *b, vp_run_t *r)
             if (t_ns - now <= p) break;
             s->io.wait_until(s->io.ctx, now + p);
             VP_TRY(vp_step_poll(s, b, r));
+        }
+        if (r->contact && r->triggered && s->cfg.contact_halt) {   /* touched while waiting: no pulse */
+            b->k--;
+            b->end = b->k;
+            break;
         }
         s->io.wait_until(s->io.ctx, t_ns);
         now = s->io.now(s->io.ctx);
@@ -335,9 +353,13 @@ static int vp_step_run_block(vp_step_t *s, vp_step_block_t *b, vp_run_t *r)
         s->io.wait_until(s->io.ctx, rise + s->cfg.pulse_ns);
         if (vp_step_write(s, smask, 0) < 0 || rc < 0)
             return vp_step_trip(s, VP_STEP_FAULT_IO, VP_STEP_EV_ESTOP, -1, "write failed");
-        /* inputs after the falling edge; homing: the switch closed, decelerate to a stop */
+        /* inputs after the falling edge; homing or a touch: the switch closed, decelerate to a
+         * stop (a touch with contact_halt: stop here) */
         VP_TRY(vp_step_poll(s, b, r));
-        if (r->triggered && !b->stopping) vp_step_block_stop(b);
+        if (r->triggered && !b->stopping) {
+            if (r->contact && s->cfg.contact_halt) b->end = b->k;
+            else vp_step_block_stop(b);
+        }
     }
     s->st.move_time += vp_step_block_time(b, b->end);
     if (nretime) vp_step_emit_late(s, VP_STEP_EV_RETIME, -1, "late steps: profile re-entered", worst, nretime);
@@ -478,11 +500,20 @@ static int vp_step_target(const vp_step_t *s, const double *target, const int32_
 
 int vp_step_move_path(vp_step_t *s, const double *way, int n)
 {
+    return vp_step_move_watch(s, way, n, VP_STEP_WATCH_NONE, NULL);
+}
+
+int vp_step_move_watch(vp_step_t *s, const double *way, int n, int watch, vp_step_contact_t *c)
+{
     int32_t delta[VP_STEP_MAX_AXES], at[VP_STEP_MAX_AXES];
     double rate[VP_STEP_MAX_AXES], acc[VP_STEP_MAX_AXES];
+    vp_step_contact_t unused;
     vp_run_t r;
+    uint32_t in = 0;
     int w, rc, na;
-    if (!s || !way || n < 0) return VP_EINVAL;
+    if (!s || !way || n < 0 || watch < VP_STEP_WATCH_NONE || watch > VP_STEP_WATCH_RELEASE || (watch && !c)) return VP_EINVAL;
+    if (!c) c = &unused;
+    memset(c, 0, sizeof *c);
     if (s->fault || (!s->homed && !s->cfg.allow_unhomed)) return VP_ESTATE;
     na = s->cfg.naxes;
     /* every waypoint first: refuse before anything moves */
@@ -494,12 +525,63 @@ int vp_step_move_path(vp_step_t *s, const double *way, int n)
     vp_step_limits(s, rate, acc);
     memset(&r, 0, sizeof r);
     r.mode = VP_RUN_MOVE;
+    r.contact = watch;
+    r.c = c;
+    if (watch) {
+        /* the contact as it stands: closed before a move that may touch is a touch at its start */
+        if (vp_step_settle(s, &in) < 0) return vp_step_trip(s, VP_STEP_FAULT_IO, VP_STEP_EV_ESTOP, -1, "input read failed");
+        if (in & VP_IO_ESTOP) return vp_step_trip(s, VP_STEP_FAULT_ESTOP, VP_STEP_EV_ESTOP, -1, "e-stop");
+        if (!(in & VP_IO_CONTACT)) r.armed = 1;
+        else if (watch == VP_STEP_WATCH_STOP) {
+            c->hit = c->at_start = 1;
+            memcpy(c->latch, s->pos, sizeof c->latch);
+            s->st.contacts++;
+            s->st.moves++;
+            vp_step_emit(s, VP_STEP_EV_CONTACT, -1, "contact closed before the move");
+            return VP_OK;
+        }
+    }
     for (w = 0; w < n; w++) {
         vp_step_target(s, way + (size_t)w * na, s->pos, delta);
         VP_TRY(vp_step_exec(s, delta, rate, acc, &r));
+        if (r.contact && r.triggered) {
+            c->hit = 1;
+            c->way = w;
+            s->st.contacts++;
+            vp_step_emit(s, VP_STEP_EV_CONTACT, -1, "contact: stopped");
+            break;
+        }
+    }
+    if (watch == VP_STEP_WATCH_RELEASE && !r.armed) {
+        /* backed off and still closed: the switch cannot be trusted */
+        if (vp_step_settle(s, &in) < 0) return vp_step_trip(s, VP_STEP_FAULT_IO, VP_STEP_EV_ESTOP, -1, "input read failed");
+        if (in & VP_IO_CONTACT)
+            return vp_step_trip(s, VP_STEP_FAULT_CONTACT, VP_STEP_EV_CONTACT, -1,
+                                "contact stays closed after backing off (a stuck switch or a broken wire)");
     }
     s->st.moves++;
     return VP_OK;
+}
+
+double vp_step_contact_reach(const vp_step_config_t *c, const int *axes, int naxes, double *speed)
+{
+    double cap, v2 = 0, ratio = 0, h2 = 0, v;
+    uint32_t pulse, deb;
+    int k;
+    if (!c || !axes || naxes < 1) return NAN;
+    pulse = c->pulse_ns ? c->pulse_ns : 2000;
+    cap = c->max_step_rate > 0 ? c->max_step_rate : 1e9 / (2.0 * pulse);
+    deb = c->debounce ? c->debounce : 1;
+    for (k = 0; k < naxes; k++) {
+        const vp_step_axis_t *a = &c->axis[axes[k]];
+        v = a->max_speed;
+        if (v * a->steps_per_unit > cap) v = cap / a->steps_per_unit;
+        v2 += v * v;
+        if (v / a->accel > ratio) ratio = v / a->accel;
+        h2 += 1 / (a->steps_per_unit * a->steps_per_unit);
+    }
+    if (speed) *speed = sqrt(v2);
+    return (c->contact_halt ? 0 : 0.5 * sqrt(v2) * ratio) + deb * sqrt(h2);
 }
 
 int vp_step_move(vp_step_t *s, const double *target) { return vp_step_move_path(s, target, 1); }

@@ -29,6 +29,13 @@
  * the event callback. A fault blocks moves until vp_step_clear_fault() and a new homing; the
  * caller's session is untouched.
  *
+ * A contact input (a touch probe on the head, VP_IO_CONTACT) is watched only by the moves that
+ * ask for it (vp_step_move_watch): it is read after every step pulse like the e-stop and
+ * debounced the same way; when it closes the positions of all axes at the first confirming
+ * sample are latched (as the homing latch) and the move decelerates to rest at the block's
+ * acceleration (or, with contact_halt, issues no further pulse), and the rest of the path is
+ * dropped. The stop is a result, not a fault: no homing is needed.
+ *
  * The block iterator (vp_step_block_*) is pure arithmetic, usable from a timer interrupt. */
 #ifndef VP_STEP_H
 #define VP_STEP_H
@@ -54,7 +61,7 @@ typedef struct vp_step_axis {
 } vp_step_axis_t;
 
 enum { VP_STEP_EV_ESTOP = 1, VP_STEP_EV_LIMIT, VP_STEP_EV_HOME_FAIL, VP_STEP_EV_HOMED,
-       VP_STEP_EV_CLEARED, VP_STEP_EV_RETIME, VP_STEP_EV_LATE };
+       VP_STEP_EV_CLEARED, VP_STEP_EV_RETIME, VP_STEP_EV_LATE, VP_STEP_EV_CONTACT };
 
 typedef struct vp_step_event {
     int kind;                /* VP_STEP_EV_* */
@@ -80,13 +87,16 @@ typedef struct vp_step_config {
     double max_step_rate;    /* backend limit in steps/s per axis (0: 1e9 / (2 pulse_ns)) */
     int allow_unhomed;       /* 1: moves allowed before homing */
     int no_hard_limits;      /* 1: a switch closing during a move is not a fault */
+    int contact_halt;        /* 1: a contact stop issues no pulse after the confirming sample
+                                (the stylus cannot take the deceleration); 0: decelerate */
     void (*event)(void *ctx, const vp_step_event_t *ev);   /* faults, homing and retimes (once
                                                               after a block), may be NULL */
     void *event_ctx;
 } vp_step_config_t;
 
 enum { VP_STEP_FAULT_NONE = 0, VP_STEP_FAULT_ESTOP, VP_STEP_FAULT_LIMIT, VP_STEP_FAULT_HOME,
-       VP_STEP_FAULT_IO, VP_STEP_FAULT_LATE };
+       VP_STEP_FAULT_IO, VP_STEP_FAULT_LATE,
+       VP_STEP_FAULT_CONTACT };  /* the contact stayed closed after a move that backed off it */
 
 /* One block: Bresenham over `delta` with a rest-to-rest trapezoid on the dominant axis. */
 typedef struct vp_step_block {
@@ -121,6 +131,7 @@ typedef struct vp_step_stats {
     uint64_t retimed;                        /* steps later than max_late_ns (profile re-entered) */
     uint64_t late_faults;                    /* the same with late_fault: moves stopped */
     uint64_t limited;                        /* steps the re-entry limiter held back > 1 us */
+    uint64_t contacts;                       /* moves stopped by the contact input */
     uint64_t late_hist[VP_STEP_LATE_BUCKETS];/* step lateness: [0] < 1 us, [i] < 2^i us, last: more */
     int64_t late_max_ns;
     double move_time;                        /* s of motion (profile time) */
@@ -138,6 +149,7 @@ typedef struct vp_step {
     uint32_t deb;                            /* debounced input levels */
     uint8_t deb_n[VP_IO_NIN];                /* consecutive samples differing from deb */
     int32_t deb_at[VP_IO_NIN];               /* limit bits: axis position at the first of them */
+    int32_t contact_at[VP_STEP_MAX_AXES];    /* the contact bit: every axis at the first of them */
     vp_step_stats_t st;
 } vp_step_t;
 
@@ -154,6 +166,31 @@ int  vp_step_home(vp_step_t *s);
 int  vp_step_move(vp_step_t *s, const double *target);
 /* n moves through waypoints (n * naxes values); all are checked against travel first. */
 int  vp_step_move_path(vp_step_t *s, const double *way, int n);
+
+/* How a move watches the contact input. STOP: a contact that closes (or is closed before the
+ * first step) stops the move. RELEASE: the move backs off a contact; the contact may be closed
+ * at the start and is taken as a stop only after it has been seen open; if it is still closed
+ * when the path ends, the machine faults (VP_STEP_FAULT_CONTACT: a stuck switch or a broken
+ * wire; VP_EABORT, drivers off, homing needed). */
+enum { VP_STEP_WATCH_NONE = 0, VP_STEP_WATCH_STOP = 1, VP_STEP_WATCH_RELEASE = 2 };
+typedef struct vp_step_contact {
+    int hit;                                 /* the move stopped on the contact */
+    int at_start;                            /* it was closed before the first step (no step made) */
+    int way;                                 /* the waypoint being travelled to when it closed */
+    int32_t latch[VP_STEP_MAX_AXES];         /* steps of every axis at the first confirming sample */
+} vp_step_contact_t;
+/* vp_step_move_path watching the contact (watch VP_STEP_WATCH_*); *c filled (may be NULL with
+ * VP_STEP_WATCH_NONE). Returns as vp_step_move_path. */
+int  vp_step_move_watch(vp_step_t *s, const double *way, int n, int watch, vp_step_contact_t *c);
+/* The most a coordinated move of the listed axes travels (units along its path) between the
+ * first sample that sees a contact and rest: the deceleration from the fastest coordinated speed
+ * plus `debounce` steps (the confirming samples, and the step the trigger falls within).
+ * A move along direction w (|w| = 1) runs at v = min_i V_i / |w_i| and accelerates at
+ * a = min_i A_i / |w_i| (V_i: max_speed capped by max_step_rate, A_i: accel), so it stops in
+ * v^2 / (2 a); over all directions the largest is |V| max_i (V_i / A_i) / 2, reached with every
+ * axis at its max speed (0 with contact_halt). One step along the path is at most
+ * sqrt(sum_i 1 / steps_per_unit_i^2). *speed (may be NULL): |V|. */
+double vp_step_contact_reach(const vp_step_config_t *c, const int *axes, int naxes, double *speed);
 /* Position in units (logical, steps / steps_per_unit). */
 void vp_step_position(const vp_step_t *s, double *units);
 /* Declare the current position (boards without switches). Sets homed. */
