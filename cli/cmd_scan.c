@@ -744,6 +744,11 @@ static int scan_report(scan_job_t *j)
                    "%.0f s of machine time%s\n", j->dev.hits + j->dev.misses + j->dev.too_close, j->dev.hits, nh, j->dev.misses,
                    j->dev.too_close, tc, m->st.moves,
                    m->st.travel, mt, j->o.dry ? " (simulated)" : "");
+            if (j->dev.unreadable) {
+                char why[300];
+                vp_scan_unreadable_text(&j->dev, why, sizeof why);
+                printf("unreadable frames: %s\n", why);
+            }
         }
         {
             char rep[VP_LOGFMT_TEXT_MAX + 1];

@@ -96,6 +96,8 @@ static const vp_bkey_t k_camera[] = {
     { "up", K_NUMS, B(up), 3, -1e5, 1e5, R_NO },
     { "timeout_ms", K_INT, B(timeout_ms), 1, 1, 60000, R_NO },
     { "latency_frames", K_INT, B(latency_frames), 1, 0, 64, R_NO },
+    { "gain", K_NUM, B(camera.gain), 1, 0, 1e4, R_NO },
+    { "laser_colour", K_STR, B(laser_colour), 16, ANY, R_NO },
     { NULL, 0, 0, 0, 0, 0, 0 } };
 static const vp_bkey_t k_range[] = {
     { "min_range", K_NUM, B(min_range), 1, POS, 1e5, R_YES },
@@ -106,6 +108,7 @@ static const vp_bkey_t k_range[] = {
     { "model", K_NUMS, B(model), 3, -1e9, 1e9, R_NO },
     { "calibration", K_STR, B(calibration), 256, ANY, R_NO },
     { "near_spots", K_STR, B(near_spots), 16, ANY, R_NO },
+    { "confirm_spot", K_BOOL, B(confirm_spot), 0, ANY, R_NO },
     { NULL, 0, 0, 0, 0, 0, 0 } };
 static const vp_bkey_t k_omega[] = {
     { "box", K_BOX, B(omega_lo), 6, -1e6, 1e6, R_NO },
@@ -128,6 +131,11 @@ static const vp_bkey_t k_sim[] = {
     { "latency_frames", K_INT, B(sim_latency), 1, 0, 64, R_NO },
     { "camera_position", K_NUMS, B(sim_cam_pos), 3, -1e4, 1e4, R_NO },
     { "camera_look_at", K_NUMS, B(sim_cam_look), 3, -1e5, 1e5, R_NO },
+    { "speckle", K_NUMS, B(sim_speckle), 2, 0, 1e3, R_NO },
+    { "vibration", K_NUMS, B(sim_vibration), 4, -1e5, 1e5, R_NO },
+    { "flicker", K_NUMS, B(sim_flicker), 2, 0, 1e4, R_NO },
+    { "glint", K_NUMS, B(sim_glint), 6, -1e5, 1e5, R_NO },
+    { "dark", K_NUMS, B(sim_dark), 3, -1e6, 1e6, R_NO },
     { NULL, 0, 0, 0, 0, 0, 0 } };
 static const vp_bkey_t k_calib[] = {
     { "target", K_NUMS, B(cal_target), 3, -1e6, 1e6, R_YES },
@@ -139,7 +147,7 @@ static const vp_bkey_t k_calib[] = {
 
 enum { S_BOARD, S_TIMING, S_AX0, S_AX4 = S_AX0 + 4, S_ESTOP, S_LASER, S_HEAD, S_CAMERA, S_RANGE, S_OMEGA, S_SIM, S_CALIB,
        NSEC };
-#define NKEY 20
+#define NKEY 24
 
 static const char *const sec_name[NSEC] = { "board", "timing", "axis.x", "axis.y", "axis.z", "axis.pan", "axis.tilt",
                                             "estop", "laser", "head", "camera", "rangefinder", "omega", "sim",
@@ -332,8 +340,10 @@ static int vp_board_key(void *user, const char *section, const char *key, const 
         unsigned f;
         if (!strcmp(val, "GREY")) f = VP_FOURCC('G', 'R', 'E', 'Y');
         else if (!strcmp(val, "YUYV")) f = VP_FOURCC('Y', 'U', 'Y', 'V');
+        else if (!strcmp(val, "RGB24")) f = VP_FOURCC('R', 'G', 'B', '3');
+        else if (!strcmp(val, "BGR24")) f = VP_FOURCC('B', 'G', 'R', '3');
         else if (!strcmp(val, "auto")) f = 0;
-        else { snprintf(msg, ml, "expected GREY, YUYV or auto, got '%s'", val); return VP_EINVAL; }
+        else { snprintf(msg, ml, "expected GREY, YUYV, RGB24, BGR24 or auto, got '%s'", val); return VP_EINVAL; }
         memcpy(ptr, &f, sizeof f);
         break;
     }
@@ -362,6 +372,11 @@ static int vp_board_key(void *user, const char *section, const char *key, const 
                 return VP_EINVAL;
             }
             c->b->late_fault = !strcmp(val, "fault");
+        }
+        if (!strcmp(key, "laser_colour")) {
+            int ch = vp_cam_colour_parse(val);
+            if (ch < 0) { snprintf(msg, ml, "expected red, green, blue or luma, got '%s'", val); return VP_EINVAL; }
+            c->b->camera.colour = ch;
         }
         if (!strcmp(key, "near_spots")) {
             if (strcmp(val, "too-close") && strcmp(val, "measure")) {
@@ -504,6 +519,18 @@ static int vp_board_check_camera(vp_bctx_t *c, char *err, size_t el)
     }
     if (vp_camera_look_at(&b->cam_model, b->look_at, b->up) != VP_OK)
         return vp_bad(c, S_CAMERA, "look_at", err, el, "must differ from position and not lie along 'up' from it");
+    /* host-sim's faults: contrast, depth and albedo are fractions */
+    if (b->sim_speckle[0] > 1 || (b->sim_speckle[0] > 0 && !(b->sim_speckle[1] > 0)))
+        return vp_bad(c, S_SIM, "speckle", err, el, "expected CONTRAST (0..1), F-NUMBER (positive)");
+    if (vp_seen(c, S_SIM, "vibration") && (b->sim_vibration[0] < 0 || !(b->sim_vibration[1] > 0) || !(b->sim_vibration[2] > 0)))
+        return vp_bad(c, S_SIM, "vibration", err, el, "expected PX (>= 0), HZ (positive), DECAY_MS (positive), DEGREES");
+    if (b->sim_flicker[0] > 1 || (b->sim_flicker[0] > 0 && !(b->sim_flicker[1] > 0)))
+        return vp_bad(c, S_SIM, "flicker", err, el, "expected DEPTH (0..1), HZ (positive)");
+    if (vp_seen(c, S_SIM, "glint") && (b->sim_glint[0] < 0 || b->sim_glint[0] > 255 || !(b->sim_glint[1] > 0) ||
+                                       !(b->sim_glint[2] > 0) || !(b->sim_glint[5] > 0)))
+        return vp_bad(c, S_SIM, "glint", err, el, "expected PEAK (0..255), SIGMA_PX, DIST_MM, ACROSS_PX, SWING_PX, PERIOD_MS");
+    if (vp_seen(c, S_SIM, "dark") && !(b->sim_dark[0] > 0 && b->sim_dark[0] <= 1 && b->sim_dark[1] < b->sim_dark[2]))
+        return vp_bad(c, S_SIM, "dark", err, el, "expected ALBEDO (above 0, at most 1), Z_LO, Z_HI (the object is dark between)");
     /* the camera as mounted on the simulated head: the model unless [sim] moves it */
     b->sim_cam = b->cam_model;
     if (vp_seen(c, S_SIM, "camera_position")) memcpy(b->sim_cam.pos, b->sim_cam_pos, sizeof b->sim_cam.pos);
@@ -932,6 +959,7 @@ void vp_board_machine_config(const vp_board_t *b, vp_machine_config_t *m)
     m->latency_frames = b->latency_frames;
     m->spot.band = b->band;
     m->contact = vp_board_has_contact(b);
+    m->confirm = b->confirm_spot;
 }
 
 void vp_board_planner_config(const vp_board_t *b, vp_planner_config_t *c)

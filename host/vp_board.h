@@ -59,6 +59,7 @@ typedef struct vp_board {
     vp_camera_model_t cam_model;         /* intrinsics and pose in the tilt frame */
     double look_at[3], up[3];
     int timeout_ms;
+    char laser_colour[16];               /* [camera] laser_colour: red, green, blue or luma (default) */
     int latency_frames;                  /* frames after a laser switch that may still show the old
                                             state (2); vp_machine_measure_latency measures it */
     /* [rangefinder] */
@@ -68,6 +69,8 @@ typedef struct vp_board {
                                             file (else 0: from the geometry) */
     vp_tri_model_t tri;                  /* the model in use */
     char near_spots[16];                 /* "too-close" (default) or "measure" */
+    int confirm_spot;                    /* [rangefinder] confirm_spot: a second laser-on frame must show the
+                                            spot where the first did (vp_machine_config_t.confirm) */
     int near_measure;                    /* a spot nearer than min_range: 1 a hit at the model's
                                             extrapolated distance, 0 VP_PROBE_TOO_CLOSE */
     char calibration[256];               /* [rangefinder] calibration = FILE (as written) */
@@ -89,6 +92,11 @@ typedef struct vp_board {
     double sim_frame_ms;                 /* > 0: the simulated camera streams at this period */
     int sim_latency;                     /* and hands frames over this many frames late */
     double sim_cam_pos[3], sim_cam_look[3];  /* camera_position / camera_look_at */
+    double sim_speckle[2];               /* speckle = CONTRAST, F-NUMBER (the spot's grain) */
+    double sim_vibration[4];             /* vibration = PX, HZ, DECAY_MS, DEGREES (after each move) */
+    double sim_flicker[2];               /* flicker = DEPTH, HZ (the ambient light's mains ripple) */
+    double sim_glint[6];                 /* glint = PEAK, SIGMA_PX, DIST_MM, ACROSS_PX, SWING_PX, PERIOD_MS */
+    double sim_dark[3];                  /* dark = ALBEDO, Z_LO, Z_HI (the object is dark between) */
     vp_camera_model_t sim_cam;           /* the camera as mounted on the simulated head (default:
                                             the [camera] model; a dry run renders with it) */
 } vp_board_t;

@@ -61,17 +61,109 @@ static void vp_camsim_spot(float *acc, int w, int h, double u, double v, double 
         }
 }
 
+/* Mean of 1 + m cos(2 pi f t) over the exposure [t, t + T] (s): mains flicker of the ambient light. */
+static double vp_camsim_flicker(const vp_camsim_config_t *c, double t)
+{
+    double f = c->flicker_hz > 0 ? c->flicker_hz : 100, T = (c->exposure_ms > 0 ? c->exposure_ms : 1) * 1e-3;
+    return 1 + c->flicker * (sin(2 * VP_PI * f * (t + T)) - sin(2 * VP_PI * f * t)) / (2 * VP_PI * f * T);
+}
+
+/* The spot (and its ghost) through the faults: the head's vibration during the exposure (the
+ * spot drawn at sub-exposure instants along a damped ringing, dt_ms after the last step) and laser
+ * speckle (the pixels times |z|^2 of a complex Gaussian field with grains of 2.44 lambda N on the
+ * sensor, contrast c->speckle), into lay (zeroed, w x h); the truth's peak, speckle gain and
+ * vibration amplitude. */
+static int vp_camsim_spot_faults(const vp_camsim_config_t *c, float *lay, int w, int h, double dt_ms,
+                                 double sxx, double sxy, double syy, vp_camsim_truth_t *tr)
+{
+    const int K = c->vib_px > 0 ? 24 : 1;
+    double th = c->vib_deg * VP_PI / 180, ev[2], T = c->exposure_ms > 0 ? c->exposure_ms : 1;
+    double hz = c->vib_hz > 0 ? c->vib_hz : 150, tau = c->vib_ms > 0 ? c->vib_ms : 40, reach = 0, before = 0, after = 0, pk = 0;
+    int k, x, y, x0, x1, y0, y1;
+    ev[0] = cos(th);
+    ev[1] = sin(th);
+    if (dt_ms < 0) dt_ms = 0;
+    tr->vib_px = c->vib_px > 0 ? c->vib_px * exp(-dt_ms / tau) : 0;
+    for (k = 0; k < K; k++) {
+        double t = dt_ms + (k + 0.5) * T / K, off = c->vib_px > 0 ? c->vib_px * exp(-t / tau) * sin(2 * VP_PI * hz * t * 1e-3) : 0;
+        if (fabs(off) > reach) reach = fabs(off);
+        vp_camsim_spot(lay, w, h, tr->uv[0] + off * ev[0], tr->uv[1] + off * ev[1], tr->energy / K, sxx, sxy, syy);
+        if (c->ghost > 0)
+            vp_camsim_spot(lay, w, h, tr->uv[0] + c->ghost_offset[0] + off * ev[0], tr->uv[1] + c->ghost_offset[1] + off * ev[1],
+                           tr->energy * c->ghost / K, sxx, sxy, syy);
+    }
+    /* the window the spot can reach */
+    {
+        double rad = 4.5 * sqrt(sxx > syy ? sxx : syy) + 2 + reach;
+        x0 = (int)floor(tr->uv[0] - rad); x1 = (int)ceil(tr->uv[0] + rad);
+        y0 = (int)floor(tr->uv[1] - rad); y1 = (int)ceil(tr->uv[1] + rad);
+        if (x0 < 0) x0 = 0;
+        if (y0 < 0) y0 = 0;
+        if (x1 > w - 1) x1 = w - 1;
+        if (y1 > h - 1) y1 = h - 1;
+    }
+    if (c->speckle > 0 && x0 <= x1 && y0 <= y1) {
+        double N = c->fnumber > 0 ? c->fnumber : 8, lam = (c->laser_nm > 0 ? c->laser_nm : 650) * 1e-3;
+        double g = 2.44 * lam * N / (c->pixel_um > 0 ? c->pixel_um : 3);   /* grain, px */
+        int gx0, gy0, nx, ny, i;
+        float *z;
+        if (g < 0.25) g = 0.25;
+        gx0 = (int)floor(x0 / g);
+        gy0 = (int)floor(y0 / g);
+        nx = (int)floor(x1 / g) - gx0 + 2;
+        ny = (int)floor(y1 / g) - gy0 + 2;
+        z = malloc(2 * (size_t)nx * ny * sizeof *z);
+        if (!z) return VP_ENOMEM;
+        {
+            /* the surface's roughness under the beam: the same spot gives the same grains frame
+             * after frame, a spot moved by 0.05 mm others (the renderer's seed picks the surface) */
+            vp_rng_t sr;
+            uint64_t key = c->speckle_seed;
+            for (i = 0; i < 3; i++) key = vp_mix64(key ^ (uint64_t)(int64_t)llround(tr->point[i] * 20));
+            vp_rng_seed(&sr, key);
+            for (i = 0; i < 2 * nx * ny; i++) z[i] = (float)(vp_camsim_gauss(&sr) * 0.70710678118654752);
+        }
+        for (y = y0; y <= y1; y++)
+            for (x = x0; x <= x1; x++) {
+                double fx = x / g - gx0, fy = y / g - gy0, tx, ty, wq[4], re = 0, im = 0, ww = 0, I;
+                int ix = (int)floor(fx), iy = (int)floor(fy), q, n[4];
+                size_t p = (size_t)y * w + x;
+                tx = fx - ix; ty = fy - iy;
+                if (ix > nx - 2) ix = nx - 2;
+                if (iy > ny - 2) iy = ny - 2;
+                wq[0] = (1 - tx) * (1 - ty); wq[1] = tx * (1 - ty); wq[2] = (1 - tx) * ty; wq[3] = tx * ty;
+                n[0] = iy * nx + ix; n[1] = n[0] + 1; n[2] = n[0] + nx; n[3] = n[2] + 1;
+                for (q = 0; q < 4; q++) { re += wq[q] * z[2 * n[q]]; im += wq[q] * z[2 * n[q] + 1]; ww += wq[q] * wq[q]; }
+                I = (re * re + im * im) / ww;      /* exponential, mean 1, at every pixel */
+                before += lay[p];
+                lay[p] = (float)(lay[p] * (1 + c->speckle * (I - 1)));
+                after += lay[p];
+            }
+        free(z);
+    }
+    tr->speckle_gain = before > 0 ? after / before : 1;
+    for (y = y0; y <= y1; y++)
+        for (x = x0; x <= x1; x++) if (lay[(size_t)y * w + x] > pk) pk = lay[(size_t)y * w + x];
+    tr->peak = pk;
+    return VP_OK;
+}
+
 static int vp_camsim_draw(const vp_camsim_config_t *c, const vp_camsim_scene_t *sc, const double rot[9], const double pos[3],
-                          vp_rng_t *rng, uint8_t *img, int stride, vp_camsim_truth_t *truth, int laser)
+                          vp_rng_t *rng, uint8_t *img, int stride, vp_camsim_truth_t *truth, int laser, int64_t t_exp,
+                          int64_t t_move)
 {
     const int w = c->cam.width, h = c->cam.height;
     double ex[3] = { 1, 0, 0 }, o[3], d[3], cpos[3], t = 0, blur, beam, energy, maxr, tx, ty, phx, phy;
     vp_camsim_truth_t tr;
     float *acc;
     int i, x, y;
+    const int faults = c->speckle > 0 || c->vib_px > 0;
+    const double dt_ms = t_move == INT64_MIN ? 1e9 : (double)(t_exp - t_move) * 1e-6;
     if (!c || !sc || !rot || !pos || !rng || !img || w < 8 || h < 8 || stride < w) return VP_EINVAL;
     memset(&tr, 0, sizeof tr);
     tr.laser = laser;
+    tr.albedo = tr.speckle_gain = tr.ambient_gain = 1;
+    if (c->flicker > 0) tr.ambient_gain = vp_camsim_flicker(c, (double)t_exp * 1e-9);
     blur = c->blur_px > 0 ? c->blur_px : 1.2;
     beam = c->beam_radius > 0 ? c->beam_radius : 0.25;
     energy = c->spot_energy > 0 ? c->spot_energy : 3000;
@@ -87,6 +179,7 @@ static int vp_camsim_draw(const vp_camsim_config_t *c, const vp_camsim_scene_t *
         for (x = 0; x < w; x++) {
             tx = acc[x];
             acc[(size_t)y * w + x] = (float)(c->ambient + c->gradient * ((double)x / w + (double)y / h - 1) * 0.5 + ty * tx);
+            if (c->flicker > 0) acc[(size_t)y * w + x] *= (float)tr.ambient_gain;
         }
     }
     /* the beam in the world */
@@ -143,17 +236,28 @@ static int vp_camsim_draw(const vp_camsim_config_t *c, const vp_camsim_scene_t *
             sxx = blur * blur + j1[0] * j1[0] + j2[0] * j2[0];
             syy = blur * blur + j1[1] * j1[1] + j2[1] * j2[1];
             sxy = j1[0] * j1[1] + j2[0] * j2[1];
-            tr.energy = energy * cos_e * (300.0 / lc) * (300.0 / lc);
+            if (c->dark_albedo > 0 && tr.point[2] >= c->dark_z[0] && tr.point[2] <= c->dark_z[1]) tr.albedo = c->dark_albedo;
+            tr.energy = energy * tr.albedo * cos_e * (300.0 / lc) * (300.0 / lc);
             tr.sigma_px = sqrt(sqrt(sxx * syy - sxy * sxy));
             tr.peak = tr.energy / (2 * VP_PI * tr.sigma_px * tr.sigma_px);
-            vp_camsim_spot(acc, w, h, tr.uv[0], tr.uv[1], tr.energy, sxx, sxy, syy);
-            if (c->ghost > 0)
-                vp_camsim_spot(acc, w, h, tr.uv[0] + c->ghost_offset[0], tr.uv[1] + c->ghost_offset[1],
-                               tr.energy * c->ghost, sxx, sxy, syy);
+            if (faults) {
+                float *lay = calloc((size_t)w * h, sizeof *lay);
+                int st;
+                if (!lay) { free(acc); return VP_ENOMEM; }
+                st = vp_camsim_spot_faults(c, lay, w, h, dt_ms, sxx, sxy, syy, &tr);
+                for (i = 0; i < w * h; i++) acc[i] += lay[i];
+                free(lay);
+                if (st != VP_OK) { free(acc); return st; }
+            } else {
+                vp_camsim_spot(acc, w, h, tr.uv[0], tr.uv[1], tr.energy, sxx, sxy, syy);
+                if (c->ghost > 0)
+                    vp_camsim_spot(acc, w, h, tr.uv[0] + c->ghost_offset[0], tr.uv[1] + c->ghost_offset[1],
+                                   tr.energy * c->ghost, sxx, sxy, syy);
+            }
         }
     }
     if (c->lamp_peak > 0 && c->lamp_sigma > 0)
-        vp_camsim_spot(acc, w, h, c->lamp_uv[0], c->lamp_uv[1], c->lamp_peak * 2 * VP_PI * c->lamp_sigma * c->lamp_sigma,
+        vp_camsim_spot(acc, w, h, c->lamp_uv[0], c->lamp_uv[1], tr.ambient_gain * c->lamp_peak * 2 * VP_PI * c->lamp_sigma * c->lamp_sigma,
                        c->lamp_sigma * c->lamp_sigma, 0, c->lamp_sigma * c->lamp_sigma);
     if (c->highlight_peak > 0) {
         /* an ambient highlight beside the laser line: where the beam's image would be for a
@@ -167,7 +271,24 @@ static int vp_camsim_draw(const vp_camsim_config_t *c, const vp_camsim_scene_t *
             l = sqrt(e[0] * e[0] + e[1] * e[1]);
             if (l > 1e-12) { e[0] /= l; e[1] /= l; } else { e[0] = 1; e[1] = 0; }
             vp_camsim_spot(acc, w, h, u1[0] - c->highlight_off_px * e[1], u1[1] + c->highlight_off_px * e[0],
-                           c->highlight_peak * 2 * VP_PI * sg * sg, sg * sg, 0, sg * sg);
+                           tr.ambient_gain * c->highlight_peak * 2 * VP_PI * sg * sg, sg * sg, 0, sg * sg);
+        }
+    }
+    if (c->glint_peak > 0) {
+        /* a glint of a lamp on a shiny part, lit by the ambient light alone, swinging across the
+         * laser line (something in the room moves): it is where it was in neither frame of a pair */
+        double p1[3], p2[3], u1[2], u2[2], e[2], l, sg = c->glint_sigma > 0 ? c->glint_sigma : 3;
+        double per = (c->glint_period_ms > 0 ? c->glint_period_ms : 500) * 1e6, mv;
+        mv = c->glint_move_px * sin(2 * VP_PI * fmod((double)t_exp, per) / per);
+        for (i = 0; i < 3; i++) p1[i] = p2[i] = c->laser_offset[i];
+        p1[0] += c->glint_dist;
+        p2[0] += c->glint_dist + 1;
+        if (vp_camera_project(&c->cam, p1, u1) && vp_camera_project(&c->cam, p2, u2)) {
+            e[0] = u2[0] - u1[0]; e[1] = u2[1] - u1[1];
+            l = sqrt(e[0] * e[0] + e[1] * e[1]);
+            if (l > 1e-12) { e[0] /= l; e[1] /= l; } else { e[0] = 1; e[1] = 0; }
+            vp_camsim_spot(acc, w, h, u1[0] - (c->glint_off_px + mv) * e[1], u1[1] + (c->glint_off_px + mv) * e[0],
+                           tr.ambient_gain * c->glint_peak * 2 * VP_PI * sg * sg, sg * sg, 0, sg * sg);
         }
     }
     for (i = 0; i < c->hot_pixels; i++) acc[vp_rng_below(rng, (uint64_t)w * h)] = 255;
@@ -186,7 +307,7 @@ static int vp_camsim_draw(const vp_camsim_config_t *c, const vp_camsim_scene_t *
 int vp_camsim_render(const vp_camsim_config_t *c, const vp_camsim_scene_t *sc, const double rot[9], const double pos[3],
                      vp_rng_t *rng, uint8_t *img, int stride, vp_camsim_truth_t *truth)
 {
-    return vp_camsim_draw(c, sc, rot, pos, rng, img, stride, truth, 1);
+    return vp_camsim_draw(c, sc, rot, pos, rng, img, stride, truth, 1, 0, INT64_MIN);
 }
 
 /* ---- the camera backend ---- */
@@ -209,6 +330,9 @@ struct vp_camsim {
     int64_t handed;                        /* frames handed out */
     int64_t hist_t[VP_CAMSIM_HIST];        /* the laser line as seen at mark/capture times */
     int hist_on[VP_CAMSIM_HIST], nhist;
+    int64_t moved_at;                      /* the last step written (INT64_MIN: none yet) */
+    vp_camsim_truth_t kept[VP_CAMSIM_HIST];    /* the truths of the frames handed out last */
+    int nkept;
 };
 
 int vp_camsim_create(const vp_camsim_config_t *c, const vp_camsim_scene_t *sc, uint64_t seed,
@@ -228,6 +352,8 @@ int vp_camsim_create(const vp_camsim_config_t *c, const vp_camsim_scene_t *sc, u
     cs->clock = clock;
     cs->ctx = ctx;
     cs->last_seq = cs->last_ts = -1;
+    cs->moved_at = INT64_MIN;
+    cs->cfg.speckle_seed = cs->cfg.speckle_seed ? cs->cfg.speckle_seed : vp_mix64(seed);
     *out = cs;
     return VP_OK;
 }
@@ -287,14 +413,14 @@ static int vp_camsim_capture(void *ctx, int64_t not_before, int timeout_ms, vp_f
 {
     vp_camsim_t *cs = ctx;
     double rot[9], pos[3];
-    int64_t s, ts, want = f->seq;
+    int64_t s, ts, want = f->seq, t_exp;
     int laser, q;
     if (cs->busy) return VP_ESTATE;
     vp_camsim_note(cs);
     if (cs->st.period_ns <= 0) {
         /* at once: the frame of now (frames below the sequence number asked for are skipped) */
         s = want > cs->next ? want : cs->next;
-        ts = vp_camsim_now(cs);
+        ts = t_exp = vp_camsim_now(cs);
         laser = vp_camsim_laser_now(cs);
     } else {
         const int64_t P = cs->st.period_ns;
@@ -316,7 +442,8 @@ static int vp_camsim_capture(void *ctx, int64_t not_before, int timeout_ms, vp_f
             break;
         }
         ts = vp_camsim_at(cs, s);
-        laser = vp_camsim_laser_at(cs, s * P);
+        t_exp = s * P;
+        laser = vp_camsim_laser_at(cs, t_exp);
     }
     /* an injected fault: this frame numbered or stamped older than the one before */
     cs->handed++;
@@ -326,9 +453,11 @@ static int vp_camsim_capture(void *ctx, int64_t not_before, int timeout_ms, vp_f
     }
     cs->pose(cs->ctx, rot, pos);
     cs->prev = cs->last;
-    VP_TRY(vp_camsim_draw(&cs->cfg, &cs->scene, rot, pos, &cs->rng, cs->buf, cs->cfg.cam.width, &cs->last, laser));
+    VP_TRY(vp_camsim_draw(&cs->cfg, &cs->scene, rot, pos, &cs->rng, cs->buf, cs->cfg.cam.width, &cs->last, laser, t_exp,
+                          cs->moved_at));
     cs->last.seq = s;
     cs->last.t_ns = ts;
+    cs->kept[cs->nkept++ % VP_CAMSIM_HIST] = cs->last;
     if (s + 1 > cs->next) cs->next = s + 1;
     cs->last_seq = s;
     cs->last_ts = ts;
@@ -366,7 +495,18 @@ const vp_camsim_truth_t *vp_camsim_last(const vp_camsim_t *cs) { return &cs->las
 const vp_camsim_truth_t *vp_camsim_prev(const vp_camsim_t *cs) { return &cs->prev; }
 vp_camsim_config_t *vp_camsim_config(vp_camsim_t *cs) { return &cs->cfg; }
 
+const vp_camsim_truth_t *vp_camsim_truth_of(const vp_camsim_t *cs, int64_t seq)
+{
+    int k, n = cs->nkept < VP_CAMSIM_HIST ? cs->nkept : VP_CAMSIM_HIST;
+    for (k = 1; k <= n; k++) {
+        const vp_camsim_truth_t *t = &cs->kept[(cs->nkept - k) % VP_CAMSIM_HIST];
+        if (t->seq == seq) return t;
+    }
+    return NULL;
+}
+
 void vp_camsim_laser_switched(vp_camsim_t *cs) { if (cs) vp_camsim_note(cs); }
+void vp_camsim_moved(vp_camsim_t *cs) { if (cs) cs->moved_at = vp_camsim_now(cs); }
 
 vp_camsim_stream_t *vp_camsim_stream(vp_camsim_t *cs) { return &cs->st; }
 

@@ -2,7 +2,9 @@
  * (vp_surface) or a flat target, through the board's pinhole camera, with optical blur, the
  * beam's footprint stretched on slanted surfaces, Lambertian fall-off with distance and angle,
  * ambient light (level, gradient, smooth texture), an optional ghost spot (a reflection),
- * Gaussian noise, 8-bit quantisation and saturation. The spot is hidden when the surface faces
+ * Gaussian noise, 8-bit quantisation and saturation; and a real world's faults: laser speckle, the
+ * head still ringing after a move, mains flicker of the ambient light, a moving glint, a dark
+ * band on the object. The spot is hidden when the surface faces
  * away from the camera or the object occludes it. Truth (distance, image point) comes out with
  * each frame, so the detection and triangulation code can be measured against it.
  * As a vp_cam backend ("camsim") it renders at the head pose a callback gives. */
@@ -35,6 +37,28 @@ typedef struct vp_camsim_config {
     double highlight_dist;       /* where the beam's image would be for a surface this far, mm */
     double highlight_off_px;     /* and this far across the line, px */
     double max_range;            /* beam range, mm (0: 5000) */
+    /* faults of a real world (0: off); each drawn from the renderer's seed */
+    double speckle;              /* laser speckle contrast on the spot (1: fully developed): the spot's
+                                    pixels times |complex Gaussian field|^2, grains of 2.44 lambda N */
+    double fnumber;              /* the lens aperture N (0: 8) */
+    double pixel_um, laser_nm;   /* pixel pitch (0: 3 um), laser wavelength (0: 650 nm) */
+    uint64_t speckle_seed;       /* the surface's roughness: grains drawn from it and the lit point */
+    double vib_px;               /* head vibration after a move: amplitude in the image at the move's
+                                    end, px; decays as exp(-t / vib_ms), rings at vib_hz */
+    double vib_hz, vib_ms;       /* (0: 150 Hz, 0: 40 ms) */
+    double vib_deg;              /* its direction in the image, degrees from +u */
+    double exposure_ms;          /* the exposure the spot moves during (0: 1 ms) */
+    double flicker;              /* mains flicker of the ambient light: depth 0..1 */
+    double flicker_hz;           /* (0: 100 Hz, 50 Hz mains) */
+    double glint_peak;           /* > 0: a glint lit by the ambient light (no laser), moving: */
+    double glint_sigma;          /* its width, px (0: 3, a lamp's image, wider than the spot) */
+    double glint_dist;           /* at the beam's image for a surface this far, mm, */
+    double glint_off_px;         /* this far across the line, px, */
+    double glint_move_px;        /* swinging across the line this far either way, px, */
+    double glint_period_ms;      /* with this period (0: 500 ms) */
+    double dark_albedo;          /* > 0: the object between z = dark_z[0] and dark_z[1] (world, mm: a
+                                    dark band) reflects this fraction of the spot's light */
+    double dark_z[2];
 } vp_camsim_config_t;
 
 typedef struct vp_camsim_scene {
@@ -52,6 +76,10 @@ typedef struct vp_camsim_truth {
     double sigma_px;             /* spot size: (det of its covariance)^(1/4), px */
     double peak;                 /* spot peak above the background before clipping */
     int laser;                   /* the laser was on during the exposure (the spot is drawn) */
+    double albedo;               /* of the surface at the spot (1, or dark_albedo) */
+    double speckle_gain;         /* the spot's energy after speckle / before (1 without speckle) */
+    double vib_px;               /* vibration amplitude during the exposure, px */
+    double ambient_gain;         /* flicker: ambient light of this frame / its mean */
     int64_t seq, t_ns;           /* the frame's sequence number and time stamp (backend only) */
 } vp_camsim_truth_t;
 
@@ -90,6 +118,8 @@ typedef struct vp_camsim_stream {
 int     vp_camsim_set_stream(vp_camsim_t *cs, const vp_camsim_stream_t *s);
 /* The stream settings in use (tests change them between frames). */
 vp_camsim_stream_t *vp_camsim_stream(vp_camsim_t *cs);
+/* A step was just written (the dry run's GPIO calls it): the head's vibration starts from now. */
+void    vp_camsim_moved(vp_camsim_t *cs);
 /* The laser line was just written (the dry run's GPIO calls it): its state is noted now. */
 void    vp_camsim_laser_switched(vp_camsim_t *cs);
 /* Fault injection (tests): the at-th frame handed out from now on comes stamped (kind 1) or
@@ -102,6 +132,8 @@ void    vp_camsim_seed(vp_camsim_t *cs, uint64_t seed);
 /* Truth of the last frame captured, and of the one before it. */
 const vp_camsim_truth_t *vp_camsim_last(const vp_camsim_t *cs);
 const vp_camsim_truth_t *vp_camsim_prev(const vp_camsim_t *cs);
+/* Truth of the frame numbered seq among the last 32 handed out (NULL: not among them). */
+const vp_camsim_truth_t *vp_camsim_truth_of(const vp_camsim_t *cs, int64_t seq);
 void    vp_camsim_destroy(vp_camsim_t *cs);
 
 #endif

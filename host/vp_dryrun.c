@@ -40,6 +40,7 @@ static int vp_dryrun_io_write(void *ctx, uint32_t mask, uint32_t values)
     vp_io_t io = vp_iorec_io(&d->rec);
     int rc = io.write(io.ctx, mask, values);
     if ((mask & VP_IO_LASER) && d->cs) vp_camsim_laser_switched(d->cs);
+    if ((mask & values & 0xffu) && d->cs) vp_camsim_moved(d->cs);   /* a step edge: the head rings from now */
     return rc;
 }
 
@@ -147,6 +148,25 @@ int vp_dryrun_open(const vp_board_t *b, const vp_dryrun_options_t *o, vp_dryrun_
     cc.texture = b->sim_texture;
     cc.spot_energy = b->sim_energy;
     cc.max_range = 10 * b->max_range;
+    /* the faults of a real world ([sim] speckle, vibration, flicker, glint, dark) */
+    cc.speckle = b->sim_speckle[0];
+    cc.fnumber = b->sim_speckle[1];
+    cc.vib_px = b->sim_vibration[0];
+    cc.vib_hz = b->sim_vibration[1];
+    cc.vib_ms = b->sim_vibration[2];
+    cc.vib_deg = b->sim_vibration[3];
+    cc.exposure_ms = b->camera.exposure_us > 0 ? b->camera.exposure_us * 1e-3 : 0;
+    cc.flicker = b->sim_flicker[0];
+    cc.flicker_hz = b->sim_flicker[1];
+    cc.glint_peak = b->sim_glint[0];
+    cc.glint_sigma = b->sim_glint[1];
+    cc.glint_dist = b->sim_glint[2];
+    cc.glint_off_px = b->sim_glint[3];
+    cc.glint_move_px = b->sim_glint[4];
+    cc.glint_period_ms = b->sim_glint[5];
+    cc.dark_albedo = b->sim_dark[0];
+    cc.dark_z[0] = b->sim_dark[1];
+    cc.dark_z[1] = b->sim_dark[2];
     memset(&scene, 0, sizeof scene);
     scene.surf = d->surf;
     if (opt.flat_target) {

@@ -174,6 +174,9 @@ void vp_scan_unreadable_text(const vp_scan_dev_t *d, char *buf, size_t n)
 {
     snprintf(buf, n, "%lu off the laser line, %lu blobs too big for a spot, %lu with several spots, %lu below the "
              "model's span", d->unread_why[0], d->unread_why[1], d->unread_why[2], d->unread_why[3]);
+    if (d->unread_why[4] && strlen(buf) + 1 < n)
+        snprintf(buf + strlen(buf), n - strlen(buf), ", %lu not the laser's spot (light there in the laser-off "
+                 "frame, or not again there in a second laser-on frame)", d->unread_why[4]);
 }
 
 void vp_scan_step_report(const vp_scan_dev_t *d, char *buf, size_t n, double value[4])
@@ -344,7 +347,7 @@ static int vp_scan_dev_probe(void *ctx, const vp_cmd_t *cmd, vp_probe_result_t *
     if (kind == VP_READING_NEAR) d->near++;
     if (kind >= VP_READING_OFF_LINE) {
         d->unreadable++;
-        d->unread_why[kind - VP_READING_OFF_LINE]++;
+        d->unread_why[kind == VP_READING_NOT_LASER ? 4 : kind - VP_READING_OFF_LINE]++;
     }
     if (res->hit == VP_PROBE_TOO_CLOSE) d->too_close++;
     else if (res->hit) d->hits++;

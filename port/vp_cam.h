@@ -5,6 +5,10 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 typedef struct vp_frame {
     const uint8_t *data;     /* first luma byte of the top row */
     int width, height;
@@ -43,11 +47,41 @@ typedef struct vp_cam_config {
     char device[128];        /* v4l2: "/dev/video0"; libcamera: camera id or "" for the first */
     int width, height;       /* 0: the device's default */
     unsigned format;         /* v4l2 fourcc, 0: GREY else YUYV */
-    int exposure_us;         /* > 0: manual exposure */
+    int exposure_us;         /* > 0: manual exposure (refused if the camera does not take it) */
+    double gain;             /* > 0: fixed analogue gain (V4L2: the driver's units; libcamera: x) */
+    int colour;              /* VP_COLOUR_*: the channel the laser shows in (colour formats) */
     int buffers;             /* 0: 4 */
 } vp_cam_config_t;
 
+/* The laser's colour: which channel of a colour frame the spot is looked for in. */
+enum { VP_COLOUR_LUMA = 0, VP_COLOUR_RED = 1, VP_COLOUR_GREEN = 2, VP_COLOUR_BLUE = 3 };
+/* A frame's own report of its exposure (libcamera's request metadata) against the manual
+ * settings: 1 when it has both and they match (the exposure within 2 % + 30 us: sensors set it
+ * in whole lines; the gain within 3 %: their gain steps), else 0 and why names the control and
+ * both values. have_*: the metadata holds it. */
+int vp_cam_exposure_taken(int exposure_us, double gain, int have_exposure, long exposure_md, int have_gain, double gain_md,
+                          char *why, size_t whylen);
+
+/* "red", "green", "blue", "luma" -> VP_COLOUR_*; -1 otherwise. */
+int vp_cam_colour_parse(const char *name);
+
+/* Where one channel of a packed frame lies, when it is a byte of each pixel (no conversion):
+ * GREY luma; YUYV luma (step 2); RGB24 / BGR24 red, green, blue (step 3). 1 and the byte
+ * offset and step, or 0 when the channel must be computed (vp_cam_channel). */
+int vp_cam_channel_view(unsigned fourcc, int colour, int *offset, int *step);
+/* One channel of a packed frame into out (width x height, out_stride bytes a row): the bytes as
+ * they are where vp_cam_channel_view says so; YUYV red, green or blue from Y and the pair's Cb,
+ * Cr (ITU-R BT.601, limited range, as V4L2 sends YUYV by default); luma of RGB24 / BGR24 as
+ * BT.601's Y' (0.299 R + 0.587 G + 0.114 B). Rounded, clamped to 0..255. VP_EINVAL for an odd
+ * YUYV width, an unknown format or colour, or a stride too small. */
+int vp_cam_channel(unsigned fourcc, const uint8_t *src, int width, int height, int stride, int colour, uint8_t *out,
+                   int out_stride);
+
 /* VP_ENODEV also when the backend was not built (libcamera without the library). */
 int vp_cam_open(const vp_cam_config_t *c, vp_cam_t *cam, char *err, size_t errlen);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif

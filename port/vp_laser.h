@@ -82,7 +82,9 @@ typedef struct vp_spot_config {
 } vp_spot_config_t;
 
 enum { VP_SPOT_FOUND = 1, VP_SPOT_NONE = 0, VP_SPOT_SEVERAL = -1, VP_SPOT_TOO_BIG = -2,
-       VP_SPOT_OFF_LINE = -3 };
+       VP_SPOT_OFF_LINE = -3,
+       VP_SPOT_NOT_LASER = -4,     /* vp_machine: light in the laser-off frame where the spot is */
+       VP_SPOT_MOVED = -5 };       /* vp_machine: a second laser-on frame saw it elsewhere, or not at all */
 
 typedef struct vp_spot {
     int result;              /* VP_SPOT_* */

@@ -14,6 +14,12 @@
 #include <vector>
 
 #include <libcamera/libcamera.h>
+#include <libcamera/version.h>
+
+// libcamera 0.5 replaced AeEnable by ExposureTimeMode / AnalogueGainMode
+#if LIBCAMERA_VERSION_MAJOR > 0 || LIBCAMERA_VERSION_MINOR >= 5
+#define VP_LIBCAMERA_EXPOSURE_MODE 1
+#endif
 
 #include "vp_libcamera.h"
 #include "vp_status.h"
@@ -43,6 +49,37 @@ struct Libcam {
     std::deque<Request *> done;
     std::string err;
     int64_t last_seq = -1, last_ts = -1;   // newest frame taken from the queue
+    int exposure_us = 0;                   // > 0: manual, with gain
+    float gain = 0;
+    int unsettled = 0;                     // frames in a row whose metadata differ from the controls
+
+    // the manual exposure into a request's controls
+    void fix(ControlList &c) const
+    {
+        if (exposure_us <= 0) return;
+#ifdef VP_LIBCAMERA_EXPOSURE_MODE
+        c.set(controls::ExposureTimeMode, controls::ExposureTimeModeManual);
+        c.set(controls::AnalogueGainMode, controls::AnalogueGainModeManual);
+#else
+        c.set(controls::AeEnable, false);
+#endif
+        c.set(controls::ExposureTime, (int32_t)exposure_us);
+        c.set(controls::AnalogueGain, gain);
+    }
+
+    // "" when the request's metadata show the exposure and gain asked for, else what differs
+    std::string check(Request *r) const
+    {
+        if (exposure_us <= 0) return "";
+        const ControlList &md = r->metadata();
+        auto e = md.get(controls::ExposureTime);
+        auto g = md.get(controls::AnalogueGain);
+        char why[200];
+        if (vp_cam_exposure_taken(exposure_us, gain, e ? 1 : 0, e ? (long)*e : 0, g ? 1 : 0, g ? (double)*g : 0.0, why,
+                                  sizeof why))
+            return "";
+        return why;
+    }
 
     void completed(Request *r)
     {
@@ -94,11 +131,21 @@ int capture(void *ctx, int64_t not_before, int timeout_ms, vp_frame_t *f)
         lc->last_seq = seq;
         lc->last_ts = ts;
         bool stale = ts < not_before || seq < f->seq;
-        if (md.status != FrameMetadata::FrameSuccess || stale) {
+        std::string off = md.status == FrameMetadata::FrameSuccess ? lc->check(r) : "";
+        if (!off.empty() && ++lc->unsettled >= 30) {
+            lc->err = "libcamera: the camera did not take the manual exposure: " + off;
             r->reuse(Request::ReuseBuffers);
+            lc->fix(r->controls());
+            lc->cam->queueRequest(r);
+            return VP_EIO;
+        }
+        if (md.status != FrameMetadata::FrameSuccess || stale || !off.empty()) {
+            r->reuse(Request::ReuseBuffers);
+            lc->fix(r->controls());
             lc->cam->queueRequest(r);
             continue;
         }
+        lc->unsettled = 0;
         size_t idx = (size_t)r->cookie();
         f->data = lc->maps[idx].luma;
         f->width = lc->width;
@@ -129,6 +176,7 @@ int mark(void *ctx, int64_t *next_seq)
         bool back = lc->last_seq >= 0 && (seq <= lc->last_seq || ts < lc->last_ts);
         if (!back) { lc->last_seq = seq; lc->last_ts = ts; }
         r->reuse(Request::ReuseBuffers);
+        lc->fix(r->controls());
         lc->cam->queueRequest(r);
         if (back) {
             lc->err = "libcamera: frame " + std::to_string(seq) + " is not after frame " + std::to_string(lc->last_seq) + ": refused";
@@ -144,6 +192,7 @@ void release(void *ctx, vp_frame_t *f)
     Libcam *lc = static_cast<Libcam *>(ctx);
     Request *r = lc->requests[(size_t)f->index].get();
     r->reuse(Request::ReuseBuffers);
+    lc->fix(r->controls());
     if (lc->cam->queueRequest(r) < 0) lc->err = "libcamera: requeue failed";
     f->data = nullptr;
 }
@@ -219,15 +268,29 @@ extern "C" int vp_libcamera_open(const vp_libcamera_config_t *cfg, vp_cam_t *out
         lc->requests.push_back(std::move(r));
     }
     lc->cam->requestCompleted.connect(lc, &Libcam::completed);
-    ControlList ctl;
-    if (cfg->exposure_us > 0) {
-        ctl.set(controls::AeEnable, false);
-        ctl.set(controls::ExposureTime, (int32_t)cfg->exposure_us);
+    if (cfg->exposure_us < 0 || !(cfg->gain >= 0)) return fail(lc, VP_EINVAL, err, errlen, "bad exposure or gain");
+    lc->exposure_us = cfg->exposure_us;
+    lc->gain = cfg->gain > 0 ? (float)cfg->gain : 1.0f;
+    if (cfg->gain > 0 && cfg->exposure_us <= 0) return fail(lc, VP_EINVAL, err, errlen, "a fixed gain needs exposure_us too");
+    if (lc->exposure_us > 0) {
+        // the camera must offer the controls at all
+        const ControlInfoMap &ci = lc->cam->controls();
+#ifdef VP_LIBCAMERA_EXPOSURE_MODE
+        if (!ci.count(&controls::ExposureTimeMode)) return fail(lc, VP_EIO, err, errlen, "the camera has no ExposureTimeMode control");
+#else
+        if (!ci.count(&controls::AeEnable)) return fail(lc, VP_EIO, err, errlen, "the camera has no AeEnable control");
+#endif
+        if (!ci.count(&controls::ExposureTime)) return fail(lc, VP_EIO, err, errlen, "the camera has no ExposureTime control");
+        if (!ci.count(&controls::AnalogueGain)) return fail(lc, VP_EIO, err, errlen, "the camera has no AnalogueGain control");
     }
+    ControlList ctl;
+    lc->fix(ctl);
     if (lc->cam->start(&ctl) < 0) return fail(lc, VP_EIO, err, errlen, "start failed");
     lc->started = true;
-    for (auto &r : lc->requests)
+    for (auto &r : lc->requests) {
+        lc->fix(r->controls());
         if (lc->cam->queueRequest(r.get()) < 0) return fail(lc, VP_EIO, err, errlen, "queueing a request failed");
+    }
     out->ctx = lc;
     out->capture = capture;
     out->release = release;

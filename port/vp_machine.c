@@ -26,7 +26,7 @@ int vp_machine_init(vp_machine_t *m, const vp_kin_config_t *kc, const vp_step_co
     if (m->cfg.timeout_ms <= 0) m->cfg.timeout_ms = 1000;
     if (m->cfg.latency_frames < 0) return VP_EINVAL;
     m->seen_seq = -1;
-    m->last.seq = m->last.seq_off = m->last.seq_mark = -1;
+    m->last.seq = m->last.seq_off = m->last.seq_mark = m->last.seq_confirm = -1;
     vp_machine_sync(m);
     return VP_OK;
 }
@@ -180,7 +180,7 @@ static int vp_machine_grab(vp_machine_t *m, vp_frame_t *f, int *proven)
 /* The frame the spot is looked for in. With a laser line: a laser-off frame copied into diff_buf,
  * then a laser-on frame, and diff_buf = on - off (clamped at 0); *held = 0. Without (or with
  * single_frame): the camera's frame itself, *held = 1 (release it). The laser is off on return. */
-static int vp_machine_expose(vp_machine_t *m, vp_frame_t *out, int *held)
+static int vp_machine_expose(vp_machine_t *m, vp_frame_t *out, int *held, int keep_on)
 {
     vp_frame_t f;
     size_t n;
@@ -188,7 +188,7 @@ static int vp_machine_expose(vp_machine_t *m, vp_frame_t *out, int *held)
     uint8_t *b = m->cfg.diff_buf;
     *held = 0;
     m->last.fault = VP_FRAME_OK;
-    m->last.seq_off = -1;
+    m->last.seq_off = m->last.seq_confirm = -1;
     if (!m->cfg.use_laser_line || m->cfg.single_frame) {
         vp_machine_laser(m, 1);
         if (m->cfg.use_laser_line) rc = vp_machine_grab(m, &f, &proven);
@@ -210,14 +210,20 @@ static int vp_machine_expose(vp_machine_t *m, vp_frame_t *out, int *held)
         m->cam.release(m->cam.ctx, &f);
         return vp_machine_refuse(m, !proven ? VP_FRAME_UNPROVEN : VP_FRAME_NO_BUFFER, !proven ? VP_EIO : VP_ENOMEM);
     }
+    if (keep_on && m->cfg.diff_len < 2 * n) {
+        m->cam.release(m->cam.ctx, &f);
+        return vp_machine_refuse(m, VP_FRAME_NO_BUFFER, VP_ENOMEM);
+    }
+    /* with a confirming frame to come, the laser-off frame is kept after the difference */
     for (y = 0; y < h; y++)
         for (x = 0; x < w; x++) b[(size_t)y * w + x] = VP_FRAME_PIX(&f, x, y);
+    if (keep_on) memcpy(b + n, b, n);
     m->last.seq_off = f.seq;
     m->cam.release(m->cam.ctx, &f);
     /* laser on */
     vp_machine_laser(m, 1);
     rc = vp_machine_grab(m, &f, &proven);
-    vp_machine_laser(m, 0);
+    if (!keep_on || rc < 0 || !proven || f.width != w || f.height != h) vp_machine_laser(m, 0);
     if (rc < 0) return rc;
     if (!proven || f.width != w || f.height != h) {
         m->cam.release(m->cam.ctx, &f);
@@ -240,11 +246,80 @@ static int vp_machine_expose(vp_machine_t *m, vp_frame_t *out, int *held)
     return VP_OK;
 }
 
+/* The confirming frame: the laser still on, the next frame after the one read (*f), against the
+ * same laser-off frame (kept after the difference); the spot must be found again within
+ * confirm_px (or 0.4 of its radius, if more) of where it was, else the reading is VP_SPOT_MOVED:
+ * light that moves between two laser-on frames (a glint, the head still ringing after a move) is
+ * not the laser's spot. The laser is off on return. */
+static int vp_machine_confirm(vp_machine_t *m, const vp_frame_t *f)
+{
+    vp_frame_t g;
+    vp_spot_t s2;
+    size_t n = (size_t)f->width * (size_t)f->height;
+    uint8_t *b = m->cfg.diff_buf;
+    double tol = m->cfg.confirm_px > 0 ? m->cfg.confirm_px : 1.0, r = sqrt(m->last.spot.area / 3.14159265358979);
+    int x, y, rc, w = f->width, h = f->height;
+    rc = vp_machine_frame(m, f->t_ns, f->seq >= 0 ? f->seq + 1 : -1, &g);
+    vp_machine_laser(m, 0);
+    if (rc < 0) return rc;
+    if (g.width != w || g.height != h) {
+        m->cam.release(m->cam.ctx, &g);
+        return vp_machine_refuse(m, VP_FRAME_SIZE, VP_EIO);
+    }
+    for (y = 0; y < h; y++)
+        for (x = 0; x < w; x++) {
+            int d = (int)VP_FRAME_PIX(&g, x, y) - (int)b[n + (size_t)y * w + x];
+            b[(size_t)y * w + x] = (uint8_t)(d > 0 ? d : 0);
+        }
+    m->last.seq_confirm = g.seq;
+    m->cam.release(m->cam.ctx, &g);
+    VP_TRY(vp_spot_find(f, &m->cfg.spot, &m->tri, &m->ws, &s2));
+    if (tol < 0.4 * r) tol = 0.4 * r;      /* a large (saturated) spot's centroid wanders more */
+    m->st.confirmed++;
+    if (s2.result != VP_SPOT_FOUND || hypot(s2.u - m->last.spot.u, s2.v - m->last.spot.v) > tol) {
+        m->last.spot.result = VP_SPOT_MOVED;
+        m->st.moved++;
+    }
+    return VP_OK;
+}
+
+/* The laser-off frame where the spot is (kept at diff_buf + w h): a laser spot leaves it plain
+ * (the scene's own light: smooth), light that was there without the laser (a glint that moved
+ * between the frames and did not cancel) stands out: its 3x3 mean above the window's median by
+ * more than max(8, a fifth of the spot's peak) grey levels within 3 spot radii + 6 px. 1: plain. */
+static int vp_machine_off_plain(const vp_machine_t *m, int w, int h)
+{
+    const uint8_t *off = m->cfg.diff_buf + (size_t)w * (size_t)h;
+    const vp_spot_t *sp = &m->last.spot;
+    unsigned hist[256], n = 0, acc = 0;
+    int R = (int)ceil(3 * sqrt(sp->area / 3.14159265358979) + 6), x0, x1, y0, y1, x, y, med;
+    double best = 0, lim = sp->peak / 5 > 8 ? sp->peak / 5 : 8;
+    x0 = (int)floor(sp->u) - R; x1 = (int)ceil(sp->u) + R;
+    y0 = (int)floor(sp->v) - R; y1 = (int)ceil(sp->v) + R;
+    if (x0 < 1) x0 = 1;
+    if (y0 < 1) y0 = 1;
+    if (x1 > w - 2) x1 = w - 2;
+    if (y1 > h - 2) y1 = h - 2;
+    if (x0 > x1 || y0 > y1) return 1;
+    memset(hist, 0, sizeof hist);
+    for (y = y0; y <= y1; y++)
+        for (x = x0; x <= x1; x++) { hist[off[(size_t)y * w + x]]++; n++; }
+    for (med = 0; med < 255; med++) { acc += hist[med]; if (2 * acc > n) break; }
+    for (y = y0; y <= y1; y++)
+        for (x = x0; x <= x1; x++) {
+            int dx, dy, sum = 0;
+            for (dy = -1; dy <= 1; dy++)
+                for (dx = -1; dx <= 1; dx++) sum += off[(size_t)(y + dy) * w + x + dx];
+            if (sum / 9.0 - med > best) best = sum / 9.0 - med;
+        }
+    return best <= lim;
+}
+
 int vp_machine_probe(vp_machine_t *m, const vp_cmd_t *cmd, vp_probe_result_t *res)
 {
     double target[VP_KIN_JOINTS], o0[3], d[3], dist = 0;
     vp_frame_t f;
-    int n, rc, hit, held;
+    int n, rc, hit, held, confirm;
     int64_t t0;
     if (!m || !cmd || !res || cmd->kind != VP_CMD_PROBE) return VP_EINVAL;
     res->hit = 0;
@@ -263,11 +338,24 @@ int vp_machine_probe(vp_machine_t *m, const vp_cmd_t *cmd, vp_probe_result_t *re
     t0 = m->io.now(m->io.ctx);
     if (m->cfg.settle_ns) m->io.wait_until(m->io.ctx, t0 + m->cfg.settle_ns);
     /* expose: frames from after the laser switch only (vp_machine_expose) */
-    VP_TRY(vp_machine_expose(m, &f, &held));
+    confirm = m->cfg.confirm && m->cfg.use_laser_line && !m->cfg.single_frame;
+    VP_TRY(vp_machine_expose(m, &f, &held, confirm));
     m->last.t_ns = f.t_ns;
     m->last.seq = f.seq;
     hit = vp_laser_measure(&f, &m->cfg.spot, &m->tri, &m->ws, &m->last.spot, &dist);
     if (held) m->cam.release(m->cam.ctx, &f);
+    if (confirm) {
+        /* the laser is still on: a second frame where the spot must be again */
+        if (hit < 0 || m->last.spot.result != VP_SPOT_FOUND) vp_machine_laser(m, 0);
+        else {
+            VP_TRY(vp_machine_confirm(m, &f));
+            if (m->last.spot.result == VP_SPOT_FOUND && !vp_machine_off_plain(m, f.width, f.height)) {
+                m->last.spot.result = VP_SPOT_NOT_LASER;
+                m->st.off_lit++;
+            }
+            if (m->last.spot.result != VP_SPOT_FOUND) hit = 0;
+        }
+    }
     if (hit < 0) return hit;
     if (!hit && m->last.spot.result == VP_SPOT_FOUND) {
         /* a spot nearer than min_range is a surface too close, never free space: report it
@@ -291,7 +379,7 @@ int vp_machine_probe(vp_machine_t *m, const vp_cmd_t *cmd, vp_probe_result_t *re
     } else {
         int r = m->last.spot.result;
         m->st.misses++;
-        m->st.miss_reason[hit || r == VP_SPOT_FOUND ? 5 : r + 3]++;
+        m->st.miss_reason[hit || r == VP_SPOT_FOUND ? 5 : r < VP_SPOT_OFF_LINE ? 6 : r + 3]++;
     }
     return VP_OK;
 }
@@ -316,7 +404,8 @@ vp_reading_t vp_machine_reading(const vp_machine_t *m, const vp_cmd_t *cmd, int 
     if (unreadable) {
         res->hit = VP_PROBE_TOO_CLOSE;
         kind = r == VP_SPOT_OFF_LINE ? VP_READING_OFF_LINE : r == VP_SPOT_TOO_BIG ? VP_READING_TOO_BIG
-             : r == VP_SPOT_SEVERAL ? VP_READING_SEVERAL : VP_READING_BELOW_MODEL;
+             : r == VP_SPOT_SEVERAL ? VP_READING_SEVERAL : r == VP_SPOT_NOT_LASER || r == VP_SPOT_MOVED ? VP_READING_NOT_LASER
+             : VP_READING_BELOW_MODEL;
     }
     if (res->hit == VP_PROBE_TOO_CLOSE) res->dist = 0;
     return kind;
@@ -369,7 +458,7 @@ int vp_machine_calibrate(vp_machine_t *m, const vp_calib_plan_t *p, vp_tri_model
             int held;
             int64_t t0 = m->io.now(m->io.ctx);
             if (m->cfg.settle_ns) m->io.wait_until(m->io.ctx, t0 + m->cfg.settle_ns);
-            VP_TRY(vp_machine_expose(m, &f, &held));
+            VP_TRY(vp_machine_expose(m, &f, &held, 0));
             w = vp_spot_find(&f, NULL, NULL, &m->ws, &sp);
             if (held) m->cam.release(m->cam.ctx, &f);
             if (w < 0) return w;

@@ -39,11 +39,14 @@
 
 typedef struct vp_machine_stats {
     unsigned long moves, probes, hits, misses, frames, camera_errors;
-    unsigned long miss_reason[6];     /* by VP_SPOT_* + 3; [5]: spot found but out of range */
+    unsigned long miss_reason[7];     /* by VP_SPOT_* + 3; [5]: spot found but out of range; [6]: not
+                                         the laser's spot (VP_SPOT_NOT_LASER, VP_SPOT_MOVED) */
     unsigned long near;               /* spots nearer than min_range, reported as hits */
     double travel;                    /* laser origin path length, mm */
     unsigned long stale;              /* frames dropped as older than the laser switch (sequence) */
     unsigned long refused;            /* probes refused for their frames (vp_machine_last.fault) */
+    unsigned long confirmed;          /* spots checked in a second laser-on frame (confirm) */
+    unsigned long moved, off_lit;     /* refused: not again where they were; light in the laser-off frame */
 } vp_machine_stats_t;
 
 /* Why a probe's frames were refused (VP_EIO, nothing read from them). */
@@ -60,6 +63,7 @@ typedef struct vp_machine_last {
     vp_spot_t spot;
     int64_t t_ns;                     /* frame time stamp (of the laser-on frame) */
     int64_t seq, seq_off;             /* sequence numbers of the laser-on and laser-off frames */
+    int64_t seq_confirm;              /* and of the confirming laser-on frame (-1: none) */
     int64_t seq_mark;                 /* the camera's next sequence number right after the laser went on */
     int fault;                        /* VP_FRAME_* of the last probe */
     int contact;                      /* the last MOVE stopped on the contact switch */
@@ -84,6 +88,13 @@ typedef struct vp_machine_config {
     int single_frame;                 /* tests only: no laser-off frame, no differencing */
     int contact;                      /* 1: the head has a contact switch (VP_IO_CONTACT); MOVEs
                                          watch it */
+    int confirm;                      /* 1: the spot must be the laser's: a second laser-on frame right
+                                         after the first shows it where the first did (within
+                                         confirm_px, or 0.4 of the spot's radius), and the laser-off frame is plain there (no light
+                                         standing out): light that moves (a glint, the head still
+                                         ringing) is not read as the spot (VP_SPOT_MOVED, _NOT_LASER);
+                                         needs diff_len >= 2 frames */
+    double confirm_px;                /* px (0: 1.0) */
     vp_spot_config_t spot;
 } vp_machine_config_t;
 
@@ -140,7 +151,9 @@ typedef enum vp_reading {
     VP_READING_OFF_LINE = 2,       /* unreadable: a spot off the laser line */
     VP_READING_TOO_BIG = 3,        /* unreadable: a blob too big for a spot */
     VP_READING_SEVERAL = 4,        /* unreadable: several spots */
-    VP_READING_BELOW_MODEL = 5     /* unreadable: a spot below the model's valid span, or another failure */
+    VP_READING_BELOW_MODEL = 5,    /* unreadable: a spot below the model's valid span, or another failure */
+    VP_READING_NOT_LASER = 6       /* unreadable: too wide for the laser's spot, or it moved between two
+                                      laser-on frames (VP_SPOT_NOT_LASER, VP_SPOT_MOVED) */
 } vp_reading_t;
 vp_reading_t vp_machine_reading(const vp_machine_t *m, const vp_cmd_t *cmd, int was_near, int near_measure,
                                 vp_probe_result_t *res, double *raw);

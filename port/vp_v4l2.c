@@ -2,6 +2,7 @@
 #include <errno.h>
 #include <fcntl.h>
 #include <linux/videodev2.h>
+#include <math.h>
 #include <poll.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -27,6 +28,8 @@ typedef struct vp_v4l2 {
     char err[256];
     unsigned long dropped;
     int64_t last_seq, last_ts;   /* newest frame dequeued (-1: none yet) */
+    int colour, offset;          /* the laser's channel (VP_COLOUR_*) and its byte in a pixel */
+    uint8_t *chan[VP_V4L2_MAXBUF];   /* that channel computed (YUYV colour), one per buffer */
 } vp_v4l2_t;
 
 static int vp_xioctl(int fd, unsigned long req, void *arg)
@@ -51,6 +54,7 @@ static void vp_v4l2_free(vp_v4l2_t *v)
         vp_xioctl(v->fd, VIDIOC_STREAMOFF, &t);
     }
     for (i = 0; i < v->nbuf; i++) if (v->mem[i] && v->mem[i] != MAP_FAILED) munmap(v->mem[i], v->len[i]);
+    for (i = 0; i < VP_V4L2_MAXBUF; i++) free(v->chan[i]);
     if (v->fd >= 0) close(v->fd);
     free(v);
 }
@@ -113,11 +117,23 @@ static int vp_v4l2_capture(void *ctx, int64_t not_before, int timeout_ms, vp_fra
             vp_xioctl(v->fd, VIDIOC_QBUF, &b);
             continue;
         }
-        f->data = v->mem[b.index];
+        f->data = (const uint8_t *)v->mem[b.index] + v->offset;
         f->width = v->width;
         f->height = v->height;
         f->stride = v->stride;
         f->step = v->step;
+        if (v->chan[b.index]) {
+            /* the laser's colour from Y, Cb, Cr */
+            if (vp_cam_channel(v->format, v->mem[b.index], v->width, v->height, v->stride, v->colour, v->chan[b.index],
+                               v->width) != VP_OK) {
+                snprintf(v->err, sizeof v->err, "camera %s: frame not convertible", v->dev);
+                vp_xioctl(v->fd, VIDIOC_QBUF, &b);
+                return VP_EIO;
+            }
+            f->data = v->chan[b.index];
+            f->stride = v->width;
+            f->step = 1;
+        }
         f->t_ns = vp_v4l2_ts(&b);
         f->index = (int)b.index;
         f->seq = (int64_t)b.sequence;
@@ -170,6 +186,71 @@ static int vp_v4l2_mark(void *ctx, int64_t *next_seq)
     return VP_OK;
 }
 
+static const char *vp_v4l2_ctrl_name(unsigned id)
+{
+    switch (id) {
+    case V4L2_CID_EXPOSURE_AUTO: return "V4L2_CID_EXPOSURE_AUTO (exposure, auto)";
+    case V4L2_CID_EXPOSURE_AUTO_PRIORITY: return "V4L2_CID_EXPOSURE_AUTO_PRIORITY (exposure_auto_priority)";
+    case V4L2_CID_EXPOSURE_ABSOLUTE: return "V4L2_CID_EXPOSURE_ABSOLUTE (exposure time, 100 us)";
+    case V4L2_CID_AUTOGAIN: return "V4L2_CID_AUTOGAIN (gain, auto)";
+    case V4L2_CID_GAIN: return "V4L2_CID_GAIN (gain)";
+    default: return "control";
+    }
+}
+
+/* One control set and read back. optional: a camera without it passes. */
+static int vp_v4l2_ctrl(vp_v4l2_ioctl_fn ioc, void *ctx, unsigned id, int value, int optional, char *err, size_t errlen)
+{
+    struct v4l2_queryctrl q;
+    struct v4l2_control c;
+    memset(&q, 0, sizeof q);
+    q.id = id;
+    if (ioc(ctx, VIDIOC_QUERYCTRL, &q) < 0 || (q.flags & V4L2_CTRL_FLAG_DISABLED)) {
+        if (optional) return VP_OK;
+        snprintf(err, errlen, "%s: the camera has no such control", vp_v4l2_ctrl_name(id));
+        return VP_EIO;
+    }
+    memset(&c, 0, sizeof c);
+    c.id = id;
+    c.value = value;
+    if (ioc(ctx, VIDIOC_S_CTRL, &c) < 0) {
+        snprintf(err, errlen, "%s: setting %d refused: %s", vp_v4l2_ctrl_name(id), value, strerror(errno));
+        return VP_EIO;
+    }
+    memset(&c, 0, sizeof c);
+    c.id = id;
+    if (ioc(ctx, VIDIOC_G_CTRL, &c) < 0) {
+        snprintf(err, errlen, "%s: cannot be read back: %s", vp_v4l2_ctrl_name(id), strerror(errno));
+        return VP_EIO;
+    }
+    if (c.value != value) {
+        snprintf(err, errlen, "%s: set to %d, the camera reads back %d (not taken)", vp_v4l2_ctrl_name(id), value, c.value);
+        return VP_EIO;
+    }
+    return VP_OK;
+}
+
+int vp_v4l2_controls(vp_v4l2_ioctl_fn ioc, void *ctx, int exposure_us, double gain, char *err, size_t errlen)
+{
+    if (!ioc || exposure_us < 0 || !(gain >= 0) || gain > 2147483647.0) {
+        if (err && errlen) snprintf(err, errlen, "camera controls: exposure %d us, gain %g: out of range", exposure_us, gain);
+        return VP_EINVAL;
+    }
+    if (exposure_us > 0) {
+        int units = (exposure_us + 50) / 100;
+        if (units < 1) units = 1;
+        VP_TRY(vp_v4l2_ctrl(ioc, ctx, V4L2_CID_EXPOSURE_AUTO, V4L2_EXPOSURE_MANUAL, 0, err, errlen));
+        /* UVC: with priority on, the camera may lower the frame rate instead of keeping the exposure */
+        VP_TRY(vp_v4l2_ctrl(ioc, ctx, V4L2_CID_EXPOSURE_AUTO_PRIORITY, 0, 1, err, errlen));
+        VP_TRY(vp_v4l2_ctrl(ioc, ctx, V4L2_CID_AUTOGAIN, 0, 1, err, errlen));
+        VP_TRY(vp_v4l2_ctrl(ioc, ctx, V4L2_CID_EXPOSURE_ABSOLUTE, units, 0, err, errlen));
+    }
+    if (gain > 0) VP_TRY(vp_v4l2_ctrl(ioc, ctx, V4L2_CID_GAIN, (int)lround(gain), 0, err, errlen));
+    return VP_OK;
+}
+
+static int vp_v4l2_fd_ioctl(void *ctx, unsigned long req, void *arg) { return vp_xioctl(*(int *)ctx, req, arg); }
+
 static void vp_v4l2_close(void *ctx) { vp_v4l2_free(ctx); }
 static const char *vp_v4l2_error(void *ctx) { return ((vp_v4l2_t *)ctx)->err; }
 
@@ -184,7 +265,7 @@ int vp_v4l2_open(const vp_v4l2_config_t *cfg, vp_cam_t *cam, char *err, size_t e
     enum v4l2_buf_type type = V4L2_BUF_TYPE_VIDEO_CAPTURE;
     unsigned caps, want = 0;
     char offered[160] = "", fc[5];
-    int have_grey = 0, have_yuyv = 0, i;
+    int have_grey = 0, have_yuyv = 0, have_rgb = 0, have_bgr = 0, i, off = 0, step = 1;
     if (!cfg || !cfg->device || !cam) return VP_EINVAL;
     v = calloc(1, sizeof *v);
     if (!v) return VP_ENOMEM;
@@ -213,17 +294,27 @@ int vp_v4l2_open(const vp_v4l2_config_t *cfg, vp_cam_t *cam, char *err, size_t e
         if (vp_xioctl(v->fd, VIDIOC_ENUM_FMT, &fd) < 0) break;
         if (fd.pixelformat == V4L2_PIX_FMT_GREY) have_grey = 1;
         if (fd.pixelformat == V4L2_PIX_FMT_YUYV) have_yuyv = 1;
+        if (fd.pixelformat == V4L2_PIX_FMT_RGB24) have_rgb = 1;
+        if (fd.pixelformat == V4L2_PIX_FMT_BGR24) have_bgr = 1;
         vp_fourcc_str(fd.pixelformat, fc);
         if (strlen(offered) + 6 < sizeof offered) { strcat(offered, " "); strcat(offered, fc); }
     }
+    if (cfg->colour < VP_COLOUR_LUMA || cfg->colour > VP_COLOUR_BLUE) return vp_v4l2_fail(v, VP_EINVAL, err, errlen, "%s", "unknown laser colour");
     if (cfg->format == V4L2_PIX_FMT_GREY && have_grey) want = V4L2_PIX_FMT_GREY;
     else if (cfg->format == V4L2_PIX_FMT_YUYV && have_yuyv) want = V4L2_PIX_FMT_YUYV;
-    else if (!cfg->format) want = have_grey ? V4L2_PIX_FMT_GREY : have_yuyv ? V4L2_PIX_FMT_YUYV : 0;
+    else if (cfg->format == V4L2_PIX_FMT_RGB24 && have_rgb) want = V4L2_PIX_FMT_RGB24;
+    else if (cfg->format == V4L2_PIX_FMT_BGR24 && have_bgr) want = V4L2_PIX_FMT_BGR24;
+    else if (!cfg->format && cfg->colour == VP_COLOUR_LUMA) want = have_grey ? V4L2_PIX_FMT_GREY : have_yuyv ? V4L2_PIX_FMT_YUYV : 0;
+    else if (!cfg->format)
+        want = have_rgb ? V4L2_PIX_FMT_RGB24 : have_bgr ? V4L2_PIX_FMT_BGR24 : have_yuyv ? V4L2_PIX_FMT_YUYV : 0;
     if (!want) {
         char msg[200];
-        snprintf(msg, sizeof msg, "offers no %s format (has:%s)", cfg->format ? "such" : "GREY or YUYV", offered[0] ? offered : " none");
+        snprintf(msg, sizeof msg, "offers no %s format (has:%s)",
+                 cfg->format ? "such" : cfg->colour ? "colour (RGB24, BGR24 or YUYV)" : "GREY or YUYV", offered[0] ? offered : " none");
         return vp_v4l2_fail(v, VP_EIO, err, errlen, "%s", msg);
     }
+    if (want == V4L2_PIX_FMT_GREY && cfg->colour != VP_COLOUR_LUMA)
+        return vp_v4l2_fail(v, VP_EINVAL, err, errlen, "%s", "a GREY camera has no colour: set [camera] laser_colour = luma or a colour format");
     memset(&fmt, 0, sizeof fmt);
     fmt.type = V4L2_BUF_TYPE_VIDEO_CAPTURE;
     if (vp_xioctl(v->fd, VIDIOC_G_FMT, &fmt) < 0) return vp_v4l2_fail(v, VP_EIO, err, errlen, "VIDIOC_G_FMT: %s", strerror(errno));
@@ -236,21 +327,27 @@ int vp_v4l2_open(const vp_v4l2_config_t *cfg, vp_cam_t *cam, char *err, size_t e
     }
     if (fmt.fmt.pix.pixelformat != want) return vp_v4l2_fail(v, VP_EIO, err, errlen, "%s", "driver refused the pixel format");
     v->format = want;
-    v->step = want == V4L2_PIX_FMT_GREY ? 1 : 2;
+    v->colour = cfg->colour;
     v->width = (int)fmt.fmt.pix.width;
     v->height = (int)fmt.fmt.pix.height;
-    v->stride = fmt.fmt.pix.bytesperline ? (int)fmt.fmt.pix.bytesperline : v->width * v->step;
-    if (cfg->exposure_us > 0) {
-        struct v4l2_control ctl;
-        ctl.id = V4L2_CID_EXPOSURE_AUTO;
-        ctl.value = V4L2_EXPOSURE_MANUAL;
-        if (vp_xioctl(v->fd, VIDIOC_S_CTRL, &ctl) == 0) {
-            ctl.id = V4L2_CID_EXPOSURE_ABSOLUTE;
-            ctl.value = cfg->exposure_us / 100;     /* units of 100 us */
-            if (ctl.value < 1) ctl.value = 1;
-        }
-        if (vp_xioctl(v->fd, VIDIOC_S_CTRL, &ctl) != 0)
-            snprintf(v->err, sizeof v->err, "camera %s: manual exposure not set: %s", v->dev, strerror(errno));
+    {
+        int bpp = want == V4L2_PIX_FMT_GREY ? 1 : want == V4L2_PIX_FMT_YUYV ? 2 : 3;
+        v->stride = fmt.fmt.pix.bytesperline ? (int)fmt.fmt.pix.bytesperline : v->width * bpp;
+        if (v->stride < v->width * bpp) return vp_v4l2_fail(v, VP_EIO, err, errlen, "%s", "rows shorter than the width");
+    }
+    if (vp_cam_channel_view(want, cfg->colour, &off, &step)) {
+        v->offset = off;
+        v->step = step;
+    } else {
+        /* computed per frame (YUYV colour, luma of RGB) into a buffer of its own */
+        if (want == V4L2_PIX_FMT_YUYV && v->width % 2) return vp_v4l2_fail(v, VP_EIO, err, errlen, "%s", "YUYV of odd width");
+        v->step = 1;
+        v->offset = 0;
+    }
+    {
+        char cerr[200];
+        int rc = vp_v4l2_controls(vp_v4l2_fd_ioctl, &v->fd, cfg->exposure_us, cfg->gain, cerr, sizeof cerr);
+        if (rc != VP_OK) return vp_v4l2_fail(v, rc == VP_EINVAL ? VP_EINVAL : VP_EIO, err, errlen, "%s", cerr);
     }
     memset(&rb, 0, sizeof rb);
     rb.count = (unsigned)(cfg->buffers > 0 ? cfg->buffers : 4);
@@ -274,6 +371,10 @@ int vp_v4l2_open(const vp_v4l2_config_t *cfg, vp_cam_t *cam, char *err, size_t e
         v->mem[i] = mmap(NULL, b.length, PROT_READ | PROT_WRITE, MAP_SHARED, v->fd, b.m.offset);
         if (v->mem[i] == MAP_FAILED) return vp_v4l2_fail(v, VP_EIO, err, errlen, "mmap: %s", strerror(errno));
         if ((size_t)v->stride * (size_t)v->height > b.length) return vp_v4l2_fail(v, VP_EIO, err, errlen, "%s", "buffer smaller than a frame");
+        if (!vp_cam_channel_view(want, cfg->colour, &off, &step)) {
+            v->chan[i] = malloc((size_t)v->width * (size_t)v->height);
+            if (!v->chan[i]) return vp_v4l2_fail(v, VP_ENOMEM, err, errlen, "%s", "out of memory");
+        }
         if (vp_xioctl(v->fd, VIDIOC_QBUF, &b) < 0) return vp_v4l2_fail(v, VP_EIO, err, errlen, "VIDIOC_QBUF: %s", strerror(errno));
     }
     if (vp_xioctl(v->fd, VIDIOC_STREAMON, &type) < 0) {

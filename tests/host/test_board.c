@@ -203,7 +203,7 @@ static void test_broken_boards(void)
     t = edit("look_at = 100, 0, 0", "look_at = -100, 0, 0");
     bad(t, LOC("look_at = -100"), "[camera] look_at: the camera does not see the beam between min_range and max_range");
     t = edit("format = GREY", "format = MJPG");
-    bad(t, LOC("MJPG"), "[camera] format: expected GREY, YUYV or auto, got 'MJPG'");
+    bad(t, LOC("MJPG"), "[camera] format: expected GREY, YUYV, RGB24, BGR24 or auto, got 'MJPG'");
     t = edit("backend = v4l2", "backend = opencv");
     bad(t, LOC("opencv"), "[camera] backend: expected v4l2 or libcamera, got 'opencv'");
     t = edit("io = gpiod", "io = gpio");
