@@ -7,6 +7,7 @@
 #include "vp_cli.h"
 #include "vp_note.h"
 #include "vp_scan.h"
+#include "vp_vec3.h"
 
 static void calibrate_usage(FILE *f)
 {
@@ -29,6 +30,16 @@ static void calibrate_usage(FILE *f)
         "                     simulated head (the board's [sim] camera_position / camera_look_at);\n"
         "                     the fit is compared with that camera's true model\n"
         "  --seed N           dry run: seed of the frames' noise\n"
+        "  --mark Y,Z         the full calibration (default when the board's [calibrate] has mark = Y, Z):\n"
+        "                     a bright dot printed on the target at (X, Y, Z); the gantry shows it to the\n"
+        "                     camera over the image at several depths (laser off) besides the beam stations\n"
+        "                     (laser on), and Levenberg-Marquardt fits the camera's intrinsics, lens\n"
+        "                     distortion (k1, k2, p1, p2) and pose in the tilt frame and the beam's origin\n"
+        "                     and direction; scans then measure with that model and refuse spots outside\n"
+        "                     the span it covered. The dry run compares it and the 1-D model with the\n"
+        "                     renderer's true distances over the board's range. One frame pair per\n"
+        "                     station (--frames applies to the 1-D calibration).\n"
+        "  --one-d            only the 1-D model, even with a mark\n"
         "Exit status: 0 written, 1 failed, 2 usage.\n");
 }
 
@@ -62,11 +73,195 @@ static void model_error(const vp_tri_model_t *m, const vp_tri_model_t *truth, do
     }
 }
 
+#define CAL_MAX_OBS 2048
+#define CAL_VERIFY 40
+
+static vp_calib_obs_t cal_obs[CAL_MAX_OBS];
+
+static double deg_between(const double a[3], const double b[3])
+{
+    double c = (a[0] * b[0] + a[1] * b[1] + a[2] * b[2]) / (vp_norm3(a) * vp_norm3(b));
+    return acos(c > 1 ? 1 : c < -1 ? -1 : c) * 180 / 3.14159265358979323846;
+}
+
+/* Dry run: frames along the beam over the board's range, each read by the full model and the 1-D
+ * model, against the renderer's true distance. */
+static void calibrate_verify(vp_scan_dev_t *dev, const vp_board_t *b, const vp_calib_plan_t *plan, const vp_rf_model_t *rf,
+                             const vp_tri_model_t *tri)
+{
+    double e_rf[2] = { 0, 0 }, e_1d[2] = { 0, 0 }, far_rf = NAN, far_1d = NAN, lo = b->min_range, hi = b->max_range;
+    int i, n_rf = 0, n_1d = 0, ref_rf = 0, ref_1d = 0, seen = 0;
+    vp_tri_model_t open1d = *tri;
+    /* the 1-D model read without its span limits (the beam's 1 / cos of a misalignment takes the
+     * farthest frame just past them): its error, not its refusal, is compared */
+    open1d.min_range = 0.5 * lo;
+    open1d.max_range = 2 * hi;
+    for (i = 0; i < CAL_VERIFY; i++) {
+        double dd = lo + (hi - lo) * i / (CAL_VERIFY - 1), o[3], uv[2], d, truth, gap;
+        const vp_camsim_truth_t *tr;
+        vp_spot_t spot;
+        int why, st;
+        o[0] = plan->target_x - dd; o[1] = plan->y; o[2] = plan->z;
+        if (vp_machine_goto(dev->m, o) != VP_OK) continue;
+        if (vp_machine_observe(dev->m, NULL, &spot) != VP_OK || spot.result != VP_SPOT_FOUND) continue;
+        tr = vp_camsim_last(dev->dr->cs);
+        if (!tr->hit) continue;
+        truth = tr->dist;
+        seen++;
+        uv[0] = spot.u;
+        uv[1] = spot.v;
+        if (vp_rf_distance(rf, uv, &d, &why, &gap) == VP_OK && why == VP_RF_OK) {
+            double e = fabs(d - truth);
+            n_rf++;
+            e_rf[0] += e * e;
+            if (e > e_rf[1]) e_rf[1] = e;
+            if (i == CAL_VERIFY - 1) far_rf = e;
+        } else ref_rf++;
+        st = vp_tri_distance(&open1d, uv, &d);
+        if (st == VP_OK) {
+            double e = fabs(d - truth);
+            n_1d++;
+            e_1d[0] += e * e;
+            if (e > e_1d[1]) e_1d[1] = e;
+            if (i == CAL_VERIFY - 1) far_1d = e;
+        } else ref_1d++;
+    }
+    printf("dry run: %d frames along the true beam over %g..%g mm, distances against the renderer's truth:\n", seen, lo, hi);
+    {
+        char f1[32], f2[32];
+        if (isnan(far_rf)) snprintf(f1, sizeof f1, "refused"); else snprintf(f1, sizeof f1, "%.4f mm", far_rf);
+        if (isnan(far_1d)) snprintf(f2, sizeof f2, "refused"); else snprintf(f2, sizeof f2, "%.4f mm", far_1d);
+        printf("  full model: worst %.4f mm, rms %.4f mm, at %g mm %s; refused %d\n", e_rf[1], n_rf ? sqrt(e_rf[0] / n_rf) : 0,
+               hi, f1, ref_rf);
+        printf("  1-D model:  worst %.4f mm, rms %.4f mm, at %g mm %s; refused %d (off its line)\n", e_1d[1],
+               n_1d ? sqrt(e_1d[0] / n_1d) : 0, hi, f2, ref_1d);
+    }
+}
+
+/* The full calibration: observations, the fit, the report, the file. */
+static int calibrate_full(vp_scan_dev_t *dev, const vp_board_t *b, const vp_calib_plan_t *plan, const double mark[2],
+                          int dry, const char *path)
+{
+    static double beam_uv[VP_MACHINE_MAX_CALIB][2], beam_d[VP_MACHINE_MAX_CALIB];
+    vp_calib_full_plan_t fp;
+    vp_rf_model_t nominal, fit;
+    vp_rf_fit_report_t rep;
+    vp_tri_model_t tri;
+    vp_tri_fit_report_t trep;
+    vp_board_calib_t info;
+    char err[1200];
+    int n = 0, nbeam = 0, st, k;
+    st = vp_rf_nominal(&b->cam_model, b->laser_offset, b->min_range, b->max_range, &nominal);
+    if (st != VP_OK) { fprintf(stderr, "calibrate: the board's camera and laser give no nominal model\n"); return 1; }
+    memset(&fp, 0, sizeof fp);
+    fp.target_x = plan->target_x;
+    fp.y = plan->y;
+    fp.z = plan->z;
+    fp.mark[0] = plan->target_x;
+    fp.mark[1] = mark[0];
+    fp.mark[2] = mark[1];
+    fp.d_near = plan->d_near;
+    fp.d_far = plan->d_far;
+    fp.stations = plan->stations;
+    fp.depths = 6;
+    fp.cols = 7;
+    fp.rows = 5;
+    fp.mark_near = 30;
+    fp.mark_far = plan->d_far < 300 ? plan->d_far : 300;
+    fp.margin_px = 30;
+    fp.nominal = &nominal;
+    if (fp.mark_far < fp.mark_near) fp.mark_far = fp.mark_near;
+    st = vp_machine_calibrate_full(dev->m, &fp, cal_obs, CAL_MAX_OBS, &n, beam_uv, beam_d, &nbeam);
+    if (st == VP_ESTATE) {
+        fprintf(stderr, "calibrate: the full calibration sees the mark with the laser off: the board needs a [laser] pin\n");
+        return 1;
+    }
+    if (st == VP_ERANGE) {
+        fprintf(stderr, "calibrate: the beam stations (x = %g .. %g, y = %g, z = %g) are outside the machine's travel\n",
+                plan->target_x - plan->d_far, plan->target_x - plan->d_near, plan->y, plan->z);
+        return 1;
+    }
+    if (st != VP_OK) {
+        char why[300];
+        dev->fault = st;
+        vp_scan_fault_text(dev, why, sizeof why);
+        fprintf(stderr, "calibrate: %s\n", why);
+        return 1;
+    }
+    st = vp_rf_fit(cal_obs, n, &nominal, &fit, &rep);
+    {
+        int marks = 0, spots = 0;
+        for (k = 0; k < n; k++) { if (cal_obs[k].kind == VP_OBS_MARK) marks++; else spots++; }
+        if (st == VP_EINVAL) {
+            fprintf(stderr, "calibrate: too few observations: %d of the mark (at least %d) and %d laser spots (at least %d): "
+                            "is the mark at y = %g, z = %g on the target, lit, and in view?\n", marks, VP_CALIB_MIN_MARKS, spots,
+                    VP_CALIB_MIN_SPOTS, mark[0], mark[1]);
+            return 1;
+        }
+        if (st != VP_OK) {
+            fprintf(stderr, "calibrate: the observations (%d of the mark, %d spots) do not fix every parameter of the model "
+                            "(the mark seen at one depth only, the spots at one distance?) or the fit does not converge\n",
+                    marks, spots);
+            return 1;
+        }
+    }
+    if (nbeam < 4 || vp_tri_fit((const double (*)[2])beam_uv, beam_d, nbeam, 0, 0, &tri, &trep) != VP_OK) {
+        fprintf(stderr, "calibrate: fewer than 4 spots at the beam stations\n");
+        return 1;
+    }
+    fit.ray_tol_px = 3;
+    printf("full fit: %d observations (%d of the mark, %d laser spots), %d iterations; residual rms %.4f px "
+           "(nominal model %.3f px), max %.4f px, %d beyond %g px; mark %.4f px rms, spots %.4f px rms, %.4f mm rms (max %.4f mm) "
+           "along the beam\n", n, rep.marks, rep.spots, rep.iterations, rep.rms_px, rep.start_rms_px, rep.max_px, rep.outliers,
+           VP_CALIB_HUBER_PX, rep.mark_rms_px, rep.spot_rms_px, rep.spot_rms_mm, rep.spot_max_mm);
+    printf("  intrinsics: fx %.3f (%+.3f), fy %.3f (%+.3f), cx %.3f (%+.3f), cy %.3f (%+.3f) px\n", fit.cam.fx,
+           fit.cam.fx - nominal.cam.fx, fit.cam.fy, fit.cam.fy - nominal.cam.fy, fit.cam.cx, fit.cam.cx - nominal.cam.cx,
+           fit.cam.cy, fit.cam.cy - nominal.cam.cy);
+    printf("  distortion: k1 %.5f, k2 %.5f, p1 %.6f, p2 %.6f (nominal %g, %g, %g, %g)\n", fit.cam.dist[0], fit.cam.dist[1],
+           fit.cam.dist[2], fit.cam.dist[3], nominal.cam.dist[0], nominal.cam.dist[1], nominal.cam.dist[2], nominal.cam.dist[3]);
+    printf("  camera: centre (%.3f, %.3f, %.3f) mm (moved %.3f mm), axis turned %.4f deg from the nominal\n", fit.cam.pos[0],
+           fit.cam.pos[1], fit.cam.pos[2], vp_dist3(fit.cam.pos, nominal.cam.pos), deg_between(fit.cam.rot + 6, nominal.cam.rot + 6));
+    printf("  beam: origin (%.3f, %.3f, %.3f) mm (moved %.3f mm), direction (%.6f, %.6f, %.6f), %.4f deg from +x; "
+           "calibrated span %.1f..%.1f mm\n", fit.origin[0], fit.origin[1], fit.origin[2], vp_dist3(fit.origin, nominal.origin),
+           fit.dir[0], fit.dir[1], fit.dir[2], deg_between(fit.dir, nominal.dir), fit.min_range, fit.max_range);
+    printf("1-D model from the beam stations: %d spots, residual rms %.4f mm, max %.4f mm; spots off its line %.3f px rms\n",
+           trep.n, trep.rms_mm, trep.max_mm, trep.line_rms_px);
+    if (dry) {
+        double td[3], ang = b->sim_laser_error[0] * 3.14159265358979323846 / 180, az = b->sim_laser_error[1] * 3.14159265358979323846 / 180;
+        td[0] = cos(ang); td[1] = sin(ang) * cos(az); td[2] = sin(ang) * sin(az);
+        printf("dry run truth: k1 %.5f, k2 %.5f, p1 %.6f, p2 %.6f; beam %.4f deg from +x (fitted: %.4f deg off it), "
+               "camera centre off by %.3f mm\n", b->sim_cam.dist[0], b->sim_cam.dist[1], b->sim_cam.dist[2], b->sim_cam.dist[3],
+               b->sim_laser_error[0], deg_between(fit.dir, td), vp_dist3(fit.cam.pos, b->sim_cam.pos));
+        calibrate_verify(dev, b, plan, &fit, &tri);
+    }
+    memset(&info, 0, sizeof info);
+    info.spots = trep.n;
+    info.stations = plan->stations;
+    info.near = plan->d_near;
+    info.far = plan->d_far;
+    info.rms_mm = trep.rms_mm;
+    info.max_mm = trep.max_mm;
+    info.line_rms_px = trep.line_rms_px;
+    info.tri = tri;
+    info.have_rf = 1;
+    info.rf = fit;
+    info.rf_rms_px = rep.rms_px;
+    st = vp_board_calibration_write(path, b, &info, err, sizeof err);
+    if (st == VP_OK) {
+        vp_board_t check = *b;
+        st = vp_board_calibration_load(&check, path, NULL, err, sizeof err);   /* reads back */
+    }
+    if (st != VP_OK) { fprintf(stderr, "calibrate: %s\n", err); return 1; }
+    printf("wrote %s (use it: scan --calib %s, or `calibration = FILE` in [rangefinder] of %s)\n", path, path, b->path);
+    return 0;
+}
+
 int vp_cli_calibrate(int argc, char **argv)
 {
     const char *board = NULL, *out = NULL;
     double target[3], v, near = 0, far = 0;
-    int have_target = 0, stations = 0, frames = 0, dry = 0, i, st, rc = 1, dev_open = 0;
+    int have_target = 0, stations = 0, frames = 0, dry = 0, i, st, rc = 1, dev_open = 0, have_mark = 0, one_d = 0;
+    double mark[2] = { 0, 0 };
     unsigned long long seed = 0;
     vp_board_t b;
     vp_scan_dev_t dev;
@@ -80,7 +275,8 @@ int vp_cli_calibrate(int argc, char **argv)
         char *e;
         if (!strcmp(a, "--help") || !strcmp(a, "-h")) { calibrate_usage(stdout); return 0; }
         if (!strcmp(a, "--dry-run")) { dry = 1; continue; }
-        if (strcmp(a, "--board") && strcmp(a, "--out") && strcmp(a, "--target") && strcmp(a, "--near") &&
+        if (!strcmp(a, "--one-d")) { one_d = 1; continue; }
+        if (strcmp(a, "--board") && strcmp(a, "--out") && strcmp(a, "--target") && strcmp(a, "--near") && strcmp(a, "--mark") &&
             strcmp(a, "--far") && strcmp(a, "--stations") && strcmp(a, "--frames") && strcmp(a, "--seed")) {
             fprintf(stderr, "calibrate: unknown option %s (see --help)\n", a);
             return 2;
@@ -92,6 +288,11 @@ int vp_cli_calibrate(int argc, char **argv)
         if (!strcmp(a, "--target")) {
             if (nums(val, target, 3)) { fprintf(stderr, "calibrate: --target takes X,Y,Z, not '%s'\n", val); return 2; }
             have_target = 1;
+            continue;
+        }
+        if (!strcmp(a, "--mark")) {
+            if (nums(val, mark, 2)) { fprintf(stderr, "calibrate: --mark takes Y,Z, not '%s'\n", val); return 2; }
+            have_mark = 1;
             continue;
         }
         v = strtod(val, &e);
@@ -127,6 +328,14 @@ int vp_cli_calibrate(int argc, char **argv)
     plan.d_far = far ? far : b.have_fixture ? b.cal_far : (b.max_range < 200 ? b.max_range : 200);
     plan.stations = stations ? stations : b.have_fixture ? b.cal_stations : 20;
     plan.frames = frames ? frames : b.have_fixture ? b.cal_frames : 3;
+    if (!have_mark && b.have_mark) { mark[0] = b.cal_mark[0]; mark[1] = b.cal_mark[1]; have_mark = 1; }
+    if (one_d) have_mark = 0;
+    if (have_mark) {
+        /* the dry run draws it */
+        b.have_mark = 1;
+        b.cal_mark[0] = mark[0];
+        b.cal_mark[1] = mark[1];
+    }
     if (!(plan.d_near < plan.d_far)) { fprintf(stderr, "calibrate: --near (%g) must be below --far (%g)\n", plan.d_near, plan.d_far); return 2; }
     if (plan.stations < 4 || plan.stations * plan.frames > VP_MACHINE_MAX_CALIB) {
         fprintf(stderr, "calibrate: stations (at least 4) x frames must be at most %d\n", VP_MACHINE_MAX_CALIB);
@@ -151,6 +360,12 @@ int vp_cli_calibrate(int argc, char **argv)
             b.path, dry ? ", dry run on host-sim" : "", plan.target_x, plan.y, plan.z);
     st = vp_scan_home(&dev, err, sizeof err);
     if (st != VP_OK) { fprintf(stderr, "calibrate: %s\n", err); goto done; }
+    if (have_mark) {
+        fprintf(stderr, "calibrate: homed; full calibration: %d beam stations from %g to %g mm from the target and the mark "
+                        "at y = %g, z = %g shown over the image at 6 depths\n", plan.stations, plan.d_far, plan.d_near, mark[0], mark[1]);
+        rc = calibrate_full(&dev, &b, &plan, mark, dry, path);
+        goto done;
+    }
     fprintf(stderr, "calibrate: homed; %d stations from %g to %g mm from the target, %d frame(s) each\n", plan.stations,
             plan.d_far, plan.d_near, plan.frames);
     st = vp_machine_calibrate(dev.m, &plan, &fit, &rep);

@@ -91,6 +91,7 @@ static const vp_bkey_t k_camera[] = {
     { "fx", K_NUM, B(cam_model.fx), 1, POS, 1e5, R_NO },
     { "fy", K_NUM, B(cam_model.fy), 1, POS, 1e5, R_NO },
     { "center", K_NUMS, B(cam_model.cx), 2, -1e4, 1e4, R_NO },
+    { "distortion", K_NUMS, B(cam_model.dist), 4, -10, 10, R_NO },
     { "position", K_NUMS, B(cam_model.pos), 3, -1e4, 1e4, R_YES },
     { "look_at", K_NUMS, B(look_at), 3, -1e5, 1e5, R_YES },
     { "up", K_NUMS, B(up), 3, -1e5, 1e5, R_NO },
@@ -136,6 +137,9 @@ static const vp_bkey_t k_sim[] = {
     { "flicker", K_NUMS, B(sim_flicker), 2, 0, 1e4, R_NO },
     { "glint", K_NUMS, B(sim_glint), 6, -1e5, 1e5, R_NO },
     { "dark", K_NUMS, B(sim_dark), 3, -1e6, 1e6, R_NO },
+    { "distortion", K_NUMS, B(sim_dist), 4, -10, 10, R_NO },
+    { "laser_origin", K_NUMS, B(sim_laser_origin), 3, -1e4, 1e4, R_NO },
+    { "laser_error", K_NUMS, B(sim_laser_error), 2, -90, 360, R_NO },
     { NULL, 0, 0, 0, 0, 0, 0 } };
 static const vp_bkey_t k_calib[] = {
     { "target", K_NUMS, B(cal_target), 3, -1e6, 1e6, R_YES },
@@ -143,6 +147,7 @@ static const vp_bkey_t k_calib[] = {
     { "far", K_NUM, B(cal_far), 1, POS, 1e5, R_NO },
     { "stations", K_INT, B(cal_stations), 1, 4, 256, R_NO },
     { "frames", K_INT, B(cal_frames), 1, 1, 64, R_NO },
+    { "mark", K_NUMS, B(cal_mark), 2, -1e6, 1e6, R_NO },
     { NULL, 0, 0, 0, 0, 0, 0 } };
 
 enum { S_BOARD, S_TIMING, S_AX0, S_AX4 = S_AX0 + 4, S_ESTOP, S_LASER, S_HEAD, S_CAMERA, S_RANGE, S_OMEGA, S_SIM, S_CALIB,
@@ -536,6 +541,11 @@ static int vp_board_check_camera(vp_bctx_t *c, char *err, size_t el)
     if (vp_seen(c, S_SIM, "camera_position")) memcpy(b->sim_cam.pos, b->sim_cam_pos, sizeof b->sim_cam.pos);
     else memcpy(b->sim_cam_pos, b->cam_model.pos, sizeof b->sim_cam_pos);
     if (!vp_seen(c, S_SIM, "camera_look_at")) memcpy(b->sim_cam_look, b->look_at, sizeof b->sim_cam_look);
+    if (vp_seen(c, S_SIM, "distortion")) memcpy(b->sim_cam.dist, b->sim_dist, sizeof b->sim_cam.dist);
+    else memcpy(b->sim_dist, b->cam_model.dist, sizeof b->sim_dist);
+    if (!vp_seen(c, S_SIM, "laser_origin")) memcpy(b->sim_laser_origin, b->laser_offset, sizeof b->sim_laser_origin);
+    if (!(b->sim_laser_error[0] >= 0 && b->sim_laser_error[0] <= 30))
+        return vp_bad(c, S_SIM, "laser_error", err, el, "the angle (first number) must be 0..30 degrees");
     if (vp_camera_look_at(&b->sim_cam, b->sim_cam_look, b->up) != VP_OK)
         return vp_bad(c, S_SIM, vp_seen(c, S_SIM, "camera_look_at") ? "camera_look_at" : "camera_position", err, el,
                       "the camera must not look along 'up' nor at its own position");
@@ -581,6 +591,7 @@ static int vp_board_check_fixture(vp_bctx_t *c, char *err, size_t el)
         if (!vp_seen(c, S_CALIB, "far")) b->cal_far = b->max_range < 200 ? b->max_range : 200;
         if (!vp_seen(c, S_CALIB, "stations")) b->cal_stations = 20;
         if (!vp_seen(c, S_CALIB, "frames")) b->cal_frames = 3;
+        b->have_mark = vp_seen(c, S_CALIB, "mark") != 0;
         if (!(b->cal_near < b->cal_far)) return vp_bad(c, S_CALIB, "far", err, el, "must be above near (%g mm)", b->cal_near);
         if (b->cal_near < b->min_range || b->cal_far > b->max_range)
             return vp_bad(c, S_CALIB, b->cal_near < b->min_range ? "near" : "far", err, el,
@@ -802,7 +813,15 @@ typedef struct vp_cctx {
     int line_at, model_at, board_at;
     double line[4], model[3];
     int sec;                     /* 0 none, 1 [calibration], 2 [rangefinder] */
+    /* the full model: camera (fx fy cx cy), distortion, camera_position, camera_rotation, beam
+     * (origin, direction), beam_span, ray_tol_px; at[k] the line each was set on */
+    double rf[4 + 4 + 3 + 9 + 6 + 2 + 1];
+    int rf_at[7];
 } vp_cctx_t;
+
+static const char *const rf_keys[7] = { "camera", "distortion", "camera_position", "camera_rotation", "beam", "beam_span",
+                                        "ray_tol_px" };
+static const int rf_count[7] = { 4, 4, 3, 9, 6, 2, 1 };
 
 static int vp_calib_key(void *user, const char *section, const char *key, const char *val, int line, char *msg, size_t ml)
 {
@@ -819,7 +838,19 @@ static int vp_calib_key(void *user, const char *section, const char *key, const 
     if (c->sec == 2) {
         if (!strcmp(key, "line")) { VP_TRY(vp_numbers(val, c->line, 4, -1e5, 1e5, msg, ml)); c->line_at = line; return VP_OK; }
         if (!strcmp(key, "model")) { VP_TRY(vp_numbers(val, c->model, 3, -1e9, 1e9, msg, ml)); c->model_at = line; return VP_OK; }
-        snprintf(msg, ml, "unknown key (a calibration file sets line and model)");
+        {
+            int k, off = 0;
+            for (k = 0; k < 7; k++) {
+                if (!strcmp(key, rf_keys[k])) {
+                    VP_TRY(vp_numbers(val, c->rf + off, rf_count[k], -1e6, 1e6, msg, ml));
+                    c->rf_at[k] = line;
+                    return VP_OK;
+                }
+                off += rf_count[k];
+            }
+        }
+        snprintf(msg, ml, "unknown key (a calibration file sets line and model, and for the full model camera, "
+                          "distortion, camera_position, camera_rotation, beam, beam_span, ray_tol_px)");
         return VP_EINVAL;
     }
     if (c->sec != 1) { snprintf(msg, ml, "key outside any section"); return VP_EINVAL; }
@@ -893,6 +924,49 @@ int vp_board_calibration_load(vp_board_t *b, const char *path, vp_board_calib_t 
     b->tri.max_range = b->max_range;
     memcpy(b->line, c.line, sizeof b->line);
     memcpy(b->model, c.model, sizeof b->model);
+    b->have_rf = 0;
+    if (c.rf_at[0] || c.rf_at[4]) {
+        /* the full model: every key, a rotation, a unit beam, a span within the board's range */
+        vp_rf_model_t rf;
+        const double *q = c.rf;
+        double dn, ortho = 0;
+        int k, i, j;
+        for (k = 0; k < 7; k++)
+            if (!c.rf_at[k] && k != 6) {
+                snprintf(err, errlen, "%s: [rangefinder] missing key '%s' (a full model needs camera, distortion, "
+                                      "camera_position, camera_rotation, beam and beam_span)", path, rf_keys[k]);
+                return VP_EINVAL;
+            }
+        memset(&rf, 0, sizeof rf);
+        rf.cam = b->cam_model;
+        rf.cam.fx = q[0]; rf.cam.fy = q[1]; rf.cam.cx = q[2]; rf.cam.cy = q[3];
+        memcpy(rf.cam.dist, q + 4, sizeof rf.cam.dist);
+        memcpy(rf.cam.pos, q + 8, sizeof rf.cam.pos);
+        memcpy(rf.cam.rot, q + 11, sizeof rf.cam.rot);
+        memcpy(rf.origin, q + 20, sizeof rf.origin);
+        memcpy(rf.dir, q + 23, sizeof rf.dir);
+        rf.min_range = q[26] > b->min_range ? q[26] : b->min_range;
+        rf.max_range = q[27] < b->max_range ? q[27] : b->max_range;
+        rf.ray_tol_px = c.rf_at[6] ? q[28] : 3;
+        for (i = 0; i < 3; i++)
+            for (j = 0; j < 3; j++) {
+                double dot = rf.cam.rot[3 * i] * rf.cam.rot[3 * j] + rf.cam.rot[3 * i + 1] * rf.cam.rot[3 * j + 1] +
+                             rf.cam.rot[3 * i + 2] * rf.cam.rot[3 * j + 2];
+                ortho += fabs(dot - (i == j));
+            }
+        dn = sqrt(rf.dir[0] * rf.dir[0] + rf.dir[1] * rf.dir[1] + rf.dir[2] * rf.dir[2]);
+        if (!(rf.cam.fx > 0) || !(rf.cam.fy > 0)) { snprintf(err, errlen, "%s:%d: [rangefinder] camera: the focal lengths must be positive", path, c.rf_at[0]); return VP_EINVAL; }
+        if (!(ortho < 1e-6)) { snprintf(err, errlen, "%s:%d: [rangefinder] camera_rotation: not a rotation (rows must be orthonormal)", path, c.rf_at[3]); return VP_EINVAL; }
+        if (!(fabs(dn - 1) < 1e-6)) { snprintf(err, errlen, "%s:%d: [rangefinder] beam: the direction (4th-6th numbers) must be a unit vector", path, c.rf_at[4]); return VP_EINVAL; }
+        if (!(rf.max_range > rf.min_range)) { snprintf(err, errlen, "%s:%d: [rangefinder] beam_span: %g..%g mm leaves nothing of the board's range %g..%g", path, c.rf_at[5], q[26], q[27], b->min_range, b->max_range); return VP_EINVAL; }
+        if (!(rf.ray_tol_px > 0)) { snprintf(err, errlen, "%s:%d: [rangefinder] ray_tol_px: must be positive", path, c.rf_at[6]); return VP_EINVAL; }
+        b->rf = rf;
+        b->have_rf = 1;
+        /* the planner asks for no more than the model can read */
+        if (b->tri.max_range > rf.max_range) b->tri.max_range = rf.max_range;
+        c.info->have_rf = 1;
+        c.info->rf = rf;
+    }
     b->calibrated = 2;
     b->calib_missing = 0;
     snprintf(b->calib_path, sizeof b->calib_path, "%s", path);
@@ -915,6 +989,20 @@ int vp_board_calibration_write(const char *path, const vp_board_t *b, const vp_b
     fprintf(f, "# the spot at image point P0 + s E (px) is d = (A + B s) / (1 + C s) mm along the beam\n"
                "[rangefinder]\nline = %.17g, %.17g, %.17g, %.17g\nmodel = %.17g, %.17g, %.17g\n",
             c->tri.p0[0], c->tri.p0[1], c->tri.e[0], c->tri.e[1], c->tri.a, c->tri.b, c->tri.c);
+    if (c->have_rf) {
+        const vp_rf_model_t *r = &c->rf;
+        fprintf(f, "# the full model (used when present): the camera (fx, fy, cx, cy px; distortion k1, k2, p1, p2;\n"
+                   "# its centre and rotation rows in the tilt frame), the beam (origin, unit direction, tilt frame),\n"
+                   "# the span the calibration covered (mm along the beam), residual %.4f px rms\n", c->rf_rms_px);
+        fprintf(f, "camera = %.17g, %.17g, %.17g, %.17g\ndistortion = %.17g, %.17g, %.17g, %.17g\n", r->cam.fx, r->cam.fy,
+                r->cam.cx, r->cam.cy, r->cam.dist[0], r->cam.dist[1], r->cam.dist[2], r->cam.dist[3]);
+        fprintf(f, "camera_position = %.17g, %.17g, %.17g\ncamera_rotation = %.17g, %.17g, %.17g, %.17g, %.17g, %.17g, %.17g, "
+                   "%.17g, %.17g\n", r->cam.pos[0], r->cam.pos[1], r->cam.pos[2], r->cam.rot[0], r->cam.rot[1], r->cam.rot[2],
+                r->cam.rot[3], r->cam.rot[4], r->cam.rot[5], r->cam.rot[6], r->cam.rot[7], r->cam.rot[8]);
+        fprintf(f, "beam = %.17g, %.17g, %.17g, %.17g, %.17g, %.17g\nbeam_span = %.17g, %.17g\nray_tol_px = %.17g\n",
+                r->origin[0], r->origin[1], r->origin[2], r->dir[0], r->dir[1], r->dir[2], r->min_range, r->max_range,
+                r->ray_tol_px);
+    }
     ok = !ferror(f);
     if (fclose(f) != 0) ok = 0;
     if (!ok) { snprintf(err, errlen, "cannot write %s", path); return VP_EIO; }
@@ -946,6 +1034,11 @@ void vp_board_kin_config(const vp_board_t *b, vp_kin_config_t *k)
     memset(k, 0, sizeof *k);
     memcpy(k->tilt_offset, b->tilt_offset, sizeof k->tilt_offset);
     memcpy(k->laser_offset, b->laser_offset, sizeof k->laser_offset);
+    if (b->have_rf) {
+        /* the beam as calibrated: the kinematics aim it and place its points */
+        memcpy(k->laser_offset, b->rf.origin, sizeof k->laser_offset);
+        memcpy(k->laser_dir, b->rf.dir, sizeof k->laser_dir);
+    }
     for (a = 0; a < VP_BOARD_AXES; a++) { k->lo[a] = b->axis[a].ax.travel_min; k->hi[a] = b->axis[a].ax.travel_max; }
     k->origin_tol = b->origin_tol;
 }
@@ -960,6 +1053,8 @@ void vp_board_machine_config(const vp_board_t *b, vp_machine_config_t *m)
     m->spot.band = b->band;
     m->contact = vp_board_has_contact(b);
     m->confirm = b->confirm_spot;
+    m->use_rf = b->have_rf;
+    if (b->have_rf) m->rf = b->rf;
 }
 
 void vp_board_planner_config(const vp_board_t *b, vp_planner_config_t *c)

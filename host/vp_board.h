@@ -13,6 +13,7 @@
 #include <stddef.h>
 #include <stdint.h>
 #include "vp_cam.h"
+#include "vp_calib.h"
 #include "vp_gpiod.h"
 #include "vp_kin.h"
 #include "vp_laser.h"
@@ -99,6 +100,15 @@ typedef struct vp_board {
     double sim_dark[3];                  /* dark = ALBEDO, Z_LO, Z_HI (the object is dark between) */
     vp_camera_model_t sim_cam;           /* the camera as mounted on the simulated head (default:
                                             the [camera] model; a dry run renders with it) */
+    double sim_dist[4];                  /* [sim] distortion: the simulated lens' k1, k2, p1, p2 */
+    double sim_laser_origin[3];          /* [sim] laser_origin (default: [head] laser_offset) */
+    double sim_laser_error[2];           /* [sim] laser_error: the beam turned ANGLE degrees from +x,
+                                            towards AZIMUTH degrees about x from +y */
+    /* the full rangefinder model (vp_calib) from a calibration file that has one */
+    int have_rf;
+    vp_rf_model_t rf;
+    double cal_mark[2];                  /* [calibrate] mark = Y, Z: a bright dot on the target */
+    int have_mark;
 } vp_board_t;
 
 /* What a calibration file says about its fit (vp_board_calibration_*). */
@@ -108,6 +118,9 @@ typedef struct vp_board_calib {
     double near, far;                    /* the calibrated span, mm */
     double rms_mm, max_mm, line_rms_px;  /* fit residuals */
     vp_tri_model_t tri;                  /* line, model (ranges: the span) */
+    int have_rf;                         /* the full model too (camera, distortion, beam) */
+    vp_rf_model_t rf;                    /* its ranges: the span the spots covered */
+    double rf_rms_px;
 } vp_board_calib_t;
 
 /* VP_OK; VP_EIO (cannot read); VP_EINVAL (syntax, unknown or missing key, bad value, an

@@ -20,6 +20,31 @@ static void vp_mul(const double r[9], const double v[3], double out[3])
     for (i = 0; i < 3; i++) out[i] = r[3 * i] * v[0] + r[3 * i + 1] * v[1] + r[3 * i + 2] * v[2];
 }
 
+/* tilt-frame point -> image: the camera's frame, the pinhole, then the lens (radial k1 k2,
+ * decentring p1 p2) bending the true ray */
+static int vp_camsim_image(const vp_camera_model_t *cam, const double t[3], double uv[2])
+{
+    double q[3], c[3], x, y, rr, bend, tx, ty;
+    int i;
+    for (i = 0; i < 3; i++) q[i] = t[i] - cam->pos[i];
+    vp_mul(cam->rot, q, c);
+    if (!(c[2] > 1e-9)) return 0;
+    if (cam->dist[0] == 0 && cam->dist[1] == 0 && cam->dist[2] == 0 && cam->dist[3] == 0) {
+        uv[0] = cam->fx * c[0] / c[2] + cam->cx;   /* a perfect lens */
+        uv[1] = cam->fy * c[1] / c[2] + cam->cy;
+        return 1;
+    }
+    x = c[0] / c[2];
+    y = c[1] / c[2];
+    rr = x * x + y * y;
+    bend = 1 + rr * (cam->dist[0] + rr * cam->dist[1]);
+    tx = 2 * cam->dist[2] * x * y + cam->dist[3] * (rr + 2 * x * x);
+    ty = cam->dist[2] * (rr + 2 * y * y) + 2 * cam->dist[3] * x * y;
+    uv[0] = cam->cx + cam->fx * (bend * x + tx);
+    uv[1] = cam->cy + cam->fy * (bend * y + ty);
+    return 1;
+}
+
 /* world point -> image */
 static int vp_camsim_proj(const vp_camsim_config_t *c, const double rot[9], const double pos[3], const double p[3],
                           double uv[2])
@@ -28,7 +53,16 @@ static int vp_camsim_proj(const vp_camsim_config_t *c, const double rot[9], cons
     int i;
     for (i = 0; i < 3; i++) q[i] = p[i] - pos[i];
     vp_mulT(rot, q, t);
-    return vp_camera_project(&c->cam, t, uv);
+    return vp_camsim_image(&c->cam, t, uv);
+}
+
+/* the beam's direction in the tilt frame */
+static void vp_camsim_beam(const vp_camsim_config_t *c, double d[3])
+{
+    double n = sqrt(c->laser_dir[0] * c->laser_dir[0] + c->laser_dir[1] * c->laser_dir[1] + c->laser_dir[2] * c->laser_dir[2]);
+    int i;
+    if (!(n > 0)) { d[0] = 1; d[1] = d[2] = 0; return; }
+    for (i = 0; i < 3; i++) d[i] = c->laser_dir[i] / n;
 }
 
 /* Approximately normal deviate from one 64-bit draw (sum of four 16-bit uniforms). */
@@ -153,7 +187,7 @@ static int vp_camsim_draw(const vp_camsim_config_t *c, const vp_camsim_scene_t *
                           int64_t t_move)
 {
     const int w = c->cam.width, h = c->cam.height;
-    double ex[3] = { 1, 0, 0 }, o[3], d[3], cpos[3], t = 0, blur, beam, energy, maxr, tx, ty, phx, phy;
+    double ex[3], o[3], d[3], cpos[3], t = 0, blur, beam, energy, maxr, tx, ty, phx, phy;
     vp_camsim_truth_t tr;
     float *acc;
     int i, x, y;
@@ -168,6 +202,7 @@ static int vp_camsim_draw(const vp_camsim_config_t *c, const vp_camsim_scene_t *
     beam = c->beam_radius > 0 ? c->beam_radius : 0.25;
     energy = c->spot_energy > 0 ? c->spot_energy : 3000;
     maxr = c->max_range > 0 ? c->max_range : 5000;
+    vp_camsim_beam(c, ex);
     acc = malloc((size_t)w * h * sizeof *acc);
     if (!acc) return VP_ENOMEM;
     /* ambient light: level, gradient, a smooth pattern with a random phase */
@@ -256,6 +291,34 @@ static int vp_camsim_draw(const vp_camsim_config_t *c, const vp_camsim_scene_t *
             }
         }
     }
+    if (!sc->surf && sc->mark_peak > 0) {
+        /* the printed mark: a dot of radius mark_sigma on the plane, seen whatever the laser does;
+         * its footprint through the camera's local projection (as the beam's) */
+        double mc[3], vc[3], a[3] = { 0, 0, 1 }, t1[3], t2[3], uv0[2], uv1[2], j1[2], j2[2], q[3], sxx, sxy, syy;
+        double ms = sc->mark_sigma > 0 ? sc->mark_sigma : 0.4, step = 0.01, l;
+        vp_mul(rot, c->cam.pos, mc);
+        for (i = 0; i < 3; i++) { mc[i] += pos[i]; vc[i] = mc[i] - sc->mark[i]; }
+        if (fabs(sc->plane_n[2]) > 0.9 * vp_norm3(sc->plane_n)) { a[0] = 1; a[2] = 0; }
+        vp_cross3(t1, sc->plane_n, a);
+        l = vp_norm3(t1);
+        for (i = 0; i < 3; i++) t1[i] /= l;
+        vp_cross3(t2, sc->plane_n, t1);
+        l = vp_norm3(t2);
+        for (i = 0; i < 3; i++) t2[i] /= l;
+        if (fabs(vp_dot3(sc->plane_n, vc)) > 1e-6 && vp_camsim_proj(c, rot, pos, sc->mark, uv0) && uv0[0] > -20 &&
+            uv0[0] < w + 20 && uv0[1] > -20 && uv0[1] < h + 20) {
+            for (i = 0; i < 3; i++) q[i] = sc->mark[i] + step * t1[i];
+            vp_camsim_proj(c, rot, pos, q, uv1);
+            j1[0] = (uv1[0] - uv0[0]) / step * ms; j1[1] = (uv1[1] - uv0[1]) / step * ms;
+            for (i = 0; i < 3; i++) q[i] = sc->mark[i] + step * t2[i];
+            vp_camsim_proj(c, rot, pos, q, uv1);
+            j2[0] = (uv1[0] - uv0[0]) / step * ms; j2[1] = (uv1[1] - uv0[1]) / step * ms;
+            sxx = blur * blur + j1[0] * j1[0] + j2[0] * j2[0];
+            syy = blur * blur + j1[1] * j1[1] + j2[1] * j2[1];
+            sxy = j1[0] * j1[1] + j2[0] * j2[1];
+            vp_camsim_spot(acc, w, h, uv0[0], uv0[1], sc->mark_peak * 2 * VP_PI * sqrt(sxx * syy - sxy * sxy), sxx, sxy, syy);
+        }
+    }
     if (c->lamp_peak > 0 && c->lamp_sigma > 0)
         vp_camsim_spot(acc, w, h, c->lamp_uv[0], c->lamp_uv[1], tr.ambient_gain * c->lamp_peak * 2 * VP_PI * c->lamp_sigma * c->lamp_sigma,
                        c->lamp_sigma * c->lamp_sigma, 0, c->lamp_sigma * c->lamp_sigma);
@@ -263,10 +326,13 @@ static int vp_camsim_draw(const vp_camsim_config_t *c, const vp_camsim_scene_t *
         /* an ambient highlight beside the laser line: where the beam's image would be for a
          * surface at highlight_dist, moved across the line; lit whatever the laser does */
         double p1[3], p2[3], u1[2], u2[2], e[2], l, sg = c->highlight_sigma > 0 ? c->highlight_sigma : 1.5;
-        for (i = 0; i < 3; i++) p1[i] = p2[i] = c->laser_offset[i];
-        p1[0] += c->highlight_dist;
-        p2[0] += c->highlight_dist + 1;
-        if (vp_camera_project(&c->cam, p1, u1) && vp_camera_project(&c->cam, p2, u2)) {
+        double bd[3];
+        vp_camsim_beam(c, bd);
+        for (i = 0; i < 3; i++) {
+            p1[i] = c->laser_offset[i] + c->highlight_dist * bd[i];
+            p2[i] = c->laser_offset[i] + (c->highlight_dist + 1) * bd[i];
+        }
+        if (vp_camsim_image(&c->cam, p1, u1) && vp_camsim_image(&c->cam, p2, u2)) {
             e[0] = u2[0] - u1[0]; e[1] = u2[1] - u1[1];
             l = sqrt(e[0] * e[0] + e[1] * e[1]);
             if (l > 1e-12) { e[0] /= l; e[1] /= l; } else { e[0] = 1; e[1] = 0; }

@@ -17,8 +17,10 @@
 #include "vp_surface.h"
 
 typedef struct vp_camsim_config {
-    vp_camera_model_t cam;       /* in the tilt frame (vp_kin) */
-    double laser_offset[3];      /* laser origin in the tilt frame; the beam is +x */
+    vp_camera_model_t cam;       /* in the tilt frame (vp_kin); cam.dist: the lens' distortion,
+                                    applied by the renderer's own code to the true points */
+    double laser_offset[3];      /* laser origin in the tilt frame */
+    double laser_dir[3];         /* the beam's direction in the tilt frame (0, 0, 0: +x) */
     double blur_px;              /* optical blur sigma, px (0: 1.2) */
     double beam_radius;          /* 1-sigma beam footprint on a facing surface, mm (0: 0.25) */
     double spot_energy;          /* grey levels x px^2 of a facing spot 300 mm from the camera (0: 3000) */
@@ -64,6 +66,10 @@ typedef struct vp_camsim_config {
 typedef struct vp_camsim_scene {
     const vp_surface_t *surf;    /* the object, or NULL for the plane */
     double plane_n[3], plane_d;  /* flat target n.x = d (world) when surf is NULL */
+    double mark_peak;            /* > 0: a bright dot printed on the flat target, lit with the laser
+                                    off too, of this peak (grey levels above the background) */
+    double mark[3];              /* its centre (world, on the plane) */
+    double mark_sigma;           /* its 1-sigma radius, mm (0: 0.4) */
 } vp_camsim_scene_t;
 
 typedef struct vp_camsim_truth {

@@ -140,7 +140,14 @@ int vp_dryrun_open(const vp_board_t *b, const vp_dryrun_options_t *o, vp_dryrun_
     /* the camera: host-sim frames at the carriages' pose */
     memset(&cc, 0, sizeof cc);
     cc.cam = b->sim_cam.width ? b->sim_cam : b->cam_model;   /* as mounted ([sim] may move it) */
-    memcpy(cc.laser_offset, b->laser_offset, sizeof cc.laser_offset);
+    memcpy(cc.laser_offset, b->sim_laser_origin, sizeof cc.laser_offset);
+    {
+        /* the beam as mounted: turned laser_error[0] degrees from +x towards azimuth laser_error[1] */
+        double ang = b->sim_laser_error[0] * 3.14159265358979323846 / 180, az = b->sim_laser_error[1] * 3.14159265358979323846 / 180;
+        cc.laser_dir[0] = cos(ang);
+        cc.laser_dir[1] = sin(ang) * cos(az);
+        cc.laser_dir[2] = sin(ang) * sin(az);
+    }
     cc.blur_px = b->sim_blur;
     cc.noise = b->sim_noise;
     cc.ambient = b->sim_ambient;
@@ -173,6 +180,13 @@ int vp_dryrun_open(const vp_board_t *b, const vp_dryrun_options_t *o, vp_dryrun_
         scene.surf = NULL;
         scene.plane_n[0] = 1;
         scene.plane_d = opt.target_x;
+        if (b->have_mark) {
+            /* the calibration mark printed on the target */
+            scene.mark_peak = 120;
+            scene.mark[0] = opt.target_x;
+            scene.mark[1] = b->cal_mark[0];
+            scene.mark[2] = b->cal_mark[1];
+        }
     }
     st = vp_camsim_create(&cc, &scene, opt.seed ? opt.seed : (unsigned long long)b->sim_seed, vp_dryrun_pose,
                           vp_dryrun_clock, d, &d->cs);

@@ -26,6 +26,17 @@ int vp_kin_init(vp_kin_t *k, const vp_kin_config_t *cfg)
     for (i = 0; i < VP_KIN_JOINTS; i++) if (cfg->lo[i] > cfg->hi[i]) return VP_EINVAL;
     k->cfg = *cfg;
     if (k->cfg.origin_tol == 0) k->cfg.origin_tol = 0.1;
+    k->tilted = 0;
+    k->beam[0] = 1;
+    k->beam[1] = k->beam[2] = 0;
+    if (!vp_kin_finite(cfg->laser_dir, 3)) return VP_EINVAL;
+    if (cfg->laser_dir[0] != 0 || cfg->laser_dir[1] != 0 || cfg->laser_dir[2] != 0) {
+        double n = vp_kin_norm(cfg->laser_dir);
+        if (!(n > 1e-9)) return VP_EINVAL;
+        for (i = 0; i < 3; i++) k->beam[i] = cfg->laser_dir[i] / n;
+        k->tilted = !(k->beam[0] == 1 && k->beam[1] == 0 && k->beam[2] == 0);
+        if (k->beam[0] < 0.5) return VP_EINVAL;   /* within 60 degrees of +x */
+    }
     k->reach = vp_kin_norm(cfg->tilt_offset) + vp_kin_norm(cfg->laser_offset);
     return VP_OK;
 }
@@ -75,6 +86,7 @@ void vp_kin_forward(const vp_kin_t *k, const double j[VP_KIN_JOINTS], double ori
     vp_kin_arm(k, j[VP_J_PAN], j[VP_J_TILT], f);
     for (i = 0; i < 3; i++) origin[i] = j[i] + f[i];
     vp_kin_rot(j[VP_J_PAN], j[VP_J_TILT], r);
+    if (k->tilted) { vp_kin_mul(r, k->beam, dir); return; }
     dir[0] = r[0]; dir[1] = r[3]; dir[2] = r[6];
 }
 
@@ -100,6 +112,46 @@ int vp_kin_in_travel(const vp_kin_t *k, const double j[VP_KIN_JOINTS])
     return 1;
 }
 
+/* Aim a beam calibrated off +x: the tilts with bx sin t + bz cos t = dz, each with its pan. Where
+ * the beam cannot point exactly (near vertical, at the tilt's travel) it points as close as it
+ * goes, off dir by at most its angle to +x. */
+static int vp_kin_aim_tilted(const vp_kin_t *k, const double cur[VP_KIN_JOINTS], const double origin[3],
+                             const double dir[3], double out[VP_KIN_JOINTS])
+{
+    const double *b = k->beam;
+    double amp = sqrt(b[0] * b[0] + b[2] * b[2]), phi = atan2(b[2], b[0]), s = dir[2] / amp, as, tilts[6], best = HUGE_VAL;
+    double cand[VP_KIN_JOINTS], f[3];
+    int ti, m, i, found = 0;
+    /* within asin|by| of vertical the beam cannot point: aim it as steep as it goes (it then
+     * differs from dir by at most that angle) */
+    as = asin(s > 1 ? 1 : s < -1 ? -1 : s);
+    tilts[0] = (as - phi) / VP_DEG;
+    tilts[1] = (3.14159265358979323846 - as - phi) / VP_DEG;
+    for (ti = 0; ti < 2; ti++) { tilts[2 + 2 * ti] = tilts[ti] + 360; tilts[3 + 2 * ti] = tilts[ti] - 360; }
+    for (ti = 0; ti < 6; ti++) {
+        double tilt = tilts[ti], h0, pb, pn, off = acos(b[0]) / VP_DEG, lo = k->cfg.lo[VP_J_TILT], hi = k->cfg.hi[VP_J_TILT];
+        /* past the tilt's travel by no more than the beam's own angle: as far as it goes */
+        if (!(lo == 0 && hi == 0) && tilt < lo && tilt > lo - off) tilt = lo;
+        if (!(lo == 0 && hi == 0) && tilt > hi && tilt < hi + off) tilt = hi;
+        if (!vp_kin_joint_ok(k, VP_J_TILT, tilt)) continue;
+        h0 = cos(tilt * VP_DEG) * b[0] - sin(tilt * VP_DEG) * b[2];
+        pb = hypot(dir[0], dir[1]) < 1e-12 ? cur[VP_J_PAN] : (atan2(dir[1], dir[0]) - atan2(b[1], h0)) / VP_DEG;
+        pn = pb + 360.0 * floor((cur[VP_J_PAN] - pb) / 360.0 + 0.5);
+        for (m = -2; m <= 2; m++) {
+            double pan = pn + 360.0 * m, cost;
+            if (!vp_kin_joint_ok(k, VP_J_PAN, pan)) continue;
+            vp_kin_arm(k, pan, tilt, f);
+            for (i = 0; i < 3; i++) cand[i] = origin[i] - f[i];
+            cand[VP_J_PAN] = pan;
+            cand[VP_J_TILT] = tilt;
+            if (!vp_kin_in_travel(k, cand)) continue;
+            cost = fabs(pan - cur[VP_J_PAN]) + fabs(tilt - cur[VP_J_TILT]);
+            if (cost < best) { best = cost; memcpy(out, cand, sizeof cand); found = 1; }
+        }
+    }
+    return found ? VP_OK : VP_ERANGE;
+}
+
 int vp_kin_aim(const vp_kin_t *k, const double cur[VP_KIN_JOINTS], const double origin[3],
                const double dir[3], double out[VP_KIN_JOINTS])
 {
@@ -108,6 +160,7 @@ int vp_kin_aim(const vp_kin_t *k, const double cur[VP_KIN_JOINTS], const double 
     if (!k || !cur || !origin || !dir || !out) return VP_EINVAL;
     if (!vp_kin_finite(cur, VP_KIN_JOINTS) || !vp_kin_finite(origin, 3) || !vp_kin_finite(dir, 3) ||
         fabs(vp_kin_norm(dir) - 1) > 1e-9) return VP_EINVAL;
+    if (k->tilted) return vp_kin_aim_tilted(k, cur, origin, dir, out);
     t0 = asin(dir[2] > 1 ? 1 : dir[2] < -1 ? -1 : dir[2]) / VP_DEG;
     /* straight up or down: pan is free, keep it */
     p0 = (fabs(dir[2]) > 1 - 1e-12) ? cur[VP_J_PAN] : atan2(dir[1], dir[0]) / VP_DEG;

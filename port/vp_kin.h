@@ -5,7 +5,10 @@
  *   R(pan, tilt) = Rz(pan) * Ry(-tilt)          (tilt > 0 raises the beam)
  *   tilt frame:   origin  T = G + Rz(pan) * tilt_offset,  axes R
  *   laser origin  O = T + R * laser_offset,  beam direction d = R * (1,0,0)
- * so pan = atan2(dy, dx), tilt = asin(dz). The world frame is the machine frame (mm).
+ * so pan = atan2(dy, dx), tilt = asin(dz). The world frame is the machine frame (mm). A beam
+ * calibrated off +x (laser_dir = b): d = R b, and aiming solves bx sin(tilt) + bz cos(tilt) = dz,
+ * then pan turns (bx cos(tilt) - bz sin(tilt), by) onto (dx, dy); within asin|by| of vertical
+ * such a beam cannot point, and is aimed as steep as it goes (off dir by at most that angle).
  *
  * MOVE keeps pan and tilt and translates the gantry: every joint moves linearly and the laser
  * origin (the planner's device point) stays exactly on the segment. Aiming (PROBE) turns the
@@ -22,9 +25,16 @@ typedef struct vp_kin_config {
     double laser_offset[3];  /* laser origin from the tilt axis centre, tilt frame (mm) */
     double lo[VP_KIN_JOINTS], hi[VP_KIN_JOINTS]; /* joint travel; lo == hi == 0: unlimited */
     double origin_tol;       /* aim: laser origin stays this close to its line (0: 0.1 mm) */
+    double laser_dir[3];     /* the beam in the tilt frame as calibrated (0, 0, 0: +x); then
+                                d = R * laser_dir and aiming solves for it */
 } vp_kin_config_t;
 
-typedef struct vp_kin { vp_kin_config_t cfg; double reach; } vp_kin_t;
+typedef struct vp_kin {
+    vp_kin_config_t cfg;
+    double reach;
+    int tilted;              /* the beam is not +x */
+    double beam[3];          /* unit beam direction in the tilt frame */
+} vp_kin_t;
 
 /* VP_EINVAL for NaN or lo > hi. */
 int vp_kin_init(vp_kin_t *k, const vp_kin_config_t *cfg);

@@ -35,8 +35,17 @@ int vp_camera_project(const vp_camera_model_t *c, const double p[3], double uv[2
     for (i = 0; i < 3; i++) q[i] = p[i] - c->pos[i];
     for (i = 0; i < 3; i++) pc[i] = c->rot[3 * i] * q[0] + c->rot[3 * i + 1] * q[1] + c->rot[3 * i + 2] * q[2];
     if (!(pc[2] > 1e-9)) return 0;
-    uv[0] = c->fx * pc[0] / pc[2] + c->cx;
-    uv[1] = c->fy * pc[1] / pc[2] + c->cy;
+    if (c->dist[0] == 0 && c->dist[1] == 0 && c->dist[2] == 0 && c->dist[3] == 0) {
+        uv[0] = c->fx * pc[0] / pc[2] + c->cx;
+        uv[1] = c->fy * pc[1] / pc[2] + c->cy;
+        return 1;
+    }
+    {
+        const double *k = c->dist, x = pc[0] / pc[2], y = pc[1] / pc[2], r2 = x * x + y * y;
+        double radial = 1 + k[0] * r2 + k[1] * r2 * r2;
+        uv[0] = c->fx * (x * radial + 2 * k[2] * x * y + k[3] * (r2 + 2 * x * x)) + c->cx;
+        uv[1] = c->fy * (y * radial + k[2] * (r2 + 2 * y * y) + 2 * k[3] * x * y) + c->cy;
+    }
     return 1;
 }
 

@@ -21,17 +21,23 @@
 #include <stdint.h>
 #include "vp_cam.h"
 
-/* Pinhole camera on the tilt stage (the laser's frame, vp_kin). */
+/* Camera on the tilt stage (the laser's frame, vp_kin): a pinhole with Brown-Conrady lens
+ * distortion as OpenCV defines it (k3 = 0), on normalised coordinates x = X/Z, y = Y/Z:
+ *   r2 = x^2 + y^2,  x' = x (1 + k1 r2 + k2 r2^2) + 2 p1 x y + p2 (r2 + 2 x^2),
+ *                    y' = y (1 + k1 r2 + k2 r2^2) + p1 (r2 + 2 y^2) + 2 p2 x y,
+ *   u = fx x' + cx,  v = fy y' + cy.  dist all 0: the plain pinhole. */
 typedef struct vp_camera_model {
     int width, height;
     double fx, fy, cx, cy;   /* focal lengths and principal point, pixels */
+    double dist[4];          /* k1, k2, p1, p2 */
     double pos[3];           /* centre in the tilt frame (mm) */
     double rot[9];           /* rows: camera x (right), y (down), z (forward) in the tilt frame */
 } vp_camera_model_t;
 
 /* rot from a point the optical axis passes through and an up direction (tilt frame). */
 int vp_camera_look_at(vp_camera_model_t *c, const double look[3], const double up[3]);
-/* Image of a point given in the tilt frame: 1 and (u,v) if in front of the camera. */
+/* Image of a point given in the tilt frame (through the lens distortion): 1 and (u,v) if in front
+ * of the camera. */
 int vp_camera_project(const vp_camera_model_t *c, const double p[3], double uv[2]);
 
 typedef struct vp_tri_model {

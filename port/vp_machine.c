@@ -180,13 +180,14 @@ static int vp_machine_grab(vp_machine_t *m, vp_frame_t *f, int *proven)
 /* The frame the spot is looked for in. With a laser line: a laser-off frame copied into diff_buf,
  * then a laser-on frame, and diff_buf = on - off (clamped at 0); *held = 0. Without (or with
  * single_frame): the camera's frame itself, *held = 1 (release it). The laser is off on return. */
-static int vp_machine_expose(vp_machine_t *m, vp_frame_t *out, int *held, int keep_on)
+static int vp_machine_expose(vp_machine_t *m, vp_frame_t *out, int *held, int keep_on, vp_spot_t *off_spot)
 {
     vp_frame_t f;
     size_t n;
     int proven = 1, x, y, w, h, rc;
     uint8_t *b = m->cfg.diff_buf;
     *held = 0;
+    if (off_spot) { memset(off_spot, 0, sizeof *off_spot); off_spot->result = VP_SPOT_NONE; }
     m->last.fault = VP_FRAME_OK;
     m->last.seq_off = m->last.seq_confirm = -1;
     if (!m->cfg.use_laser_line || m->cfg.single_frame) {
@@ -220,6 +221,13 @@ static int vp_machine_expose(vp_machine_t *m, vp_frame_t *out, int *held, int ke
     if (keep_on) memcpy(b + n, b, n);
     m->last.seq_off = f.seq;
     m->cam.release(m->cam.ctx, &f);
+    if (off_spot) {
+        /* the scene with the laser off: the calibration mark */
+        vp_frame_t view;
+        memset(&view, 0, sizeof view);
+        view.data = b; view.width = w; view.height = h; view.stride = w; view.step = 1;
+        VP_TRY(vp_spot_find(&view, NULL, NULL, &m->ws, off_spot));
+    }
     /* laser on */
     vp_machine_laser(m, 1);
     rc = vp_machine_grab(m, &f, &proven);
@@ -273,7 +281,14 @@ static int vp_machine_confirm(vp_machine_t *m, const vp_frame_t *f)
         }
     m->last.seq_confirm = g.seq;
     m->cam.release(m->cam.ctx, &g);
-    VP_TRY(vp_spot_find(f, &m->cfg.spot, &m->tri, &m->ws, &s2));
+    if (m->cfg.use_rf) {
+        /* the full model looks for the spot anywhere (its beam's image is curved) */
+        vp_spot_config_t sc = m->cfg.spot;
+        sc.band = 0;
+        VP_TRY(vp_spot_find(f, &sc, NULL, &m->ws, &s2));
+    } else {
+        VP_TRY(vp_spot_find(f, &m->cfg.spot, &m->tri, &m->ws, &s2));
+    }
     if (tol < 0.4 * r) tol = 0.4 * r;      /* a large (saturated) spot's centroid wanders more */
     m->st.confirmed++;
     if (s2.result != VP_SPOT_FOUND || hypot(s2.u - m->last.spot.u, s2.v - m->last.spot.v) > tol) {
@@ -339,11 +354,40 @@ int vp_machine_probe(vp_machine_t *m, const vp_cmd_t *cmd, vp_probe_result_t *re
     if (m->cfg.settle_ns) m->io.wait_until(m->io.ctx, t0 + m->cfg.settle_ns);
     /* expose: frames from after the laser switch only (vp_machine_expose) */
     confirm = m->cfg.confirm && m->cfg.use_laser_line && !m->cfg.single_frame;
-    VP_TRY(vp_machine_expose(m, &f, &held, confirm));
+    VP_TRY(vp_machine_expose(m, &f, &held, confirm, NULL));
     m->last.t_ns = f.t_ns;
     m->last.seq = f.seq;
-    hit = vp_laser_measure(&f, &m->cfg.spot, &m->tri, &m->ws, &m->last.spot, &dist);
-    if (held) m->cam.release(m->cam.ctx, &f);
+    m->last.rf_why = -1;
+    if (m->cfg.use_rf) {
+        /* the full model: the spot anywhere in the frame, then the camera ray against the beam */
+        vp_spot_config_t sc = m->cfg.spot;
+        sc.band = 0;
+        hit = vp_spot_find(&f, &sc, NULL, &m->ws, &m->last.spot);
+        if (held) m->cam.release(m->cam.ctx, &f);
+        if (hit >= 0) {
+            hit = 0;
+            if (m->last.spot.result == VP_SPOT_FOUND) {
+                double uv[2];
+                uv[0] = m->last.spot.u;
+                uv[1] = m->last.spot.v;
+                hit = vp_rf_distance(&m->cfg.rf, uv, &m->last.rf_dist, &m->last.rf_why, &m->last.rf_gap_px);
+                if (hit >= 0) {
+                    hit = 0;
+                    if (m->last.rf_why == VP_RF_OFF_BEAM) m->last.spot.result = VP_SPOT_OFF_LINE;
+                    else if (m->last.rf_why == VP_RF_OK) { hit = 1; dist = m->last.rf_dist; }
+                    else if (m->last.rf_dist < m->cfg.rf.min_range && m->last.rf_dist > 0) {
+                        /* nearer than the calibrated span: a surface too close, never free space */
+                        hit = 1;
+                        dist = m->last.rf_dist;
+                        m->st.near++;
+                    }
+                }
+            }
+        }
+    } else {
+        hit = vp_laser_measure(&f, &m->cfg.spot, &m->tri, &m->ws, &m->last.spot, &dist);
+        if (held) m->cam.release(m->cam.ctx, &f);
+    }
     if (confirm) {
         /* the laser is still on: a second frame where the spot must be again */
         if (hit < 0 || m->last.spot.result != VP_SPOT_FOUND) vp_machine_laser(m, 0);
@@ -357,7 +401,7 @@ int vp_machine_probe(vp_machine_t *m, const vp_cmd_t *cmd, vp_probe_result_t *re
         }
     }
     if (hit < 0) return hit;
-    if (!hit && m->last.spot.result == VP_SPOT_FOUND) {
+    if (!m->cfg.use_rf && !hit && m->last.spot.result == VP_SPOT_FOUND) {
         /* a spot nearer than min_range is a surface too close, never free space: report it
          * (extrapolated) rather than a miss */
         const vp_tri_model_t *t = &m->tri;
@@ -392,8 +436,14 @@ vp_reading_t vp_machine_reading(const vp_machine_t *m, const vp_cmd_t *cmd, int 
     vp_reading_t kind = VP_READING_PLAIN;
     double s = NAN;
     if (r == VP_SPOT_FOUND) s = (m->last.spot.u - t->p0[0]) * t->e[0] + (m->last.spot.v - t->p0[1]) * t->e[1];
+    if (m->cfg.use_rf) s = r == VP_SPOT_FOUND ? m->last.rf_dist : NAN;   /* the full model: mm along the beam */
     if (raw) *raw = s;
-    if (r == VP_SPOT_FOUND && res->hit && was_near) {
+    if (m->cfg.use_rf && r == VP_SPOT_FOUND && !res->hit && m->last.rf_why != VP_RF_OK) {
+        /* beyond the calibrated span (or below it but not taken as near): refused, never free */
+        unreadable = 1;
+    } else if (m->cfg.use_rf && r == VP_SPOT_FOUND && !res->hit) {
+        /* measured within the span, beyond the range asked: free up to it */
+    } else if (r == VP_SPOT_FOUND && res->hit && was_near) {
         kind = VP_READING_NEAR;
         if (!near_measure) res->hit = VP_PROBE_TOO_CLOSE;
     } else if (r == VP_SPOT_FOUND && !res->hit) {
@@ -458,7 +508,7 @@ int vp_machine_calibrate(vp_machine_t *m, const vp_calib_plan_t *p, vp_tri_model
             int held;
             int64_t t0 = m->io.now(m->io.ctx);
             if (m->cfg.settle_ns) m->io.wait_until(m->io.ctx, t0 + m->cfg.settle_ns);
-            VP_TRY(vp_machine_expose(m, &f, &held, 0));
+            VP_TRY(vp_machine_expose(m, &f, &held, 0, NULL));
             w = vp_spot_find(&f, NULL, NULL, &m->ws, &sp);
             if (held) m->cam.release(m->cam.ctx, &f);
             if (w < 0) return w;
@@ -523,5 +573,116 @@ int vp_machine_measure_latency(vp_machine_t *m, int trials, int max_frames, int 
     }
     vp_machine_laser(m, 0);
     *latency = worst;
+    return VP_OK;
+}
+
+int vp_machine_observe(vp_machine_t *m, vp_spot_t *mark, vp_spot_t *spot)
+{
+    vp_frame_t f;
+    int held, rc;
+    int64_t t0;
+    if (!m || !spot) return VP_EINVAL;
+    t0 = m->io.now(m->io.ctx);
+    if (m->cfg.settle_ns) m->io.wait_until(m->io.ctx, t0 + m->cfg.settle_ns);
+    VP_TRY(vp_machine_expose(m, &f, &held, 0, mark));
+    rc = vp_spot_find(&f, NULL, NULL, &m->ws, spot);
+    if (held) m->cam.release(m->cam.ctx, &f);
+    return rc;
+}
+
+/* The head pose now and the observations at it. */
+static int vp_machine_calib_obs(vp_machine_t *m, const vp_calib_full_plan_t *p, vp_calib_obs_t *obs, int cap, int *n,
+                                double spot_uv[2])
+{
+    static const double ex[3] = { 1, 0, 0 };
+    double R[9], T[3], w[3];
+    vp_spot_t mark, spot;
+    int i, k;
+    VP_TRY(vp_machine_observe(m, &mark, &spot));
+    vp_kin_head(&m->kin, m->j, R, T);
+    spot_uv[0] = spot_uv[1] = NAN;
+    if (mark.result == VP_SPOT_FOUND) {
+        if (*n >= cap) return VP_ENOMEM;
+        memset(&obs[*n], 0, sizeof obs[*n]);
+        obs[*n].kind = VP_OBS_MARK;
+        obs[*n].uv[0] = mark.u;
+        obs[*n].uv[1] = mark.v;
+        for (k = 0; k < 3; k++) w[k] = p->mark[k] - T[k];
+        for (i = 0; i < 3; i++) obs[*n].p[i] = R[i] * w[0] + R[3 + i] * w[1] + R[6 + i] * w[2];   /* R^T w */
+        (*n)++;
+    }
+    if (spot.result == VP_SPOT_FOUND) {
+        if (*n >= cap) return VP_ENOMEM;
+        memset(&obs[*n], 0, sizeof obs[*n]);
+        obs[*n].kind = VP_OBS_SPOT;
+        obs[*n].uv[0] = spot_uv[0] = spot.u;
+        obs[*n].uv[1] = spot_uv[1] = spot.v;
+        for (i = 0; i < 3; i++) obs[*n].n[i] = R[i] * ex[0] + R[3 + i] * ex[1] + R[6 + i] * ex[2];
+        obs[*n].h = p->target_x - T[0];
+        (*n)++;
+    }
+    return VP_OK;
+}
+
+int vp_machine_calibrate_full(vp_machine_t *m, const vp_calib_full_plan_t *p, vp_calib_obs_t *obs, int cap, int *n,
+                              double (*beam_uv)[2], double *beam_d, int *nbeam)
+{
+    static const double ex[3] = { 1, 0, 0 };
+    const vp_rf_model_t *nom;
+    double o[3], d[3], target[VP_KIN_JOINTS], uv[2];
+    int i, k, w, dz, row, col;
+    if (!m || !p || !obs || !n || !beam_uv || !beam_d || !nbeam || !p->nominal || p->stations < 4 || p->depths < 1 ||
+        p->cols < 2 || p->rows < 2 || !(p->d_near > 0) || !(p->d_far > p->d_near) || !(p->mark_near > 0) ||
+        !(p->mark_far >= p->mark_near))
+        return VP_EINVAL;
+    if (!m->cfg.use_laser_line || m->cfg.single_frame) return VP_ESTATE;
+    nom = p->nominal;
+    *n = *nbeam = 0;
+    /* look along +x from the far beam station */
+    o[0] = p->target_x - p->d_far; o[1] = p->y; o[2] = p->z;
+    VP_TRY(vp_kin_aim(&m->kin, m->j, o, ex, target));
+    w = vp_kin_aim_path(&m->kin, m->j, target, m->way, VP_MACHINE_MAX_WAY);
+    if (w < 0) return w;
+    w = vp_step_move_path(&m->step, &m->way[0][0], w);
+    vp_machine_sync(m);
+    if (w < 0) return w;
+    /* beam stations */
+    for (i = 0; i < p->stations; i++) {
+        double dd = 1 / (1 / p->d_far + (1 / p->d_near - 1 / p->d_far) * i / (p->stations - 1));
+        o[0] = p->target_x - dd; o[1] = p->y; o[2] = p->z;
+        VP_TRY(vp_machine_goto(m, o));
+        vp_machine_beam(m, o, d);
+        VP_TRY(vp_machine_calib_obs(m, p, obs, cap, n, uv));
+        if (isfinite(uv[0])) {
+            beam_uv[*nbeam][0] = uv[0];
+            beam_uv[*nbeam][1] = uv[1];
+            beam_d[*nbeam] = (p->target_x - o[0]) / d[0];
+            (*nbeam)++;
+        }
+    }
+    /* mark stations: the mark over the image at each depth (serpentine rows) */
+    for (dz = 0; dz < p->depths; dz++) {
+        double z = p->depths < 2 ? p->mark_near
+                 : 1 / (1 / p->mark_far + (1 / p->mark_near - 1 / p->mark_far) * dz / (p->depths - 1));
+        for (row = 0; row < p->rows; row++)
+            for (col = 0; col < p->cols; col++) {
+                int c = row % 2 ? p->cols - 1 - col : col, rc;
+                double want[2], r[3], pt[3], lo[3], sp[2];
+                want[0] = p->margin_px + (nom->cam.width - 1 - 2 * p->margin_px) * c / (p->cols - 1);
+                want[1] = p->margin_px + (nom->cam.height - 1 - 2 * p->margin_px) * row / (p->rows - 1);
+                if (vp_camera_ray(&nom->cam, want, r) != VP_OK) continue;
+                /* tilt frame at pan = tilt = 0 is the machine's axes: the head's origin T = mark - pt */
+                for (k = 0; k < 3; k++) pt[k] = nom->cam.pos[k] + z * r[k];
+                for (k = 0; k < 3; k++) lo[k] = p->mark[k] - pt[k] + m->kin.cfg.laser_offset[k];
+                if (lo[0] > p->target_x - 2) continue;
+                if (vp_rf_spot(nom, p->target_x - lo[0], sp) &&
+                    (sp[0] - want[0]) * (sp[0] - want[0]) + (sp[1] - want[1]) * (sp[1] - want[1]) < 30 * 30)
+                    continue;   /* the laser spot would sit on the mark */
+                rc = vp_machine_goto(m, lo);
+                if (rc == VP_ERANGE) continue;   /* out of travel: nothing moved */
+                if (rc != VP_OK) return rc;
+                VP_TRY(vp_machine_calib_obs(m, p, obs, cap, n, uv));
+            }
+    }
     return VP_OK;
 }

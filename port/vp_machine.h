@@ -28,6 +28,7 @@
 #ifndef VP_MACHINE_H
 #define VP_MACHINE_H
 #include "vp_cam.h"
+#include "vp_calib.h"
 #include "vp_io.h"
 #include "vp_kin.h"
 #include "vp_laser.h"
@@ -70,6 +71,8 @@ typedef struct vp_machine_last {
     double contact_at;                /* its trigger: distance along the MOVE from cmd->from */
     double overtravel;                /* how far past the trigger the laser origin stopped (mm) */
     double contact_point[3];          /* the laser origin at the trigger (latched joints) */
+    int rf_why;                       /* full model: VP_RF_* of the last spot (-1: no spot read) */
+    double rf_dist, rf_gap_px;        /* its distance along the beam (also out of span) and miss of the beam */
 } vp_machine_last_t;
 
 typedef struct vp_machine_config {
@@ -96,6 +99,8 @@ typedef struct vp_machine_config {
                                          needs diff_len >= 2 frames */
     double confirm_px;                /* px (0: 1.0) */
     vp_spot_config_t spot;
+    int use_rf;                       /* 1: distances from the full model rf (vp_calib), not tri */
+    vp_rf_model_t rf;
 } vp_machine_config_t;
 
 typedef struct vp_machine {
@@ -143,7 +148,10 @@ int vp_machine_exec(vp_machine_t *m, const vp_cmd_t *cmd, vp_probe_result_t *res
  * near_measure a hit at the model's extrapolated distance. A frame that cannot be read (a blob
  * too big for a spot, as a surface at the lens gives; several spots; a spot off the laser line)
  * or a spot below the model's valid span proves nothing free: VP_PROBE_TOO_CLOSE too. res->dist
- * is 0 for VP_PROBE_TOO_CLOSE. *raw (may be NULL): the spot's position along the image line, px
+ * is 0 for VP_PROBE_TOO_CLOSE. With the full model (cfg.use_rf) a spot beyond the calibrated span,
+ * or below it (unless near_measure), is VP_PROBE_TOO_CLOSE too, never a miss, and a spot whose
+ * camera ray misses the beam is off the line. *raw (may be NULL): the spot's position along the
+ * image line, px (full model: its distance along the beam, mm)
  * (NaN: no spot). Returns what the reading was (VP_READING_*). */
 typedef enum vp_reading {
     VP_READING_PLAIN = 0,          /* a hit or a miss as measured */
@@ -169,6 +177,35 @@ typedef struct vp_calib_plan {
     int stations, frames;             /* >= 4; 0: 3 frames */
 } vp_calib_plan_t;
 int vp_machine_calibrate(vp_machine_t *m, const vp_calib_plan_t *p, vp_tri_model_t *out, vp_tri_fit_report_t *rep);
+
+/* The observations of the full calibration (vp_calib), the head looking along +x at the flat
+ * target x = target_x that carries a mark (a bright dot) at `mark` (machine coordinates):
+ *  - mark stations: for each of `depths` depths (evenly in 1/depth from mark_near to mark_far) and
+ *    each point of a cols x rows grid over the image (margin_px from its edges), the gantry moves
+ *    the head so that the nominal camera would see the mark there (stations out of travel, with the
+ *    laser origin within 2 mm of the target, or with the nominal laser spot within 30 px of the mark
+ *    are left out);
+ *  - beam stations: `stations` distances from d_far to d_near along the beam through (y, z), as
+ *    vp_machine_calibrate.
+ * At each: a laser-off frame (the mark: VP_OBS_MARK with its tilt-frame position) and the on - off
+ * difference (the laser spot: VP_OBS_SPOT with the target plane in the tilt frame), both with the
+ * head pose the joints give. Beam stations also give (uv, distance along the nominal beam) for
+ * the 1-D model (beam_uv, beam_d: room for `stations`). Needs the laser line (the mark is seen with
+ * the laser off). VP_ENOMEM when obs (cap entries) is full. */
+typedef struct vp_calib_full_plan {
+    double target_x, y, z;
+    double mark[3];
+    double d_near, d_far;
+    int stations;
+    int depths, cols, rows;
+    double mark_near, mark_far, margin_px;
+    const vp_rf_model_t *nominal;     /* places the mark in the image */
+} vp_calib_full_plan_t;
+int vp_machine_calibrate_full(vp_machine_t *m, const vp_calib_full_plan_t *p, vp_calib_obs_t *obs, int cap, int *n,
+                              double (*beam_uv)[2], double *beam_d, int *nbeam);
+/* At the head as it stands: the spot in the on - off difference and (mark, may be NULL) the
+ * brightest spot of the laser-off frame; both from vp_spot_find without a model. */
+int vp_machine_observe(vp_machine_t *m, vp_spot_t *mark, vp_spot_t *spot);
 
 /* The camera's pipeline latency in frames, from the head as it stands (aimed at a matte surface
  * within range): `trials` times the laser is switched on, then off, and the frames from the mark

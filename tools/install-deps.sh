@@ -23,9 +23,10 @@ BUILD_PKGS="build-essential pkg-config libgpiod-dev libcamera-dev libpng-dev lib
 # port/ (nothing links them at present); libcgal-dev (with libgmp-dev, libmpfr-dev): the exact
 # segment/mesh checker of t_safety (tests/cgal_moves.cpp) and bench/cgal_*.cpp.
 # qemu-system-arm (with gcc-arm-none-eabi, python3): t_qemu_m4 (the MPS2 AN386 image).
+# python3-opencv: t_lens_opencv (the lens distortion model against cv2.projectPoints/undistortPoints).
 CHECK_PKGS="$BUILD_PKGS clang libclang-rt-14-dev llvm gcc-arm-none-eabi libnewlib-arm-none-eabi \
 gcc-aarch64-linux-gnu libc6-dev-arm64-cross qemu-user libgmp-dev libv4l-dev libinih-dev libpng-dev \
-python3 python3-numpy python3-open3d chromium binutils libcgal-dev qemu-system-arm"
+python3 python3-numpy python3-open3d python3-opencv chromium binutils libcgal-dev qemu-system-arm"
 BENCH_PKGS="$CHECK_PKGS python3-gudhi"  # python3-gudhi: bench/reconstruct.sh (GUDHI's TangentialComplex)
 case $GROUP in
   build) PKGS=$BUILD_PKGS;;
