@@ -50,6 +50,8 @@ static void scan_usage(FILE *f)
         "                   gets VP_PROBE_TOO_CLOSE: never free, never sampled) or measure (a hit\n"
         "                   at the model's extrapolated distance); default: the board's near_spots\n"
         "  --quiet          no progress line\n"
+        "  --json           end with one JSON object (status, probes, mesh, moves; dry run: moves\n"
+        "                   through the object, head collisions by part, Hausdorff distance)\n"
         VP_LIVE_CLI_HELP
         "Dry run (nothing moves, nothing sleeps):\n"
         "  --dry-run        the board's kinematics, step generator (recording GPIO backend on a\n"
@@ -64,7 +66,8 @@ static void scan_usage(FILE *f)
         "Tests: --stop-after N (Ctrl-C after N commands), --estop-at N (dry run: e-stop during\n"
         "command N of this run).\n"
         "Exit status: 0 DONE (closed mesh), 1 failed or stopped by a fault, 2 usage, 3 paused, 4 DONE but\n"
-        "the mesh is not closed (or misses a component), 5 a dry run moved through the object.\n");
+        "the mesh is not closed (or misses a component), 5 a dry run moved through the object (the laser\n"
+        "origin's path, or any part of the head's body swept along a move or an aim: board [head]).\n");
     {
         char b[256];
         vp_backends_describe(b, sizeof b);
@@ -76,7 +79,7 @@ typedef struct scan_opts {
     const char *board, *log, *calib, *out, *surface;
     int near;                     /* -1: the board's near_spots; 0 too-close; 1 measure */
     double eps, noise_tol;
-    int confirm, dry, resume, quiet, have_sync;
+    int confirm, dry, resume, quiet, have_sync, json;
     size_t arena;
     unsigned long long seed;
     unsigned long stop_after, estop_at;
@@ -109,6 +112,7 @@ static int scan_option(scan_opts_t *o, int argc, char **argv, int *i, int from_n
     if (!strcmp(a, "--dry-run")) { o->dry = 1; return 0; }
     if (!strcmp(a, "--resume") && !from_note) { o->resume = 1; return 0; }
     if (!strcmp(a, "--quiet") && !from_note) { o->quiet = 1; return 0; }
+    if (!strcmp(a, "--json") && !from_note) { o->json = 1; return 0; }
     if (strcmp(a, "--board") && strcmp(a, "--log") && strcmp(a, "--calib") && strcmp(a, "--out") &&
         strcmp(a, "--surface") && strcmp(a, "--eps") && strcmp(a, "--noise-tol") && strcmp(a, "--confirm") &&
         strcmp(a, "--arena") && strcmp(a, "--seed") && strcmp(a, "--sync") && strcmp(a, "--stop-after") &&
@@ -724,6 +728,7 @@ static int scan_report(scan_job_t *j)
         vp_planner_stats_t ps;
         vp_meshcheck_t mc;
         vp_machine_t *m = j->dev.m;
+        double hausdorff = -1;
         int have_mc = vp_meshcheck_analyze(&j->mesh, &mc) == VP_OK;
         double mt = vp_scan_seconds(&j->dev) - j->run.t0;
         vp_planner_get_stats(j->pl, &ps);
@@ -776,17 +781,48 @@ static int scan_report(scan_job_t *j)
                    "into the part (voroprobe log verify %s names the first unproven move)\n", j->dev.through, j->o.log);
             j->rc = VP_EXIT_COLLISION;
         }
+        if (j->o.dry && j->dev.head_hits > 0) {
+            char parts[400];
+            vp_scan_head_text(&j->dev, parts, sizeof parts);
+            printf("SAFETY: %lu motions of this dry run brought the head's body within %g mm of the object (%s): on "
+                   "the machine that is a crash into the part\n", j->dev.head_hits, j->dev.head_tol, parts);
+            j->rc = VP_EXIT_COLLISION;
+        }
         if (j->o.dry) {
             vp_hausdorff_t hd;
             printf("dry run: probe error against the true object rms %.3f mm, worst %.3f mm (%lu hits); %lu false hits, "
                    "%lu hidden spots, %lu moves through the object\n",
                    j->dev.true_n ? sqrt(j->dev.err2 / (double)j->dev.true_n) : 0.0, j->dev.err_max, j->dev.true_n, j->dev.false_hits,
                    j->dev.false_misses, j->dev.through);
-            if (j->rc == 0 && j->mesh.nt > 0 && vp_hausdorff(&j->mesh, j->dev.dr->surf, 20000, 7, &hd) == VP_OK)
+            {
+                char parts[400];
+                vp_scan_head_text(&j->dev, parts, sizeof parts);
+                printf("dry run: head: %lu head collisions in %lu motions (%s; swept, %g mm tolerance, %lu distance "
+                       "queries)\n", j->dev.head_hits, j->dev.head_motions, parts, j->dev.head_tol, j->dev.head_evals);
+            }
+            if (j->rc == 0 && j->mesh.nt > 0 && vp_hausdorff(&j->mesh, j->dev.dr->surf, 20000, 7, &hd) == VP_OK) {
                 printf("dry run: the mesh is within %.2f mm of the object (Hausdorff), eps %g mm\n", hd.hausdorff, j->o.eps);
+                hausdorff = hd.hausdorff;
+            }
             printf("dry run: %d frames rendered, %.1f s wall\n", (int)m->st.frames, vp_rt_seconds() - j->wall0);
         }
         printf("wrote %s.ply and %s.off\n", j->prefix, j->prefix);
+        if (j->o.json) {
+            int i;
+            printf("{\"status\":\"%s\",\"exit\":%d,\"probes\":%lu,\"vertices\":%u,\"facets\":%u,\"closed\":%s,"
+                   "\"moves\":%lu,\"machine_s\":%.1f", vp_outcome_name(j->rc), j->rc,
+                   j->dev.hits + j->dev.misses + j->dev.too_close, (unsigned)j->mesh.nv, (unsigned)j->mesh.nt,
+                   have_mc && mc.closed_manifold ? "true" : "false", m->st.moves, mt);
+            if (j->o.dry) {
+                printf(",\"through\":%lu,\"head_collisions\":%lu,\"head_motions\":%lu,\"head_parts\":{", j->dev.through,
+                       j->dev.head_hits, j->dev.head_motions);
+                for (i = 0; i < j->dev.board.head.nparts; i++)
+                    printf("%s\"%s\":%lu", i ? "," : "", j->dev.board.head.part[i].name, j->dev.head_part[i]);
+                printf("}");
+                if (hausdorff >= 0) printf(",\"hausdorff\":%.4f", hausdorff);
+            }
+            printf("}\n");
+        }
         if (have_mc) vp_meshcheck_free(&mc);
     }
     return j->rc;

@@ -11,6 +11,7 @@
 #include "vp_logwriter.h"
 #include "vp_planner.h"
 #include "vp_status.h"
+#include "vp_vec3.h"
 
 enum { K_NUM, K_NUMS, K_INT, K_BOOL, K_PIN, K_STR, K_HOME, K_IO, K_FMT, K_RANGE, K_BOX, K_BALL };
 enum { R_NO = 0, R_YES = 1, R_GPIO = 2 };   /* required: never, always, for io = gpiod */
@@ -78,6 +79,11 @@ static const vp_bkey_t k_head[] = {
     { "contact", K_PIN, B(contact), 0, ANY, R_NO },
     { "contact_stop", K_NUM, B(contact_stop), 1, POS, 1000, R_NO },
     { "contact_halt", K_BOOL, B(contact_halt), 0, ANY, R_NO },
+    { "laser_body", K_STR, B(body_laser), 96, ANY, R_NO },
+    { "camera_body", K_STR, B(body_camera), 96, ANY, R_NO },
+    { "bracket", K_STR, B(body_bracket), 96, ANY, R_NO },
+    { "hub", K_STR, B(body_hub), 96, ANY, R_NO },
+    { "clear_by", K_STR, B(clear_by), 16, ANY, R_NO },
     { NULL, 0, 0, 0, 0, 0, 0 } };
 static const vp_bkey_t k_camera[] = {
     { "backend", K_STR, B(camera.backend), 16, ANY, R_NO },
@@ -383,6 +389,13 @@ static int vp_board_key(void *user, const char *section, const char *key, const 
             if (ch < 0) { snprintf(msg, ml, "expected red, green, blue or luma, got '%s'", val); return VP_EINVAL; }
             c->b->camera.colour = ch;
         }
+        if (!strcmp(key, "clear_by")) {
+            if (strcmp(val, "ball") && strcmp(val, "swept")) {
+                snprintf(msg, ml, "expected ball or swept, got '%s'", val);
+                return VP_EINVAL;
+            }
+            c->b->clear_swept = !strcmp(val, "swept");
+        }
         if (!strcmp(key, "near_spots")) {
             if (strcmp(val, "too-close") && strcmp(val, "measure")) {
                 snprintf(msg, ml, "expected too-close or measure, got '%s'", val);
@@ -410,7 +423,7 @@ static int vp_seen(const vp_bctx_t *c, int s, const char *key) { return c->line[
 /* "file:line: [section] key: reason" for a key (its line, or the section's when unset) */
 static int vp_bad(const vp_bctx_t *c, int s, const char *key, char *err, size_t el, const char *fmt, ...)
 {
-    char msg[300];
+    char msg[700];
     va_list ap;
     int line = key ? vp_seen(c, s, key) : 0;
     va_start(ap, fmt);
@@ -701,6 +714,111 @@ static int vp_board_check_contact(vp_bctx_t *c, char *err, size_t el)
     return VP_OK;
 }
 
+/* One body part as written: a capsule X1, Y1, Z1, X2, Y2, Z2, R or a box CX, CY, CZ, HX, HY, HZ
+ * (centre and half-sizes along the frame's axes), or none. The default when unset: def (NULL:
+ * no part). Returns VP_OK with *have = 0 for none. */
+static int vp_board_part(vp_bctx_t *c, const char *key, const char *val, int kind, const double *def, int *have,
+                         double v[7], char *err, size_t el)
+{
+    char msg[200];
+    int n = kind == VP_HEAD_BOX ? 6 : 7, k;
+    *have = 0;
+    if (!vp_seen(c, S_HEAD, key)) {
+        if (!def) return VP_OK;
+        memcpy(v, def, (size_t)n * sizeof *v);
+        *have = 1;
+        return VP_OK;
+    }
+    if (!strcmp(val, "none")) return VP_OK;
+    if (vp_numbers(val, v, n, -1e4, 1e4, msg, sizeof msg) != VP_OK)
+        return vp_bad(c, S_HEAD, key, err, el, "%s (%s, or none)", msg,
+                      kind == VP_HEAD_BOX ? "a box: CX, CY, CZ, HX, HY, HZ in the tilt frame" : "a capsule: X1, Y1, Z1, X2, Y2, Z2, R");
+    if (kind == VP_HEAD_BOX) {
+        for (k = 3; k < 6; k++)
+            if (!(v[k] > 0)) return vp_bad(c, S_HEAD, key, err, el, "the half-sizes HX, HY, HZ must be positive");
+    } else if (!(v[6] > 0)) return vp_bad(c, S_HEAD, key, err, el, "the radius R must be positive");
+    *have = 1;
+    return VP_OK;
+}
+
+/* The head's body, and the ball rule: every part within the clearance ball about the laser
+ * origin in every pose (the planner keeps that origin outside Omega and the board puts the
+ * object at least the clearance inside it), unless an io = sim board checks every motion
+ * against its simulated object instead (clear_by = swept). */
+static int vp_board_check_head(vp_bctx_t *c, char *err, size_t el)
+{
+    static const char *const key[4] = { "laser_body", "camera_body", "bracket", "hub" };
+    static const char *const part[4] = { "laser", "camera", "bracket", "tilt hub" };
+    vp_board_t *b = c->b;
+    const char *val[4];
+    double def[4][7], v[7], zero[3] = { 0, 0, 0 }, dxyz = 0, dang = 0, far[VP_HEAD_MAX_PARTS];
+    int i, k, have, a, worst;
+    val[0] = b->body_laser; val[1] = b->body_camera; val[2] = b->body_bracket; val[3] = b->body_hub;
+    /* the defaults: a 12 mm laser module 32 mm long behind its exit, a 25 mm board camera 20 mm
+     * deep about its centre, a bracket from the tilt axis to the camera; no pan-frame part */
+    for (k = 0; k < 3; k++) {
+        def[0][k] = b->laser_offset[k] - (k == 0 ? 26 : 0);
+        def[0][3 + k] = b->laser_offset[k] - (k == 0 ? 6 : 0);
+        def[1][k] = b->cam_model.pos[k];
+        def[1][3 + k] = k == 0 ? 10 : 12.5;
+        def[2][k] = 0;
+        def[2][3 + k] = b->cam_model.pos[k];
+    }
+    def[0][6] = 6;
+    def[2][6] = 4;
+    if (vp_head_init(&b->head, b->tilt_offset, b->laser_offset) != VP_OK) return vp_bad(c, S_HEAD, NULL, err, el, "bad head geometry");
+    if (b->clearance > 0)
+        vp_head_add(&b->head, "clearance ball", VP_HEAD_TILT, VP_HEAD_CAPSULE, b->laser_offset, b->laser_offset, b->clearance);
+    for (i = 0; i < 4; i++) {
+        int kind = i == 1 ? VP_HEAD_BOX : VP_HEAD_CAPSULE;
+        VP_TRY(vp_board_part(c, key[i], val[i], kind, i < 3 ? def[i] : NULL, &have, v, err, el));
+        if (!have) continue;
+        vp_head_add(&b->head, part[i], i == 3 ? VP_HEAD_PAN : VP_HEAD_TILT, kind, v, v + 3, kind == VP_HEAD_BOX ? 0 : v[6]);
+    }
+    /* how far the true laser origin may be from the planner's: origin_tol while aiming, half a
+     * step and the backlash of every axis (pan and tilt swing it by their angle times the reach) */
+    for (a = 0; a < 3; a++) {
+        double q = 0.5 / b->axis[a].ax.steps_per_unit + b->axis[a].ax.backlash;
+        dxyz += q * q;
+    }
+    for (a = 3; a < 5; a++) dang += 0.5 / b->axis[a].ax.steps_per_unit + b->axis[a].ax.backlash;
+    b->head_margin = b->origin_tol + sqrt(dxyz) + dang * (3.14159265358979323846 / 180.0) *
+                     (vp_dist3(zero, b->tilt_offset) + vp_dist3(zero, b->laser_offset));
+    /* the part reaching farthest decides; the others beyond the ball are named with it */
+    b->head_reach = 0;
+    worst = -1;
+    for (i = 0; i < b->head.nparts; i++) {
+        if (!strcmp(b->head.part[i].name, "clearance ball")) continue;
+        far[i] = vp_head_reach(&b->head, i, b->axis[4].ax.travel_min, b->axis[4].ax.travel_max);
+        if (far[i] > b->head_reach) { b->head_reach = far[i]; worst = i; }
+    }
+    if (worst >= 0 && b->clearance > 0 && !b->clear_swept && b->head_reach + b->head_margin > b->clearance) {
+        const vp_head_part_t *p = &b->head.part[worst];
+        char also[200] = "";
+        for (i = 0; i < b->head.nparts; i++) {
+            size_t len = strlen(also);
+            if (i == worst || strcmp(b->head.part[i].name, "clearance ball") == 0 || far[i] + b->head_margin <= b->clearance)
+                continue;
+            snprintf(also + len, sizeof also - len, "%s%s %.1f", len ? ", " : "; also beyond it: ", b->head.part[i].name,
+                     far[i] + b->head_margin);
+        }
+        for (k = 0; k < 4; k++) if (!strcmp(part[k], p->name)) break;
+        return vp_bad(c, S_HEAD, vp_seen(c, S_HEAD, key[k]) ? key[k] : NULL, err, el,
+                      "the %s reaches %.1f mm from the laser origin (%.1f, plus %.2f for origin_tol, half a step and "
+                      "the backlash), %.1f mm beyond the clearance ball ([omega] clearance %g)%s: nothing proves it clear of "
+                      "the object; raise clearance to %.1f or more (the object must then lie that far inside Omega)%s%s%s",
+                      p->name, b->head_reach + b->head_margin, b->head_reach, b->head_margin,
+                      b->head_reach + b->head_margin - b->clearance, b->clearance, also, b->head_reach + b->head_margin,
+                      b->io == VP_BOARD_IO_SIM ? ", or state clear_by = swept (io = sim: every motion checked against "
+                      "the simulated object)" : "", vp_seen(c, S_HEAD, key[k]) ? "" : "; this is the default ",
+                      vp_seen(c, S_HEAD, key[k]) ? "" : key[k]);
+    }
+    if (b->clear_swept && b->io != VP_BOARD_IO_SIM)
+        return vp_bad(c, S_HEAD, "clear_by", err, el, "swept checks the simulated object only: a board that drives motors "
+                      "(io = gpiod) needs the ball rule (clear_by = ball)");
+    return VP_OK;
+}
+
 /* A loaded board, checked part by part; defaults filled in. */
 static int vp_board_check(vp_bctx_t *c, char *err, size_t el)
 {
@@ -710,7 +828,8 @@ static int vp_board_check(vp_bctx_t *c, char *err, size_t el)
     VP_TRY(vp_board_check_range(c, err, el));
     VP_TRY(vp_board_check_fixture(c, err, el));
     VP_TRY(vp_board_check_contact(c, err, el));
-    return vp_board_check_omega(c, err, el);
+    VP_TRY(vp_board_check_omega(c, err, el));
+    return vp_board_check_head(c, err, el);
 }
 
 static void vp_board_defaults(vp_board_t *b)

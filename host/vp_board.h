@@ -6,6 +6,9 @@
  *
  * Pins:  [!]CHIP:OFFSET [pull-up|pull-down]   ('!' = active low)   or  none
  * Axes:  [axis.x] [axis.y] [axis.z] (mm) [axis.pan] [axis.tilt] (degrees)
+ * Head body ([head] laser_body, camera_body, bracket, hub): capsules X1,Y1,Z1,X2,Y2,Z2,R and a
+ * box CX,CY,CZ,HX,HY,HZ; each part must stay within [omega] clearance of the laser origin in
+ * every pose (the ball rule, vp_head.h), unless an io = sim board states clear_by = swept.
  * See boards/rpi4-gantry.ini for every key with a comment. */
 #ifndef VP_BOARD_H
 #define VP_BOARD_H
@@ -15,6 +18,7 @@
 #include "vp_cam.h"
 #include "vp_calib.h"
 #include "vp_gpiod.h"
+#include "vp_head.h"
 #include "vp_kin.h"
 #include "vp_laser.h"
 #include "vp_machine.h"
@@ -55,6 +59,12 @@ typedef struct vp_board {
     double contact_stop;                 /* mm the stylus can travel past its trigger (0: not given) */
     int contact_halt;                    /* no pulse after a touch is confirmed (no deceleration) */
     double contact_reach;                /* the most a move travels from a touch to rest (mm, at load) */
+    char body_laser[96], body_camera[96], body_bracket[96], body_hub[96];  /* parts as written */
+    char clear_by[16];                   /* "ball" (default) or "swept" (io = sim only) */
+    int clear_swept;                     /* clear_by = swept */
+    vp_head_t head;                      /* the body: the clearance ball and the parts */
+    double head_reach, head_margin;      /* the farthest part from the laser origin, and the error
+                                            added for origin_tol, step rounding and backlash (mm) */
     /* [camera] */
     vp_cam_config_t camera;
     vp_camera_model_t cam_model;         /* intrinsics and pose in the tilt frame */

@@ -6,7 +6,8 @@
  *   2  usage      bad options (nothing scanned)
  *   3  stopped    paused on purpose (--stop-after, Ctrl-C, SIGTERM): resumable from the log
  *   4  not_closed DONE, but the mesh is not closed or misses a component (certify says where)
- *   5  collision  a move touched the object (simulator or dry run): the one promise broken
+ *   5  collision  a move touched the object (simulator or dry run: the laser origin's path, or
+ *                 the head's body swept along a move or an aim): the one promise broken
  *   6  not_within_target  closed, but the measured Hausdorff distance is above the accuracy
  *                         target (sim --accuracy: only a simulation can measure it)
  */

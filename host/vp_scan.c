@@ -101,6 +101,7 @@ int vp_scan_open(vp_scan_dev_t *d, const vp_board_t *b, int dry, const char *sur
     d->dry = dry;
     d->raw = NAN;
     d->seed = seed ? seed : (unsigned long long)b->sim_seed;
+    d->head_tol = b->head_margin > VP_SCAN_HEAD_TOL ? b->head_margin : VP_SCAN_HEAD_TOL;
     if (dry) {
         vp_dryrun_options_t o;
         memset(&o, 0, sizeof o);
@@ -307,6 +308,48 @@ void vp_scan_close(vp_scan_dev_t *d)
     d->m = NULL;
 }
 
+/* ---------- the head's body along a motion (dry run) ---------- */
+
+static double vp_scan_obj_distance(void *ctx, const double p[3]) { return vp_surface_distance(ctx, p); }
+static int vp_scan_obj_inside(void *ctx, const double p[3]) { return vp_surface_inside(ctx, p); }
+
+/* The joint path j0 -> way[0] -> ... -> way[n-1] (linear joint pieces) against the object:
+ * one motion, counted once for each part that came within head_tol of it. The joints are the
+ * commanded ones: the true pose differs by at most the board's head_margin <= head_tol. */
+static void vp_scan_head_path(vp_scan_dev_t *d, const double j0[VP_KIN_JOINTS], const double (*way)[VP_KIN_JOINTS], int n)
+{
+    vp_head_object_t obj;
+    int any[VP_HEAD_MAX_PARTS], hit[VP_HEAD_MAX_PARTS], w, i, nany = 0;
+    if (!d->dry || n < 1) return;
+    obj.distance = vp_scan_obj_distance;
+    obj.inside = vp_scan_obj_inside;
+    obj.ctx = d->dr->surf;
+    memset(any, 0, sizeof any);
+    for (w = 0; w < n; w++) {
+        if (vp_head_sweep(&d->board.head, &obj, w ? way[w - 1] : j0, way[w], d->head_tol, hit, &d->head_evals) < 0)
+            continue;
+        for (i = 0; i < VP_HEAD_MAX_PARTS; i++) any[i] |= hit[i];
+    }
+    d->head_motions++;
+    for (i = 0; i < VP_HEAD_MAX_PARTS; i++) {
+        d->head_part[i] += (unsigned long)any[i];
+        nany += any[i];
+    }
+    if (nany) d->head_hits++;
+}
+
+void vp_scan_head_text(const vp_scan_dev_t *d, char *buf, size_t n)
+{
+    int i;
+    size_t len;
+    buf[0] = 0;
+    for (i = 0; i < d->board.head.nparts; i++) {
+        len = strlen(buf);
+        if (len + 1 >= n) break;
+        snprintf(buf + len, n - len, "%s%s %lu", i ? ", " : "", d->board.head.part[i].name, d->head_part[i]);
+    }
+}
+
 /* ---------- executing the planner's commands ---------- */
 
 static void vp_scan_trip(vp_scan_dev_t *d)
@@ -322,12 +365,20 @@ static void vp_scan_trip(vp_scan_dev_t *d)
 static int vp_scan_dev_move(void *ctx, const vp_cmd_t *cmd, int *collided)
 {
     vp_scan_dev_t *d = ctx;
+    double j0[VP_KIN_JOINTS];
     int st;
     vp_scan_trip(d);
+    memcpy(j0, d->m->j, sizeof j0);
     st = vp_machine_exec(d->m, cmd, NULL);
     *collided = 0;
     if (st != VP_OK) { d->fault = st; d->fault_cmd = *cmd; return st; }
     if (d->dry && vp_surface_segment_collides(d->dr->surf, cmd->from, cmd->to, 0)) { d->through++; *collided = 1; }
+    if (d->dry) {
+        /* a MOVE is one straight line of all five joints: the whole head along it */
+        unsigned long before = d->head_hits;
+        vp_scan_head_path(d, j0, (const double (*)[VP_KIN_JOINTS])d->m->j, 1);
+        if (d->head_hits != before) *collided = 1;
+    }
     return VP_OK;
 }
 
@@ -337,11 +388,22 @@ static int vp_scan_dev_probe(void *ctx, const vp_cmd_t *cmd, vp_probe_result_t *
     vp_machine_t *m = d->m;
     unsigned long near0 = m->st.near;
     vp_reading_t kind;
-    int st;
+    double j0[VP_KIN_JOINTS], target[VP_KIN_JOINTS], way[VP_MACHINE_MAX_WAY][VP_KIN_JOINTS];
+    int st, nway = 0;
     vp_scan_trip(d);
-    if (d->dry) vp_camsim_seed(d->dr->cs, vp_mix64(d->seed ^ vp_mix64(d->probes)));
+    if (d->dry) {
+        /* the aim path the machine is about to take (vp_machine_probe plans the same one) */
+        vp_camsim_seed(d->dr->cs, vp_mix64(d->seed ^ vp_mix64(d->probes)));
+        memcpy(j0, m->j, sizeof j0);
+        if (vp_kin_aim(&m->kin, j0, cmd->from, cmd->dir, target) == VP_OK)
+            nway = vp_kin_aim_path(&m->kin, j0, target, way, VP_MACHINE_MAX_WAY);
+    }
     st = vp_machine_exec(m, cmd, res);
     if (st != VP_OK) { d->fault = st; d->fault_cmd = *cmd; return st; }
+    if (d->dry && nway > 0) {
+        memcpy(way[nway - 1], m->j, sizeof way[0]);   /* where the steps ended */
+        vp_scan_head_path(d, j0, (const double (*)[VP_KIN_JOINTS])way, nway);
+    }
     d->probes++;
     kind = vp_machine_reading(m, cmd, m->st.near != near0, d->near_measure, res, &d->raw);
     if (kind == VP_READING_NEAR) d->near++;
@@ -598,22 +660,30 @@ int vp_scan_return(vp_scan_dev_t *d, const vp_sessionlog_t *L, uint32_t n, const
     if (msg) fprintf(msg, "resume: back to %.6g %.6g %.6g: %ld moves, %.0f mm (the session had travelled %.0f mm)\n",
                      P[np - 1][0], P[np - 1][1], P[np - 1][2], nr, route_len, travel);
     for (w = 0; w < nr && st == VP_OK; w++) {
-        double o0[3], dir[3];
+        double o0[3], dir[3], j0[VP_KIN_JOINTS];
         if (vp_scan_stop) { st = VP_EABORT; snprintf(err, errlen, "stopped (Ctrl-C) on the way back"); break; }
         vp_machine_beam(m, o0, dir);
+        memcpy(j0, m->j, sizeof j0);
         st = vp_scan_goto(d, W[w], err, errlen);
         if (d->dry && vp_surface_segment_collides(d->dr->surf, o0, W[w], 0)) d->through++;
+        if (st == VP_OK) vp_scan_head_path(d, j0, (const double (*)[VP_KIN_JOINTS])m->j, 1);
     }
-    if (msg && d->dry) fprintf(msg, "resume: dry run: %lu of those moves went through the object\n", d->through);
+    if (msg && d->dry) fprintf(msg, "resume: dry run: %lu of those moves went through the object, %lu brought the head "
+                               "within %g mm of it\n", d->through, d->head_hits, d->head_tol);
     free(P);
     free(W);
     if (st != VP_OK) return st;
     /* then the head as the log left it: turn about the laser origin to the same joints */
     vp_units(&m->step, pos, t);
-    w = vp_kin_aim_path(&m->kin, m->j, t, m->way, VP_MACHINE_MAX_WAY);
-    st = w < 0 ? w : vp_step_move_path(&m->step, &m->way[0][0], w);
-    vp_step_position(&m->step, m->j);
-    if (st != VP_OK) return vp_scan_failed(d, st, "turning the head back", err, errlen);
+    {
+        double j0[VP_KIN_JOINTS];
+        memcpy(j0, m->j, sizeof j0);
+        w = vp_kin_aim_path(&m->kin, m->j, t, m->way, VP_MACHINE_MAX_WAY);
+        st = w < 0 ? w : vp_step_move_path(&m->step, &m->way[0][0], w);
+        vp_step_position(&m->step, m->j);
+        if (st != VP_OK) return vp_scan_failed(d, st, "turning the head back", err, errlen);
+        vp_scan_head_path(d, j0, (const double (*)[VP_KIN_JOINTS])m->way, w);
+    }
     for (a = 0; a < VP_KIN_JOINTS; a++)
         if (m->step.pos[a] != pos[a]) {
             snprintf(err, errlen, "axis %s is at step %ld, not at step %ld where the log left it", vp_axis_name[a],

@@ -42,7 +42,17 @@ typedef struct vp_scan_dev {
     /* dry run: probes against the true object */
     unsigned long true_n, false_hits, false_misses;
     double err2, err_max;
+    /* dry run: the head's body (board [head]) swept along every motion against the object */
+    unsigned long head_motions;   /* motions checked: MOVEs, aims, the legs of a resume's way back */
+    unsigned long head_hits;      /* of those, motions that brought a part within head_tol */
+    unsigned long head_part[VP_HEAD_MAX_PARTS];  /* such motions per part (board.head.part[i]) */
+    unsigned long head_evals;     /* distance queries the check made */
+    double head_tol;              /* a part nearer the surface than this is a head collision: 0.5 mm,
+                                     or the board's head_margin (origin_tol, steps, backlash) if larger */
 } vp_scan_dev_t;
+
+/* Dry runs: the smallest head_tol (mm). */
+#define VP_SCAN_HEAD_TOL 0.5
 
 /* Ctrl-C: set by the SIGINT/SIGTERM handler (vp_scan_catch_signals); the loop stops after the
  * current command. A second signal ends the process at once. */
@@ -78,6 +88,8 @@ void vp_scan_step_report(const vp_scan_dev_t *d, char *buf, size_t n, double val
 void vp_scan_fault_text(const vp_scan_dev_t *d, char *buf, size_t n);
 /* The unreadable frames by reason, in words. */
 void vp_scan_unreadable_text(const vp_scan_dev_t *d, char *buf, size_t n);
+/* The head collisions by part, in words ("clearance ball 0, laser 0, camera 2, ..."). */
+void vp_scan_head_text(const vp_scan_dev_t *d, char *buf, size_t n);
 /* Machine time: simulated in a dry run, else the monotonic clock (s). */
 double vp_scan_seconds(const vp_scan_dev_t *d);
 void vp_scan_close(vp_scan_dev_t *d);

@@ -50,7 +50,7 @@ same() { # $1: log prefix, $2: what
 }
 
 # ---- paused after N commands (a Ctrl-C raised on purpose), resumed
-for n in 300 1000; do
+for n in 300 600; do
   "$VP" scan --board $BOARD --dry-run --log "$tmp/p$n.vplog" $S --stop-after $n >"$tmp/p.txt" 2>"$tmp/p.err"; rc=$?
   [ $rc -eq 3 ] || bad "--stop-after $n: exit $rc, not 3 (paused)"
   "$VP" log dump "$tmp/p$n.vplog" | grep -q "EVENT pause code 0 'paused after $n commands (Ctrl-C)'" || bad "--stop-after $n: no PAUSE event"
@@ -65,8 +65,8 @@ done
   bad "resume of a complete log"
 
 # ---- stopped twice, resumed twice
-"$VP" scan --board $BOARD --dry-run --log "$tmp/tw.vplog" $S --stop-after 400 >/dev/null 2>&1
-"$VP" scan --log "$tmp/tw.vplog" --resume $S --stop-after 500 >/dev/null 2>&1; rc=$?
+"$VP" scan --board $BOARD --dry-run --log "$tmp/tw.vplog" $S --stop-after 200 >/dev/null 2>&1
+"$VP" scan --log "$tmp/tw.vplog" --resume $S --stop-after 300 >/dev/null 2>&1; rc=$?
 [ $rc -eq 3 ] || bad "second pause: exit $rc"
 "$VP" scan --log "$tmp/tw.vplog" --resume $S >/dev/null 2>&1 || bad "second resume"
 same tw "paused twice"
@@ -88,19 +88,21 @@ else
 fi
 
 # ---- the e-stop pressed during command N: FAULT event, resumable
-"$VP" scan --board $BOARD --dry-run --log "$tmp/es.vplog" $S --estop-at 777 >"$tmp/es.txt" 2>"$tmp/es.err"; rc=$?
+"$VP" scan --board $BOARD --dry-run --log "$tmp/es.vplog" $S --estop-at 577 >"$tmp/es.txt" 2>"$tmp/es.err"; rc=$?
 [ $rc -eq 1 ] || bad "e-stop: exit $rc, not 1"
-grep -q "stopped at command 777 (.*): e-stop pressed: pulses stopped, drivers off" "$tmp/es.err" || { bad "e-stop not reported"; cat "$tmp/es.err"; }
-"$VP" log dump "$tmp/es.vplog" | grep -q "EVENT fault code -12 'command 777 " || bad "e-stop: no FAULT event"
+grep -q "stopped at command 577 (.*): e-stop pressed: pulses stopped, drivers off" "$tmp/es.err" || { bad "e-stop not reported"; cat "$tmp/es.err"; }
+"$VP" log dump "$tmp/es.vplog" | grep -q "EVENT fault code -12 'command 577 " || bad "e-stop: no FAULT event"
 "$VP" log check "$tmp/es.vplog" | grep -q "incomplete (last event: fault)" || bad "e-stop: log check"
 "$VP" scan --log "$tmp/es.vplog" --resume $S >/dev/null 2>&1 || bad "resume after the e-stop"
-same es "e-stop during command 777"
+same es "e-stop during command 577"
 
 # ---- without a clearance the head enters Omega and probes from Voronoi vertices, some nearer
 # than min_range: VP_PROBE_TOO_CLOSE, logged as too close, never as hits
-sed 's/^clearance = 12 /clearance = 0 /' $BOARD >"$tmp/noclear.ini"
+sed 's/^clearance = 58 /clearance = 0 /' $BOARD >"$tmp/noclear.ini"
 "$VP" scan --board "$tmp/noclear.ini" --dry-run --log "$tmp/tc.vplog" $S --eps 15 --near-spots too-close >"$tmp/tc.txt" 2>&1; rc=$?
-[ $rc -eq 0 ] || [ $rc -eq 4 ] || bad "--near-spots too-close: exit $rc"
+# (exit 5 when the head's body, swept along the motions, touches the object: inside Omega the
+# laser's own segment stays free but the camera and the tilt hub need not)
+[ $rc -eq 0 ] || [ $rc -eq 4 ] || [ $rc -eq 5 ] || bad "--near-spots too-close: exit $rc"
 n=$("$VP" log dump "$tmp/tc.vplog" | grep -c "too close (nothing measured, nothing free)")
 [ "$n" -gt 0 ] || bad "--near-spots too-close: no too-close probe in the log"
 "$VP" replay "$tmp/tc.vplog" --out "$tmp/tc.re" --quiet && cmp -s "$tmp/tc.re.ply" "$tmp/tc.ply" || bad "too-close log: replay differs"

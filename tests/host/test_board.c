@@ -2,6 +2,7 @@
  * broken variants are refused with the file, the right line, the section, the key and the
  * reason; the module configurations derived from a board are accepted by those modules; a NUL
  * byte in a line, a device and a folder are refused; long board paths are kept whole. */
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -91,8 +92,12 @@ static void test_two_boards(void)
     CHECK(!strcmp(b.camera.backend, "v4l2") && !strcmp(b.camera.device, "/dev/video0") && b.camera.exposure_us == 1000);
     CHECK(b.camera.format == VP_FOURCC('G', 'R', 'E', 'Y') && b.cam_model.fx == 350 && b.cam_model.fy == 350);
     CHECK(b.min_range == 10 && b.max_range == 400 && !b.calibrated && b.tri.max_range > b.tri.min_range);
-    CHECK(b.omega_kind == VP_OMEGA_BALL && b.omega_radius == 80 && b.eps == 16 && b.start[2] == 232);
-    CHECK(!strcmp(b.sim_surface, "ellipsoid*50@200,150,150"));
+    CHECK(b.omega_kind == VP_OMEGA_BALL && b.omega_radius == 83 && b.eps == 10 && b.start[2] == 234);
+    CHECK(!strcmp(b.sim_surface, "ellipsoid*24@200,150,150"));
+    /* the head's body: the clearance ball and four parts; the camera's far corner decides */
+    CHECK(b.head.nparts == 5 && !strcmp(b.head.part[2].name, "camera") && b.head.part[4].frame == VP_HEAD_PAN);
+    CHECK(fabs(b.head_reach - sqrt(30.0 * 30 + 42.5 * 42.5 + 22.5 * 22.5)) < 1e-9 && !b.clear_swept);
+    CHECK(b.head_reach + b.head_margin <= b.clearance && b.head_margin > b.origin_tol && b.head_margin < 1);
     CHECK(b.near_measure == 0 && !b.calibration[0] && b.have_fixture && b.cal_target[0] == 300 && b.cal_stations == 20);
     CHECK(b.sim_cam.pos[1] == b.cam_model.pos[1] && b.sim_cam.rot[0] == b.cam_model.rot[0]);
     {
@@ -125,6 +130,7 @@ static void test_two_boards(void)
     CHECKF(rc == VP_OK, "%s", err);
     CHECK(!strcmp(b.name, "sim") && b.io == VP_BOARD_IO_SIM && !b.axis[0].step.chip[0] && !b.estop.chip[0]);
     CHECK(!strcmp(b.sim_surface, "sphere*80") && b.interior[0] == 0 && b.sim_energy == 6000);
+    CHECK(b.clear_swept && b.head.nparts == 4 && b.head_reach > b.clearance);   /* the default body, swept */
     CHECK(b.cam_model.cx == 319.5 && b.cam_model.cy == 239.5);   /* centre defaults to the middle */
 }
 
@@ -177,12 +183,12 @@ static void test_broken_boards(void)
     bad(t, LOC("max_speed = 10\n"), "[axis.z] max_speed: set twice (first at line");
     t = edit("max_speed = 150", "max_speed = 300");
     bad(t, LOC("max_speed = 300"), "[axis.x] max_speed: 300 mm/s is 24000 steps/s, above [timing] max_step_rate 20000");
-    t = edit("ball = 200, 150, 150, 80", "ball = 200, 150, 150, 130");
+    t = edit("ball = 200, 150, 150, 83", "ball = 200, 150, 150, 130");
     bad(t, LOC("ball = 200"), "[omega] ball: y from 20 to 280 is not within axis.y travel 0..300 less the head's reach 65.0 mm");
-    t = edit("ball = 200, 150, 150, 80", "box = 130, 90, 90, 270, 210, 210");
+    t = edit("ball = 200, 150, 150, 83", "box = 130, 90, 90, 270, 210, 210");
     bad(t, LOC("box = 130"), "[omega] box: the planner's detours round Omega reach 112.2 mm from its centre (1.02 x its "
         "circumradius): y from 37.8 to 262.2 is not within axis.y travel 0..300 less the head's reach 65.0 mm; use a smaller box, or a ball");
-    t = edit("start = 200, 150, 232", "start = 200, 150, 150");
+    t = edit("start = 200, 150, 234", "start = 200, 150, 150");
     bad(t, LOC("start = 200"), "[omega] start: the device must start outside Omega");
     t = edit("on_late = reenter", "on_late = ignore");
     bad(t, LOC("on_late = ignore"), "[timing] on_late: expected reenter or fault, got 'ignore'");
@@ -217,7 +223,7 @@ static void test_broken_boards(void)
     t = edit("[board]", "[board]\n[board]");
     snprintf(loc, sizeof loc, "rpi4.ini:%d: ", line_of(t, "[board]") + 1);
     bad(t, loc, "[board]: section repeated (first at line 7)");
-    t = edit("eps = 16 ", "eps = 0 ");
+    t = edit("eps = 10 ", "eps = 0 ");
     bad(t, LOC("eps = 0"), "[omega] eps: 0 must be positive");
     /* with io = sim the pins and the e-stop are not needed */
     t = edit("io = gpiod", "io = sim");

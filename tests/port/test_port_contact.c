@@ -43,7 +43,7 @@ static void board_text(char *buf, size_t n, const char *head_extra)
              "[axis.z]\nsteps_per_unit = 400\nmax_speed = 50\naccel = 500\ntravel = -300, 300\nhome = max\nhome_pos = 302\nhome_pulloff = 2\nhome_order = 0\n"
              "[axis.pan]\nsteps_per_unit = 40\nmax_speed = 180\naccel = 720\ntravel = -360, 360\nhome = none\nhome_pos = 0\n"
              "[axis.tilt]\nsteps_per_unit = 40\nmax_speed = 180\naccel = 720\ntravel = -120, 120\nhome = none\nhome_pos = 0\n"
-             "[head]\ntilt_offset = 0, 0, 40\nlaser_offset = 20, 0, 0\ncontact = sim\n%s\n"
+             "[head]\ntilt_offset = 0, 0, 40\nlaser_offset = 20, 0, 0\ncontact = sim\nclear_by = swept\n%s\n"
              "[camera]\nwidth = 640\nheight = 480\nfocal_px = 350\nposition = 0, 30, 10\nlook_at = 100, 0, 0\n"
              "[rangefinder]\nmin_range = 10\nmax_range = 400\nband = 12\n"
              "[omega]\nball = 0, 0, 0, 150\ninterior = 0, 0, 0\neps = 20\nstart = 0, 0, 200\nclearance = 12\n"
