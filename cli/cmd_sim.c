@@ -10,6 +10,7 @@
 #include "vp_cli.h"
 #include "vp_meshcheck.h"
 #include "vp_meshio.h"
+#include "vp_motion.h"
 #include "vp_outcome.h"
 #include "vp_live_cli.h"
 #include "vp_render.h"
@@ -84,7 +85,15 @@ static void sim_usage(FILE *f)
         "  --contact          the head has a contact switch: a move stops where it touches, the\n"
         "                     planner withdraws the proofs through that point and goes on\n"
         "  --seed N           seed of the simulated noise and dropouts (default 1)\n"
-        "  --hausdorff N      surface samples for the Hausdorff measurement (default 20000, 0: skip)\n"
+"  --hausdorff N      surface samples for the Hausdorff measurement (default 20000, 0: skip)\n"
+        "  --motion SPEC      the object moves and deforms (see below); the device then has a clock:\n"
+        "                     each move takes its trapezoid's time, each probe --probe-time, and moves\n"
+        "                     are checked against the object as it moves; the summary gives the\n"
+        "                     simulated time and the Hausdorff distance at the start and at the end.\n"
+        "                     The planner does not know about motion (its proofs carry no time)\n"
+        "  --speed V          travel speed, units/s (default 300, boards/sim.ini)   [with --motion]\n"
+        "  --accel A          travel acceleration, units/s^2 (default 3000; 0: none) [with --motion]\n"
+        "  --probe-time T     one probe's settle + exposure, s (default 0.053)       [with --motion]\n"
         "  --json             print one JSON object as the last line\n"
         "  --png FILE         also a picture of the mesh (four views, drawn in software)\n"
         VP_LIVE_CLI_HELP
@@ -94,7 +103,7 @@ static void sim_usage(FILE *f)
         "3 stopped (--stop-after, Ctrl-C or SIGTERM: a PAUSE event, resumable), 4 not_closed (DONE but\n"
         "the mesh is open or misses a component: run certify), 5 collision (a move touched the object),\n"
         "6 not_within_target (closed, but farther from the object than --accuracy).\n\n"
-        "%s\n", vp_surface_help());
+        "%s\n\n%s\n", vp_surface_help(), vp_motion_help());
 }
 
 int vp_cli_sim(int argc, char **argv)
@@ -116,6 +125,7 @@ int vp_cli_sim(int argc, char **argv)
         if ((st = vp_live_cli_option(&live, argc, argv, &i, "sim")) <= 0) { if (st < 0) return 2; continue; }
         st = vp_sim_session_parse_option(&g, argc, argv, &i, err, sizeof err);
         if (st == 1) st = vp_sim_parse_option(&o, argc, argv, &i, err, sizeof err);
+        if (st == 1) st = vp_sim_parse_motion_option(&o, argc, argv, &i, err, sizeof err);
         if (st == 0) continue;
         if (st < 0) fprintf(stderr, "sim: %s\n", err);
         else fprintf(stderr, "sim: unknown option %s (see --help)\n", a);
@@ -127,6 +137,15 @@ int vp_cli_sim(int argc, char **argv)
         return 1;
     }
     if (!o.surface) { fprintf(stderr, "sim: --surface is required (see --help)\n"); return 2; }
+    for (i = 1; i < argc && !o.motion; i++)
+        if (!strcmp(argv[i], "--speed") || !strcmp(argv[i], "--accel") || !strcmp(argv[i], "--probe-time")) {
+            fprintf(stderr, "sim: %s sets the clock of a moving object: give --motion too\n", argv[i]);
+            return 2;
+        }
+    if (o.motion && o.contact) {
+        fprintf(stderr, "sim: --contact is simulated against an object standing still: not with --motion\n");
+        return 2;
+    }
     if (o.accuracy > 0.0 || o.accuracy_rel > 0.0) {
         /* the target chooses eps, the sizing field and its floor, and is measured */
         if (o.eps > 0.0 || o.eps_rel > 0.0 || o.size_rel > 0.0 || o.min_size > 0.0 || o.max_distance > 0.0) {

@@ -139,6 +139,29 @@ int vp_sim_parse_option(vp_sim_options_t *o, int argc, char **argv, int *i, char
     return 0;
 }
 
+int vp_sim_parse_motion_option(vp_sim_options_t *o, int argc, char **argv, int *i, char *err, size_t errlen)
+{
+    const char *a = argv[*i], *val = *i + 1 < argc ? argv[*i + 1] : NULL;
+    double v;
+    if (strcmp(a, "--motion") && strcmp(a, "--speed") && strcmp(a, "--accel") && strcmp(a, "--probe-time")) return 1;
+    if (!val) { snprintf(err, errlen, "%s needs a value", a); return -1; }
+    (*i)++;
+    if (!strcmp(a, "--motion")) {
+        char sub[256];
+        if (vp_motion_check_spec(val, sub, sizeof sub) != VP_OK) { snprintf(err, errlen, "--motion: %s", sub); return -1; }
+        o->motion = val;
+        return 0;
+    }
+    if (!num(val, &v) || !(v >= 0) || v > 1e150 || (!strcmp(a, "--speed") && !(v > 0))) {
+        snprintf(err, errlen, "%s takes a number %s, not '%s'", a, !strcmp(a, "--speed") ? "> 0" : ">= 0", val);
+        return -1;
+    }
+    if (!strcmp(a, "--speed")) o->speed = v;
+    else if (!strcmp(a, "--accel")) o->accel = v;
+    else o->probe_time = v;
+    return 0;
+}
+
 int vp_sim_session_parse_option(vp_sim_session_t *g, int argc, char **argv, int *i, char *err, size_t errlen)
 {
     const char *a = argv[*i], *val = *i + 1 < argc ? argv[*i + 1] : NULL;
@@ -184,6 +207,11 @@ int vp_sim_session_options(vp_sim_session_t *g, vp_sim_options_t *o, int argc, c
     vp_sim_options_default(o);
     for (i = 1; i < n; i++) {
         st = vp_sim_parse_option(o, n, tok, &i, sub, sizeof sub);
+        if (st != 0 && !strcmp(tok[i], "--motion")) {
+            snprintf(err, errlen, "%s: a session with a moving object (--motion) cannot be resumed: its log holds "
+                     "no clock", g->resume);
+            return VP_EINVAL;
+        }
         if (st != 0) {
             snprintf(err, errlen, "%s: the options recorded in the log are not understood ('%s'%s%s)",
                      g->resume, tok[i], st < 0 ? ": " : "", st < 0 ? sub : "");

@@ -9,6 +9,9 @@
 
 /* Parses argv[*i] (and its value). 0: taken; 1: not a sim option; -1: bad value (err). */
 int vp_sim_parse_option(vp_sim_options_t *o, int argc, char **argv, int *i, char *err, size_t errlen);
+/* The moving object (sim only): --motion SPEC, --speed V, --accel A, --probe-time T; like
+ * vp_sim_parse_option. The spec's syntax is checked here. */
+int vp_sim_parse_motion_option(vp_sim_options_t *o, int argc, char **argv, int *i, char *err, size_t errlen);
 /* Size with an optional K/M/G suffix; -1 on error. */
 int vp_parse_size(const char *s, size_t *out);
 /* The log options (--log, --no-log, --resume, --sync, --stop-after, --power-cut), like

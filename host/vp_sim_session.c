@@ -59,6 +59,12 @@ void vp_sim_session_note(const vp_sim_options_t *o, char *buf, size_t n)
             vp_note_put_str(buf, n, &len, "--dark", v);
         }
     }
+    if (o->motion) {
+        vp_note_put_str(buf, n, &len, "--motion", o->motion);
+        vp_note_put_num(buf, n, &len, "--speed", o->speed);
+        vp_note_put_num(buf, n, &len, "--accel", o->accel);
+        vp_note_put_num(buf, n, &len, "--probe-time", o->probe_time);
+    }
 }
 
 /* ---------- begin / end ---------- */

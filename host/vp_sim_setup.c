@@ -16,6 +16,9 @@ void vp_sim_options_default(vp_sim_options_t *o)
     o->omega_margin = 0.1;
     o->seed = 1;
     o->hausdorff = 20000;
+    o->speed = VP_SIM_SPEED;
+    o->accel = VP_SIM_ACCEL;
+    o->probe_time = VP_SIM_PROBE_TIME;
 }
 
 int vp_sim_config(const vp_surface_t *surf, double eps, int ball, double margin,
@@ -188,6 +191,13 @@ int vp_sim_open(vp_sim_t *s, const vp_sim_options_t *o, char *err, size_t errlen
     dc.ndark = o->ndark;
     memcpy(dc.dark, o->dark, sizeof dc.dark);
     dc.contact = o->contact;
+    if (o->motion) {
+        if ((st = vp_motion_open(o->motion, s->surf, &s->motion, err, errlen)) != VP_OK) return st;
+        dc.motion = s->motion;
+    }
+    dc.speed = o->speed;
+    dc.accel = o->accel;
+    dc.probe_time = o->probe_time;
     st = vp_simdev_create(s->surf, &dc, s->cfg.start, &s->dev);
     if (st != VP_OK) { snprintf(err, errlen, "cannot create the simulated device: %s", vp_strerror(st)); return st; }
     s->pl = malloc(sizeof *s->pl);
@@ -250,6 +260,12 @@ int vp_sim_finish(vp_sim_t *s, const vp_sim_options_t *o, char *err, size_t errl
     if (o->hausdorff > 0 && s->mesh.nt > 0 &&
         vp_hausdorff(&s->mesh, s->surf, o->hausdorff, 7, &s->haus) == VP_OK)
         s->have_haus = 1;
+    if (s->motion && o->hausdorff > 0 && s->mesh.nt > 0) {
+        vp_simdev_stats_t ds;
+        vp_simdev_stats(s->dev, &ds);
+        if (vp_motion_hausdorff(&s->mesh, s->motion, ds.time, o->hausdorff, 7, &s->haus_end) == VP_OK)
+            s->have_haus_end = 1;
+    }
     if (o->out) {
         char path[VP_PATH_MAX];
         if ((st = vp_sim_check_out(o, err, errlen)) != VP_OK) return st;
@@ -329,6 +345,14 @@ void vp_sim_report(const vp_sim_t *s, const vp_sim_options_t *o, FILE *f)
                     "%llu miss(es) near a contact not trusted; dark patches read %lu probe(s) as misses\n",
                     (unsigned long long)st.contacts, (unsigned long long)st.revoked,
                     (unsigned long long)st.dark_misses, ds.dark_misses);
+        if (s->motion) {
+            double vmax = vp_motion_speed_bound(s->motion, 0, ds.time);
+            fprintf(f, "motion: %s; simulated time %.6g s (speed bound %.6g: surface points moved up to %.6g); "
+                    "collisions with the moving object %lu", o->motion, ds.time, vmax, vmax * ds.time, ds.collisions);
+            if (s->have_haus && s->have_haus_end)
+                fprintf(f, "; Hausdorff at the start %.6g, at the end %.6g", s->haus.hausdorff, s->haus_end.hausdorff);
+            fprintf(f, "\n");
+        }
         if (st.unproven || st.stalls)
             fprintf(f, "safety: %llu segments an inference proposed were not proven free (never travelled); "
                     "%llu sides could not be probed\n", (unsigned long long)st.unproven, (unsigned long long)st.stalls);
@@ -353,7 +377,7 @@ void vp_sim_report(const vp_sim_t *s, const vp_sim_options_t *o, FILE *f)
                 "\"total_seconds\":%.4f,\"arena_bytes_peak\":%zu,\"insertions\":%llu,\"routes\":%llu,"
                 "\"astar_expansions\":%llu,\"astar_fallbacks\":%llu,\"shortcut_probes\":%llu,"
                 "\"escalations\":%llu,\"reseeds\":%llu,\"missing_components\":%u,\"unproven\":%llu,"
-                "\"stalls\":%llu,\"accuracy_target\":%.6g,\"size_rel\":%.6g,\"min_size\":%.6g,\"max_distance\":%.6g%s}\n",
+                "\"stalls\":%llu,\"accuracy_target\":%.6g,\"size_rel\":%.6g,\"min_size\":%.6g,\"max_distance\":%.6g%s",
                 o->surface, s->cfg.eps, vp_outcome_name(ex), ex, vp_strerror(s->run.status), nv, (unsigned)s->mesh.nt,
                 (unsigned long long)st.probes, (unsigned long long)st.hits,
                 (unsigned long long)st.misses, (unsigned long long)st.reprobes,
@@ -368,6 +392,12 @@ void vp_sim_report(const vp_sim_t *s, const vp_sim_options_t *o, FILE *f)
                 (unsigned long long)st.escalations, (unsigned long long)st.reseeds, st.missing_components,
                 (unsigned long long)st.unproven, (unsigned long long)st.stalls, s->target, s->cfg.size_rel,
                 s->cfg.min_size, s->cfg.max_distance, touch);
+        if (s->motion)
+            fprintf(f, ",\"motion\":\"%s\",\"sim_time\":%.6g,\"speed_bound\":%.6g,\"speed\":%.6g,\"accel\":%.6g,"
+                    "\"probe_time\":%.6g,\"hausdorff_start\":%.6g,\"hausdorff_end\":%.6g",
+                    o->motion, ds.time, vp_motion_speed_bound(s->motion, 0, ds.time), o->speed, o->accel, o->probe_time,
+                    s->have_haus ? s->haus.hausdorff : -1.0, s->have_haus_end ? s->haus_end.hausdorff : -1.0);
+        fprintf(f, "}\n");
     }
 }
 
@@ -376,6 +406,7 @@ void vp_sim_close(vp_sim_t *s)
     if (s->have_check) vp_meshcheck_free(&s->check);
     vp_mesh_free(&s->mesh);
     if (s->dev) vp_simdev_destroy(s->dev);
+    if (s->motion) vp_motion_close(s->motion);
     if (s->surf) vp_surface_close(s->surf);
     free(s->pl);
     free(s->arena);

@@ -9,6 +9,7 @@
 #include "vp_simdev.h"
 #include "vp_surface.h"
 #include "vp_hausdorff.h"
+#include "vp_motion.h"
 #include "vp_meshcheck.h"
 
 typedef struct vp_sim_options {
@@ -31,6 +32,8 @@ typedef struct vp_sim_options {
     int ndark;                /* dark patches: the rangefinder sees no spot there (--dark) */
     double dark[VP_SIMDEV_MAX_DARK][4];
     int contact;              /* the head has a contact switch (--contact) */
+    const char *motion;       /* a moving object (vp_motion.h spec); NULL: static */
+    double speed, accel, probe_time; /* the device's clock: travel speed, acceleration, one probe's time */
 } vp_sim_options_t;
 
 typedef struct vp_sim {
@@ -56,9 +59,17 @@ typedef struct vp_sim {
     int contact;                     /* the device has a contact switch */
     int touched;                     /* the last move stopped on contact ... */
     double touch_at;                 /* ... this far along it */
+    vp_motion_t *motion;             /* the object's motion (NULL: static) */
+    vp_hausdorff_t haus_end;         /* with a motion: the mesh against the object at the end time */
+    int have_haus_end;
 } vp_sim_t;
 
 void vp_sim_options_default(vp_sim_options_t *o);
+/* The clock's defaults: boards/sim.ini's x axis (speed, accel) and one probe = the board's
+ * default settle (20 ms) + one 30 fps frame. */
+#define VP_SIM_SPEED      300.0
+#define VP_SIM_ACCEL      3000.0
+#define VP_SIM_PROBE_TIME 0.053
 
 /* What the planner supports (checked by vp_sim_open): eps at least VP_SIM_EPS_MIN_OMEGA of
  * Omega's diagonal and VP_SIM_EPS_MIN_COORD of its largest coordinate (double precision), noise

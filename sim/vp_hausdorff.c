@@ -37,7 +37,29 @@ static void vp_bary_point(const vp_mesh_t *m, size_t f, double u, double v, doub
     for (k = 0; k < 3; k++) p[k] = a[k] + u * (b[k] - a[k]) + v * (c[k] - a[k]);
 }
 
+static double hd_surface_closest(const void *ctx, const double p[3], double q[3])
+{
+    return vp_surface_closest(ctx, p, q);
+}
+static void hd_surface_normal(const void *ctx, const double p[3], double n[3]) { vp_surface_normal(ctx, p, n); }
+static size_t hd_surface_sample(const void *ctx, size_t n, uint64_t seed, double *xyz)
+{
+    return vp_surface_sample(ctx, n, seed, xyz);
+}
+
 int vp_hausdorff(const vp_mesh_t *m, const vp_surface_t *s, size_t n, uint64_t seed, vp_hausdorff_t *out)
+{
+    vp_hd_object_t obj;
+    if (!s) return VP_EINVAL;
+    obj.ctx = s;
+    obj.closest = hd_surface_closest;
+    obj.normal = hd_surface_normal;
+    obj.sample = hd_surface_sample;
+    obj.area = vp_surface_area(s);
+    return vp_hausdorff_object(m, &obj, n, seed, out);
+}
+
+int vp_hausdorff_object(const vp_mesh_t *m, const vp_hd_object_t *s, size_t n, uint64_t seed, vp_hausdorff_t *out)
 {
     vp_bvh_t *bvh = NULL;
     double *cdf = NULL, *pts = NULL, acc = 0, sum;
@@ -85,7 +107,7 @@ int vp_hausdorff(const vp_mesh_t *m, const vp_surface_t *s, size_t n, uint64_t s
             if (c.u + c.v > 1) { c.u = 1 - c.u; c.v = 1 - c.v; }
         }
         vp_bary_point(m, c.face, c.u, c.v, c.p);
-        c.d = vp_surface_distance(s, c.p);
+        c.d = s->closest(s->ctx, c.p, NULL);
         if (i >= m->nv) sum += c.d;
         vp_hd_keep(top, &ntop, &c);
     }
@@ -105,7 +127,7 @@ int vp_hausdorff(const vp_mesh_t *m, const vp_surface_t *s, size_t n, uint64_t s
                 if (e.v < 0) e.v = 0;
                 if (e.u + e.v > 1) { double sc = 1 / (e.u + e.v); e.u *= sc; e.v *= sc; }
                 vp_bary_point(m, e.face, e.u, e.v, e.p);
-                e.d = vp_surface_distance(s, e.p);
+                e.d = s->closest(s->ctx, e.p, NULL);
                 if (e.d > c.d) { c = e; moved = 1; }
             }
             if (!moved) step *= 0.5;
@@ -114,7 +136,7 @@ int vp_hausdorff(const vp_mesh_t *m, const vp_surface_t *s, size_t n, uint64_t s
     }
 
     /* Surface -> mesh. */
-    if (vp_surface_sample(s, n, seed ^ 0x5a5a5a5a5a5a5a5aULL, pts) != n) { st = VP_ENOMEM; goto done; }
+    if (s->sample(s->ctx, n, seed ^ 0x5a5a5a5a5a5a5a5aULL, pts) != n) { st = VP_ENOMEM; goto done; }
     ntop = 0;
     sum = 0;
     for (i = 0; i < n; i++) {
@@ -128,11 +150,11 @@ int vp_hausdorff(const vp_mesh_t *m, const vp_surface_t *s, size_t n, uint64_t s
     out->mean_surface_to_mesh = n ? sum / (double)n : 0;
     for (t = 0; t < ntop; t++) {
         vp_hd_cand_t c = top[t];
-        double step = sqrt(vp_surface_area(s) / (double)(n + 1));
+        double step = sqrt(s->area / (double)(n + 1));
         while (step > 1e-10) {
             double nrm[3], t1[3], t2[3], len;
             int k, moved = 0, j;
-            vp_surface_normal(s, c.p, nrm);
+            s->normal(s->ctx, c.p, nrm);
             /* tangent basis */
             if (fabs(nrm[0]) < 0.9) { t1[0] = 0; t1[1] = nrm[2]; t1[2] = -nrm[1]; }
             else { t1[0] = -nrm[2]; t1[1] = 0; t1[2] = nrm[0]; }
@@ -143,7 +165,7 @@ int vp_hausdorff(const vp_mesh_t *m, const vp_surface_t *s, size_t n, uint64_t s
                 double y[3], q[3], d;
                 double a = (k == 0) - (k == 1), b = (k == 2) - (k == 3);
                 for (j = 0; j < 3; j++) y[j] = c.p[j] + step * (a * t1[j] + b * t2[j]);
-                vp_surface_closest(s, y, q);
+                s->closest(s->ctx, y, q);
                 d = vp_bvh_closest(bvh, q, NULL, NULL);
                 if (d > c.d) { c.d = d; memcpy(c.p, q, sizeof q); moved = 1; }
             }

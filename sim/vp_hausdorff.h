@@ -20,4 +20,14 @@ typedef struct vp_hausdorff {
  * The mesh side uses a BVH for closest points. */
 int vp_hausdorff(const vp_mesh_t *m, const vp_surface_t *s, size_t n, uint64_t seed, vp_hausdorff_t *out);
 
+/* The same measure against any object given by its queries (a moving object at one time). */
+typedef struct vp_hd_object {
+    const void *ctx;
+    double (*closest)(const void *ctx, const double p[3], double q[3]);  /* q may be NULL */
+    void   (*normal)(const void *ctx, const double p[3], double n[3]);
+    size_t (*sample)(const void *ctx, size_t n, uint64_t seed, double *xyz);
+    double area;
+} vp_hd_object_t;
+int vp_hausdorff_object(const vp_mesh_t *m, const vp_hd_object_t *obj, size_t n, uint64_t seed, vp_hausdorff_t *out);
+
 #endif

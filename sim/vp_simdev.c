@@ -13,6 +13,7 @@ struct vp_simdev {
     double pos[3];
     uint64_t nprobe;     /* probes done: the next probe's number */
     vp_simdev_stats_t st;
+    double motion_tol;   /* cfg.motion_tol or its default */
 };
 
 static int vp_in_box(const vp_simdev_config_t *c, const double p[3])
@@ -22,6 +23,54 @@ static int vp_in_box(const vp_simdev_config_t *c, const double p[3])
     return 1;
 }
 
+/* The time a move of length len takes: a trapezoid of speed and acceleration (a triangle when
+ * too short to reach the speed). */
+static double vp_move_time(const vp_simdev_config_t *c, double len)
+{
+    if (!(c->speed > 0) || !(len > 0)) return 0;
+    if (!(c->accel > 0)) return len / c->speed;
+    if (len >= c->speed * c->speed / c->accel) return len / c->speed + c->speed / c->accel;
+    return 2 * sqrt(len / c->accel);
+}
+
+/* The distance along a move of length len (taking T) at time tau after its start. */
+static double vp_move_at(const vp_simdev_config_t *c, double len, double T, double tau)
+{
+    double ramp, peak;
+    if (!(T > 0) || tau >= T) return len;
+    if (!(c->accel > 0)) return len * tau / T;
+    ramp = len >= c->speed * c->speed / c->accel ? c->speed / c->accel : 0.5 * T;
+    peak = c->accel * ramp;
+    if (tau < ramp) return 0.5 * c->accel * tau * tau;
+    if (tau > T - ramp) return len - 0.5 * c->accel * (T - tau) * (T - tau);
+    return 0.5 * c->accel * ramp * ramp + peak * (tau - ramp);
+}
+
+/* The part [ta, tb] of a move from a along dir (taking T from the clock's time) against the
+ * moving object: checked against the object frozen at ta with the clearance grown by how far
+ * any surface point can move in tb - ta; split in time while that growth exceeds the tolerance. */
+static int vp_moving_collides(const vp_simdev_t *d, const double a[3], const double dir[3], double len, double T,
+                              double ta, double tb, int depth)
+{
+    double pa[3], pb[3], sa = vp_move_at(&d->cfg, len, T, ta), sb = vp_move_at(&d->cfg, len, T, tb), grow;
+    double t0 = d->st.time + ta;
+    int k;
+    for (k = 0; k < 3; k++) { pa[k] = a[k] + sa * dir[k]; pb[k] = a[k] + sb * dir[k]; }
+    grow = tb > ta ? vp_motion_speed_bound(d->cfg.motion, t0, d->st.time + tb) * (tb - ta) : 0;
+    if (!vp_motion_segment_collides(d->cfg.motion, t0, pa, pb, d->cfg.clearance + grow)) return 0;
+    if (grow <= d->motion_tol || depth >= 60) return 1;
+    return vp_moving_collides(d, a, dir, len, T, ta, 0.5 * (ta + tb), depth + 1) ||
+           vp_moving_collides(d, a, dir, len, T, 0.5 * (ta + tb), tb, depth + 1);
+}
+
+static int vp_moving_move_collides(const vp_simdev_t *d, const double target[3], double len)
+{
+    double dir[3] = { 0, 0, 0 };
+    int k;
+    if (len > 0) for (k = 0; k < 3; k++) dir[k] = (target[k] - d->pos[k]) / len;
+    return vp_moving_collides(d, d->pos, dir, len, vp_move_time(&d->cfg, len), 0, vp_move_time(&d->cfg, len), 0);
+}
+
 int vp_simdev_create(const vp_surface_t *s, const vp_simdev_config_t *cfg, const double start[3], vp_simdev_t **out)
 {
     vp_simdev_t *d;
@@ -29,11 +78,21 @@ int vp_simdev_create(const vp_surface_t *s, const vp_simdev_config_t *cfg, const
     if (cfg && (cfg->clearance < 0 || cfg->noise_sigma < 0 || cfg->dropout < 0 || cfg->dropout > 1 ||
                 cfg->min_range < 0 || cfg->max_range < 0 || cfg->ndark < 0 || cfg->ndark > VP_SIMDEV_MAX_DARK))
         return VP_EINVAL;
+    if (cfg && (!(cfg->speed >= 0 && cfg->accel >= 0 && cfg->probe_time >= 0 && cfg->motion_tol >= 0) ||
+                !isfinite(cfg->speed + cfg->accel + cfg->probe_time + cfg->motion_tol) ||
+                (cfg->motion && vp_motion_body(cfg->motion) != s))) return VP_EINVAL;
+    /* the contact switch is checked against the object standing still */
+    if (cfg && cfg->contact && cfg->motion) return VP_EINVAL;
     d = calloc(1, sizeof *d);
     if (!d) return VP_ENOMEM;
     d->surf = s;
     if (cfg) d->cfg = *cfg;
     memcpy(d->pos, start, sizeof d->pos);
+    {
+        double lo[3], hi[3];
+        vp_surface_bbox(s, lo, hi);
+        d->motion_tol = d->cfg.motion_tol > 0 ? d->cfg.motion_tol : 1e-3 * vp_dist3(lo, hi);
+    }
     *out = d;
     return VP_OK;
 }
@@ -90,12 +149,14 @@ int vp_simdev_move(vp_simdev_t *d, const double target[3], vp_simdev_move_t *res
             r.touched = 1;
             r.at = at;
             r.length = at;
+            d->st.time += vp_move_time(&d->cfg, at);
             for (k = 0; k < 3; k++) d->pos[k] += at * u[k];
             goto out;
         }
         r.collided = len > skip && vp_surface_segment_collides(d->surf, p0, target, d->cfg.clearance);
     } else {
-        r.collided = vp_surface_segment_collides(d->surf, d->pos, target, d->cfg.clearance);
+        r.collided = d->cfg.motion ? vp_moving_move_collides(d, target, len)
+                                   : vp_surface_segment_collides(d->surf, d->pos, target, d->cfg.clearance);
     }
     if (r.collided) {
         d->st.collisions++;
@@ -103,6 +164,7 @@ int vp_simdev_move(vp_simdev_t *d, const double target[3], vp_simdev_move_t *res
     }
     d->st.moves++;
     d->st.travel += len;
+    d->st.time += vp_move_time(&d->cfg, len);
     r.length = len;
     memcpy(d->pos, target, sizeof d->pos);
 out:
@@ -128,7 +190,9 @@ int vp_simdev_probe(vp_simdev_t *d, const double dir[3], double range, vp_simdev
     noise = d->cfg.noise_sigma > 0 ? d->cfg.noise_sigma * vp_rng_normal(&rng) : 0;
     u = vp_rng_uniform(&rng);
     d->st.probes++;
-    if (!vp_surface_ray(d->surf, d->pos, dir, range, &t)) { d->st.misses++; goto out; }
+    d->st.time += d->cfg.probe_time;  /* the reading is of the object as the exposure ends */
+    if (!(d->cfg.motion ? vp_motion_ray(d->cfg.motion, d->st.time, d->pos, dir, range, &t)
+                        : vp_surface_ray(d->surf, d->pos, dir, range, &t))) { d->st.misses++; goto out; }
     r.true_t = t;
     for (k = 0; k < d->cfg.ndark; k++) {
         double q[3], e[3];

@@ -6,10 +6,16 @@
  *          crossing, with optional Gaussian noise along the ray, dropouts and a minimum range,
  *          drawn from a PRNG seeded by (seed, probe number): the k-th probe's noise and dropout
  *          depend on nothing else, so a session resumed from its log sees the same results.
+ *   clock: every move advances it by the move's time (a trapezoid: accel up to speed, cruise,
+ *          decelerate), every probe by the probe time; with a motion (vp_motion.h) each probe
+ *          sees the object at the clock's time after it, and each move is checked against the
+ *          object as it moves during the move (the move cut in time until the object's motion
+ *          over one piece, by its speed bound, is below motion_tol; conservative by that much).
  * Plain double arrays in, result structs out: no planner types. */
 #ifndef VP_SIMDEV_H
 #define VP_SIMDEV_H
 #include <stdint.h>
+#include "vp_motion.h"
 #include "vp_surface.h"
 
 typedef struct vp_simdev vp_simdev_t;
@@ -34,6 +40,10 @@ typedef struct vp_simdev_config {
      * point, or the clearance ball) and the device stands there (a machine's overtravel past
      * the trigger and its back-off are the port's business: port/vp_machine). */
     int      contact;
+    const vp_motion_t *motion;   /* the object moving (its body must be s); NULL: s, static */
+    double speed, accel;         /* travel speed (units/s; 0: moves take no time), acceleration (0: none) */
+    double probe_time;           /* one probe's settle + exposure (s) */
+    double motion_tol;           /* moving checks over-count by at most this (0: 1e-3 of the bbox diagonal) */
 } vp_simdev_config_t;            /* all-zero = exact point device without limits */
 
 typedef struct vp_simdev_stats {
@@ -42,6 +52,7 @@ typedef struct vp_simdev_stats {
     unsigned long dark_misses;   /* probes that met S on a dark patch: read as misses */
     unsigned long contacts;      /* moves the contact switch stopped */
     double travel;               /* total length moved */
+    double time;                 /* the clock (s) */
 } vp_simdev_stats_t;
 
 typedef struct vp_simdev_move {
