@@ -698,8 +698,12 @@ static int scan_go(scan_job_t *j)
         fprintf(stderr, "scan: stopped at %s\nscan: the log %s is resumable: voroprobe scan --log %s --resume%s\n", text,
                 j->o.log, j->o.log, j->dev.m->step.fault == VP_STEP_FAULT_ESTOP ? " (after releasing the e-stop)" : "");
     } else {
-        snprintf(text, sizeof text, "planner: %s", st == VP_ERANGE ? "the probe towards an interior point found no "
-                 "surface: is [omega] interior inside the object?" : vp_strerror(st));
+        if (st == VP_ERANGE && j->dev.contacts > 0)
+            snprintf(text, sizeof text, "planner: the head's contact switch closed outside Omega: the object reaches out "
+                     "of [omega] (it must lie the clearance inside it); the head stopped and backed off");
+        else
+            snprintf(text, sizeof text, "planner: %s", st == VP_ERANGE ? "the probe towards an interior point found no "
+                     "surface: is [omega] interior inside the object?" : vp_strerror(st));
         scan_log_stepping(&j->run);
         vp_logwriter_event(&j->run.w.file, VP_LOGFMT_EV_FAULT, st, text);
         fprintf(stderr, "scan: the scan stopped: %s%s\n", text, st == VP_ENOMEM ? " (the arena is full: --arena)" : "");
@@ -794,6 +798,9 @@ static int scan_report(scan_job_t *j)
                    "%lu hidden spots, %lu moves through the object\n",
                    j->dev.true_n ? sqrt(j->dev.err2 / (double)j->dev.true_n) : 0.0, j->dev.err_max, j->dev.true_n, j->dev.false_hits,
                    j->dev.false_misses, j->dev.through);
+            if (j->dev.contacts)
+                printf("dry run: the contact switch stopped %lu move(s), the laser origin at most %.3f mm past the "
+                       "surface (contact_stop %g mm)\n", j->dev.contacts, j->dev.touch_depth_max, j->dev.board.contact_stop);
             {
                 char parts[400];
                 vp_scan_head_text(&j->dev, parts, sizeof parts);

@@ -372,7 +372,34 @@ static int vp_scan_dev_move(void *ctx, const vp_cmd_t *cmd, int *collided)
     st = vp_machine_exec(d->m, cmd, NULL);
     *collided = 0;
     if (st != VP_OK) { d->fault = st; d->fault_cmd = *cmd; return st; }
-    if (d->dry && vp_surface_segment_collides(d->dr->surf, cmd->from, cmd->to, 0)) { d->through++; *collided = 1; }
+    if (d->dry) {
+        /* the laser origin's segment against the object. A move the contact switch stopped went
+         * into the surface by the switch's lag and the overtravel: within contact_stop that is
+         * the touch the switch is for, deeper a collision; the way back starts inside by the lag
+         * (that stretch is the way in, retraced) */
+        double a[3], u[3], at, ts, len = vp_dist3(cmd->from, cmd->to), s0 = 0.0;
+        int k, touched = vp_machine_contact(d->m, &at);
+        for (k = 0; k < 3; k++) u[k] = len > 0.0 ? (cmd->to[k] - cmd->from[k]) / len : 0.0;
+        if (d->touching && len > 0.0) s0 = d->touch_lag + 1e-9 * (1.0 + len);
+        if (s0 > len) s0 = len;
+        for (k = 0; k < 3; k++) a[k] = cmd->from[k] + s0 * u[k];
+        d->touching = 0;
+        if (touched) {
+            double depth = 0.0;
+            d->contacts++;
+            d->touch_lag = 0.0;
+            if (vp_surface_ray(d->dr->surf, a, u, len - s0, &ts)) {
+                depth = s0 + at - (s0 + ts) + d->m->last.overtravel;
+                d->touch_lag = at - ts > 0.0 ? at - ts : 0.0;
+            }
+            if (depth > d->touch_depth_max) d->touch_depth_max = depth;
+            if (depth > d->board.contact_stop + 1e-6) { d->through++; *collided = 1; }
+            d->touching = 1;
+        } else if (len > s0 && vp_surface_segment_collides(d->dr->surf, a, cmd->to, 0)) {
+            d->through++;
+            *collided = 1;
+        }
+    }
     if (d->dry) {
         /* a MOVE is one straight line of all five joints: the whole head along it */
         unsigned long before = d->head_hits;
@@ -428,13 +455,20 @@ static int vp_scan_dev_probe(void *ctx, const vp_cmd_t *cmd, vp_probe_result_t *
     return VP_OK;
 }
 
+/* The head's contact switch stopped the last MOVE: where (port/vp_machine). */
+static int vp_scan_dev_touched(void *ctx, double *at)
+{
+    vp_scan_dev_t *d = ctx;
+    return vp_machine_contact(d->m, at);
+}
+
 vp_device_ops_t vp_scan_ops(vp_scan_dev_t *d)
 {
     vp_device_ops_t ops;
     ops.ctx = d;
     ops.move = vp_scan_dev_move;
     ops.probe = vp_scan_dev_probe;
-    ops.touched = NULL;
+    ops.touched = vp_board_has_contact(&d->board) ? vp_scan_dev_touched : NULL;
     return ops;
 }
 

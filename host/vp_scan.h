@@ -38,6 +38,10 @@ typedef struct vp_scan_dev {
     double raw;                   /* last probe's raw reading: spot position along the line, px (NaN: none) */
     unsigned long estop_at;       /* dry run: press the e-stop during this run's command N (0: never) */
     int fault;                    /* the status that stopped a command (VP_OK: none) */
+    unsigned long contacts;       /* moves the head's contact switch stopped */
+    int touching;                 /* the last one did: the head stands on the surface */
+    double touch_lag;             /* dry run: how far past the surface the switch closed (mm) */
+    double touch_depth_max;       /* dry run: deepest a stopped move went past the surface (mm) */
     vp_cmd_t fault_cmd;
     /* dry run: probes against the true object */
     unsigned long true_n, false_hits, false_misses;

@@ -12,6 +12,8 @@
 # object (host-sim counts collisions, CGAL counts the moves through and inside).
 # A session cut after its first contacts and resumed from its log ends with the same mesh.
 # The checker itself: a move ending on a face is "through" unless a contact line ends it there.
+# The machine: boards/sim.ini's dry run with clearance 0, a dark band and the switch at the laser
+# origin: no move of the origin past the surface beyond contact_stop (without the switch: through).
 set -u
 BUILD=${BUILD:-build}
 VP=${VP:-$BUILD/voroprobe}
@@ -93,5 +95,25 @@ cmp -s "$o.off" "$D/sphere966.off" || bad "resumed after $c1 contacts: the mesh 
 "$VP" log verify "$o.vplog" >/dev/null 2>&1 || bad "the resumed log does not verify"
 echo "cut at command 900 after $c1 contact(s), resumed: mesh identical to the whole session's"
 
+# ---- the machine: boards/sim.ini's dry run with clearance 0 (the head enters Omega), a dark band
+# the camera sees no spot on, and the contact switch at the laser origin (port/vp_machine, driven by
+# host-sim's object): the origin never goes past the surface by more than contact_stop; without
+# the switch the same run drives through the object
+o="$D/machine"
+sed -e 's/^clearance = 12/clearance = 0/' -e 's/^clear_by = swept.*/clear_by = swept\ncontact = sim\ncontact_stop = 25/' \
+  boards/sim.ini >"$o.ini"
+printf 'dark = 0.0007, -30, 30\n' >>"$o.ini"
+sed -e '/^contact/d' "$o.ini" >"$o-off.ini"
+"$VP" scan --board "$o.ini" --dry-run --log "$o.vplog" >"$o.out" 2>&1
+grep -q 'dry run: .* 0 moves through the object' "$o.out" || bad "machine dry run with the switch: $(grep 'dry run: probe' "$o.out")"
+mc=$(sed -n 's/^dry run: the contact switch stopped \([0-9]*\) move.*/\1/p' "$o.out")
+md=$(sed -n 's/^dry run: the contact switch stopped .* at most \([0-9.]*\) mm past.*/\1/p' "$o.out")
+[ -n "$mc" ] && [ "$mc" -gt 0 ] || bad "machine dry run: no contact"
+"$VP" log verify "$o.vplog" >"$o.verify" 2>&1 || bad "machine dry run: log verify: $(tail -n 1 "$o.verify")"
+"$VP" scan --board "$o-off.ini" --dry-run --stop-after 3000 --log "$o-off.vplog" >"$o-off.out" 2>&1
+mt=$(sed -n 's/^dry run: .* \([0-9]*\) moves through the object$/\1/p' "$o-off.out")
+[ -n "$mt" ] && [ "$mt" -gt 0 ] || bad "machine dry run without the switch: '$mt' moves through (expected > 0)"
+echo "machine dry run (sim.ini, clearance 0, a dark band): $mc contact(s), the laser origin at most $md mm past the surface (contact_stop 25), 0 moves through; without the switch $mt moves through in 3000 commands"
+
 [ $fail = 0 ] || exit 1
-echo "contact safety net: 5 objects with dark patches, 0 collisions, every move outside the object by CGAL up to its contact, logs verified; without the switch $coll collisions"
+echo "contact safety net: 5 objects with dark patches, 0 collisions, every move outside the object by CGAL up to its contact, logs verified; without the switch $coll collisions; machine dry run $mc contacts, 0 moves through ($mt without the switch)"
