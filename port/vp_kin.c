@@ -115,13 +115,32 @@ int vp_kin_in_travel(const vp_kin_t *k, const double j[VP_KIN_JOINTS])
 /* Aim a beam calibrated off +x: the tilts with bx sin t + bz cos t = dz, each with its pan. Where
  * the beam cannot point exactly (near vertical, at the tilt's travel) it points as close as it
  * goes, off dir by at most its angle to +x. */
+/* The pose that puts the laser origin at `origin` with pan near pn (and its neighbours by 360)
+ * and this tilt, if it is in travel and turns the joints less than *best from cur. */
+static void vp_kin_aim_pan(const vp_kin_t *k, const double cur[VP_KIN_JOINTS], const double origin[3], double pn,
+                           double tilt, double *best, double out[VP_KIN_JOINTS], int *found)
+{
+    double cand[VP_KIN_JOINTS], f[3];
+    int m, i;
+    for (m = -2; m <= 2; m++) {
+        double pan = pn + 360.0 * m, cost;
+        if (!vp_kin_joint_ok(k, VP_J_PAN, pan)) continue;
+        vp_kin_arm(k, pan, tilt, f);
+        for (i = 0; i < 3; i++) cand[i] = origin[i] - f[i];
+        cand[VP_J_PAN] = pan;
+        cand[VP_J_TILT] = tilt;
+        if (!vp_kin_in_travel(k, cand)) continue;
+        cost = fabs(pan - cur[VP_J_PAN]) + fabs(tilt - cur[VP_J_TILT]);
+        if (cost < *best) { *best = cost; memcpy(out, cand, sizeof cand); *found = 1; }
+    }
+}
+
 static int vp_kin_aim_tilted(const vp_kin_t *k, const double cur[VP_KIN_JOINTS], const double origin[3],
                              const double dir[3], double out[VP_KIN_JOINTS])
 {
     const double *b = k->beam;
     double amp = sqrt(b[0] * b[0] + b[2] * b[2]), phi = atan2(b[2], b[0]), s = dir[2] / amp, as, tilts[6], best = HUGE_VAL;
-    double cand[VP_KIN_JOINTS], f[3];
-    int ti, m, i, found = 0;
+    int ti, found = 0;
     /* within asin|by| of vertical the beam cannot point: aim it as steep as it goes (it then
      * differs from dir by at most that angle) */
     as = asin(s > 1 ? 1 : s < -1 ? -1 : s);
@@ -137,17 +156,7 @@ static int vp_kin_aim_tilted(const vp_kin_t *k, const double cur[VP_KIN_JOINTS],
         h0 = cos(tilt * VP_DEG) * b[0] - sin(tilt * VP_DEG) * b[2];
         pb = hypot(dir[0], dir[1]) < 1e-12 ? cur[VP_J_PAN] : (atan2(dir[1], dir[0]) - atan2(b[1], h0)) / VP_DEG;
         pn = pb + 360.0 * floor((cur[VP_J_PAN] - pb) / 360.0 + 0.5);
-        for (m = -2; m <= 2; m++) {
-            double pan = pn + 360.0 * m, cost;
-            if (!vp_kin_joint_ok(k, VP_J_PAN, pan)) continue;
-            vp_kin_arm(k, pan, tilt, f);
-            for (i = 0; i < 3; i++) cand[i] = origin[i] - f[i];
-            cand[VP_J_PAN] = pan;
-            cand[VP_J_TILT] = tilt;
-            if (!vp_kin_in_travel(k, cand)) continue;
-            cost = fabs(pan - cur[VP_J_PAN]) + fabs(tilt - cur[VP_J_TILT]);
-            if (cost < best) { best = cost; memcpy(out, cand, sizeof cand); found = 1; }
-        }
+        vp_kin_aim_pan(k, cur, origin, pn, tilt, &best, out, &found);
     }
     return found ? VP_OK : VP_ERANGE;
 }
@@ -155,8 +164,8 @@ static int vp_kin_aim_tilted(const vp_kin_t *k, const double cur[VP_KIN_JOINTS],
 int vp_kin_aim(const vp_kin_t *k, const double cur[VP_KIN_JOINTS], const double origin[3],
                const double dir[3], double out[VP_KIN_JOINTS])
 {
-    double p0, t0, tilts[3], best = HUGE_VAL, cand[VP_KIN_JOINTS], f[3];
-    int nt, b, ti, m, i, found = 0;
+    double p0, t0, tilts[3], best = HUGE_VAL;
+    int nt, b, ti, found = 0;
     if (!k || !cur || !origin || !dir || !out) return VP_EINVAL;
     if (!vp_kin_finite(cur, VP_KIN_JOINTS) || !vp_kin_finite(origin, 3) || !vp_kin_finite(dir, 3) ||
         fabs(vp_kin_norm(dir) - 1) > 1e-9) return VP_EINVAL;
@@ -173,17 +182,7 @@ int vp_kin_aim(const vp_kin_t *k, const double cur[VP_KIN_JOINTS], const double 
             /* pan candidates: the one nearest to cur, and its neighbours by 360 */
             double pn = pb + 360.0 * floor((cur[VP_J_PAN] - pb) / 360.0 + 0.5);
             if (!vp_kin_joint_ok(k, VP_J_TILT, tilt)) continue;
-            for (m = -2; m <= 2; m++) {
-                double pan = pn + 360.0 * m, cost;
-                if (!vp_kin_joint_ok(k, VP_J_PAN, pan)) continue;
-                vp_kin_arm(k, pan, tilt, f);
-                for (i = 0; i < 3; i++) cand[i] = origin[i] - f[i];
-                cand[VP_J_PAN] = pan;
-                cand[VP_J_TILT] = tilt;
-                if (!vp_kin_in_travel(k, cand)) continue;
-                cost = fabs(pan - cur[VP_J_PAN]) + fabs(tilt - cur[VP_J_TILT]);
-                if (cost < best) { best = cost; memcpy(out, cand, sizeof cand); found = 1; }
-            }
+            vp_kin_aim_pan(k, cur, origin, pn, tilt, &best, out, &found);
         }
     }
     return found ? VP_OK : VP_ERANGE;

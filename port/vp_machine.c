@@ -480,22 +480,31 @@ void vp_machine_close(vp_machine_t *m)
     m->cam.close = NULL;
 }
 
-int vp_machine_calibrate(vp_machine_t *m, const vp_calib_plan_t *p, vp_tri_model_t *out, vp_tri_fit_report_t *rep)
+/* The calibration's first station: the head at (x, y, z) looking along +x at the flat target. */
+static int vp_machine_face_target(vp_machine_t *m, double x, double y, double z)
 {
     static const double ex[3] = { 1, 0, 0 };
-    double uv[VP_MACHINE_MAX_CALIB][2], dist[VP_MACHINE_MAX_CALIB], o[3], d[3], target[VP_KIN_JOINTS];
-    int i, k, n = 0, frames, w;
-    if (!m || !p || !out || p->stations < 4 || !(p->d_near > 0) || !(p->d_far > p->d_near)) return VP_EINVAL;
-    frames = p->frames > 0 ? p->frames : 3;
-    if (p->stations * frames > VP_MACHINE_MAX_CALIB) return VP_EINVAL;
-    /* look along +x from the far station */
-    o[0] = p->target_x - p->d_far; o[1] = p->y; o[2] = p->z;
+    double o[3], target[VP_KIN_JOINTS];
+    int w;
+    o[0] = x; o[1] = y; o[2] = z;
     VP_TRY(vp_kin_aim(&m->kin, m->j, o, ex, target));
     w = vp_kin_aim_path(&m->kin, m->j, target, m->way, VP_MACHINE_MAX_WAY);
     if (w < 0) return w;
     w = vp_step_move_path(&m->step, &m->way[0][0], w);
     vp_machine_sync(m);
-    if (w < 0) return w;
+    return w < 0 ? w : VP_OK;
+}
+
+int vp_machine_calibrate(vp_machine_t *m, const vp_calib_plan_t *p, vp_tri_model_t *out, vp_tri_fit_report_t *rep)
+{
+    double uv[VP_MACHINE_MAX_CALIB][2], dist[VP_MACHINE_MAX_CALIB], o[3], d[3];
+    int i, k, n = 0, frames, w;
+    if (!m || !p || !out || p->stations < 4 || !(p->d_near > 0) || !(p->d_far > p->d_near)) return VP_EINVAL;
+    frames = p->frames > 0 ? p->frames : 3;
+    if (p->stations * frames > VP_MACHINE_MAX_CALIB) return VP_EINVAL;
+    VP_TRY(vp_machine_face_target(m, p->target_x - p->d_far, p->y, p->z));
+    o[1] = p->y;
+    o[2] = p->z;
     for (i = 0; i < p->stations; i++) {
         /* even steps of 1/d: the spot moves by about the same number of pixels each time */
         double dd = 1 / (1 / p->d_far + (1 / p->d_near - 1 / p->d_far) * i / (p->stations - 1));
@@ -627,10 +636,9 @@ static int vp_machine_calib_obs(vp_machine_t *m, const vp_calib_full_plan_t *p, 
 int vp_machine_calibrate_full(vp_machine_t *m, const vp_calib_full_plan_t *p, vp_calib_obs_t *obs, int cap, int *n,
                               double (*beam_uv)[2], double *beam_d, int *nbeam)
 {
-    static const double ex[3] = { 1, 0, 0 };
     const vp_rf_model_t *nom;
-    double o[3], d[3], target[VP_KIN_JOINTS], uv[2];
-    int i, k, w, dz, row, col;
+    double o[3], d[3], uv[2];
+    int i, k, dz, row, col;
     if (!m || !p || !obs || !n || !beam_uv || !beam_d || !nbeam || !p->nominal || p->stations < 4 || p->depths < 1 ||
         p->cols < 2 || p->rows < 2 || !(p->d_near > 0) || !(p->d_far > p->d_near) || !(p->mark_near > 0) ||
         !(p->mark_far >= p->mark_near))
@@ -638,14 +646,7 @@ int vp_machine_calibrate_full(vp_machine_t *m, const vp_calib_full_plan_t *p, vp
     if (!m->cfg.use_laser_line || m->cfg.single_frame) return VP_ESTATE;
     nom = p->nominal;
     *n = *nbeam = 0;
-    /* look along +x from the far beam station */
-    o[0] = p->target_x - p->d_far; o[1] = p->y; o[2] = p->z;
-    VP_TRY(vp_kin_aim(&m->kin, m->j, o, ex, target));
-    w = vp_kin_aim_path(&m->kin, m->j, target, m->way, VP_MACHINE_MAX_WAY);
-    if (w < 0) return w;
-    w = vp_step_move_path(&m->step, &m->way[0][0], w);
-    vp_machine_sync(m);
-    if (w < 0) return w;
+    VP_TRY(vp_machine_face_target(m, p->target_x - p->d_far, p->y, p->z));
     /* beam stations */
     for (i = 0; i < p->stations; i++) {
         double dd = 1 / (1 / p->d_far + (1 / p->d_near - 1 / p->d_far) * i / (p->stations - 1));
