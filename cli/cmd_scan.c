@@ -468,6 +468,7 @@ static int scan_prepare(scan_job_t *j)
     vp_board_planner_config(&j->b, &j->cfg);
     j->cfg.eps = j->o.eps;
     j->cfg.noise_tol = j->o.noise_tol;
+    j->dev.noise_tol = j->o.noise_tol;
     j->cfg.confirm_misses = (uint32_t)j->o.confirm;
     {
         /* eps within what the planner can resolve in double precision (as sim says it) */

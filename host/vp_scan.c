@@ -442,8 +442,11 @@ static int vp_scan_dev_probe(void *ctx, const vp_cmd_t *cmd, vp_probe_result_t *
     else if (res->hit) d->hits++;
     else d->misses++;
     if (d->dry && res->hit != VP_PROBE_TOO_CLOSE) {
+        /* a hit is judged against the surface within the noise tolerance the planner trusts hits
+         * to: a hit at the end of the range whose surface lies just beyond it is a measurement,
+         * not a false hit; a miss only within the range */
         double t;
-        int truth = vp_surface_ray(d->dr->surf, cmd->from, cmd->dir, cmd->range, &t);
+        int truth = vp_surface_ray(d->dr->surf, cmd->from, cmd->dir, cmd->range + (res->hit ? d->noise_tol : 0.0), &t);
         if (res->hit && truth) {
             double e = fabs(res->dist - t);
             d->true_n++;

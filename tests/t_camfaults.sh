@@ -1,8 +1,8 @@
 #!/bin/sh
 # The rpi4 board's dry run (voroprobe scan --board boards/rpi4-gantry.ini --dry-run) with host-sim's
 # frame faults switched on in a copy of the board ([sim] speckle, vibration, flicker, glint, dark)
-# and the spot confirmed ([rangefinder] confirm_spot = yes): against the true object no move through
-# it, no false hit under speckle, ringing and flicker, at most 2 with a moving glint and a dark band too. Without the glint and the dark band (speckle, a ringing head, mains
+# and the spot confirmed ([rangefinder] confirm_spot = yes): against the true object (within the
+# scan's noise tolerance, as the planner trusts hits) no false hit and no move through it. Without the glint and the dark band (speckle, a ringing head, mains
 # flicker) the scan closes its mesh. A fault key out of its range is refused, naming it.
 # (tests/host/test_camfaults judges every probe against the renderer's truth.)
 B=${BUILD:-build}
@@ -26,11 +26,8 @@ grep -q ' 0 false hits, 0 hidden spots, 0 moves through the object' "$tmp/mild.o
 rc=$?
 # an open mesh (exit 4) is allowed: unreadable frames prove nothing and leave their facets open
 [ $rc -eq 0 ] || [ $rc -eq 4 ] || { cat "$tmp/all.out"; echo "FAIL: all faults: exit $rc"; exit 1; }
-# with all five at once a glint can still pass the confirmation now and then (a hit on a ray that
-# misses the object: a wrong sample, which frees less than a miss would): counted, at most 2 here;
-# a move through the object never
-grep -q 'scan: DONE' "$tmp/all.out" && grep -q ' [012] false hits, [0-9]* hidden spots, 0 moves through the object' "$tmp/all.out" ||
-  { cat "$tmp/all.out"; echo "FAIL: all faults: more than 2 false hits, or a move through the object"; exit 1; }
+grep -q 'scan: DONE' "$tmp/all.out" && grep -q ' 0 false hits, [0-9]* hidden spots, 0 moves through the object' "$tmp/all.out" ||
+  { cat "$tmp/all.out"; echo "FAIL: all faults: a false hit or a move through the object"; exit 1; }
 # bad fault keys: refused, named, nothing written
 board bad1 yes "speckle = 2, 8"
 board bad2 yes "dark = 0.1, 160, 150"
