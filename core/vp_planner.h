@@ -191,6 +191,9 @@ typedef struct vp_pl_shortcut {
 typedef struct vp_pl_seed {
     uint32_t cur, step, attempt;
     uint32_t miss;                         /* misses of the current seed probe (dropouts) */
+    uint32_t dir;                          /* the seed's direction: 0 from the start, then the
+                                              reseeding directions (a surface not seen on the way) */
+    uint32_t base;                         /* npts when the current seed began */
     double pts[4 * VP_PLANNER_MAX_SEEDS][3];
     uint32_t npts;
     double q[3];

@@ -24,7 +24,7 @@ enum vp_status {
 
 /* Build option VP_CORE_MCU: define it when compiling the core (core/ and the planner) for a
  * microcontroller image, as tests/t_cortex_m4.sh does for boards/cortex-m4. Scans, commands
- * and logs stay the same bit for bit; the core is smaller (Cortex-M4 -Os: 49,130 bytes, 47.98 KiB, not 70,565).
+ * and logs stay the same bit for bit; the core is smaller (Cortex-M4 -Os: 49,114 bytes, 47.96 KiB, not 70,565).
  * It leaves out
  *   - what only host tools and tests call: vp_dt_check, vp_dt_remove, vp_dt_insert_batch (and
  *     vp_sort), vp_dt_locate, vp_dt_in_conflict;

@@ -72,6 +72,17 @@ run cube tests/meshes/cube.off --eps-rel 0.05 --dark 0.5,0.5,1,0.3
 run fandisk $SM/fandisk.off --eps-rel 0.05 --dark 0.2966,0.15655,0.2075,0.15
 run dino $SM/dino.off --eps-rel 0.03 --dark 0.115434,-0.555923,1.60466,0.3
 
+# ---- a patch where the seed's probe meets the sphere: the seed comes from another side (it used
+# to stop there: "out of range", the interior point taken for outside the object)
+o="$D/seedpatch"
+"$VP" sim --surface sphere --eps-rel 0.05 --dark 0.6,0.6,0.53,0.1 --contact --json --quiet --hausdorff 0 \
+  --log "$o.vplog" >"$o.json" 2>"$o.err"
+rc=$?
+ps=$(field "$o.json" planner_status); coll=$(field "$o.json" collisions)
+[ "$ps" = ok ] && [ "$coll" = 0 ] && { [ $rc = 0 ] || [ $rc = 4 ]; } || bad "dark patch over the seed: exit $rc, planner $ps, collisions $coll"
+"$VP" log verify "$o.vplog" >/dev/null 2>&1 || bad "dark patch over the seed: log verify"
+echo "dark patch over the seed's way in: planner $ps, exit $rc, collisions $coll"
+
 # ---- without the switch the head goes through the object: both checkers must see it
 o="$D/nocontact"
 "$VP" sim --surface "off:$SM/sphere966.off" --eps-rel 0.05 --dark 0,0,10,5 --stop-after 3000 --json --quiet \

@@ -256,8 +256,9 @@ static int mesh_encloses(const vp_planner_t *pl, const double *o)
     return (int)(crossings & 1u);
 }
 
-/* Directions tried, one after the other, to find a component the seeds missed. */
-static void reseed_dir(uint32_t attempt, double *d)
+/* Directions tried, one after the other, to find a component the seeds missed (and a seed
+ * whose way in met a surface the rangefinder did not see: seed.c). */
+VP_PL_API void vp_pl_reseed_dir(uint32_t attempt, double *d)
 {
     static const signed char D[26][3] = {
         { 0, 0, 1 }, { 0, 0, -1 }, { 1, 0, 0 }, { -1, 0, 0 }, { 0, 1, 0 }, { 0, -1, 0 },
@@ -283,7 +284,7 @@ VP_PL_API int vp_pl_check_components(vp_planner_t *pl)
         if (pl->close.h2_done & (1u << i)) continue;
         if (mesh_encloses(pl, o)) { pl->close.h2_done |= 1u << i; continue; }
         if (pl->close.h2_tries[i] >= RESEED_TRIES) continue; /* reported: not found */
-        reseed_dir(pl->close.h2_tries[i]++, d);
+        vp_pl_reseed_dir(pl->close.h2_tries[i]++, d);
         te = vp_pl_omega_exit(&pl->cfg, o, d);
         for (k = 0; k < 3; k++) q[k] = o[k] + te * d[k];
         k = vp_pl_plan_route(pl, NONE, q);

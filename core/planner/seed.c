@@ -89,6 +89,37 @@ static void seed_axes(const double *u, int turn, double *w1, double *w2)
     memcpy(w2, b, sizeof b);
 }
 
+/* Where the seed of o_i comes from: the start's side, or after a seed that found nothing where
+ * S must be (a dark or shiny surface on the way in: the contact safety net's case) the
+ * reseeding directions, each once. */
+#define SEED_DIRS 26u
+static void seed_dir(const vp_planner_t *pl, const double *o, double *u)
+{
+#if VP_PL_CONTACTS
+    if (pl->seed.dir > 0) { vp_pl_reseed_dir(pl->seed.dir - 1, u); return; }
+#endif
+    vp_sub3(u, pl->cfg.start, o);
+    if (!vp_normalize3(u)) { u[0] = 0; u[1] = 0; u[2] = 1; }
+}
+
+/* The seed found no surface where there must be one: start it again from the next direction
+ * (its points so far dropped), else VP_ERANGE (o_i is not inside the object). */
+static int seed_other_dir(vp_planner_t *pl)
+{
+#if VP_PL_CONTACTS
+    if (pl->seed.dir < SEED_DIRS) {
+        pl->seed.dir++;
+        pl->seed.npts = pl->seed.base;
+        pl->seed.step = 0;
+        pl->seed.attempt = 0;
+        pl->seed.miss = 0;
+        return VP_OK;
+    }
+#endif
+    (void)pl;
+    return VP_ERANGE;
+}
+
 VP_PL_API int vp_pl_seed_next(vp_planner_t *pl)
 {
     const double *o;
@@ -96,8 +127,7 @@ VP_PL_API int vp_pl_seed_next(vp_planner_t *pl)
     int k;
     if (pl->seed.cur >= pl->cfg.ninterior) return 1; /* all seeds probed */
     o = pl->cfg.interior[pl->seed.cur];
-    vp_sub3(u, pl->cfg.start, o);
-    if (!vp_normalize3(u)) { u[0] = 0; u[1] = 0; u[2] = 1; }
+    seed_dir(pl, o, u);
     switch (pl->seed.step) {
     case 0: /* from dOmega towards o */
         te = vp_pl_omega_exit(&pl->cfg, o, u);
@@ -138,7 +168,7 @@ VP_PL_API int vp_pl_seed_feed(vp_planner_t *pl, const vp_probe_result_t *res_in)
         /* towards o_i: a hit is certain unless o_i is outside the object */
         int w = res_in->hit == VP_PROBE_TOO_CLOSE ? 0 : vp_pl_seed_miss_on(pl);
         if (w < 0) return w;
-        return w ? VP_OK : VP_ERANGE;
+        return w ? VP_OK : seed_other_dir(pl);
     }
     switch (pl->seed.step) {
     case 0:
@@ -172,7 +202,7 @@ VP_PL_API int vp_pl_seed_feed(vp_planner_t *pl, const vp_probe_result_t *res_in)
             return VP_OK;
         }
         /* a miss or a far hit (near a silhouette the ray lands elsewhere): retry */
-        if (pl->seed.attempt >= 12) return VP_ERANGE;
+        if (pl->seed.attempt >= 12) return seed_other_dir(pl);
         if (pl->seed.step == 2) pl->seed.npts--;
         pl->seed.attempt++;
         pl->seed.step = 1;
@@ -181,6 +211,10 @@ VP_PL_API int vp_pl_seed_feed(vp_planner_t *pl, const vp_probe_result_t *res_in)
         memcpy(pl->seed.pts[pl->seed.npts++], h, sizeof h);
         pl->seed.cur++;
         pl->seed.step = 0;
+#if VP_PL_CONTACTS
+        pl->seed.dir = 0;
+        pl->seed.base = pl->seed.npts;
+#endif
         return VP_OK;
     }
 }

@@ -306,6 +306,7 @@ VP_PL_API int vp_pl_refine(vp_planner_t *pl);
 
 /* close.c */
 VP_PL_API int vp_pl_check_components(vp_planner_t *pl);
+VP_PL_API void vp_pl_reseed_dir(uint32_t attempt, double *d);
 VP_PL_API int vp_pl_close_holes(vp_planner_t *pl, int refine_only);
 VP_PL_API int vp_pl_reseed_feed(vp_planner_t *pl, const vp_probe_result_t *res);
 

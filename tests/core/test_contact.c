@@ -12,6 +12,7 @@
 #include "vp_test.h"
 
 #define ZCAP 0.55
+static int cap_axis = 0; /* the dark cap: coordinate cap_axis above ZCAP */
 #define ARENA (16u << 20)
 
 typedef struct sphere_dev {
@@ -95,7 +96,7 @@ static int dev_probe(void *ctx, const vp_cmd_t *cmd, vp_probe_result_t *res)
     res->hit = 0;
     res->dist = 0.0;
     if (sphere_first(d->pos, cmd->dir, cmd->range, &t)) {
-        if (d->pos[0] + t * cmd->dir[0] > ZCAP) { d->dark++; return VP_OK; } /* no spot */
+        if (d->pos[cap_axis] + t * cmd->dir[cap_axis] > ZCAP) { d->dark++; return VP_OK; } /* no spot */
         res->hit = 1;
         res->dist = t;
     }
@@ -209,9 +210,27 @@ static void test_contract(void)
            "unchanged; a contact after %d commands: sample inserted, the head backs off along the move\n", n);
 }
 
+/* The cap on the side the seed comes from (the start is above the sphere): the seed's probe
+ * finds no surface where there must be one, and the seed comes from another direction instead
+ * of stopping (VP_ERANGE before). */
+static void test_dark_seed(void)
+{
+    sphere_dev_t d;
+    vp_planner_stats_t st;
+    vp_run_result_t run;
+    cap_axis = 2;
+    scan(1, 0.2, &d, &st, &run);
+    CHECKF(run.status == VP_OK && run.done, "dark cap over the seed: status %d, done %d", run.status, run.done);
+    CHECKF(d.into == 0, "dark cap over the seed: %lu moves into the sphere", d.into);
+    printf("dark cap z > %.2f over the seed's way in: %s, %lu contacts, 0 moves into the sphere\n", ZCAP,
+           run.done ? "DONE" : "stopped", d.contacts);
+    cap_axis = 0;
+}
+
 int main(void)
 {
     test_contract();
     test_dark_cap();
+    test_dark_seed();
     return vp_test_done("test_contact");
 }
