@@ -655,6 +655,7 @@ static int scan_go(scan_job_t *j)
     if (st == VP_OK) {
         vp_device_ops_t ops = vp_scan_ops(&j->dev);
         vp_session_hooks_t hooks;
+        j->dev.pl = j->pl;
         const vp_session_hooks_t *hp = &hooks;
         hooks.ctx = &j->run;
         hooks.after = scan_after;
@@ -754,6 +755,10 @@ static int scan_report(scan_job_t *j)
                    "%.0f s of machine time%s\n", j->dev.hits + j->dev.misses + j->dev.too_close, j->dev.hits, nh, j->dev.misses,
                    j->dev.too_close, tc, m->st.moves,
                    m->st.travel, mt, j->o.dry ? " (simulated)" : "");
+            printf("machine time of this run by planner stage: seed %.0f s (%lu commands), refinement %.0f s (%lu), "
+                   "closing %.0f s (%lu); %.1f s per vertex%s\n", j->dev.stage_s[VP_STAGE_SEED], j->dev.stage_cmds[VP_STAGE_SEED],
+                   j->dev.stage_s[VP_STAGE_REFINE], j->dev.stage_cmds[VP_STAGE_REFINE], j->dev.stage_s[VP_STAGE_CLOSE],
+                   j->dev.stage_cmds[VP_STAGE_CLOSE], j->mesh.nv ? mt / (double)j->mesh.nv : 0.0, j->o.dry ? " (simulated)" : "");
             if (j->dev.unreadable) {
                 char why[300];
                 vp_scan_unreadable_text(&j->dev, why, sizeof why);
@@ -821,6 +826,9 @@ static int scan_report(scan_job_t *j)
                    "\"moves\":%lu,\"machine_s\":%.1f", vp_outcome_name(j->rc), j->rc,
                    j->dev.hits + j->dev.misses + j->dev.too_close, (unsigned)j->mesh.nv, (unsigned)j->mesh.nt,
                    have_mc && mc.closed_manifold ? "true" : "false", m->st.moves, mt);
+            printf(",\"machine_s_seed\":%.1f,\"machine_s_refine\":%.1f,\"machine_s_close\":%.1f,\"machine_s_per_vertex\":%.2f",
+                   j->dev.stage_s[VP_STAGE_SEED], j->dev.stage_s[VP_STAGE_REFINE], j->dev.stage_s[VP_STAGE_CLOSE],
+                   j->mesh.nv ? mt / (double)j->mesh.nv : 0.0);
             if (j->o.dry) {
                 printf(",\"through\":%lu,\"head_collisions\":%lu,\"head_motions\":%lu,\"head_parts\":{", j->dev.through,
                        j->dev.head_hits, j->dev.head_motions);

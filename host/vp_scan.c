@@ -362,7 +362,7 @@ static void vp_scan_trip(vp_scan_dev_t *d)
     }
 }
 
-static int vp_scan_dev_move(void *ctx, const vp_cmd_t *cmd, int *collided)
+static int vp_scan_dev_move_do(void *ctx, const vp_cmd_t *cmd, int *collided)
 {
     vp_scan_dev_t *d = ctx;
     double j0[VP_KIN_JOINTS];
@@ -409,7 +409,7 @@ static int vp_scan_dev_move(void *ctx, const vp_cmd_t *cmd, int *collided)
     return VP_OK;
 }
 
-static int vp_scan_dev_probe(void *ctx, const vp_cmd_t *cmd, vp_probe_result_t *res)
+static int vp_scan_dev_probe_do(void *ctx, const vp_cmd_t *cmd, vp_probe_result_t *res)
 {
     vp_scan_dev_t *d = ctx;
     vp_machine_t *m = d->m;
@@ -456,6 +456,32 @@ static int vp_scan_dev_probe(void *ctx, const vp_cmd_t *cmd, vp_probe_result_t *
         else if (truth && t >= m->tri.min_range) d->false_misses++;
     }
     return VP_OK;
+}
+
+/* Machine time by the planner's stage when it issued the command (seed, refinement, closing). */
+static void vp_scan_stage_time(vp_scan_dev_t *d, double t0)
+{
+    int s = d->pl ? (int)vp_planner_stage(d->pl) : (int)VP_STAGE_REFINE;
+    d->stage_s[s] += vp_scan_seconds(d) - t0;
+    d->stage_cmds[s]++;
+}
+
+static int vp_scan_dev_move(void *ctx, const vp_cmd_t *cmd, int *collided)
+{
+    vp_scan_dev_t *d = ctx;
+    double t0 = vp_scan_seconds(d);
+    int st = vp_scan_dev_move_do(ctx, cmd, collided);
+    vp_scan_stage_time(d, t0);
+    return st;
+}
+
+static int vp_scan_dev_probe(void *ctx, const vp_cmd_t *cmd, vp_probe_result_t *res)
+{
+    vp_scan_dev_t *d = ctx;
+    double t0 = vp_scan_seconds(d);
+    int st = vp_scan_dev_probe_do(ctx, cmd, res);
+    vp_scan_stage_time(d, t0);
+    return st;
 }
 
 /* The head's contact switch stopped the last MOVE: where (port/vp_machine). */

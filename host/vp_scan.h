@@ -39,6 +39,9 @@ typedef struct vp_scan_dev {
     unsigned long estop_at;       /* dry run: press the e-stop during this run's command N (0: never) */
     int fault;                    /* the status that stopped a command (VP_OK: none) */
     unsigned long contacts;       /* moves the head's contact switch stopped */
+    const vp_planner_t *pl;       /* the planner issuing the commands (for the time by stage), or NULL */
+    double stage_s[4];            /* machine time of this run's commands by vp_planner_stage */
+    unsigned long stage_cmds[4];
     double noise_tol;             /* dry run: hits are judged against the object within this (mm) */
     int touching;                 /* the last one did: the head stands on the surface */
     double touch_lag;             /* dry run: how far past the surface the switch closed (mm) */

@@ -26,6 +26,11 @@ grep -q "closed 2-manifold" "$tmp/r.txt" || bad "dry run: mesh not closed"
 grep -q "^dry run: head: 0 head collisions in [0-9]* motions (clearance ball 0, laser 0, camera 0, bracket 0, tilt hub 0" "$tmp/r.txt" ||
   { bad "dry run: head collisions"; grep "head" "$tmp/r.txt"; }
 [ "$(field "$tmp/r.txt" head_collisions)" = 0 ] && [ "$(field "$tmp/r.txt" status)" = '"closed"' ] || bad "dry run: --json"
+# machine time by planner stage adds up to the run's machine time, and per vertex is that over the vertices
+awk -v t="$(field "$tmp/r.txt" machine_s)" -v a="$(field "$tmp/r.txt" machine_s_seed)" -v b="$(field "$tmp/r.txt" machine_s_refine)" \
+    -v c="$(field "$tmp/r.txt" machine_s_close)" -v p="$(field "$tmp/r.txt" machine_s_per_vertex)" -v n="$(field "$tmp/r.txt" vertices)" \
+    'BEGIN { d = a + b + c - t; q = t / n - p; exit !(t > 0 && d < 0.25 && d > -0.25 && q < 0.01 && q > -0.01) }' ||
+  bad "dry run: machine time by stage does not add up ($(tail -n 1 "$tmp/r.txt" | cut -c1-200))"
 motions=$(field "$tmp/r.txt" head_motions)
 [ "${motions:-0}" -gt 500 ] || bad "dry run: only ${motions:-0} motions checked"
 # the ball rule's premise, from the log alone: no move and no probe puts the laser origin inside
