@@ -8,8 +8,9 @@
 #     exact checker tests/cgal_moves.cpp (CGAL; a CONTACT event ends its move at the touch),
 #   - pass `voroprobe log verify` (a contact withdraws the free parts through its point),
 #   - exit honestly: 0 only when the mesh is a closed manifold, else 4 (the unseen patch).
-# The case the checkers must catch: the same sphere without the switch drives through the
-# object (host-sim counts collisions, CGAL counts the moves through and inside).
+# The case the checkers must catch: the same cube without the switch drives through the
+# object (host-sim counts collisions, CGAL counts the moves through and inside). The meshes of
+# ../shared/meshes are used when present (a fresh clone has only tests/meshes).
 # A session cut after its first contacts and resumed from its log ends with the same mesh.
 # The checker itself: a move ending on a face is "through" unless a contact line ends it there.
 # The machine: boards/sim.ini's dry run with clearance 0, a dark band and the switch at the laser
@@ -46,9 +47,11 @@ got=$("$CG" tests/meshes/cube.off "$D/self3.moves" | tail -n 1)
 [ "$got" = "moves 2, through 2, inside 0, first 1" ] || bad "cgal_moves: a contact inside the object: '$got'"
 
 # ---- one case: NAME MESH OPTIONS...
+nrun=0
 run() {
   name=$1; mesh=$2; shift 2
   o="$D/$name"
+  [ -f "$mesh" ] || { echo "skip $name ($mesh not found)"; return; }
   "$VP" sim --surface "off:$mesh" "$@" --contact --json --quiet --hausdorff 0 --out "$o" --log "$o.vplog" >"$o.json" 2>"$o.err"
   rc=$?
   coll=$(field "$o.json" collisions); contacts=$(field "$o.json" contacts); closed=$(field "$o.json" closed_manifold)
@@ -62,6 +65,7 @@ run() {
   case "$cg" in "moves "*", through 0, inside 0, first none") ;; *) bad "$name: CGAL: $cg";; esac
   [ "${cgc:-0}" = "$contacts" ] || bad "$name: CGAL saw ${cgc:-0} contacts, the session $contacts"
   "$VP" log verify "$o.vplog" >"$o.verify" 2>&1 || bad "$name: log verify: $(tail -n 1 "$o.verify")"
+  nrun=$((nrun + 1))
   printf '%-14s exit %s, %s vertices, %s probes, contacts %s, proofs withdrawn %s, misses not trusted %s, collisions %s; CGAL: %s\n' \
     "$name" "$rc" "$(field "$o.json" vertices)" "$(field "$o.json" probes)" "$contacts" "$(field "$o.json" revoked)" \
     "$(field "$o.json" dark_misses)" "$coll" "$cg"
@@ -85,24 +89,24 @@ echo "dark patch over the seed's way in: planner $ps, exit $rc, collisions $coll
 
 # ---- without the switch the head goes through the object: both checkers must see it
 o="$D/nocontact"
-"$VP" sim --surface "off:$SM/sphere966.off" --eps-rel 0.05 --dark 0,0,10,5 --stop-after 3000 --json --quiet \
+"$VP" sim --surface off:tests/meshes/cube.off --eps-rel 0.05 --dark 0.5,0.5,1,0.3 --stop-after 3000 --json --quiet \
   --hausdorff 0 --log "$o.vplog" >"$o.json" 2>"$o.err"
 coll=$(field "$o.json" collisions)
 [ -n "$coll" ] && [ "$coll" -gt 0 ] || bad "without the contact switch: collisions '$coll' (expected > 0)"
 start=$("$VP" log dump "$o.vplog" | sed -n '/^# start /{s/^# start \([^ ]*\) \([^ ]*\) \([^ ,]*\),.*/\1,\2,\3/p;q;}')
 "$VP" log dump "$o.vplog" --csv >"$o.csv"
-cg=$("$CG" $SM/sphere966.off "$o.csv" --start "$start" | tail -n 1)
+cg=$("$CG" tests/meshes/cube.off "$o.csv" --start "$start" | tail -n 1)
 case "$cg" in *", through 0, inside 0, first none") bad "without the contact switch CGAL sees no move through: $cg";; esac
 echo "without the switch: host-sim collisions $coll; CGAL: $cg"
 
 # ---- cut after some contacts, resumed: the same mesh as the whole session
 o="$D/cut"
-"$VP" sim --surface "off:$SM/sphere966.off" --eps-rel 0.05 --dark 0,0,10,5 --contact --stop-after 900 --quiet \
+"$VP" sim --surface off:tests/meshes/cube.off --eps-rel 0.05 --dark 0.5,0.5,1,0.3 --contact --stop-after 900 --quiet \
   --hausdorff 0 --out "$o" --log "$o.vplog" >/dev/null 2>&1
 c1=$("$VP" log dump "$o.vplog" | grep -c "EVENT contact")
 "$VP" sim --resume "$o.vplog" --quiet >/dev/null 2>&1
 [ "$c1" -gt 0 ] || bad "the cut session had no contact before its cut"
-cmp -s "$o.off" "$D/sphere966.off" || bad "resumed after $c1 contacts: the mesh differs from the whole session's"
+cmp -s "$o.off" "$D/cube.off" || bad "resumed after $c1 contacts: the mesh differs from the whole session's"
 "$VP" log verify "$o.vplog" >/dev/null 2>&1 || bad "the resumed log does not verify"
 echo "cut at command 900 after $c1 contact(s), resumed: mesh identical to the whole session's"
 
@@ -127,4 +131,4 @@ mt=$(sed -n 's/^dry run: .* \([0-9]*\) moves through the object$/\1/p' "$o-off.o
 echo "machine dry run (sim.ini, clearance 0, a dark band): $mc contact(s), the laser origin at most $md mm past the surface (contact_stop 25), 0 moves through; without the switch $mt moves through in 3000 commands"
 
 [ $fail = 0 ] || exit 1
-echo "contact safety net: 5 objects with dark patches, 0 collisions, every move outside the object by CGAL up to its contact, logs verified; without the switch $coll collisions; machine dry run $mc contacts, 0 moves through ($mt without the switch)"
+echo "contact safety net: $nrun object(s) with dark patches, 0 collisions, every move outside the object by CGAL up to its contact, logs verified; without the switch $coll collisions; machine dry run $mc contacts, 0 moves through ($mt without the switch)"

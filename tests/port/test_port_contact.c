@@ -495,7 +495,7 @@ static void dry_object(void)
 {
     rig_t r;
     vp_cmd_t c;
-    double to[3] = { 0, 0, 50 }, at, t, dn[3] = { 0, 0, -1 }, o[3], dir[3];
+    double to[3] = { 0, 0, 50 }, at = 0.0, t, dn[3] = { 0, 0, -1 }, o[3], dir[3];
     if (rig_open(&r, "contact_stop = 25", 0) != VP_OK) return;
     CHECK(vp_surface_ray(r.d->surf, r.b.start, dn, 400, &t) == 1);
     move_cmd(&c, r.b.start, to);
