@@ -17,7 +17,6 @@ board() {   # board NAME CONFIRM KEY-LINES...
 board mild yes "speckle = 1, 8" "vibration = 8, 150, 40, 0" "flicker = 0.6, 100"
 board all yes "speckle = 1, 8" "vibration = 8, 150, 40, 0" "flicker = 0.6, 100" "glint = 60, 2, 40, 10, 12, 700" \
   "dark = 0.0007, 144, 156"
-# eps 12: the board's own eps 10 leaves a few Voronoi edges occluded from dOmega under these faults
 "$VP" scan --board "$tmp/mild.ini" --dry-run --eps 12 --log "$tmp/mild.vplog" >"$tmp/mild.out" 2>&1
 rc=$?
 grep -q 'mesh: .*closed 2-manifold' "$tmp/mild.out" && [ $rc -eq 0 ] || { cat "$tmp/mild.out"; echo "FAIL: speckle, vibration, flicker: exit $rc, not closed"; exit 1; }

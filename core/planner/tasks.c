@@ -349,6 +349,63 @@ VP_PL_API void vp_pl_probe_drop(vp_planner_t *pl)
 }
 #endif
 
+#if VP_PL_CONTACTS
+/* A sample seen from elsewhere: where the line from dOmega met S before an occluded Voronoi edge
+ * is a point of S (the "picking region" variant of Delaunay refinement takes such points near
+ * the ball it refines). Inserted when no sample lies within OCCLUDED_SPACING eps of it, so the
+ * samples keep a spacing and the refinement its bound: the nearest sample is a vertex of a tet
+ * whose circumsphere holds the point (it becomes the point's Delaunay neighbour), found by
+ * walking the conflict region from the tet that holds it. */
+#define OCCLUDED_SPACING 0.25
+#define OCCLUDED_WALK 512u
+#define OCCLUDED_REACH 1.0
+static int occluded_sample(vp_planner_t *pl, double dist)
+{
+    double h[3], near2 = VP_PL_HUGE, sp = OCCLUDED_SPACING * pl->cfg.eps;
+    uint32_t t0, *stack = pl->pool.astar, n = 0, seen = 0, v;
+    int q, st;
+    if (pl->cfg.min_size > 0.0 && pl->cfg.min_size < sp) sp = pl->cfg.min_size;
+    for (q = 0; q < 3; q++) h[q] = pl->probe.origin[q] + dist * pl->probe.dir[q];
+    if (!vp_pl_omega_inside(&pl->cfg, h)) return VP_OK;
+    {
+        /* only a point near the unseen facet (within eps of its circumcentre: the picking
+         * region about the surface Delaunay ball it would have) */
+        uint32_t fv[3];
+        double m[3];
+        vp_dt_facet(&pl->dt, pl->probe.task.tet, pl->probe.task.facet, fv);
+        if (fv[0] == VP_DT_GHOST || fv[1] == VP_DT_GHOST || fv[2] == VP_DT_GHOST || !facet_circumcenter(pl, fv, m) ||
+            vp_dist3(m, h) > OCCLUDED_REACH * pl->cfg.eps)
+            return VP_OK;
+    }
+    if (vp_dt_locate(&pl->dt, h, pl->probe.task.tet, &t0) != VP_OK) return VP_OK;
+    /* the conflict region, breadth first (pool.astar is scratch: nobody holds it here) */
+    if (pl->pool.cap_astar < 2 * OCCLUDED_WALK) return VP_OK;
+    stack[n++] = t0;
+    while (seen < n && n < OCCLUDED_WALK) {
+        uint32_t t = stack[seen++], k, j;
+        const uint32_t *w = vp_dt_tet(&pl->dt, t);
+        for (k = 0; k < 4; k++) {
+            uint32_t u = w[4 + k] >> 2;
+            if (w[k] != VP_DT_GHOST) {
+                double d2 = vp_dist3(h, vp_dt_point(&pl->dt, w[k]));
+                d2 *= d2;
+                if (d2 < near2) near2 = d2;
+            }
+            for (j = 0; j < n && stack[j] != u; j++) {}
+            if (j == n && n < OCCLUDED_WALK && vp_dt_in_conflict(&pl->dt, u, h)) stack[n++] = u;
+        }
+    }
+    if (n >= OCCLUDED_WALK || !(near2 > sp * sp)) return VP_OK;
+    if (!vp_pl_pools_have_room(pl)) return VP_OK;
+    st = vp_dt_insert(&pl->dt, h, t0, &v);
+    if (st == VP_EDUP) return VP_OK;
+    if (st != VP_OK) return st;
+    pl->st.insertions++;
+    pl->close.exhaustive = 0;
+    return vp_pl_after_insert(pl, v);
+}
+#endif
+
 /* The result of the probe of the current task. */
 VP_PL_API int vp_pl_task_finish(vp_planner_t *pl, const vp_probe_result_t *res)
 {
@@ -371,7 +428,11 @@ VP_PL_API int vp_pl_task_finish(vp_planner_t *pl, const vp_probe_result_t *res)
         side_set(pl, t, f, side_get(pl, t, f) | SIDE_BLOCKED);
         pl->st.hits++;
         pl->st.occluded++;
+#if VP_PL_CONTACTS
+        return occluded_sample(pl, res->dist);
+#else
         return VP_OK;
+#endif
     }
     if (res->hit && res->dist <= pl->probe.range + tol) {
         /* the ball centre stays strictly inside the edge: a centre on a Voronoi vertex (a hit
