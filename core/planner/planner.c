@@ -17,6 +17,8 @@
  * constructed points (Voronoi vertices, hits), far below any physical size */
 #define PROOF_TOL_REL 1e-10
 #define DEG_TO_RAD 0.017453292519943295
+/* body mode: the newest tasks looked at for the one whose probe starts nearest the head */
+#define NEAR_WINDOW 32u
 
 /* ---------- arena ---------- */
 
@@ -235,7 +237,26 @@ static int phase_step(vp_planner_t *pl, int *done)
             return vp_pl_refine(pl);
         }
         if (pl->pool.ntask > 0) {
-            vp_task_t k = pl->pool.task[--pl->pool.ntask];
+            vp_task_t k;
+#ifndef VP_CORE_MCU /* a microcontroller core keeps the newest-first order (its flash budget) */
+            if (pl->cfg.clearance > 0.0 && pl->pool.ntask > 1) {
+                /* body mode: every probe starts on dOmega and the head travels round Omega to it:
+                 * of the newest tasks, the one whose probe starts nearest the head goes first */
+                uint32_t i, lo = pl->pool.ntask > NEAR_WINDOW ? pl->pool.ntask - NEAR_WINDOW : 0, best = pl->pool.ntask - 1;
+                double bd = VP_PL_HUGE, o[3];
+                for (i = pl->pool.ntask; i-- > lo;)
+                    if (vp_pl_task_origin(pl, &pl->pool.task[i], o)) {
+                        double d = vp_dist3(o, pl->dev.pos);
+                        if (d < bd) { bd = d; best = i; }
+                    }
+                if (best != pl->pool.ntask - 1) {
+                    vp_task_t t = pl->pool.task[best];
+                    pl->pool.task[best] = pl->pool.task[pl->pool.ntask - 1];
+                    pl->pool.task[pl->pool.ntask - 1] = t;
+                }
+            }
+#endif
+            k = pl->pool.task[--pl->pool.ntask];
             if (vp_pl_task_start(pl, &k)) pl->probe.ready = 1;
             if (pl->sc.pending) pl->route.i = pl->route.n; /* hold the route: shortcut first */
             return pl->error;

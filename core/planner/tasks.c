@@ -243,6 +243,27 @@ static int task_unprobeable(vp_planner_t *pl, uint32_t t, int f)
     return 0;
 }
 
+#ifndef VP_CORE_MCU
+/* Body mode: where task k's probe would start (the edge's line leaving Omega behind its active
+ * vertex); 0 when that cannot be said cheaply (the task is then not preferred). */
+VP_PL_API int vp_pl_task_origin(const vp_planner_t *pl, const vp_task_t *k, double *o)
+{
+    edgegeom_t g;
+    double back[3], t0b, t1b;
+    int q;
+    if (!task_live(pl, k) || !tet_active(pl, k->tet) || k->off > 0.0) return 0;
+    if (vp_pl_edge_geom(pl, k->tet, k->facet, &g) != VP_OK || !(g.t0 < g.t1)) return 0;
+    if (!g.a_inside) {
+        for (q = 0; q < 3; q++) o[q] = g.a[q] + g.t0 * g.dir[q];
+        return 1;
+    }
+    for (q = 0; q < 3; q++) back[q] = -g.dir[q];
+    if (!vp_pl_omega_clip(&pl->cfg, g.a, back, VP_PL_HUGE, &t0b, &t1b)) return 0;
+    for (q = 0; q < 3; q++) o[q] = g.a[q] - t1b * g.dir[q];
+    return 1;
+}
+#endif
+
 /* Prepares the probe of task k: the route to its origin and the ray. Returns 1 when a probe
  * is ready, 0 when the task resolved without probing. */
 VP_PL_API int vp_pl_task_start(vp_planner_t *pl, vp_task_t *k)

@@ -296,6 +296,9 @@ VP_PL_API void vp_pl_probe_drop(vp_planner_t *pl);
 VP_PL_API int vp_pl_task_finish(vp_planner_t *pl, const vp_probe_result_t *res);
 VP_PL_API int vp_pl_task_push(vp_planner_t *pl, uint32_t t, int f, int forced);
 VP_PL_API int vp_pl_task_start(vp_planner_t *pl, vp_task_t *k);
+#ifndef VP_CORE_MCU
+VP_PL_API int vp_pl_task_origin(const vp_planner_t *pl, const vp_task_t *k, double *o);
+#endif
 VP_PL_API int vp_pl_tet_point(const vp_planner_t *pl, uint32_t t, double *p);
 
 /* update.c */
