@@ -78,22 +78,6 @@ static int vp_head_vertices(const vp_head_part_t *p, double v[8][3])
     return n;
 }
 
-/* R(pan, tilt) = Rz(pan) Ry(-tilt), row-major, as vp_kin.h defines it */
-static void vp_head_rot(double pan, double tilt, double r[9])
-{
-    double cp = cos(pan * VP_HEAD_DEG), sp = sin(pan * VP_HEAD_DEG), ct = cos(tilt * VP_HEAD_DEG), st = sin(tilt * VP_HEAD_DEG);
-    r[0] = cp * ct; r[1] = -sp; r[2] = -cp * st;
-    r[3] = sp * ct; r[4] = cp;  r[5] = -sp * st;
-    r[6] = st;      r[7] = 0;   r[8] = ct;
-}
-
-static void vp_head_mul(const double r[9], const double v[3], double o[3])
-{
-    o[0] = r[0] * v[0] + r[1] * v[1] + r[2] * v[2];
-    o[1] = r[3] * v[0] + r[4] * v[1] + r[5] * v[2];
-    o[2] = r[6] * v[0] + r[7] * v[1] + r[8] * v[2];
-}
-
 double vp_head_reach(const vp_head_t *h, int i, double tilt_lo, double tilt_hi)
 {
     const vp_head_part_t *p;
@@ -118,8 +102,8 @@ double vp_head_reach(const vp_head_t *h, int i, double tilt_lo, double tilt_hi)
     if (ns < 1) ns = 1;
     for (m = 0; m <= ns; m++) {
         double t = tilt_lo + (tilt_hi - tilt_lo) * m / ns, r[9], o[3], lo[3];
-        vp_head_rot(0, t, r);
-        vp_head_mul(r, h->laser_offset, lo);
+        vp_kin_rot(0, t, r);
+        vp_kin_mul(r, h->laser_offset, lo);
         for (q = 0; q < 3; q++) o[q] = h->tilt_offset[q] + lo[q];
         for (q = 0; q < n; q++) {
             double d = vp_dist3(v[q], o);
@@ -135,14 +119,14 @@ void vp_head_pose(const vp_head_t *h, int i, const double j[VP_KIN_JOINTS], doub
     double r[9], rz[9], cl[3], el[3][3], t[3], w[3];
     int k, q;
     vp_head_core(p, cl, el);
-    vp_head_rot(j[VP_J_PAN], 0, rz);
-    vp_head_mul(rz, h->tilt_offset, t);
+    vp_kin_rot(j[VP_J_PAN], 0, rz);
+    vp_kin_mul(rz, h->tilt_offset, t);
     for (k = 0; k < 3; k++) t[k] += j[k];          /* the tilt axis centre T */
-    if (p->frame == VP_HEAD_TILT) vp_head_rot(j[VP_J_PAN], j[VP_J_TILT], r);
+    if (p->frame == VP_HEAD_TILT) vp_kin_rot(j[VP_J_PAN], j[VP_J_TILT], r);
     else memcpy(r, rz, sizeof r);
-    vp_head_mul(r, cl, w);
+    vp_kin_mul(r, cl, w);
     for (k = 0; k < 3; k++) c[k] = (p->frame == VP_HEAD_TILT ? t[k] : j[k]) + w[k];
-    for (q = 0; q < 3; q++) vp_head_mul(r, el[q], e[q]);
+    for (q = 0; q < 3; q++) vp_kin_mul(r, el[q], e[q]);
 }
 
 /* A lower bound (>= 0.75 need) on the distance from the core (c, e) grown by r to the object,

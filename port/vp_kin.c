@@ -41,8 +41,7 @@ int vp_kin_init(vp_kin_t *k, const vp_kin_config_t *cfg)
     return VP_OK;
 }
 
-/* Rz(pan) * Ry(-tilt), row-major. */
-static void vp_kin_rot(double pan, double tilt, double r[9])
+void vp_kin_rot(double pan, double tilt, double r[9])
 {
     double cp = cos(pan * VP_DEG), sp = sin(pan * VP_DEG), ct = cos(tilt * VP_DEG), st = sin(tilt * VP_DEG);
     r[0] = cp * ct; r[1] = -sp; r[2] = -cp * st;
@@ -50,7 +49,7 @@ static void vp_kin_rot(double pan, double tilt, double r[9])
     r[6] = st;      r[7] = 0;   r[8] = ct;
 }
 
-static void vp_kin_mul(const double r[9], const double v[3], double out[3])
+void vp_kin_mul(const double r[9], const double v[3], double out[3])
 {
     out[0] = vp_dot3(r, v);
     out[1] = r[3] * v[0] + r[4] * v[1] + r[5] * v[2];

@@ -39,6 +39,10 @@ typedef struct vp_kin {
 /* VP_EINVAL for NaN or lo > hi. */
 int vp_kin_init(vp_kin_t *k, const vp_kin_config_t *cfg);
 
+/* The head's rotation for pan and tilt (degrees): Rz(pan) Ry(-tilt), row-major (tilt frame ->
+ * world); and r v. */
+void vp_kin_rot(double pan, double tilt, double r[9]);
+void vp_kin_mul(const double r[9], const double v[3], double out[3]);
 /* Head pose: rot (row-major 3x3, tilt frame -> world), pos = tilt frame origin. */
 void vp_kin_head(const vp_kin_t *k, const double j[VP_KIN_JOINTS], double rot[9], double pos[3]);
 /* Laser origin and unit beam direction for joints j. */
