@@ -243,13 +243,25 @@ static int task_unprobeable(vp_planner_t *pl, uint32_t t, int f)
     return 0;
 }
 
+/* Body mode: where the line of edge g leaves Omega behind its vertex (the probe's origin), and
+ * how far behind (*standoff); 0 when the line misses Omega. */
+static int body_origin(const vp_planner_t *pl, const edgegeom_t *g, double *o, double *standoff)
+{
+    double back[3], t0b;
+    int q;
+    for (q = 0; q < 3; q++) back[q] = -g->dir[q];
+    if (!vp_pl_omega_clip(&pl->cfg, g->a, back, VP_PL_HUGE, &t0b, standoff)) return 0;
+    for (q = 0; q < 3; q++) o[q] = g->a[q] - *standoff * g->dir[q];
+    return 1;
+}
+
 #ifndef VP_CORE_MCU
 /* Body mode: where task k's probe would start (the edge's line leaving Omega behind its active
  * vertex); 0 when that cannot be said cheaply (the task is then not preferred). */
 VP_PL_API int vp_pl_task_origin(const vp_planner_t *pl, const vp_task_t *k, double *o)
 {
     edgegeom_t g;
-    double back[3], t0b, t1b;
+    double standoff;
     int q;
     if (!task_live(pl, k) || !tet_active(pl, k->tet) || k->off > 0.0) return 0;
     if (vp_pl_edge_geom(pl, k->tet, k->facet, &g) != VP_OK || !(g.t0 < g.t1)) return 0;
@@ -257,10 +269,7 @@ VP_PL_API int vp_pl_task_origin(const vp_planner_t *pl, const vp_task_t *k, doub
         for (q = 0; q < 3; q++) o[q] = g.a[q] + g.t0 * g.dir[q];
         return 1;
     }
-    for (q = 0; q < 3; q++) back[q] = -g.dir[q];
-    if (!vp_pl_omega_clip(&pl->cfg, g.a, back, VP_PL_HUGE, &t0b, &t1b)) return 0;
-    for (q = 0; q < 3; q++) o[q] = g.a[q] - t1b * g.dir[q];
-    return 1;
+    return body_origin(pl, &g, o, &standoff);
 }
 #endif
 
@@ -298,11 +307,8 @@ VP_PL_API int vp_pl_task_start(vp_planner_t *pl, vp_task_t *k)
     if (g.a_inside && pl->cfg.clearance > 0.0) {
         /* a device with a body stays outside Omega: it probes the edge's line from where the
          * line leaves Omega behind the vertex; only a hit beyond the vertex is on the edge */
-        double back[3], t0b, t1b;
-        int q;
-        for (q = 0; q < 3; q++) back[q] = -g.dir[q];
-        if (!vp_pl_omega_clip(&pl->cfg, g.a, back, VP_PL_HUGE, &t0b, &t1b)) return task_unprobeable(pl, t, f);
-        for (q = 0; q < 3; q++) o[q] = g.a[q] - t1b * g.dir[q];
+        double t1b;
+        if (!body_origin(pl, &g, o, &t1b)) return task_unprobeable(pl, t, f);
         range = t1b + g.t1;
         pl->probe.standoff = t1b;
     } else if (g.a_inside) {
