@@ -189,7 +189,7 @@ static int write_points(const vp_sessionlog_t *L, uint32_t upto, const char *pat
     if (!f) return VP_EIO;
     for (i = 0; i < upto; i++) {
         vp_logfmt_record_t r;
-        if (vp_sessionlog_record(L, i, &r) == VP_OK && r.type == VP_LOGFMT_PROBE && r.hit == 1) n++;
+        if (vp_sessionlog_record(L, i, &r) == VP_OK && (r.type == VP_LOGFMT_PROBE || r.type == VP_LOGFMT_RAY) && r.hit == 1) n++;
     }
     fprintf(f, "ply\nformat %s 1.0\ncomment voroprobe probed points; normals point to the probe origins\n"
             "element vertex %zu\nproperty double x\nproperty double y\nproperty double z\n"
@@ -198,7 +198,7 @@ static int write_points(const vp_sessionlog_t *L, uint32_t upto, const char *pat
     for (i = 0; i < upto; i++) {
         vp_logfmt_record_t r;
         double v[6], len;
-        if (vp_sessionlog_record(L, i, &r) != VP_OK || r.type != VP_LOGFMT_PROBE || r.hit != 1) continue;
+        if (vp_sessionlog_record(L, i, &r) != VP_OK || (r.type != VP_LOGFMT_PROBE && r.type != VP_LOGFMT_RAY) || r.hit != 1) continue;
         len = sqrt(r.dir[0] * r.dir[0] + r.dir[1] * r.dir[1] + r.dir[2] * r.dir[2]);
         for (k = 0; k < 3; k++) {
             v[k] = r.origin[k] + r.dist * r.dir[k];
@@ -340,7 +340,7 @@ static const char *units_name(uint32_t u)
 
 static const char *type_str(int t)
 {
-    return t == VP_LOGFMT_PROBE ? "probe" : t == VP_LOGFMT_MOVE ? "move" : "event";
+    return t == VP_LOGFMT_PROBE ? "probe" : t == VP_LOGFMT_RAY ? "ray" : t == VP_LOGFMT_MOVE ? "move" : "event";
 }
 
 static void dump_header_text(const vp_logfmt_header_t *h, FILE *f)
@@ -363,6 +363,7 @@ static void dump_header_text(const vp_logfmt_header_t *h, FILE *f)
             c->start[0], c->start[1], c->start[2], c->max_range, c->noise_tol, c->clearance);
     fprintf(f, "# angle bound %.17g, confirm misses %u, planner flags 0x%x, arena %llu bytes\n", c->min_angle,
             c->confirm_misses, c->flags, (unsigned long long)h->arena_bytes);
+    if (c->line_rays) fprintf(f, "# line laser: up to %u more rays per probe\n", c->line_rays);
 }
 
 static void dump_header_json(const vp_logfmt_header_t *h, FILE *f)
@@ -386,6 +387,7 @@ static void dump_header_json(const vp_logfmt_header_t *h, FILE *f)
     fprintf(f, ",\"noise_tol\":"); json_num(f, c->noise_tol);
     fprintf(f, ",\"clearance\":"); json_num(f, c->clearance);
     fprintf(f, ",\"min_angle\":"); json_num(f, c->min_angle);
+    if (c->line_rays) fprintf(f, ",\"line_rays\":%u", c->line_rays);
     fprintf(f, ",\"confirm_misses\":%u,\"flags\":%u,\"arena_bytes\":%llu}}\n", c->confirm_misses, c->flags,
             (unsigned long long)h->arena_bytes);
 }
@@ -409,8 +411,8 @@ static int log_dump(const char *path, int mode)
         for (k = 0; k < 3; k++) p[k] = r.origin[k] + r.dist * r.dir[k];
         if (mode == 0) {
             printf("%u @%zu ", r.seq, L.off[i]);
-            if (r.type == VP_LOGFMT_PROBE) {
-                printf("PROBE from %.17g %.17g %.17g dir %.17g %.17g %.17g range %.17g: ", r.origin[0], r.origin[1],
+            if (r.type == VP_LOGFMT_PROBE || r.type == VP_LOGFMT_RAY) {
+                printf("%s from %.17g %.17g %.17g dir %.17g %.17g %.17g range %.17g: ", r.type == VP_LOGFMT_RAY ? "RAY" : "PROBE", r.origin[0], r.origin[1],
                        r.origin[2], r.dir[0], r.dir[1], r.dir[2], r.range);
                 if (r.hit == VP_PROBE_TOO_CLOSE) printf("too close (nothing measured, nothing free) raw %.17g\n", r.raw);
                 else if (r.hit) printf("hit at %.17g (point %.17g %.17g %.17g) raw %.17g\n", r.dist, p[0], p[1], p[2], r.raw);
@@ -425,7 +427,7 @@ static int log_dump(const char *path, int mode)
             }
         } else if (mode == 1) {
             printf("{\"seq\":%u,\"offset\":%zu,\"type\":\"%s\"", r.seq, L.off[i], type_str(r.type));
-            if (r.type == VP_LOGFMT_PROBE) {
+            if (r.type == VP_LOGFMT_PROBE || r.type == VP_LOGFMT_RAY) {
                 printf(",\"origin\":"); json_vec(stdout, r.origin);
                 printf(",\"dir\":"); json_vec(stdout, r.dir);
                 printf(",\"range\":"); json_num(stdout, r.range);
@@ -444,12 +446,12 @@ static int log_dump(const char *path, int mode)
             printf("}\n");
         } else {
             printf("%u,%zu,%s,", r.seq, L.off[i], type_str(r.type));
-            if (r.type == VP_LOGFMT_PROBE)
+            if (r.type == VP_LOGFMT_PROBE || r.type == VP_LOGFMT_RAY)
                 printf("%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%d,%.17g,%.17g,", r.origin[0], r.origin[1],
                        r.origin[2], r.dir[0], r.dir[1], r.dir[2], r.range, r.hit, r.dist, r.raw);
             else
                 printf(",,,,,,,,,,");
-            if (r.type == VP_LOGFMT_PROBE && r.hit == 1) printf("%.17g,%.17g,%.17g,", p[0], p[1], p[2]);
+            if ((r.type == VP_LOGFMT_PROBE || r.type == VP_LOGFMT_RAY) && r.hit == 1) printf("%.17g,%.17g,%.17g,", p[0], p[1], p[2]);
             else if (r.type == VP_LOGFMT_EVENT && r.event == VP_LOGFMT_EV_CONTACT)
                 printf("%.17g,%.17g,%.17g,", r.value[1], r.value[2], r.value[3]);
             else printf(",,,");
@@ -495,6 +497,9 @@ static int log_check(const char *path, int replay)
     printf("records: %u valid (%llu probes, %llu hits, %llu moves, %llu events)\n", L.n,
            (unsigned long long)L.probes, (unsigned long long)L.hits, (unsigned long long)L.moves,
            (unsigned long long)L.events);
+    if (L.rays)
+        printf("line laser: %llu more rays in the probes' frames (%llu hits)\n", (unsigned long long)L.rays,
+               (unsigned long long)L.ray_hits);
     printf("%s\n", stop);
     rc = L.status == VP_OK ? 0 : 1;
     if (replay) {
@@ -619,6 +624,7 @@ static int log_verify(const char *path, int json)
         if (res->unproven_moves) printf("%u", res->move[0].record); else printf("null");
         printf(",\"probes_off_position\":%llu,\"first_off_position_record\":", (unsigned long long)res->probes_off_position);
         if (res->probes_off_position) printf("%u", res->probe[0].record); else printf("null");
+        if (res->rays) printf(",\"rays\":%llu", (unsigned long long)res->rays);
         printf(",\"records\":%llu,\"events\":%llu,\"moves_outside_omega\":%llu,\"unproven_length\":",
                (unsigned long long)res->records, (unsigned long long)res->events, (unsigned long long)res->moves_outside);
         json_num(stdout, res->unproven_length);

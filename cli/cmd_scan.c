@@ -253,7 +253,7 @@ static int scan_after(void *ctx, const vp_cmd_t *cmd, const vp_probe_result_t *r
     if (st != VP_OK) return st;
     st = vp_sessionlog_after(&r->w, cmd, res);
     if (st != VP_OK) return st;
-    if (cmd->kind == VP_CMD_DONE) return VP_OK;
+    if (cmd->kind == VP_CMD_DONE || cmd->kind == VP_CMD_RAY) return VP_OK; /* a RAY: part of its PROBE's frame */
     r->n++;
     if (!r->quiet && (vp_progress_tick(&r->prog) || (r->hw && r->prog.tty))) scan_progress(r, 0);
     if (r->stop_after && r->n == r->stop_after) raise(SIGINT);   /* a Ctrl-C, on purpose */

@@ -57,6 +57,22 @@ int vp_sim_parse_option(vp_sim_options_t *o, int argc, char **argv, int *i, char
         (*i)++;
         return 0;
     }
+    if (!strcmp(a, "--line-laser")) {
+        char *e;
+        long n;
+        if (!val) { snprintf(err, errlen, "--line-laser needs N[,DEG]"); return -1; }
+        n = strtol(val, &e, 10);
+        o->line_deg = 30.0;
+        if (e == val || n < 1 || n > VP_PLANNER_MAX_LINE_RAYS || (*e && *e != ',') ||
+            (*e == ',' && (!num(e + 1, &o->line_deg) || !(o->line_deg > 0.0) || o->line_deg > 120.0))) {
+            snprintf(err, errlen, "--line-laser takes N[,DEG]: N more rays per probe (1 to %d) over a fan of DEG "
+                     "degrees (above 0, at most 120; default 30), not '%s'", VP_PLANNER_MAX_LINE_RAYS, val);
+            return -1;
+        }
+        o->line_rays = (unsigned)n;
+        (*i)++;
+        return 0;
+    }
     if (strncmp(a, "--", 2) != 0) return 1;
     if (strcmp(a, "--surface") && strcmp(a, "--eps") && strcmp(a, "--eps-rel") && strcmp(a, "--out") &&
         strcmp(a, "--noise") && strcmp(a, "--dropout") && strcmp(a, "--clearance") &&

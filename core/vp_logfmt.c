@@ -67,11 +67,22 @@ static size_t bounded_len(const char *s, size_t max)
  * those and the distance bound; a version 1 header has none. The oldest version that holds
  * the configuration is written. */
 static int sizing(const vp_planner_config_t *c) { return c->size_rel != 0.0 || c->min_size != 0.0; }
+#ifndef VP_CORE_MCU
+/* version 4: those three and a line laser's rays per frame (uint32, then 4 zero bytes) */
+static uint32_t header_version(const vp_planner_config_t *c)
+{
+    return c->line_rays != 0u ? 4u : c->max_distance != 0.0 ? 3u : sizing(c) ? 2u : 1u;
+}
+static uint32_t ext_bytes(uint32_t version) { return version >= 4u ? 32u : version == 3u ? 24u : version == 2u ? 16u : 0u; }
+#define PROBE_LIKE(t) ((t) == VP_LOGFMT_PROBE || (t) == VP_LOGFMT_RAY)
+#else
 static uint32_t header_version(const vp_planner_config_t *c)
 {
     return c->max_distance != 0.0 ? 3u : sizing(c) ? 2u : 1u;
 }
 static uint32_t ext_bytes(uint32_t version) { return version >= 3u ? 24u : version == 2u ? 16u : 0u; }
+#define PROBE_LIKE(t) ((t) == VP_LOGFMT_PROBE)
+#endif
 
 /* ---------- header ---------- */
 
@@ -146,6 +157,12 @@ int vp_logfmt_header_encode(const vp_logfmt_header_t *h, void *buf, size_t cap)
         putd(q, c->size_rel);
         putd(q + 8, c->min_size);
         if (header_version(c) >= 3u) putd(q + 16, c->max_distance);
+#ifndef VP_CORE_MCU
+        if (header_version(c) >= 4u) {
+            put32(q + 24, c->line_rays);
+            put32(q + 28, 0);
+        }
+#endif
         q += ext_bytes(header_version(c));
     }
     put32(q, vp_logfmt_crc32(0, p, (size_t)(q - p)));
@@ -198,6 +215,12 @@ static int header_decode(const unsigned char *p, uint32_t n, vp_logfmt_header_t 
         c->size_rel = getd(q + nl);
         c->min_size = getd(q + nl + 8);
         if (h->version >= 3u) c->max_distance = getd(q + nl + 16);
+#ifndef VP_CORE_MCU
+        if (h->version >= 4u) {
+            c->line_rays = get32(q + nl + 24);
+            if (get32(q + nl + 28) != 0u || c->line_rays > VP_PLANNER_MAX_LINE_RAYS) return 0;
+        }
+#endif
         if (!vp_finite(c->size_rel) || !vp_finite(c->min_size) || !vp_finite(c->max_distance) ||
             header_version(c) != h->version)
             return 0;
@@ -259,7 +282,11 @@ static void record_clear(vp_logfmt_record_t *r, uint32_t seq, int type)
 void vp_logfmt_record_probe(vp_logfmt_record_t *r, uint32_t seq, const vp_cmd_t *cmd,
                          const vp_probe_result_t *res, double raw)
 {
+#ifndef VP_CORE_MCU
+    record_clear(r, seq, cmd->kind == VP_CMD_RAY ? VP_LOGFMT_RAY : VP_LOGFMT_PROBE);
+#else
     record_clear(r, seq, VP_LOGFMT_PROBE);
+#endif
     memcpy(r->origin, cmd->from, sizeof r->origin);
     memcpy(r->dir, cmd->dir, sizeof r->dir);
     r->range = cmd->range;
@@ -291,6 +318,9 @@ int vp_logfmt_record_size(const vp_logfmt_record_t *r)
     if (!r) return VP_EINVAL;
     switch (r->type) {
     case VP_LOGFMT_PROBE: return VP_LOGFMT_PROBE_SIZE;
+#ifndef VP_CORE_MCU
+    case VP_LOGFMT_RAY: return VP_LOGFMT_PROBE_SIZE;
+#endif
     case VP_LOGFMT_MOVE: return VP_LOGFMT_MOVE_SIZE;
     case VP_LOGFMT_EVENT:
         if (r->text_len > VP_LOGFMT_TEXT_MAX || bounded_len(r->text, r->text_len) != r->text_len)
@@ -310,7 +340,7 @@ int vp_logfmt_record_encode(const vp_logfmt_record_t *r, void *buf, size_t cap)
     put32(p + 4, r->seq);
     put16(p + 8, (uint32_t)r->type);
     put16(p + 10, 0);
-    if (r->type == VP_LOGFMT_PROBE) {
+    if (PROBE_LIKE(r->type)) {
         putd3(p + 12, r->origin);
         putd3(p + 36, r->dir);
         putd(p + 60, r->range);
@@ -335,7 +365,7 @@ static int record_decode(const unsigned char *p, uint32_t n, vp_logfmt_record_t 
 {
     uint32_t type = get16(p + 8), k;
     record_clear(r, get32(p + 4), (int)type);
-    if (type == VP_LOGFMT_PROBE) {
+    if (PROBE_LIKE(type)) {
         uint32_t hit;
         if (n != VP_LOGFMT_PROBE_SIZE) return VP_LOGFMT_R_LENGTH;
         getd3(p + 12, r->origin);
@@ -520,6 +550,22 @@ int vp_logfmt_replay(vp_planner_t *pl, const vp_logfmt_record_t *rec, vp_logfmt_
     int st;
     if (!pl || !rec) return VP_EINVAL;
     if (rec->type == VP_LOGFMT_EVENT) return VP_OK;
+    if (rec->type == VP_LOGFMT_RAY) {
+        /* one more ray of the frame of the PROBE just fed: from its origin */
+        if (!same_bits(pl->dev.iss_o, rec->origin, 3)) {
+            if (mm) {
+                memset(&mm->got, 0, sizeof mm->got);
+                mm->expected_type = rec->type;
+                mm->got_kind = VP_CMD_RAY;
+                mm->field = "origin";
+                memcpy(mm->got.from, pl->dev.iss_o, sizeof mm->got.from);
+            }
+            return VP_ECORRUPT;
+        }
+        res.hit = rec->hit;
+        res.dist = rec->dist;
+        return vp_planner_feed_ray(pl, rec->dir, &res);
+    }
     st = vp_planner_next(pl, &cmd);
     if (st != VP_OK) return st;
     if (rec->type == VP_LOGFMT_MOVE) {

@@ -19,9 +19,14 @@
 #include "vp_planner.h"
 #include "vp_status.h"
 
-#define VP_LOGFMT_VERSION     3u  /* 2 adds the sizing field (size_rel, min_size) after the note,
-                                     3 the distance bound too; a header is written in the
-                                     oldest version that holds its configuration */
+#ifndef VP_CORE_MCU
+#define VP_LOGFMT_VERSION     4u  /* 2 adds the sizing field (size_rel, min_size) after the note,
+                                     3 the distance bound too, 4 a line laser's rays per frame
+                                     (and RAY records); a header is written in the oldest
+                                     version that holds its configuration */
+#else
+#define VP_LOGFMT_VERSION     3u  /* a microcontroller core has no line laser */
+#endif
 #define VP_LOGFMT_MAGIC_LEN   8
 #define VP_LOGFMT_BOARD_MAX   63     /* bytes of the board name */
 #define VP_LOGFMT_NOTE_MAX    1023   /* bytes of the free-form note */
@@ -46,7 +51,9 @@ typedef struct vp_logfmt_header {
     char note[VP_LOGFMT_NOTE_MAX + 1];    /* NUL-terminated */
 } vp_logfmt_header_t;
 
-enum vp_logfmt_type { VP_LOGFMT_PROBE = 1, VP_LOGFMT_MOVE = 2, VP_LOGFMT_EVENT = 3 };
+/* RAY: one more ray of the PROBE before it (a line laser's frame), the PROBE's layout: its origin
+ * is the PROBE's, range and raw as the device gave them. */
+enum vp_logfmt_type { VP_LOGFMT_PROBE = 1, VP_LOGFMT_MOVE = 2, VP_LOGFMT_EVENT = 3, VP_LOGFMT_RAY = 4 };
 
 enum vp_logfmt_event {
     VP_LOGFMT_EV_START = 1,       /* a session starts (text: what started it) */
@@ -63,7 +70,7 @@ enum vp_logfmt_event {
 typedef struct vp_logfmt_record {
     uint32_t seq;              /* sequence number: 0, 1, 2, ... after the header */
     int type;                  /* VP_LOGFMT_PROBE / MOVE / EVENT */
-    /* PROBE: the command and its result exactly as fed to the planner */
+    /* PROBE (and RAY): the command and its result exactly as fed to the planner */
     double origin[3], dir[3], range;
     int hit;                   /* 1: hit at dist; 0: miss (dist as fed, normally 0); 2: too close */
     double dist;
@@ -90,7 +97,7 @@ int vp_logfmt_header_size(const vp_logfmt_header_t *h);
 /* Encodes into buf[cap]: the byte count, VP_EINVAL (bad header), VP_ENOMEM (cap too small). */
 int vp_logfmt_header_encode(const vp_logfmt_header_t *h, void *buf, size_t cap);
 
-/* Record builders (every other field zeroed). */
+/* Record builders (every other field zeroed); record_probe makes a RAY for a VP_CMD_RAY. */
 void vp_logfmt_record_probe(vp_logfmt_record_t *r, uint32_t seq, const vp_cmd_t *cmd,
                          const vp_probe_result_t *res, double raw);
 void vp_logfmt_record_move(vp_logfmt_record_t *r, uint32_t seq, const vp_cmd_t *cmd);

@@ -26,6 +26,8 @@
 #define VP_OMEGA_BALL 1
 #define VP_PLANNER_MAX_SEEDS 16
 #define VP_PLANNER_MAX_CONTACTS 16 /* contacts kept apart; more widen the nearest one's reach */
+#define VP_PLANNER_MAX_LINE_RAYS 4096 /* a line laser's rays per frame (image columns) */
+#define VP_PLANNER_RAY_QUEUE 64    /* line-laser points waiting to become samples */
 
 /* planner options (flags) */
 #define VP_PLAN_PAPER        0x1u /* detect_access as published: probe every edge of every
@@ -61,9 +63,15 @@ typedef struct vp_planner_config {
                                     the tangent planes at its vertices that far (a sharp
                                     edge cut off); never below noise_tol; 0: off */
     uint32_t flags;              /* VP_PLAN_* */
+    uint32_t line_rays;          /* a line laser: up to this many more rays per PROBE, from the
+                                    probe's origin in the same frame (vp_planner_feed_ray); their
+                                    hits become samples where no sample lies within eps. 0: a
+                                    dot laser (one ray per PROBE) */
 } vp_planner_config_t;
 
-enum vp_cmd_kind { VP_CMD_MOVE = 1, VP_CMD_PROBE = 2, VP_CMD_DONE = 3 };
+/* VP_CMD_RAY is never issued by vp_planner_next: it names one more ray of the last PROBE's frame
+ * (a line laser) for the run loop's hooks (vp_run) and the log. */
+enum vp_cmd_kind { VP_CMD_MOVE = 1, VP_CMD_PROBE = 2, VP_CMD_DONE = 3, VP_CMD_RAY = 4 };
 
 typedef struct vp_cmd {
     int kind;
@@ -100,6 +108,8 @@ typedef struct vp_planner_stats {
     uint64_t contacts;         /* moves the head's contact switch stopped (vp_planner_touch) */
     uint64_t revoked;          /* proofs of free space a contact showed false */
     uint64_t dark_misses;      /* misses not taken as proof: the ray passed near a contact */
+    uint64_t rays, ray_hits;   /* a line laser's more rays fed (vp_planner_feed_ray), and hits */
+    uint64_t ray_samples;      /* their hits inserted as samples */
     double travel;             /* length of all MOVEs */
     double travel_prev_chains; /* what the same moves cost along prev chains (the paper's
                                   paths); equal to travel with VP_PLAN_PREV_CHAINS */
@@ -219,6 +229,15 @@ typedef struct vp_pl_contact {
     double move_from[3];                   /* that MOVE's start */
 } vp_pl_contact_t;
 
+#ifndef VP_CORE_MCU
+/* A line laser's hits waiting to become samples (planner.c: feed_ray queues, the refinement step
+ * inserts). left: rays the current frame may still give. */
+typedef struct vp_pl_rays {
+    double pts[VP_PLANNER_RAY_QUEUE][3];
+    uint32_t n, left;
+} vp_pl_rays_t;
+#endif
+
 /* High-water marks of the pools whose use goes up and down (for stats.arena_peak). */
 typedef struct vp_pl_peak {
     uint32_t task, heap, route, astar, path;
@@ -240,6 +259,9 @@ typedef struct vp_planner {
     vp_pl_seed_t seed;
     vp_pl_close_t close;
     vp_pl_contact_t contact;
+#ifndef VP_CORE_MCU
+    vp_pl_rays_t rays;
+#endif
     vp_pl_peak_t peak;
     vp_planner_stats_t st;   /* counters, written where things happen */
 } vp_planner_t;
@@ -267,6 +289,16 @@ int vp_planner_feed(vp_planner_t *pl, const vp_probe_result_t *res);
  * VP_ERANGE when the contact lies outside Omega (Omega must hold the object: assumption A2). */
 #ifndef VP_CORE_MCU /* a microcontroller core leaves the contact safety net out (vp_status.h) */
 int vp_planner_touch(vp_planner_t *pl, double at);
+
+/* A line laser: one more ray of the last PROBE's frame, from that PROBE's origin along unit `dir`,
+ * and what it saw (as for vp_planner_feed). Call after vp_planner_feed, up to cfg.line_rays
+ * times per PROBE. A hit is a point of S: it is inserted as a sample before the next refinement
+ * step when no sample lies within eps of it (the samples keep their spacing, so the refinement
+ * keeps its bound and its end: every ball at most eps); misses and rays fed while the seeds are
+ * found or holes are closed add nothing. VP_EINVAL for NaN, a direction not of unit length or a
+ * bad result (nothing changes); VP_ESTATE without cfg.line_rays, before a PROBE was fed, while a
+ * PROBE result is owed, or for more rays than cfg.line_rays. */
+int vp_planner_feed_ray(vp_planner_t *pl, const double dir[3], const vp_probe_result_t *res);
 #endif
 
 /* The mesh: restricted facets with their vertices (indices into vp_planner_dt()), oriented with

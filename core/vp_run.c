@@ -59,6 +59,24 @@ int vp_run(vp_planner_t *pl, const vp_device_ops_t *dev, const vp_run_hooks_t *h
             c0 = vp_run_clock(hooks);
             st = vp_planner_feed(pl, &res);
             out->planner_seconds += vp_run_clock(hooks) - c0;
+#ifndef VP_CORE_MCU
+            if (st == VP_OK && dev->rays) {
+                /* a line laser: the frame's other rays, each logged, then fed (also when the hook
+                 * asked to pause after the PROBE: a frame is never split) */
+                vp_cmd_t ray;
+                unsigned i;
+                for (i = 0; st == VP_OK; i++) {
+                    ray = cmd;
+                    ray.kind = VP_CMD_RAY;
+                    if (dev->rays(dev->ctx, &cmd, i, &ray, &res) != 1) break;
+                    if (after) st = after(hctx, &ray, &res);
+                    if (st != VP_OK) break;
+                    c0 = vp_run_clock(hooks);
+                    st = vp_planner_feed_ray(pl, ray.dir, &res);
+                    out->planner_seconds += vp_run_clock(hooks) - c0;
+                }
+            }
+#endif
             if (st == VP_OK) st = hst;
             if (st != VP_OK) break;
         }

@@ -134,7 +134,7 @@ static int live_after(void *ctx, const vp_cmd_t *cmd, const vp_probe_result_t *r
 {
     vp_live_t *lv = ctx;
     int st = lv->inner.after ? lv->inner.after(lv->inner.ctx, cmd, res) : VP_OK;
-    if (cmd->kind == VP_CMD_PROBE && res && res->hit == 1 && lv->wcount < (uint64_t)CHUNK * MAX_CHUNKS) {
+    if ((cmd->kind == VP_CMD_PROBE || cmd->kind == VP_CMD_RAY) && res && res->hit == 1 && lv->wcount < (uint64_t)CHUNK * MAX_CHUNKS) {
         uint64_t i = lv->wcount;
         float *c = lv->chunk[i / CHUNK];
         int k;

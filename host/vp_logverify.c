@@ -533,6 +533,7 @@ int vp_logverify_add(vp_logverify_t *v, const vp_logfmt_record_t *r)
     int st = VP_OK;
     if (r->type == VP_LOGFMT_MOVE) st = check_move(v, r);
     else if (r->type == VP_LOGFMT_PROBE) st = add_probe(v, r);
+    else if (r->type == VP_LOGFMT_RAY) v->res.rays++; /* the planner moves on PROBE proofs alone */
     else if (r->event == VP_LOGFMT_EV_CONTACT) { v->res.events++; st = add_contact(v, r); }
     else v->res.events++;   /* START, PAUSE, RESUME, FAULT, DONE, ...: the device stays */
     if (st != VP_OK) return st;

@@ -62,6 +62,7 @@ typedef struct vp_logverify_probe {
 typedef struct vp_logverify_result {
     uint64_t records;          /* records verified */
     uint64_t moves, probes, events;
+    uint64_t rays;             /* RAY records (a line laser's more rays): counted, never taken as proof */
     uint64_t unproven_moves;   /* moves not covered by proven-free space */
     uint64_t probes_off_position; /* probes fired from where the device was not */
     uint64_t probes_bad;       /* probes with a zero direction (prove nothing; also counted) */

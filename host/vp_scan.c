@@ -498,6 +498,7 @@ vp_device_ops_t vp_scan_ops(vp_scan_dev_t *d)
     ops.move = vp_scan_dev_move;
     ops.probe = vp_scan_dev_probe;
     ops.touched = vp_board_has_contact(&d->board) ? vp_scan_dev_touched : NULL;
+    ops.rays = NULL;
     return ops;
 }
 
@@ -693,7 +694,7 @@ int vp_scan_return(vp_scan_dev_t *d, const vp_sessionlog_t *L, uint32_t n, const
     for (i = 0; i < n && i < L->n; i++) {
         vp_logfmt_record_t rec;
         if (vp_sessionlog_record(L, i, &rec) != VP_OK) { st = VP_ECORRUPT; break; }
-        if (rec.type == VP_LOGFMT_EVENT) continue;
+        if (rec.type == VP_LOGFMT_EVENT || rec.type == VP_LOGFMT_RAY) continue; /* a RAY: the PROBE's frame */
         vp_units(&m->step, pos, u);
         if (rec.type == VP_LOGFMT_MOVE) {
             st = vp_kin_move(&m->kin, u, rec.target, t);

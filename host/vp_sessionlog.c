@@ -51,6 +51,7 @@ static int index_records(vp_sessionlog_t *L, char *err, size_t errlen)
         }
         L->off[L->n++] = (size_t)at;
         if (rec.type == VP_LOGFMT_PROBE) { L->probes++; L->hits += rec.hit == 1; }
+        else if (rec.type == VP_LOGFMT_RAY) { L->rays++; L->ray_hits += rec.hit == 1; }
         else if (rec.type == VP_LOGFMT_MOVE) L->moves++;
         else { L->events++; if (rec.event == VP_LOGFMT_EV_DONE) L->done = 1; }
     }
@@ -216,12 +217,12 @@ void vp_replay_close(vp_replay_t *R)
 
 static const char *cmd_name(int kind)
 {
-    return kind == VP_CMD_MOVE ? "MOVE" : kind == VP_CMD_PROBE ? "PROBE" : kind == VP_CMD_DONE ? "DONE" : "?";
+    return kind == VP_CMD_MOVE ? "MOVE" : kind == VP_CMD_PROBE ? "PROBE" : kind == VP_CMD_DONE ? "DONE" : kind == VP_CMD_RAY ? "RAY" : "?";
 }
 
 static const char *type_name(int type)
 {
-    return type == VP_LOGFMT_MOVE ? "MOVE" : type == VP_LOGFMT_PROBE ? "PROBE" : "EVENT";
+    return type == VP_LOGFMT_MOVE ? "MOVE" : type == VP_LOGFMT_PROBE ? "PROBE" : type == VP_LOGFMT_RAY ? "RAY" : "EVENT";
 }
 
 int vp_replay_run(vp_replay_t *R, const vp_sessionlog_t *L, uint32_t upto, char *err, size_t errlen)
@@ -270,7 +271,7 @@ int vp_replay_run(vp_replay_t *R, const vp_sessionlog_t *L, uint32_t upto, char 
         }
         st = vp_logfmt_replay(R->pl, &rec, &mm);
         if (st == VP_ECORRUPT && mm.field) {
-            if (mm.got_kind != (rec.type == VP_LOGFMT_MOVE ? VP_CMD_MOVE : VP_CMD_PROBE))
+            if (mm.got_kind != (rec.type == VP_LOGFMT_MOVE ? VP_CMD_MOVE : rec.type == VP_LOGFMT_RAY ? VP_CMD_RAY : VP_CMD_PROBE))
                 snprintf(err, errlen, "record %u (byte offset %zu): the log has a %s, the planner issued %s: "
                          "this log was made by another planner build or configuration", i, L->off[i],
                          type_name(rec.type), cmd_name(mm.got_kind));
@@ -290,6 +291,7 @@ int vp_replay_run(vp_replay_t *R, const vp_sessionlog_t *L, uint32_t upto, char 
             memcpy(R->pos, rec.target, sizeof R->pos);
             R->moves++;
         }
+        else if (rec.type == VP_LOGFMT_RAY) R->rays++;
         else { R->probes++; R->hits += rec.hit == 1; }
         R->applied++;
     }
@@ -321,6 +323,7 @@ int vp_sessionlog_same_config(const vp_planner_config_t *a, uint64_t arena_a,
     else if (!bits_eq(&a->max_distance, &b->max_distance, 1)) f = "distance bound (--max-distance)";
     else if (a->confirm_misses != b->confirm_misses) f = "confirm misses";
     else if (a->flags != b->flags) f = "planner flags";
+    else if (a->line_rays != b->line_rays) f = "line laser rays (--line-laser)";
     else if (arena_a != arena_b) f = "arena size";
     for (i = 0; !f && i < a->ninterior && i < VP_PLANNER_MAX_SEEDS; i++)
         if (!bits_eq(a->interior[i], b->interior[i], 3)) f = "interior points";
@@ -357,6 +360,7 @@ int vp_sessionlog_after(void *ctx, const vp_cmd_t *cmd, const vp_probe_result_t 
     }
     st = vp_logwriter_append(&w->file, &rec);
     if (st != VP_OK) { w->failed = 1; return st; }
+    if (cmd->kind == VP_CMD_RAY) return VP_OK; /* part of the PROBE's frame: a pause comes after it all */
     w->commands++;
     if (cmd->kind != VP_CMD_DONE &&
         ((w->stop_after && w->commands >= w->stop_after) || (w->stop_flag && *w->stop_flag))) {

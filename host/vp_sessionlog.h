@@ -22,6 +22,7 @@ typedef struct vp_sessionlog {
     int reason;                /* VP_LOGFMT_R_* when status != VP_OK */
     uint64_t good_bytes;       /* end of the last valid record */
     uint64_t probes, hits, moves, events;
+    uint64_t rays, ray_hits;           /* RAY records: a line laser's more rays per frame */
     int done;                  /* a DONE event is among the records */
 } vp_sessionlog_t;
 
@@ -51,6 +52,7 @@ typedef struct vp_replay {
     double from[3];            /* where the last MOVE started */
     uint64_t probes;           /* PROBE records replayed (the device's probe count) */
     uint64_t hits;             /* of which hits */
+    uint64_t rays;             /* RAY records replayed (a line laser's more rays) */
     uint64_t moves;            /* MOVE records replayed */
     uint64_t contacts;         /* CONTACT events replayed (moves the contact switch stopped) */
     int done;                  /* the planner said DONE after the last record */

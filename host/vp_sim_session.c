@@ -51,6 +51,11 @@ void vp_sim_session_note(const vp_sim_options_t *o, char *buf, size_t n)
     if ((o->flags & VP_PLAN_LARGEST) != 0) vp_note_put(buf, n, &len, "--largest");
     if ((o->flags & VP_PLAN_PREV_CHAINS) != 0) vp_note_put(buf, n, &len, "--prev-chains");
     if (o->contact) vp_note_put(buf, n, &len, "--contact");
+    if (o->line_rays) {
+        char v[64];
+        snprintf(v, sizeof v, "%u,%.17g", o->line_rays, o->line_deg);
+        vp_note_put_str(buf, n, &len, "--line-laser", v);
+    }
     {
         int i;
         for (i = 0; i < o->ndark; i++) {

@@ -181,6 +181,8 @@ int vp_sim_open(vp_sim_t *s, const vp_sim_options_t *o, char *err, size_t errlen
     if (o->max_distance > 0) s->cfg.max_distance = o->max_distance;
     s->cfg.max_range = o->max_range;
     s->cfg.flags = o->flags;
+    s->cfg.line_rays = o->line_rays;
+    s->line_half = 0.5 * o->line_deg * (M_PI / 180.0);
     memset(&dc, 0, sizeof dc);
     dc.clearance = o->clearance;
     dc.noise_sigma = o->noise;
@@ -242,6 +244,37 @@ static int dev_probe(void *ctx, const vp_cmd_t *cmd, vp_probe_result_t *res)
     return VP_OK;
 }
 
+/* A line laser on the head: its plane holds the probe's ray and the horizontal across it (the
+ * line lies level in the camera's view); ray i of n spreads evenly over the fan, the centre ray
+ * being the probe itself. */
+static int dev_rays(void *ctx, const vp_cmd_t *probe, unsigned i, vp_cmd_t *ray, vp_probe_result_t *res)
+{
+    vp_sim_t *s = ctx;
+    vp_simdev_probe_t r;
+    double h[3], n, th;
+    unsigned m = s->cfg.line_rays, j;
+    int k;
+    if (i >= m) return 0;
+    h[0] = -probe->dir[1];
+    h[1] = probe->dir[0];
+    h[2] = 0.0;
+    n = sqrt(h[0] * h[0] + h[1] * h[1]);
+    if (!(n > 1e-9)) { h[0] = 1.0; h[1] = 0.0; n = 1.0; } /* straight up or down: along x */
+    /* m + 1 even steps across the fan, the one at the centre (the probe's own ray) skipped */
+    j = i < m / 2 ? i : i + 1;
+    th = s->line_half * (2.0 * (double)j / (double)m - 1.0);
+    for (k = 0; k < 3; k++) ray->dir[k] = cos(th) * probe->dir[k] + sin(th) * h[k] / n;
+    n = sqrt(ray->dir[0] * ray->dir[0] + ray->dir[1] * ray->dir[1] + ray->dir[2] * ray->dir[2]);
+    for (k = 0; k < 3; k++) ray->dir[k] /= n;
+    /* the rangefinder's whole range, not the probe's edge */
+    ray->range = s->cfg.max_range > 0.0 ? s->cfg.max_range : 2.0 * s->diag + 1.0;
+    if (vp_simdev_ray(s->dev, ray->dir, ray->range, i, &r) != VP_OK) return 0;
+    s->raw = r.hit ? r.t : NAN;
+    res->hit = r.too_close ? VP_PROBE_TOO_CLOSE : r.hit;
+    res->dist = r.hit ? (r.t < 0 ? 0.0 : r.t) : 0.0;
+    return 1;
+}
+
 int vp_sim_run(vp_sim_t *s, FILE *progress)
 {
     vp_device_ops_t ops;
@@ -249,6 +282,7 @@ int vp_sim_run(vp_sim_t *s, FILE *progress)
     ops.move = dev_move;
     ops.probe = dev_probe;
     ops.touched = s->contact ? dev_touched : NULL;
+    ops.rays = s->cfg.line_rays ? dev_rays : NULL;
     return vp_session_run(s->pl, &ops, s->hooks, 0, progress, &s->run);
 }
 
@@ -345,6 +379,10 @@ void vp_sim_report(const vp_sim_t *s, const vp_sim_options_t *o, FILE *f)
                     "%llu miss(es) near a contact not trusted; dark patches read %lu probe(s) as misses\n",
                     (unsigned long long)st.contacts, (unsigned long long)st.revoked,
                     (unsigned long long)st.dark_misses, ds.dark_misses);
+        if (s->cfg.line_rays)
+            fprintf(f, "line laser: %u more rays per probe over %.3g degrees: %llu rays, %llu hits, %llu of them "
+                    "made samples\n", s->cfg.line_rays, o->line_deg, (unsigned long long)st.rays,
+                    (unsigned long long)st.ray_hits, (unsigned long long)st.ray_samples);
         if (s->motion) {
             double vmax = vp_motion_speed_bound(s->motion, 0, ds.time);
             fprintf(f, "motion: %s; simulated time %.6g s (speed bound %.6g: surface points moved up to %.6g); "
@@ -363,11 +401,16 @@ void vp_sim_report(const vp_sim_t *s, const vp_sim_options_t *o, FILE *f)
                 ex == VP_EXIT_ERROR ? ": the scan stopped on an error; the mesh so far is written" : "");
     }
     if (o->json) {
-        char touch[200] = "";
+        char touch[400] = "";
         if (o->contact || o->ndark)
             snprintf(touch, sizeof touch, ",\"contacts\":%llu,\"revoked\":%llu,\"dark_misses\":%llu,\"dark_probes\":%lu",
                      (unsigned long long)st.contacts, (unsigned long long)st.revoked,
                      (unsigned long long)st.dark_misses, ds.dark_misses);
+        if (s->cfg.line_rays)
+            snprintf(touch + strlen(touch), sizeof touch - strlen(touch),
+                     ",\"line_rays\":%u,\"line_deg\":%.6g,\"rays\":%llu,\"ray_hits\":%llu,\"ray_samples\":%llu",
+                     s->cfg.line_rays, o->line_deg, (unsigned long long)st.rays, (unsigned long long)st.ray_hits,
+                     (unsigned long long)st.ray_samples);
         fprintf(f, "{\"surface\":\"%s\",\"eps\":%.9g,\"status\":\"%s\",\"exit\":%d,\"planner_status\":\"%s\","
                 "\"vertices\":%u,\"facets\":%u,"
                 "\"probes\":%llu,\"hits\":%llu,\"misses\":%llu,\"reprobes\":%llu,\"moves\":%llu,"

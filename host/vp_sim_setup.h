@@ -32,6 +32,8 @@ typedef struct vp_sim_options {
     int ndark;                /* dark patches: the rangefinder sees no spot there (--dark) */
     double dark[VP_SIMDEV_MAX_DARK][4];
     int contact;              /* the head has a contact switch (--contact) */
+    unsigned line_rays;       /* a line laser: more rays per probe (--line-laser N[,DEG]; 0: a dot) */
+    double line_deg;          /* the fan's full angle, degrees */
     const char *motion;       /* a moving object (vp_motion.h spec); NULL: static */
     double speed, accel, probe_time; /* the device's clock: travel speed, acceleration, one probe's time */
 } vp_sim_options_t;
@@ -57,6 +59,7 @@ typedef struct vp_sim {
     int paused;                      /* stopped on purpose (resumable) */
     int written;                     /* vp_sim_finish wrote PREFIX.ply and PREFIX.off */
     int contact;                     /* the device has a contact switch */
+    double line_half;                /* a line laser's half fan angle, rad */
     int touched;                     /* the last move stopped on contact ... */
     double touch_at;                 /* ... this far along it */
     vp_motion_t *motion;             /* the object's motion (NULL: static) */

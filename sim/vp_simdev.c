@@ -172,28 +172,18 @@ out:
     return r.status;
 }
 
-int vp_simdev_probe(vp_simdev_t *d, const double dir[3], double range, vp_simdev_probe_t *res)
+/* One reading along dir from the device: the object (as it is at the device's clock), dark
+ * patches, the minimum range, dropouts and noise drawn from rng. */
+static void vp_read(vp_simdev_t *d, const double dir[3], double range, vp_rng_t *rng, vp_simdev_probe_t *r)
 {
-    vp_simdev_probe_t r;
-    vp_rng_t rng;
-    double n2, t, noise, u;
+    double t, noise, u;
     int k;
-    memset(&r, 0, sizeof r);
-    r.true_t = -1;
-    if (!d || !dir || !vp_finite3(dir) || !(range > 0)) { r.status = VP_EINVAL; goto out; }
-    n2 = vp_dot3(dir, dir);
-    if (fabs(n2 - 1) > 1e-9) { r.status = VP_EINVAL; goto out; }
     if (d->cfg.max_range > 0 && range > d->cfg.max_range) range = d->cfg.max_range;
-    /* The draws of probe k come from a generator seeded by (seed, k) alone. */
-    vp_rng_seed(&rng, d->cfg.seed ^ (0x9E3779B97F4A7C15ULL * (d->nprobe + 1)));
-    d->nprobe++;
-    noise = d->cfg.noise_sigma > 0 ? d->cfg.noise_sigma * vp_rng_normal(&rng) : 0;
-    u = vp_rng_uniform(&rng);
-    d->st.probes++;
-    d->st.time += d->cfg.probe_time;  /* the reading is of the object as the exposure ends */
+    noise = d->cfg.noise_sigma > 0 ? d->cfg.noise_sigma * vp_rng_normal(rng) : 0;
+    u = vp_rng_uniform(rng);
     if (!(d->cfg.motion ? vp_motion_ray(d->cfg.motion, d->st.time, d->pos, dir, range, &t)
-                        : vp_surface_ray(d->surf, d->pos, dir, range, &t))) { d->st.misses++; goto out; }
-    r.true_t = t;
+                        : vp_surface_ray(d->surf, d->pos, dir, range, &t))) { d->st.misses++; return; }
+    r->true_t = t;
     for (k = 0; k < d->cfg.ndark; k++) {
         double q[3], e[3];
         int j;
@@ -202,18 +192,53 @@ int vp_simdev_probe(vp_simdev_t *d, const double dir[3], double range, vp_simdev
             /* a dark patch: no spot, the rangefinder reads nothing */
             d->st.dark_misses++;
             d->st.misses++;
-            goto out;
+            return;
         }
     }
-    if (t < d->cfg.min_range) { d->st.too_close++; r.too_close = 1; goto out; }
-    if (u < d->cfg.dropout) { d->st.dropouts++; d->st.misses++; goto out; }
+    if (t < d->cfg.min_range) { d->st.too_close++; r->too_close = 1; return; }
+    if (u < d->cfg.dropout) { d->st.dropouts++; d->st.misses++; return; }
     t += noise;
     if (t < 0) t = 0;
-    r.hit = 1;
-    r.t = t;
-    for (k = 0; k < 3; k++) r.point[k] = d->pos[k] + t * dir[k];
+    r->hit = 1;
+    r->t = t;
+    for (k = 0; k < 3; k++) r->point[k] = d->pos[k] + t * dir[k];
     d->st.hits++;
-out:
+}
+
+int vp_simdev_probe(vp_simdev_t *d, const double dir[3], double range, vp_simdev_probe_t *res)
+{
+    vp_simdev_probe_t r;
+    vp_rng_t rng;
+    memset(&r, 0, sizeof r);
+    r.true_t = -1;
+    if (!d || !dir || !vp_finite3(dir) || !(range > 0) || fabs(vp_dot3(dir, dir) - 1) > 1e-9) {
+        r.status = VP_EINVAL;
+    } else {
+        /* The draws of probe k come from a generator seeded by (seed, k) alone. */
+        vp_rng_seed(&rng, d->cfg.seed ^ (0x9E3779B97F4A7C15ULL * (d->nprobe + 1)));
+        d->nprobe++;
+        d->st.probes++;
+        d->st.time += d->cfg.probe_time;  /* the reading is of the object as the exposure ends */
+        vp_read(d, dir, range, &rng, &r);
+    }
+    if (res) *res = r;
+    return r.status;
+}
+
+int vp_simdev_ray(vp_simdev_t *d, const double dir[3], double range, unsigned i, vp_simdev_probe_t *res)
+{
+    vp_simdev_probe_t r;
+    vp_rng_t rng;
+    memset(&r, 0, sizeof r);
+    r.true_t = -1;
+    if (!d || !dir || !vp_finite3(dir) || !(range > 0) || fabs(vp_dot3(dir, dir) - 1) > 1e-9 || d->nprobe == 0) {
+        r.status = VP_EINVAL;
+    } else {
+        /* ray i of the frame of probe k: drawn from (seed, k, i); the frame's time, no probe counted */
+        vp_rng_seed(&rng, d->cfg.seed ^ (0x9E3779B97F4A7C15ULL * d->nprobe) ^ (0xD1B54A32D192ED03ULL * ((uint64_t)i + 1)));
+        d->st.rays++;
+        vp_read(d, dir, range, &rng, &r);
+    }
     if (res) *res = r;
     return r.status;
 }

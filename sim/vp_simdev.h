@@ -48,7 +48,8 @@ typedef struct vp_simdev_config {
 
 typedef struct vp_simdev_stats {
     unsigned long moves, refused_moves, collisions;
-    unsigned long probes, hits, misses, dropouts, too_close;
+    unsigned long probes, hits, misses, dropouts, too_close; /* hits ... too_close: of probes and rays */
+    unsigned long rays;          /* a line laser's more rays (vp_simdev_ray) */
     unsigned long dark_misses;   /* probes that met S on a dark patch: read as misses */
     unsigned long contacts;      /* moves the contact switch stopped */
     double travel;               /* total length moved */
@@ -78,6 +79,10 @@ int  vp_simdev_create(const vp_surface_t *s, const vp_simdev_config_t *cfg, cons
 void vp_simdev_destroy(vp_simdev_t *d);
 int  vp_simdev_move(vp_simdev_t *d, const double target[3], vp_simdev_move_t *res);
 int  vp_simdev_probe(vp_simdev_t *d, const double dir_unit[3], double range, vp_simdev_probe_t *res);
+/* A line laser: ray i of the last probe's frame (from the same position, at the same time),
+ * read like a probe (hits, misses, dark patches, noise and dropouts drawn from the seed, the
+ * probe's number and i); counted in rays, not in probes. VP_EINVAL before any probe. */
+int  vp_simdev_ray(vp_simdev_t *d, const double dir_unit[3], double range, unsigned i, vp_simdev_probe_t *res);
 void vp_simdev_position(const vp_simdev_t *d, double p[3]);
 /* Puts the device back where a logged session left it: at p, with `probes` probes done (the
  * next probe is number `probes`). Statistics are kept. */

@@ -19,21 +19,14 @@ set -u
 BUILD=${BUILD:-build}
 VP=${VP:-$BUILD/voroprobe}
 D="$BUILD/contact"
-CG="$BUILD/safety/cgal_moves"
 SM=../shared/meshes
 rm -rf "$D"; mkdir -p "$D" "$BUILD/safety"
 fail=0
 bad() { echo "FAIL: $*"; fail=1; }
 field() { sed -n "s/.*\"$2\":\([^,}]*\).*/\1/p" "$1" | tr -d '"'; }
 
-if [ -f /usr/include/CGAL/Side_of_triangle_mesh.h ] && command -v g++ >/dev/null 2>&1; then
-  if [ ! -x "$CG" ] || [ tests/cgal_moves.cpp -nt "$CG" ]; then
-    g++ -O2 -o "$CG.tmp" tests/cgal_moves.cpp -lgmp -lmpfr >"$D/cgal_moves-build.log" 2>&1 && mv "$CG.tmp" "$CG" ||
-      { bad "tests/cgal_moves.cpp does not build (log: $D/cgal_moves-build.log)"; rm -f "$CG"; }
-  fi
-else
-  echo "no CGAL (libcgal-dev): the independent move check cannot run"; exit 1
-fi
+. tests/cgal_moves.sh
+cgal_moves_build "$BUILD" || { echo "FAIL: $CG_WHY"; exit 1; }
 
 # ---- the checker: a move ending on the top face of the unit cube, and the way back
 printf 'start 0.5 0.5 2\nmove 0.5 0.5 1\nmove 0.5 0.5 2\n' >"$D/self1.moves"

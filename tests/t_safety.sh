@@ -124,18 +124,8 @@ T0=$(date +%s)
 
 # ---- the independent checker: build it (like bench/planner.sh builds its CGAL programs)
 cgal_note=""
-if [ -f /usr/include/CGAL/Side_of_triangle_mesh.h ] && command -v g++ >/dev/null 2>&1; then
-  if [ ! -x "$CG" ] || [ tests/cgal_moves.cpp -nt "$CG" ]; then
-    # CGAL's own assertions are kept (no -DNDEBUG): a misuse aborts instead of answering
-    g++ -O2 -o "$CG.tmp" tests/cgal_moves.cpp -lgmp -lmpfr >"$D/cgal_moves-build.log" 2>&1 && mv "$CG.tmp" "$CG" ||
-      { bad "tests/cgal_moves.cpp does not build (log: $D/cgal_moves-build.log)"; tail -5 "$D/cgal_moves-build.log"; rm -f "$CG"; }
-  fi
-else
-  # tools/install-deps.sh installs libcgal-dev for make check: without it the safety check
-  # would grade itself, so that is a failure, not a skip
-  bad "no CGAL (libcgal-dev): the independent segment/mesh check cannot run"
-  rm -f "$CG"
-fi
+. tests/cgal_moves.sh
+cgal_moves_build "$BUILD" || bad "$CG_WHY"
 
 # ---- the checker must count hand-written moves right (unit cube [0,1]^3)
 selftest() {   # NAME MESH 'EXPECTED LAST LINE' [checker options] <<move list

@@ -85,6 +85,9 @@ int vp_planner_init(vp_planner_t *pl, void *arena, size_t bytes, const vp_planne
     if (!(cfg->max_range >= 0.0) || !(cfg->noise_tol >= 0.0) || !(cfg->clearance >= 0.0) ||
         cfg->max_range > CFG_MAX || cfg->noise_tol > CFG_MAX || cfg->clearance > CFG_MAX)
         return VP_EINVAL;
+#if VP_PL_LINE_LASER /* a microcontroller core takes no rays: line_rays is not read there */
+    if (cfg->line_rays > VP_PLANNER_MAX_LINE_RAYS) return VP_EINVAL;
+#endif
     memset(pl, 0, sizeof *pl);
     pl->cfg = *cfg;
     cur = (unsigned char *)arena;
@@ -228,6 +231,14 @@ static int phase_step(vp_planner_t *pl, int *done)
         }
         return st;
     case PH_RUN:
+#if VP_PL_LINE_LASER
+        if (pl->rays.n > 0 && !(pl->pool.ntask > 0 && pl->pool.task[pl->pool.ntask - 1].off > 0.0)) {
+            /* a line laser's hit becomes a sample first (where no sample is within eps): the
+             * refinement then needs fewer centres probed one by one */
+            st = vp_pl_ray_sample(pl);
+            return st < 0 ? st : VP_OK;
+        }
+#endif
         if (pl->pool.nheap > 0 && !vp_pl_exhaustive(pl) &&
             !(pl->pool.ntask > 0 && pl->pool.task[pl->pool.ntask - 1].off > 0.0)) {
             /* a known bad ball is refined at once: the probes still queued around it would
@@ -397,6 +408,9 @@ int vp_planner_feed(vp_planner_t *pl, const vp_probe_result_t *res)
     if (res->hit < 0 || res->hit > VP_PROBE_TOO_CLOSE) return VP_EINVAL;
     if (res->hit == 1 && (!(res->dist >= 0.0) || !(res->dist < VP_PL_HUGE))) return VP_EINVAL;
     pl->dev.awaiting = 0;
+#if VP_PL_LINE_LASER
+    pl->rays.left = pl->cfg.line_rays;
+#endif
     if (pl->sc.pending == 2) st = shortcut_feed(pl, res);
     else if (pl->phase == PH_SEED) st = vp_pl_seed_feed(pl, res);
     else if (pl->phase == PH_RESEED) st = vp_pl_reseed_feed(pl, res);
@@ -404,6 +418,34 @@ int vp_planner_feed(vp_planner_t *pl, const vp_probe_result_t *res)
     if (st < 0) pl->error = st;
     return st;
 }
+
+#if VP_PL_LINE_LASER
+int vp_planner_feed_ray(vp_planner_t *pl, const double dir[3], const vp_probe_result_t *res)
+{
+    double h[3];
+    uint32_t i;
+    int q;
+    if (!pl || !dir || !res) return VP_EINVAL;
+    if (!vp_finite3(dir) || fabs(vp_dot3(dir, dir) - 1.0) > 1e-9) return VP_EINVAL;
+    if (res->hit < 0 || res->hit > VP_PROBE_TOO_CLOSE) return VP_EINVAL;
+    if (res->hit == 1 && (!(res->dist >= 0.0) || !(res->dist < VP_PL_HUGE))) return VP_EINVAL;
+    if (pl->error) return pl->error;
+    if (pl->dev.awaiting || pl->rays.left == 0) return VP_ESTATE;
+    pl->rays.left--;
+    pl->st.rays++;
+    if (res->hit != 1) return VP_OK;
+    pl->st.ray_hits++;
+    /* only while refining (the seeds and the closing rounds keep their own samples), and only
+     * as many as the queue holds: the rest of a frame is left unused */
+    if (pl->phase != PH_RUN || pl->rays.n >= VP_PLANNER_RAY_QUEUE) return VP_OK;
+    for (q = 0; q < 3; q++) h[q] = pl->dev.iss_o[q] + res->dist * dir[q];
+    /* a hit within eps of one already queued could not become a sample beside it */
+    for (i = 0; i < pl->rays.n; i++)
+        if (vp_dist3(h, pl->rays.pts[i]) <= pl->cfg.eps) return VP_OK;
+    memcpy(pl->rays.pts[pl->rays.n++], h, sizeof h);
+    return VP_OK;
+}
+#endif
 
 uint32_t vp_planner_facet_slots(const vp_planner_t *pl) { return pl->pool.nfrec; }
 uint32_t vp_planner_num_facets(const vp_planner_t *pl) { return pl->pool.nfacets; }

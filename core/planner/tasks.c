@@ -376,37 +376,24 @@ VP_PL_API void vp_pl_probe_drop(vp_planner_t *pl)
 }
 #endif
 
-#if VP_PL_CONTACTS
-/* A sample seen from elsewhere: where the line from dOmega met S before an occluded Voronoi edge
- * is a point of S (the "picking region" variant of Delaunay refinement takes such points near
- * the ball it refines). Inserted when no sample lies within OCCLUDED_SPACING eps of it, so the
- * samples keep a spacing and the refinement its bound: the nearest sample is a vertex of a tet
- * whose circumsphere holds the point (it becomes the point's Delaunay neighbour), found by
- * walking the conflict region from the tet that holds it. */
+#if VP_PL_CONTACTS || VP_PL_LINE_LASER
+/* samples seen from elsewhere (body mode) and a line laser's samples */
 #define OCCLUDED_SPACING 0.25
 #define OCCLUDED_WALK 512u
 #define OCCLUDED_REACH 1.0
-static int occluded_sample(vp_planner_t *pl, double dist)
+/* Inserts the point h of S when no sample lies within sp of it: the nearest sample is a vertex
+ * of a tet whose circumsphere holds h (it becomes h's Delaunay neighbour), found by walking the
+ * conflict region from the tet that holds it. 1: inserted; 0: not (a sample too near, outside
+ * Omega, a conflict region too large to walk, no room); < 0 an error. */
+static int sample_insert(vp_planner_t *pl, const double h[3], uint32_t hint, double sp)
 {
-    double h[3], near2 = VP_PL_HUGE, sp = OCCLUDED_SPACING * pl->cfg.eps;
+    double near2 = VP_PL_HUGE;
     uint32_t t0, *stack = pl->pool.astar, n = 0, seen = 0, v;
-    int q, st;
-    if (pl->cfg.min_size > 0.0 && pl->cfg.min_size < sp) sp = pl->cfg.min_size;
-    for (q = 0; q < 3; q++) h[q] = pl->probe.origin[q] + dist * pl->probe.dir[q];
-    if (!vp_pl_omega_inside(&pl->cfg, h)) return VP_OK;
-    {
-        /* only a point near the unseen facet (within eps of its circumcentre: the picking
-         * region about the surface Delaunay ball it would have) */
-        uint32_t fv[3];
-        double m[3];
-        vp_dt_facet(&pl->dt, pl->probe.task.tet, pl->probe.task.facet, fv);
-        if (fv[0] == VP_DT_GHOST || fv[1] == VP_DT_GHOST || fv[2] == VP_DT_GHOST || !facet_circumcenter(pl, fv, m) ||
-            vp_dist3(m, h) > OCCLUDED_REACH * pl->cfg.eps)
-            return VP_OK;
-    }
-    if (vp_dt_locate(&pl->dt, h, pl->probe.task.tet, &t0) != VP_OK) return VP_OK;
+    int st;
+    if (!vp_pl_omega_inside(&pl->cfg, h)) return 0;
+    if (vp_dt_locate(&pl->dt, h, hint, &t0) != VP_OK) return 0;
     /* the conflict region, breadth first (pool.astar is scratch: nobody holds it here) */
-    if (pl->pool.cap_astar < 2 * OCCLUDED_WALK) return VP_OK;
+    if (pl->pool.cap_astar < 2 * OCCLUDED_WALK) return 0;
     stack[n++] = t0;
     while (seen < n && n < OCCLUDED_WALK) {
         uint32_t t = stack[seen++], k, j;
@@ -422,15 +409,62 @@ static int occluded_sample(vp_planner_t *pl, double dist)
             if (j == n && n < OCCLUDED_WALK && vp_dt_in_conflict(&pl->dt, u, h)) stack[n++] = u;
         }
     }
-    if (n >= OCCLUDED_WALK || !(near2 > sp * sp)) return VP_OK;
-    if (!vp_pl_pools_have_room(pl)) return VP_OK;
+    if (n >= OCCLUDED_WALK || !(near2 > sp * sp)) return 0;
+    if (!vp_pl_pools_have_room(pl)) return 0;
     st = vp_dt_insert(&pl->dt, h, t0, &v);
-    if (st == VP_EDUP) return VP_OK;
+    if (st == VP_EDUP) return 0;
     if (st != VP_OK) return st;
     pl->st.insertions++;
     pl->close.exhaustive = 0;
-    return vp_pl_after_insert(pl, v);
+    st = vp_pl_after_insert(pl, v);
+    return st == VP_OK ? 1 : st;
 }
+
+/* A sample seen from elsewhere: where the line from dOmega met S before an occluded Voronoi edge
+ * is a point of S (the "picking region" variant of Delaunay refinement takes such points near
+ * the ball it refines). Inserted when no sample lies within OCCLUDED_SPACING eps of it, so the
+ * samples keep a spacing and the refinement its bound. */
+static int occluded_sample(vp_planner_t *pl, double dist)
+{
+    double h[3], sp = OCCLUDED_SPACING * pl->cfg.eps;
+    uint32_t fv[3];
+    double m[3];
+    int q, st;
+    if (pl->cfg.min_size > 0.0 && pl->cfg.min_size < sp) sp = pl->cfg.min_size;
+    for (q = 0; q < 3; q++) h[q] = pl->probe.origin[q] + dist * pl->probe.dir[q];
+    if (!vp_pl_omega_inside(&pl->cfg, h)) return VP_OK;
+    /* only a point near the unseen facet (within eps of its circumcentre: the picking region
+     * about the surface Delaunay ball it would have) */
+    vp_dt_facet(&pl->dt, pl->probe.task.tet, pl->probe.task.facet, fv);
+    if (fv[0] == VP_DT_GHOST || fv[1] == VP_DT_GHOST || fv[2] == VP_DT_GHOST || !facet_circumcenter(pl, fv, m) ||
+        vp_dist3(m, h) > OCCLUDED_REACH * pl->cfg.eps)
+        return VP_OK;
+    st = sample_insert(pl, h, pl->probe.task.tet, sp);
+    return st < 0 ? st : VP_OK;
+}
+
+/* The oldest of a line laser's queued hits (planner.c, vp_planner_feed_ray) becomes a sample when
+ * no sample lies within eps of it: the spacing the refinement itself keeps (a bad ball's centre
+ * is farther than eps from every sample), so the samples' packing bound and the refinement's end
+ * (every ball at most eps, the mesh closed) are those of paper 000. */
+#if VP_PL_LINE_LASER
+VP_PL_API int vp_pl_ray_sample(vp_planner_t *pl)
+{
+    double h[3];
+    uint32_t hint = 0;
+    int st;
+    memcpy(h, pl->rays.pts[0], sizeof h);
+    pl->rays.n--;
+    memmove(pl->rays.pts[0], pl->rays.pts[1], pl->rays.n * sizeof pl->rays.pts[0]);
+    /* a live tet to walk from: the last task's, or the first alive */
+    if (pl->probe.task.tet < pl->dt.ntet_slots && vp_dt_alive(&pl->dt, pl->probe.task.tet)) hint = pl->probe.task.tet;
+    else
+        while (hint < pl->dt.ntet_slots && !vp_dt_alive(&pl->dt, hint)) hint++;
+    st = sample_insert(pl, h, hint, pl->cfg.eps);
+    pl->st.ray_samples += st == 1;
+    return st;
+}
+#endif
 #endif
 
 /* The result of the probe of the current task. */

@@ -151,6 +151,9 @@ struct vp_frec {
 #else
 #define VP_PL_CONTACTS 0
 #endif
+/* VP_PL_LINE_LASER: a line laser's more rays per frame are taken (vp_planner_feed_ray); a
+ * microcontroller core leaves them out (its flash budget). */
+#define VP_PL_LINE_LASER VP_PL_CONTACTS
 
 /* plan_route: no way known to the goal (a contact withdrew the proofs of every way there) */
 #define PL_UNREACHABLE 1
@@ -303,6 +306,9 @@ VP_PL_API int vp_pl_tet_point(const vp_planner_t *pl, uint32_t t, double *p);
 
 /* update.c */
 VP_PL_API int vp_pl_after_insert(vp_planner_t *pl, uint32_t pv);
+#if VP_PL_LINE_LASER
+VP_PL_API int vp_pl_ray_sample(vp_planner_t *pl);
+#endif
 VP_PL_API uint32_t vp_pl_find_facet(vp_planner_t *pl, const uint32_t *fv, int *fi, uint32_t held);
 VP_PL_API int vp_pl_pools_have_room(const vp_planner_t *pl);
 VP_PL_API int vp_pl_refine(vp_planner_t *pl);

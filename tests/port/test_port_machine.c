@@ -126,6 +126,7 @@ static void scan(const char *board, long cap, scan_out_t *o)
     ops.move = scan_move;
     ops.probe = scan_probe;
     ops.touched = NULL;
+    ops.rays = NULL;
     rc = vp_run(pl, &ops, NULL, (unsigned long)cap, &run);
     CHECKF(rc == VP_OK, "scan: %s", vp_strerror(rc));
     o->done = run.done;

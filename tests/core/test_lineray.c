@@ -1,0 +1,306 @@
+/* A line laser's frames in the planner (vp_planner_feed_ray), against a device written here from
+ * the formula of an ellipsoid alone (no host-sim): each PROBE's frame carries N more rays in
+ * the plane of the probe's ray and a fixed direction across it. Checked from the formula and the
+ * mesh, not from the planner's own word: every sample lies on the ellipsoid, the mesh is a
+ * closed oriented 2-manifold of Euler characteristic 2, every surface Delaunay ball (its centre
+ * on the ellipsoid, recomputed here) is at most eps and empty of the other samples' ... at
+ * its vertices, the samples keep the spacing the refinement keeps (no two farther than the seed
+ * triangle's apart closer than eps), and the line laser probes less than the dot laser. Then
+ * the call's contract and the log format's RAY record and version-4 header. */
+#include <math.h>
+#include <string.h>
+#include "vp_planner.h"
+#include "vp_run.h"
+#include "vp_logfmt.h"
+#include "vp_test.h"
+
+#define ARENA (32u << 20)
+static const double AX[3] = { 1.0, 0.7, 0.5 }; /* semi-axes */
+
+typedef struct ell_dev {
+    double pos[3];
+    unsigned nrays;          /* more rays per frame */
+    double half;             /* half fan angle, rad */
+    unsigned long probes, rays, ray_hits, into;
+} ell_dev_t;
+
+static double ell_f(const double *x)
+{
+    return x[0] * x[0] / (AX[0] * AX[0]) + x[1] * x[1] / (AX[1] * AX[1]) + x[2] * x[2] / (AX[2] * AX[2]) - 1.0;
+}
+
+/* first t in (0, len] where p + t u meets the ellipsoid from outside; 0 if none */
+static int ell_first(const double *p, const double *u, double len, double *t)
+{
+    double a = 0, b = 0, c = ell_f(p), disc, s;
+    int k;
+    for (k = 0; k < 3; k++) {
+        a += u[k] * u[k] / (AX[k] * AX[k]);
+        b += p[k] * u[k] / (AX[k] * AX[k]);
+    }
+    disc = b * b - a * c;
+    if (disc <= 0.0) return 0;
+    s = (-b - sqrt(disc)) / a;
+    if (s <= 1e-12 || s > len) return 0;
+    *t = s;
+    return 1;
+}
+
+static int dev_move(void *ctx, const vp_cmd_t *cmd, int *collided)
+{
+    ell_dev_t *d = ctx;
+    double u[3], len, t;
+    int k;
+    for (k = 0; k < 3; k++) u[k] = cmd->to[k] - d->pos[k];
+    len = sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
+    *collided = 0;
+    if (len > 0.0) {
+        for (k = 0; k < 3; k++) u[k] /= len;
+        if (ell_first(d->pos, u, len, &t) || ell_f(cmd->to) < 0.0) { d->into++; *collided = 1; }
+    }
+    memcpy(d->pos, cmd->to, sizeof d->pos);
+    return VP_OK;
+}
+
+static int dev_probe(void *ctx, const vp_cmd_t *cmd, vp_probe_result_t *res)
+{
+    ell_dev_t *d = ctx;
+    double t;
+    d->probes++;
+    res->hit = ell_first(d->pos, cmd->dir, cmd->range, &t);
+    res->dist = res->hit ? t : 0.0;
+    return VP_OK;
+}
+
+/* ray i: the fan in the plane of the probe's ray and the axis least along it */
+static int dev_rays(void *ctx, const vp_cmd_t *probe, unsigned i, vp_cmd_t *ray, vp_probe_result_t *res)
+{
+    ell_dev_t *d = ctx;
+    double a[3] = { 0, 0, 0 }, h[3], n, th, t;
+    int k, m = 0;
+    if (i >= d->nrays) return 0;
+    for (k = 1; k < 3; k++)
+        if (fabs(probe->dir[k]) < fabs(probe->dir[m])) m = k;
+    a[m] = 1.0;
+    h[0] = probe->dir[1] * a[2] - probe->dir[2] * a[1];
+    h[1] = probe->dir[2] * a[0] - probe->dir[0] * a[2];
+    h[2] = probe->dir[0] * a[1] - probe->dir[1] * a[0];
+    n = sqrt(h[0] * h[0] + h[1] * h[1] + h[2] * h[2]);
+    th = d->half * (2.0 * ((double)i + 0.5) / (double)d->nrays - 1.0);
+    for (k = 0; k < 3; k++) ray->dir[k] = cos(th) * probe->dir[k] + sin(th) * h[k] / n;
+    n = sqrt(ray->dir[0] * ray->dir[0] + ray->dir[1] * ray->dir[1] + ray->dir[2] * ray->dir[2]);
+    for (k = 0; k < 3; k++) ray->dir[k] /= n;
+    ray->range = 10.0;
+    d->rays++;
+    res->hit = ell_first(probe->from, ray->dir, ray->range, &t);
+    res->dist = res->hit ? t : 0.0;
+    d->ray_hits += (unsigned long)res->hit;
+    return 1;
+}
+
+/* Omega: the ellipsoid's box grown by 0.3; the head starts above it, the interior point is its centre */
+static void config(vp_planner_config_t *c, double eps, unsigned nrays)
+{
+    int k;
+    memset(c, 0, sizeof *c);
+    c->omega_kind = VP_OMEGA_BOX;
+    for (k = 0; k < 3; k++) {
+        c->omega_lo[k] = -AX[k] - 0.3;
+        c->omega_hi[k] = AX[k] + 0.3;
+    }
+    c->ninterior = 1;
+    c->eps = eps;
+    c->start[2] = AX[2] + 0.5;
+    c->line_rays = nrays;
+}
+
+static unsigned char arena[ARENA];
+static vp_planner_t pl;
+
+/* the mesh, judged here: closed, oriented, Euler 2, balls recomputed */
+static void judge(const char *what, double eps, unsigned *nv_out)
+{
+    const vp_dt_t *dt = vp_planner_dt(&pl);
+    uint32_t slots = vp_planner_facet_slots(&pl), i, j, nf = 0, nv = 0, v[3];
+    static uint32_t used[200000];
+    static uint64_t half[600000];
+    uint32_t nh = 0, bad_ball = 0, open = 0, off_surface = 0;
+    double r, c[3], worst = 0.0;
+    memset(used, 0, sizeof used);
+    for (i = 0; i < slots; i++) {
+        int k;
+        if (!vp_planner_facet(&pl, i, v, &r, c)) continue;
+        nf++;
+        if (fabs(ell_f(c)) > 1e-9) off_surface++;
+        for (k = 0; k < 3; k++) {
+            const double *p = vp_dt_point(dt, v[k]);
+            double e = sqrt((p[0] - c[0]) * (p[0] - c[0]) + (p[1] - c[1]) * (p[1] - c[1]) + (p[2] - c[2]) * (p[2] - c[2]));
+            if (e > worst) worst = e;
+            if (e > eps * (1 + 1e-9)) bad_ball++;
+            if (!used[v[k]]++) nv++;
+            if (nh < 600000) half[nh++] = ((uint64_t)v[k] << 32) | v[(k + 1) % 3];
+        }
+    }
+    /* each directed edge once, and its reverse present: closed and oriented */
+    for (i = 0; i < nh; i++) {
+        uint64_t rev = (half[i] << 32) | (half[i] >> 32);
+        uint32_t found = 0, same = 0;
+        for (j = 0; j < nh; j++) {
+            found += half[j] == rev;
+            same += half[j] == half[i];
+        }
+        if (found != 1 || same != 1) open++;
+    }
+    for (i = 0; i < dt->nvert; i++)
+        if (used[i] && fabs(ell_f(vp_dt_point(dt, i))) > 1e-9) off_surface++;
+    CHECKF(nf > 0 && open == 0, "%s: %u of %u half-edges without a single reverse", what, open, nh);
+    CHECKF((long)nv - (long)(nh / 2) + (long)nf == 2, "%s: Euler characteristic %ld", what,
+           (long)nv - (long)(nh / 2) + (long)nf);
+    CHECKF(bad_ball == 0, "%s: %u ball radii above eps (worst %.9g)", what, bad_ball, worst);
+    CHECKF(off_surface == 0, "%s: %u points off the ellipsoid", what, off_surface);
+    *nv_out = nv;
+}
+
+/* no two samples closer than eps but the seeds' (the persistent facet's tiny triangle and the
+ * points found with it, the first inserted) */
+static double min_spacing(uint32_t skip)
+{
+    const vp_dt_t *dt = vp_planner_dt(&pl);
+    uint32_t i, j;
+    double m = 1e300;
+    for (i = skip; i < dt->nvert; i++)
+        for (j = i + 1; j < dt->nvert; j++) {
+            const double *p = vp_dt_point(dt, i), *q = vp_dt_point(dt, j);
+            double d = sqrt((p[0] - q[0]) * (p[0] - q[0]) + (p[1] - q[1]) * (p[1] - q[1]) + (p[2] - q[2]) * (p[2] - q[2]));
+            if (d < m) m = d;
+        }
+    return m;
+}
+
+static void scan(double eps, unsigned nrays, ell_dev_t *d, vp_planner_stats_t *st, vp_run_result_t *run)
+{
+    vp_planner_config_t cfg;
+    vp_device_ops_t ops;
+    config(&cfg, eps, nrays);
+    memset(d, 0, sizeof *d);
+    memcpy(d->pos, cfg.start, sizeof d->pos);
+    d->nrays = nrays;
+    d->half = 15.0 * M_PI / 180.0;
+    CHECK(vp_planner_init(&pl, arena, sizeof arena, &cfg) == VP_OK);
+    ops.ctx = d;
+    ops.move = dev_move;
+    ops.probe = dev_probe;
+    ops.touched = NULL;
+    ops.rays = nrays ? dev_rays : NULL;
+    vp_run(&pl, &ops, NULL, 2000000, run);
+    vp_planner_get_stats(&pl, st);
+}
+
+static void test_scans(void)
+{
+    static const double epss[] = { 0.2, 0.1 };
+    int e;
+    for (e = 0; e < 2; e++) {
+        ell_dev_t d0, d1;
+        vp_planner_stats_t s0, s1;
+        vp_run_result_t r0, r1;
+        unsigned nv0, nv1;
+        double sp;
+        scan(epss[e], 0, &d0, &s0, &r0);
+        CHECK(r0.status == VP_OK && r0.done && d0.into == 0);
+        judge("dot laser", epss[e], &nv0);
+        scan(epss[e], 16, &d1, &s1, &r1);
+        CHECK(r1.status == VP_OK && r1.done && d1.into == 0);
+        judge("line laser", epss[e], &nv1);
+        /* every ray fed, its hits counted alike; some became samples */
+        CHECK(s1.rays == d1.rays && s1.ray_hits == d1.ray_hits && s1.ray_samples > 0);
+        /* the seeds are the first samples inserted; after them the spacing is eps */
+        sp = min_spacing(pl.seed.npts);
+        CHECKF(sp > epss[e] * (1 - 1e-9) || s1.ray_samples == 0, "samples %.9g apart at eps %g", sp, epss[e]);
+        CHECKF(d1.probes < d0.probes, "line laser %lu probes, dot laser %lu", d1.probes, d0.probes);
+        printf("ellipsoid eps %g: dot laser %lu probes, %u vertices; line laser (16 rays) %lu probes, %u vertices, "
+               "%llu samples from %lu ray hits; no moves into it\n", epss[e], d0.probes, nv0, d1.probes, nv1,
+               (unsigned long long)s1.ray_samples, d1.ray_hits);
+    }
+}
+
+static void test_contract(void)
+{
+    vp_planner_config_t cfg;
+    vp_planner_stats_t a, b;
+    vp_cmd_t cmd;
+    vp_probe_result_t res = { 1, 0.5 }, bad;
+    double x[3] = { 1, 0, 0 }, nanv[3] = { NAN, 0, 0 }, two[3] = { 2, 0, 0 };
+    unsigned i;
+    config(&cfg, 0.2, VP_PLANNER_MAX_LINE_RAYS + 1);
+    CHECK(vp_planner_init(&pl, arena, sizeof arena, &cfg) == VP_EINVAL);
+    /* a dot laser takes no rays */
+    config(&cfg, 0.2, 0);
+    CHECK(vp_planner_init(&pl, arena, sizeof arena, &cfg) == VP_OK);
+    CHECK(vp_planner_next(&pl, &cmd) == VP_OK);
+    CHECK(vp_planner_feed_ray(&pl, x, &res) == VP_ESTATE);
+    /* a line laser: not before a PROBE is fed, not while one is owed, not beyond line_rays */
+    config(&cfg, 0.2, 3);
+    CHECK(vp_planner_init(&pl, arena, sizeof arena, &cfg) == VP_OK);
+    CHECK(vp_planner_feed_ray(&pl, x, &res) == VP_ESTATE);
+    do CHECK(vp_planner_next(&pl, &cmd) == VP_OK); while (cmd.kind == VP_CMD_MOVE);
+    CHECK(cmd.kind == VP_CMD_PROBE);
+    CHECK(vp_planner_feed_ray(&pl, x, &res) == VP_ESTATE);
+    CHECK(vp_planner_feed(&pl, &res) == VP_OK);
+    vp_planner_get_stats(&pl, &a);
+    CHECK(vp_planner_feed_ray(NULL, x, &res) == VP_EINVAL);
+    CHECK(vp_planner_feed_ray(&pl, NULL, &res) == VP_EINVAL);
+    CHECK(vp_planner_feed_ray(&pl, x, NULL) == VP_EINVAL);
+    CHECK(vp_planner_feed_ray(&pl, nanv, &res) == VP_EINVAL);
+    CHECK(vp_planner_feed_ray(&pl, two, &res) == VP_EINVAL);
+    bad = res; bad.hit = 3;
+    CHECK(vp_planner_feed_ray(&pl, x, &bad) == VP_EINVAL);
+    bad = res; bad.dist = -1.0;
+    CHECK(vp_planner_feed_ray(&pl, x, &bad) == VP_EINVAL);
+    bad = res; bad.dist = NAN;
+    CHECK(vp_planner_feed_ray(&pl, x, &bad) == VP_EINVAL);
+    vp_planner_get_stats(&pl, &b);
+    CHECK(memcmp(&a, &b, sizeof a) == 0); /* refused: nothing changed */
+    for (i = 0; i < 3; i++) CHECK(vp_planner_feed_ray(&pl, x, &res) == VP_OK);
+    CHECK(vp_planner_feed_ray(&pl, x, &res) == VP_ESTATE);
+    vp_planner_get_stats(&pl, &b);
+    CHECK(b.rays == 3 && b.ray_hits == 3);
+    CHECK(vp_planner_next(&pl, &cmd) == VP_OK); /* the planner goes on */
+}
+
+static void test_log(void)
+{
+    vp_planner_config_t cfg;
+    vp_logfmt_header_t h, g;
+    vp_logfmt_record_t r, q;
+    vp_cmd_t cmd;
+    vp_probe_result_t res = { 1, 0.25 };
+    unsigned char buf[VP_LOGFMT_MAX_HEADER];
+    int n, why;
+    /* a dot laser's header stays in the oldest version; a line laser's is version 4 */
+    config(&cfg, 0.2, 0);
+    vp_logfmt_header_init(&h, &cfg, 1u << 20, VP_LOGFMT_UNITS_MM, "b", "n");
+    CHECK(h.version == 1);
+    config(&cfg, 0.2, 24);
+    vp_logfmt_header_init(&h, &cfg, 1u << 20, VP_LOGFMT_UNITS_MM, "b", "n");
+    CHECK(h.version == 4);
+    n = vp_logfmt_header_encode(&h, buf, sizeof buf);
+    CHECK(n > 0 && vp_logfmt_header_decode(buf, (size_t)n, &g, &why) == n && g.version == 4 && g.cfg.line_rays == 24);
+    /* a RAY has the PROBE's layout and its own type */
+    memset(&cmd, 0, sizeof cmd);
+    cmd.kind = VP_CMD_RAY;
+    cmd.from[0] = 0.5; cmd.dir[1] = 1.0; cmd.range = 3.0;
+    vp_logfmt_record_probe(&r, 7, &cmd, &res, 0.25);
+    CHECK(r.type == VP_LOGFMT_RAY);
+    n = vp_logfmt_record_encode(&r, buf, sizeof buf);
+    CHECK(n == VP_LOGFMT_PROBE_SIZE && vp_logfmt_record_decode(buf, (size_t)n, &q, &why) == n);
+    CHECK(q.type == VP_LOGFMT_RAY && q.seq == 7 && q.dir[1] == 1.0 && q.dist == 0.25 && q.hit == 1 && q.origin[0] == 0.5);
+}
+
+int main(void)
+{
+    test_contract();
+    test_log();
+    test_scans();
+    return vp_test_done("test_lineray");
+}
