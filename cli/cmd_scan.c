@@ -804,6 +804,15 @@ static int scan_report(scan_job_t *j)
                    "%lu hidden spots, %lu moves through the object\n",
                    j->dev.true_n ? sqrt(j->dev.err2 / (double)j->dev.true_n) : 0.0, j->dev.err_max, j->dev.true_n, j->dev.false_hits,
                    j->dev.false_misses, j->dev.through);
+            if (j->dev.grazing)
+                printf("dry run: %lu hits where the beam grazes a limb (no crossing along the ray; the point within "
+                       "%g mm of the surface)\n", j->dev.grazing, j->dev.noise_tol);
+            if (j->dev.board.line_laser)
+                printf("dry run: line laser: %lu rays from the probes' frames, error against the true object rms "
+                       "%.3f mm, worst %.3f mm; %lu false (off the surface by more than %g mm); %lu probes with the "
+                       "beam in a gap of the line\n", j->dev.rays,
+                       j->dev.rays ? sqrt(j->dev.ray_err2 / (double)j->dev.rays) : 0.0, j->dev.ray_err_max,
+                       j->dev.ray_false, j->dev.noise_tol, m->st.line_gaps);
             if (j->dev.contacts)
                 printf("dry run: the contact switch stopped %lu move(s), the laser origin at most %.3f mm past the "
                        "surface (contact_stop %g mm)\n", j->dev.contacts, j->dev.touch_depth_max, j->dev.board.contact_stop);
@@ -836,6 +845,9 @@ static int scan_report(scan_job_t *j)
                     printf("%s\"%s\":%lu", i ? "," : "", j->dev.board.head.part[i].name, j->dev.head_part[i]);
                 printf("}");
                 if (hausdorff >= 0) printf(",\"hausdorff\":%.4f", hausdorff);
+                if (j->dev.board.line_laser)
+                    printf(",\"rays\":%lu,\"ray_rms\":%.4f,\"ray_worst\":%.4f,\"ray_false\":%lu", j->dev.rays,
+                           j->dev.rays ? sqrt(j->dev.ray_err2 / (double)j->dev.rays) : 0.0, j->dev.ray_err_max, j->dev.ray_false);
             }
             printf("}\n");
         }

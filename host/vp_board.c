@@ -116,6 +116,11 @@ static const vp_bkey_t k_range[] = {
     { "calibration", K_STR, B(calibration), 256, ANY, R_NO },
     { "near_spots", K_STR, B(near_spots), 16, ANY, R_NO },
     { "confirm_spot", K_BOOL, B(confirm_spot), 0, ANY, R_NO },
+    { "laser", K_STR, B(laser_kind), 8, ANY, R_NO },
+    { "fan", K_NUM, B(line_fan), 1, 1, 120, R_NO },
+    { "fan_used", K_NUM, B(line_fan_used), 1, 1, 120, R_NO },
+    { "line_normal", K_NUMS, B(line_normal), 3, -1e3, 1e3, R_NO },
+    { "line_step", K_INT, B(line_step), 1, 1, 64, R_NO },
     { NULL, 0, 0, 0, 0, 0, 0 } };
 static const vp_bkey_t k_omega[] = {
     { "box", K_BOX, B(omega_lo), 6, -1e6, 1e6, R_NO },
@@ -396,6 +401,13 @@ static int vp_board_key(void *user, const char *section, const char *key, const 
             }
             c->b->clear_swept = !strcmp(val, "swept");
         }
+        if (!strcmp(key, "laser")) {
+            if (strcmp(val, "dot") && strcmp(val, "line")) {
+                snprintf(msg, ml, "expected dot or line, got '%s'", val);
+                return VP_EINVAL;
+            }
+            c->b->line_laser = !strcmp(val, "line");
+        }
         if (!strcmp(key, "near_spots")) {
             if (strcmp(val, "too-close") && strcmp(val, "measure")) {
                 snprintf(msg, ml, "expected too-close or measure, got '%s'", val);
@@ -571,6 +583,17 @@ static int vp_board_check_range(vp_bctx_t *c, char *err, size_t el)
     vp_board_t *b = c->b;
     int rc;
     if (!(b->min_range < b->max_range)) return vp_bad(c, S_RANGE, "max_range", err, el, "must be above min_range (%g)", b->min_range);
+    if (!vp_seen(c, S_RANGE, "fan")) b->line_fan = 30.0;
+    if (!vp_seen(c, S_RANGE, "fan_used")) b->line_fan_used = b->line_fan;
+    if (b->line_fan_used > b->line_fan) return vp_bad(c, S_RANGE, "fan_used", err, el, "must be at most fan (%g degrees)", b->line_fan);
+    if (!vp_seen(c, S_RANGE, "line_normal")) { b->line_normal[0] = b->line_normal[1] = 0.0; b->line_normal[2] = 1.0; }
+    if (b->line_laser) {
+        double nl = sqrt(vp_dot3(b->line_normal, b->line_normal));
+        if (!(nl > 0)) return vp_bad(c, S_RANGE, "line_normal", err, el, "must not be 0, 0, 0");
+        if (!b->laser.chip[0])
+            return vp_bad(c, S_RANGE, "laser", err, el, "a line laser is read from a laser-off / laser-on frame pair: "
+                          "the board needs [laser] pin");
+    }
     if (!!vp_seen(c, S_RANGE, "line") != !!vp_seen(c, S_RANGE, "model"))
         return vp_bad(c, S_RANGE, vp_seen(c, S_RANGE, "line") ? "line" : "model", err, el, "a calibration needs both line and model");
     if (vp_seen(c, S_RANGE, "line")) {
@@ -1174,6 +1197,28 @@ void vp_board_machine_config(const vp_board_t *b, vp_machine_config_t *m)
     m->confirm = b->confirm_spot;
     m->use_rf = b->have_rf;
     if (b->have_rf) m->rf = b->rf;
+    if (b->line_laser) {
+        /* the fan: the plane through the laser's exit point with the board's normal, its axis the
+         * beam brought into the plane; the camera as calibrated (or as the board describes it) */
+        vp_line_model_t *l = &m->line_model;
+        double beam[3] = { 1, 0, 0 }, nn[3], d;
+        int k;
+        m->line = 1;
+        l->cam = b->have_rf ? b->rf.cam : b->cam_model;
+        memcpy(l->origin, b->have_rf ? b->rf.origin : b->laser_offset, sizeof l->origin);
+        if (b->have_rf) memcpy(beam, b->rf.dir, sizeof beam);
+        d = sqrt(vp_dot3(b->line_normal, b->line_normal));
+        for (k = 0; k < 3; k++) nn[k] = b->line_normal[k] / d;
+        d = vp_dot3(beam, nn);
+        for (k = 0; k < 3; k++) l->axis[k] = beam[k] - d * nn[k];
+        d = sqrt(vp_dot3(l->axis, l->axis));
+        for (k = 0; k < 3; k++) { l->axis[k] /= d; l->normal[k] = nn[k]; }
+        l->half_angle = 0.5 * b->line_fan * (M_PI / 180.0);
+        l->min_range = b->have_rf ? b->rf.min_range : b->min_range;
+        l->max_range = b->have_rf ? b->rf.max_range : b->max_range;
+        m->line_cfg.column_step = b->line_step;
+        if (b->line_fan_used < b->line_fan) m->line_ray_half = 0.5 * b->line_fan_used * (M_PI / 180.0);
+    }
 }
 
 void vp_board_planner_config(const vp_board_t *b, vp_planner_config_t *c)
@@ -1190,6 +1235,11 @@ void vp_board_planner_config(const vp_board_t *b, vp_planner_config_t *c)
     memcpy(c->start, b->start, sizeof c->start);
     c->max_range = b->tri.max_range;
     c->clearance = b->clearance;
+    if (b->line_laser) {
+        /* the rays a frame can give: one per column looked at */
+        int step = b->line_step > 0 ? b->line_step : (b->cam_model.width + VP_MACHINE_MAX_LINE - 1) / VP_MACHINE_MAX_LINE;
+        c->line_rays = (uint32_t)((b->cam_model.width + step - 1) / step);
+    }
 }
 
 void vp_board_gpiod_config(const vp_board_t *b, vp_gpiod_config_t *g)

@@ -84,6 +84,15 @@ typedef struct vp_board {
                                             spot where the first did (vp_machine_config_t.confirm) */
     int near_measure;                    /* a spot nearer than min_range: 1 a hit at the model's
                                             extrapolated distance, 0 VP_PROBE_TOO_CLOSE */
+    char laser_kind[8];                  /* [rangefinder] laser = dot (default) or line */
+    int line_laser;                      /* laser = line: a fan of light, a point per image column */
+    double line_fan;                     /* [rangefinder] fan = DEGREES: the fan's full width (30) */
+    double line_fan_used;                /* [rangefinder] fan_used = DEGREES: the middle part of the
+                                            fan whose points become rays (default: all of it) */
+    double line_normal[3];               /* [rangefinder] line_normal: the laser plane's normal, tilt
+                                            frame (0, 0, 1: the fan spreads across the beam level) */
+    int line_step;                       /* [rangefinder] line_step: every this many columns (0: as
+                                            many as the machine keeps, VP_MACHINE_MAX_LINE) */
     char calibration[256];               /* [rangefinder] calibration = FILE (as written) */
     char calib_path[VP_BOARD_PATH_MAX];  /* that file relative to the board's folder ("" none) */
     int calib_missing;                   /* the key names a file that does not exist (yet) */

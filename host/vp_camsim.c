@@ -102,6 +102,46 @@ static double vp_camsim_flicker(const vp_camsim_config_t *c, double t)
     return 1 + c->flicker * (sin(2 * VP_PI * f * (t + T)) - sin(2 * VP_PI * f * t)) / (2 * VP_PI * f * T);
 }
 
+/* Laser speckle on the laser's layer lay (row length w) within [x0, x1] x [y0, y1]: the pixels
+ * times |z|^2 of a complex Gaussian field with grains of 2.44 lambda N on the sensor, drawn from
+ * key, contrast c->speckle; the layer's sum before and after added to *before, *after. */
+static int vp_camsim_speckle(const vp_camsim_config_t *c, float *lay, int w, int x0, int x1, int y0, int y1, uint64_t key,
+                             double *before, double *after)
+{
+    double N = c->fnumber > 0 ? c->fnumber : 8, lam = (c->laser_nm > 0 ? c->laser_nm : 650) * 1e-3;
+    double g = 2.44 * lam * N / (c->pixel_um > 0 ? c->pixel_um : 3);   /* grain, px */
+    int gx0, gy0, nx, ny, i, x, y;
+    float *z;
+    vp_rng_t sr;
+    if (g < 0.25) g = 0.25;
+    gx0 = (int)floor(x0 / g);
+    gy0 = (int)floor(y0 / g);
+    nx = (int)floor(x1 / g) - gx0 + 2;
+    ny = (int)floor(y1 / g) - gy0 + 2;
+    z = malloc(2 * (size_t)nx * ny * sizeof *z);
+    if (!z) return VP_ENOMEM;
+    vp_rng_seed(&sr, key);
+    for (i = 0; i < 2 * nx * ny; i++) z[i] = (float)(vp_camsim_gauss(&sr) * 0.70710678118654752);
+    for (y = y0; y <= y1; y++)
+        for (x = x0; x <= x1; x++) {
+            double fx = x / g - gx0, fy = y / g - gy0, tx, ty, wq[4], re = 0, im = 0, ww = 0, I;
+            int ix = (int)floor(fx), iy = (int)floor(fy), q, n[4];
+            size_t p = (size_t)y * w + x;
+            tx = fx - ix; ty = fy - iy;
+            if (ix > nx - 2) ix = nx - 2;
+            if (iy > ny - 2) iy = ny - 2;
+            wq[0] = (1 - tx) * (1 - ty); wq[1] = tx * (1 - ty); wq[2] = (1 - tx) * ty; wq[3] = tx * ty;
+            n[0] = iy * nx + ix; n[1] = n[0] + 1; n[2] = n[0] + nx; n[3] = n[2] + 1;
+            for (q = 0; q < 4; q++) { re += wq[q] * z[2 * n[q]]; im += wq[q] * z[2 * n[q] + 1]; ww += wq[q] * wq[q]; }
+            I = (re * re + im * im) / ww;      /* exponential, mean 1, at every pixel */
+            *before += lay[p];
+            lay[p] = (float)(lay[p] * (1 + c->speckle * (I - 1)));
+            *after += lay[p];
+        }
+    free(z);
+    return VP_OK;
+}
+
 /* The spot (and its ghost) through the faults: the head's vibration during the exposure (the
  * spot drawn at sub-exposure instants along a damped ringing, dt_ms after the last step) and laser
  * speckle (the pixels times |z|^2 of a complex Gaussian field with grains of 2.44 lambda N on the
@@ -137,43 +177,12 @@ static int vp_camsim_spot_faults(const vp_camsim_config_t *c, float *lay, int w,
         if (y1 > h - 1) y1 = h - 1;
     }
     if (c->speckle > 0 && x0 <= x1 && y0 <= y1) {
-        double N = c->fnumber > 0 ? c->fnumber : 8, lam = (c->laser_nm > 0 ? c->laser_nm : 650) * 1e-3;
-        double g = 2.44 * lam * N / (c->pixel_um > 0 ? c->pixel_um : 3);   /* grain, px */
-        int gx0, gy0, nx, ny, i;
-        float *z;
-        if (g < 0.25) g = 0.25;
-        gx0 = (int)floor(x0 / g);
-        gy0 = (int)floor(y0 / g);
-        nx = (int)floor(x1 / g) - gx0 + 2;
-        ny = (int)floor(y1 / g) - gy0 + 2;
-        z = malloc(2 * (size_t)nx * ny * sizeof *z);
-        if (!z) return VP_ENOMEM;
-        {
-            /* the surface's roughness under the beam: the same spot gives the same grains frame
-             * after frame, a spot moved by 0.05 mm others (the renderer's seed picks the surface) */
-            vp_rng_t sr;
-            uint64_t key = c->speckle_seed;
-            for (i = 0; i < 3; i++) key = vp_mix64(key ^ (uint64_t)(int64_t)llround(tr->point[i] * 20));
-            vp_rng_seed(&sr, key);
-            for (i = 0; i < 2 * nx * ny; i++) z[i] = (float)(vp_camsim_gauss(&sr) * 0.70710678118654752);
-        }
-        for (y = y0; y <= y1; y++)
-            for (x = x0; x <= x1; x++) {
-                double fx = x / g - gx0, fy = y / g - gy0, tx, ty, wq[4], re = 0, im = 0, ww = 0, I;
-                int ix = (int)floor(fx), iy = (int)floor(fy), q, n[4];
-                size_t p = (size_t)y * w + x;
-                tx = fx - ix; ty = fy - iy;
-                if (ix > nx - 2) ix = nx - 2;
-                if (iy > ny - 2) iy = ny - 2;
-                wq[0] = (1 - tx) * (1 - ty); wq[1] = tx * (1 - ty); wq[2] = (1 - tx) * ty; wq[3] = tx * ty;
-                n[0] = iy * nx + ix; n[1] = n[0] + 1; n[2] = n[0] + nx; n[3] = n[2] + 1;
-                for (q = 0; q < 4; q++) { re += wq[q] * z[2 * n[q]]; im += wq[q] * z[2 * n[q] + 1]; ww += wq[q] * wq[q]; }
-                I = (re * re + im * im) / ww;      /* exponential, mean 1, at every pixel */
-                before += lay[p];
-                lay[p] = (float)(lay[p] * (1 + c->speckle * (I - 1)));
-                after += lay[p];
-            }
-        free(z);
+        /* the surface's roughness under the beam: the same spot gives the same grains frame
+         * after frame, a spot moved by 0.05 mm others (the renderer's seed picks the surface) */
+        uint64_t key = c->speckle_seed;
+        int i;
+        for (i = 0; i < 3; i++) key = vp_mix64(key ^ (uint64_t)(int64_t)llround(tr->point[i] * 20));
+        VP_TRY(vp_camsim_speckle(c, lay, w, x0, x1, y0, y1, key, &before, &after));
     }
     tr->speckle_gain = before > 0 ? after / before : 1;
     for (y = y0; y <= y1; y++)
@@ -182,9 +191,220 @@ static int vp_camsim_spot_faults(const vp_camsim_config_t *c, float *lay, int w,
     return VP_OK;
 }
 
+/* ---- the line laser ---- */
+
+/* The fan's frame in the tilt frame: its plane's normal nl, its centre direction ax (the beam's
+ * direction brought into the plane) and bx = nl x ax across the fan. */
+static int vp_camsim_fan(const vp_camsim_config_t *c, double nl[3], double ax[3], double bx[3])
+{
+    double b[3], l, t;
+    int i;
+    if (!vp_finite3(c->line_normal) || !(c->fan_half_angle >= 0) || !(c->fan_half_angle < 1.5) || c->line_rays < 0 ||
+        c->line_rays > 1000000 || !(c->line_energy >= 0) || !(c->line_width >= 0))
+        return VP_EINVAL;
+    l = vp_norm3(c->line_normal);
+    if (l > 0) for (i = 0; i < 3; i++) nl[i] = c->line_normal[i] / l;
+    else { nl[0] = nl[1] = 0; nl[2] = 1; }
+    vp_camsim_beam(c, b);
+    t = vp_dot3(b, nl);
+    for (i = 0; i < 3; i++) ax[i] = b[i] - t * nl[i];
+    l = vp_norm3(ax);
+    if (!(l > 1e-6)) return VP_EINVAL;
+    for (i = 0; i < 3; i++) ax[i] /= l;
+    vp_cross3(bx, nl, ax);
+    return VP_OK;
+}
+
+/* One ray of the fan at angle a (rad from the axis): where it meets the scene and what the camera
+ * sees of it. */
+typedef struct vp_camsim_fray {
+    int vis;                     /* hit, lit side, in front, in frame, not hidden */
+    double uv[2];                /* its image (through the lens) */
+    double tp[3], dist;          /* the point in the tilt frame, distance from the laser origin */
+    double albedo;
+    double e;                    /* energy per radian of fan reaching the camera */
+    double sxx, sxy, syy;        /* its spot's covariance, px^2 */
+} vp_camsim_fray_t;
+
+typedef struct vp_camsim_fan_ctx {
+    const vp_camsim_config_t *c;
+    const vp_camsim_scene_t *sc;
+    const double *rot, *pos;
+    double nl[3], ax[3], bx[3];  /* tilt frame */
+    double o[3], cpos[3], nlw[3];/* world: laser origin, camera centre, the plane's normal */
+    double maxr, blur, sheet, energy;
+} vp_camsim_fan_ctx_t;
+
+static void vp_camsim_fan_ray(const vp_camsim_fan_ctx_t *f, double a, vp_camsim_fray_t *r)
+{
+    const vp_camsim_config_t *c = f->c;
+    const vp_camsim_scene_t *sc = f->sc;
+    double dt[3], d[3], t = 0, n[3], wp[3], vc[3], lc, cos_i, cos_e, tv[3], tl, sg, q[3], uv1[2], j[2];
+    int i, hit = 0;
+    memset(r, 0, sizeof *r);
+    for (i = 0; i < 3; i++) dt[i] = cos(a) * f->ax[i] + sin(a) * f->bx[i];
+    vp_mul(f->rot, dt, d);
+    if (sc->surf) hit = vp_surface_ray(sc->surf, f->o, d, f->maxr, &t);
+    else {
+        double den = vp_dot3(sc->plane_n, d), num = sc->plane_d - vp_dot3(sc->plane_n, f->o);
+        if (fabs(den) > 1e-12) { t = num / den; hit = t > 0 && t <= f->maxr; }
+    }
+    if (!hit) return;
+    for (i = 0; i < 3; i++) {
+        wp[i] = f->o[i] + t * d[i];
+        r->tp[i] = c->laser_offset[i] + t * dt[i];
+    }
+    r->dist = t;
+    if (sc->surf) vp_surface_normal(sc->surf, wp, n);
+    else for (i = 0; i < 3; i++) n[i] = sc->plane_n[i];
+    cos_i = vp_dot3(n, d);
+    if (cos_i > 0) for (i = 0; i < 3; i++) n[i] = -n[i];   /* the lit side */
+    for (i = 0; i < 3; i++) vc[i] = f->cpos[i] - wp[i];
+    lc = vp_norm3(vc);
+    cos_e = vp_dot3(n, vc) / lc;
+    if (!(cos_e > 0.02) || !vp_camsim_proj(c, f->rot, f->pos, wp, r->uv) || r->uv[0] < 0 || r->uv[0] > c->cam.width - 1 ||
+        r->uv[1] < 0 || r->uv[1] > c->cam.height - 1)
+        return;
+    if (sc->surf) {
+        double th, u[3];
+        for (i = 0; i < 3; i++) u[i] = -vc[i] / lc;
+        /* hidden if the object crosses the line of sight before the point */
+        if (vp_surface_ray(sc->surf, f->cpos, u, lc * (1 - 1e-6) - 1e-6, &th)) return;
+    }
+    r->vis = 1;
+    r->albedo = c->dark_albedo > 0 && wp[2] >= c->dark_z[0] && wp[2] <= c->dark_z[1] ? c->dark_albedo : 1;
+    r->e = f->energy * r->albedo * cos_e * (300.0 / lc) * (300.0 / lc);
+    /* the sheet's thickness on the surface: along the surface's direction that leaves the plane
+     * fastest, sheet / |its rate|; through the camera's local projection */
+    tl = vp_dot3(f->nlw, n);
+    for (i = 0; i < 3; i++) tv[i] = f->nlw[i] - tl * n[i];
+    tl = vp_norm3(tv);
+    if (tl < 1e-9) { r->sxx = r->syy = f->blur * f->blur; return; }
+    for (i = 0; i < 3; i++) tv[i] /= tl;
+    sg = f->sheet / (tl > 0.15 ? tl : 0.15);
+    for (i = 0; i < 3; i++) q[i] = wp[i] + 0.01 * tv[i];
+    vp_camsim_proj(c, f->rot, f->pos, q, uv1);
+    j[0] = (uv1[0] - r->uv[0]) / 0.01 * sg;
+    j[1] = (uv1[1] - r->uv[1]) / 0.01 * sg;
+    r->sxx = f->blur * f->blur + j[0] * j[0];
+    r->syy = f->blur * f->blur + j[1] * j[1];
+    r->sxy = j[0] * j[1];
+}
+
+/* The line: rays cast across the fan, the hits the camera sees drawn into acc (laser on), and the
+ * truth per column by bisection between neighbouring rays (line may be NULL). The spot truth tr
+ * says whether any of it was seen and the line's peak. */
+static int vp_camsim_line(const vp_camsim_config_t *c, const vp_camsim_scene_t *sc, const double rot[9], const double pos[3],
+                          float *acc, int laser, double blur, vp_camsim_truth_t *tr, vp_camsim_line_truth_t *line)
+{
+    const int w = c->cam.width, h = c->cam.height, N = c->line_rays > 1 ? c->line_rays : 4096;
+    const double H = c->fan_half_angle > 0 ? c->fan_half_angle : 30 * VP_PI / 180, da = 2 * H / (N - 1);
+    vp_camsim_fan_ctx_t f;
+    vp_camsim_fray_t prev, cur;
+    float *lay = NULL;
+    int i, k, seen = 0, bx0 = w, bx1 = -1, by0 = h, by1 = -1;
+    memset(&f, 0, sizeof f);
+    f.c = c; f.sc = sc; f.rot = rot; f.pos = pos;
+    VP_TRY(vp_camsim_fan(c, f.nl, f.ax, f.bx));
+    vp_mul(rot, c->laser_offset, f.o);
+    vp_mul(rot, c->cam.pos, f.cpos);
+    vp_mul(rot, f.nl, f.nlw);
+    for (i = 0; i < 3; i++) { f.o[i] += pos[i]; f.cpos[i] += pos[i]; }
+    f.maxr = c->max_range > 0 ? c->max_range : 5000;
+    f.blur = blur;
+    f.sheet = c->line_width > 0 ? c->line_width : c->beam_radius > 0 ? c->beam_radius : 0.25;
+    f.energy = c->line_energy > 0 ? c->line_energy : 60000;
+    if (line) {
+        if (w > VP_CAMSIM_MAX_W) return VP_EINVAL;
+        memset(line, 0, sizeof *line);
+        line->width = w;
+        line->rays = N;
+    }
+    if (laser) {
+        lay = calloc((size_t)w * h, sizeof *lay);
+        if (!lay) return VP_ENOMEM;
+    }
+    memset(&prev, 0, sizeof prev);
+    for (k = 0; k < N; k++) {
+        const double a = -H + da * k;
+        vp_camsim_fan_ray(&f, a, &cur);
+        if (cur.vis) {
+            seen++;
+            if (laser) {
+                double rad = 4.5 * sqrt(cur.sxx > cur.syy ? cur.sxx : cur.syy) + 2;
+                int gx = c->ghost > 0 ? (int)ceil(fabs(c->ghost_offset[0])) : 0;
+                int gy = c->ghost > 0 ? (int)ceil(fabs(c->ghost_offset[1])) : 0;
+                vp_camsim_spot(lay, w, h, cur.uv[0], cur.uv[1], cur.e * da, cur.sxx, cur.sxy, cur.syy);
+                if (c->ghost > 0)
+                    vp_camsim_spot(lay, w, h, cur.uv[0] + c->ghost_offset[0], cur.uv[1] + c->ghost_offset[1],
+                                   cur.e * da * c->ghost, cur.sxx, cur.sxy, cur.syy);
+                if (cur.uv[0] - rad - gx < bx0) bx0 = (int)floor(cur.uv[0] - rad - gx);
+                if (cur.uv[0] + rad + gx > bx1) bx1 = (int)ceil(cur.uv[0] + rad + gx);
+                if (cur.uv[1] - rad - gy < by0) by0 = (int)floor(cur.uv[1] - rad - gy);
+                if (cur.uv[1] + rad + gy > by1) by1 = (int)ceil(cur.uv[1] + rad + gy);
+            }
+            if (line && k > 0 && prev.vis && hypot(cur.uv[0] - prev.uv[0], cur.uv[1] - prev.uv[1]) < 3) {
+                /* the columns between this ray's image and the last one's (no jump between them:
+                 * an occlusion's edge) */
+                const double u0 = prev.uv[0], u1 = cur.uv[0], lo = u0 < u1 ? u0 : u1, hi = u0 < u1 ? u1 : u0;
+                int x;
+                for (x = (int)ceil(lo); x < hi && x < w; x++) {
+                    double a0 = a - da, a1 = a, am = a;
+                    vp_camsim_fray_t r;
+                    int it, ok = 1;
+                    if (x < 0 || (double)x < lo) continue;
+                    memset(&r, 0, sizeof r);
+                    for (it = 0; it < 40; it++) {
+                        am = 0.5 * (a0 + a1);
+                        vp_camsim_fan_ray(&f, am, &r);
+                        if (!r.vis) { ok = 0; break; }
+                        if ((r.uv[0] < x) == (u0 < x)) a0 = am; else a1 = am;
+                    }
+                    if (!ok) continue;
+                    if (line->count[x] == 0) {
+                        line->v[x] = r.uv[1];
+                        memcpy(line->p[x], r.tp, sizeof r.tp);
+                        line->dist[x] = r.dist;
+                        line->albedo[x] = r.albedo;
+                    }
+                    if (line->count[x] < 255) line->count[x]++;
+                }
+            }
+        }
+        prev = cur;
+    }
+    if (line) line->rays_visible = seen;
+    tr->hit = tr->visible = seen > 0;
+    if (laser) {
+        double before = 0, after = 0, pk = 0;
+        int st = VP_OK, x, y;
+        if (bx0 < 0) bx0 = 0;
+        if (by0 < 0) by0 = 0;
+        if (bx1 > w - 1) bx1 = w - 1;
+        if (by1 > h - 1) by1 = h - 1;
+        if (c->speckle > 0 && bx0 <= bx1 && by0 <= by1) {
+            /* the surface's roughness under the fan: grains drawn from the seed and the laser's place */
+            uint64_t key = vp_mix64(c->speckle_seed ^ 0x6c696e65u);
+            for (i = 0; i < 3; i++) key = vp_mix64(key ^ (uint64_t)(int64_t)llround(f.o[i] * 20));
+            st = vp_camsim_speckle(c, lay, w, bx0, bx1, by0, by1, key, &before, &after);
+        }
+        tr->speckle_gain = before > 0 ? after / before : 1;
+        for (y = by0; y <= by1; y++)
+            for (x = bx0; x <= bx1; x++) {
+                size_t p = (size_t)y * w + x;
+                acc[p] += lay[p];
+                if (lay[p] > pk) pk = lay[p];
+            }
+        tr->peak = pk;
+        free(lay);
+        VP_TRY(st);
+    }
+    return VP_OK;
+}
+
 static int vp_camsim_draw(const vp_camsim_config_t *c, const vp_camsim_scene_t *sc, const double rot[9], const double pos[3],
                           vp_rng_t *rng, uint8_t *img, int stride, vp_camsim_truth_t *truth, int laser, int64_t t_exp,
-                          int64_t t_move)
+                          int64_t t_move, vp_camsim_line_truth_t *line)
 {
     const int w = c->cam.width, h = c->cam.height;
     double ex[3], o[3], d[3], cpos[3], t = 0, blur, beam, energy, maxr, tx, ty, phx, phy;
@@ -193,7 +413,13 @@ static int vp_camsim_draw(const vp_camsim_config_t *c, const vp_camsim_scene_t *
     int i, x, y;
     const int faults = c->speckle > 0 || c->vib_px > 0;
     const double dt_ms = t_move == INT64_MIN ? 1e9 : (double)(t_exp - t_move) * 1e-6;
-    if (!c || !sc || !rot || !pos || !rng || !img || w < 8 || h < 8 || stride < w) return VP_EINVAL;
+    if (!c || !sc || !rot || !pos || !rng || !img || w < 8 || h < 8 || stride < w ||
+        (c->laser_kind != VP_CAMSIM_DOT && c->laser_kind != VP_CAMSIM_LINE))
+        return VP_EINVAL;
+    if (c->laser_kind == VP_CAMSIM_LINE) {
+        double nl[3], ax[3], bx[3];
+        VP_TRY(vp_camsim_fan(c, nl, ax, bx));
+    }
     memset(&tr, 0, sizeof tr);
     tr.laser = laser;
     tr.albedo = tr.speckle_gain = tr.ambient_gain = 1;
@@ -218,17 +444,23 @@ static int vp_camsim_draw(const vp_camsim_config_t *c, const vp_camsim_scene_t *
         }
     }
     /* the beam in the world */
+    if (c->laser_kind == VP_CAMSIM_LINE) {
+        int st = vp_camsim_line(c, sc, rot, pos, acc, laser, blur, &tr, line);
+        if (st != VP_OK) { free(acc); return st; }
+    }
     vp_mul(rot, c->laser_offset, o);
     vp_mul(rot, c->cam.pos, cpos);
     for (i = 0; i < 3; i++) { o[i] += pos[i]; cpos[i] += pos[i]; }
     vp_mul(rot, ex, d);
-    if (sc->surf) tr.hit = vp_surface_ray(sc->surf, o, d, maxr, &t);
+    if (c->laser_kind == VP_CAMSIM_LINE) {
+        /* the line drew itself above */
+    } else if (sc->surf) tr.hit = vp_surface_ray(sc->surf, o, d, maxr, &t);
     else {
         double den = sc->plane_n[0] * d[0] + sc->plane_n[1] * d[1] + sc->plane_n[2] * d[2];
         double num = sc->plane_d - (sc->plane_n[0] * o[0] + sc->plane_n[1] * o[1] + sc->plane_n[2] * o[2]);
         if (fabs(den) > 1e-12) { t = num / den; tr.hit = t > 0 && t <= maxr; }
     }
-    if (tr.hit) {
+    if (tr.hit && c->laser_kind != VP_CAMSIM_LINE) {
         double n[3], vc[3], lc, cos_i, cos_e, t1[3], t2[3], j1[2], j2[2], uv1[2], q[3], r1, sxx, sxy, syy;
         tr.dist = t;
         for (i = 0; i < 3; i++) tr.point[i] = o[i] + t * d[i];
@@ -336,7 +568,9 @@ static int vp_camsim_draw(const vp_camsim_config_t *c, const vp_camsim_scene_t *
             e[0] = u2[0] - u1[0]; e[1] = u2[1] - u1[1];
             l = sqrt(e[0] * e[0] + e[1] * e[1]);
             if (l > 1e-12) { e[0] /= l; e[1] /= l; } else { e[0] = 1; e[1] = 0; }
-            vp_camsim_spot(acc, w, h, u1[0] - c->highlight_off_px * e[1], u1[1] + c->highlight_off_px * e[0],
+            double ox = -c->highlight_off_px * e[1], oy = c->highlight_off_px * e[0];
+            if (c->laser_kind == VP_CAMSIM_LINE) { ox = c->highlight_off_px * e[0]; oy = c->highlight_off_px * e[1]; }
+            vp_camsim_spot(acc, w, h, u1[0] + ox, u1[1] + oy,
                            tr.ambient_gain * c->highlight_peak * 2 * VP_PI * sg * sg, sg * sg, 0, sg * sg);
         }
     }
@@ -353,7 +587,9 @@ static int vp_camsim_draw(const vp_camsim_config_t *c, const vp_camsim_scene_t *
             e[0] = u2[0] - u1[0]; e[1] = u2[1] - u1[1];
             l = sqrt(e[0] * e[0] + e[1] * e[1]);
             if (l > 1e-12) { e[0] /= l; e[1] /= l; } else { e[0] = 1; e[1] = 0; }
-            vp_camsim_spot(acc, w, h, u1[0] - (c->glint_off_px + mv) * e[1], u1[1] + (c->glint_off_px + mv) * e[0],
+            double ox = -(c->glint_off_px + mv) * e[1], oy = (c->glint_off_px + mv) * e[0];
+            if (c->laser_kind == VP_CAMSIM_LINE) { ox = (c->glint_off_px + mv) * e[0]; oy = (c->glint_off_px + mv) * e[1]; }
+            vp_camsim_spot(acc, w, h, u1[0] + ox, u1[1] + oy,
                            tr.ambient_gain * c->glint_peak * 2 * VP_PI * sg * sg, sg * sg, 0, sg * sg);
         }
     }
@@ -373,7 +609,14 @@ static int vp_camsim_draw(const vp_camsim_config_t *c, const vp_camsim_scene_t *
 int vp_camsim_render(const vp_camsim_config_t *c, const vp_camsim_scene_t *sc, const double rot[9], const double pos[3],
                      vp_rng_t *rng, uint8_t *img, int stride, vp_camsim_truth_t *truth)
 {
-    return vp_camsim_draw(c, sc, rot, pos, rng, img, stride, truth, 1, 0, INT64_MIN);
+    return vp_camsim_draw(c, sc, rot, pos, rng, img, stride, truth, 1, 0, INT64_MIN, NULL);
+}
+
+int vp_camsim_render_ex(const vp_camsim_config_t *c, const vp_camsim_scene_t *sc, const double rot[9], const double pos[3],
+                        vp_rng_t *rng, uint8_t *img, int stride, int laser, int64_t t_ns, vp_camsim_truth_t *truth,
+                        vp_camsim_line_truth_t *line)
+{
+    return vp_camsim_draw(c, sc, rot, pos, rng, img, stride, truth, laser != 0, t_ns, INT64_MIN, line);
 }
 
 /* ---- the camera backend ---- */
@@ -520,7 +763,7 @@ static int vp_camsim_capture(void *ctx, int64_t not_before, int timeout_ms, vp_f
     cs->pose(cs->ctx, rot, pos);
     cs->prev = cs->last;
     VP_TRY(vp_camsim_draw(&cs->cfg, &cs->scene, rot, pos, &cs->rng, cs->buf, cs->cfg.cam.width, &cs->last, laser, t_exp,
-                          cs->moved_at));
+                          cs->moved_at, NULL));
     cs->last.seq = s;
     cs->last.t_ns = ts;
     cs->kept[cs->nkept++ % VP_CAMSIM_HIST] = cs->last;

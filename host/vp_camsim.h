@@ -61,7 +61,24 @@ typedef struct vp_camsim_config {
     double dark_albedo;          /* > 0: the object between z = dark_z[0] and dark_z[1] (world, mm: a
                                     dark band) reflects this fraction of the spot's light */
     double dark_z[2];
+    /* the laser's kind: a dot (a beam) or a line (a fan of light in a plane) */
+    int laser_kind;              /* VP_CAMSIM_DOT (0) or VP_CAMSIM_LINE */
+    /* the line: a fan in the plane through laser_offset with normal line_normal (tilt frame;
+     * 0, 0, 0: +z), centred on laser_dir brought into that plane, fan_half_angle either side.
+     * Drawn as line_rays rays cast against the scene, each hit the camera sees a small spot
+     * (blur, the sheet's thickness stretched on slanted surfaces, fall-off, dark band, speckle,
+     * ghost: ghost_offset moves a second line). The head's vibration is not drawn for a line.
+     * highlight_off_px / glint_off_px / glint_move_px: along the image direction in which the
+     * line moves with distance (across the line). */
+    double fan_half_angle;       /* rad (0: 30 degrees) */
+    double line_normal[3];
+    double line_energy;          /* grey levels x px^2 per radian of fan on a facing surface 300 mm
+                                    from the camera (0: 60000) */
+    double line_width;           /* 1-sigma thickness of the light sheet, mm (0: beam_radius) */
+    int line_rays;               /* rays cast across the fan (0: 4096) */
 } vp_camsim_config_t;
+
+enum { VP_CAMSIM_DOT = 0, VP_CAMSIM_LINE = 1 };
 
 typedef struct vp_camsim_scene {
     const vp_surface_t *surf;    /* the object, or NULL for the plane */
@@ -89,10 +106,32 @@ typedef struct vp_camsim_truth {
     int64_t seq, t_ns;           /* the frame's sequence number and time stamp (backend only) */
 } vp_camsim_truth_t;
 
+/* The line laser's truth, from the renderer's own ray casting: per image column x, the true
+ * points of the fan whose image (through the lens) lies exactly on column x and that the camera
+ * sees (lit side, in front, in frame, not hidden). */
+#define VP_CAMSIM_MAX_W 4096
+typedef struct vp_camsim_line_truth {
+    int width;
+    int rays, rays_visible;      /* rays cast, and hits the camera sees */
+    uint8_t count[VP_CAMSIM_MAX_W];          /* crossings of column x (0: none; 2 or more: folds) */
+    double v[VP_CAMSIM_MAX_W];               /* the first crossing: its image row */
+    double p[VP_CAMSIM_MAX_W][3];            /* its point, tilt frame */
+    double dist[VP_CAMSIM_MAX_W];            /* from the laser origin, mm */
+    double albedo[VP_CAMSIM_MAX_W];          /* of the surface there (1, or dark_albedo) */
+} vp_camsim_line_truth_t;
+
 /* Renders one frame into img (cam.width x cam.height, stride bytes per row) for the head pose
  * (tilt frame -> world: rot row-major, pos). VP_EINVAL for a bad configuration. */
 int vp_camsim_render(const vp_camsim_config_t *c, const vp_camsim_scene_t *sc, const double rot[9],
                      const double pos[3], vp_rng_t *rng, uint8_t *img, int stride, vp_camsim_truth_t *truth);
+
+/* The same with the laser on or off and the exposure's start time t_ns (the glint's swing, the
+ * flicker): a laser-on / laser-off pair is two calls (what the ambient light lights appears in
+ * both). line (may be NULL): with laser_kind VP_CAMSIM_LINE the line's truth per column (computed
+ * with the laser off too). */
+int vp_camsim_render_ex(const vp_camsim_config_t *c, const vp_camsim_scene_t *sc, const double rot[9], const double pos[3],
+                        vp_rng_t *rng, uint8_t *img, int stride, int laser, int64_t t_ns, vp_camsim_truth_t *truth,
+                        vp_camsim_line_truth_t *line);
 
 /* The camera backend: pose(ctx, rot, pos) gives the head pose at capture time; clock(ctx) the
  * time stamp (NULL: 0). Frames come from one buffer: one frame out at a time. The backend's

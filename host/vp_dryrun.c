@@ -174,6 +174,12 @@ int vp_dryrun_open(const vp_board_t *b, const vp_dryrun_options_t *o, vp_dryrun_
     cc.dark_albedo = b->sim_dark[0];
     cc.dark_z[0] = b->sim_dark[1];
     cc.dark_z[1] = b->sim_dark[2];
+    if (b->line_laser) {
+        /* a line laser: the fan as the board mounts it */
+        cc.laser_kind = VP_CAMSIM_LINE;
+        cc.fan_half_angle = 0.5 * b->line_fan * 3.14159265358979323846 / 180;
+        memcpy(cc.line_normal, b->line_normal, sizeof cc.line_normal);
+    }
     memset(&scene, 0, sizeof scene);
     scene.surf = d->surf;
     if (opt.flat_target) {

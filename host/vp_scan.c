@@ -452,8 +452,15 @@ static int vp_scan_dev_probe_do(void *ctx, const vp_cmd_t *cmd, vp_probe_result_
             d->true_n++;
             d->err2 += e * e;
             if (e > d->err_max) d->err_max = e;
-        } else if (res->hit) d->false_hits++;
-        else if (truth && t >= m->tri.min_range) d->false_misses++;
+        } else if (res->hit) {
+            /* no crossing along the ray: a beam grazing a limb reads it within the noise tolerance
+             * (a measurement of the surface beside the ray), anything farther is a false hit */
+            double q[3];
+            int k;
+            for (k = 0; k < 3; k++) q[k] = cmd->from[k] + res->dist * cmd->dir[k];
+            if (vp_surface_distance(d->dr->surf, q) <= d->noise_tol) d->grazing++;
+            else d->false_hits++;
+        } else if (truth && t >= m->tri.min_range) d->false_misses++;
     }
     return VP_OK;
 }
@@ -484,6 +491,30 @@ static int vp_scan_dev_probe(void *ctx, const vp_cmd_t *cmd, vp_probe_result_t *
     return st;
 }
 
+/* A line laser: the frame's other rays (port/vp_machine), judged in a dry run against the object
+ * like the probes: a ray's point must lie within the noise tolerance of the surface. */
+static int vp_scan_dev_rays(void *ctx, const vp_cmd_t *probe, unsigned i, vp_cmd_t *ray, vp_probe_result_t *res)
+{
+    vp_scan_dev_t *d = ctx;
+    double dist;
+    if (!vp_machine_ray(d->m, i, ray->dir, &dist)) return 0;
+    ray->range = d->m->cfg.line_model.max_range;
+    res->hit = 1;
+    res->dist = dist;
+    d->rays++;
+    if (d->dry) {
+        /* the point against the object: its distance from the surface (a sample's error) */
+        double q[3], e;
+        int k;
+        for (k = 0; k < 3; k++) q[k] = probe->from[k] + dist * ray->dir[k];
+        e = vp_surface_distance(d->dr->surf, q);
+        d->ray_err2 += e * e;
+        if (e > d->ray_err_max) d->ray_err_max = e;
+        if (e > d->noise_tol) d->ray_false++;
+    }
+    return 1;
+}
+
 /* The head's contact switch stopped the last MOVE: where (port/vp_machine). */
 static int vp_scan_dev_touched(void *ctx, double *at)
 {
@@ -498,7 +529,7 @@ vp_device_ops_t vp_scan_ops(vp_scan_dev_t *d)
     ops.move = vp_scan_dev_move;
     ops.probe = vp_scan_dev_probe;
     ops.touched = vp_board_has_contact(&d->board) ? vp_scan_dev_touched : NULL;
-    ops.rays = NULL;
+    ops.rays = d->board.line_laser ? vp_scan_dev_rays : NULL;
     return ops;
 }
 

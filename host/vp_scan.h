@@ -49,7 +49,11 @@ typedef struct vp_scan_dev {
     vp_cmd_t fault_cmd;
     /* dry run: probes against the true object */
     unsigned long true_n, false_hits, false_misses;
+    unsigned long grazing;        /* hits whose ray meets no surface but whose point lies within
+                                     noise_tol of it (a beam grazing a limb) */
     double err2, err_max;
+    unsigned long rays, ray_false;       /* a line laser: rays fed, and (dry run) hits off the surface by more than noise_tol */
+    double ray_err2, ray_err_max;        /* (dry run) their errors against the surface */
     /* dry run: the head's body (board [head]) swept along every motion against the object */
     unsigned long head_motions;   /* motions checked: MOVEs, aims, the legs of a resume's way back */
     unsigned long head_hits;      /* of those, motions that brought a part within head_tol */

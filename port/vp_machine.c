@@ -25,6 +25,15 @@ int vp_machine_init(vp_machine_t *m, const vp_kin_config_t *kc, const vp_step_co
     if (mc) m->cfg = *mc;
     if (m->cfg.timeout_ms <= 0) m->cfg.timeout_ms = 1000;
     if (m->cfg.latency_frames < 0) return VP_EINVAL;
+    if (m->cfg.line) {
+        /* a line laser: a laser-off / laser-on pair per probe, every column's point kept */
+        int w = m->cfg.line_model.cam.width, step;
+        if (!m->cfg.use_laser_line || m->cfg.single_frame || w < 1) return VP_EINVAL;
+        if (m->cfg.line_cfg.column_step <= 0) m->cfg.line_cfg.column_step = (w + VP_MACHINE_MAX_LINE - 1) / VP_MACHINE_MAX_LINE;
+        step = m->cfg.line_cfg.column_step;
+        if ((w + step - 1) / step > VP_MACHINE_MAX_LINE) return VP_EINVAL;
+        if (!(m->cfg.line_gap_cols > 0)) m->cfg.line_gap_cols = 3.0;
+    }
     m->seen_seq = -1;
     m->last.seq = m->last.seq_off = m->last.seq_mark = m->last.seq_confirm = -1;
     vp_machine_sync(m);
@@ -330,6 +339,162 @@ static int vp_machine_off_plain(const vp_machine_t *m, int w, int h)
     return best <= lim;
 }
 
+/* A line laser's probe: the chord between the points either side of the axis must be what one
+ * surface gives between their rays: at most LINE_CHORD_SLOPE times the arc between them at their
+ * distance (a surface up to 83 degrees oblique) plus LINE_CHORD_MM; longer, the axis passes between
+ * two surfaces (an edge, a step, a gap) */
+#define LINE_CHORD_SLOPE 8.0
+#define LINE_CHORD_MM 0.2
+
+/* 1 when the line has a point in column col */
+static int line_has_col(const vp_line_point_t *pts, int n, int col)
+{
+    int i;
+    for (i = 0; i < n; i++)
+        if (pts[i].col == col) return 1;
+    return 0;
+}
+
+/* A line laser's exposure: the laser-off frame into diff_buf, the laser-on frame after it (both
+ * kept: the detector takes their difference itself and sees light in the laser-off frame). The
+ * laser is off on return. */
+static int vp_machine_expose_pair(vp_machine_t *m, vp_frame_t *on, vp_frame_t *off)
+{
+    vp_frame_t f;
+    size_t n;
+    int proven = 1, x, y, w, h, rc, k;
+    uint8_t *b = m->cfg.diff_buf;
+    m->last.fault = VP_FRAME_OK;
+    m->last.seq_off = m->last.seq_confirm = -1;
+    for (k = 0; k < 2; k++) {
+        vp_machine_laser(m, k);
+        rc = vp_machine_grab(m, &f, &proven);
+        if (k) vp_machine_laser(m, 0);
+        if (rc < 0) return rc;
+        if (k == 0) { w = f.width; h = f.height; }
+        n = (size_t)w * (size_t)h;
+        if (!proven || !b || m->cfg.diff_len < 2 * n || w < 1 || h < 1 || f.width != w || f.height != h) {
+            m->cam.release(m->cam.ctx, &f);
+            if (k) vp_machine_laser(m, 0);
+            return vp_machine_refuse(m, !proven ? VP_FRAME_UNPROVEN : f.width != w || f.height != h ? VP_FRAME_SIZE
+                                                : VP_FRAME_NO_BUFFER, !proven ? VP_EIO : VP_ENOMEM);
+        }
+        for (y = 0; y < h; y++)
+            for (x = 0; x < w; x++) b[(size_t)k * n + (size_t)y * w + x] = VP_FRAME_PIX(&f, x, y);
+        if (k == 0) m->last.seq_off = f.seq;
+        else { m->last.t_ns = f.t_ns; m->last.seq = f.seq; }
+        m->cam.release(m->cam.ctx, &f);
+    }
+    memset(on, 0, sizeof *on);
+    on->width = off->width = w;
+    on->height = off->height = h;
+    on->stride = w;
+    on->step = 1;
+    *off = *on;
+    off->data = b;
+    on->data = b + n;
+    on->t_ns = m->last.t_ns;
+    on->seq = m->last.seq;
+    return VP_OK;
+}
+
+/* A line laser's probe: its frame pair's line (vp_line_detect, in the tilt frame), the points
+ * either side of the fan's axis (adjacent columns) meeting the axis answer the PROBE (*hit, *dist
+ * along the beam; last.spot.result FOUND, NONE without a line there, SEVERAL when the axis falls
+ * in a gap of the line), and every point within the calibrated span becomes a ray from the
+ * PROBE's origin, in the world (vp_machine_ray). */
+static int vp_machine_line_read(vp_machine_t *m, const vp_cmd_t *cmd, int *hit, double *dist)
+{
+    vp_line_model_t lm = m->cfg.line_model;
+    const double *ax = lm.axis, *nn = lm.normal;
+    double e2[3], rot[9], pos[3], best_lo = -1e300, best_hi = 1e300;
+    vp_frame_t on, off;
+    int i, lo = -1, hi = -1, n = 0, k, st;
+    *hit = 0;
+    *dist = 0.0;
+    m->nline = m->nrays = 0;
+    memset(&m->last.spot, 0, sizeof m->last.spot);
+    m->last.spot.result = VP_SPOT_NONE;
+    m->last.rf_why = -1;
+    VP_TRY(vp_machine_expose_pair(m, &on, &off));
+    /* every point the camera can place, near or far: the span is applied below */
+    lm.min_range = 1e-6;
+    lm.max_range = 1e9;
+    st = vp_line_detect(&on, &off, &m->cfg.line_cfg, &lm, &m->lws, m->lpts, VP_MACHINE_MAX_LINE, &n, NULL);
+    if (st != VP_OK) return st;
+    m->nline = n;
+    m->st.line_points += (unsigned long)n;
+    /* the fan's axis: the points nearest it on either side (angle in the plane, from the axis) */
+    e2[0] = nn[1] * ax[2] - nn[2] * ax[1];
+    e2[1] = nn[2] * ax[0] - nn[0] * ax[2];
+    e2[2] = nn[0] * ax[1] - nn[1] * ax[0];
+    for (i = 0; i < n; i++) {
+        double y = vp_dot3(m->lpts[i].dir, e2), x = vp_dot3(m->lpts[i].dir, ax), a = atan2(y, x);
+        if (a <= 0 && a > best_lo) { best_lo = a; lo = i; }
+        if (a > 0 && a < best_hi) { best_hi = a; hi = i; }
+    }
+    if (lo >= 0 && hi >= 0) {
+        const vp_line_point_t *p = &m->lpts[lo], *q = &m->lpts[hi];
+        double xp = p->dist * vp_dot3(p->dir, ax), yp = p->dist * vp_dot3(p->dir, e2);
+        double xq = q->dist * vp_dot3(q->dir, ax), yq = q->dist * vp_dot3(q->dir, e2);
+        int away = p->col > q->col ? m->cfg.line_cfg.column_step : -m->cfg.line_cfg.column_step;
+        if (fabs((double)(p->col - q->col)) > m->cfg.line_gap_cols * m->cfg.line_cfg.column_step ||
+            /* the line goes on beyond both (the axis is not at its end: a limb, a grazing edge) */
+            !line_has_col(m->lpts, n, p->col + away) || !line_has_col(m->lpts, n, q->col - away) ||
+            hypot(xp - xq, yp - yq) > LINE_CHORD_SLOPE * (p->dist < q->dist ? p->dist : q->dist) * (best_hi - best_lo) +
+                                      LINE_CHORD_MM) {
+            /* the axis in a gap of the line, at its end, or between two surfaces (an edge, a step):
+             * unreadable, never free */
+            m->last.spot.result = VP_SPOT_SEVERAL;
+            m->st.line_gaps++;
+        } else {
+            /* the chord between them meets the axis (in the plane: x along it, y across) */
+            double t = yp != yq ? yp / (yp - yq) : 0.0;
+            m->last.spot.result = VP_SPOT_FOUND;
+            m->last.spot.u = p->u + t * (q->u - p->u);
+            m->last.spot.v = p->v + t * (q->v - p->v);
+            *dist = xp + t * (xq - xp);
+            *hit = *dist > 0.0;
+        }
+    } else if (lo >= 0 || hi >= 0) {
+        /* the line on one side only: when it reaches within a few column steps of the axis the
+         * columns there were refused (a steep or doubled line), not empty: unreadable, never free */
+        const vp_line_point_t *p = &m->lpts[lo >= 0 ? lo : hi];
+        double ap = lo >= 0 ? best_lo : best_hi, dth = 0.0;
+        for (i = 0; i < n; i++)
+            if (m->lpts[i].col - p->col == m->cfg.line_cfg.column_step || p->col - m->lpts[i].col == m->cfg.line_cfg.column_step)
+                dth = fabs(atan2(vp_dot3(m->lpts[i].dir, e2), vp_dot3(m->lpts[i].dir, ax)) - ap);
+        if (dth > 0.0 && fabs(ap) <= m->cfg.line_gap_cols * dth) {
+            m->last.spot.result = VP_SPOT_SEVERAL;
+            m->st.line_gaps++;
+        }
+    }
+    /* the rays, in the world, from the PROBE's origin */
+    vp_kin_head(&m->kin, m->j, rot, pos);
+    for (i = 0; i < n; i++) {
+        double w[3], v[3], len;
+        if (!(m->lpts[i].dist >= m->cfg.line_model.min_range && m->lpts[i].dist <= m->cfg.line_model.max_range)) continue;
+        if (m->cfg.line_ray_half > 0 &&
+            fabs(atan2(vp_dot3(m->lpts[i].dir, e2), vp_dot3(m->lpts[i].dir, ax))) > m->cfg.line_ray_half) continue;
+        vp_kin_mul(rot, m->lpts[i].p, w);
+        for (k = 0; k < 3; k++) v[k] = pos[k] + w[k] - cmd->from[k];
+        len = sqrt(vp_dot3(v, v));
+        if (!(len > 0.0)) continue;
+        for (k = 0; k < 3; k++) m->ray_dir[m->nrays][k] = v[k] / len;
+        m->ray_dist[m->nrays++] = len;
+    }
+    m->st.line_rays += (unsigned long)m->nrays;
+    return VP_OK;
+}
+
+int vp_machine_ray(const vp_machine_t *m, unsigned i, double dir[3], double *dist)
+{
+    if (!m || !dir || !dist || !m->cfg.line || i >= (unsigned)m->nrays) return 0;
+    memcpy(dir, m->ray_dir[i], 3 * sizeof *dir);
+    *dist = m->ray_dist[i];
+    return 1;
+}
+
 int vp_machine_probe(vp_machine_t *m, const vp_cmd_t *cmd, vp_probe_result_t *res)
 {
     double target[VP_KIN_JOINTS], o0[3], d[3], dist = 0;
@@ -352,6 +517,18 @@ int vp_machine_probe(vp_machine_t *m, const vp_cmd_t *cmd, vp_probe_result_t *re
     m->st.travel += vp_dist3(o0, m->last.origin);
     t0 = m->io.now(m->io.ctx);
     if (m->cfg.settle_ns) m->io.wait_until(m->io.ctx, t0 + m->cfg.settle_ns);
+    m->nline = m->nrays = 0;
+    if (m->cfg.line) {
+        /* a line laser: the distance along the beam as the full model gives it (span, near) */
+        VP_TRY(vp_machine_line_read(m, cmd, &hit, &dist));
+        if (hit) {
+            m->last.rf_dist = dist;
+            m->last.rf_why = dist > m->cfg.line_model.max_range ? VP_RF_OUT_OF_SPAN : VP_RF_OK;
+            if (dist > m->cfg.line_model.max_range) hit = 0;
+            else if (dist < m->cfg.line_model.min_range) m->st.near++;  /* too close: never free space */
+        }
+        goto judged;
+    }
     /* expose: frames from after the laser switch only (vp_machine_expose) */
     confirm = m->cfg.confirm && m->cfg.use_laser_line && !m->cfg.single_frame;
     VP_TRY(vp_machine_expose(m, &f, &held, confirm, NULL));
@@ -413,6 +590,7 @@ int vp_machine_probe(vp_machine_t *m, const vp_cmd_t *cmd, vp_probe_result_t *re
             m->st.near++;
         }
     }
+judged:
     /* a hit beyond the range asked for is a miss for the planner */
     if (hit && dist <= cmd->range) {
         int k;
@@ -433,15 +611,16 @@ vp_reading_t vp_machine_reading(const vp_machine_t *m, const vp_cmd_t *cmd, int 
 {
     const vp_tri_model_t *t = &m->tri;
     int r = m->last.spot.result, unreadable = 0;
+    int full = m->cfg.use_rf || m->cfg.line;     /* the full model or a line laser: mm along the beam */
     vp_reading_t kind = VP_READING_PLAIN;
     double s = NAN;
     if (r == VP_SPOT_FOUND) s = (m->last.spot.u - t->p0[0]) * t->e[0] + (m->last.spot.v - t->p0[1]) * t->e[1];
-    if (m->cfg.use_rf) s = r == VP_SPOT_FOUND ? m->last.rf_dist : NAN;   /* the full model: mm along the beam */
+    if (full) s = r == VP_SPOT_FOUND ? m->last.rf_dist : NAN;
     if (raw) *raw = s;
-    if (m->cfg.use_rf && r == VP_SPOT_FOUND && !res->hit && m->last.rf_why != VP_RF_OK) {
+    if (full && r == VP_SPOT_FOUND && !res->hit && m->last.rf_why != VP_RF_OK) {
         /* beyond the calibrated span (or below it but not taken as near): refused, never free */
         unreadable = 1;
-    } else if (m->cfg.use_rf && r == VP_SPOT_FOUND && !res->hit) {
+    } else if (full && r == VP_SPOT_FOUND && !res->hit) {
         /* measured within the span, beyond the range asked: free up to it */
     } else if (r == VP_SPOT_FOUND && res->hit && was_near) {
         kind = VP_READING_NEAR;

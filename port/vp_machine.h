@@ -32,11 +32,13 @@
 #include "vp_io.h"
 #include "vp_kin.h"
 #include "vp_laser.h"
+#include "vp_line.h"
 #include "vp_planner.h"
 #include "vp_step.h"
 
 #define VP_MACHINE_MAX_WAY 128
 #define VP_MACHINE_MAX_CALIB 256
+#define VP_MACHINE_MAX_LINE 1024      /* a line laser's points per frame (columns looked at) */
 
 typedef struct vp_machine_stats {
     unsigned long moves, probes, hits, misses, frames, camera_errors;
@@ -48,6 +50,9 @@ typedef struct vp_machine_stats {
     unsigned long refused;            /* probes refused for their frames (vp_machine_last.fault) */
     unsigned long confirmed;          /* spots checked in a second laser-on frame (confirm) */
     unsigned long moved, off_lit;     /* refused: not again where they were; light in the laser-off frame */
+    unsigned long line_points;        /* a line laser: points read (every column), and of them */
+    unsigned long line_rays;          /* reported as rays (within the calibrated span) */
+    unsigned long line_gaps;          /* probes whose axis fell in a gap of the line: unreadable */
 } vp_machine_stats_t;
 
 /* Why a probe's frames were refused (VP_EIO, nothing read from them). */
@@ -101,6 +106,18 @@ typedef struct vp_machine_config {
     vp_spot_config_t spot;
     int use_rf;                       /* 1: distances from the full model rf (vp_calib), not tri */
     vp_rf_model_t rf;
+    int line;                         /* 1: a line laser (needs use_laser_line and diff_len >= 2
+                                         frames): each probe reads the line in a laser-off /
+                                         laser-on pair (vp_line_detect) and the fan's point on its
+                                         axis (the beam) answers the PROBE; every other point of the
+                                         line is a ray of the frame (vp_machine_ray) */
+    vp_line_model_t line_model;       /* camera and laser plane, tilt frame; axis = the beam */
+    vp_line_config_t line_cfg;        /* detection (column_step: columns / VP_MACHINE_MAX_LINE at most) */
+    double line_ray_half;             /* rays only from the points within this angle of the axis, rad
+                                         (0: the whole fan): the fan's ends meet the object farther
+                                         and more obliquely, where its points are less sure */
+    double line_gap_cols;             /* the two points either side of the axis at most this many
+                                         column steps apart (0: 3); a wider gap: unreadable */
 } vp_machine_config_t;
 
 typedef struct vp_machine {
@@ -121,6 +138,12 @@ typedef struct vp_machine {
     double touch_point[3], touch_dir[3];  /* the trigger point and that MOVE's unit direction
                                              (0 for a contact at rest on a null MOVE) */
     unsigned long contacts;           /* MOVEs stopped on the contact */
+    /* a line laser: the last probe's frame (world points, from the PROBE's origin) */
+    vp_line_ws_t lws;
+    vp_line_point_t lpts[VP_MACHINE_MAX_LINE];
+    int nline;                        /* points of the last frame */
+    int nrays;                        /* of them rays (within the span) */
+    double ray_dir[VP_MACHINE_MAX_LINE][3], ray_dist[VP_MACHINE_MAX_LINE];
 } vp_machine_t;
 
 /* Checks and wires the parts (VP_EINVAL for a bad kinematics or stepper configuration). */
@@ -137,6 +160,10 @@ int vp_machine_move(vp_machine_t *m, const vp_cmd_t *cmd);
  * on the contact switch; 0 otherwise (at may be NULL). */
 int vp_machine_contact(const vp_machine_t *m, double *at);
 int vp_machine_probe(vp_machine_t *m, const vp_cmd_t *cmd, vp_probe_result_t *res);
+/* A line laser: ray i of the last PROBE's frame, as the planner takes it (vp_planner_feed_ray):
+ * the unit direction from the PROBE's origin (cmd->from) to the point and its distance. 1, or 0
+ * past the last (and without a line laser). */
+int vp_machine_ray(const vp_machine_t *m, unsigned i, double dir[3], double *dist);
 /* One planner command. VP_OK (a probe's miss is a result, not an error); VP_ERANGE (outside
  * travel: refused, nothing moved); VP_EABORT (e-stop, hard limit: stopped, fault set, homing
  * needed); VP_ETIMEOUT / VP_EIO (camera); VP_ESTATE (fault pending, not homed). */

@@ -13,6 +13,7 @@
 #include "vp_planner.h"
 #include "vp_status.h"
 #include "vp_test.h"
+#include "vp_vec3.h"
 
 static char text[65536];
 
@@ -346,10 +347,49 @@ static void test_nul_bytes(void)
            "written, read back, broken ones named; NUL bytes, devices and folders refused\n", nbad);
 }
 
+/* A line laser: the keys, the configs made from them, and a board without a laser pin refused. */
+static void test_line_laser(void)
+{
+    static char t2[65536];
+    vp_board_t b;
+    vp_machine_config_t mc;
+    vp_planner_config_t pc;
+    char err[400], loc[64];
+    const char *t, *p;
+    t = edit("near_spots = too-close", "near_spots = too-close\nlaser = spot");
+    bad(t, LOC("laser = spot"), "[rangefinder] laser: expected dot or line, got 'spot'");
+    t = edit("near_spots = too-close", "near_spots = too-close\nfan = 200");
+    bad(t, LOC("fan = 200"), "[rangefinder] fan: 200 is outside 1..120");
+    t = edit("near_spots = too-close", "near_spots = too-close\nlaser = line\nfan = 20\nfan_used = 25");
+    bad(t, LOC("fan_used = 25"), "[rangefinder] fan_used: must be at most fan (20 degrees)");
+    t = edit("near_spots = too-close", "near_spots = too-close\nlaser = line\nline_normal = 0, 0, 0");
+    bad(t, LOC("line_normal = 0"), "[rangefinder] line_normal: must not be 0, 0, 0");
+    t = edit("near_spots = too-close", "near_spots = too-close\nlaser = line\nfan = 40\nline_step = 2");
+    CHECK(vp_board_parse(t, "rpi4.ini", &b, err, sizeof err) == VP_OK && b.line_laser);
+    vp_board_machine_config(&b, &mc);
+    vp_board_planner_config(&b, &pc);
+    CHECK(mc.line == 1 && mc.line_cfg.column_step == 2 && pc.line_rays == (uint32_t)((b.cam_model.width + 1) / 2));
+    CHECK(fabs(mc.line_model.half_angle - 20.0 * M_PI / 180.0) < 1e-12 && mc.line_ray_half == 0.0);
+    CHECK(fabs(vp_dot3(mc.line_model.axis, mc.line_model.normal)) < 1e-12 && fabs(vp_dot3(mc.line_model.axis, mc.line_model.axis) - 1) < 1e-12);
+    /* a dot laser: no rays */
+    CHECK(vp_board_parse(text, "rpi4.ini", &b, err, sizeof err) == VP_OK && !b.line_laser);
+    vp_board_planner_config(&b, &pc);
+    CHECK(pc.line_rays == 0);
+    /* no laser pin: a line cannot be read from a laser-off / laser-on pair */
+    t = cut_section("[laser]");
+    p = strstr(t, "near_spots = too-close");
+    CHECK(p != NULL);
+    if (!p) return;
+    snprintf(t2, sizeof t2, "%.*snear_spots = too-close\nlaser = line%s", (int)(p - t), t, p + strlen("near_spots = too-close"));
+    t = t2;
+    bad(t, LOC("laser = line"), "[rangefinder] laser: a line laser is read from a laser-off / laser-on frame pair: the board needs [laser] pin");
+}
+
 int main(void)
 {
     test_two_boards();
     test_broken_boards();
+    test_line_laser();
     test_calibration_files();
     test_nul_bytes();
     return vp_test_done("test_board");
