@@ -5,6 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "vp_cli.h"
+#include "vp_dryrun.h"
 #include "vp_note.h"
 #include "vp_scan.h"
 #include "vp_vec3.h"
@@ -39,6 +40,9 @@ static void calibrate_usage(FILE *f)
         "                     the span it covered. The dry run compares it and the 1-D model with the\n"
         "                     renderer's true distances over the board's range. One frame pair per\n"
         "                     station (--frames applies to the 1-D calibration).\n"
+        "                     A line laser ([rangefinder] laser = line): the camera from the mark alone, and\n"
+        "                     the laser plane from the line seen on the target at the beam stations; the\n"
+        "                     beam is the nominal one brought into that plane (the file records the plane).\n"
         "  --one-d            only the 1-D model, even with a mark\n"
         "Exit status: 0 written, 1 failed, 2 usage.\n");
 }
@@ -138,6 +142,94 @@ static void calibrate_verify(vp_scan_dev_t *dev, const vp_board_t *b, const vp_c
     }
 }
 
+/* A line laser's nominal fan (the board's line_normal, the beam +x brought into it), seen by cam. */
+static void line_nominal(const vp_board_t *b, const vp_camera_model_t *cam, vp_line_model_t *l)
+{
+    static vp_board_t nb;
+    static vp_machine_config_t mc;
+    nb = *b;
+    nb.have_rf = nb.have_plane = 0;
+    vp_board_machine_config(&nb, &mc);
+    *l = mc.line_model;
+    l->cam = *cam;
+}
+
+/* A line laser: its plane fitted to the line seen at the beam stations with the camera just
+ * calibrated from the mark; the beam becomes the nominal one brought into that plane (where the
+ * fan's centre lies within its plane no flat target shows), the span the columns' distances
+ * from its origin; the 1-D model follows from that beam. */
+static int calibrate_plane(vp_scan_dev_t *dev, const vp_board_t *b, const vp_calib_full_plan_t *fp, int dry,
+                           vp_rf_model_t *fit, vp_board_calib_t *info, double (*beam_uv)[2], double *beam_d, int *nbeam)
+{
+    vp_calib_obs_t *lobs;
+    vp_line_model_t nom, plane;
+    vp_line_fit_report_t lrep;
+    int cap = fp->stations * VP_MACHINE_MAX_LINE, nl = 0, poses = 0, st, i, k;
+    lobs = malloc((size_t)cap * sizeof *lobs);
+    if (!lobs) { fprintf(stderr, "calibrate: out of memory for the line's observations\n"); return 1; }
+    st = vp_machine_calibrate_line(dev->m, fp, lobs, cap, &nl, &poses);
+    if (st != VP_OK) {
+        char why[300];
+        free(lobs);
+        dev->fault = st;
+        vp_scan_fault_text(dev, why, sizeof why);
+        fprintf(stderr, "calibrate: the line at the beam stations: %s\n", why);
+        return 1;
+    }
+    line_nominal(b, &fit->cam, &nom);
+    st = vp_line_fit_plane(&fit->cam, lobs, nl, &nom, &plane, &lrep);
+    free(lobs);
+    if (st != VP_OK) {
+        fprintf(stderr, "calibrate: the laser plane cannot be fitted from %d columns of the line at %d of %d stations%s\n", nl,
+                poses, fp->stations, st == VP_EDEGEN ? " (one target distance only, or a ray that misses the target)"
+                                                     : " (too few: is the line on the target and in view?)");
+        return 1;
+    }
+    memcpy(fit->origin, plane.origin, sizeof fit->origin);
+    memcpy(fit->dir, plane.axis, sizeof fit->dir);
+    fit->min_range = lrep.span[0] - 0.5 - 0.002 * lrep.span[0];
+    fit->max_range = lrep.span[1] + 0.5 + 0.002 * lrep.span[1];
+    if (fit->min_range < 0.5 * lrep.span[0]) fit->min_range = 0.5 * lrep.span[0];
+    printf("line plane: %d columns of the line on the target at %d of %d stations; normal (%.6f, %.6f, %.6f), %.4f deg from "
+           "the board's line_normal; the columns %.4f mm rms (max %.4f mm) off it, %.1f..%.1f mm from its origin\n", nl, poses,
+           fp->stations, plane.normal[0], plane.normal[1], plane.normal[2], lrep.tilt_deg, lrep.rms_mm, lrep.max_mm,
+           lrep.span[0], lrep.span[1]);
+    printf("  beam: the nominal one in that plane: origin (%.3f, %.3f, %.3f) mm, direction (%.6f, %.6f, %.6f), %.4f deg from +x; "
+           "calibrated span %.1f..%.1f mm\n", fit->origin[0], fit->origin[1], fit->origin[2], fit->dir[0], fit->dir[1],
+           fit->dir[2], acos(fit->dir[0] > 1 ? 1 : fit->dir[0]) * 180 / 3.14159265358979323846, fit->min_range, fit->max_range);
+    if (dry) {
+        double to[3], tn[3], q[3], c;
+        if (vp_dryrun_true_plane(dev->dr, to, tn)) {
+            for (k = 0; k < 3; k++) q[k] = fit->origin[k] - to[k];
+            c = fabs(vp_dot3(plane.normal, tn));
+            printf("dry run truth: the plane as mounted, normal (%.6f, %.6f, %.6f), %.4f deg from the board's; fitted %.4f deg "
+                   "off it, its origin %.4f mm off it; k1 %.5f (fitted %.5f)\n", tn[0], tn[1], tn[2],
+                   acos(fmin(1.0, fabs(vp_dot3(nom.normal, tn)))) * 180 / 3.14159265358979323846,
+                   acos(fmin(1.0, c)) * 180 / 3.14159265358979323846, fabs(vp_dot3(q, tn)), b->sim_cam.dist[0],
+                   fit->cam.dist[0]);
+        }
+    }
+    /* the 1-D model: the fitted beam's points at the stations' distances, as the camera sees them */
+    *nbeam = 0;
+    for (i = 0; i < fp->stations; i++) {
+        double dd = 1 / (1 / fp->d_far + (1 / fp->d_near - 1 / fp->d_far) * i / (fp->stations - 1)), uv[2];
+        if (vp_rf_spot(fit, dd, uv) && uv[0] >= 0 && uv[0] < fit->cam.width && uv[1] >= 0 && uv[1] < fit->cam.height) {
+            beam_uv[*nbeam][0] = uv[0];
+            beam_uv[*nbeam][1] = uv[1];
+            beam_d[(*nbeam)++] = dd;
+        }
+    }
+    info->have_plane = 1;
+    memcpy(info->plane_origin, plane.origin, sizeof info->plane_origin);
+    memcpy(info->plane_normal, plane.normal, sizeof info->plane_normal);
+    info->plane_points = lrep.n;
+    info->plane_poses = poses;
+    info->plane_rms_mm = lrep.rms_mm;
+    info->plane_max_mm = lrep.max_mm;
+    info->plane_tilt_deg = lrep.tilt_deg;
+    return 0;
+}
+
 /* The full calibration: observations, the fit, the report, the file. */
 static int calibrate_full(vp_scan_dev_t *dev, const vp_board_t *b, const vp_calib_plan_t *plan, const double mark[2],
                           int dry, const char *path)
@@ -150,7 +242,7 @@ static int calibrate_full(vp_scan_dev_t *dev, const vp_board_t *b, const vp_cali
     vp_tri_fit_report_t trep;
     vp_board_calib_t info;
     char err[1200];
-    int n = 0, nbeam = 0, st, k;
+    int n = 0, nbeam = 0, st, k, line = b->line_laser;
     st = vp_rf_nominal(&b->cam_model, b->laser_offset, b->min_range, b->max_range, &nominal);
     if (st != VP_OK) { fprintf(stderr, "calibrate: the board's camera and laser give no nominal model\n"); return 1; }
     memset(&fp, 0, sizeof fp);
@@ -188,10 +280,16 @@ static int calibrate_full(vp_scan_dev_t *dev, const vp_board_t *b, const vp_cali
         fprintf(stderr, "calibrate: %s\n", why);
         return 1;
     }
-    st = vp_rf_fit(cal_obs, n, &nominal, &fit, &rep);
+    /* a line laser has no spot: the camera from the mark alone, then its plane */
+    st = line ? vp_rf_fit_camera(cal_obs, n, &nominal, &fit, &rep) : vp_rf_fit(cal_obs, n, &nominal, &fit, &rep);
     {
         int marks = 0, spots = 0;
         for (k = 0; k < n; k++) { if (cal_obs[k].kind == VP_OBS_MARK) marks++; else spots++; }
+        if (st == VP_EINVAL && line) {
+            fprintf(stderr, "calibrate: too few observations: %d of the mark (at least %d): is the mark at y = %g, z = %g "
+                            "on the target, lit, and in view?\n", marks, VP_CALIB_MIN_MARKS, mark[0], mark[1]);
+            return 1;
+        }
         if (st == VP_EINVAL) {
             fprintf(stderr, "calibrate: too few observations: %d of the mark (at least %d) and %d laser spots (at least %d): "
                             "is the mark at y = %g, z = %g on the target, lit, and in view?\n", marks, VP_CALIB_MIN_MARKS, spots,
@@ -205,11 +303,12 @@ static int calibrate_full(vp_scan_dev_t *dev, const vp_board_t *b, const vp_cali
             return 1;
         }
     }
-    if (nbeam < 4 || vp_tri_fit((const double (*)[2])beam_uv, beam_d, nbeam, 0, 0, &tri, &trep) != VP_OK) {
-        fprintf(stderr, "calibrate: fewer than 4 spots at the beam stations\n");
-        return 1;
-    }
     fit.ray_tol_px = 3;
+    if (line)
+        printf("camera fit (the mark alone: a line laser has no spot): %d observations, %d iterations; residual rms %.4f px "
+               "(nominal model %.3f px), max %.4f px, %d beyond %g px\n", n, rep.iterations, rep.rms_px, rep.start_rms_px,
+               rep.max_px, rep.outliers, VP_CALIB_HUBER_PX);
+    else
     printf("full fit: %d observations (%d of the mark, %d laser spots), %d iterations; residual rms %.4f px "
            "(nominal model %.3f px), max %.4f px, %d beyond %g px; mark %.4f px rms, spots %.4f px rms, %.4f mm rms (max %.4f mm) "
            "along the beam\n", n, rep.marks, rep.spots, rep.iterations, rep.rms_px, rep.start_rms_px, rep.max_px, rep.outliers,
@@ -221,12 +320,19 @@ static int calibrate_full(vp_scan_dev_t *dev, const vp_board_t *b, const vp_cali
            fit.cam.dist[2], fit.cam.dist[3], nominal.cam.dist[0], nominal.cam.dist[1], nominal.cam.dist[2], nominal.cam.dist[3]);
     printf("  camera: centre (%.3f, %.3f, %.3f) mm (moved %.3f mm), axis turned %.4f deg from the nominal\n", fit.cam.pos[0],
            fit.cam.pos[1], fit.cam.pos[2], vp_dist3(fit.cam.pos, nominal.cam.pos), deg_between(fit.cam.rot + 6, nominal.cam.rot + 6));
+    if (!line)
     printf("  beam: origin (%.3f, %.3f, %.3f) mm (moved %.3f mm), direction (%.6f, %.6f, %.6f), %.4f deg from +x; "
            "calibrated span %.1f..%.1f mm\n", fit.origin[0], fit.origin[1], fit.origin[2], vp_dist3(fit.origin, nominal.origin),
            fit.dir[0], fit.dir[1], fit.dir[2], deg_between(fit.dir, nominal.dir), fit.min_range, fit.max_range);
-    printf("1-D model from the beam stations: %d spots, residual rms %.4f mm, max %.4f mm; spots off its line %.3f px rms\n",
-           trep.n, trep.rms_mm, trep.max_mm, trep.line_rms_px);
-    if (dry) {
+    memset(&info, 0, sizeof info);
+    if (line && calibrate_plane(dev, b, &fp, dry, &fit, &info, beam_uv, beam_d, &nbeam)) return 1;
+    if (nbeam < 4 || vp_tri_fit((const double (*)[2])beam_uv, beam_d, nbeam, 0, 0, &tri, &trep) != VP_OK) {
+        fprintf(stderr, "calibrate: fewer than 4 spots at the beam stations\n");
+        return 1;
+    }
+    printf("1-D model from the beam stations: %d %s, residual rms %.4f mm, max %.4f mm; spots off its line %.3f px rms\n",
+           trep.n, line ? "points of the fitted beam" : "spots", trep.rms_mm, trep.max_mm, trep.line_rms_px);
+    if (dry && !line) {
         double td[3], ang = b->sim_laser_error[0] * 3.14159265358979323846 / 180, az = b->sim_laser_error[1] * 3.14159265358979323846 / 180;
         td[0] = cos(ang); td[1] = sin(ang) * cos(az); td[2] = sin(ang) * sin(az);
         printf("dry run truth: k1 %.5f, k2 %.5f, p1 %.6f, p2 %.6f; beam %.4f deg from +x (fitted: %.4f deg off it), "
@@ -234,7 +340,6 @@ static int calibrate_full(vp_scan_dev_t *dev, const vp_board_t *b, const vp_cali
                b->sim_laser_error[0], deg_between(fit.dir, td), vp_dist3(fit.cam.pos, b->sim_cam.pos));
         calibrate_verify(dev, b, plan, &fit, &tri);
     }
-    memset(&info, 0, sizeof info);
     info.spots = trep.n;
     info.stations = plan->stations;
     info.near = plan->d_near;
@@ -335,6 +440,11 @@ int vp_cli_calibrate(int argc, char **argv)
         b.have_mark = 1;
         b.cal_mark[0] = mark[0];
         b.cal_mark[1] = mark[1];
+    }
+    if (b.line_laser && !have_mark) {
+        fprintf(stderr, "calibrate: %s has a line laser: it is calibrated with a mark on the target (the camera) and its line "
+                        "(the plane), not with the 1-D model; give [calibrate] mark = Y, Z or --mark Y,Z\n", b.path);
+        return 2;
     }
     if (!(plan.d_near < plan.d_far)) { fprintf(stderr, "calibrate: --near (%g) must be below --far (%g)\n", plan.d_near, plan.d_far); return 2; }
     if (plan.stations < 4 || plan.stations * plan.frames > VP_MACHINE_MAX_CALIB) {

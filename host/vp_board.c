@@ -959,6 +959,8 @@ typedef struct vp_cctx {
      * (origin, direction), beam_span, ray_tol_px; at[k] the line each was set on */
     double rf[4 + 4 + 3 + 9 + 6 + 2 + 1];
     int rf_at[7];
+    double plane[6];             /* a line laser's plane: origin, normal */
+    int plane_at;
 } vp_cctx_t;
 
 static const char *const rf_keys[7] = { "camera", "distortion", "camera_position", "camera_rotation", "beam", "beam_span",
@@ -980,6 +982,7 @@ static int vp_calib_key(void *user, const char *section, const char *key, const 
     if (c->sec == 2) {
         if (!strcmp(key, "line")) { VP_TRY(vp_numbers(val, c->line, 4, -1e5, 1e5, msg, ml)); c->line_at = line; return VP_OK; }
         if (!strcmp(key, "model")) { VP_TRY(vp_numbers(val, c->model, 3, -1e9, 1e9, msg, ml)); c->model_at = line; return VP_OK; }
+        if (!strcmp(key, "plane")) { VP_TRY(vp_numbers(val, c->plane, 6, -1e6, 1e6, msg, ml)); c->plane_at = line; return VP_OK; }
         {
             int k, off = 0;
             for (k = 0; k < 7; k++) {
@@ -992,7 +995,7 @@ static int vp_calib_key(void *user, const char *section, const char *key, const 
             }
         }
         snprintf(msg, ml, "unknown key (a calibration file sets line and model, and for the full model camera, "
-                          "distortion, camera_position, camera_rotation, beam, beam_span, ray_tol_px)");
+                          "distortion, camera_position, camera_rotation, beam, beam_span, ray_tol_px; a line laser's plane)");
         return VP_EINVAL;
     }
     if (c->sec != 1) { snprintf(msg, ml, "key outside any section"); return VP_EINVAL; }
@@ -1011,6 +1014,18 @@ static int vp_calib_key(void *user, const char *section, const char *key, const 
     if (!strcmp(key, "spots") || !strcmp(key, "stations")) {
         VP_TRY(vp_numbers(val, v, 1, 0, 1e6, msg, ml));
         if (!strcmp(key, "spots")) in->spots = (int)v[0]; else in->stations = (int)v[0];
+        return VP_OK;
+    }
+    if (!strcmp(key, "plane_points") || !strcmp(key, "plane_poses")) {
+        VP_TRY(vp_numbers(val, v, 1, 0, 1e9, msg, ml));
+        if (!strcmp(key, "plane_points")) in->plane_points = (int)v[0]; else in->plane_poses = (int)v[0];
+        return VP_OK;
+    }
+    if (!strcmp(key, "plane_rms_mm") || !strcmp(key, "plane_max_mm") || !strcmp(key, "plane_tilt_deg")) {
+        VP_TRY(vp_numbers(val, v, 1, 0, 1e9, msg, ml));
+        if (!strcmp(key, "plane_rms_mm")) in->plane_rms_mm = v[0];
+        else if (!strcmp(key, "plane_max_mm")) in->plane_max_mm = v[0];
+        else in->plane_tilt_deg = v[0];
         return VP_OK;
     }
     if (!strcmp(key, "residual_rms_mm") || !strcmp(key, "residual_max_mm") || !strcmp(key, "line_rms_px")) {
@@ -1109,6 +1124,21 @@ int vp_board_calibration_load(vp_board_t *b, const char *path, vp_board_calib_t 
         c.info->have_rf = 1;
         c.info->rf = rf;
     }
+    b->have_plane = 0;
+    if (c.plane_at) {
+        /* a line laser's plane: a unit normal */
+        double nl = sqrt(c.plane[3] * c.plane[3] + c.plane[4] * c.plane[4] + c.plane[5] * c.plane[5]);
+        if (!(fabs(nl - 1) < 1e-6)) {
+            snprintf(err, errlen, "%s:%d: [rangefinder] plane: the normal (4th-6th numbers) must be a unit vector", path, c.plane_at);
+            return VP_EINVAL;
+        }
+        memcpy(b->plane_origin, c.plane, sizeof b->plane_origin);
+        memcpy(b->plane_normal, c.plane + 3, sizeof b->plane_normal);
+        b->have_plane = 1;
+        c.info->have_plane = 1;
+        memcpy(c.info->plane_origin, c.plane, sizeof c.info->plane_origin);
+        memcpy(c.info->plane_normal, c.plane + 3, sizeof c.info->plane_normal);
+    }
     b->calibrated = 2;
     b->calib_missing = 0;
     snprintf(b->calib_path, sizeof b->calib_path, "%s", path);
@@ -1128,6 +1158,12 @@ int vp_board_calibration_write(const char *path, const vp_board_t *b, const vp_b
     fprintf(f, "[calibration]\nboard = %s\nspots = %d\nstations = %d\nspan = %.17g, %.17g    # mm from the target\n"
                "residual_rms_mm = %.6g\nresidual_max_mm = %.6g\nline_rms_px = %.6g\n\n",
             b->name, c->spots, c->stations, c->near, c->far, c->rms_mm, c->max_mm, c->line_rms_px);
+    if (c->have_plane)
+        fprintf(f, "# the line laser's plane: fitted to %d columns of the line on the target at %d poses, their\n"
+                   "# distances to it (mm); its normal's angle from the board's line_normal (degrees)\n"
+                   "plane_points = %d\nplane_poses = %d\nplane_rms_mm = %.6g\nplane_max_mm = %.6g\nplane_tilt_deg = %.6g\n\n",
+                c->plane_points, c->plane_poses, c->plane_points, c->plane_poses, c->plane_rms_mm, c->plane_max_mm,
+                c->plane_tilt_deg);
     fprintf(f, "# the spot at image point P0 + s E (px) is d = (A + B s) / (1 + C s) mm along the beam\n"
                "[rangefinder]\nline = %.17g, %.17g, %.17g, %.17g\nmodel = %.17g, %.17g, %.17g\n",
             c->tri.p0[0], c->tri.p0[1], c->tri.e[0], c->tri.e[1], c->tri.a, c->tri.b, c->tri.c);
@@ -1145,6 +1181,10 @@ int vp_board_calibration_write(const char *path, const vp_board_t *b, const vp_b
                 r->origin[0], r->origin[1], r->origin[2], r->dir[0], r->dir[1], r->dir[2], r->min_range, r->max_range,
                 r->ray_tol_px);
     }
+    if (c->have_plane)
+        fprintf(f, "# the line laser's plane (used when present): a point on it (the laser's exit) and its unit normal,\n"
+                   "# tilt frame\nplane = %.17g, %.17g, %.17g, %.17g, %.17g, %.17g\n", c->plane_origin[0], c->plane_origin[1],
+                c->plane_origin[2], c->plane_normal[0], c->plane_normal[1], c->plane_normal[2]);
     ok = !ferror(f);
     if (fclose(f) != 0) ok = 0;
     if (!ok) { snprintf(err, errlen, "cannot write %s", path); return VP_EIO; }
@@ -1198,8 +1238,9 @@ void vp_board_machine_config(const vp_board_t *b, vp_machine_config_t *m)
     m->use_rf = b->have_rf;
     if (b->have_rf) m->rf = b->rf;
     if (b->line_laser) {
-        /* the fan: the plane through the laser's exit point with the board's normal, its axis the
-         * beam brought into the plane; the camera as calibrated (or as the board describes it) */
+        /* the fan: the plane through the laser's exit point with the board's normal (or as
+         * calibrated), its axis the beam brought into the plane; the camera as calibrated (or as
+         * the board describes it) */
         vp_line_model_t *l = &m->line_model;
         double beam[3] = { 1, 0, 0 }, nn[3], d;
         int k;
@@ -1207,8 +1248,9 @@ void vp_board_machine_config(const vp_board_t *b, vp_machine_config_t *m)
         l->cam = b->have_rf ? b->rf.cam : b->cam_model;
         memcpy(l->origin, b->have_rf ? b->rf.origin : b->laser_offset, sizeof l->origin);
         if (b->have_rf) memcpy(beam, b->rf.dir, sizeof beam);
-        d = sqrt(vp_dot3(b->line_normal, b->line_normal));
-        for (k = 0; k < 3; k++) nn[k] = b->line_normal[k] / d;
+        if (b->have_plane) memcpy(l->origin, b->plane_origin, sizeof l->origin);
+        d = sqrt(vp_dot3(b->have_plane ? b->plane_normal : b->line_normal, b->have_plane ? b->plane_normal : b->line_normal));
+        for (k = 0; k < 3; k++) nn[k] = (b->have_plane ? b->plane_normal[k] : b->line_normal[k]) / d;
         d = vp_dot3(beam, nn);
         for (k = 0; k < 3; k++) l->axis[k] = beam[k] - d * nn[k];
         d = sqrt(vp_dot3(l->axis, l->axis));

@@ -128,6 +128,9 @@ typedef struct vp_board {
     vp_rf_model_t rf;
     double cal_mark[2];                  /* [calibrate] mark = Y, Z: a bright dot on the target */
     int have_mark;
+    /* a line laser's plane from a calibration file that has one (tilt frame) */
+    int have_plane;
+    double plane_origin[3], plane_normal[3];
 } vp_board_t;
 
 /* What a calibration file says about its fit (vp_board_calibration_*). */
@@ -140,6 +143,11 @@ typedef struct vp_board_calib {
     int have_rf;                         /* the full model too (camera, distortion, beam) */
     vp_rf_model_t rf;                    /* its ranges: the span the spots covered */
     double rf_rms_px;
+    int have_plane;                      /* a line laser's plane (vp_line_fit_plane) */
+    double plane_origin[3], plane_normal[3];   /* tilt frame, the normal unit */
+    int plane_points, plane_poses;       /* columns and target poses it was fitted to */
+    double plane_rms_mm, plane_max_mm;   /* their distances to it */
+    double plane_tilt_deg;               /* from the board's nominal line_normal */
 } vp_board_calib_t;
 
 /* VP_OK; VP_EIO (cannot read); VP_EINVAL (syntax, unknown or missing key, bad value, an

@@ -70,6 +70,37 @@ static int vp_dryrun_contact(void *ctx, const int32_t *carriage)
     return d->touch_in;
 }
 
+/* The laser as mounted turns the nominal beam (+x) onto dir: the same turn (about +x cross dir)
+ * applied to the nominal plane's normal n gives the mounted plane's (unit). */
+static void vp_dryrun_turn(const double n[3], const double dir[3], double out[3])
+{
+    static const double ex[3] = { 1, 0, 0 };
+    double a[3], d[3], c, s, l, ka[3], k = 0;
+    int i;
+    l = vp_norm3(dir);
+    for (i = 0; i < 3; i++) d[i] = dir[i] / l;
+    vp_cross3(a, ex, d);
+    s = vp_norm3(a);
+    c = vp_dot3(ex, d);
+    l = vp_norm3(n);
+    if (!(s > 1e-15)) {
+        for (i = 0; i < 3; i++) out[i] = n[i] / l;
+        return;
+    }
+    for (i = 0; i < 3; i++) { a[i] /= s; k += a[i] * n[i]; }
+    /* Rodrigues: n cos + (a x n) sin + a (a.n)(1 - cos) */
+    vp_cross3(ka, a, n);
+    for (i = 0; i < 3; i++) out[i] = (n[i] * c + ka[i] * s + a[i] * k * (1 - c)) / l;
+}
+
+int vp_dryrun_true_plane(const vp_dryrun_t *d, double origin[3], double normal[3])
+{
+    if (!d || !d->board.line_laser) return 0;
+    memcpy(origin, d->fan_origin, 3 * sizeof *origin);
+    memcpy(normal, d->fan_normal, 3 * sizeof *normal);
+    return 1;
+}
+
 void vp_dryrun_true_beam(const vp_dryrun_t *d, double origin[3], double dir[3])
 {
     double j[VP_KIN_JOINTS];
@@ -178,7 +209,9 @@ int vp_dryrun_open(const vp_board_t *b, const vp_dryrun_options_t *o, vp_dryrun_
         /* a line laser: the fan as the board mounts it */
         cc.laser_kind = VP_CAMSIM_LINE;
         cc.fan_half_angle = 0.5 * b->line_fan * 3.14159265358979323846 / 180;
-        memcpy(cc.line_normal, b->line_normal, sizeof cc.line_normal);
+        vp_dryrun_turn(b->line_normal, cc.laser_dir, cc.line_normal);
+        memcpy(d->fan_normal, cc.line_normal, sizeof d->fan_normal);
+        memcpy(d->fan_origin, cc.laser_offset, sizeof d->fan_origin);
     }
     memset(&scene, 0, sizeof scene);
     scene.surf = d->surf;

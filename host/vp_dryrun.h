@@ -30,6 +30,7 @@ typedef struct vp_dryrun {
                                                 surface) */
     int touch_known, touch_in;
     unsigned long touch_evals;               /* surface queries made */
+    double fan_origin[3], fan_normal[3];     /* a line laser: its plane as mounted (tilt frame) */
 } vp_dryrun_t;
 
 typedef struct vp_dryrun_options {
@@ -47,6 +48,9 @@ int  vp_dryrun_open(const vp_board_t *b, const vp_dryrun_options_t *o, vp_dryrun
 vp_machine_t *vp_dryrun_machine(vp_dryrun_t *d);
 /* The true laser origin and beam (from the carriages, not from the step counts). */
 void vp_dryrun_true_beam(const vp_dryrun_t *d, double origin[3], double dir[3]);
+/* A line laser: the plane the renderer draws the fan in (tilt frame; origin on it, unit normal),
+ * the board's nominal plane turned with the mounted beam. 0 without a line laser. */
+int  vp_dryrun_true_plane(const vp_dryrun_t *d, double origin[3], double normal[3]);
 void vp_dryrun_close(vp_dryrun_t *d);
 
 #endif

@@ -128,6 +128,7 @@ typedef struct vp_rf_frame {
     const vp_rf_model_t *start;
     double u1[3], u2[3];         /* across the nominal beam */
     int phase;                   /* 0: Huber's loss; 1: residuals beyond 3 VP_CALIB_HUBER_PX left out */
+    int camera_only;             /* the beam held at start's (no spots: a line laser) */
 } vp_rf_frame_t;
 
 #define VP_CALIB_CUT_PX (3 * VP_CALIB_HUBER_PX)
@@ -286,10 +287,18 @@ static int vp_rf_normal(const vp_rf_frame_t *f, const double q[NP], const vp_cal
     }
     for (j = 0; j < NP; j++)
         for (k = j + 1; k < NP; k++) A[j][k] = A[k][j];
+    if (f->camera_only)
+        for (j = 14; j < NP; j++) {
+            /* the beam's parameters held: no step, a regular system */
+            for (k = 0; k < NP; k++) A[j][k] = A[k][j] = 0;
+            A[j][j] = 1;
+            g[j] = 0;
+        }
     return VP_OK;
 }
 
-int vp_rf_fit(const vp_calib_obs_t *obs, int n, const vp_rf_model_t *start, vp_rf_model_t *out, vp_rf_fit_report_t *rep)
+static int vp_rf_fit_do(const vp_calib_obs_t *obs, int n, const vp_rf_model_t *start, vp_rf_model_t *out,
+                        vp_rf_fit_report_t *rep, int camera_only)
 {
     vp_rf_frame_t f;
     vp_rf_fit_report_t r;
@@ -307,12 +316,13 @@ int vp_rf_fit(const vp_calib_obs_t *obs, int n, const vp_rf_model_t *start, vp_r
             spots++;
         } else return VP_EINVAL;
     }
-    if (marks < VP_CALIB_MIN_MARKS || spots < VP_CALIB_MIN_SPOTS) return VP_EINVAL;
+    if (marks < VP_CALIB_MIN_MARKS || (camera_only ? spots != 0 : spots < VP_CALIB_MIN_SPOTS)) return VP_EINVAL;
     if (!(start->cam.fx > 0) || !(start->cam.fy > 0) || !(fabs(vp_norm3(start->dir) - 1) < 1e-9)) return VP_EINVAL;
     memset(&r, 0, sizeof r);
     r.marks = marks;
     r.spots = spots;
     f.start = start;
+    f.camera_only = camera_only;
     if (fabs(start->dir[2]) > 0.9) { a[0] = 1; a[2] = 0; }
     vp_cross3(f.u1, start->dir, a);
     {
@@ -427,10 +437,16 @@ int vp_rf_fit(const vp_calib_obs_t *obs, int n, const vp_rf_model_t *start, vp_r
         }
         r.rms_px = sqrt(s2 / n);
         r.mark_rms_px = sqrt(m2 / marks);
-        r.spot_rms_px = sqrt(sp2 / spots);
-        r.spot_rms_mm = sqrt(mm2 / spots);
-        r.span[0] = lo;
-        r.span[1] = hi;
+        r.spot_rms_px = spots ? sqrt(sp2 / spots) : 0;
+        r.spot_rms_mm = spots ? sqrt(mm2 / spots) : 0;
+        r.span[0] = spots ? lo : 0;
+        r.span[1] = spots ? hi : 0;
+    }
+    if (camera_only) {
+        /* the beam and its span as given */
+        if (!(r.rms_px < 10)) return VP_EDEGEN;
+        if (rep) *rep = r;
+        return VP_OK;
     }
     if (!(r.rms_px < 10) || !(r.span[1] > r.span[0]) || !(r.span[0] > 0)) return VP_EDEGEN;
     /* the span, widened by the spot's noise (0.5 mm and 0.2 %): the farthest station reads on
@@ -441,4 +457,15 @@ int vp_rf_fit(const vp_calib_obs_t *obs, int n, const vp_rf_model_t *start, vp_r
     if (!(out->ray_tol_px > 0)) out->ray_tol_px = 3;
     if (rep) *rep = r;
     return VP_OK;
+}
+
+int vp_rf_fit(const vp_calib_obs_t *obs, int n, const vp_rf_model_t *start, vp_rf_model_t *out, vp_rf_fit_report_t *rep)
+{
+    return vp_rf_fit_do(obs, n, start, out, rep, 0);
+}
+
+int vp_rf_fit_camera(const vp_calib_obs_t *obs, int n, const vp_rf_model_t *start, vp_rf_model_t *out,
+                     vp_rf_fit_report_t *rep)
+{
+    return vp_rf_fit_do(obs, n, start, out, rep, 1);
 }

@@ -79,4 +79,10 @@ typedef struct vp_rf_fit_report {
 int  vp_rf_fit(const vp_calib_obs_t *obs, int n, const vp_rf_model_t *start, vp_rf_model_t *out,
                vp_rf_fit_report_t *rep);
 
+/* The camera alone (a line laser: no spot on a beam): intrinsics, distortion and pose fitted to
+ * marks only, as vp_rf_fit does; out's beam and span are start's. VP_EINVAL: a spot among the
+ * observations, fewer than VP_CALIB_MIN_MARKS marks, a NaN; VP_EDEGEN as vp_rf_fit. */
+int  vp_rf_fit_camera(const vp_calib_obs_t *obs, int n, const vp_rf_model_t *start, vp_rf_model_t *out,
+                      vp_rf_fit_report_t *rep);
+
 #endif

@@ -799,7 +799,7 @@ static int vp_machine_calib_obs(vp_machine_t *m, const vp_calib_full_plan_t *p, 
         for (i = 0; i < 3; i++) obs[*n].p[i] = R[i] * w[0] + R[3 + i] * w[1] + R[6 + i] * w[2];   /* R^T w */
         (*n)++;
     }
-    if (spot.result == VP_SPOT_FOUND) {
+    if (spot.result == VP_SPOT_FOUND && !m->cfg.line) {   /* a line laser has no spot: its plane is fitted apart */
         if (*n >= cap) return VP_ENOMEM;
         memset(&obs[*n], 0, sizeof obs[*n]);
         obs[*n].kind = VP_OBS_SPOT;
@@ -863,6 +863,59 @@ int vp_machine_calibrate_full(vp_machine_t *m, const vp_calib_full_plan_t *p, vp
                 if (rc != VP_OK) return rc;
                 VP_TRY(vp_machine_calib_obs(m, p, obs, cap, n, uv));
             }
+    }
+    return VP_OK;
+}
+
+int vp_machine_line_obs(vp_machine_t *m, double target_x, vp_calib_obs_t *obs, int cap, int *n)
+{
+    static const double ex[3] = { 1, 0, 0 };
+    double R[9], T[3], nt[3], h;
+    vp_frame_t on, off;
+    int i, k, np = 0;
+    int64_t t0;
+    if (!m || !obs || !n || cap < 0 || *n < 0 || !isfinite(target_x)) return VP_EINVAL;
+    if (!m->cfg.line) return VP_ESTATE;
+    t0 = m->io.now(m->io.ctx);
+    if (m->cfg.settle_ns) m->io.wait_until(m->io.ctx, t0 + m->cfg.settle_ns);
+    VP_TRY(vp_machine_expose_pair(m, &on, &off));
+    /* image points only: the plane is what is being measured */
+    VP_TRY(vp_line_detect(&on, &off, &m->cfg.line_cfg, NULL, &m->lws, m->lpts, VP_MACHINE_MAX_LINE, &np, NULL));
+    m->nline = m->nrays = 0;
+    /* the target plane x = target_x in the tilt frame at the head's pose: R^T ex . p = target_x - T.x */
+    vp_kin_head(&m->kin, m->j, R, T);
+    for (i = 0; i < 3; i++) nt[i] = R[i] * ex[0] + R[3 + i] * ex[1] + R[6 + i] * ex[2];
+    h = target_x - T[0];
+    if (*n + np > cap) return VP_ENOMEM;
+    for (i = 0; i < np; i++) {
+        vp_calib_obs_t *o = &obs[*n + i];
+        memset(o, 0, sizeof *o);
+        o->kind = VP_OBS_SPOT;
+        o->uv[0] = m->lpts[i].u;
+        o->uv[1] = m->lpts[i].v;
+        for (k = 0; k < 3; k++) o->n[k] = nt[k];
+        o->h = h;
+    }
+    *n += np;
+    return VP_OK;
+}
+
+int vp_machine_calibrate_line(vp_machine_t *m, const vp_calib_full_plan_t *p, vp_calib_obs_t *obs, int cap, int *n,
+                              int *poses)
+{
+    double o[3];
+    int i, before;
+    if (!m || !p || !obs || !n || !poses || p->stations < 2 || !(p->d_near > 0) || !(p->d_far > p->d_near)) return VP_EINVAL;
+    if (!m->cfg.line) return VP_ESTATE;
+    *n = *poses = 0;
+    VP_TRY(vp_machine_face_target(m, p->target_x - p->d_far, p->y, p->z));
+    for (i = 0; i < p->stations; i++) {
+        double dd = 1 / (1 / p->d_far + (1 / p->d_near - 1 / p->d_far) * i / (p->stations - 1));
+        o[0] = p->target_x - dd; o[1] = p->y; o[2] = p->z;
+        VP_TRY(vp_machine_goto(m, o));
+        before = *n;
+        VP_TRY(vp_machine_line_obs(m, p->target_x, obs, cap, n));
+        if (*n > before) (*poses)++;
     }
     return VP_OK;
 }

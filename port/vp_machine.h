@@ -217,7 +217,8 @@ int vp_machine_calibrate(vp_machine_t *m, const vp_calib_plan_t *p, vp_tri_model
  * At each: a laser-off frame (the mark: VP_OBS_MARK with its tilt-frame position) and the on - off
  * difference (the laser spot: VP_OBS_SPOT with the target plane in the tilt frame), both with the
  * head pose the joints give. Beam stations also give (uv, distance along the nominal beam) for
- * the 1-D model (beam_uv, beam_d: room for `stations`). Needs the laser line (the mark is seen with
+ * the 1-D model (beam_uv, beam_d: room for `stations`). A line laser gives no spot observation
+ * (its plane: vp_machine_calibrate_line). Needs the laser line (the mark is seen with
  * the laser off). VP_ENOMEM when obs (cap entries) is full. */
 typedef struct vp_calib_full_plan {
     double target_x, y, z;
@@ -230,6 +231,16 @@ typedef struct vp_calib_full_plan {
 } vp_calib_full_plan_t;
 int vp_machine_calibrate_full(vp_machine_t *m, const vp_calib_full_plan_t *p, vp_calib_obs_t *obs, int cap, int *n,
                               double (*beam_uv)[2], double *beam_d, int *nbeam);
+/* A line laser's plane (vp_line_fit_plane): at the head as it stands, facing the flat target
+ * x = target_x, a laser-off / laser-on pair and the line in it (vp_line_detect, image points
+ * only); each column found becomes a VP_OBS_SPOT (its centre and the target plane in the tilt
+ * frame at the pose the joints give), appended at obs[*n] (*n grows). VP_ENOMEM when they do not
+ * fit in cap (nothing appended); VP_ESTATE without a line laser. */
+int vp_machine_line_obs(vp_machine_t *m, double target_x, vp_calib_obs_t *obs, int cap, int *n);
+/* The line at each of p's beam stations (the distances vp_machine_calibrate_full steps through,
+ * the head along +x through (y, z)): *n observations from *poses stations that showed the line. */
+int vp_machine_calibrate_line(vp_machine_t *m, const vp_calib_full_plan_t *p, vp_calib_obs_t *obs, int cap, int *n,
+                              int *poses);
 /* At the head as it stands: the spot in the on - off difference and (mark, may be NULL) the
  * brightest spot of the laser-off frame; both from vp_spot_find without a model. */
 int vp_machine_observe(vp_machine_t *m, vp_spot_t *mark, vp_spot_t *spot);

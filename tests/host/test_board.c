@@ -270,6 +270,35 @@ static void test_calibration_files(void)
         CHECKF(rc == VP_OK && b2.calibrated == 2 && !b2.calib_missing && b2.tri.a == ci.tri.a && b2.tri.b == ci.tri.b &&
                b2.tri.c == ci.tri.c && b2.tri.p0[0] == ci.tri.p0[0] && b2.tri.min_range == 10, "%s", err);
         CHECK(vp_board_calibration_load(&b, cpath, &back, err, sizeof err) == VP_OK && back.spots == 60 && back.far == 200);
+        CHECK(!b2.have_plane && !back.have_plane);    /* a file without a line laser's plane */
+        {
+            /* a line laser's plane: written, read back bit for bit, used by a line board's machine */
+            vp_machine_config_t mc;
+            double l = sqrt(0.01 * 0.01 + 1);
+            ci.have_plane = 1;
+            ci.plane_origin[0] = 20; ci.plane_origin[1] = 0.25; ci.plane_origin[2] = 0.5;
+            ci.plane_normal[0] = 0.01 / l; ci.plane_normal[1] = 0; ci.plane_normal[2] = 1 / l;
+            ci.plane_points = 1859; ci.plane_poses = 20; ci.plane_rms_mm = 0.0097; ci.plane_max_mm = 0.07; ci.plane_tilt_deg = 0.5;
+            CHECK(vp_board_calibration_write(cpath, &b, &ci, err, sizeof err) == VP_OK);
+            CHECKF(vp_board_calibration_load(&b, cpath, &back, err, sizeof err) == VP_OK, "%s", err);
+            CHECK(b.have_plane && back.have_plane && !memcmp(b.plane_origin, ci.plane_origin, sizeof b.plane_origin) &&
+                  !memcmp(b.plane_normal, ci.plane_normal, sizeof b.plane_normal) && back.plane_points == 1859 &&
+                  back.plane_poses == 20 && back.plane_rms_mm == 0.0097 && back.plane_tilt_deg == 0.5);
+            b.line_laser = 1;
+            b.line_fan = 30;
+            vp_board_machine_config(&b, &mc);
+            CHECK(mc.line && !memcmp(mc.line_model.origin, ci.plane_origin, sizeof mc.line_model.origin) &&
+                  fabs(mc.line_model.normal[0] - ci.plane_normal[0]) < 1e-15 && fabs(mc.line_model.normal[2] - ci.plane_normal[2]) < 1e-15 &&
+                  fabs(vp_dot3(mc.line_model.axis, mc.line_model.normal)) < 1e-15);
+            b.line_laser = 0;
+            /* a normal that is not a unit vector: refused, naming the line */
+            f = fopen(cpath, "w");
+            CHECK(f && fputs("[calibration]\nboard = rpi4-gantry\n[rangefinder]\nline = 1, 2, 1, 0\nmodel = 1, 2, 3\n"
+                             "plane = 20, 0, 0, 0, 0, 2\n", f) >= 0 && fclose(f) == 0);
+            rc = vp_board_calibration_load(&b, cpath, NULL, err, sizeof err);
+            CHECKF(rc == VP_EINVAL && strstr(err, "board.calib:6: [rangefinder] plane: the normal"), "%s", err);
+            ci.have_plane = 0;
+        }
         /* broken: the error names the calibration file, its line, section and key, via the board's key */
         f = fopen(cpath, "w");
         CHECK(f && fputs("[calibration]\nboard = rpi4-gantry\n[rangefinder]\nline = 1, 2, 1, 0\nmodel = 1, 2\n", f) >= 0 && fclose(f) == 0);

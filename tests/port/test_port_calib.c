@@ -15,6 +15,7 @@
 #include "vp_machine.h"
 #include "vp_rng.h"
 #include "vp_status.h"
+#include "vp_vec3.h"
 
 #define PI 3.14159265358979323846
 
@@ -291,6 +292,22 @@ static void fit(void)
     CHECK(vp_rf_fit(obs + k - 25, n - k + 25, &nominal, &out, &rep) == VP_EDEGEN);   /* 25, all at one depth */
     n = make_obs(&t, &nominal, obs, 5, 24, 1, 0.05);
     CHECK(vp_rf_fit(obs, n, &nominal, &out, &rep) == VP_EDEGEN);                /* one distance: the beam is free */
+
+    /* the camera alone (a line laser: the mark only): recovered, the beam and span left as given */
+    n = make_obs(&t, &nominal, obs, 5, 24, 0, 0.05);
+    for (k = 0; k < n && obs[k].kind == VP_OBS_MARK; k++) {}
+    CHECK(vp_rf_fit_camera(obs, n, &nominal, &out, &rep) == VP_EINVAL);         /* spots among them */
+    CHECK(vp_rf_fit_camera(obs, k, &nominal, &out, &rep) == VP_OK);
+    CHECKF(fabs(out.cam.dist[0] + 0.15) < 0.003 && fabs(out.cam.fx - 352.5) < 0.5 && fabs(out.cam.cy - 236.4) < 0.5 &&
+           vp_dist3(out.cam.pos, t.m.cam.pos) < 0.5 && rep.mark_rms_px < 0.08 && rep.spots == 0,
+           "camera alone: k1 %.5f fx %.3f cy %.3f, centre %.3f mm off, %.4f px", out.cam.dist[0], out.cam.fx, out.cam.cy,
+           vp_dist3(out.cam.pos, t.m.cam.pos), rep.mark_rms_px);
+    CHECK(!memcmp(out.origin, nominal.origin, sizeof out.origin) && !memcmp(out.dir, nominal.dir, sizeof out.dir) &&
+          out.min_range == nominal.min_range && out.max_range == nominal.max_range);
+    printf("camera alone from %d marks: k1 %.5f, centre %.3f mm off the true one, %.4f px rms\n", k, out.cam.dist[0],
+           vp_dist3(out.cam.pos, t.m.cam.pos), rep.mark_rms_px);
+    CHECK(vp_rf_fit_camera(obs + k - 10, 10, &nominal, &out, &rep) == VP_EINVAL);   /* 10 marks only */
+    CHECK(vp_rf_fit_camera(obs + k - 25, 25, &nominal, &out, &rep) == VP_EDEGEN);   /* 25, all at one depth */
 }
 
 /* ---- the kinematics aiming a beam calibrated 1 degree off +x ---- */
