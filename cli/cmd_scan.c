@@ -791,6 +791,11 @@ static int scan_report(scan_job_t *j)
                    "into the part (voroprobe log verify %s names the first unproven move)\n", j->dev.through, j->o.log);
             j->rc = VP_EXIT_COLLISION;
         }
+        if (j->o.dry && j->dev.past > 0) {
+            printf("SAFETY: %lu probes of this dry run read the surface more than %g mm beyond where it is: the "
+                   "planner took space inside the object for free\n", j->dev.past, j->dev.noise_tol);
+            j->rc = VP_EXIT_COLLISION;
+        }
         if (j->o.dry && j->dev.head_hits > 0) {
             char parts[400];
             vp_scan_head_text(&j->dev, parts, sizeof parts);

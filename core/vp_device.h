@@ -18,7 +18,8 @@ typedef struct vp_device_ops {
     int (*touched)(void *ctx, double *at);
     /* after a PROBE, with a line laser: the i-th more ray of the same frame (i = 0, 1, ...): 1
      * with *ray (a copy of the PROBE, kind VP_CMD_RAY) given its unit direction and the range it
-     * was read over, and its result; 0 when the frame has no more. NULL: a dot laser. */
+     * was read over, and its result; 0 when the frame has no more; < 0 an error (the scan stops).
+     * NULL: a dot laser. */
     int (*rays)(void *ctx, const vp_cmd_t *probe, unsigned i, vp_cmd_t *ray, vp_probe_result_t *res);
 } vp_device_ops_t;
 

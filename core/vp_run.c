@@ -68,7 +68,9 @@ int vp_run(vp_planner_t *pl, const vp_device_ops_t *dev, const vp_run_hooks_t *h
                 for (i = 0; st == VP_OK; i++) {
                     ray = cmd;
                     ray.kind = VP_CMD_RAY;
-                    if (dev->rays(dev->ctx, &cmd, i, &ray, &res) != 1) break;
+                    int got = dev->rays(dev->ctx, &cmd, i, &ray, &res);
+                    if (got < 0) { st = got; break; }   /* the device failed */
+                    if (got != 1) break;                 /* the frame has no more */
                     if (after) st = after(hctx, &ray, &res);
                     if (st != VP_OK) break;
                     c0 = vp_run_clock(hooks);

@@ -590,6 +590,11 @@ static int vp_board_check_range(vp_bctx_t *c, char *err, size_t el)
     if (b->line_laser) {
         double nl = sqrt(vp_dot3(b->line_normal, b->line_normal));
         if (!(nl > 0)) return vp_bad(c, S_RANGE, "line_normal", err, el, "must not be 0, 0, 0");
+        if (b->confirm_spot)
+            return vp_bad(c, S_RANGE, "confirm_spot", err, el, "a line laser has no spot to confirm (its detector refuses "
+                          "columns lit with the laser off)");
+        if (fabs(b->line_normal[0]) > 1e-3 * nl)
+            return vp_bad(c, S_RANGE, "line_normal", err, el, "must be at right angles to the beam (+x): the fan holds the beam");
         if (!b->laser.chip[0])
             return vp_bad(c, S_RANGE, "laser", err, el, "a line laser is read from a laser-off / laser-on frame pair: "
                           "the board needs [laser] pin");
@@ -1210,6 +1215,32 @@ void vp_board_step_config(const vp_board_t *b, vp_step_config_t *c)
     c->contact_halt = b->contact_halt;
 }
 
+/* A line laser's fan: its axis (the beam the kinematics aim, along which a PROBE is read) and its
+ * plane's normal. A calibrated plane is kept as measured and the beam brought into it (the
+ * kinematics then aim that axis); the board's nominal normal is turned to hold the beam. */
+static void vp_board_line_axis(const vp_board_t *b, double axis[3], double normal[3])
+{
+    double beam[3] = { 1, 0, 0 }, nn[3], d;
+    int k;
+    if (b->have_rf) memcpy(beam, b->rf.dir, sizeof beam);
+    memcpy(nn, b->have_plane ? b->plane_normal : b->line_normal, sizeof nn);
+    d = sqrt(vp_dot3(nn, nn));
+    for (k = 0; k < 3; k++) nn[k] /= d;
+    if (b->have_plane) {
+        d = vp_dot3(beam, nn);
+        for (k = 0; k < 3; k++) axis[k] = beam[k] - d * nn[k];
+        memcpy(normal, nn, sizeof nn);
+    } else {
+        memcpy(axis, beam, sizeof beam);
+        d = vp_dot3(nn, beam) / vp_dot3(beam, beam);
+        for (k = 0; k < 3; k++) normal[k] = nn[k] - d * beam[k];
+    }
+    d = sqrt(vp_dot3(axis, axis));
+    for (k = 0; k < 3; k++) axis[k] /= d;
+    d = sqrt(vp_dot3(normal, normal));
+    for (k = 0; k < 3; k++) normal[k] /= d;
+}
+
 void vp_board_kin_config(const vp_board_t *b, vp_kin_config_t *k)
 {
     int a;
@@ -1220,6 +1251,11 @@ void vp_board_kin_config(const vp_board_t *b, vp_kin_config_t *k)
         /* the beam as calibrated: the kinematics aim it and place its points */
         memcpy(k->laser_offset, b->rf.origin, sizeof k->laser_offset);
         memcpy(k->laser_dir, b->rf.dir, sizeof k->laser_dir);
+    }
+    if (b->line_laser && b->have_plane) {
+        /* a line laser with a calibrated plane: the beam in that plane, the fan's axis */
+        double nrm[3];
+        vp_board_line_axis(b, k->laser_dir, nrm);
     }
     for (a = 0; a < VP_BOARD_AXES; a++) { k->lo[a] = b->axis[a].ax.travel_min; k->hi[a] = b->axis[a].ax.travel_max; }
     k->origin_tol = b->origin_tol;
@@ -1239,22 +1275,14 @@ void vp_board_machine_config(const vp_board_t *b, vp_machine_config_t *m)
     if (b->have_rf) m->rf = b->rf;
     if (b->line_laser) {
         /* the fan: the plane through the laser's exit point with the board's normal (or as
-         * calibrated), its axis the beam brought into the plane; the camera as calibrated (or as
-         * the board describes it) */
+         * calibrated) holding the beam, its axis; the camera as calibrated (or as the board
+         * describes it) */
         vp_line_model_t *l = &m->line_model;
-        double beam[3] = { 1, 0, 0 }, nn[3], d;
-        int k;
         m->line = 1;
         l->cam = b->have_rf ? b->rf.cam : b->cam_model;
         memcpy(l->origin, b->have_rf ? b->rf.origin : b->laser_offset, sizeof l->origin);
-        if (b->have_rf) memcpy(beam, b->rf.dir, sizeof beam);
         if (b->have_plane) memcpy(l->origin, b->plane_origin, sizeof l->origin);
-        d = sqrt(vp_dot3(b->have_plane ? b->plane_normal : b->line_normal, b->have_plane ? b->plane_normal : b->line_normal));
-        for (k = 0; k < 3; k++) nn[k] = (b->have_plane ? b->plane_normal[k] : b->line_normal[k]) / d;
-        d = vp_dot3(beam, nn);
-        for (k = 0; k < 3; k++) l->axis[k] = beam[k] - d * nn[k];
-        d = sqrt(vp_dot3(l->axis, l->axis));
-        for (k = 0; k < 3; k++) { l->axis[k] /= d; l->normal[k] = nn[k]; }
+        vp_board_line_axis(b, l->axis, l->normal);
         l->half_angle = 0.5 * b->line_fan * (M_PI / 180.0);
         l->min_range = b->have_rf ? b->rf.min_range : b->min_range;
         l->max_range = b->have_rf ? b->rf.max_range : b->max_range;

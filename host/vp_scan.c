@@ -449,6 +449,9 @@ static int vp_scan_dev_probe_do(void *ctx, const vp_cmd_t *cmd, vp_probe_result_
         int truth = vp_surface_ray(d->dr->surf, cmd->from, cmd->dir, cmd->range + (res->hit ? d->noise_tol : 0.0), &t);
         if (res->hit && truth) {
             double e = fabs(res->dist - t);
+            /* past the surface by more than the noise tolerance: the planner would take space
+             * inside the object for free */
+            if (res->dist - t > d->noise_tol) d->past++;
             d->true_n++;
             d->err2 += e * e;
             if (e > d->err_max) d->err_max = e;
@@ -460,7 +463,7 @@ static int vp_scan_dev_probe_do(void *ctx, const vp_cmd_t *cmd, vp_probe_result_
             for (k = 0; k < 3; k++) q[k] = cmd->from[k] + res->dist * cmd->dir[k];
             if (vp_surface_distance(d->dr->surf, q) <= d->noise_tol) d->grazing++;
             else d->false_hits++;
-        } else if (truth && t >= m->tri.min_range) d->false_misses++;
+        } else if (truth && t >= (m->cfg.line ? m->cfg.line_model.min_range : m->tri.min_range)) d->false_misses++;
     }
     return VP_OK;
 }
@@ -501,6 +504,7 @@ static int vp_scan_dev_rays(void *ctx, const vp_cmd_t *probe, unsigned i, vp_cmd
     ray->range = d->m->cfg.line_model.max_range;
     res->hit = 1;
     res->dist = dist;
+    d->raw = dist;              /* the RAY record's raw reading: its own distance */
     d->rays++;
     if (d->dry) {
         /* the point against the object: its distance from the surface (a sample's error) */

@@ -49,6 +49,8 @@ typedef struct vp_scan_dev {
     vp_cmd_t fault_cmd;
     /* dry run: probes against the true object */
     unsigned long true_n, false_hits, false_misses;
+    unsigned long past;           /* hits farther than the surface by more than noise_tol (space
+                                     inside the object read as free) */
     unsigned long grazing;        /* hits whose ray meets no surface but whose point lies within
                                      noise_tol of it (a beam grazing a limb) */
     double err2, err_max;

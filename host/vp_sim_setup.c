@@ -268,7 +268,7 @@ static int dev_rays(void *ctx, const vp_cmd_t *probe, unsigned i, vp_cmd_t *ray,
     for (k = 0; k < 3; k++) ray->dir[k] /= n;
     /* the rangefinder's whole range, not the probe's edge */
     ray->range = s->cfg.max_range > 0.0 ? s->cfg.max_range : 2.0 * s->diag + 1.0;
-    if (vp_simdev_ray(s->dev, ray->dir, ray->range, i, &r) != VP_OK) return 0;
+    if (vp_simdev_ray(s->dev, ray->dir, ray->range, i, &r) != VP_OK) return r.status < 0 ? r.status : VP_EINVAL;
     s->raw = r.hit ? r.t : NAN;
     res->hit = r.too_close ? VP_PROBE_TOO_CLOSE : r.hit;
     res->dist = r.hit ? (r.t < 0 ? 0.0 : r.t) : 0.0;

@@ -239,6 +239,7 @@ int vp_line_detect(const vp_frame_t *on, const vp_frame_t *off, const vp_line_co
             if (nd < dip) dip = nd;
         }
         if (dip <= -thr) sx.off_lit++;
+        ws->off_lit[x / c.column_step] = dip <= -thr;
         memset(&pt, 0, sizeof pt);
         why = vp_line_column(ws, h, sigma, thr, &c, &pt, &ra, &rb);
         if (why == VP_LINE_FOUND) {
@@ -262,6 +263,7 @@ int vp_line_detect(const vp_frame_t *on, const vp_frame_t *off, const vp_line_co
             }
         }
         ws->at[x / c.column_step] = -1;
+        ws->why[x / c.column_step] = (uint8_t)why;
         if (why == VP_LINE_FOUND) {
             pt.col = x;
             pt.u = x;
@@ -299,6 +301,7 @@ int vp_line_detect(const vp_frame_t *on, const vp_frame_t *off, const vp_line_co
                 if (vp_line_point3d(model, uv, &pts[i].dist, pts[i].dir, pts[i].p) != VP_OK) why = VP_LINE_OFF_MODEL;
             }
             sx.why[why]++;
+            ws->why[k] = (uint8_t)why;
             if (why == VP_LINE_FOUND) {
                 if (kept != i) {
                     /* a later neighbour still reads this one's figures: swap, not overwrite */

@@ -85,6 +85,9 @@ typedef struct vp_line_ws {      /* workspace, about 48 KB; reuse it frame after
     float s[VP_LINE_MAX_H];      /* its peak score */
     uint8_t sat[VP_LINE_MAX_H];  /* on frame at 255 */
     int16_t at[VP_LINE_MAX_W];   /* column index -> its peak among the found ones (-1: none) */
+    uint8_t why[VP_LINE_MAX_W];  /* after vp_line_detect: column index (col / column_step) -> its
+                                    outcome, VP_LINE_FOUND or why it reports nothing */
+    uint8_t off_lit[VP_LINE_MAX_W]; /* and 1 where the column shows a line in the laser-off frame */
 } vp_line_ws_t;
 
 /* The 3D point of image point uv: VP_OK with *dist, dir (unit, from origin) and p (may be NULL);

@@ -339,21 +339,14 @@ static int vp_machine_off_plain(const vp_machine_t *m, int w, int h)
     return best <= lim;
 }
 
-/* A line laser's probe: the chord between the points either side of the axis must be what one
- * surface gives between their rays: at most LINE_CHORD_SLOPE times the arc between them at their
- * distance (a surface up to 83 degrees oblique) plus LINE_CHORD_MM; longer, the axis passes between
- * two surfaces (an edge, a step, a gap) */
+/* A line laser's probe (vp_machine_line_read): two points of the line are one surface's when their
+ * chord is at most LINE_CHORD_SLOPE times the arc between their rays (a surface up to 83 degrees
+ * oblique) plus LINE_CHORD_MM; the axis is read on the chord only when the next points out lie
+ * within LINE_FLAT_MM + LINE_FLAT_REL x distance of its line (no edge between them to cut) */
 #define LINE_CHORD_SLOPE 8.0
 #define LINE_CHORD_MM 0.2
-
-/* 1 when the line has a point in column col */
-static int line_has_col(const vp_line_point_t *pts, int n, int col)
-{
-    int i;
-    for (i = 0; i < n; i++)
-        if (pts[i].col == col) return 1;
-    return 0;
-}
+#define LINE_FLAT_MM 0.2
+#define LINE_FLAT_REL 0.002
 
 /* A line laser's exposure: the laser-off frame into diff_buf, the laser-on frame after it (both
  * kept: the detector takes their difference itself and sees light in the laser-off frame). The
@@ -398,24 +391,58 @@ static int vp_machine_expose_pair(vp_machine_t *m, vp_frame_t *on, vp_frame_t *o
     return VP_OK;
 }
 
+/* A point's angle from the fan's axis, in the plane (e2 = normal x axis). */
+static double line_angle(const vp_line_point_t *p, const double *ax, const double *e2)
+{
+    return atan2(vp_dot3(p->dir, e2), vp_dot3(p->dir, ax));
+}
+
+/* 1 when two points of the line can be one surface's: their chord at most LINE_CHORD_SLOPE times
+ * the arc between their rays plus LINE_CHORD_MM (longer: an edge, a step, a gap between them) */
+static int line_continuous(const vp_line_point_t *p, const vp_line_point_t *q, const double *ax, const double *e2)
+{
+    double c[3], arc = fabs(line_angle(p, ax, e2) - line_angle(q, ax, e2)) * (p->dist < q->dist ? p->dist : q->dist);
+    vp_sub3(c, p->p, q->p);
+    return sqrt(vp_dot3(c, c)) <= LINE_CHORD_SLOPE * arc + LINE_CHORD_MM;
+}
+
+/* distance of point r from the line through p and q (all points of the plane) */
+static double line_off_chord(const vp_line_point_t *p, const vp_line_point_t *q, const vp_line_point_t *r)
+{
+    double u[3], w[3], x[3], l2;
+    vp_sub3(u, q->p, p->p);
+    vp_sub3(w, r->p, p->p);
+    l2 = vp_dot3(u, u);
+    if (!(l2 > 0)) return sqrt(vp_dot3(w, w));
+    vp_cross3(x, u, w);
+    return sqrt(vp_dot3(x, x) / l2);
+}
+
 /* A line laser's probe: its frame pair's line (vp_line_detect, in the tilt frame), the points
- * either side of the fan's axis (adjacent columns) meeting the axis answer the PROBE (*hit, *dist
- * along the beam; last.spot.result FOUND, NONE without a line there, SEVERAL when the axis falls
- * in a gap of the line), and every point within the calibrated span becomes a ray from the
- * PROBE's origin, in the world (vp_machine_ray). */
+ * either side of the fan's axis answer the PROBE (*hit, *dist along the beam; last.spot.result
+ * FOUND, NONE without a line there, SEVERAL when it cannot be read: unreadable, never free), and
+ * every point within the calibrated span that one surface carries on either side becomes a ray
+ * from the PROBE's origin, in the world (vp_machine_ray). Read only when the columns between the
+ * two points showed nothing, the line goes on beyond both and lies straight there (no edge between
+ * them for the chord to cut), and their chord is one surface's. Without a point on one side, the
+ * axis is unreadable when any column where its hit could show (its image between the calibrated
+ * span's ends, widened by line_gap_cols steps) was refused rather than empty, or lit with the
+ * laser off: a doubled line, a reflection, a steep line is never read as free space. */
 static int vp_machine_line_read(vp_machine_t *m, const vp_cmd_t *cmd, int *hit, double *dist)
 {
     vp_line_model_t lm = m->cfg.line_model;
     const double *ax = lm.axis, *nn = lm.normal;
+    const int step = m->cfg.line_cfg.column_step, gap = (int)m->cfg.line_gap_cols;
     double e2[3], rot[9], pos[3], best_lo = -1e300, best_hi = 1e300;
     vp_frame_t on, off;
-    int i, lo = -1, hi = -1, n = 0, k, st;
+    int i, lo = -1, hi = -1, n = 0, k, st, cols, readable = 1;
     *hit = 0;
     *dist = 0.0;
     m->nline = m->nrays = 0;
     memset(&m->last.spot, 0, sizeof m->last.spot);
     m->last.spot.result = VP_SPOT_NONE;
     m->last.rf_why = -1;
+    m->last.rf_dist = 0.0;
     VP_TRY(vp_machine_expose_pair(m, &on, &off));
     /* every point the camera can place, near or far: the span is applied below */
     lm.min_range = 1e-6;
@@ -424,31 +451,32 @@ static int vp_machine_line_read(vp_machine_t *m, const vp_cmd_t *cmd, int *hit, 
     if (st != VP_OK) return st;
     m->nline = n;
     m->st.line_points += (unsigned long)n;
+    cols = (on.width + step - 1) / step;
+    for (k = 0; k < cols; k++) m->colmap[k] = -1;
+    for (i = 0; i < n; i++) m->colmap[m->lpts[i].col / step] = (int16_t)i;
     /* the fan's axis: the points nearest it on either side (angle in the plane, from the axis) */
-    e2[0] = nn[1] * ax[2] - nn[2] * ax[1];
-    e2[1] = nn[2] * ax[0] - nn[0] * ax[2];
-    e2[2] = nn[0] * ax[1] - nn[1] * ax[0];
+    vp_cross3(e2, nn, ax);
     for (i = 0; i < n; i++) {
-        double y = vp_dot3(m->lpts[i].dir, e2), x = vp_dot3(m->lpts[i].dir, ax), a = atan2(y, x);
+        double a = line_angle(&m->lpts[i], ax, e2);
         if (a <= 0 && a > best_lo) { best_lo = a; lo = i; }
         if (a > 0 && a < best_hi) { best_hi = a; hi = i; }
     }
     if (lo >= 0 && hi >= 0) {
-        const vp_line_point_t *p = &m->lpts[lo], *q = &m->lpts[hi];
-        double xp = p->dist * vp_dot3(p->dir, ax), yp = p->dist * vp_dot3(p->dir, e2);
-        double xq = q->dist * vp_dot3(q->dir, ax), yq = q->dist * vp_dot3(q->dir, e2);
-        int away = p->col > q->col ? m->cfg.line_cfg.column_step : -m->cfg.line_cfg.column_step;
-        if (fabs((double)(p->col - q->col)) > m->cfg.line_gap_cols * m->cfg.line_cfg.column_step ||
-            /* the line goes on beyond both (the axis is not at its end: a limb, a grazing edge) */
-            !line_has_col(m->lpts, n, p->col + away) || !line_has_col(m->lpts, n, q->col - away) ||
-            hypot(xp - xq, yp - yq) > LINE_CHORD_SLOPE * (p->dist < q->dist ? p->dist : q->dist) * (best_hi - best_lo) +
-                                      LINE_CHORD_MM) {
-            /* the axis in a gap of the line, at its end, or between two surfaces (an edge, a step):
-             * unreadable, never free */
-            m->last.spot.result = VP_SPOT_SEVERAL;
-            m->st.line_gaps++;
-        } else {
+        const vp_line_point_t *p = &m->lpts[lo], *q = &m->lpts[hi], *p2 = NULL, *q2 = NULL;
+        int kp = p->col / step, kq = q->col / step, away = kp > kq ? 1 : -1;
+        if (kp + away >= 0 && kp + away < cols && m->colmap[kp + away] >= 0) p2 = &m->lpts[m->colmap[kp + away]];
+        if (kq - away >= 0 && kq - away < cols && m->colmap[kq - away] >= 0) q2 = &m->lpts[m->colmap[kq - away]];
+        if ((kp > kq ? kp - kq : kq - kp) > gap || !p2 || !q2 || !line_continuous(p, q, ax, e2) || !line_continuous(p, p2, ax, e2) ||
+            !line_continuous(q, q2, ax, e2) ||
+            line_off_chord(p, q, p2) > LINE_FLAT_MM + LINE_FLAT_REL * p->dist ||
+            line_off_chord(p, q, q2) > LINE_FLAT_MM + LINE_FLAT_REL * q->dist)
+            readable = 0;
+        for (k = (kp < kq ? kp : kq) + 1; readable && k < (kp > kq ? kp : kq); k++)
+            if (m->lws.why[k] != VP_LINE_NONE || m->lws.off_lit[k]) readable = 0;
+        if (readable) {
             /* the chord between them meets the axis (in the plane: x along it, y across) */
+            double xp = p->dist * vp_dot3(p->dir, ax), yp = p->dist * vp_dot3(p->dir, e2);
+            double xq = q->dist * vp_dot3(q->dir, ax), yq = q->dist * vp_dot3(q->dir, e2);
             double t = yp != yq ? yp / (yp - yq) : 0.0;
             m->last.spot.result = VP_SPOT_FOUND;
             m->last.spot.u = p->u + t * (q->u - p->u);
@@ -456,27 +484,52 @@ static int vp_machine_line_read(vp_machine_t *m, const vp_cmd_t *cmd, int *hit, 
             *dist = xp + t * (xq - xp);
             *hit = *dist > 0.0;
         }
-    } else if (lo >= 0 || hi >= 0) {
-        /* the line on one side only: when it reaches within a few column steps of the axis the
-         * columns there were refused (a steep or doubled line), not empty: unreadable, never free */
-        const vp_line_point_t *p = &m->lpts[lo >= 0 ? lo : hi];
-        double ap = lo >= 0 ? best_lo : best_hi, dth = 0.0;
-        for (i = 0; i < n; i++)
-            if (m->lpts[i].col - p->col == m->cfg.line_cfg.column_step || p->col - m->lpts[i].col == m->cfg.line_cfg.column_step)
-                dth = fabs(atan2(vp_dot3(m->lpts[i].dir, e2), vp_dot3(m->lpts[i].dir, ax)) - ap);
-        if (dth > 0.0 && fabs(ap) <= m->cfg.line_gap_cols * dth) {
-            m->last.spot.result = VP_SPOT_SEVERAL;
-            m->st.line_gaps++;
+    } else {
+        /* no point on one side: the columns the axis's hit could show in must be plainly empty */
+        int ka = cols, kb = -1, j;
+        for (j = 0; j <= 16; j++) {
+            double d = m->cfg.line_model.min_range + (m->cfg.line_model.max_range - m->cfg.line_model.min_range) * j / 16.0;
+            double pt[3], uv[2];
+            for (k = 0; k < 3; k++) pt[k] = lm.origin[k] + d * ax[k];
+            if (vp_camera_project(&lm.cam, pt, uv) && uv[0] >= -1e6 && uv[0] <= 1e6) {
+                int kc = (int)floor(uv[0] / step);
+                if (kc < ka) ka = kc;
+                if (kc > kb) kb = kc;
+            }
+        }
+        for (k = ka - gap; k <= kb + gap; k++)
+            if (k >= 0 && k < cols && ((m->lws.why[k] != VP_LINE_NONE && m->lws.why[k] != VP_LINE_FOUND) || m->lws.off_lit[k]))
+                readable = 0;
+        if (readable && (lo >= 0 || hi >= 0)) {
+            /* the line on one side only, reaching within a few column steps' angle of the axis:
+             * unreadable (its end there is a limb, or its other side was hidden) */
+            const vp_line_point_t *p = &m->lpts[lo >= 0 ? lo : hi];
+            double ap = lo >= 0 ? best_lo : best_hi, dth = 0.0;
+            int kp = p->col / step;
+            for (j = -1; j <= 1; j += 2)
+                if (kp + j >= 0 && kp + j < cols && m->colmap[kp + j] >= 0)
+                    dth = fabs(line_angle(&m->lpts[m->colmap[kp + j]], ax, e2) - ap);
+            if (dth > 0.0 && fabs(ap) <= m->cfg.line_gap_cols * dth) readable = 0;
         }
     }
-    /* the rays, in the world, from the PROBE's origin */
+    if (!readable) {
+        m->last.spot.result = VP_SPOT_SEVERAL;
+        m->st.line_gaps++;
+    }
+    /* the rays, in the world, from the PROBE's origin: points one surface carries on both sides */
     vp_kin_head(&m->kin, m->j, rot, pos);
     for (i = 0; i < n; i++) {
+        const vp_line_point_t *p = &m->lpts[i];
         double w[3], v[3], len;
-        if (!(m->lpts[i].dist >= m->cfg.line_model.min_range && m->lpts[i].dist <= m->cfg.line_model.max_range)) continue;
-        if (m->cfg.line_ray_half > 0 &&
-            fabs(atan2(vp_dot3(m->lpts[i].dir, e2), vp_dot3(m->lpts[i].dir, ax))) > m->cfg.line_ray_half) continue;
-        vp_kin_mul(rot, m->lpts[i].p, w);
+        int kp = p->col / step, ok = 1, j;
+        if (!(p->dist >= m->cfg.line_model.min_range && p->dist <= m->cfg.line_model.max_range)) continue;
+        if (m->cfg.line_ray_half > 0 && fabs(line_angle(p, ax, e2)) > m->cfg.line_ray_half) continue;
+        for (j = -1; j <= 1 && ok; j += 2)
+            ok = kp + j >= 0 && kp + j < cols && m->colmap[kp + j] >= 0 && line_continuous(p, &m->lpts[m->colmap[kp + j]], ax, e2);
+        /* and lies straight between them (not a column mixing two surfaces at a corner) */
+        if (!ok || line_off_chord(&m->lpts[m->colmap[kp - 1]], &m->lpts[m->colmap[kp + 1]], p) > LINE_FLAT_MM + LINE_FLAT_REL * p->dist)
+            continue;
+        vp_kin_mul(rot, p->p, w);
         for (k = 0; k < 3; k++) v[k] = pos[k] + w[k] - cmd->from[k];
         len = sqrt(vp_dot3(v, v));
         if (!(len > 0.0)) continue;

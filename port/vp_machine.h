@@ -144,6 +144,7 @@ typedef struct vp_machine {
     int nline;                        /* points of the last frame */
     int nrays;                        /* of them rays (within the span) */
     double ray_dir[VP_MACHINE_MAX_LINE][3], ray_dist[VP_MACHINE_MAX_LINE];
+    int16_t colmap[VP_LINE_MAX_W];    /* column index -> its point in lpts (-1: none) */
 } vp_machine_t;
 
 /* Checks and wires the parts (VP_EINVAL for a bad kinematics or stepper configuration). */

@@ -174,7 +174,7 @@ out:
 
 /* One reading along dir from the device: the object (as it is at the device's clock), dark
  * patches, the minimum range, dropouts and noise drawn from rng. */
-static void vp_read(vp_simdev_t *d, const double dir[3], double range, vp_rng_t *rng, vp_simdev_probe_t *r)
+static void vp_read(vp_simdev_t *d, const double dir[3], double range, vp_rng_t *rng, int probe, vp_simdev_probe_t *r)
 {
     double t, noise, u;
     int k;
@@ -190,7 +190,7 @@ static void vp_read(vp_simdev_t *d, const double dir[3], double range, vp_rng_t 
         for (j = 0; j < 3; j++) { q[j] = d->pos[j] + t * dir[j]; e[j] = q[j] - d->cfg.dark[k][j]; }
         if (vp_dot3(e, e) <= d->cfg.dark[k][3] * d->cfg.dark[k][3]) {
             /* a dark patch: no spot, the rangefinder reads nothing */
-            d->st.dark_misses++;
+            d->st.dark_misses += (unsigned long)probe;
             d->st.misses++;
             return;
         }
@@ -219,7 +219,7 @@ int vp_simdev_probe(vp_simdev_t *d, const double dir[3], double range, vp_simdev
         d->nprobe++;
         d->st.probes++;
         d->st.time += d->cfg.probe_time;  /* the reading is of the object as the exposure ends */
-        vp_read(d, dir, range, &rng, &r);
+        vp_read(d, dir, range, &rng, 1, &r);
     }
     if (res) *res = r;
     return r.status;
@@ -237,7 +237,7 @@ int vp_simdev_ray(vp_simdev_t *d, const double dir[3], double range, unsigned i,
         /* ray i of the frame of probe k: drawn from (seed, k, i); the frame's time, no probe counted */
         vp_rng_seed(&rng, d->cfg.seed ^ (0x9E3779B97F4A7C15ULL * d->nprobe) ^ (0xD1B54A32D192ED03ULL * ((uint64_t)i + 1)));
         d->st.rays++;
-        vp_read(d, dir, range, &rng, &r);
+        vp_read(d, dir, range, &rng, 0, &r);
     }
     if (res) *res = r;
     return r.status;

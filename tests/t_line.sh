@@ -139,5 +139,18 @@ grep -q ' 0 false hits, [0-9]* hidden spots, 0 moves through the object' "$o.out
 "$VP" log verify "$o.vplog" >/dev/null 2>&1 || bad "two spheres, line laser: log verify"
 echo "two spheres 2 mm apart, line laser: exit $rc (the neck unseen), 0 false hits, $gaps probes unreadable (the beam in a gap of the line, at its end or between two surfaces), 0 false rays"
 
+# ---- three stacked boxes: convex edges and concave steps; the beam at an edge is read on one face
+# or not at all, never past the surface (a SAFETY line in the dry run's report), never in the air
+o="$D/rpi4-boxes"
+B3="off:tests/meshes/box.off*36@182,141,138+off:tests/meshes/box.off*20@190,145,147.4+off:tests/meshes/box.off*10@195,147,152.6"
+"$VP" scan --board "$D/rpi4-line.ini" --dry-run --eps 6 --surface "$B3" --json --log "$o.vplog" --out "$o" >"$o.out" 2>&1
+rc=$?
+tail -n 1 "$o.out" >"$o.json"
+[ $rc = 0 ] || [ $rc = 4 ] || bad "stacked boxes, line laser: exit $rc ($(grep SAFETY "$o.out"))"
+grep -q '^SAFETY' "$o.out" && bad "stacked boxes, line laser: $(grep SAFETY "$o.out")"
+grep -q ' 0 false hits, [0-9]* hidden spots, 0 moves through the object' "$o.out" || bad "stacked boxes, line laser: $(grep 'dry run: probe error' "$o.out")"
+"$VP" log verify "$o.vplog" >/dev/null 2>&1 || bad "stacked boxes, line laser: log verify"
+echo "stacked boxes, line laser: exit $rc, $(sed -n 's/^dry run: probe error against the true object \(.*\); 0 false hits.*/probe error \1/p' "$o.out"), 0 false hits, none past the surface; $(field "$o.json" rays) rays, worst $(field "$o.json" ray_worst) mm off the object ($(field "$o.json" ray_false) beyond the noise tolerance)"
+
 [ $fail = 0 ] || exit 1
 echo "line laser (16 rays, 30 degrees): $nrun object(s) closed with their genus, 0 collisions, every move outside by CGAL, logs verified, replayed and resumed bit for bit; probes $sp -> $sl ($(awk "BEGIN{printf \"%+.1f\", 100*($sl-$sp)/$sp}")%), moves $mp -> $ml ($(awk "BEGIN{printf \"%+.1f\", 100*($ml-$mp)/$mp}")%); a forged RAY origin refused"

@@ -27,7 +27,10 @@ grep -q '^laser = line' "$B" && grep -q '^mark = ' "$B" || fail "the board copy 
 # the object; 200 commands are enough to measure them)
 "$VP" scan --board "$B" --dry-run --stop-after 200 --json --log "$TMP/u.vplog" > "$TMP/u.out" 2>&1
 RC=$?
-[ $RC -eq 3 ] || fail "the uncalibrated scan, stopped after 200 commands, exited $RC"
+# uncalibrated, the line's points are millimetres off: probes read the surface beyond where it is,
+# which the dry run reports as a SAFETY failure (exit 5: space inside the object taken for free)
+[ $RC -eq 5 ] && grep -q '^SAFETY: .* read the surface more than' "$TMP/u.out" ||
+  fail "the uncalibrated scan, stopped after 200 commands, exited $RC without the SAFETY report"
 UR=$(field "$TMP/u.out" ray_rms) UW=$(field "$TMP/u.out" ray_worst) UN=$(field "$TMP/u.out" rays)
 [ -n "$UR" ] && [ -n "$UW" ] && [ "${UN:-0}" -gt 0 ] || fail "the uncalibrated scan's rays not reported: $(tail -n 3 "$TMP/u.out")"
 awk -v r="$UR" -v w="$UW" -v br=$RMS_BOUND -v bw=$WORST_BOUND 'BEGIN { exit !(r >= br && w >= bw) }' ||
@@ -57,16 +60,18 @@ FH=$(sed -n 's/^dry run: probe error .*; \([0-9]*\) false hits,.*/\1/p' "$TMP/c.
 [ -n "$CR" ] && [ -n "$FH" ] && [ "${CN:-0}" -gt 0 ] || fail "the calibrated scan's report not understood: $(tail -n 3 "$TMP/c.out")"
 awk -v r="$CR" -v w="$CW" -v br=$RMS_BOUND -v bw=$WORST_BOUND 'BEGIN { exit !(r < br && w < bw) }' ||
   fail "calibrated rays: rms $CR mm, worst $CW mm (bound $RMS_BOUND, $WORST_BOUND)"
-[ "$CF" = 0 ] && [ "$TH" = 0 ] && [ "$FH" = 0 ] || fail "calibrated scan: $CF false rays, $TH moves through, $FH false hits"
+[ "$CF" = 0 ] && [ "$TH" = 0 ] && [ "$FH" = 0 ] && ! grep -q '^SAFETY' "$TMP/c.out" ||
+  fail "calibrated scan: $CF false rays, $TH moves through, $FH false hits $(grep '^SAFETY' "$TMP/c.out")"
 "$VP" log verify "$TMP/c.vplog" > "$TMP/v.out" 2>&1 || fail "log verify: $(tail -n 1 "$TMP/v.out")"
 
-# the file without its plane (as older files are) loads; the nominal plane fails the bound
+# the file without its plane (as older files are) loads: the board's nominal normal turned to hold
+# the calibrated beam (reported, not bounded: how near it comes depends on how the fan is mounted)
 grep -v '^plane = ' "$TMP/line.calib" > "$TMP/noplane.calib"
 "$VP" scan --board "$B" --dry-run --calib "$TMP/noplane.calib" --stop-after 200 --json --log "$TMP/n.vplog" > "$TMP/n.out" 2>&1
 RC=$?
-[ $RC -eq 3 ] || fail "the scan with the plane-less file, stopped after 200 commands, exited $RC: $(tail -n 2 "$TMP/n.out")"
+[ $RC -eq 3 ] || [ $RC -eq 5 ] || fail "the scan with the plane-less file, stopped after 200 commands, exited $RC: $(tail -n 2 "$TMP/n.out")"
 NR=$(field "$TMP/n.out" ray_rms)
-awk -v r="$NR" -v br=$RMS_BOUND 'BEGIN { exit !(r >= br) }' || fail "without the plane the rays pass the bound (rms $NR mm)"
+[ -n "$NR" ] || fail "the scan with the plane-less file reports no rays: $(tail -n 2 "$TMP/n.out")"
 
 # a plane whose normal is not a unit vector
 sed 's/^plane = \([^,]*\), \([^,]*\), \([^,]*\), \([^,]*\),/plane = \1, \2, \3, 0.5,/' "$TMP/line.calib" > "$TMP/bad.calib"

@@ -320,6 +320,9 @@ int vp_planner_next(vp_planner_t *pl, vp_cmd_t *cmd)
     if (pl->dev.awaiting) return VP_ESTATE;
     if (pl->error) return pl->error;
     memset(cmd, 0, sizeof *cmd);
+#if VP_PL_LINE_LASER
+    pl->rays.left = 0;          /* the last PROBE's frame is over */
+#endif
     for (budget = STEP_BUDGET + 4u * (uint64_t)pl->pool.cap_task;; budget--) {
         if (budget == 0) {
             /* bounded work per call: a loop that issues nothing is reported, never spun */

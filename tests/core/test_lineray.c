@@ -266,6 +266,11 @@ static void test_contract(void)
     vp_planner_get_stats(&pl, &b);
     CHECK(b.rays == 3 && b.ray_hits == 3);
     CHECK(vp_planner_next(&pl, &cmd) == VP_OK); /* the planner goes on */
+    /* the frame is over once the next command is issued: no ray after it (a MOVE, or a PROBE owed) */
+    vp_planner_get_stats(&pl, &a);
+    CHECK(vp_planner_feed_ray(&pl, x, &res) == VP_ESTATE);
+    vp_planner_get_stats(&pl, &b);
+    CHECK(memcmp(&a, &b, sizeof a) == 0);
 }
 
 static void test_log(void)
