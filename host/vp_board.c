@@ -147,6 +147,7 @@ static const vp_bkey_t k_sim[] = {
     { "vibration", K_NUMS, B(sim_vibration), 4, -1e5, 1e5, R_NO },
     { "flicker", K_NUMS, B(sim_flicker), 2, 0, 1e4, R_NO },
     { "glint", K_NUMS, B(sim_glint), 6, -1e5, 1e5, R_NO },
+    { "ghost", K_NUMS, B(sim_ghost), 3, -1e4, 1e4, R_NO },
     { "dark", K_NUMS, B(sim_dark), 3, -1e6, 1e6, R_NO },
     { "distortion", K_NUMS, B(sim_dist), 4, -10, 10, R_NO },
     { "laser_origin", K_NUMS, B(sim_laser_origin), 3, -1e4, 1e4, R_NO },

@@ -116,6 +116,8 @@ typedef struct vp_board {
     double sim_vibration[4];             /* vibration = PX, HZ, DECAY_MS, DEGREES (after each move) */
     double sim_flicker[2];               /* flicker = DEPTH, HZ (the ambient light's mains ripple) */
     double sim_glint[6];                 /* glint = PEAK, SIGMA_PX, DIST_MM, ACROSS_PX, SWING_PX, PERIOD_MS */
+    double sim_ghost[3];                 /* ghost = ENERGY, DU_PX, DV_PX: a reflection of the laser (a
+                                            second spot or line of this relative energy, moved so) */
     double sim_dark[3];                  /* dark = ALBEDO, Z_LO, Z_HI (the object is dark between) */
     vp_camera_model_t sim_cam;           /* the camera as mounted on the simulated head (default:
                                             the [camera] model; a dry run renders with it) */

@@ -205,6 +205,9 @@ int vp_dryrun_open(const vp_board_t *b, const vp_dryrun_options_t *o, vp_dryrun_
     cc.dark_albedo = b->sim_dark[0];
     cc.dark_z[0] = b->sim_dark[1];
     cc.dark_z[1] = b->sim_dark[2];
+    cc.ghost = b->sim_ghost[0];
+    cc.ghost_offset[0] = b->sim_ghost[1];
+    cc.ghost_offset[1] = b->sim_ghost[2];
     if (b->line_laser) {
         /* a line laser: the fan as the board mounts it */
         cc.laser_kind = VP_CAMSIM_LINE;

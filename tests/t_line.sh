@@ -152,5 +152,15 @@ grep -q ' 0 false hits, [0-9]* hidden spots, 0 moves through the object' "$o.out
 "$VP" log verify "$o.vplog" >/dev/null 2>&1 || bad "stacked boxes, line laser: log verify"
 echo "stacked boxes, line laser: exit $rc, $(sed -n 's/^dry run: probe error against the true object \(.*\); 0 false hits.*/probe error \1/p' "$o.out"), 0 false hits, none past the surface; $(field "$o.json" rays) rays, worst $(field "$o.json" ray_worst) mm off the object ($(field "$o.json" ray_false) beyond the noise tolerance)"
 
+# ---- a reflection doubling the line (an equal second line 14 px away): every column has two
+# candidates, so every probe is unreadable, none a miss (a miss would be taken for free space)
+o="$D/rpi4-ghost"
+(cat "$D/rpi4-line.ini"; printf 'ghost = 1, 0, 14\n') >"$o.ini"
+"$VP" scan --board "$o.ini" --dry-run --eps 10 --log "$o.vplog" --out "$o" >"$o.out" 2>&1
+gm=$(sed -n 's/^machine: \([0-9]*\) probes: \([0-9]*\) hits, \([0-9]*\) misses, .*/\1 \2 \3/p' "$o.out")
+set -- $gm
+[ -n "$gm" ] && [ "$1" -gt 0 ] && [ "$2" = 0 ] && [ "$3" = 0 ] || bad "a doubled line: probes/hits/misses '$gm' (expected no hit and no miss)"
+echo "a doubled line (a reflection as bright as the laser): ${1:-?} probes, ${2:-?} hits, ${3:-?} misses: every one unreadable"
+
 [ $fail = 0 ] || exit 1
 echo "line laser (16 rays, 30 degrees): $nrun object(s) closed with their genus, 0 collisions, every move outside by CGAL, logs verified, replayed and resumed bit for bit; probes $sp -> $sl ($(awk "BEGIN{printf \"%+.1f\", 100*($sl-$sp)/$sp}")%), moves $mp -> $ml ($(awk "BEGIN{printf \"%+.1f\", 100*($ml-$mp)/$mp}")%); a forged RAY origin refused"
