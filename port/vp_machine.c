@@ -422,9 +422,10 @@ static double line_off_chord(const vp_line_point_t *p, const vp_line_point_t *q,
  * either side of the fan's axis answer the PROBE (*hit, *dist along the beam; last.spot.result
  * FOUND, NONE without a line there, SEVERAL when it cannot be read: unreadable, never free), and
  * every point within the calibrated span that one surface carries on either side becomes a ray
- * from the PROBE's origin, in the world (vp_machine_ray). Read only when the columns between the
- * two points showed nothing, the line goes on beyond both and lies straight there (no edge between
- * them for the chord to cut), and their chord is one surface's. Without a point on one side, the
+ * from the PROBE's origin, in the world (vp_machine_ray). Read only when the two points are in
+ * neighbouring columns (a column missing between them may hide an edge or a step), the line goes
+ * on beyond both and lies straight there (no edge between them for the chord to cut), and their
+ * chord is one surface's. Without a point on one side, the
  * axis is unreadable when any column where its hit could show (its image between the calibrated
  * span's ends, widened by line_gap_cols steps) was refused rather than empty, or lit with the
  * laser off: a doubled line, a reflection, a steep line is never read as free space. */
@@ -466,13 +467,11 @@ static int vp_machine_line_read(vp_machine_t *m, const vp_cmd_t *cmd, int *hit, 
         int kp = p->col / step, kq = q->col / step, away = kp > kq ? 1 : -1;
         if (kp + away >= 0 && kp + away < cols && m->colmap[kp + away] >= 0) p2 = &m->lpts[m->colmap[kp + away]];
         if (kq - away >= 0 && kq - away < cols && m->colmap[kq - away] >= 0) q2 = &m->lpts[m->colmap[kq - away]];
-        if ((kp > kq ? kp - kq : kq - kp) > gap || !p2 || !q2 || !line_continuous(p, q, ax, e2) || !line_continuous(p, p2, ax, e2) ||
+        if ((kp > kq ? kp - kq : kq - kp) != 1 || !p2 || !q2 || !line_continuous(p, q, ax, e2) || !line_continuous(p, p2, ax, e2) ||
             !line_continuous(q, q2, ax, e2) ||
             line_off_chord(p, q, p2) > LINE_FLAT_MM + LINE_FLAT_REL * p->dist ||
             line_off_chord(p, q, q2) > LINE_FLAT_MM + LINE_FLAT_REL * q->dist)
             readable = 0;
-        for (k = (kp < kq ? kp : kq) + 1; readable && k < (kp > kq ? kp : kq); k++)
-            if (m->lws.why[k] != VP_LINE_NONE || m->lws.off_lit[k]) readable = 0;
         if (readable) {
             /* the chord between them meets the axis (in the plane: x along it, y across) */
             double xp = p->dist * vp_dot3(p->dir, ax), yp = p->dist * vp_dot3(p->dir, e2);

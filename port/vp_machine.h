@@ -116,8 +116,9 @@ typedef struct vp_machine_config {
     double line_ray_half;             /* rays only from the points within this angle of the axis, rad
                                          (0: the whole fan): the fan's ends meet the object farther
                                          and more obliquely, where its points are less sure */
-    double line_gap_cols;             /* the two points either side of the axis at most this many
-                                         column steps apart (0: 3); a wider gap: unreadable */
+    double line_gap_cols;             /* with the line on one side of the axis only, the columns this
+                                         many steps round where the beam's hit could show must be
+                                         plainly empty, and the line must end farther (0: 3) */
 } vp_machine_config_t;
 
 typedef struct vp_machine {
