@@ -180,6 +180,9 @@ static void mesh_usage(FILE *f)
 }
 
 /* Every hit as a point with the unit normal towards its probe origin. */
+/* A record that carries a reading (a PROBE, or a RAY of its frame): origin, direction, result. */
+static int is_reading(int type) { return type == VP_LOGFMT_PROBE || type == VP_LOGFMT_RAY; }
+
 static int write_points(const vp_sessionlog_t *L, uint32_t upto, const char *path, int ascii, size_t *count)
 {
     FILE *f = fopen(path, "wb");
@@ -189,7 +192,7 @@ static int write_points(const vp_sessionlog_t *L, uint32_t upto, const char *pat
     if (!f) return VP_EIO;
     for (i = 0; i < upto; i++) {
         vp_logfmt_record_t r;
-        if (vp_sessionlog_record(L, i, &r) == VP_OK && (r.type == VP_LOGFMT_PROBE || r.type == VP_LOGFMT_RAY) && r.hit == 1) n++;
+        if (vp_sessionlog_record(L, i, &r) == VP_OK && is_reading(r.type) && r.hit == 1) n++;
     }
     fprintf(f, "ply\nformat %s 1.0\ncomment voroprobe probed points; normals point to the probe origins\n"
             "element vertex %zu\nproperty double x\nproperty double y\nproperty double z\n"
@@ -198,7 +201,7 @@ static int write_points(const vp_sessionlog_t *L, uint32_t upto, const char *pat
     for (i = 0; i < upto; i++) {
         vp_logfmt_record_t r;
         double v[6], len;
-        if (vp_sessionlog_record(L, i, &r) != VP_OK || (r.type != VP_LOGFMT_PROBE && r.type != VP_LOGFMT_RAY) || r.hit != 1) continue;
+        if (vp_sessionlog_record(L, i, &r) != VP_OK || !is_reading(r.type) || r.hit != 1) continue;
         len = sqrt(r.dir[0] * r.dir[0] + r.dir[1] * r.dir[1] + r.dir[2] * r.dir[2]);
         for (k = 0; k < 3; k++) {
             v[k] = r.origin[k] + r.dist * r.dir[k];
@@ -411,7 +414,7 @@ static int log_dump(const char *path, int mode)
         for (k = 0; k < 3; k++) p[k] = r.origin[k] + r.dist * r.dir[k];
         if (mode == 0) {
             printf("%u @%zu ", r.seq, L.off[i]);
-            if (r.type == VP_LOGFMT_PROBE || r.type == VP_LOGFMT_RAY) {
+            if (is_reading(r.type)) {
                 printf("%s from %.17g %.17g %.17g dir %.17g %.17g %.17g range %.17g: ", r.type == VP_LOGFMT_RAY ? "RAY" : "PROBE", r.origin[0], r.origin[1],
                        r.origin[2], r.dir[0], r.dir[1], r.dir[2], r.range);
                 if (r.hit == VP_PROBE_TOO_CLOSE) printf("too close (nothing measured, nothing free) raw %.17g\n", r.raw);
@@ -427,7 +430,7 @@ static int log_dump(const char *path, int mode)
             }
         } else if (mode == 1) {
             printf("{\"seq\":%u,\"offset\":%zu,\"type\":\"%s\"", r.seq, L.off[i], type_str(r.type));
-            if (r.type == VP_LOGFMT_PROBE || r.type == VP_LOGFMT_RAY) {
+            if (is_reading(r.type)) {
                 printf(",\"origin\":"); json_vec(stdout, r.origin);
                 printf(",\"dir\":"); json_vec(stdout, r.dir);
                 printf(",\"range\":"); json_num(stdout, r.range);
@@ -446,12 +449,12 @@ static int log_dump(const char *path, int mode)
             printf("}\n");
         } else {
             printf("%u,%zu,%s,", r.seq, L.off[i], type_str(r.type));
-            if (r.type == VP_LOGFMT_PROBE || r.type == VP_LOGFMT_RAY)
+            if (is_reading(r.type))
                 printf("%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%d,%.17g,%.17g,", r.origin[0], r.origin[1],
                        r.origin[2], r.dir[0], r.dir[1], r.dir[2], r.range, r.hit, r.dist, r.raw);
             else
                 printf(",,,,,,,,,,");
-            if ((r.type == VP_LOGFMT_PROBE || r.type == VP_LOGFMT_RAY) && r.hit == 1) printf("%.17g,%.17g,%.17g,", p[0], p[1], p[2]);
+            if (is_reading(r.type) && r.hit == 1) printf("%.17g,%.17g,%.17g,", p[0], p[1], p[2]);
             else if (r.type == VP_LOGFMT_EVENT && r.event == VP_LOGFMT_EV_CONTACT)
                 printf("%.17g,%.17g,%.17g,", r.value[1], r.value[2], r.value[3]);
             else printf(",,,");

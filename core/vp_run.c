@@ -65,10 +65,11 @@ int vp_run(vp_planner_t *pl, const vp_device_ops_t *dev, const vp_run_hooks_t *h
                  * asked to pause after the PROBE: a frame is never split) */
                 vp_cmd_t ray;
                 unsigned i;
+                int got;
                 for (i = 0; st == VP_OK; i++) {
                     ray = cmd;
                     ray.kind = VP_CMD_RAY;
-                    int got = dev->rays(dev->ctx, &cmd, i, &ray, &res);
+                    got = dev->rays(dev->ctx, &cmd, i, &ray, &res);
                     if (got < 0) { st = got; break; }   /* the device failed */
                     if (got != 1) break;                 /* the frame has no more */
                     if (after) st = after(hctx, &ray, &res);

@@ -726,6 +726,13 @@ static int vp_machine_face_target(vp_machine_t *m, double x, double y, double z)
     return w < 0 ? w : VP_OK;
 }
 
+/* The distance from the target of beam station i of n: even steps in 1/d from d_far to d_near
+ * (the spot or line moves by about the same number of pixels each time) */
+static double vp_machine_station(double d_near, double d_far, int n, int i)
+{
+    return 1 / (1 / d_far + (1 / d_near - 1 / d_far) * i / (n - 1));
+}
+
 int vp_machine_calibrate(vp_machine_t *m, const vp_calib_plan_t *p, vp_tri_model_t *out, vp_tri_fit_report_t *rep)
 {
     double uv[VP_MACHINE_MAX_CALIB][2], dist[VP_MACHINE_MAX_CALIB], o[3], d[3];
@@ -737,8 +744,7 @@ int vp_machine_calibrate(vp_machine_t *m, const vp_calib_plan_t *p, vp_tri_model
     o[1] = p->y;
     o[2] = p->z;
     for (i = 0; i < p->stations; i++) {
-        /* even steps of 1/d: the spot moves by about the same number of pixels each time */
-        double dd = 1 / (1 / p->d_far + (1 / p->d_near - 1 / p->d_far) * i / (p->stations - 1));
+        double dd = vp_machine_station(p->d_near, p->d_far, p->stations, i);
         o[0] = p->target_x - dd;
         VP_TRY(vp_machine_goto(m, o));
         vp_machine_beam(m, o, d);
@@ -831,10 +837,18 @@ int vp_machine_observe(vp_machine_t *m, vp_spot_t *mark, vp_spot_t *spot)
 }
 
 /* The head pose now and the observations at it. */
+/* The flat target x = target_x (world) in the tilt frame of the head pose R, T (vp_kin_head):
+ * n.p = h with n = R^T ex */
+static void vp_machine_target_plane(const double R[9], const double T[3], double target_x, double n[3], double *h)
+{
+    int i;
+    for (i = 0; i < 3; i++) n[i] = R[i];
+    *h = target_x - T[0];
+}
+
 static int vp_machine_calib_obs(vp_machine_t *m, const vp_calib_full_plan_t *p, vp_calib_obs_t *obs, int cap, int *n,
                                 double spot_uv[2])
 {
-    static const double ex[3] = { 1, 0, 0 };
     double R[9], T[3], w[3];
     vp_spot_t mark, spot;
     int i, k;
@@ -857,8 +871,7 @@ static int vp_machine_calib_obs(vp_machine_t *m, const vp_calib_full_plan_t *p, 
         obs[*n].kind = VP_OBS_SPOT;
         obs[*n].uv[0] = spot_uv[0] = spot.u;
         obs[*n].uv[1] = spot_uv[1] = spot.v;
-        for (i = 0; i < 3; i++) obs[*n].n[i] = R[i] * ex[0] + R[3 + i] * ex[1] + R[6 + i] * ex[2];
-        obs[*n].h = p->target_x - T[0];
+        vp_machine_target_plane(R, T, p->target_x, obs[*n].n, &obs[*n].h);
         (*n)++;
     }
     return VP_OK;
@@ -880,7 +893,7 @@ int vp_machine_calibrate_full(vp_machine_t *m, const vp_calib_full_plan_t *p, vp
     VP_TRY(vp_machine_face_target(m, p->target_x - p->d_far, p->y, p->z));
     /* beam stations */
     for (i = 0; i < p->stations; i++) {
-        double dd = 1 / (1 / p->d_far + (1 / p->d_near - 1 / p->d_far) * i / (p->stations - 1));
+        double dd = vp_machine_station(p->d_near, p->d_far, p->stations, i);
         o[0] = p->target_x - dd; o[1] = p->y; o[2] = p->z;
         VP_TRY(vp_machine_goto(m, o));
         vp_machine_beam(m, o, d);
@@ -921,7 +934,6 @@ int vp_machine_calibrate_full(vp_machine_t *m, const vp_calib_full_plan_t *p, vp
 
 int vp_machine_line_obs(vp_machine_t *m, double target_x, vp_calib_obs_t *obs, int cap, int *n)
 {
-    static const double ex[3] = { 1, 0, 0 };
     double R[9], T[3], nt[3], h;
     vp_frame_t on, off;
     int i, k, np = 0;
@@ -934,10 +946,8 @@ int vp_machine_line_obs(vp_machine_t *m, double target_x, vp_calib_obs_t *obs, i
     /* image points only: the plane is what is being measured */
     VP_TRY(vp_line_detect(&on, &off, &m->cfg.line_cfg, NULL, &m->lws, m->lpts, VP_MACHINE_MAX_LINE, &np, NULL));
     m->nline = m->nrays = 0;
-    /* the target plane x = target_x in the tilt frame at the head's pose: R^T ex . p = target_x - T.x */
     vp_kin_head(&m->kin, m->j, R, T);
-    for (i = 0; i < 3; i++) nt[i] = R[i] * ex[0] + R[3 + i] * ex[1] + R[6 + i] * ex[2];
-    h = target_x - T[0];
+    vp_machine_target_plane(R, T, target_x, nt, &h);
     if (*n + np > cap) return VP_ENOMEM;
     for (i = 0; i < np; i++) {
         vp_calib_obs_t *o = &obs[*n + i];
@@ -962,7 +972,7 @@ int vp_machine_calibrate_line(vp_machine_t *m, const vp_calib_full_plan_t *p, vp
     *n = *poses = 0;
     VP_TRY(vp_machine_face_target(m, p->target_x - p->d_far, p->y, p->z));
     for (i = 0; i < p->stations; i++) {
-        double dd = 1 / (1 / p->d_far + (1 / p->d_near - 1 / p->d_far) * i / (p->stations - 1));
+        double dd = vp_machine_station(p->d_near, p->d_far, p->stations, i);
         o[0] = p->target_x - dd; o[1] = p->y; o[2] = p->z;
         VP_TRY(vp_machine_goto(m, o));
         before = *n;

@@ -172,6 +172,12 @@ out:
     return r.status;
 }
 
+/* A reading's arguments: a device, a unit direction, a positive range. */
+static int vp_ray_ok(const vp_simdev_t *d, const double dir[3], double range)
+{
+    return d && dir && vp_finite3(dir) && range > 0 && fabs(vp_dot3(dir, dir) - 1) <= 1e-9;
+}
+
 /* One reading along dir from the device: the object (as it is at the device's clock), dark
  * patches, the minimum range, dropouts and noise drawn from rng. */
 static void vp_read(vp_simdev_t *d, const double dir[3], double range, vp_rng_t *rng, int probe, vp_simdev_probe_t *r)
@@ -211,7 +217,7 @@ int vp_simdev_probe(vp_simdev_t *d, const double dir[3], double range, vp_simdev
     vp_rng_t rng;
     memset(&r, 0, sizeof r);
     r.true_t = -1;
-    if (!d || !dir || !vp_finite3(dir) || !(range > 0) || fabs(vp_dot3(dir, dir) - 1) > 1e-9) {
+    if (!vp_ray_ok(d, dir, range)) {
         r.status = VP_EINVAL;
     } else {
         /* The draws of probe k come from a generator seeded by (seed, k) alone. */
@@ -231,7 +237,7 @@ int vp_simdev_ray(vp_simdev_t *d, const double dir[3], double range, unsigned i,
     vp_rng_t rng;
     memset(&r, 0, sizeof r);
     r.true_t = -1;
-    if (!d || !dir || !vp_finite3(dir) || !(range > 0) || fabs(vp_dot3(dir, dir) - 1) > 1e-9 || d->nprobe == 0) {
+    if (!vp_ray_ok(d, dir, range) || d->nprobe == 0) {
         r.status = VP_EINVAL;
     } else {
         /* ray i of the frame of probe k: drawn from (seed, k, i); the frame's time, no probe counted */

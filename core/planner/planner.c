@@ -218,6 +218,13 @@ static int issue_shortcut(vp_planner_t *pl, vp_cmd_t *cmd)
     return VP_OK;
 }
 
+/* A range-limited probe is being walked on: the device stands at the end of its free part and
+ * the next task continues it, so nothing is inserted before it goes on. */
+static int walk_in_progress(const vp_planner_t *pl)
+{
+    return pl->pool.ntask > 0 && pl->pool.task[pl->pool.ntask - 1].off > 0.0;
+}
+
 /* Issue step 4: one step of the phase machine (VP_PL_PHASES); *done = 1 at the end. */
 static int phase_step(vp_planner_t *pl, int *done)
 {
@@ -232,7 +239,7 @@ static int phase_step(vp_planner_t *pl, int *done)
         return st;
     case PH_RUN:
 #if VP_PL_LINE_LASER
-        if (pl->rays.n > 0 && !(pl->pool.ntask > 0 && pl->pool.task[pl->pool.ntask - 1].off > 0.0)) {
+        if (pl->rays.n > 0 && !walk_in_progress(pl)) {
             /* a line laser's hit becomes a sample first (where no sample is within eps): the
              * refinement then needs fewer centres probed one by one */
             st = vp_pl_ray_sample(pl);
@@ -240,7 +247,7 @@ static int phase_step(vp_planner_t *pl, int *done)
         }
 #endif
         if (pl->pool.nheap > 0 && !vp_pl_exhaustive(pl) &&
-            !(pl->pool.ntask > 0 && pl->pool.task[pl->pool.ntask - 1].off > 0.0)) {
+            !walk_in_progress(pl)) {
             /* a known bad ball is refined at once: the probes still queued around it would
              * mostly test facets that its insertion kills (the published rule finishes
              * detect_access first). A range-limited probe in progress goes on first: the
@@ -403,13 +410,20 @@ static int shortcut_feed(vp_planner_t *pl, const vp_probe_result_t *res)
     return vp_pl_route_push(pl, pl->pool.vrec[pl->sc.to].p, pf);
 }
 
+/* A probe's (or a ray's) result as the device may give it: hit 0, 1 or too close, a hit's
+ * distance finite and not negative. */
+static int result_ok(const vp_probe_result_t *res)
+{
+    if (res->hit < 0 || res->hit > VP_PROBE_TOO_CLOSE) return 0;
+    return res->hit != 1 || (res->dist >= 0.0 && res->dist < VP_PL_HUGE);
+}
+
 int vp_planner_feed(vp_planner_t *pl, const vp_probe_result_t *res)
 {
     int st;
     if (!pl || !res) return VP_EINVAL;
     if (!pl->dev.awaiting) return VP_ESTATE;
-    if (res->hit < 0 || res->hit > VP_PROBE_TOO_CLOSE) return VP_EINVAL;
-    if (res->hit == 1 && (!(res->dist >= 0.0) || !(res->dist < VP_PL_HUGE))) return VP_EINVAL;
+    if (!result_ok(res)) return VP_EINVAL;
     pl->dev.awaiting = 0;
 #if VP_PL_LINE_LASER
     pl->rays.left = pl->cfg.line_rays;
@@ -430,8 +444,7 @@ int vp_planner_feed_ray(vp_planner_t *pl, const double dir[3], const vp_probe_re
     int q;
     if (!pl || !dir || !res) return VP_EINVAL;
     if (!vp_finite3(dir) || fabs(vp_dot3(dir, dir) - 1.0) > 1e-9) return VP_EINVAL;
-    if (res->hit < 0 || res->hit > VP_PROBE_TOO_CLOSE) return VP_EINVAL;
-    if (res->hit == 1 && (!(res->dist >= 0.0) || !(res->dist < VP_PL_HUGE))) return VP_EINVAL;
+    if (!result_ok(res)) return VP_EINVAL;
     if (pl->error) return pl->error;
     if (pl->dev.awaiting || pl->rays.left == 0) return VP_ESTATE;
     pl->rays.left--;
