@@ -620,6 +620,9 @@ static int log_verify(const char *path, int json)
     if (res->contacts)
         printf("; %llu contact(s) withdrew %llu free part(s)", (unsigned long long)res->contacts,
                (unsigned long long)res->withdrawn);
+    if (res->rescans)
+        printf("; %llu re-scan(s): no free part logged before one proves a move after it",
+               (unsigned long long)res->rescans);
     printf("\n");
     if (json) {
         printf("{\"moves\":%llu,\"probes\":%llu,\"unproven_moves\":%llu,\"first_unproven_record\":",
@@ -635,6 +638,7 @@ static int log_verify(const char *path, int json)
         json_num(stdout, res->tol);
         printf(",\"index_fallbacks\":%llu,\"contacts\":%llu,\"withdrawn\":%llu", (unsigned long long)res->scans,
                (unsigned long long)res->contacts, (unsigned long long)res->withdrawn);
+        if (res->rescans) printf(",\"rescans\":%llu", (unsigned long long)res->rescans);
         printf(",\"log_complete\":%s,\"ok\":%s}\n", L.status == VP_OK ? "true" : "false", res->ok ? "true" : "false");
     }
     st = res->ok ? 0 : 1;

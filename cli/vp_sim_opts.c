@@ -182,13 +182,14 @@ int vp_sim_session_parse_option(vp_sim_session_t *g, int argc, char **argv, int 
 {
     const char *a = argv[*i], *val = *i + 1 < argc ? argv[*i + 1] : NULL;
     if (!strcmp(a, "--no-log")) { g->no_log = 1; return 0; }
-    if (strcmp(a, "--log") && strcmp(a, "--resume") && strcmp(a, "--sync") && strcmp(a, "--stop-after") &&
-        strcmp(a, "--power-cut"))
+    if (strcmp(a, "--log") && strcmp(a, "--resume") && strcmp(a, "--rescan") && strcmp(a, "--sync") &&
+        strcmp(a, "--stop-after") && strcmp(a, "--power-cut"))
         return 1;
     if (!val) { snprintf(err, errlen, "%s needs a value", a); return -1; }
     (*i)++;
     if (!strcmp(a, "--log")) g->log = val;
     else if (!strcmp(a, "--resume")) g->resume = val;
+    else if (!strcmp(a, "--rescan")) g->rescan = val;
     else if (!strcmp(a, "--sync")) {
         if (vp_logwriter_parse_sync(val, &g->fcfg)) {
             snprintf(err, errlen, "--sync takes record, close, N (records), Tms or N,Tms; not '%s'", val);
@@ -208,16 +209,21 @@ int vp_sim_session_options(vp_sim_session_t *g, vp_sim_options_t *o, int argc, c
                       size_t errlen)
 {
     char *note = g->note, *tok[128], sub[512];
+    const char *src = g->resume ? g->resume : g->rescan;
     int n, i, st, has_out = 0;
-    if (!g->resume) return VP_OK;
-    st = vp_sessionlog_load(&g->L, g->resume, err, errlen);
+    if (!src) return VP_OK;
+    if (g->resume && g->rescan) {
+        snprintf(err, errlen, "--resume and --rescan cannot go together (resume a paused re-scan with --resume alone)");
+        return VP_EINVAL;
+    }
+    st = vp_sessionlog_load(&g->L, src, err, errlen);
     if (st != VP_OK) return st;
     g->have_L = 1;
     memcpy(note, g->L.header.note, sizeof g->note);
     n = vp_note_split(note, tok, 128);
     if (n < 1 || strcmp(tok[0], "sim") != 0) {
         snprintf(err, errlen, "%s was not written by `sim` (its note does not start with 'sim'): "
-                 "resume it with the program that wrote it", g->resume);
+                 "resume it with the program that wrote it", src);
         return VP_EINVAL;
     }
     vp_sim_options_default(o);
@@ -225,12 +231,12 @@ int vp_sim_session_options(vp_sim_session_t *g, vp_sim_options_t *o, int argc, c
         st = vp_sim_parse_option(o, n, tok, &i, sub, sizeof sub);
         if (st != 0 && !strcmp(tok[i], "--motion")) {
             snprintf(err, errlen, "%s: a session with a moving object (--motion) cannot be resumed: its log holds "
-                     "no clock", g->resume);
+                     "no clock", src);
             return VP_EINVAL;
         }
         if (st != 0) {
             snprintf(err, errlen, "%s: the options recorded in the log are not understood ('%s'%s%s)",
-                     g->resume, tok[i], st < 0 ? ": " : "", st < 0 ? sub : "");
+                     src, tok[i], st < 0 ? ": " : "", st < 0 ? sub : "");
             return VP_EINVAL;
         }
     }
@@ -239,6 +245,10 @@ int vp_sim_session_options(vp_sim_session_t *g, vp_sim_options_t *o, int argc, c
         vp_sim_session_init(&scratch);
         if (!strcmp(argv[i], "--out")) has_out = 1;
         if (vp_sim_session_parse_option(&scratch, argc, argv, &i, sub, sizeof sub) == 0) continue;
+        if (g->rescan && !strcmp(argv[i], "--surface") && i + 1 < argc) {
+            g->rescan_surface = argv[++i]; /* the object now; the session's own builds its Omega */
+            continue;
+        }
         if (vp_sim_parse_option(o, argc, argv, &i, sub, sizeof sub) != 0) {
             snprintf(err, errlen, "bad option %s", argv[i]);
             return VP_EINVAL;
@@ -246,12 +256,17 @@ int vp_sim_session_options(vp_sim_session_t *g, vp_sim_options_t *o, int argc, c
     }
     if (!has_out) {
         /* the mesh goes beside the log: LOG minus .vplog */
-        size_t len = strlen(g->resume);
-        if (len > 6 && !strcmp(g->resume + len - 6, ".vplog")) {
-            st = vp_path_cat(g->prefix, sizeof g->prefix, g->resume, "", err, errlen);
+        size_t len = strlen(src);
+        if (len > 6 && !strcmp(src + len - 6, ".vplog")) {
+            st = vp_path_cat(g->prefix, sizeof g->prefix, src, "", err, errlen);
             if (st == VP_OK) g->prefix[len - 6] = 0;
+            if (st == VP_OK && g->rescan) {
+                char base[VP_PATH_MAX];
+                memcpy(base, g->prefix, sizeof base);
+                st = vp_path_cat(g->prefix, sizeof g->prefix, base, ".rescan", err, errlen);
+            }
         } else
-            st = vp_path_cat(g->prefix, sizeof g->prefix, g->resume, ".resumed", err, errlen);
+            st = vp_path_cat(g->prefix, sizeof g->prefix, src, g->rescan ? ".rescan" : ".resumed", err, errlen);
         if (st != VP_OK) return st;
         o->out = g->prefix;
     }

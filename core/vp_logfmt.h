@@ -63,8 +63,12 @@ enum vp_logfmt_event {
     VP_LOGFMT_EV_DONE = 5,        /* the planner said DONE: the session is complete */
     VP_LOGFMT_EV_CALIBRATION = 6, /* device calibration (value[]: device-specific, text says) */
     VP_LOGFMT_EV_STEPPING = 7,    /* the step timing of the scan: retimes, faults, lateness */
-    VP_LOGFMT_EV_CONTACT = 8      /* right after a MOVE: the head's contact switch stopped it;
+    VP_LOGFMT_EV_CONTACT = 8,     /* right after a MOVE: the head's contact switch stopped it;
                                      value[0] the distance along the move, value[1..3] the point */
+    VP_LOGFMT_EV_RESCAN = 9       /* a re-scan starts (vp_planner_rescan): the object may have
+                                     changed; the device is at the start again; every free part
+                                     logged before is stale (text: the object now, e.g.
+                                     "--surface SPEC") */
 };
 
 typedef struct vp_logfmt_record {

@@ -110,6 +110,14 @@ typedef struct vp_planner_stats {
     uint64_t dark_misses;      /* misses not taken as proof: the ray passed near a contact */
     uint64_t rays, ray_hits;   /* a line laser's more rays fed (vp_planner_feed_ray), and hits */
     uint64_t ray_samples;      /* their hits inserted as samples */
+    uint64_t rescan_kept;      /* a re-scan (vp_planner_rescan): samples measured again and kept */
+    uint64_t rescan_dropped;   /* samples not where they were (moved, gone, covered): removed */
+    uint64_t rescan_unseen;    /* of those, samples no line from outside Omega reached: removed */
+    uint64_t rescan_normal;    /* samples measured along their normal (their probe's line blocked
+                                  or unknown) */
+    uint64_t reproved;         /* route steps on proofs from before the re-scan, probed again and
+                                  found free before the MOVE */
+    uint64_t reprove_blocked;  /* ... and found blocked: the proofs through that point withdrawn */
     double travel;             /* length of all MOVEs */
     double travel_prev_chains; /* what the same moves cost along prev chains (the paper's
                                   paths); equal to travel with VP_PLAN_PREV_CHAINS */
@@ -205,6 +213,9 @@ typedef struct vp_pl_seed {
                                               reseeding directions (a surface not seen on the way) */
     uint32_t base;                         /* npts when the current seed began */
     double pts[4 * VP_PLANNER_MAX_SEEDS][3];
+#ifndef VP_CORE_MCU
+    double ray[4 * VP_PLANNER_MAX_SEEDS][3];  /* the ray each was found along (a re-scan's line) */
+#endif
     uint32_t npts;
     double q[3];
 } vp_pl_seed_t;
@@ -238,6 +249,23 @@ typedef struct vp_pl_rays {
 } vp_pl_rays_t;
 #endif
 
+#ifndef VP_CORE_MCU
+/* A re-scan (rescan.c): what is left to measure again, and a route step being proven again. */
+typedef struct vp_pl_rescan {
+    uint32_t mark;                         /* proofs below this id are stale (0: no re-scan) */
+    uint32_t nvert;                        /* samples (vertex records) before the re-scan */
+    uint32_t next;                         /* the next of them to measure */
+    int pass;                              /* 0: from outside Omega; 1: the samples that needs
+                                              from their probe's origin inside (deferred) */
+    uint32_t cur;                          /* the one being measured (NONE: none) */
+    uint32_t along;                        /* 0: its probe's line, 1: its normal */
+    uint32_t tries;                        /* misses of the current PROBE re-probed */
+    double expect;                         /* the sample's distance along the PROBE */
+    double tol;                            /* kept when found within this of it */
+    int reprove;                           /* 1: the PROBE out is a route step's proof */
+} vp_pl_rescan_t;
+#endif
+
 /* High-water marks of the pools whose use goes up and down (for stats.arena_peak). */
 typedef struct vp_pl_peak {
     uint32_t task, heap, route, astar, path;
@@ -261,6 +289,7 @@ typedef struct vp_planner {
     vp_pl_contact_t contact;
 #ifndef VP_CORE_MCU
     vp_pl_rays_t rays;
+    vp_pl_rescan_t rescan;
 #endif
     vp_pl_peak_t peak;
     vp_planner_stats_t st;   /* counters, written where things happen */
@@ -299,6 +328,19 @@ int vp_planner_touch(vp_planner_t *pl, double at);
  * bad result (nothing changes); VP_ESTATE without cfg.line_rays, before a PROBE was fed, while a
  * PROBE result is owed, or for more rays than cfg.line_rays. */
 int vp_planner_feed_ray(vp_planner_t *pl, const double dir[3], const vp_probe_result_t *res);
+
+/* A re-scan: the object may have changed since the session so far (replayed into pl); the device
+ * stands at cfg.start again. Every proof of free space made so far is stale: before the device
+ * moves along one, a PROBE of that segment must find it free again (a hit withdraws the proofs
+ * through that point, and the point becomes a sample). Then every sample is measured again from
+ * outside Omega, along the line of the probe that found it or along its normal: one found again
+ * within the noise tolerance (at least a billionth of Omega's size) is kept with its facets; any
+ * other is removed (vp_dt_remove) with the facets and free Voronoi edges around it (its star and
+ * its neighbours' facets), and the scan goes on from there as any scan does. So a change is seen
+ * where it moves a sample or crosses one of the lines measured; elsewhere the surface between
+ * samples that hold is taken as unchanged. VP_ESTATE while a PROBE result is owed or before the
+ * session has samples (dim < 3). Call it again for another re-scan. */
+int vp_planner_rescan(vp_planner_t *pl);
 #endif
 
 /* The mesh: restricted facets with their vertices (indices into vp_planner_dt()), oriented with
@@ -309,7 +351,8 @@ uint32_t vp_planner_facet_slots(const vp_planner_t *pl);
 int vp_planner_facet(const vp_planner_t *pl, uint32_t i, uint32_t v[3], double *radius,
                      double center[3]);
 uint32_t vp_planner_num_facets(const vp_planner_t *pl);
-/* What the planner is doing (for reports): finding the first samples (paper 000's seed), Delaunay
+/* What the planner is doing (for reports): finding the first samples (paper 000's seed; in a
+ * re-scan, measuring the old ones again), Delaunay
  * refinement, closing (holes, the manifold criterion, every component enclosed), done. Refining
  * again after a closing round counts as refinement. */
 typedef enum { VP_STAGE_SEED = 0, VP_STAGE_REFINE = 1, VP_STAGE_CLOSE = 2, VP_STAGE_DONE = 3 } vp_planner_stage_t;

@@ -535,6 +535,15 @@ int vp_logverify_add(vp_logverify_t *v, const vp_logfmt_record_t *r)
     else if (r->type == VP_LOGFMT_PROBE) st = add_probe(v, r);
     else if (r->type == VP_LOGFMT_RAY) v->res.rays++; /* the planner moves on PROBE proofs alone */
     else if (r->event == VP_LOGFMT_EV_CONTACT) { v->res.events++; st = add_contact(v, r); }
+    else if (r->event == VP_LOGFMT_EV_RESCAN) {
+        /* a re-scan: the object may have changed, so nothing proven before proves anything now;
+         * the device is at the start again */
+        size_t i;
+        for (i = 0; i < v->npr; i++) v->pr[i].len = -1.0;
+        memcpy(v->res.pos, v->cfg.start, sizeof v->res.pos);
+        v->res.events++;
+        v->res.rescans++;
+    }
     else v->res.events++;   /* START, PAUSE, RESUME, FAULT, DONE, ...: the device stays */
     if (st != VP_OK) return st;
     v->index++;

@@ -69,6 +69,7 @@ typedef struct vp_logverify_result {
     uint64_t moves_outside;    /* moves wholly outside Omega */
     uint64_t contacts;         /* CONTACT events */
     uint64_t withdrawn;        /* free parts a contact showed false */
+    uint64_t rescans;          /* RESCAN events: every free part before one is stale after it */
     uint64_t scans;            /* moves too short for the line index that the probes fired
                                   from their ends did not prove (all probes scanned) */
     double unproven_length;    /* summed over the unproven moves */

@@ -19,6 +19,7 @@ const char *vp_sessionlog_event_name(uint32_t event)
     case VP_LOGFMT_EV_CALIBRATION: return "calibration";
     case VP_LOGFMT_EV_STEPPING: return "stepping";
     case VP_LOGFMT_EV_CONTACT: return "contact";
+    case VP_LOGFMT_EV_RESCAN: return "rescan";
     default: return "unknown";
     }
 }
@@ -53,7 +54,11 @@ static int index_records(vp_sessionlog_t *L, char *err, size_t errlen)
         if (rec.type == VP_LOGFMT_PROBE) { L->probes++; L->hits += rec.hit == 1; }
         else if (rec.type == VP_LOGFMT_RAY) { L->rays++; L->ray_hits += rec.hit == 1; }
         else if (rec.type == VP_LOGFMT_MOVE) L->moves++;
-        else { L->events++; if (rec.event == VP_LOGFMT_EV_DONE) L->done = 1; }
+        else {
+            L->events++;
+            if (rec.event == VP_LOGFMT_EV_DONE) L->done = 1;
+            if (rec.event == VP_LOGFMT_EV_RESCAN) L->done = 0; /* a re-scan goes on from there */
+        }
     }
     if (st >= 0) st = vp_logfmt_reader_finish(r);
     L->good_bytes = r->offset;
@@ -254,6 +259,20 @@ int vp_replay_run(vp_replay_t *R, const vp_sessionlog_t *L, uint32_t upto, char 
                 for (k = 0; k < 3; k++) R->pos[k] = R->from[k] + rec.value[0] * (len > 0.0 ? d[k] / len : 0.0);
                 R->contacts++;
             }
+            if (rec.event == VP_LOGFMT_EV_RESCAN) {
+                /* a re-scan: the planner measures its samples again from the start */
+                st = vp_planner_rescan(R->pl);
+                if (st != VP_OK) {
+                    snprintf(err, errlen, "record %u (byte offset %zu): the planner refused the re-scan: %s",
+                             i, L->off[i], vp_strerror(st));
+                    return st;
+                }
+                memcpy(R->pos, L->header.cfg.start, sizeof R->pos);
+                R->done = 0;
+                R->rescans++;
+                R->probes_since_rescan = 0;
+                vp_planner_get_stats(R->pl, &R->at_rescan);
+            }
             if (rec.event == VP_LOGFMT_EV_DONE && !R->done) {
                 /* the planner must agree that the session is complete */
                 vp_cmd_t cmd;
@@ -292,7 +311,7 @@ int vp_replay_run(vp_replay_t *R, const vp_sessionlog_t *L, uint32_t upto, char 
             R->moves++;
         }
         else if (rec.type == VP_LOGFMT_RAY) R->rays++;
-        else { R->probes++; R->hits += rec.hit == 1; }
+        else { R->probes++; R->probes_since_rescan++; R->hits += rec.hit == 1; }
         R->applied++;
     }
     return VP_OK;

@@ -77,10 +77,82 @@ void vp_sim_session_note(const vp_sim_options_t *o, char *buf, size_t n)
 int vp_sim_session_set_path(vp_sim_session_t *g, const vp_sim_options_t *o, char *err, size_t errlen)
 {
     g->path[0] = 0;
-    if (g->no_log && !g->resume) return VP_OK;
+    if (g->no_log && !g->resume && !g->rescan) return VP_OK;
     if (g->log) return vp_path_cat(g->path, sizeof g->path, g->log, "", err, errlen);
     if (g->resume) return vp_path_cat(g->path, sizeof g->path, g->resume, "", err, errlen);
     if (o->out) return vp_path_cat(g->path, sizeof g->path, o->out, ".vplog", err, errlen);
+    return VP_OK;
+}
+
+/* The object of the last RESCAN event of the loaded log (its text: --surface SPEC). */
+static int last_rescan_surface(vp_sim_session_t *g, char *err, size_t errlen)
+{
+    uint32_t i;
+    for (i = g->L.n; i-- > 0;) {
+        vp_logfmt_record_t rec;
+        if (vp_sessionlog_record(&g->L, i, &rec) != VP_OK || rec.type != VP_LOGFMT_EVENT ||
+            rec.event != VP_LOGFMT_EV_RESCAN)
+            continue;
+        if (strncmp(rec.text, "--surface ", 10) != 0 || !rec.text[10]) break;
+        memcpy(g->rescan_spec, rec.text + 10, strlen(rec.text + 10) + 1);
+        g->rescan_surface = g->rescan_spec;
+        return VP_OK;
+    }
+    snprintf(err, errlen, "the log's last RESCAN event does not name the object (--surface SPEC)");
+    return VP_ECORRUPT;
+}
+
+/* --rescan OLD: OLD replayed into s->pl (with the object it was made on: the same planner
+ * configuration), copied to the new log, a RESCAN event, the planner's re-scan, and the device
+ * at the start facing the object now. */
+static int rescan_begin(vp_sim_session_t *g, vp_sim_t *s, const vp_sim_options_t *o, FILE *msg, char *err,
+                        size_t errlen)
+{
+    vp_replay_t R;
+    char why[200], text[VP_LOGFMT_TEXT_MAX + 1];
+    const char *now = g->rescan_surface ? g->rescan_surface : o->surface;
+    int st;
+    if (!vp_sessionlog_same_config(&g->L.header.cfg, g->L.header.arena_bytes, &s->cfg, (uint64_t)o->arena,
+                                   why, sizeof why)) {
+        snprintf(err, errlen, "%s: the scan configuration is not the logged one (%s)", g->rescan, why);
+        return VP_EINVAL;
+    }
+    if (!g->path[0] || !strcmp(g->path, g->rescan)) {
+        snprintf(err, errlen, "a re-scan writes a new log: give --out or --log other than %s", g->rescan);
+        return VP_EINVAL;
+    }
+    if (strlen(now) + 10 > VP_LOGFMT_TEXT_MAX) {
+        snprintf(err, errlen, "the object's name is too long for the log (%zu bytes at most)", (size_t)VP_LOGFMT_TEXT_MAX - 10);
+        return VP_EINVAL;
+    }
+    vp_replay_init_state(&R, s->pl, &g->L);
+    st = vp_replay_run(&R, &g->L, g->L.n, why, sizeof why);
+    if (st != VP_OK) { snprintf(err, errlen, "%s: replay failed: %s", g->rescan, why); return st; }
+    g->replayed = R.applied;
+    if ((st = vp_planner_rescan(s->pl)) != VP_OK) {
+        snprintf(err, errlen, "%s: the planner cannot re-scan this session: %s", g->rescan, vp_strerror(st));
+        return st;
+    }
+    if ((st = vp_sim_swap_surface(s, now, err, errlen)) != VP_OK) return st;
+    if (msg) fprintf(msg, "rescan %s: %u records replayed (%llu probes), %u samples to measure again on %s\n",
+                     g->rescan, R.applied, (unsigned long long)R.probes, s->pl->dt.ninserted, now);
+    if (vp_mkdirs_for(g->path) != 0) {
+        snprintf(err, errlen, "cannot create the folder of %s: %s", g->path, strerror(errno));
+        return VP_EIO;
+    }
+    st = vp_logwriter_create_copy(&g->w.file, g->path, g->L.data, g->L.good_bytes, g->L.n, &g->fcfg);
+    snprintf(text, sizeof text, "--surface %s", now);
+    if (st == VP_OK) st = vp_logwriter_event(&g->w.file, VP_LOGFMT_EV_RESCAN, 0, text);
+    if (st != VP_OK) {
+        snprintf(err, errlen, "cannot write the session log %s: %s", g->path, strerror(errno));
+        return st;
+    }
+    g->active = 1;
+    g->w.raw = &s->raw;
+    g->w.stop_after = g->stop_after;
+    g->hooks.ctx = &g->w;
+    g->hooks.after = vp_sessionlog_after;
+    s->hooks = &g->hooks;
     return VP_OK;
 }
 
@@ -90,13 +162,14 @@ int vp_sim_session_begin(vp_sim_session_t *g, vp_sim_t *s, const vp_sim_options_
     char why[200], stop[600];
     int st;
     s->raw = NAN;
-    if (g->no_log && !g->resume) return VP_OK;
+    if (g->no_log && !g->resume && !g->rescan) return VP_OK;
     if ((st = vp_sim_session_set_path(g, o, err, errlen)) != VP_OK) return st;
     if (!g->path[0]) return VP_OK;
     if (vp_mkdirs_for(g->path) != 0) {
         snprintf(err, errlen, "cannot create the folder of %s: %s", g->path, strerror(errno));
         return VP_EIO;
     }
+    if (g->rescan) return rescan_begin(g, s, o, msg, err, errlen);
     if (g->resume) {
         vp_replay_t R;
         if (!vp_sessionlog_same_config(&g->L.header.cfg, g->L.header.arena_bytes, &s->cfg, (uint64_t)o->arena,
@@ -112,7 +185,13 @@ int vp_sim_session_begin(vp_sim_session_t *g, vp_sim_t *s, const vp_sim_options_
         if (st != VP_OK) { snprintf(err, errlen, "%s: replay failed: %s", g->resume, why); return st; }
         g->replayed = R.applied;
         g->complete = g->L.done;
-        vp_simdev_restore(s->dev, R.pos, R.probes);
+        if (R.rescans > 0) {
+            /* a paused re-scan: the object is the one its last RESCAN event names */
+            if ((st = last_rescan_surface(g, err, errlen)) != VP_OK) return st;
+            if ((st = vp_sim_swap_surface(s, g->rescan_surface, err, errlen)) != VP_OK) return st;
+            s->before = R.at_rescan;
+        }
+        vp_simdev_restore(s->dev, R.pos, R.rescans > 0 ? R.probes_since_rescan : R.probes);
         if (msg) fprintf(msg, "resume: %u records replayed (%llu probes, %llu moves), device at %.6g %.6g %.6g%s\n",
                          R.applied, (unsigned long long)R.probes, (unsigned long long)R.moves,
                          R.pos[0], R.pos[1], R.pos[2], g->complete ? "; the session is already complete" : "");

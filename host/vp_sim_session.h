@@ -11,6 +11,10 @@
 typedef struct vp_sim_session {
     const char *log;             /* --log FILE (NULL: PREFIX.vplog) */
     const char *resume;          /* --resume LOG */
+    const char *rescan;          /* --rescan LOG: the session to scan again */
+    const char *rescan_surface;  /* the object now (--surface with --rescan; NULL: the logged one;
+                                    on --resume of a re-scan, the last RESCAN event's) */
+    char rescan_spec[VP_LOGFMT_TEXT_MAX + 1];
     int no_log;                  /* --no-log */
     vp_logwriter_config_t fcfg;    /* --sync, --power-cut */
     unsigned long stop_after;    /* --stop-after N */

@@ -200,6 +200,7 @@ int vp_sim_open(vp_sim_t *s, const vp_sim_options_t *o, char *err, size_t errlen
     dc.speed = o->speed;
     dc.accel = o->accel;
     dc.probe_time = o->probe_time;
+    s->dc = dc;
     st = vp_simdev_create(s->surf, &dc, s->cfg.start, &s->dev);
     if (st != VP_OK) { snprintf(err, errlen, "cannot create the simulated device: %s", vp_strerror(st)); return st; }
     s->pl = malloc(sizeof *s->pl);
@@ -211,6 +212,45 @@ int vp_sim_open(vp_sim_t *s, const vp_sim_options_t *o, char *err, size_t errlen
                  st == VP_ENOMEM ? " (the arena is too small: --arena)" : "");
         return st;
     }
+    return VP_OK;
+}
+
+int vp_sim_swap_surface(vp_sim_t *s, const char *spec, char *err, size_t errlen)
+{
+    vp_surface_t *ns;
+    vp_simdev_t *nd;
+    double lo[3], hi[3], c[3], m = s->cfg.clearance, r2 = 0.0;
+    int st, k;
+    st = vp_surface_open(spec, &ns, err, errlen);
+    if (st != VP_OK) return st;
+    vp_surface_bbox(ns, lo, hi);
+    for (k = 0; k < 3; k++) {
+        c[k] = s->cfg.omega_center[k];
+        r2 += (fabs(lo[k] - c[k]) > fabs(hi[k] - c[k]) ? (lo[k] - c[k]) * (lo[k] - c[k]) : (hi[k] - c[k]) * (hi[k] - c[k]));
+    }
+    if (s->cfg.omega_kind == VP_OMEGA_BOX ? !(lo[0] >= s->cfg.omega_lo[0] + m && lo[1] >= s->cfg.omega_lo[1] + m &&
+                                              lo[2] >= s->cfg.omega_lo[2] + m && hi[0] <= s->cfg.omega_hi[0] - m &&
+                                              hi[1] <= s->cfg.omega_hi[1] - m && hi[2] <= s->cfg.omega_hi[2] - m)
+                                          : !(sqrt(r2) <= s->cfg.omega_radius - m)) {
+        snprintf(err, errlen, "the object %s does not lie in the logged session's Omega%s: a re-scan keeps "
+                 "the session's Omega (scan it afresh instead)", spec, m > 0 ? " with the head's clearance" : "");
+        vp_surface_close(ns);
+        return VP_EINVAL;
+    }
+    st = vp_simdev_create(ns, &s->dc, s->cfg.start, &nd);
+    if (st != VP_OK) {
+        snprintf(err, errlen, "cannot create the simulated device: %s", vp_strerror(st));
+        vp_surface_close(ns);
+        return st;
+    }
+    vp_simdev_destroy(s->dev);
+    vp_surface_close(s->surf);
+    s->dev = nd;
+    s->surf = ns;
+    s->components = vp_surface_components(ns);
+    s->rescan = 1;
+    s->rescan_spec = spec;
+    vp_planner_get_stats(s->pl, &s->before);
     return VP_OK;
 }
 
@@ -391,6 +431,15 @@ void vp_sim_report(const vp_sim_t *s, const vp_sim_options_t *o, FILE *f)
                 fprintf(f, "; Hausdorff at the start %.6g, at the end %.6g", s->haus.hausdorff, s->haus_end.hausdorff);
             fprintf(f, "\n");
         }
+        if (s->rescan)
+            fprintf(f, "rescan of %s: %llu probes, %llu moves (the session re-scanned took %llu probes); samples: %llu "
+                    "kept, %llu removed (%llu reached from no line outside Omega), %llu measured along their normal; "
+                    "%llu route steps proven again (%llu blocked)\n", s->rescan_spec,
+                    (unsigned long long)(st.probes - s->before.probes), (unsigned long long)(st.moves - s->before.moves),
+                    (unsigned long long)s->before.probes, (unsigned long long)st.rescan_kept,
+                    (unsigned long long)st.rescan_dropped, (unsigned long long)st.rescan_unseen,
+                    (unsigned long long)st.rescan_normal, (unsigned long long)st.reproved,
+                    (unsigned long long)st.reprove_blocked);
         if (st.unproven || st.stalls)
             fprintf(f, "safety: %llu segments an inference proposed were not proven free (never travelled); "
                     "%llu sides could not be probed\n", (unsigned long long)st.unproven, (unsigned long long)st.stalls);
@@ -435,6 +484,14 @@ void vp_sim_report(const vp_sim_t *s, const vp_sim_options_t *o, FILE *f)
                 (unsigned long long)st.escalations, (unsigned long long)st.reseeds, st.missing_components,
                 (unsigned long long)st.unproven, (unsigned long long)st.stalls, s->target, s->cfg.size_rel,
                 s->cfg.min_size, s->cfg.max_distance, touch);
+        if (s->rescan)
+            fprintf(f, ",\"rescan\":{\"surface\":\"%s\",\"probes\":%llu,\"moves\":%llu,\"old_probes\":%llu,"
+                    "\"kept\":%llu,\"dropped\":%llu,\"unseen\":%llu,\"normal\":%llu,\"reproved\":%llu,"
+                    "\"blocked\":%llu}", s->rescan_spec, (unsigned long long)(st.probes - s->before.probes),
+                    (unsigned long long)(st.moves - s->before.moves), (unsigned long long)s->before.probes,
+                    (unsigned long long)st.rescan_kept, (unsigned long long)st.rescan_dropped,
+                    (unsigned long long)st.rescan_unseen, (unsigned long long)st.rescan_normal,
+                    (unsigned long long)st.reproved, (unsigned long long)st.reprove_blocked);
         if (s->motion)
             fprintf(f, ",\"motion\":\"%s\",\"sim_time\":%.6g,\"speed_bound\":%.6g,\"speed\":%.6g,\"accel\":%.6g,"
                     "\"probe_time\":%.6g,\"hausdorff_start\":%.6g,\"hausdorff_end\":%.6g",

@@ -65,6 +65,10 @@ typedef struct vp_sim {
     vp_motion_t *motion;             /* the object's motion (NULL: static) */
     vp_hausdorff_t haus_end;         /* with a motion: the mesh against the object at the end time */
     int have_haus_end;
+    vp_simdev_config_t dc;           /* the simulated device's settings (kept for a re-scan) */
+    int rescan;                      /* a re-scan: the object was swapped after the replay */
+    const char *rescan_spec;         /* ... for this one (the caller's string) */
+    vp_planner_stats_t before;       /* the planner's counters when the re-scan began */
 } vp_sim_t;
 
 void vp_sim_options_default(vp_sim_options_t *o);
@@ -100,6 +104,11 @@ int vp_sim_exit(const vp_sim_t *s);
 /* Human summary, and with o->json one JSON object as the last line. */
 void vp_sim_report(const vp_sim_t *s, const vp_sim_options_t *o, FILE *f);
 void vp_sim_close(vp_sim_t *s);
+/* A re-scan: the simulated object becomes `spec` (the device back at the start, its counters from
+ * zero), after the session so far was replayed into s->pl with the old one. The planner's
+ * configuration stays the logged one, so the new object must lie in its Omega (assumption A2;
+ * with a body, the clearance inside it): VP_EINVAL (err) otherwise. */
+int vp_sim_swap_surface(vp_sim_t *s, const char *spec, char *err, size_t errlen);
 
 /* The planner configuration for an object: Omega = bbox grown by margin * diagonal (box or
  * ball), one interior point per component, start outside Omega. */

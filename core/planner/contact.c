@@ -137,7 +137,7 @@ static void reset_tets(vp_planner_t *pl)
 }
 
 /* the record standing at point p (exactly), else NONE */
-static uint32_t rec_at(const vp_planner_t *pl, const double *p)
+VP_PL_API uint32_t vp_pl_rec_at(const vp_planner_t *pl, const double *p)
 {
     uint32_t i;
     for (i = pl->pool.nvrec; i-- > 0;) {
@@ -197,7 +197,7 @@ static int touch_at(vp_planner_t *pl, double at)
     VP_TRY(rebuild_chains(pl));
     reset_tets(pl);
     /* the device stands at the contact; it backs off to the move's start */
-    from_rec = rec_at(pl, back);
+    from_rec = vp_pl_rec_at(pl, back);
     if (from_rec == NONE) {
         st = vp_pl_rec_new(pl, back, NONE, vp_pl_omega_inside(&pl->cfg, back) ? REC_LOST : REC_OUT, &from_rec);
         if (st != VP_OK) return st;
@@ -213,6 +213,61 @@ static int touch_at(vp_planner_t *pl, double at)
     pl->st.insertions++;
     pl->close.exhaustive = 0;
     if (pl->phase != PH_RUN) pl->phase = PH_RUN;
+    st = vp_pl_after_insert(pl, v);
+    vp_pl_note_peak(pl);
+    return st;
+}
+
+/* A re-scan's probe of a stale route step (rescan.c) found S on the step, at h (NULL: the step
+ * could not be probed whole): its proof `old` and every proof through h are false. What the
+ * device was about to do goes back to the queue, the prev chains are rebuilt over the proofs
+ * that stand, the device keeps its place (a record there), and h becomes a sample. */
+VP_PL_API int vp_pl_withdraw_at(vp_planner_t *pl, const double *h, uint32_t old)
+{
+    uint32_t i, r, v;
+    double tol = pl->ptol + pl->cfg.noise_tol;
+    int st;
+    if (h && !vp_pl_omega_inside(&pl->cfg, h)) return VP_ERANGE; /* Omega holds the object (A2) */
+    if (old < pl->pool.nproof && pl->pool.proof[old].len >= 0.0) {
+        pl->pool.proof[old].len = -1.0;
+        pl->st.revoked++;
+    }
+    if (h)
+        for (i = 0; i < pl->pool.nproof; i++)
+            if (proof_near(&pl->pool.proof[i], h, tol)) {
+                pl->pool.proof[i].len = -1.0;
+                pl->st.revoked++;
+            }
+    if (pl->probe.ready && pl->probe.task.off > 0.0) {
+        vp_pl_probe_drop(pl);
+    } else if (pl->probe.ready) {
+        pl->probe.ready = 0;
+        if (pl->phase == PH_RUN || pl->phase == PH_CLOSE) {
+            if (pl->pool.ntask >= pl->pool.cap_task) vp_pl_task_compact(pl);
+            if (pl->pool.ntask >= pl->pool.cap_task) return VP_ENOMEM;
+            pl->pool.task[pl->pool.ntask++] = pl->probe.task;
+        }
+    }
+    if (pl->phase == PH_RESEED) pl->phase = PH_COMPONENTS;
+    pl->sc.pending = 0;
+    pl->route.deferred = 0;
+    pl->route.n = pl->route.i = 0;
+    VP_TRY(rebuild_chains(pl));
+    reset_tets(pl);
+    r = vp_pl_rec_at(pl, pl->dev.pos);
+    if (r == NONE) {
+        st = vp_pl_rec_new(pl, pl->dev.pos, NONE, vp_pl_omega_inside(&pl->cfg, pl->dev.pos) ? REC_LOST : REC_OUT, &r);
+        if (st != VP_OK) return st;
+    }
+    pl->dev.at = r;
+    if (!h) return VP_OK;
+    if (!vp_pl_pools_have_room(pl)) return VP_ENOMEM;
+    st = vp_dt_insert(&pl->dt, h, VP_DT_NONE, &v);
+    if (st == VP_EDUP) return VP_OK;
+    if (st != VP_OK) return st;
+    pl->st.insertions++;
+    pl->close.exhaustive = 0;
+    if (pl->phase != PH_RUN && pl->phase != PH_VERIFY) pl->phase = PH_RUN; /* measuring goes on */
     st = vp_pl_after_insert(pl, v);
     vp_pl_note_peak(pl);
     return st;

@@ -160,18 +160,18 @@ static int pole_vector(vp_planner_t *pl, uint32_t v, double *nrm)
 
 /* The unit normal estimate at sample v (zero if none): its pole vector. It depends on v's star
  * only, so it is kept (pool.nrm) until an insertion changes that star (vp_pl_after_insert
- * clears the record's aux). */
+ * clears the record's AUX_NRM). */
 static void sample_normal(vp_planner_t *pl, uint32_t v, double *nrm)
 {
     vp_dt_vertex_t *rec = &pl->dt.vtop[-(ptrdiff_t)v];
-    if (v < pl->pool.cap_nrm && rec->aux == 1u) {
+    if (v < pl->pool.cap_nrm && (rec->aux & AUX_NRM)) {
         memcpy(nrm, pl->pool.nrm + 3 * (size_t)v, 3 * sizeof(double));
         return;
     }
     if (pole_vector(pl, v, nrm) == 0 || !vp_normalize3(nrm)) nrm[0] = nrm[1] = nrm[2] = 0.0;
     if (v < pl->pool.cap_nrm) {
         memcpy(pl->pool.nrm + 3 * (size_t)v, nrm, 3 * sizeof(double));
-        rec->aux = 1u;
+        rec->aux |= AUX_NRM;
     }
 }
 

@@ -307,6 +307,10 @@ static int phase_step(vp_planner_t *pl, int *done)
         return st > 0 ? VP_OK : st;
     case PH_COMPONENTS:
         return vp_pl_check_components(pl);
+#if VP_PL_CONTACTS
+    case PH_VERIFY:
+        return vp_pl_verify_next(pl);
+#endif
     default: /* PH_DONE */
         *done = 1;
         return VP_OK;
@@ -338,6 +342,14 @@ int vp_planner_next(vp_planner_t *pl, vp_cmd_t *cmd)
             return VP_ESTALL;
         }
         if (pl->route.i < pl->route.n) {
+#if VP_PL_CONTACTS
+            double d[3], range;
+            if (vp_pl_step_stale(pl) && vp_pl_reprove_dir(pl, d, &range)) {
+                /* a re-scan: the step's proof is from before it; probe the step first */
+                issue_probe(pl, cmd, pl->dev.pos, d, range);
+                return VP_OK;
+            }
+#endif
             st = issue_move(pl, cmd);
         } else if (pl->sc.pending == 1) {
             st = issue_shortcut(pl, cmd);
@@ -428,7 +440,13 @@ int vp_planner_feed(vp_planner_t *pl, const vp_probe_result_t *res)
 #if VP_PL_LINE_LASER
     pl->rays.left = pl->cfg.line_rays;
 #endif
+#if VP_PL_CONTACTS
+    if (pl->rescan.reprove) st = vp_pl_reprove_feed(pl, res);
+    else if (pl->sc.pending == 2) st = shortcut_feed(pl, res);
+    else if (pl->phase == PH_VERIFY) st = vp_pl_verify_feed(pl, res);
+#else
     if (pl->sc.pending == 2) st = shortcut_feed(pl, res);
+#endif
     else if (pl->phase == PH_SEED) st = vp_pl_seed_feed(pl, res);
     else if (pl->phase == PH_RESEED) st = vp_pl_reseed_feed(pl, res);
     else st = vp_pl_task_finish(pl, res);
@@ -469,7 +487,7 @@ uint32_t vp_planner_num_facets(const vp_planner_t *pl) { return pl->pool.nfacets
 vp_planner_stage_t vp_planner_stage(const vp_planner_t *pl)
 {
     switch (pl->phase) {
-    case PH_SEED: return VP_STAGE_SEED;
+    case PH_SEED: case PH_VERIFY: return VP_STAGE_SEED;
     case PH_RUN: case PH_RESEED: return VP_STAGE_REFINE;
     case PH_CLOSE: case PH_COMPONENTS: return VP_STAGE_CLOSE;
     default: return VP_STAGE_DONE;

@@ -332,6 +332,26 @@ static int outside_route(vp_planner_t *pl, const double *a, const double *b, int
     return VP_OK;
 }
 
+#if VP_PL_CONTACTS
+/* The device goes round Omega, outside it, to q on or outside dOmega (a re-scan's measuring
+ * points, rescan.c): the route, and a record at q (pl->dev.at). The device stands on or outside
+ * dOmega. */
+VP_PL_API int vp_pl_route_outside(vp_planner_t *pl, const double *q)
+{
+    double len;
+    uint32_t b;
+    pl->route.n = pl->route.i = 0;
+    pl->st.routes++;
+    pl->route.from = pl->dev.at;
+    pl->route.deferred = 0;
+    pl->sc.to = NONE;
+    VP_TRY(outside_route(pl, pl->dev.pos, q, 0, &len));
+    VP_TRY(vp_pl_rec_new(pl, q, NONE, REC_OUT, &b));
+    pl->dev.at = b;
+    return VP_OK;
+}
+#endif
+
 /* ---------- paths for the device ---------- */
 
 /* first record on the prev chain of r that lies outside Omega (the chain's root) */

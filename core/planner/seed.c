@@ -173,6 +173,9 @@ VP_PL_API int vp_pl_seed_feed(vp_planner_t *pl, const vp_probe_result_t *res_in)
     switch (pl->seed.step) {
     case 0:
         memcpy(pl->seed.pts[pl->seed.npts++], h, sizeof h);
+#ifndef VP_CORE_MCU
+        memcpy(pl->seed.ray[pl->seed.npts - 1], pl->probe.dir, sizeof pl->seed.ray[0]);
+#endif
         pl->seed.step = 1;
         pl->seed.attempt = 0;
         return VP_OK;
@@ -180,6 +183,9 @@ VP_PL_API int vp_pl_seed_feed(vp_planner_t *pl, const vp_probe_result_t *res_in)
     case 2:
         if (res->hit && vp_dist3(h, pl->seed.pts[pl->seed.npts - pl->seed.step]) <= pl->cfg.eps / 4.0) {
             memcpy(pl->seed.pts[pl->seed.npts++], h, sizeof h);
+#ifndef VP_CORE_MCU
+        memcpy(pl->seed.ray[pl->seed.npts - 1], pl->probe.dir, sizeof pl->seed.ray[0]);
+#endif
             if (pl->seed.step == 2) {
                 /* legs short and the triangle not flat, else try other axes, smaller angles */
                 const double *a = pl->seed.pts[pl->seed.npts - 3], *b = pl->seed.pts[pl->seed.npts - 2];
@@ -209,6 +215,9 @@ VP_PL_API int vp_pl_seed_feed(vp_planner_t *pl, const vp_probe_result_t *res_in)
         return VP_OK;
     default:
         memcpy(pl->seed.pts[pl->seed.npts++], h, sizeof h);
+#ifndef VP_CORE_MCU
+        memcpy(pl->seed.ray[pl->seed.npts - 1], pl->probe.dir, sizeof pl->seed.ray[0]);
+#endif
         pl->seed.cur++;
         pl->seed.step = 0;
 #if VP_PL_CONTACTS

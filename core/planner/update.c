@@ -91,7 +91,7 @@ VP_PL_API int vp_pl_after_insert(vp_planner_t *pl, uint32_t pv)
         memcpy(kpay + KPAY * q, pay(pl, killed[q]), KPAY * sizeof(uint32_t));
         kbound[q] = 0;
         for (ki = 0; ki < 4; ki++)
-            if (kverts[4 * q + ki] < pl->pool.cap_nrm) pl->dt.vtop[-(ptrdiff_t)kverts[4 * q + ki]].aux = 0;
+            if (kverts[4 * q + ki] < pl->pool.cap_nrm) pl->dt.vtop[-(ptrdiff_t)kverts[4 * q + ki]].aux &= ~AUX_NRM;
     }
     for (q = 0; q < nc; q++) {
         uint32_t ks = cfrom[q] >> 2;
@@ -289,13 +289,14 @@ static uint32_t choose_ball(const vp_planner_t *pl)
 VP_PL_API int vp_pl_refine(vp_planner_t *pl)
 {
     if (pl->pool.fhash_dirty) { vp_pl_fhash_rebuild(pl); pl->pool.fhash_dirty = 0; }
-    uint32_t k = choose_ball(pl), t, v = NONE, fv[3];
+    uint32_t k = choose_ball(pl), t, v = NONE, fv[3], pf;
     int fi, st;
     double c[3];
     if (pl->pool.ntask + ROOM_SMALL > pl->pool.cap_task) vp_pl_task_compact(pl);
     if (!vp_pl_pools_have_room(pl)) return VP_ENOMEM;
     memcpy(fv, pl->pool.frec[k].v, sizeof fv);
     memcpy(c, pl->pool.frec[k].c, sizeof c);
+    pf = pl->pool.frec[k].proof;
     t = vp_pl_find_facet(pl, fv, &fi, 0);
     if (t == NONE) {
         vp_pl_frec_delete(pl, k);
@@ -316,6 +317,12 @@ VP_PL_API int vp_pl_refine(vp_planner_t *pl)
     }
     pl->st.insertions++;
     pl->close.exhaustive = 0;
+    /* the sample remembers the probe that found it: a re-scan measures it along that line */
+#if VP_PL_CONTACTS
+    if (pf < AUX_PROOF) vp_dt_vertex(&pl->dt, v)->aux = (vp_dt_vertex(&pl->dt, v)->aux & AUX_NRM) | (pf + 1u);
+#else
+    (void)pf;
+#endif
     st = vp_pl_after_insert(pl, v);
     vp_pl_note_peak(pl);
     return st;

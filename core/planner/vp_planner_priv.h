@@ -54,6 +54,13 @@
 #define REC_LOST 2u      /* no longer joined to the outside by proofs that stand (contact.c):
                             its prev chain is not a way */
 
+/* a sample's aux word (its vp_dt vertex record): bit 31, its normal estimate in pool.nrm is
+ * valid (facets.c); bit 30, a re-scan measures it from inside Omega, in its second pass; bits
+ * 0-29, 1 + the proof of the probe that found it (0: none; rescan.c) */
+#define AUX_NRM 0x80000000u
+#define AUX_DEFER 0x40000000u
+#define AUX_PROOF 0x3FFFFFFFu
+
 /* facet record flags */
 #define FREC_FLIP 1u     /* (v0,v1,v2) is oriented inward: swap two for output */
 #define FREC_STUCK 2u    /* its centre could not be inserted: not refined again */
@@ -87,10 +94,14 @@
  *                  a miss the rangefinder's reach cut short: walk on ---------> PH_RESEED
  *                  otherwise ---------------------------------------------------> PH_COMPONENTS
  *   PH_DONE        DONE at every call
+ *   PH_VERIFY      a re-scan (vp_planner_rescan): each sample of the session so far measured
+ *                  again from outside Omega, kept or removed ---------------------> PH_RUN
+ * With a re-scan, a route step on a proof from before it is probed first (issue order 1 is
+ * then a PROBE; vp_planner_feed -> reprove_feed before anything else).
  *
  * close.exhaustive: set by close_holes when no active vertex borders a hole; cleared by the
  * next insertion. close.mark: probes + insertions + 1 when holes were last closed. */
-enum { PH_SEED = 0, PH_RUN, PH_CLOSE, PH_COMPONENTS, PH_RESEED, PH_DONE };
+enum { PH_SEED = 0, PH_RUN, PH_CLOSE, PH_COMPONENTS, PH_RESEED, PH_DONE, PH_VERIFY };
 
 struct vp_vrec {
     double p[3];
@@ -250,6 +261,20 @@ static inline uint32_t side_proof(const vp_planner_t *pl, uint32_t t, int f) { r
 VP_PL_API int vp_pl_contact_distrusts(const vp_planner_t *pl, const double *o, const double *d, double len);
 #endif
 
+#if VP_PL_CONTACTS
+VP_PL_API int vp_pl_withdraw_at(vp_planner_t *pl, const double *h, uint32_t old);
+VP_PL_API uint32_t vp_pl_rec_at(const vp_planner_t *pl, const double *p);
+#endif
+
+/* rescan.c */
+#if VP_PL_CONTACTS
+VP_PL_API int vp_pl_step_stale(const vp_planner_t *pl);
+VP_PL_API int vp_pl_reprove_dir(vp_planner_t *pl, double *d, double *range);
+VP_PL_API int vp_pl_reprove_feed(vp_planner_t *pl, const vp_probe_result_t *res);
+VP_PL_API int vp_pl_verify_next(vp_planner_t *pl);
+VP_PL_API int vp_pl_verify_feed(vp_planner_t *pl, const vp_probe_result_t *res);
+#endif
+
 /* proof.c */
 #if VP_PL_CONTACTS
 VP_PL_API int vp_pl_proof_add(vp_planner_t *pl, const double *o, const double *d, double len, uint32_t *out);
@@ -272,6 +297,9 @@ VP_PL_API int vp_pl_rec_link(vp_planner_t *pl, const double *p, uint32_t prev, u
 VP_PL_API int vp_pl_rec_new(vp_planner_t *pl, const double *p, uint32_t prev, uint32_t flags, uint32_t *out);
 VP_PL_API int vp_pl_route_full(vp_planner_t *pl, uint32_t a, uint32_t b);
 VP_PL_API int vp_pl_route_push(vp_planner_t *pl, const double *p, uint32_t proof);
+#if VP_PL_CONTACTS
+VP_PL_API int vp_pl_route_outside(vp_planner_t *pl, const double *q);
+#endif
 VP_PL_API int vp_pl_seg_enters_omega(const vp_planner_config_t *c, const double *a, const double *b);
 VP_PL_API int vp_pl_walk_on(vp_planner_t *pl, uint32_t from, uint32_t proof, double e[3]);
 

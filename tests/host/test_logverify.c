@@ -231,6 +231,36 @@ static void test_crafted(void)
     mv(&c, 0.1, 0, 0);
     expect(&c, "contact_unlogged", 0, -1, 0, -1);
 
+    /* a re-scan: the object may have changed, so a miss logged before the RESCAN event proves
+     * nothing after it (the device is at the start again); the same way probed again does */
+    box_header(&c, 0, 2, 0, 0);
+    mv(&c, 1, 0, 0);
+    pb(&c, 1, 0, 0, -1, 0, 0, 2, 0, 0);   /* a miss through Omega */
+    mv(&c, 0, 0, 0);                      /* proven */
+    mv(&c, 1, 0, 0);
+    ev(&c, VP_LOGFMT_EV_RESCAN);
+    mv(&c, 1, 0, 0);                      /* from the start (2,0,0) onto dOmega: outside */
+    bad = mv(&c, 0, 0, 0);                /* the old miss no longer proves it */
+    expect(&c, "rescan_stale", 1, bad, 0, -1);
+    CHECK(vp_logverify_run(&c.h, c.r, c.n, &r) == VP_OK);
+    CHECK(r.rescans == 1 && r.nmoves_listed == 1 && r.move[0].seq == bad);
+    box_header(&c, 0, 2, 0, 0);
+    mv(&c, 1, 0, 0);
+    pb(&c, 1, 0, 0, -1, 0, 0, 2, 0, 0);
+    mv(&c, 0, 0, 0);
+    mv(&c, 1, 0, 0);
+    ev(&c, VP_LOGFMT_EV_RESCAN);
+    mv(&c, 1, 0, 0);
+    pb(&c, 1, 0, 0, -1, 0, 0, 1, 0, 0);   /* probed again after the re-scan: free to the centre */
+    mv(&c, 0, 0, 0);
+    expect(&c, "rescan_reproved", 0, -1, 0, -1);
+    /* a probe after the RESCAN event from where the device stood before it: off its position */
+    box_header(&c, 0, 2, 0, 0);
+    mv(&c, 1, 0, 0);
+    ev(&c, VP_LOGFMT_EV_RESCAN);
+    bad = pb(&c, 1, 0, 0, -1, 0, 0, 1, 0, 0);
+    expect(&c, "rescan_restart", 0, -1, 1, bad);
+
     /* a move through Omega with no probe */
     box_header(&c, 0, 2, 0, 0);
     ev(&c, VP_LOGFMT_EV_START);

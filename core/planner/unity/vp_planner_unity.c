@@ -13,6 +13,7 @@
 #include "../close.c"
 #ifndef VP_CORE_MCU /* the contact safety net: not on a microcontroller (VP_PL_CONTACTS) */
 #include "../contact.c"
+#include "../rescan.c"
 #endif
 #include "../seed.c"
 #include "../planner.c"

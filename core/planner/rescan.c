@@ -1,0 +1,455 @@
+/* rescan.c — a second scan of an object that may have changed since the session so far (paper
+ * 001's setting, one step at a time): nothing learnt before is used without being measured again.
+ *
+ *   - Free space: every proof made before the re-scan is stale (the object may have moved into
+ *     it). A MOVE along a stale proof is preceded by a PROBE of the same segment from where the
+ *     device stands; the MOVE goes only when that PROBE finds the segment free (a fresh proof,
+ *     which the free graph keeps). A hit there is a point of S where the old proofs said free:
+ *     every proof through it is withdrawn, the records no longer reached are lost (as after a
+ *     contact), and the point becomes a sample.
+ *   - Samples: each is measured again from outside Omega, along the line of the probe that found
+ *     it (the surface Delaunay ball whose centre it was) or, where that line is blocked or the
+ *     sample has none (seeds, contacts, a line laser's points), along its normal; where both are
+ *     blocked (a concavity), from that probe's own origin inside Omega, reached over the free
+ *     graph with every stale step proven again. Found again
+ *     within the tolerance: kept, with its facets. Otherwise (the surface moved, receded, or
+ *     something covers it; or no line from outside reaches it) it is removed (vp_dt_remove):
+ *     its star's facets, and the facets of its neighbours, are dropped with the knowledge of
+ *     their Voronoi edges, and probed again from the active Voronoi vertices around them.
+ *   - Then the scan goes on as any scan: refinement, holes, components.
+ * So a change is seen where it moves a sample or crosses one of the lines measured; the surface
+ * between samples that hold is taken as unchanged (a change smaller than the sample spacing,
+ * between the lines, can be missed: say so). The device never moves on a stale proof. */
+#include "vp_planner_priv.h"
+
+#if VP_PL_CONTACTS
+
+/* a sample found again within this share of (1 + Omega's circumradius) is where it was: far
+ * above the rounding of a re-measured distance, far below any physical size */
+#define KEEP_TOL_REL 1e-9
+
+static int stale(const vp_planner_t *pl, uint32_t id)
+{
+    return pl->rescan.mark > 0 && id < pl->rescan.mark;
+}
+
+/* 1 if the next MOVE of the route rests on a stale proof: it is probed first */
+VP_PL_API int vp_pl_step_stale(const vp_planner_t *pl)
+{
+    return pl->route.i < pl->route.n && stale(pl, pl->route.proof[pl->route.i]);
+}
+
+/* vertex record v is a sample in the triangulation now */
+static int in_set(const vp_planner_t *pl, uint32_t v)
+{
+    uint32_t t = vp_dt_vertex(&pl->dt, v)->tet, k;
+    const uint32_t *w;
+    if (t >= pl->dt.ntet_slots || !vp_dt_alive(&pl->dt, t)) return 0;
+    w = vp_dt_tet(&pl->dt, t);
+    for (k = 0; k < 4; k++)
+        if (w[k] == v) return 1;
+    return 0;
+}
+
+/* The outward normal of sample v: the sum of its oriented facets' normals (zero: none). The
+ * tets around v go into the scratch (VP_PL_SCRATCH: nothing holds it between commands). */
+static int outward_normal(vp_planner_t *pl, uint32_t v, double *nrm)
+{
+    uint32_t *inc = pl->pool.astar;
+    int n = vp_dt_incident_tets(&pl->dt, v, inc, (int)(pl->pool.cap_astar < 65536u ? pl->pool.cap_astar : 65536u)), i, f;
+    nrm[0] = nrm[1] = nrm[2] = 0.0;
+    if (n < 0) return n == VP_ENOMEM ? VP_OK : n;
+    for (i = 0; i < n; i++) {
+        const uint32_t *w = vp_dt_tet(&pl->dt, inc[i]);
+        for (f = 0; f < 4; f++) {
+            uint32_t fv[3], r;
+            double ab[3], ac[3], c[3];
+            int k;
+            if (w[f] == v || vp_pl_facet_has_ghost(pl, inc[i], f)) continue;
+            vp_dt_facet(&pl->dt, inc[i], f, fv);
+            if ((r = vp_pl_frec_lookup(pl, fv)) == NONE) continue;
+            {
+                const uint32_t *s = pl->pool.frec[r].v;
+                const double *a = vp_dt_point(&pl->dt, s[0]);
+                vp_sub3(ab, vp_dt_point(&pl->dt, s[1]), a);
+                vp_sub3(ac, vp_dt_point(&pl->dt, s[2]), a);
+                vp_cross3(c, ab, ac);
+                if (pl->pool.frec[r].flags & FREC_FLIP) for (k = 0; k < 3; k++) c[k] = -c[k];
+                for (k = 0; k < 3; k++) nrm[k] += c[k];
+            }
+        }
+    }
+    if (!vp_normalize3(nrm)) nrm[0] = nrm[1] = nrm[2] = 0.0;
+    return VP_OK;
+}
+
+/* The line to measure sample v along: unit d towards the surface. 1: found; 0: none left. */
+static int sample_line(vp_planner_t *pl, uint32_t v, uint32_t along, double *d)
+{
+    if (along == 0) {
+        uint32_t id = (vp_dt_vertex(&pl->dt, v)->aux & AUX_PROOF);
+        if (id == 0 && v < pl->seed.npts && !memcmp(vp_dt_point(&pl->dt, v), pl->seed.pts[v], sizeof pl->seed.pts[v])) {
+            /* a seed (start_run inserts them first, in order): the ray it was found along */
+            memcpy(d, pl->seed.ray[v], 3 * sizeof(double));
+            return 1;
+        }
+        if (id == 0 || id - 1 >= pl->pool.nproof) return 0;
+        memcpy(d, pl->pool.proof[id - 1].d, 3 * sizeof(double));
+        return 1;
+    }
+    if (outward_normal(pl, v, d) != VP_OK || (d[0] == 0.0 && d[1] == 0.0 && d[2] == 0.0)) return 0;
+    d[0] = -d[0]; d[1] = -d[1]; d[2] = -d[2];
+    return 1;
+}
+
+/* A route with a shortcut proposed (vp_pl_plan_route): the straight way is probed first, as for
+ * a task, and the route waits for its answer. */
+static void hold_for_shortcut(vp_planner_t *pl)
+{
+    if (pl->sc.to == NONE) return;
+    pl->sc.from = pl->route.from;
+    pl->sc.tries = 0;
+    pl->sc.pending = 1;
+    pl->route.i = pl->route.n;
+}
+
+/* Puts the device outside Omega on the line through sample v along d and prepares the PROBE
+ * towards it. 1: prepared; 0: no way there. */
+static int measure_from_outside(vp_planner_t *pl, uint32_t v, const double *d)
+{
+    const double *p = vp_dt_point(&pl->dt, v);
+    double back[3], q[3], te;
+    int k, st;
+    for (k = 0; k < 3; k++) back[k] = -d[k];
+    te = vp_pl_omega_exit(&pl->cfg, p, back);
+    if (!(te > 0.0)) return 0;
+    for (k = 0; k < 3; k++) q[k] = p[k] + te * back[k];
+    if (pl->cfg.max_range > 0.0 && te > pl->cfg.max_range) return 0; /* out of the rangefinder's reach */
+    /* round Omega, outside it; from inside (after measuring from an origin there) out over
+     * the free graph first */
+    st = vp_pl_omega_inside(&pl->cfg, pl->dev.pos) ? vp_pl_plan_route(pl, NONE, q) : vp_pl_route_outside(pl, q);
+    if (st < 0) return st;
+    if (st == PL_UNREACHABLE) return 0;
+    pl->rescan.expect = te;
+    pl->rescan.tries = 0;
+    /* far enough past the sample to see a surface that receded (then not where it was) */
+    VP_TRY(vp_pl_seed_issue(pl, d, te + pl->cfg.eps));
+    hold_for_shortcut(pl);
+    return 1;
+}
+
+/* From where the probe that found sample v stood (a record inside Omega: the device goes there
+ * over the free graph, proving each stale step again on the way), along that probe's ray.
+ * 1: prepared; 0: no record there or no way to it. */
+static int measure_from_origin(vp_planner_t *pl, uint32_t v)
+{
+    uint32_t id = (vp_dt_vertex(&pl->dt, v)->aux & AUX_PROOF) - 1u, r;
+    const vp_proof_t *q;
+    double d[3], e;
+    int st;
+    if (id >= pl->pool.nproof) return 0;
+    q = &pl->pool.proof[id];
+    if (!vp_pl_omega_inside(&pl->cfg, q->o) || (r = vp_pl_rec_at(pl, q->o)) == NONE) return 0;
+    memcpy(d, q->d, sizeof d);
+    e = vp_dot3(d, vp_dt_point(&pl->dt, v)) - vp_dot3(d, q->o);
+    if (!(e > 0.0)) return 0;
+    st = vp_pl_plan_route(pl, r, NULL);
+    if (st < 0) return st;
+    if (st == PL_UNREACHABLE) return 0;
+    pl->rescan.expect = e;
+    pl->rescan.tries = 0;
+    VP_TRY(vp_pl_seed_issue(pl, d, e + pl->cfg.eps));
+    hold_for_shortcut(pl);
+    return 1;
+}
+
+/* No line of this pass reached sample v: from inside in the next pass, or removed (unseen). */
+static int drop_sample(vp_planner_t *pl, uint32_t v);
+static int line_exhausted(vp_planner_t *pl, uint32_t v)
+{
+    vp_dt_vertex_t *r = vp_dt_vertex(&pl->dt, v);
+    pl->rescan.cur = NONE;
+    if (pl->rescan.pass == 0) {
+        r->aux |= AUX_DEFER;
+        return VP_OK;
+    }
+    r->aux &= ~AUX_DEFER;
+    pl->st.rescan_unseen++;
+    return drop_sample(pl, v);
+}
+
+/* The star of v, its neighbours' facets: dropped (facet records, side results) and probed
+ * again from the active Voronoi vertices around them. Called before v leaves the triangulation;
+ * the tets around v and then those around each neighbour go into the scratch. */
+static void forget_facets_at(vp_planner_t *pl, uint32_t u, uint32_t held)
+{
+    uint32_t *inc = pl->pool.astar + held, room = pl->pool.cap_astar - held;
+    int n = vp_dt_incident_tets(&pl->dt, u, inc, (int)(room < 65536u ? room : 65536u)), i, f;
+    for (i = 0; i < n; i++) {
+        uint32_t t = inc[i];
+        const uint32_t *w = vp_dt_tet(&pl->dt, t);
+        for (f = 0; f < 4; f++) {
+            uint32_t fv[3], r, nb = w[4 + f] >> 2, j = w[4 + f] & 3u;
+            if (w[f] == u || vp_pl_facet_has_ghost(pl, t, f)) continue;
+            vp_dt_facet(&pl->dt, t, f, fv);
+            if ((r = vp_pl_frec_lookup(pl, fv)) != NONE) vp_pl_frec_delete(pl, r);
+            side_set(pl, t, f, side_get(pl, t, f) & SIDE_QUEUED);
+            side_set(pl, nb, (int)j, side_get(pl, nb, (int)j) & SIDE_QUEUED);
+        }
+    }
+}
+
+static int explore_around(vp_planner_t *pl, uint32_t u, uint32_t held)
+{
+    uint32_t *inc = pl->pool.astar + held, room = pl->pool.cap_astar - held;
+    int n = vp_dt_incident_tets(&pl->dt, u, inc, (int)(room < 65536u ? room : 65536u)), i, f;
+    if (n < 0) return n;
+    for (i = 0; i < n; i++) {
+        uint32_t t = inc[i];
+        const uint32_t *w = vp_dt_tet(&pl->dt, t);
+        if (tet_active(pl, t)) { VP_TRY(vp_pl_explore(pl, t)); continue; }
+        /* an inactive tet: its active neighbours probe towards it */
+        for (f = 0; f < 4; f++) {
+            uint32_t nb = w[4 + f] >> 2, j = w[4 + f] & 3u;
+            if (tet_active(pl, nb) && (side_get(pl, nb, (int)j) & SIDE_MASK) == SIDE_UNKNOWN &&
+                !vp_pl_facet_has_ghost(pl, t, f))
+                VP_TRY(vp_pl_task_push(pl, nb, (int)j, 0));
+        }
+    }
+    return VP_OK;
+}
+
+/* The neighbours of v (the vertices of its star) into the scratch's front: their count. */
+static uint32_t neighbours(vp_planner_t *pl, uint32_t v, uint32_t cap)
+{
+    uint32_t *ring = pl->pool.astar, *inc = ring + cap, nr = 0, k;
+    int n = vp_dt_incident_tets(&pl->dt, v, inc, (int)(pl->pool.cap_astar - cap < 65536u ? pl->pool.cap_astar - cap : 65536u)), i;
+    for (i = 0; i < n; i++) {
+        const uint32_t *w = vp_dt_tet(&pl->dt, inc[i]);
+        for (k = 0; k < 4; k++) {
+            uint32_t x = w[k], j;
+            if (x == v || x == VP_DT_GHOST) continue;
+            for (j = 0; j < nr && ring[j] != x; j++) {}
+            if (j == nr && nr < cap) ring[nr++] = x;
+        }
+    }
+    return nr;
+}
+
+#define RING_CAP 512u /* neighbours of one sample kept (a good mesh's have some 15) */
+
+/* Sample v is not where it was: removed, with what the planner knew around it. */
+static int drop_sample(vp_planner_t *pl, uint32_t v)
+{
+    uint32_t nr, i, nk, nc, q;
+    const uint32_t *created;
+    int st;
+    pl->st.rescan_dropped++;
+    if (pl->dt.ninserted <= 5 || pl->pool.cap_astar < 4u * RING_CAP) return VP_OK; /* kept: a triangulation stays */
+    if (!vp_pl_pools_have_room(pl)) return VP_ENOMEM;
+    if (pl->pool.fhash_dirty) { vp_pl_fhash_rebuild(pl); pl->pool.fhash_dirty = 0; }
+    nr = neighbours(pl, v, RING_CAP);
+    forget_facets_at(pl, v, nr);
+    for (i = 0; i < nr; i++) forget_facets_at(pl, pl->pool.astar[i], nr);
+    st = vp_dt_remove(&pl->dt, v);
+    if (st != VP_OK) return st;
+    /* the tets filling the star are new: no record, nothing known of their sides */
+    created = vp_dt_last_created(&pl->dt, &nc);
+    (void)vp_dt_last_killed(&pl->dt, &nk);
+    for (q = 0; q < nc; q++) {
+        uint32_t *w = pay(pl, created[q]), k;
+        double c[3];
+        w[0] = (vp_dt_is_ghost(&pl->dt, created[q]) || vp_pl_tet_point(pl, created[q], c) != VP_OK ||
+                !vp_pl_omega_inside(&pl->cfg, c)) ? VREC_OUT : NONE;
+        w[1] = 0;
+        for (k = 0; k < 4; k++) w[2 + k] = PROOF_NONE;
+    }
+    pl->close.exhaustive = 0;
+    for (i = 0; i < nr; i++)
+        if (in_set(pl, pl->pool.astar[i])) VP_TRY(explore_around(pl, pl->pool.astar[i], nr));
+    vp_pl_note_peak(pl);
+    return VP_OK;
+}
+
+/* The next sample to measure: the route there and its PROBE prepared (1), or none left (0).
+ * Pass 0 measures every sample from outside Omega; those no line from outside reaches wait for
+ * pass 1, which goes inside to their probes' origins (one trip through the free graph for all
+ * of them, the stale steps proven once). */
+static int measure_next(vp_planner_t *pl)
+{
+    double d[3];
+    int st;
+    for (;;) {
+        uint32_t v, last = pl->rescan.pass == 0 ? 2u : 3u;
+        if (pl->rescan.cur == NONE) {
+            if (pl->rescan.next >= pl->rescan.nvert) {
+                if (pl->rescan.pass == 1) return 0;
+                pl->rescan.pass = 1;
+                pl->rescan.next = 0;
+                continue;
+            }
+            v = pl->rescan.next++;
+            if (!in_set(pl, v) || (pl->rescan.pass == 1 && !(vp_dt_vertex(&pl->dt, v)->aux & AUX_DEFER))) continue;
+            pl->rescan.cur = v;
+            pl->rescan.along = pl->rescan.pass == 0 ? 0u : 2u;
+        }
+        v = pl->rescan.cur;
+        while (pl->rescan.along < last) {
+            uint32_t along = pl->rescan.along++;
+            if (!sample_line(pl, v, along == 2 ? 0 : along, d)) continue;
+            if (along == 1) pl->st.rescan_normal++;
+            st = along == 2 ? measure_from_origin(pl, v) : measure_from_outside(pl, v, d);
+            if (st != 0) return st;
+        }
+        VP_TRY(line_exhausted(pl, v));
+    }
+}
+
+/* Every sample measured: the scan goes on. Sides still queued lost their tasks at the start;
+ * every active Voronoi vertex is explored again (a finished session's needs nothing). */
+static int verify_done(vp_planner_t *pl)
+{
+    uint32_t t;
+    pl->phase = PH_RUN;
+    for (t = 0; t < pl->dt.ntet_slots; t++)
+        if (vp_dt_alive(&pl->dt, t) && tet_active(pl, t) && !vp_dt_is_ghost(&pl->dt, t))
+            VP_TRY(vp_pl_explore(pl, t));
+    return VP_OK;
+}
+
+VP_PL_API int vp_pl_verify_next(vp_planner_t *pl)
+{
+    int st = measure_next(pl);
+    if (st < 0) return st;
+    if (st == 0) return verify_done(pl);
+    return VP_OK;
+}
+
+VP_PL_API int vp_pl_verify_feed(vp_planner_t *pl, const vp_probe_result_t *res)
+{
+    uint32_t v = pl->rescan.cur;
+    double tol = pl->rescan.tol, e = pl->rescan.expect;
+    if (res->hit == 1) pl->st.hits++;
+    else pl->st.misses++;
+    if (res->hit == 1 && fabs(res->dist - e) <= tol) {
+        pl->st.rescan_kept++;
+        pl->rescan.cur = NONE;
+        vp_dt_vertex(&pl->dt, v)->aux &= ~AUX_DEFER;
+        return VP_OK;
+    }
+    if (res->hit == 0 && pl->rescan.tries < pl->cfg.confirm_misses) {
+        /* a miss where the sample should be: a dropout, or the surface gone; look again */
+        pl->rescan.tries++;
+        pl->st.reprobes++;
+        pl->probe.ready = 1;
+        return VP_OK;
+    }
+    if ((res->hit == 1 && res->dist < e - tol) || res->hit == VP_PROBE_TOO_CLOSE) {
+        /* something nearer along this line: covered, or only blocked from here */
+        if (pl->rescan.along < (pl->rescan.pass == 0 ? 2u : 3u)) return VP_OK; /* the next line */
+        return line_exhausted(pl, v);
+    }
+    pl->rescan.cur = NONE;
+    vp_dt_vertex(&pl->dt, v)->aux &= ~AUX_DEFER;
+    return drop_sample(pl, v);
+}
+
+/* The PROBE of a stale route step: from the device along the step (unit d), its length in
+ * the rangefinder's reach (*range). 0: the step has no length (nothing to prove). */
+VP_PL_API int vp_pl_reprove_dir(vp_planner_t *pl, double *d, double *range)
+{
+    const double *to = pl->route.pts + 3 * (size_t)pl->route.i;
+    double len;
+    vp_sub3(d, to, pl->dev.pos);
+    len = sqrt(vp_dot3(d, d));
+    if (!vp_normalize3(d)) {
+        pl->route.proof[pl->route.i] = PROOF_OUTSIDE; /* a MOVE of no length */
+        return 0;
+    }
+    *range = vp_pl_clamp_range(pl, len);
+    pl->rescan.reprove = 1;
+    return 1;
+}
+
+/* The free graph's edges between the step's two ends that named the stale proof take the
+ * fresh one: later routes over them need no probe. */
+static void renew_edges(vp_planner_t *pl, uint32_t old, uint32_t fresh, const double *a, const double *b)
+{
+    uint32_t e;
+    for (e = 0; e < pl->pool.nfedge; e++) {
+        uint32_t *w = pl->pool.fedge + FEDGE_WORDS * e;
+        const double *p, *q;
+        if (w[4] != old) continue;
+        p = pl->pool.vrec[w[0]].p;
+        q = pl->pool.vrec[w[1]].p;
+        if ((vp_dist3(p, a) <= pl->ptol && vp_dist3(q, b) <= pl->ptol) ||
+            (vp_dist3(p, b) <= pl->ptol && vp_dist3(q, a) <= pl->ptol))
+            w[4] = fresh;
+    }
+}
+
+VP_PL_API int vp_pl_reprove_feed(vp_planner_t *pl, const vp_probe_result_t *res)
+{
+    const double *to = pl->route.pts + 3 * (size_t)pl->route.i;
+    double len = vp_dist3(pl->dev.pos, to), h[3];
+    uint32_t old = pl->route.proof[pl->route.i], fresh;
+    int k;
+    pl->rescan.reprove = 0;
+    if (res->hit == 1) pl->st.hits++;
+    else pl->st.misses++;
+    if (res->hit == 0 && pl->rescan.tries < pl->cfg.confirm_misses) {
+        pl->rescan.tries++;
+        pl->st.reprobes++;
+        return VP_OK; /* the step is still stale: probed again (a dropout hides a surface) */
+    }
+    pl->rescan.tries = 0;
+    if (res->hit == 0 ? pl->dev.iss_range >= len : res->hit == 1 && res->dist - pl->cfg.noise_tol >= len) {
+        /* free again: a fresh proof of the step */
+        VP_TRY(vp_pl_proof_add(pl, pl->dev.iss_o, pl->dev.iss_d, len, &fresh));
+        if (fresh == PROOF_NONE) return VP_EUNSAFE;
+        renew_edges(pl, old, fresh, pl->dev.pos, to);
+        pl->route.proof[pl->route.i] = fresh;
+        pl->st.reproved++;
+        return VP_OK;
+    }
+    /* blocked (or beyond the rangefinder's reach): the old proofs there are false */
+    pl->st.reprove_blocked++;
+    if (res->hit == 1)
+        for (k = 0; k < 3; k++) h[k] = pl->dev.iss_o[k] + res->dist * pl->dev.iss_d[k];
+    return vp_pl_withdraw_at(pl, res->hit == 1 ? h : NULL, old);
+}
+
+int vp_planner_rescan(vp_planner_t *pl)
+{
+    uint32_t t;
+    int f;
+    if (!pl) return VP_EINVAL;
+    if (pl->error) return pl->error;
+    if (pl->dev.awaiting) return VP_ESTATE;
+    if (pl->dt.dim < 3 || pl->phase == PH_SEED) return VP_ESTATE;
+    /* what was under way is dropped: its probes and routes were for the old object */
+    pl->route.n = pl->route.i = 0;
+    pl->route.deferred = 0;
+    pl->probe.ready = 0;
+    pl->sc.pending = 0;
+    pl->pool.ntask = 0;
+    pl->rays.n = pl->rays.left = 0;
+    for (t = 0; t < pl->dt.ntet_slots; t++)
+        if (vp_dt_alive(&pl->dt, t))
+            for (f = 0; f < 4; f++) side_set(pl, t, f, side_get(pl, t, f) & ~SIDE_QUEUED);
+    memcpy(pl->dev.pos, pl->cfg.start, sizeof pl->dev.pos);
+    pl->dev.at = 0; /* the start's record (vp_planner_init) */
+    memset(&pl->close, 0, sizeof pl->close);
+    pl->rescan.mark = pl->pool.nproof > 0 ? pl->pool.nproof : 1;
+    pl->rescan.nvert = pl->dt.nvert;
+    pl->rescan.next = 0;
+    pl->rescan.pass = 0;
+    pl->rescan.cur = NONE;
+    pl->rescan.reprove = 0;
+    pl->rescan.tol = pl->cfg.noise_tol > KEEP_TOL_REL * (1.0 + vp_pl_omega_circumradius(&pl->cfg))
+                         ? pl->cfg.noise_tol : KEEP_TOL_REL * (1.0 + vp_pl_omega_circumradius(&pl->cfg));
+    pl->phase = PH_VERIFY;
+    return VP_OK;
+}
+
+#endif

@@ -1,0 +1,148 @@
+#!/bin/sh
+# `sim --rescan`: a second scan of an object scanned before (issue: objects that change).
+# (1) the object unchanged (sphere, torus, genus2, ellipsoid, blobby, a tessellated sphere; a
+#     body-mode run): the mesh is the old one byte for byte, with at most 35% of the old
+#     session's probes (the figures are printed; the README's table comes from here);
+# (2) a bump on 5% of the sphere's area, 0.15 high (tests/rescan_objects.py): closed, genus 0, as close to
+#     the bumped object as a fresh scan of it (host-sim's measure and CGAL's), the probes beyond
+#     the re-measuring at most a quarter of a fresh scan's; CGAL measures the old mesh far from
+#     the bumped object (the measure's case that must fail);
+# (2b) a torus whose tube swells into the hole: closed, genus 1; CGAL (tests/cgal_moves.cpp)
+#     finds no move after the RESCAN event through the swollen torus, and finds the old
+#     session's moves through it (the checker's case that must fail: trusting the old proofs
+#     would have driven the head through the swelling);
+# (3) one part of two moved by about 2 eps: closed, 2 components, genus 1, 0 collisions;
+# (4) a re-scan paused and resumed ends with the same mesh; every log verified (log verify) and
+#     replayed to the same mesh;
+# (5) refusals: an object outside the session's Omega, --resume with --rescan, the old log as
+#     the new one.
+set -u
+B=${BUILD:-build}
+VP=${VP:-$B/voroprobe}
+tmp=$(mktemp -d) || exit 1
+trap 'rm -rf "$tmp"' EXIT
+fail=0
+bad() { echo "FAIL: $*"; fail=1; }
+S="--quiet --sync close"
+field() { tail -n 1 "$1" | sed -n "s/.*\"$2\":\([^,}]*\).*/\1/p" | tr -d '"'; }
+rfield() { tail -n 1 "$1" | sed -n "s/.*\"rescan\":{[^}]*\"$2\":\([^,}]*\).*/\1/p" | tr -d '"'; }
+. tests/cgal_moves.sh
+cgal_moves_build "$B" || bad "$CG_WHY"
+CO="$B/safety/cgal_object"
+if [ -f /usr/include/CGAL/Polygon_mesh_processing/distance.h ]; then
+  if [ ! -x "$CO" ] || [ tests/cgal_object.cpp -nt "$CO" ]; then
+    g++ -O2 -o "$CO.tmp" tests/cgal_object.cpp -lgmp -lmpfr >"$tmp/co-build.log" 2>&1 && mv "$CO.tmp" "$CO" ||
+      bad "tests/cgal_object.cpp does not build"
+  fi
+else
+  bad "no CGAL (libcgal-dev): the re-scan's accuracy would be measured by voroprobe alone"
+fi
+chaus() { "$CO" hausdorff "$1" "$2" | sed -n 's/.*"hausdorff":\([^,}]*\).*/\1/p'; }
+mkdir -p "$tmp/obj" && python3 tests/rescan_objects.py "$tmp/obj" 0.15 || bad "tests/rescan_objects.py"
+
+verified() { # LOG WHAT: log verify proves every move; replay gives the same mesh as PLY
+  "$VP" log verify "$1" >"$tmp/v.txt" 2>&1 || { bad "$2: log verify: $(tail -n 1 "$tmp/v.txt")"; return; }
+  "$VP" replay "$1" --out "$tmp/rep" >"$tmp/rep.txt" 2>&1 || { bad "$2: replay: $(tail -n 2 "$tmp/rep.txt")"; return; }
+  cmp -s "$tmp/rep.ply" "$3" || bad "$2: the replayed mesh differs"
+}
+
+# moves after the RESCAN event (or before it: BEFORE) as a cgal_moves list, from the dump
+moves() { # LOG after|before
+  "$VP" log dump "$1" >"$tmp/d.txt" 2>/dev/null
+  start=$(sed -n 's/^# start \([^,]*\),.*/\1/p' "$tmp/d.txt")
+  "$VP" log dump "$1" --csv 2>/dev/null | awk -F, -v want="$2" -v start="$start" '
+    NR == 1 { print "start " start; next }
+    $3 == "event" && $20 == "rescan" { r = 1; if (want == "after") print "start " start; next }
+    $3 == "move" && ((want == "after") == (r == 1)) { print "move " $1, $17, $18, $19 }'
+}
+
+# ---- (1) unchanged
+for spec in sphere:0.03 torus:0.03 genus2:0.03 ellipsoid:0.03 blobby:0.03 "off:$tmp/obj/sphere.off:0.02" ellipsoid:0.04:body; do
+  obj=$(echo "$spec" | sed 's/:[0-9.]*\(:body\)\{0,1\}$//'); e=$(echo "$spec" | sed 's/.*:\([0-9.]*\)\(:body\)\{0,1\}$/\1/')
+  extra=""; name=$(basename "$obj" | tr -c 'a-z0-9\n' _)
+  case $spec in *:body) extra="--clearance 0.1"; name="$name-body";; esac
+  "$VP" sim --surface "$obj" --eps-rel "$e" $extra --out "$tmp/$name" $S >/dev/null 2>&1 || { bad "$name: fresh scan"; continue; }
+  "$VP" sim --rescan "$tmp/$name.vplog" --json $S >"$tmp/$name-r.json" 2>&1; rc=$?
+  [ $rc -eq 0 ] || { bad "$name: re-scan exit $rc"; tail -3 "$tmp/$name-r.json"; continue; }
+  cmp -s "$tmp/$name.ply" "$tmp/$name.rescan.ply" || bad "$name: the re-scan's mesh is not the old one"
+  p=$(rfield "$tmp/$name-r.json" probes); o=$(rfield "$tmp/$name-r.json" old_probes); k=$(rfield "$tmp/$name-r.json" kept)
+  d=$(rfield "$tmp/$name-r.json" dropped); rp=$(rfield "$tmp/$name-r.json" reproved)
+  ratio=$(awk -v p="$p" -v o="$o" 'BEGIN { printf "%.3f", p / o }')
+  echo "unchanged $name (eps-rel $e): $p probes of the old $o ($ratio), samples kept $k, removed $d, steps proven again $rp"
+  awk -v r="$ratio" 'BEGIN { exit !(r <= 0.35) }' || bad "$name: the re-scan took $ratio of the old probes"
+  [ "$d" = 0 ] || bad "$name: $d samples removed from an unchanged object"
+  verified "$tmp/$name.rescan.vplog" "$name" "$tmp/$name.rescan.ply"
+done
+
+# ---- (2) a bump on 5% of the area
+"$VP" sim --rescan "$tmp/sphere_off.vplog" --surface "off:$tmp/obj/sphere_bump.off" --out "$tmp/bump" --json $S >"$tmp/bump.json" 2>&1
+rc=$?
+"$VP" sim --surface "off:$tmp/obj/sphere_bump.off" --eps-rel 0.02 --out "$tmp/fresh-bump" --json $S >"$tmp/fresh-bump.json" 2>&1
+if [ $rc -ne 0 ]; then bad "bump: re-scan exit $rc"; tail -3 "$tmp/bump.json"; else
+  [ "$(field "$tmp/bump.json" genus)" = 0 ] || bad "bump: genus $(field "$tmp/bump.json" genus)"
+  p=$(rfield "$tmp/bump.json" probes); k=$(rfield "$tmp/bump.json" kept); d=$(rfield "$tmp/bump.json" dropped)
+  fp=$(field "$tmp/fresh-bump.json" probes); h=$(field "$tmp/bump.json" hausdorff); fh=$(field "$tmp/fresh-bump.json" hausdorff)
+  col=$(field "$tmp/bump.json" collisions)
+  ch=$(chaus "$tmp/bump.off" "$tmp/obj/sphere_bump.off"); cfh=$(chaus "$tmp/fresh-bump.off" "$tmp/obj/sphere_bump.off")
+  cold=$(chaus "$tmp/sphere_off.off" "$tmp/obj/sphere_bump.off")
+  echo "bump on 5% of the area: $p probes ($k samples measured and kept, $d removed; a fresh scan of the bumped sphere $fp);" \
+       "Hausdorff $h (fresh $fh), by CGAL $ch (fresh $cfh; the old mesh $cold); collisions $col"
+  awk -v p="$p" -v k="$k" -v d="$d" -v f="$fp" 'BEGIN { exit !(p - k - d <= 0.25 * f) }' ||
+    bad "bump: $p probes: more than a quarter of a fresh scan beyond the re-measuring"
+  awk -v d="$d" -v k="$k" 'BEGIN { exit !(d >= 1 && d <= 0.15 * (k + d)) }' || bad "bump: $d samples removed of $((k + d))"
+  awk -v h="$h" -v f="$fh" -v c="$ch" -v cf="$cfh" 'BEGIN { exit !(h <= 1.5 * f && c <= 1.5 * cf) }' ||
+    bad "bump: Hausdorff $h / CGAL $ch against a fresh scan's $fh / $cfh"
+  awk -v c="$cold" 'BEGIN { exit !(c >= 0.13) }' || bad "bump: CGAL measures the old mesh only $cold from the bumped sphere"
+  [ "$col" = 0 ] || bad "bump: $col collisions"
+  verified "$tmp/bump.vplog" bump "$tmp/bump.ply"
+fi
+
+# ---- (2b) a torus whose tube swells into its hole, where the old session's head went
+"$VP" sim --surface "off:$tmp/obj/torus.off" --eps-rel 0.03 --out "$tmp/torus_off" $S >/dev/null 2>&1 || bad "torus.off: fresh scan"
+"$VP" sim --rescan "$tmp/torus_off.vplog" --surface "off:$tmp/obj/torus_swollen.off" --out "$tmp/swollen" --json $S \
+  >"$tmp/swollen.json" 2>&1 || bad "swollen torus: re-scan exit $?"
+[ "$(field "$tmp/swollen.json" genus)" = 1 ] && [ "$(field "$tmp/swollen.json" collisions)" = 0 ] ||
+  bad "swollen torus: genus $(field "$tmp/swollen.json" genus), collisions $(field "$tmp/swollen.json" collisions)"
+echo "swollen torus: $(rfield "$tmp/swollen.json" probes) probes (the old session $(rfield "$tmp/swollen.json" old_probes))," \
+     "kept $(rfield "$tmp/swollen.json" kept), removed $(rfield "$tmp/swollen.json" dropped), route steps proven again" \
+     "$(rfield "$tmp/swollen.json" reproved) ($(rfield "$tmp/swollen.json" blocked) blocked), Hausdorff $(field "$tmp/swollen.json" hausdorff)"
+verified "$tmp/swollen.vplog" "swollen torus" "$tmp/swollen.ply"
+if [ -x "${CG:-}" ]; then
+  moves "$tmp/swollen.vplog" after >"$tmp/after.txt"
+  "$CG" "$tmp/obj/torus_swollen.off" "$tmp/after.txt" >"$tmp/cga.txt" 2>&1 || bad "swollen torus: CGAL: $(tail -n 1 "$tmp/cga.txt")"
+  moves "$tmp/torus_off.vplog" before >"$tmp/before.txt"
+  "$CG" "$tmp/obj/torus_swollen.off" "$tmp/before.txt" >"$tmp/cgb.txt" 2>&1 &&
+    bad "swollen torus: CGAL finds none of the old session's moves through it (the check must fail there)"
+  echo "CGAL, the swollen torus: the re-scan's moves: $(tail -n 1 "$tmp/cga.txt"); the old session's: $(tail -n 1 "$tmp/cgb.txt")"
+fi
+
+# ---- (3) one part of two moved by about 2 eps
+"$VP" sim --surface "sphere@3,0,0+torus" --eps-rel 0.02 --out "$tmp/two" $S >/dev/null 2>&1 || bad "two: fresh scan"
+"$VP" sim --rescan "$tmp/two.vplog" --surface "sphere@3.25,0,0+torus" --json $S >"$tmp/two-r.json" 2>&1; rc=$?
+[ $rc -eq 0 ] || bad "moved part: exit $rc"
+[ "$(field "$tmp/two-r.json" components)" = 2 ] && [ "$(field "$tmp/two-r.json" genus)" = 1 ] ||
+  bad "moved part: $(field "$tmp/two-r.json" components) components, genus $(field "$tmp/two-r.json" genus)"
+[ "$(field "$tmp/two-r.json" collisions)" = 0 ] || bad "moved part: collisions"
+echo "one part of two moved by 0.25 (eps $(field "$tmp/two-r.json" eps)): $(rfield "$tmp/two-r.json" probes) probes" \
+     "(the old session $(rfield "$tmp/two-r.json" old_probes)), kept $(rfield "$tmp/two-r.json" kept)," \
+     "removed $(rfield "$tmp/two-r.json" dropped), Hausdorff $(field "$tmp/two-r.json" hausdorff)"
+verified "$tmp/two.rescan.vplog" "moved part" "$tmp/two.rescan.ply"
+
+# ---- (4) paused and resumed
+"$VP" sim --rescan "$tmp/sphere_off.vplog" --surface "off:$tmp/obj/sphere_bump.off" --out "$tmp/cut" --stop-after 700 $S >/dev/null 2>&1
+rc=$?
+[ $rc -eq 3 ] || bad "paused re-scan: exit $rc (3 expected)"
+"$VP" sim --resume "$tmp/cut.vplog" $S >/dev/null 2>&1 || bad "resumed re-scan: exit $?"
+cmp -s "$tmp/cut.ply" "$tmp/bump.ply" || bad "a re-scan paused and resumed ends with another mesh"
+verified "$tmp/cut.vplog" "paused re-scan" "$tmp/cut.ply"
+
+# ---- (5) refusals
+"$VP" sim --rescan "$tmp/sphere.vplog" --surface "sphere*3" $S >"$tmp/o.txt" 2>&1
+[ $? -eq 1 ] && grep -q "does not lie in the logged session's Omega" "$tmp/o.txt" || bad "an object outside Omega: $(cat "$tmp/o.txt")"
+"$VP" sim --rescan "$tmp/sphere.vplog" --resume "$tmp/sphere.vplog" $S >"$tmp/o.txt" 2>&1
+[ $? -ne 0 ] && grep -q "cannot go together" "$tmp/o.txt" || bad "--resume with --rescan: $(cat "$tmp/o.txt")"
+"$VP" sim --rescan "$tmp/sphere.vplog" --log "$tmp/sphere.vplog" $S >"$tmp/o.txt" 2>&1
+[ $? -ne 0 ] && grep -q "writes a new log" "$tmp/o.txt" || bad "the old log as the new one: $(cat "$tmp/o.txt")"
+
+[ $fail -eq 0 ] && echo "rescan: unchanged objects give their mesh again, a bump and a moved part are scanned again where they changed"
+exit $fail
