@@ -263,6 +263,8 @@ typedef struct vp_pl_rescan {
     double expect;                         /* the sample's distance along the PROBE */
     double tol;                            /* kept when found within this of it */
     int reprove;                           /* 1: the PROBE out is a route step's proof */
+    uint32_t doomed[8], ndoomed;           /* samples to remove once the triangulation keeps 3D
+                                              without them (a few samples left: the object moved) */
 } vp_pl_rescan_t;
 #endif
 

@@ -238,6 +238,13 @@ static int phase_step(vp_planner_t *pl, int *done)
         }
         return st;
     case PH_RUN:
+#if VP_PL_CONTACTS
+        if (pl->rescan.ndoomed > 0 && pl->dt.ninserted > 5 && !walk_in_progress(pl)) {
+            /* a re-scan's samples that had to wait for new ones to be removed */
+            st = vp_pl_remove_doomed(pl);
+            if (st < 0) return st;
+        }
+#endif
 #if VP_PL_LINE_LASER
         if (pl->rays.n > 0 && !walk_in_progress(pl)) {
             /* a line laser's hit becomes a sample first (where no sample is within eps): the

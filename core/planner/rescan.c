@@ -238,24 +238,15 @@ static uint32_t neighbours(vp_planner_t *pl, uint32_t v, uint32_t cap)
 
 #define RING_CAP 512u /* neighbours of one sample kept (a good mesh's have some 15) */
 
-/* Sample v is not where it was: removed, with what the planner knew around it. */
-static int drop_sample(vp_planner_t *pl, uint32_t v)
+/* Removes sample v from the triangulation: the tets filling its star are new (no record,
+ * nothing known of their sides), and the active Voronoi vertices around probe towards them. */
+static int remove_sample(vp_planner_t *pl, uint32_t v, uint32_t nr)
 {
-    uint32_t nr, i, nk, nc, q;
+    uint32_t i, nc, q;
     const uint32_t *created;
-    int st;
-    pl->st.rescan_dropped++;
-    if (pl->dt.ninserted <= 5 || pl->pool.cap_astar < 4u * RING_CAP) return VP_OK; /* kept: a triangulation stays */
-    if (!vp_pl_pools_have_room(pl)) return VP_ENOMEM;
-    if (pl->pool.fhash_dirty) { vp_pl_fhash_rebuild(pl); pl->pool.fhash_dirty = 0; }
-    nr = neighbours(pl, v, RING_CAP);
-    forget_facets_at(pl, v, nr);
-    for (i = 0; i < nr; i++) forget_facets_at(pl, pl->pool.astar[i], nr);
-    st = vp_dt_remove(&pl->dt, v);
+    int st = vp_dt_remove(&pl->dt, v);
     if (st != VP_OK) return st;
-    /* the tets filling the star are new: no record, nothing known of their sides */
     created = vp_dt_last_created(&pl->dt, &nc);
-    (void)vp_dt_last_killed(&pl->dt, &nk);
     for (q = 0; q < nc; q++) {
         uint32_t *w = pay(pl, created[q]), k;
         double c[3];
@@ -268,6 +259,49 @@ static int drop_sample(vp_planner_t *pl, uint32_t v)
     for (i = 0; i < nr; i++)
         if (in_set(pl, pl->pool.astar[i])) VP_TRY(explore_around(pl, pl->pool.astar[i], nr));
     vp_pl_note_peak(pl);
+    return VP_OK;
+}
+
+/* a triangulation keeps this many samples at least (vp_dt_remove drops to a flat set below) */
+#define KEEP_MIN 5u
+
+/* Sample v is not where it was: its facets and its neighbours' are forgotten, and it is removed;
+ * while too few samples are left for that (the whole object moved), it waits (doomed) until
+ * new samples are in. */
+static int drop_sample(vp_planner_t *pl, uint32_t v)
+{
+    uint32_t nr;
+    pl->st.rescan_dropped++;
+    if (pl->pool.cap_astar < 4u * RING_CAP) return VP_ENOMEM;
+    if (!vp_pl_pools_have_room(pl)) return VP_ENOMEM;
+    if (pl->pool.fhash_dirty) { vp_pl_fhash_rebuild(pl); pl->pool.fhash_dirty = 0; }
+    nr = neighbours(pl, v, RING_CAP);
+    forget_facets_at(pl, v, nr);
+    {
+        uint32_t i;
+        for (i = 0; i < nr; i++) forget_facets_at(pl, pl->pool.astar[i], nr);
+    }
+    if (pl->dt.ninserted <= KEEP_MIN) {
+        if (pl->rescan.ndoomed >= sizeof pl->rescan.doomed / sizeof pl->rescan.doomed[0]) return VP_ENOMEM;
+        pl->rescan.doomed[pl->rescan.ndoomed++] = v;
+        return VP_OK;
+    }
+    return remove_sample(pl, v, nr);
+}
+
+/* The doomed samples go as soon as the triangulation keeps 3D without them (planner.c calls
+ * this before each refinement step while any wait). */
+VP_PL_API int vp_pl_remove_doomed(vp_planner_t *pl)
+{
+    while (pl->rescan.ndoomed > 0 && pl->dt.ninserted > KEEP_MIN) {
+        uint32_t v = pl->rescan.doomed[--pl->rescan.ndoomed], nr;
+        if (!in_set(pl, v)) continue;
+        if (!vp_pl_pools_have_room(pl)) return VP_ENOMEM;
+        if (pl->pool.fhash_dirty) { vp_pl_fhash_rebuild(pl); pl->pool.fhash_dirty = 0; }
+        nr = neighbours(pl, v, RING_CAP);
+        forget_facets_at(pl, v, nr);
+        VP_TRY(remove_sample(pl, v, nr));
+    }
     return VP_OK;
 }
 
@@ -446,6 +480,7 @@ int vp_planner_rescan(vp_planner_t *pl)
     pl->rescan.pass = 0;
     pl->rescan.cur = NONE;
     pl->rescan.reprove = 0;
+    pl->rescan.ndoomed = 0;
     pl->rescan.tol = pl->cfg.noise_tol > KEEP_TOL_REL * (1.0 + vp_pl_omega_circumradius(&pl->cfg))
                          ? pl->cfg.noise_tol : KEEP_TOL_REL * (1.0 + vp_pl_omega_circumradius(&pl->cfg));
     pl->phase = PH_VERIFY;

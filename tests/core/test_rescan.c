@@ -1,0 +1,251 @@
+/* A re-scan (vp_planner_rescan) against a device written here from the formula of an ellipsoid
+ * alone (no host-sim): the object of the re-scan may be another ellipsoid (stretched, moved).
+ * Judged from the formula and the mesh, not from the planner's word: the object unchanged, the
+ * re-scan measures each sample once and gives the same facets with the same balls; the object
+ * changed, the mesh is a closed oriented 2-manifold of Euler characteristic 2 whose vertices and
+ * ball centres all lie on the new ellipsoid, every ball at most eps; and in every case no move
+ * enters the ellipsoid of the moment. Then the call's contract. */
+#include <math.h>
+#include <string.h>
+#include "vp_planner.h"
+#include "vp_run.h"
+#include "vp_test.h"
+
+#define ARENA (32u << 20)
+
+typedef struct ell_dev {
+    double ax[3], c[3];      /* semi-axes, centre */
+    double pos[3];
+    unsigned long probes, moves, into;
+} ell_dev_t;
+
+static double ell_f(const ell_dev_t *d, const double *x)
+{
+    double s = -1.0;
+    int k;
+    for (k = 0; k < 3; k++) s += (x[k] - d->c[k]) * (x[k] - d->c[k]) / (d->ax[k] * d->ax[k]);
+    return s;
+}
+
+/* first t in (0, len] where p + t u meets the ellipsoid from outside; 0 if none */
+static int ell_first(const ell_dev_t *d, const double *p, const double *u, double len, double *t)
+{
+    double a = 0, b = 0, c = ell_f(d, p), disc, s;
+    int k;
+    for (k = 0; k < 3; k++) {
+        a += u[k] * u[k] / (d->ax[k] * d->ax[k]);
+        b += (p[k] - d->c[k]) * u[k] / (d->ax[k] * d->ax[k]);
+    }
+    disc = b * b - a * c;
+    if (disc <= 0.0) return 0;
+    s = (-b - sqrt(disc)) / a;
+    if (s <= 1e-12 || s > len) return 0;
+    *t = s;
+    return 1;
+}
+
+static int dev_move(void *ctx, const vp_cmd_t *cmd, int *collided)
+{
+    ell_dev_t *d = ctx;
+    double u[3], len, t;
+    int k;
+    for (k = 0; k < 3; k++) u[k] = cmd->to[k] - d->pos[k];
+    len = sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
+    *collided = 0;
+    d->moves++;
+    if (len > 0.0) {
+        for (k = 0; k < 3; k++) u[k] /= len;
+        if (ell_first(d, d->pos, u, len, &t) || ell_f(d, cmd->to) < 0.0) { d->into++; *collided = 1; }
+    }
+    memcpy(d->pos, cmd->to, sizeof d->pos);
+    return VP_OK;
+}
+
+static int dev_probe(void *ctx, const vp_cmd_t *cmd, vp_probe_result_t *res)
+{
+    ell_dev_t *d = ctx;
+    double t;
+    d->probes++;
+    res->hit = ell_first(d, d->pos, cmd->dir, cmd->range, &t);
+    res->dist = res->hit ? t : 0.0;
+    return VP_OK;
+}
+
+/* Omega: the first ellipsoid's box grown by 0.3; the head starts above it */
+static void config(vp_planner_config_t *c, double eps)
+{
+    static const double ax[3] = { 1.0, 0.7, 0.5 };
+    int k;
+    memset(c, 0, sizeof *c);
+    c->omega_kind = VP_OMEGA_BOX;
+    for (k = 0; k < 3; k++) {
+        c->omega_lo[k] = -ax[k] - 0.3;
+        c->omega_hi[k] = ax[k] + 0.3;
+    }
+    c->ninterior = 1;
+    c->eps = eps;
+    c->start[2] = ax[2] + 0.5;
+}
+
+static unsigned char arena[ARENA];
+static vp_planner_t pl;
+
+static void run(ell_dev_t *d, vp_run_result_t *r)
+{
+    vp_device_ops_t ops;
+    memset(&ops, 0, sizeof ops);
+    ops.ctx = d;
+    ops.move = dev_move;
+    ops.probe = dev_probe;
+    vp_run(&pl, &ops, NULL, 2000000, r);
+}
+
+/* the mesh, judged against ellipsoid d: closed, oriented, Euler 2, on it, balls <= eps */
+static void judge(const char *what, const ell_dev_t *d, double eps, unsigned *nv_out)
+{
+    const vp_dt_t *dt = vp_planner_dt(&pl);
+    uint32_t slots = vp_planner_facet_slots(&pl), i, j, nf = 0, nv = 0, v[3];
+    static uint32_t used[100000];
+    static uint64_t half[300000];
+    uint32_t nh = 0, bad_ball = 0, open = 0, off_surface = 0;
+    double r, c[3];
+    memset(used, 0, sizeof used);
+    for (i = 0; i < slots; i++) {
+        int k;
+        if (!vp_planner_facet(&pl, i, v, &r, c)) continue;
+        nf++;
+        if (fabs(ell_f(d, c)) > 1e-9) off_surface++;
+        for (k = 0; k < 3; k++) {
+            const double *p = vp_dt_point(dt, v[k]);
+            double e = sqrt((p[0] - c[0]) * (p[0] - c[0]) + (p[1] - c[1]) * (p[1] - c[1]) + (p[2] - c[2]) * (p[2] - c[2]));
+            if (e > eps * (1 + 1e-9)) bad_ball++;
+            if (!used[v[k]]++) nv++;
+            if (nh < 300000) half[nh++] = ((uint64_t)v[k] << 32) | v[(k + 1) % 3];
+        }
+    }
+    for (i = 0; i < nh; i++) {
+        uint64_t rev = (half[i] << 32) | (half[i] >> 32);
+        uint32_t found = 0, same = 0;
+        for (j = 0; j < nh; j++) {
+            found += half[j] == rev;
+            same += half[j] == half[i];
+        }
+        if (found != 1 || same != 1) open++;
+    }
+    for (i = 0; i < dt->nvert; i++)
+        if (used[i] && fabs(ell_f(d, vp_dt_point(dt, i))) > 1e-9) off_surface++;
+    CHECKF(nf > 0 && open == 0, "%s: %u of %u half-edges without a single reverse", what, open, nh);
+    CHECKF((long)nv - (long)(nh / 2) + (long)nf == 2, "%s: Euler characteristic %ld", what,
+           (long)nv - (long)(nh / 2) + (long)nf);
+    CHECKF(bad_ball == 0, "%s: %u ball radii above eps", what, bad_ball);
+    CHECKF(off_surface == 0, "%s: %u points off the ellipsoid", what, off_surface);
+    *nv_out = nv;
+}
+
+/* the facets as (sorted vertex triple, centre, radius) in slot order: a fingerprint */
+static uint32_t facets(double *out, uint32_t cap)
+{
+    uint32_t slots = vp_planner_facet_slots(&pl), i, n = 0, v[3];
+    double r, c[3];
+    for (i = 0; i < slots && n < cap; i++) {
+        if (!vp_planner_facet(&pl, i, v, &r, c)) continue;
+        out[7 * n] = v[0]; out[7 * n + 1] = v[1]; out[7 * n + 2] = v[2];
+        out[7 * n + 3] = c[0]; out[7 * n + 4] = c[1]; out[7 * n + 5] = c[2]; out[7 * n + 6] = r;
+        n++;
+    }
+    return n;
+}
+
+static void fresh(ell_dev_t *d, double eps)
+{
+    vp_planner_config_t cfg;
+    vp_run_result_t r;
+    config(&cfg, eps);
+    memset(d, 0, sizeof *d);
+    d->ax[0] = 1.0; d->ax[1] = 0.7; d->ax[2] = 0.5;
+    memcpy(d->pos, cfg.start, sizeof d->pos);
+    CHECK(vp_planner_init(&pl, arena, sizeof arena, &cfg) == VP_OK);
+    run(d, &r);
+    CHECK(r.status == VP_OK && r.done && d->into == 0);
+}
+
+static void test_unchanged(double eps)
+{
+    static double before[7 * 20000], after[7 * 20000];
+    ell_dev_t d;
+    vp_run_result_t r;
+    vp_planner_stats_t s;
+    uint32_t n0, n1, samples;
+    unsigned nv;
+    fresh(&d, eps);
+    n0 = facets(before, 20000);
+    samples = vp_planner_dt(&pl)->ninserted;
+    d.probes = d.moves = 0;
+    memcpy(d.pos, pl.cfg.start, sizeof d.pos);
+    CHECK(vp_planner_rescan(&pl) == VP_OK);
+    run(&d, &r);
+    CHECK(r.status == VP_OK && r.done && d.into == 0);
+    vp_planner_get_stats(&pl, &s);
+    n1 = facets(after, 20000);
+    CHECKF(n0 == n1 && !memcmp(before, after, 7 * sizeof(double) * n0), "unchanged: %u facets before, %u after", n0, n1);
+    CHECKF(d.probes == samples && s.rescan_kept == samples && s.rescan_dropped == 0,
+           "unchanged: %lu probes for %u samples (%llu kept)", d.probes, samples, (unsigned long long)s.rescan_kept);
+    judge("unchanged", &d, eps, &nv);
+    printf("ellipsoid eps %g, unchanged: %u samples measured again with %lu probes, the same %u facets\n", eps,
+           samples, d.probes, n1);
+}
+
+static void test_changed(double eps, const double *ax, const double *c, const char *what)
+{
+    ell_dev_t d;
+    vp_run_result_t r;
+    vp_planner_stats_t s;
+    unsigned long p0;
+    unsigned nv;
+    fresh(&d, eps);
+    p0 = d.probes;
+    d.probes = d.moves = 0;
+    memcpy(d.ax, ax, sizeof d.ax);
+    memcpy(d.c, c, sizeof d.c);
+    memcpy(d.pos, pl.cfg.start, sizeof d.pos);
+    CHECK(vp_planner_rescan(&pl) == VP_OK);
+    run(&d, &r);
+    CHECKF(r.status == VP_OK && r.done, "%s: status %d", what, r.status);
+    CHECKF(d.into == 0, "%s: %lu moves into the ellipsoid", what, d.into);
+    vp_planner_get_stats(&pl, &s);
+    CHECK(s.rescan_dropped > 0);
+    judge(what, &d, eps, &nv);
+    printf("ellipsoid eps %g, %s: %lu probes (the first scan %lu), %llu samples kept, %llu removed, %u vertices, "
+           "%llu route steps proven again (%llu blocked), no move into it\n", eps, what, d.probes, p0,
+           (unsigned long long)s.rescan_kept, (unsigned long long)s.rescan_dropped, nv,
+           (unsigned long long)s.reproved, (unsigned long long)s.reprove_blocked);
+}
+
+static void test_contract(void)
+{
+    vp_planner_config_t cfg;
+    vp_planner_stats_t a, b;
+    vp_cmd_t cmd;
+    CHECK(vp_planner_rescan(NULL) == VP_EINVAL);
+    config(&cfg, 0.2);
+    CHECK(vp_planner_init(&pl, arena, sizeof arena, &cfg) == VP_OK);
+    CHECK(vp_planner_rescan(&pl) == VP_ESTATE); /* no samples yet */
+    do CHECK(vp_planner_next(&pl, &cmd) == VP_OK); while (cmd.kind == VP_CMD_MOVE);
+    CHECK(cmd.kind == VP_CMD_PROBE);
+    vp_planner_get_stats(&pl, &a);
+    CHECK(vp_planner_rescan(&pl) == VP_ESTATE); /* a PROBE result is owed */
+    vp_planner_get_stats(&pl, &b);
+    CHECK(memcmp(&a, &b, sizeof a) == 0);
+}
+
+int main(void)
+{
+    static const double stretched[3] = { 1.08, 0.7, 0.5 }, same[3] = { 1.0, 0.7, 0.5 };
+    static const double origin[3] = { 0, 0, 0 }, moved[3] = { 0.04, -0.03, 0.02 };
+    test_contract();
+    test_unchanged(0.2);
+    test_unchanged(0.1);
+    test_changed(0.15, stretched, origin, "stretched along x by 8%");
+    test_changed(0.15, same, moved, "moved by 0.054");
+    return vp_test_done("test_rescan");
+}
