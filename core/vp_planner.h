@@ -112,7 +112,7 @@ typedef struct vp_planner_stats {
     uint64_t ray_samples;      /* their hits inserted as samples */
     uint64_t rescan_kept;      /* a re-scan (vp_planner_rescan): samples measured again and kept */
     uint64_t rescan_dropped;   /* samples not where they were (moved, gone, covered): removed */
-    uint64_t rescan_unseen;    /* of those, samples no line from outside Omega reached: removed */
+    uint64_t rescan_unseen;    /* of those, samples no line reached (covered, or out of reach) */
     uint64_t rescan_normal;    /* samples measured along their normal (their probe's line blocked
                                   or unknown) */
     uint64_t reproved;         /* route steps on proofs from before the re-scan, probed again and

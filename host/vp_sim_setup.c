@@ -433,7 +433,7 @@ void vp_sim_report(const vp_sim_t *s, const vp_sim_options_t *o, FILE *f)
         }
         if (s->rescan)
             fprintf(f, "rescan of %s: %llu probes, %llu moves (the session re-scanned took %llu probes); samples: %llu "
-                    "kept, %llu removed (%llu reached from no line outside Omega), %llu measured along their normal; "
+                    "kept, %llu removed (%llu covered or out of reach of every line), %llu measured along their normal; "
                     "%llu route steps proven again (%llu blocked)\n", s->rescan_spec,
                     (unsigned long long)(st.probes - s->before.probes), (unsigned long long)(st.moves - s->before.moves),
                     (unsigned long long)s->before.probes, (unsigned long long)st.rescan_kept,
