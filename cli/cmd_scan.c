@@ -31,10 +31,16 @@ static void scan_usage(FILE *f)
     fprintf(f,
         "usage: voroprobe scan --board FILE --log LOG [options]\n"
         "       voroprobe scan --log LOG --resume [options]\n"
+        "       voroprobe scan --rescan OLD --log LOG [options]\n"
         "Scans the object on a board's machine: homes, then moves and probes as the planner asks\n"
         "until it says DONE, writing the session log as it goes and the mesh at the end.\n"
         "  --board FILE     the machine (boards/*.ini); with --resume: the one in the log\n"
         "  --log LOG        the session log (replaced; with --resume: continued)\n"
+        "  --rescan OLD     scan again the object of session OLD (its options): every sample is\n"
+        "                   measured again, moved ones are removed, old free space is proven again\n"
+        "                   before the head moves through it, and the scan goes on where something\n"
+        "                   changed; LOG gets OLD's records, a RESCAN event and the new ones (dry run:\n"
+        "                   --surface names the object now)\n"
         "  --resume         replay LOG, home, go back along the logged free route to where the\n"
         "                   scan stopped and continue it (the options come from the log)\n"
         "  --eps E          largest surface Delaunay ball radius, mm (default: the board's eps)\n"
@@ -77,6 +83,7 @@ static void scan_usage(FILE *f)
 
 typedef struct scan_opts {
     const char *board, *log, *calib, *out, *surface;
+    const char *rescan;           /* --rescan OLD: the session to scan again */
     int near;                     /* -1: the board's near_spots; 0 too-close; 1 measure */
     double eps, noise_tol;
     int confirm, dry, resume, quiet, have_sync, json;
@@ -116,7 +123,8 @@ static int scan_option(scan_opts_t *o, int argc, char **argv, int *i, int from_n
     if (strcmp(a, "--board") && strcmp(a, "--log") && strcmp(a, "--calib") && strcmp(a, "--out") &&
         strcmp(a, "--surface") && strcmp(a, "--eps") && strcmp(a, "--noise-tol") && strcmp(a, "--confirm") &&
         strcmp(a, "--arena") && strcmp(a, "--seed") && strcmp(a, "--sync") && strcmp(a, "--stop-after") &&
-        strcmp(a, "--estop-at") && strcmp(a, "--near-spots") && (strcmp(a, "--board-crc") || !from_note))
+        strcmp(a, "--estop-at") && strcmp(a, "--near-spots") && (strcmp(a, "--board-crc") || !from_note) &&
+        (strcmp(a, "--rescan") || from_note))
         return 1;
     if (!val) { snprintf(err, n, "%s needs a value", a); return -1; }
     (*i)++;
@@ -125,6 +133,7 @@ static int scan_option(scan_opts_t *o, int argc, char **argv, int *i, int from_n
     else if (!strcmp(a, "--calib")) o->calib = val;
     else if (!strcmp(a, "--out")) o->out = val;
     else if (!strcmp(a, "--surface")) o->surface = val;
+    else if (!strcmp(a, "--rescan")) o->rescan = val;
     else if (!strcmp(a, "--near-spots")) {
         if (strcmp(val, "too-close") && strcmp(val, "measure")) {
             snprintf(err, n, "--near-spots takes too-close or measure, not '%s'", val);
@@ -293,6 +302,8 @@ typedef struct scan_job {
     vp_mesh_t mesh;
     char surface[VP_PATH_MAX], prefix[VP_PATH_MAX], board_path[VP_PATH_MAX];
     int have_L, dev_open, log_open;
+    int rescans;                    /* RESCAN events in the loaded log (a re-scan resumed) */
+    vp_planner_stats_t before;      /* the planner's counters when this run's re-scan began */
     int rc;                         /* the exit status so far */
     int st_home;                    /* what homing left: VP_OK, or VP_EABORT when paused */
     uint32_t replayed;
@@ -320,13 +331,36 @@ static int scan_parse(scan_job_t *j, int argc, char **argv)
         return 2;
     }
     if (!j->cl.log) { fprintf(stderr, "scan: give the session log: --log LOG (see --help)\n"); return 2; }
-    if (!j->cl.resume && !j->cl.board) { fprintf(stderr, "scan: give the machine: --board FILE (see --help)\n"); return 2; }
+    if (j->cl.rescan && j->cl.resume) {
+        fprintf(stderr, "scan: --rescan and --resume cannot go together (resume a paused re-scan with --resume alone)\n");
+        return 2;
+    }
+    if (j->cl.rescan && !strcmp(j->cl.rescan, j->cl.log)) {
+        fprintf(stderr, "scan: a re-scan writes a new log: give --log other than %s\n", j->cl.rescan);
+        return 2;
+    }
+    if (!j->cl.resume && !j->cl.rescan && !j->cl.board) { fprintf(stderr, "scan: give the machine: --board FILE (see --help)\n"); return 2; }
     if (j->cl.estop_at && !j->cl.dry && !j->cl.resume) { fprintf(stderr, "scan: --estop-at simulates the e-stop: dry runs only\n"); return 2; }
     j->o = j->cl;
     vp_mesh_init(&j->mesh);
     memset(&j->run, 0, sizeof j->run);
     j->run.w.file.fd = -1;
     return -1;
+}
+
+/* The RESCAN events of a loaded log; the last one's object (its text "--surface SPEC", a dry
+ * run's) into surface when it names one. */
+static int count_rescans(const vp_sessionlog_t *L, char *surface, size_t n)
+{
+    uint32_t i;
+    int c = 0;
+    for (i = 0; i < L->n; i++) {
+        vp_logfmt_record_t rec;
+        if (vp_sessionlog_record(L, i, &rec) != VP_OK || rec.type != VP_LOGFMT_EVENT || rec.event != VP_LOGFMT_EV_RESCAN) continue;
+        c++;
+        if (!strncmp(rec.text, "--surface ", 10)) snprintf(surface, n, "%s", rec.text + 10);
+    }
+    return c;
 }
 
 /* The options: the command line, or those in the log with --resume.
@@ -339,28 +373,30 @@ static int scan_options(scan_job_t *j)
     int st;
     int i;
 
-    if (j->cl.resume) {
+    if (j->cl.resume || j->cl.rescan) {
         char *tok[64];
+        const char *src = j->cl.rescan ? j->cl.rescan : j->cl.log;
         int nt;
-        st = vp_sessionlog_load(&j->L, j->cl.log, err, sizeof err);
+        st = vp_sessionlog_load(&j->L, src, err, sizeof err);
         if (st != VP_OK) { fprintf(stderr, "scan: %s\n", err); return 1; }
         j->have_L = 1;
         memcpy(notebuf, j->L.header.note, sizeof notebuf);
         nt = vp_note_split(notebuf, tok, 64);
         if (nt < 1 || strcmp(tok[0], "scan") != 0) {
-            fprintf(stderr, "scan: %s was not written by `scan`%s\n", j->cl.log,
+            fprintf(stderr, "scan: %s was not written by `scan`%s\n", src,
                     nt >= 1 && !strcmp(tok[0], "sim") ? " but by `sim`: resume it with `voroprobe sim --resume`" : "");
             return j->rc;
         }
         scan_defaults(&j->o);
         for (i = 1; i < nt; i++)
             if (scan_option(&j->o, nt, tok, &i, 1, sub, sizeof sub) != 0) {
-                fprintf(stderr, "scan: %s: the options recorded in the log are not understood ('%s')\n", j->cl.log, tok[i]);
+                fprintf(stderr, "scan: %s: the options recorded in the log are not understood ('%s')\n", src, tok[i]);
                 return j->rc;
             }
-        if (j->cl.dry && !j->o.dry) { fprintf(stderr, "scan: %s is a scan of the real machine: it cannot go on as a dry run\n", j->cl.log); return j->rc; }
+        if (j->cl.dry && !j->o.dry) { fprintf(stderr, "scan: %s is a scan of the real machine: it cannot go on as a dry run\n", src); return j->rc; }
         if (!j->cl.dry && j->o.dry) j->cl.dry = 1;   /* a dry run's log goes on as a dry run */
-        if ((j->cl.eps && j->cl.eps != j->o.eps) || (j->cl.surface && strcmp(j->cl.surface, j->o.surface ? j->o.surface : "")) ||
+        if ((j->cl.eps && j->cl.eps != j->o.eps) ||
+            (!j->cl.rescan && j->cl.surface && strcmp(j->cl.surface, j->o.surface ? j->o.surface : "")) ||
             (j->cl.near >= 0 && j->cl.near != j->o.near) ||
             (j->cl.seed && j->cl.seed != j->o.seed)) {
             fprintf(stderr, "scan: a resumed scan keeps the options in its log (%s)\n", j->L.header.note);
@@ -372,12 +408,15 @@ static int scan_options(scan_job_t *j)
         j->o.log = j->cl.log;
         j->o.out = j->cl.out;
         j->o.quiet = j->cl.quiet;
-        j->o.resume = 1;
+        j->o.json = j->cl.json;
+        j->o.resume = j->cl.resume;
+        j->o.rescan = j->cl.rescan;
         j->o.stop_after = j->cl.stop_after;
         j->o.sync = j->cl.sync;
         j->o.have_sync = j->cl.have_sync;
     }
     if (j->o.estop_at && !j->o.dry) { fprintf(stderr, "scan: --estop-at simulates the e-stop: dry runs only\n"); return j->rc; }
+    if (j->have_L) j->rescans = count_rescans(&j->L, j->surface, sizeof j->surface);
     return -1;
 }
 
@@ -419,8 +458,11 @@ static int scan_board(scan_job_t *j)
     if (!j->o.eps) j->o.eps = j->b.eps;
     if (j->o.near < 0) j->o.near = j->b.near_measure;
     if (j->o.dry) {
-        if (j->o.resume) snprintf(j->surface, sizeof j->surface, "%s", j->o.surface ? j->o.surface : "");
-        else if ((st = vp_scan_dry_surface(&j->b, j->o.surface, j->surface, sizeof j->surface, err, sizeof err)) != VP_OK) {
+        if (j->o.resume && j->rescans > 0) ; /* a re-scan resumed: the object its last RESCAN event names */
+        else if (j->o.resume || (j->o.rescan && !j->cl.surface))
+            snprintf(j->surface, sizeof j->surface, "%s", j->o.surface ? j->o.surface : "");
+        else if ((st = vp_scan_dry_surface(&j->b, j->o.rescan ? j->cl.surface : j->o.surface, j->surface, sizeof j->surface,
+                                           err, sizeof err)) != VP_OK) {
             fprintf(stderr, "scan: --surface: %s\n", err);
             return j->rc;
         }
@@ -515,6 +557,12 @@ static int scan_prepare(scan_job_t *j)
             j->cfg.ninterior = (uint32_t)nint;
         }
     }
+    if (j->have_L && (j->o.rescan || j->rescans > 0)) {
+        /* a re-scan keeps the session's configuration: its interior points too (the object now
+         * may differ from the one they were taken from) */
+        memcpy(j->cfg.interior, j->L.header.cfg.interior, sizeof j->cfg.interior);
+        j->cfg.ninterior = j->L.header.cfg.ninterior;
+    }
     j->pl = malloc(sizeof *j->pl);
     j->arena = malloc(j->o.arena);
     if (!j->pl || !j->arena) { fprintf(stderr, "scan: cannot allocate the %zu-byte arena\n", j->o.arena); return j->rc; }
@@ -584,6 +632,30 @@ static int scan_log_open(scan_job_t *j)
             snprintf(text, sizeof text, "resumed after record %d", (int)j->L.n - 1);
             st = vp_logwriter_event(&j->run.w.file, VP_LOGFMT_EV_RESUME, 0, text);
         }
+        if (R.rescans > 0) j->before = R.at_rescan;
+    } else if (j->o.rescan) {
+        /* a re-scan: the old session replayed, copied to the new log, a RESCAN event */
+        vp_replay_t R;
+        char why[300];
+        if (!vp_sessionlog_same_config(&j->L.header.cfg, j->L.header.arena_bytes, &j->cfg, (uint64_t)j->o.arena, why, sizeof why)) {
+            fprintf(stderr, "scan: %s: the scan configuration is not the logged one (%s): the board file or the "
+                    "calibration changed since; a re-scan needs the session's\n", j->o.rescan, why);
+            return j->rc;
+        }
+        vp_replay_init_state(&R, j->pl, &j->L);
+        st = vp_replay_run(&R, &j->L, j->L.n, why, sizeof why);
+        if (st != VP_OK) { fprintf(stderr, "scan: %s: replay failed: %s\n", j->o.rescan, why); return j->rc; }
+        j->replayed = R.applied;
+        st = vp_planner_rescan(j->pl);
+        if (st != VP_OK) { fprintf(stderr, "scan: %s: the planner cannot re-scan this session: %s\n", j->o.rescan, vp_strerror(st)); return j->rc; }
+        vp_planner_get_stats(j->pl, &j->before);
+        fprintf(stderr, "rescan %s: %u records replayed (%llu probes); %u samples to measure again\n", j->o.rescan, R.applied,
+                (unsigned long long)R.probes, j->pl->dt.ninserted);
+        if (vp_mkdirs_for(j->o.log) != 0) { fprintf(stderr, "scan: cannot create the folder of %s: %s\n", j->o.log, strerror(errno)); return j->rc; }
+        st = vp_logwriter_create_copy(&j->run.w.file, j->o.log, j->L.data, j->L.good_bytes, j->L.n, &j->o.sync);
+        if (j->o.dry) snprintf(text, sizeof text, "--surface %.240s", j->surface);
+        else snprintf(text, sizeof text, "the object on the machine now");
+        if (st == VP_OK) st = vp_logwriter_event(&j->run.w.file, VP_LOGFMT_EV_RESCAN, 0, text);
     } else {
         vp_logfmt_header_t h;
         scan_note(&j->o, j->board_path, j->o.eps, j->surface, note, sizeof note);
@@ -742,6 +814,14 @@ static int scan_report(scan_job_t *j)
                j->o.resume ? " (resumed)" : "");
         printf("log: %s (%u records replayed + %lu written, %lu syncs)\n", j->o.log, j->replayed, j->run.w.file.records,
                j->run.w.file.syncs);
+        if (j->o.rescan || j->rescans > 0)
+            printf("rescan of %s: %llu probes since the re-scan began (the session re-scanned took %llu); samples: %llu "
+                   "kept, %llu removed (%llu covered or out of reach of every line), %llu measured along their normal; "
+                   "%llu route steps proven again (%llu blocked)\n", j->o.rescan ? j->o.rescan : j->o.log,
+                   (unsigned long long)(ps.probes - j->before.probes), (unsigned long long)j->before.probes,
+                   (unsigned long long)ps.rescan_kept, (unsigned long long)ps.rescan_dropped,
+                   (unsigned long long)ps.rescan_unseen, (unsigned long long)ps.rescan_normal,
+                   (unsigned long long)ps.reproved, (unsigned long long)ps.reprove_blocked);
         printf("mesh: %u vertices, %u facets; %s, %d component(s), genus %d\n", (unsigned)j->mesh.nv, (unsigned)j->mesh.nt,
                have_mc && mc.closed_manifold ? "closed 2-manifold" : "NOT closed (yet)", have_mc ? mc.components : -1,
                have_mc ? mc.genus : -1);
@@ -843,6 +923,13 @@ static int scan_report(scan_job_t *j)
             printf(",\"machine_s_seed\":%.1f,\"machine_s_refine\":%.1f,\"machine_s_close\":%.1f,\"machine_s_per_vertex\":%.2f",
                    j->dev.stage_s[VP_STAGE_SEED], j->dev.stage_s[VP_STAGE_REFINE], j->dev.stage_s[VP_STAGE_CLOSE],
                    j->mesh.nv ? mt / (double)j->mesh.nv : 0.0);
+            if (j->o.rescan || j->rescans > 0)
+                printf(",\"rescan\":{\"probes\":%llu,\"old_probes\":%llu,\"kept\":%llu,\"dropped\":%llu,\"unseen\":%llu,"
+                       "\"normal\":%llu,\"reproved\":%llu,\"blocked\":%llu}", (unsigned long long)(ps.probes - j->before.probes),
+                       (unsigned long long)j->before.probes, (unsigned long long)ps.rescan_kept,
+                       (unsigned long long)ps.rescan_dropped, (unsigned long long)ps.rescan_unseen,
+                       (unsigned long long)ps.rescan_normal, (unsigned long long)ps.reproved,
+                       (unsigned long long)ps.reprove_blocked);
             if (j->o.dry) {
                 printf(",\"through\":%lu,\"head_collisions\":%lu,\"head_motions\":%lu,\"head_parts\":{", j->dev.through,
                        j->dev.head_hits, j->dev.head_motions);

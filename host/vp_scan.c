@@ -729,6 +729,15 @@ int vp_scan_return(vp_scan_dev_t *d, const vp_sessionlog_t *L, uint32_t n, const
     for (i = 0; i < n && i < L->n; i++) {
         vp_logfmt_record_t rec;
         if (vp_sessionlog_record(L, i, &rec) != VP_OK) { st = VP_ECORRUPT; break; }
+        if (rec.type == VP_LOGFMT_EVENT && rec.event == VP_LOGFMT_EV_RESCAN) {
+            /* a re-scan started from the start: the way back begins there (the moves before it
+             * were free for the object as it was) */
+            np = 1;
+            travel = 0;
+            probes = 0;
+            memcpy(pos, m->step.pos, sizeof pos);
+            continue;
+        }
         if (rec.type == VP_LOGFMT_EVENT || rec.type == VP_LOGFMT_RAY) continue; /* a RAY: the PROBE's frame */
         vp_units(&m->step, pos, u);
         if (rec.type == VP_LOGFMT_MOVE) {

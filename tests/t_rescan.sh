@@ -15,7 +15,10 @@
 # (4) a re-scan paused and resumed ends with the same mesh; every log verified (log verify) and
 #     replayed to the same mesh;
 # (5) refusals: an object outside the session's Omega, --resume with --rescan, the old log as
-#     the new one.
+#     the new one;
+# (6) `scan --rescan` on the rpi4 gantry's dry run: the same object gives the old mesh byte for
+#     byte; a smaller one closes with 0 moves through it and 0 head collisions, its log verified;
+#     paused and resumed, the same mesh.
 set -u
 B=${BUILD:-build}
 VP=${VP:-$B/voroprobe}
@@ -136,6 +139,25 @@ rc=$?
 cmp -s "$tmp/cut.ply" "$tmp/bump.ply" || bad "a re-scan paused and resumed ends with another mesh"
 verified "$tmp/cut.vplog" "paused re-scan" "$tmp/cut.ply"
 
+# ---- (6) on a machine: the rpi4 gantry's dry run (its kinematics, steps, rendered frames)
+R="scan --board boards/rpi4-gantry.ini --dry-run --eps 6 --quiet"
+"$VP" $R --log "$tmp/m.vplog" >/dev/null 2>&1 || bad "rpi4 dry run: exit $?"
+"$VP" scan --rescan "$tmp/m.vplog" --log "$tmp/mr.vplog" --quiet --json >"$tmp/mr.json" 2>&1 || bad "rpi4 re-scan: exit $?"
+cmp -s "$tmp/m.ply" "$tmp/mr.ply" || bad "rpi4 re-scan: not the old mesh"
+echo "rpi4 dry run, the same object: $(rfield "$tmp/mr.json" probes) probes (the first scan $(rfield "$tmp/mr.json" old_probes))," \
+     "$(field "$tmp/mr.json" machine_s) s of machine time, the old mesh byte for byte"
+"$VP" scan --rescan "$tmp/m.vplog" --log "$tmp/mc.vplog" --surface "ellipsoid*20@202,150,150" --quiet --json >"$tmp/mc.json" 2>&1 ||
+  bad "rpi4 re-scan of a smaller object: exit $?"
+[ "$(field "$tmp/mc.json" closed)" = true ] && [ "$(field "$tmp/mc.json" through)" = 0 ] && [ "$(field "$tmp/mc.json" head_collisions)" = 0 ] ||
+  bad "rpi4 re-scan of a smaller object: closed $(field "$tmp/mc.json" closed), through $(field "$tmp/mc.json" through), head $(field "$tmp/mc.json" head_collisions)"
+"$VP" log verify "$tmp/mc.vplog" >/dev/null 2>&1 || bad "rpi4 re-scan: log verify"
+echo "rpi4 dry run, a smaller object (ellipsoid*20 for *24): $(rfield "$tmp/mc.json" probes) probes, kept $(rfield "$tmp/mc.json" kept)," \
+     "removed $(rfield "$tmp/mc.json" dropped), within $(field "$tmp/mc.json" hausdorff) mm, 0 moves through, 0 head collisions"
+"$VP" scan --rescan "$tmp/m.vplog" --log "$tmp/mp.vplog" --surface "ellipsoid*20@202,150,150" --quiet --stop-after 300 >/dev/null 2>&1
+[ $? -eq 3 ] || bad "rpi4 re-scan paused: exit status"
+"$VP" scan --log "$tmp/mp.vplog" --resume --quiet >/dev/null 2>&1 || bad "rpi4 re-scan resumed: exit $?"
+cmp -s "$tmp/mp.ply" "$tmp/mc.ply" || bad "rpi4 re-scan paused and resumed: another mesh"
+
 # ---- (5) refusals
 "$VP" sim --rescan "$tmp/sphere.vplog" --surface "sphere*3" $S >"$tmp/o.txt" 2>&1
 [ $? -eq 1 ] && grep -q "does not lie in the logged session's Omega" "$tmp/o.txt" || bad "an object outside Omega: $(cat "$tmp/o.txt")"
@@ -143,6 +165,9 @@ verified "$tmp/cut.vplog" "paused re-scan" "$tmp/cut.ply"
 [ $? -ne 0 ] && grep -q "cannot go together" "$tmp/o.txt" || bad "--resume with --rescan: $(cat "$tmp/o.txt")"
 "$VP" sim --rescan "$tmp/sphere.vplog" --log "$tmp/sphere.vplog" $S >"$tmp/o.txt" 2>&1
 [ $? -ne 0 ] && grep -q "writes a new log" "$tmp/o.txt" || bad "the old log as the new one: $(cat "$tmp/o.txt")"
+
+"$VP" scan --rescan "$tmp/m.vplog" --log "$tmp/m.vplog" --quiet >"$tmp/o.txt" 2>&1
+[ $? -eq 2 ] && grep -q "writes a new log" "$tmp/o.txt" || bad "scan: the old log as the new one: $(cat "$tmp/o.txt")"
 
 [ $fail -eq 0 ] && echo "rescan: unchanged objects give their mesh again, a bump and a moved part are scanned again where they changed"
 exit $fail
