@@ -9,6 +9,8 @@ sh bench/accuracy.sh "$B"
 echo
 sh bench/sizing.sh "$B"
 echo
+sh bench/rescan.sh "$B"
+echo
 sh bench/reconstruct.sh "$B"
 echo
 sh bench/report.sh "$B"
