@@ -305,6 +305,47 @@ VP_PL_API int vp_pl_remove_doomed(vp_planner_t *pl)
     return VP_OK;
 }
 
+/* samples looked at for the nearest next one: the head's travel between them is machine time
+ * (with a body, round Omega); vertex order alone is already roughly local */
+#define NEAR_SAMPLES 128u
+
+static int wanted(const vp_planner_t *pl, uint32_t v)
+{
+    uint32_t a = vp_dt_vertex(&pl->dt, v)->aux;
+    return !(a & AUX_TAKEN) && in_set(pl, v) && (pl->rescan.pass == 0 || (a & AUX_DEFER));
+}
+
+/* Where sample v is measured from in pass 0 (on dOmega along its probe's line), else itself. */
+static const double *measuring_point(vp_planner_t *pl, uint32_t v)
+{
+    double d[3], te;
+    const double *p = vp_dt_point(&pl->dt, v);
+    int k;
+    if (pl->rescan.pass != 0 || !sample_line(pl, v, 0, d)) return p;
+    for (k = 0; k < 3; k++) d[k] = -d[k];
+    te = vp_pl_omega_exit(&pl->cfg, p, d);
+    for (k = 0; k < 3; k++) pl->rescan.q[k] = p[k] + te * d[k];
+    return pl->rescan.q;
+}
+
+/* Of the next NEAR_SAMPLES samples this pass still wants (in vertex order), the one nearest the
+ * head, taken; NONE when the cursor moved past samples not wanted (call again). */
+static uint32_t next_sample(vp_planner_t *pl)
+{
+    uint32_t v, seen = 0, best = NONE;
+    double bd = VP_PL_HUGE;
+    while (pl->rescan.next < pl->rescan.nvert && !wanted(pl, pl->rescan.next)) pl->rescan.next++;
+    for (v = pl->rescan.next; v < pl->rescan.nvert && seen < NEAR_SAMPLES; v++) {
+        double d;
+        if (!wanted(pl, v)) continue;
+        seen++;
+        d = vp_dist3(pl->dev.pos, measuring_point(pl, v));
+        if (d < bd) { bd = d; best = v; }
+    }
+    if (best != NONE) vp_dt_vertex(&pl->dt, best)->aux |= AUX_TAKEN;
+    return best;
+}
+
 /* The next sample to measure: the route there and its PROBE prepared (1), or none left (0).
  * Pass 0 measures every sample from outside Omega; those no line from outside reaches wait for
  * pass 1, which goes inside to their probes' origins (one trip through the free graph for all
@@ -317,13 +358,15 @@ static int measure_next(vp_planner_t *pl)
         uint32_t v, last = pl->rescan.pass == 0 ? 2u : 3u;
         if (pl->rescan.cur == NONE) {
             if (pl->rescan.next >= pl->rescan.nvert) {
+                uint32_t u;
                 if (pl->rescan.pass == 1) return 0;
                 pl->rescan.pass = 1;
                 pl->rescan.next = 0;
+                for (u = 0; u < pl->rescan.nvert; u++) vp_dt_vertex(&pl->dt, u)->aux &= ~AUX_TAKEN;
                 continue;
             }
-            v = pl->rescan.next++;
-            if (!in_set(pl, v) || (pl->rescan.pass == 1 && !(vp_dt_vertex(&pl->dt, v)->aux & AUX_DEFER))) continue;
+            v = next_sample(pl);
+            if (v == NONE) continue;
             pl->rescan.cur = v;
             pl->rescan.along = pl->rescan.pass == 0 ? 0u : 2u;
         }
@@ -478,6 +521,7 @@ int vp_planner_rescan(vp_planner_t *pl)
     pl->rescan.nvert = pl->dt.nvert;
     pl->rescan.next = 0;
     pl->rescan.pass = 0;
+    for (t = 0; t < pl->dt.nvert; t++) vp_dt_vertex(&pl->dt, t)->aux &= ~(AUX_TAKEN | AUX_DEFER);
     pl->rescan.cur = NONE;
     pl->rescan.reprove = 0;
     pl->rescan.ndoomed = 0;

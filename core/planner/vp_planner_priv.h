@@ -55,11 +55,13 @@
                             its prev chain is not a way */
 
 /* a sample's aux word (its vp_dt vertex record): bit 31, its normal estimate in pool.nrm is
- * valid (facets.c); bit 30, a re-scan measures it from inside Omega, in its second pass; bits
- * 0-29, 1 + the proof of the probe that found it (0: none; rescan.c) */
+ * valid (facets.c); bit 30, a re-scan measures it from inside Omega, in its second pass; bit 29,
+ * the re-scan's current pass has taken it; bits 0-28, 1 + the proof of the probe that found it
+ * (0: none; rescan.c) */
 #define AUX_NRM 0x80000000u
 #define AUX_DEFER 0x40000000u
-#define AUX_PROOF 0x3FFFFFFFu
+#define AUX_TAKEN 0x20000000u
+#define AUX_PROOF 0x1FFFFFFFu
 
 /* facet record flags */
 #define FREC_FLIP 1u     /* (v0,v1,v2) is oriented inward: swap two for output */
