@@ -52,6 +52,10 @@ static void sim_usage(FILE *f)
         "                     the scan goes on where something changed; --surface names the object\n"
         "                     now (default: the logged one). Writes a new log (LOG's records, a\n"
         "                     RESCAN event, the new ones; default LOG minus .vplog plus .rescan)\n"
+        "  --track N          after the scan, N rounds of tracking: each a re-scan from where the\n"
+        "                     device stands (with --motion the object moves on); every round's\n"
+        "                     figures (probes, samples kept and removed, closed, genus, collisions,\n"
+        "                     Hausdorff at its end) in the summary and --json (\"rounds\")\n"
         "  --stop-after N     pause the session after N commands (a PAUSE event; resumable)\n"
         "  --power-cut BYTES  simulate a power cut once the log reaches BYTES bytes (torn write)\n"
         "  --noise S          Gaussian noise of each hit distance (standard deviation; at most eps/16)\n"
@@ -116,6 +120,15 @@ static void sim_usage(FILE *f)
         "%s\n\n%s\n", vp_surface_help(), vp_motion_help());
 }
 
+/* --track: a round begins: the RESCAN event (code 1: the device stays where it stands) */
+static int track_event(void *ctx, int round)
+{
+    vp_sim_session_t *g = ctx;
+    char text[64];
+    snprintf(text, sizeof text, "tracking round %d", round);
+    return vp_logwriter_event(&g->w.file, VP_LOGFMT_EV_RESCAN, 1, text);
+}
+
 int vp_cli_sim(int argc, char **argv)
 {
     vp_sim_options_t o;
@@ -123,6 +136,7 @@ int vp_cli_sim(int argc, char **argv)
     vp_sim_session_t g;
     char err[1400];
     const char *png = NULL;
+    int track = 0;
     vp_live_cli_t live;
     int st, i;
     vp_live_cli_init(&live);
@@ -132,6 +146,13 @@ int vp_cli_sim(int argc, char **argv)
         const char *a = argv[i];
         if (!strcmp(a, "--help") || !strcmp(a, "-h")) { sim_usage(stdout); return 0; }
         if (!strcmp(a, "--png") && i + 1 < argc) { png = argv[++i]; continue; }
+        if (!strcmp(a, "--track") && i + 1 < argc) {
+            char *e;
+            long v = strtol(argv[++i], &e, 10);
+            if (e == argv[i] || *e || v < 1 || v > 1000) { fprintf(stderr, "sim: --track takes a number of rounds, 1..1000\n"); return 2; }
+            track = (int)v;
+            continue;
+        }
         if ((st = vp_live_cli_option(&live, argc, argv, &i, "sim")) <= 0) { if (st < 0) return 2; continue; }
         st = vp_sim_session_parse_option(&g, argc, argv, &i, err, sizeof err);
         if (st == 1) st = vp_sim_parse_option(&o, argc, argv, &i, err, sizeof err);
@@ -195,6 +216,10 @@ int vp_cli_sim(int argc, char **argv)
         return 1;
     }
     st = g.complete ? VP_OK : vp_sim_run(&sim, o.quiet ? NULL : stderr);
+    if (track > 0 && !g.complete && st == VP_OK) {
+        st = vp_sim_track(&sim, &o, track, g.active ? track_event : NULL, &g, o.quiet ? NULL : stderr);
+        if (st == VP_OK) st = sim.run.status;
+    }
     i = vp_sim_session_end(&g, &sim, stderr);
     if (g.active) vp_audit_keep(g.path); /* for an independent proof check (VP_AUDIT_DIR) */
     if (i) { vp_sim_close(&sim); vp_sim_session_free(&g); return 1; }

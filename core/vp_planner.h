@@ -344,6 +344,9 @@ int vp_planner_feed_ray(vp_planner_t *pl, const double dir[3], const vp_probe_re
  * samples that hold is taken as unchanged. VP_ESTATE while a PROBE result is owed or before the
  * session has samples (dim < 3). Call it again for another re-scan. */
 int vp_planner_rescan(vp_planner_t *pl);
+/* The same with the device where it stands (the next round of tracking a moving object: it
+ * leaves over stale steps, each proven again first). */
+int vp_planner_rescan_here(vp_planner_t *pl);
 #endif
 
 /* The mesh: restricted facets with their vertices (indices into vp_planner_dt()), oriented with

@@ -261,13 +261,13 @@ int vp_replay_run(vp_replay_t *R, const vp_sessionlog_t *L, uint32_t upto, char 
             }
             if (rec.event == VP_LOGFMT_EV_RESCAN) {
                 /* a re-scan: the planner measures its samples again from the start */
-                st = vp_planner_rescan(R->pl);
+                st = rec.code == 1 ? vp_planner_rescan_here(R->pl) : vp_planner_rescan(R->pl);
                 if (st != VP_OK) {
                     snprintf(err, errlen, "record %u (byte offset %zu): the planner refused the re-scan: %s",
                              i, L->off[i], vp_strerror(st));
                     return st;
                 }
-                memcpy(R->pos, L->header.cfg.start, sizeof R->pos);
+                if (rec.code != 1) memcpy(R->pos, L->header.cfg.start, sizeof R->pos);
                 R->done = 0;
                 R->rescans++;
                 R->probes_since_rescan = 0;

@@ -3,6 +3,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "vp_sim_setup.h"
+#include "vp_vec3.h"
 #include "vp_outcome.h"
 #include "vp_meshio.h"
 #include "vp_note.h"
@@ -326,6 +327,79 @@ int vp_sim_run(vp_sim_t *s, FILE *progress)
     return vp_session_run(s->pl, &ops, s->hooks, 0, progress, &s->run);
 }
 
+/* the figures of the round that just ended (its counters since b, c0 collisions before it) */
+static void round_figures(vp_sim_t *s, const vp_sim_options_t *o, const vp_planner_stats_t *b, unsigned long c0,
+                          double t0, vp_sim_round_t *r)
+{
+    vp_planner_stats_t st;
+    vp_simdev_stats_t ds;
+    vp_mesh_t m;
+    vp_meshcheck_t mc;
+    size_t i, j;
+    vp_planner_get_stats(s->pl, &st);
+    vp_simdev_stats(s->dev, &ds);
+    memset(r, 0, sizeof *r);
+    r->t0 = t0;
+    r->t1 = ds.time;
+    r->probes = st.probes - b->probes;
+    r->moves = st.moves - b->moves;
+    r->kept = st.rescan_kept - b->rescan_kept;
+    r->dropped = st.rescan_dropped - b->rescan_dropped;
+    r->reproved = st.reproved - b->reproved;
+    r->blocked = st.reprove_blocked - b->reprove_blocked;
+    r->collisions = ds.collisions - c0;
+    r->status = s->run.status;
+    r->hausdorff = -1.0;
+    r->min_spacing = -1.0;
+    vp_mesh_init(&m);
+    if (vp_session_mesh(s->pl, &m) != VP_OK) { vp_mesh_free(&m); return; }
+    r->vertices = (unsigned)m.nv;
+    if (vp_meshcheck_analyze(&m, &mc) == VP_OK) {
+        r->closed = mc.closed_manifold;
+        r->genus = mc.genus;
+        r->components = mc.components;
+        vp_meshcheck_free(&mc);
+    }
+    if (o->hausdorff > 0 && m.nt > 0) {
+        vp_hausdorff_t h;
+        if (s->motion ? vp_motion_hausdorff(&m, s->motion, ds.time, o->hausdorff, 7, &h) == VP_OK
+                      : vp_hausdorff(&m, s->surf, o->hausdorff, 7, &h) == VP_OK)
+            r->hausdorff = h.hausdorff;
+    }
+    for (i = 0; i < m.nv; i++)
+        for (j = i + 1; j < m.nv; j++) {
+            double d = vp_dist3(m.xyz + 3 * i, m.xyz + 3 * j);
+            if (r->min_spacing < 0 || d < r->min_spacing) r->min_spacing = d;
+        }
+    vp_mesh_free(&m);
+}
+
+int vp_sim_track(vp_sim_t *s, const vp_sim_options_t *o, int n, int (*rescan_event)(void *ctx, int round),
+                 void *ctx, FILE *progress)
+{
+    int k, st = VP_OK;
+    vp_sim_round_t *r = calloc((size_t)n + 1, sizeof *r);
+    vp_planner_stats_t zero;
+    if (!r) return VP_ENOMEM;
+    free(s->rounds);
+    s->rounds = r;
+    memset(&zero, 0, sizeof zero);
+    round_figures(s, o, &zero, 0, 0.0, &r[0]);
+    s->nrounds = 1;
+    for (k = 1; k <= n && s->run.status == VP_OK; k++) {
+        vp_planner_stats_t b;
+        vp_simdev_stats_t ds;
+        vp_planner_get_stats(s->pl, &b);
+        vp_simdev_stats(s->dev, &ds);
+        if (rescan_event && (st = rescan_event(ctx, k)) != VP_OK) break;
+        if ((st = vp_planner_rescan_here(s->pl)) != VP_OK) break;
+        vp_sim_run(s, progress);
+        round_figures(s, o, &b, ds.collisions, ds.time, &r[k]);
+        s->nrounds = k + 1;
+    }
+    return st;
+}
+
 int vp_sim_finish(vp_sim_t *s, const vp_sim_options_t *o, char *err, size_t errlen)
 {
     int st = vp_session_mesh(s->pl, &s->mesh);
@@ -440,6 +514,19 @@ void vp_sim_report(const vp_sim_t *s, const vp_sim_options_t *o, FILE *f)
                     (unsigned long long)st.rescan_dropped, (unsigned long long)st.rescan_unseen,
                     (unsigned long long)st.rescan_normal, (unsigned long long)st.reproved,
                     (unsigned long long)st.reprove_blocked);
+        if (s->nrounds > 0) {
+            int k;
+            fprintf(f, "tracking: %d round(s) after the first scan (a re-scan each, from where the device stood)\n", s->nrounds - 1);
+            for (k = 0; k < s->nrounds; k++) {
+                const vp_sim_round_t *r = &s->rounds[k];
+                fprintf(f, "  round %d: t %.4g..%.4g s, %llu probes, %llu moves, samples kept %llu removed %llu, steps proven "
+                        "again %llu (%llu blocked); %u vertices, %s, genus %d; collisions %lu; Hausdorff at its end %.6g; "
+                        "closest vertices %.6g\n", k, r->t0, r->t1, (unsigned long long)r->probes, (unsigned long long)r->moves,
+                        (unsigned long long)r->kept, (unsigned long long)r->dropped, (unsigned long long)r->reproved,
+                        (unsigned long long)r->blocked, r->vertices, r->closed ? "closed" : "NOT closed", r->genus,
+                        r->collisions, r->hausdorff, r->min_spacing);
+            }
+        }
         if (st.unproven || st.stalls)
             fprintf(f, "safety: %llu segments an inference proposed were not proven free (never travelled); "
                     "%llu sides could not be probed\n", (unsigned long long)st.unproven, (unsigned long long)st.stalls);
@@ -492,6 +579,21 @@ void vp_sim_report(const vp_sim_t *s, const vp_sim_options_t *o, FILE *f)
                     (unsigned long long)st.rescan_kept, (unsigned long long)st.rescan_dropped,
                     (unsigned long long)st.rescan_unseen, (unsigned long long)st.rescan_normal,
                     (unsigned long long)st.reproved, (unsigned long long)st.reprove_blocked);
+        if (s->nrounds > 0) {
+            int k;
+            fprintf(f, ",\"rounds\":[");
+            for (k = 0; k < s->nrounds; k++) {
+                const vp_sim_round_t *r = &s->rounds[k];
+                fprintf(f, "%s{\"t0\":%.6g,\"t1\":%.6g,\"probes\":%llu,\"moves\":%llu,\"kept\":%llu,\"dropped\":%llu,"
+                        "\"reproved\":%llu,\"blocked\":%llu,\"collisions\":%lu,\"status\":\"%s\",\"closed\":%s,"
+                        "\"genus\":%d,\"components\":%d,\"vertices\":%u,\"hausdorff\":%.6g,\"min_spacing\":%.6g}",
+                        k ? "," : "", r->t0, r->t1, (unsigned long long)r->probes, (unsigned long long)r->moves,
+                        (unsigned long long)r->kept, (unsigned long long)r->dropped, (unsigned long long)r->reproved,
+                        (unsigned long long)r->blocked, r->collisions, vp_strerror(r->status), r->closed ? "true" : "false",
+                        r->genus, r->components, r->vertices, r->hausdorff, r->min_spacing);
+            }
+            fprintf(f, "]");
+        }
         if (s->motion)
             fprintf(f, ",\"motion\":\"%s\",\"sim_time\":%.6g,\"speed_bound\":%.6g,\"speed\":%.6g,\"accel\":%.6g,"
                     "\"probe_time\":%.6g,\"hausdorff_start\":%.6g,\"hausdorff_end\":%.6g",
@@ -505,6 +607,7 @@ void vp_sim_close(vp_sim_t *s)
 {
     if (s->have_check) vp_meshcheck_free(&s->check);
     vp_mesh_free(&s->mesh);
+    free(s->rounds);
     if (s->dev) vp_simdev_destroy(s->dev);
     if (s->motion) vp_motion_close(s->motion);
     if (s->surf) vp_surface_close(s->surf);

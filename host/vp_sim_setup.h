@@ -66,6 +66,8 @@ typedef struct vp_sim {
     vp_hausdorff_t haus_end;         /* with a motion: the mesh against the object at the end time */
     int have_haus_end;
     vp_simdev_config_t dc;           /* the simulated device's settings (kept for a re-scan) */
+    struct vp_sim_round *rounds;     /* --track: the first scan, then one per round */
+    int nrounds;
     int rescan;                      /* a re-scan: the object was swapped after the replay */
     const char *rescan_spec;         /* ... for this one (the caller's string) */
     vp_planner_stats_t before;       /* the planner's counters when the re-scan began */
@@ -104,6 +106,22 @@ int vp_sim_exit(const vp_sim_t *s);
 /* Human summary, and with o->json one JSON object as the last line. */
 void vp_sim_report(const vp_sim_t *s, const vp_sim_options_t *o, FILE *f);
 void vp_sim_close(vp_sim_t *s);
+
+/* Tracking a moving object (--track N): after each round (the first scan, then re-scans from
+ * where the device stands, vp_planner_rescan_here), what it took and what it left. */
+typedef struct vp_sim_round {
+    double t0, t1;                   /* the simulated clock at its start and end (s) */
+    uint64_t probes, moves, kept, dropped, reproved, blocked;
+    unsigned long collisions;        /* moves that touched the moving object in this round */
+    int status, closed, genus, components;
+    unsigned vertices;
+    double hausdorff;                /* the mesh against the object at t1 (-1: not measured) */
+    double min_spacing;              /* the closest two vertices of the mesh */
+} vp_sim_round_t;
+/* Runs rounds 1..n after the first scan (each: rescan_event(ctx, k), the re-scan, its figures in
+ * s->rounds[k]; s->rounds[0] is the first scan); stops early when a round does not end DONE. */
+int vp_sim_track(vp_sim_t *s, const vp_sim_options_t *o, int n, int (*rescan_event)(void *ctx, int round),
+                 void *ctx, FILE *progress);
 /* A re-scan: the simulated object becomes `spec` (the device back at the start, its counters from
  * zero), after the session so far was replayed into s->pl with the old one. The planner's
  * configuration stays the logged one, so the new object must lie in its Omega (assumption A2;

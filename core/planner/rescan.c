@@ -496,7 +496,7 @@ VP_PL_API int vp_pl_reprove_feed(vp_planner_t *pl, const vp_probe_result_t *res)
     return vp_pl_withdraw_at(pl, res->hit == 1 ? h : NULL, old);
 }
 
-int vp_planner_rescan(vp_planner_t *pl)
+static int rescan(vp_planner_t *pl, int at_start)
 {
     uint32_t t;
     int f;
@@ -514,8 +514,20 @@ int vp_planner_rescan(vp_planner_t *pl)
     for (t = 0; t < pl->dt.ntet_slots; t++)
         if (vp_dt_alive(&pl->dt, t))
             for (f = 0; f < 4; f++) side_set(pl, t, f, side_get(pl, t, f) & ~SIDE_QUEUED);
-    memcpy(pl->dev.pos, pl->cfg.start, sizeof pl->dev.pos);
-    pl->dev.at = 0; /* the start's record (vp_planner_init) */
+    if (at_start) {
+        memcpy(pl->dev.pos, pl->cfg.start, sizeof pl->dev.pos);
+        pl->dev.at = 0; /* the start's record (vp_planner_init) */
+    } else {
+        /* the device stays, at its record (routes from it prove each stale step first) */
+        uint32_t r = pl->dev.at;
+        if (r >= pl->pool.nvrec || memcmp(pl->pool.vrec[r].p, pl->dev.pos, sizeof pl->dev.pos) != 0)
+            r = vp_pl_rec_at(pl, pl->dev.pos);
+        if (r == NONE) {
+            int st = vp_pl_rec_new(pl, pl->dev.pos, NONE, vp_pl_omega_inside(&pl->cfg, pl->dev.pos) ? REC_LOST : REC_OUT, &r);
+            if (st != VP_OK) return st;
+        }
+        pl->dev.at = r;
+    }
     memset(&pl->close, 0, sizeof pl->close);
     pl->rescan.mark = pl->pool.nproof > 0 ? pl->pool.nproof : 1;
     pl->rescan.nvert = pl->dt.nvert;
@@ -530,5 +542,8 @@ int vp_planner_rescan(vp_planner_t *pl)
     pl->phase = PH_VERIFY;
     return VP_OK;
 }
+
+int vp_planner_rescan(vp_planner_t *pl) { return rescan(pl, 1); }
+int vp_planner_rescan_here(vp_planner_t *pl) { return rescan(pl, 0); }
 
 #endif

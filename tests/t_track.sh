@@ -1,0 +1,68 @@
+#!/bin/sh
+# `sim --track N`: rounds of re-scans of an object that keeps moving (host-sim's --motion clock).
+# (1) a bump growing on the unit sphere (bump:1,0,0,0.5,0.001, eps 0.2), 4 rounds: every round
+#     DONE, closed, genus 0, 0 collisions with the moving object (host-sim checks each move
+#     against the object as it moves), the samples removed per round a small share (the bump's
+#     area: 1-15%), the mesh within 0.3 eps of the object at the round's end (host-sim's
+#     measure against the object at that time), no two vertices closer than in the first scan;
+#     the log verified and replayed to the same mesh (RESCAN events with code 1: the device
+#     stays where it stands);
+# (2) the object standing still, 2 rounds: each round one probe per sample, none removed, the
+#     same mesh;
+# (3) --track takes 1..1000.
+set -u
+B=${BUILD:-build}
+VP=${VP:-$B/voroprobe}
+tmp=$(mktemp -d) || exit 1
+trap 'rm -rf "$tmp"' EXIT
+fail=0
+bad() { echo "FAIL: $*"; fail=1; }
+J="$tmp/b.json"
+"$VP" sim --surface sphere --eps 0.2 --motion bump:1,0,0,0.5,0.001 --track 4 --out "$tmp/b" --quiet --json >"$J" 2>&1 || bad "bump: exit $?"
+python3 - "$J" <<'PY' || fail=1
+import json, sys
+d = json.loads(open(sys.argv[1]).read().strip().splitlines()[-1])
+r = d["rounds"]
+ok = True
+def bad(m):
+    global ok
+    print("FAIL: bump: " + m); ok = False
+if len(r) != 5: bad("%d rounds" % len(r))
+sp0 = r[0]["min_spacing"]
+for k, x in enumerate(r):
+    if x["status"] != "ok" or not x["closed"] or x["genus"] != 0 or x["collisions"] != 0:
+        bad("round %d: %s" % (k, x))
+    if x["hausdorff"] < 0 or x["hausdorff"] > 0.3 * 0.2:
+        bad("round %d: Hausdorff %g at its end" % (k, x["hausdorff"]))
+    if x["min_spacing"] < 0.99 * sp0:
+        bad("round %d: vertices %g apart (first scan %g)" % (k, x["min_spacing"], sp0))
+    if k > 0:
+        share = x["dropped"] / float(x["kept"] + x["dropped"])
+        if not (0.01 <= share <= 0.15): bad("round %d: %.1f%% of the samples removed" % (k, 100 * share))
+    print("round %d: t %.1f..%.1f s, %d probes, kept %d, removed %d, %d vertices, closed, genus %d, 0 collisions, "
+          "Hausdorff %.4f" % (k, x["t0"], x["t1"], x["probes"], x["kept"], x["dropped"], x["vertices"], x["genus"], x["hausdorff"]))
+sys.exit(0 if ok else 1)
+PY
+"$VP" log verify "$tmp/b.vplog" >"$tmp/v.txt" 2>&1 || bad "bump: log verify: $(tail -n 1 "$tmp/v.txt")"
+grep -q "4 re-scan(s)" "$tmp/v.txt" || bad "bump: log verify saw $(tail -n 1 "$tmp/v.txt")"
+"$VP" replay "$tmp/b.vplog" --out "$tmp/r" >"$tmp/r.txt" 2>&1 || bad "bump: replay: $(tail -n 2 "$tmp/r.txt")"
+cmp -s "$tmp/r.ply" "$tmp/b.ply" || bad "bump: the replayed mesh differs"
+
+J="$tmp/s.json"
+"$VP" sim --surface torus --eps-rel 0.04 --track 2 --out "$tmp/s" --quiet --json >"$J" 2>&1 || bad "still: exit $?"
+python3 - "$J" <<'PY' || fail=1
+import json, sys
+d = json.loads(open(sys.argv[1]).read().strip().splitlines()[-1])
+r = d["rounds"]
+ok = len(r) == 3
+for k, x in enumerate(r[1:], 1):
+    if x["dropped"] != 0 or x["vertices"] != r[0]["vertices"] or not x["closed"] or x["genus"] != 1 or x["collisions"] != 0:
+        ok = False
+        print("FAIL: still: round %d: %s" % (k, x))
+    print("still, round %d: %d probes for %d samples (the first scan %d), none removed" % (k, x["probes"], x["kept"], r[0]["probes"]))
+sys.exit(0 if ok else 1)
+PY
+"$VP" sim --surface sphere --eps 0.2 --track 0 --no-log --quiet >"$tmp/o.txt" 2>&1
+[ $? -eq 2 ] && grep -q "1..1000" "$tmp/o.txt" || bad "--track 0: $(cat "$tmp/o.txt")"
+[ $fail -eq 0 ] && echo "track: every round closed with the object's genus, 0 collisions, the changes where the object moved"
+exit $fail
