@@ -249,6 +249,16 @@ int vp_sim_session_options(vp_sim_session_t *g, vp_sim_options_t *o, int argc, c
             g->rescan_surface = argv[++i]; /* the object now; the session's own builds its Omega */
             continue;
         }
+        if (g->rescan && (!strcmp(argv[i], "--png") || !strcmp(argv[i], "--track") || !strncmp(argv[i], "--serve", 7))) {
+            i++; /* taken by cmd_sim */
+            continue;
+        }
+        if (g->rescan && strcmp(argv[i], "--out") && strcmp(argv[i], "--json") && strcmp(argv[i], "--quiet") &&
+            strcmp(argv[i], "--hausdorff")) {
+            snprintf(err, errlen, "%s: a re-scan keeps the options of the session it re-scans (its log's); give only "
+                     "--surface (the object now) and the outputs (--out, --log, --json, --quiet, --hausdorff, --png)", argv[i]);
+            return VP_EINVAL;
+        }
         if (vp_sim_parse_option(o, argc, argv, &i, sub, sizeof sub) != 0) {
             snprintf(err, errlen, "bad option %s", argv[i]);
             return VP_EINVAL;

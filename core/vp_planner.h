@@ -266,6 +266,13 @@ typedef struct vp_pl_rescan {
     int reprove;                           /* 1: the PROBE out is a route step's proof */
     uint32_t doomed[8], ndoomed;           /* samples to remove once the triangulation keeps 3D
                                               without them (a few samples left: the object moved) */
+    uint32_t drop;                         /* a sample the last PROBE showed moved: removed by the
+                                              next vp_planner_next (NONE: none) */
+    int blocked;                           /* the last route-step PROBE found the step blocked:
+                                              1 at blocked_at, 2 with no point; handled by the
+                                              next vp_planner_next */
+    double blocked_at[3];
+    uint32_t blocked_proof;
 } vp_pl_rescan_t;
 #endif
 

@@ -3,6 +3,7 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include "vp_note.h"
 #include "vp_sim_session.h"
 
@@ -77,7 +78,7 @@ void vp_sim_session_note(const vp_sim_options_t *o, char *buf, size_t n)
 int vp_sim_session_set_path(vp_sim_session_t *g, const vp_sim_options_t *o, char *err, size_t errlen)
 {
     g->path[0] = 0;
-    if (g->no_log && !g->resume && !g->rescan) return VP_OK;
+    if (g->no_log && !g->resume) return VP_OK;
     if (g->log) return vp_path_cat(g->path, sizeof g->path, g->log, "", err, errlen);
     if (g->resume) return vp_path_cat(g->path, sizeof g->path, g->resume, "", err, errlen);
     if (o->out) return vp_path_cat(g->path, sizeof g->path, o->out, ".vplog", err, errlen);
@@ -117,9 +118,13 @@ static int rescan_begin(vp_sim_session_t *g, vp_sim_t *s, const vp_sim_options_t
         snprintf(err, errlen, "%s: the scan configuration is not the logged one (%s)", g->rescan, why);
         return VP_EINVAL;
     }
-    if (!g->path[0] || !strcmp(g->path, g->rescan)) {
-        snprintf(err, errlen, "a re-scan writes a new log: give --out or --log other than %s", g->rescan);
-        return VP_EINVAL;
+    if (!g->no_log) {
+        struct stat a, b;
+        if (!g->path[0] || !strcmp(g->path, g->rescan) ||
+            (stat(g->path, &a) == 0 && stat(g->rescan, &b) == 0 && a.st_dev == b.st_dev && a.st_ino == b.st_ino)) {
+            snprintf(err, errlen, "a re-scan writes a new log: give --out or --log other than %s", g->rescan);
+            return VP_EINVAL;
+        }
     }
     if (strlen(now) + 10 > VP_LOGFMT_TEXT_MAX) {
         snprintf(err, errlen, "the object's name is too long for the log (%zu bytes at most)", (size_t)VP_LOGFMT_TEXT_MAX - 10);
@@ -136,6 +141,7 @@ static int rescan_begin(vp_sim_session_t *g, vp_sim_t *s, const vp_sim_options_t
     if ((st = vp_sim_swap_surface(s, now, err, errlen)) != VP_OK) return st;
     if (msg) fprintf(msg, "rescan %s: %u records replayed (%llu probes), %u samples to measure again on %s\n",
                      g->rescan, R.applied, (unsigned long long)R.probes, s->pl->dt.ninserted, now);
+    if (g->no_log) return VP_OK;
     if (vp_mkdirs_for(g->path) != 0) {
         snprintf(err, errlen, "cannot create the folder of %s: %s", g->path, strerror(errno));
         return VP_EIO;

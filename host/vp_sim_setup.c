@@ -448,6 +448,10 @@ int vp_sim_exit(const vp_sim_t *s)
     in.collisions = ds.collisions;
     in.closed_manifold = s->have_check && s->check.closed_manifold;
     in.missing_components = st.missing_components;
+    /* a re-scan keeps the old interior points: a part of the object now that the mesh does not
+     * hold is missed (a new part the re-scan never met) */
+    if (s->rescan && s->have_check && s->check.components < s->components)
+        in.missing_components += (unsigned)(s->components - s->check.components);
     in.beyond_target = s->target > 0 && s->have_haus && s->haus.hausdorff > s->target;
     return vp_outcome(&in);
 }
@@ -510,10 +514,15 @@ void vp_sim_report(const vp_sim_t *s, const vp_sim_options_t *o, FILE *f)
                     "kept, %llu removed (%llu covered or out of reach of every line), %llu measured along their normal; "
                     "%llu route steps proven again (%llu blocked)\n", s->rescan_spec,
                     (unsigned long long)(st.probes - s->before.probes), (unsigned long long)(st.moves - s->before.moves),
-                    (unsigned long long)s->before.probes, (unsigned long long)st.rescan_kept,
-                    (unsigned long long)st.rescan_dropped, (unsigned long long)st.rescan_unseen,
-                    (unsigned long long)st.rescan_normal, (unsigned long long)st.reproved,
-                    (unsigned long long)st.reprove_blocked);
+                    (unsigned long long)s->before.probes, (unsigned long long)(st.rescan_kept - s->before.rescan_kept),
+                    (unsigned long long)(st.rescan_dropped - s->before.rescan_dropped),
+                    (unsigned long long)(st.rescan_unseen - s->before.rescan_unseen),
+                    (unsigned long long)(st.rescan_normal - s->before.rescan_normal),
+                    (unsigned long long)(st.reproved - s->before.reproved),
+                    (unsigned long long)(st.reprove_blocked - s->before.reprove_blocked));
+        if (s->rescan && s->have_check && s->check.components < s->components)
+            fprintf(f, "rescan: the object now has %d component(s), the mesh %d: a part the re-scan never met (it "
+                    "keeps the old interior points): scan afresh\n", s->components, s->check.components);
         if (s->nrounds > 0) {
             int k;
             fprintf(f, "tracking: %d round(s) after the first scan (a re-scan each, from where the device stood)\n", s->nrounds - 1);
@@ -557,7 +566,7 @@ void vp_sim_report(const vp_sim_t *s, const vp_sim_options_t *o, FILE *f)
                 "\"astar_expansions\":%llu,\"astar_fallbacks\":%llu,\"shortcut_probes\":%llu,"
                 "\"escalations\":%llu,\"reseeds\":%llu,\"missing_components\":%u,\"unproven\":%llu,"
                 "\"stalls\":%llu,\"accuracy_target\":%.6g,\"size_rel\":%.6g,\"min_size\":%.6g,\"max_distance\":%.6g%s",
-                o->surface, s->cfg.eps, vp_outcome_name(ex), ex, vp_strerror(s->run.status), nv, (unsigned)s->mesh.nt,
+                s->rescan ? s->rescan_spec : o->surface, s->cfg.eps, vp_outcome_name(ex), ex, vp_strerror(s->run.status), nv, (unsigned)s->mesh.nt,
                 (unsigned long long)st.probes, (unsigned long long)st.hits,
                 (unsigned long long)st.misses, (unsigned long long)st.reprobes,
                 (unsigned long long)st.moves, st.travel, st.travel_prev_chains, ds.collisions,
@@ -576,9 +585,12 @@ void vp_sim_report(const vp_sim_t *s, const vp_sim_options_t *o, FILE *f)
                     "\"kept\":%llu,\"dropped\":%llu,\"unseen\":%llu,\"normal\":%llu,\"reproved\":%llu,"
                     "\"blocked\":%llu}", s->rescan_spec, (unsigned long long)(st.probes - s->before.probes),
                     (unsigned long long)(st.moves - s->before.moves), (unsigned long long)s->before.probes,
-                    (unsigned long long)st.rescan_kept, (unsigned long long)st.rescan_dropped,
-                    (unsigned long long)st.rescan_unseen, (unsigned long long)st.rescan_normal,
-                    (unsigned long long)st.reproved, (unsigned long long)st.reprove_blocked);
+                    (unsigned long long)(st.rescan_kept - s->before.rescan_kept),
+                    (unsigned long long)(st.rescan_dropped - s->before.rescan_dropped),
+                    (unsigned long long)(st.rescan_unseen - s->before.rescan_unseen),
+                    (unsigned long long)(st.rescan_normal - s->before.rescan_normal),
+                    (unsigned long long)(st.reproved - s->before.reproved),
+                    (unsigned long long)(st.reprove_blocked - s->before.reprove_blocked));
         if (s->nrounds > 0) {
             int k;
             fprintf(f, ",\"rounds\":[");

@@ -15,7 +15,9 @@
 # (4) a re-scan paused and resumed ends with the same mesh; every log verified (log verify) and
 #     replayed to the same mesh;
 # (5) refusals: an object outside the session's Omega, --resume with --rescan, the old log as
-#     the new one;
+#     the new one (also by another name), a session option (--seed) with --rescan; --no-log
+#     writes no log; a new part far from the old object, which the re-scan never meets, ends
+#     not closed (exit 4) and says so;
 # (6) `scan --rescan` on the rpi4 gantry's dry run: the same object gives the old mesh byte for
 #     byte; a smaller one closes with 0 moves through it and 0 head collisions, its log verified;
 #     paused and resumed, the same mesh.
@@ -166,6 +168,15 @@ cmp -s "$tmp/mp.ply" "$tmp/mc.ply" || bad "rpi4 re-scan paused and resumed: anot
 "$VP" sim --rescan "$tmp/sphere.vplog" --log "$tmp/sphere.vplog" $S >"$tmp/o.txt" 2>&1
 [ $? -ne 0 ] && grep -q "writes a new log" "$tmp/o.txt" || bad "the old log as the new one: $(cat "$tmp/o.txt")"
 
+"$VP" sim --rescan "$tmp/sphere.vplog" --log "$tmp/./sphere.vplog" $S >"$tmp/o.txt" 2>&1
+[ $? -ne 0 ] && grep -q "writes a new log" "$tmp/o.txt" || bad "the old log under another name: $(cat "$tmp/o.txt")"
+"$VP" sim --rescan "$tmp/sphere.vplog" --seed 5 $S >"$tmp/o.txt" 2>&1
+[ $? -ne 0 ] && grep -q "keeps the options of the session" "$tmp/o.txt" || bad "--seed with --rescan: $(cat "$tmp/o.txt")"
+"$VP" sim --rescan "$tmp/sphere.vplog" --no-log --out "$tmp/nolog" $S >/dev/null 2>&1 || bad "--no-log with --rescan: exit $?"
+[ -e "$tmp/nolog.vplog" ] && bad "--no-log with --rescan wrote a log"
+# a new part the re-scan never meets (it keeps the old interior points): not closed around it, said
+"$VP" sim --rescan "$tmp/sphere.vplog" --surface "sphere+sphere*0.05@1.2,1.2,-1.2" --out "$tmp/newpart" $S >"$tmp/o.txt" 2>&1
+[ $? -eq 4 ] && grep -q "a part the re-scan never met" "$tmp/o.txt" || bad "a new part far away: $(tail -3 "$tmp/o.txt")"
 "$VP" scan --rescan "$tmp/m.vplog" --log "$tmp/m.vplog" --quiet >"$tmp/o.txt" 2>&1
 [ $? -eq 2 ] && grep -q "writes a new log" "$tmp/o.txt" || bad "scan: the old log as the new one: $(cat "$tmp/o.txt")"
 

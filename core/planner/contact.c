@@ -238,7 +238,11 @@ VP_PL_API int vp_pl_withdraw_at(vp_planner_t *pl, const double *h, uint32_t old)
                 pl->pool.proof[i].len = -1.0;
                 pl->st.revoked++;
             }
-    if (pl->probe.ready && pl->probe.task.off > 0.0) {
+    if (pl->phase == PH_VERIFY) {
+        /* a re-scan's measuring probe: its line is tried again (another way there, or the next) */
+        if (pl->probe.ready && pl->rescan.cur != NONE && pl->rescan.along > 0) pl->rescan.along--;
+        pl->probe.ready = 0;
+    } else if (pl->probe.ready && pl->probe.task.off > 0.0) {
         vp_pl_probe_drop(pl);
     } else if (pl->probe.ready) {
         pl->probe.ready = 0;

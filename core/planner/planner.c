@@ -341,6 +341,13 @@ int vp_planner_next(vp_planner_t *pl, vp_cmd_t *cmd)
 #if VP_PL_LINE_LASER
     pl->rays.left = 0;          /* the last PROBE's frame is over */
 #endif
+#if VP_PL_CONTACTS
+    if (pl->rescan.blocked || (pl->rescan.drop != NONE && pl->rescan.mark > 0)) {
+        /* a re-scan's last PROBE found a route step blocked or a sample moved */
+        st = vp_pl_rescan_pending(pl);
+        if (st < 0) { pl->error = st; return st; }
+    }
+#endif
     for (budget = STEP_BUDGET + 4u * (uint64_t)pl->pool.cap_task;; budget--) {
         if (budget == 0) {
             /* bounded work per call: a loop that issues nothing is reported, never spun */
@@ -395,7 +402,8 @@ static int shortcut_search(vp_planner_t *pl)
         if (st == PL_UNREACHABLE) {
             pl->route.n = 0;
             pl->dev.at = pl->sc.from;
-            vp_pl_probe_drop(pl);
+            if (pl->phase == PH_VERIFY) pl->probe.ready = 0; /* a measuring probe: the next line */
+            else vp_pl_probe_drop(pl);
         }
 #endif
     }

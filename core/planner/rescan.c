@@ -244,7 +244,9 @@ static int remove_sample(vp_planner_t *pl, uint32_t v, uint32_t nr)
 {
     uint32_t i, nc, q;
     const uint32_t *created;
-    int st = vp_dt_remove(&pl->dt, v);
+    int st;
+    for (i = 0; i < nr; i++) vp_dt_vertex(&pl->dt, pl->pool.astar[i])->aux &= ~AUX_NRM; /* their stars change */
+    st = vp_dt_remove(&pl->dt, v);
     if (st != VP_OK) return st;
     created = vp_dt_last_created(&pl->dt, &nc);
     for (q = 0; q < nc; q++) {
@@ -424,11 +426,19 @@ VP_PL_API int vp_pl_verify_feed(vp_planner_t *pl, const vp_probe_result_t *res)
     if ((res->hit == 1 && res->dist < e - tol) || res->hit == VP_PROBE_TOO_CLOSE) {
         /* something nearer along this line: covered, or only blocked from here */
         if (pl->rescan.along < (pl->rescan.pass == 0 ? 2u : 3u)) return VP_OK; /* the next line */
-        return line_exhausted(pl, v);
+        if (pl->rescan.pass == 0) return line_exhausted(pl, v);
+        pl->rescan.cur = NONE;
+        vp_dt_vertex(&pl->dt, v)->aux &= ~AUX_DEFER;
+        pl->st.rescan_unseen++;
+        pl->rescan.drop = v;
+        return VP_OK;
     }
+    /* not where it was: removed by the next vp_planner_next (an error there, such as a full
+     * arena, leaves this PROBE's record replayable) */
     pl->rescan.cur = NONE;
     vp_dt_vertex(&pl->dt, v)->aux &= ~AUX_DEFER;
-    return drop_sample(pl, v);
+    pl->rescan.drop = v;
+    return VP_OK;
 }
 
 /* The PROBE of a stale route step: from the device along the step (unit d), its length in
@@ -463,12 +473,45 @@ static void renew_edges(vp_planner_t *pl, uint32_t old, uint32_t fresh, const do
             (vp_dist3(p, b) <= pl->ptol && vp_dist3(q, a) <= pl->ptol))
             w[4] = fresh;
     }
+    /* the prev chains' links (travel along prev chains reads them) */
+    for (e = 0; e < pl->pool.nvrec; e++) {
+        vp_vrec_t *r = &pl->pool.vrec[e];
+        const double *p, *q;
+        if (r->proof != old || r->prev == e || r->prev >= pl->pool.nvrec) continue;
+        p = r->p;
+        q = pl->pool.vrec[r->prev].p;
+        if ((vp_dist3(p, a) <= pl->ptol && vp_dist3(q, b) <= pl->ptol) ||
+            (vp_dist3(p, b) <= pl->ptol && vp_dist3(q, a) <= pl->ptol))
+            r->proof = fresh;
+    }
+}
+
+/* Puts a waypoint on the current route step, `at` along it from the device, with proof `pf`:
+ * the step's first part is free again, its rest is still stale (probed from there). */
+static int split_step(vp_planner_t *pl, double at, uint32_t pf)
+{
+    uint32_t i = pl->route.i, j;
+    const double *to = pl->route.pts + 3 * (size_t)i;
+    double d[3], w[3];
+    int k;
+    if (pl->route.n >= pl->route.cap) return VP_ENOMEM;
+    vp_sub3(d, to, pl->dev.pos);
+    vp_normalize3(d);
+    for (k = 0; k < 3; k++) w[k] = pl->dev.pos[k] + at * d[k];
+    for (j = pl->route.n; j > i; j--) {
+        memcpy(pl->route.pts + 3 * (size_t)j, pl->route.pts + 3 * (size_t)(j - 1), 3 * sizeof(double));
+        pl->route.proof[j] = pl->route.proof[j - 1];
+    }
+    memcpy(pl->route.pts + 3 * (size_t)i, w, sizeof w);
+    pl->route.proof[i] = pf;
+    pl->route.n++;
+    return VP_OK;
 }
 
 VP_PL_API int vp_pl_reprove_feed(vp_planner_t *pl, const vp_probe_result_t *res)
 {
     const double *to = pl->route.pts + 3 * (size_t)pl->route.i;
-    double len = vp_dist3(pl->dev.pos, to), h[3];
+    double len = vp_dist3(pl->dev.pos, to), free_len;
     uint32_t old = pl->route.proof[pl->route.i], fresh;
     int k;
     pl->rescan.reprove = 0;
@@ -480,7 +523,12 @@ VP_PL_API int vp_pl_reprove_feed(vp_planner_t *pl, const vp_probe_result_t *res)
         return VP_OK; /* the step is still stale: probed again (a dropout hides a surface) */
     }
     pl->rescan.tries = 0;
-    if (res->hit == 0 ? pl->dev.iss_range >= len : res->hit == 1 && res->dist - pl->cfg.noise_tol >= len) {
+    /* the free part this PROBE shows (a miss: its range; a hit: up to the noise before it);
+     * near a contact a miss proves nothing (a surface the rangefinder cannot see) */
+    free_len = res->hit == 0 ? pl->dev.iss_range : res->hit == 1 ? res->dist - pl->cfg.noise_tol : 0.0;
+    if (res->hit == 0 && pl->contact.n > 0 && vp_pl_contact_distrusts(pl, pl->dev.iss_o, pl->dev.iss_d, free_len))
+        free_len = 0.0;
+    if (free_len >= len - pl->ptol) {
         /* free again: a fresh proof of the step */
         VP_TRY(vp_pl_proof_add(pl, pl->dev.iss_o, pl->dev.iss_d, len, &fresh));
         if (fresh == PROOF_NONE) return VP_EUNSAFE;
@@ -489,11 +537,37 @@ VP_PL_API int vp_pl_reprove_feed(vp_planner_t *pl, const vp_probe_result_t *res)
         pl->st.reproved++;
         return VP_OK;
     }
-    /* blocked (or beyond the rangefinder's reach): the old proofs there are false */
+    if (res->hit == 0 && free_len > 0.0 && pl->dev.iss_range < len - pl->ptol) {
+        /* a step longer than the rangefinder's reach: its first part is free again; the rest is
+         * probed from there */
+        VP_TRY(vp_pl_proof_add(pl, pl->dev.iss_o, pl->dev.iss_d, free_len, &fresh));
+        if (fresh == PROOF_NONE) return VP_EUNSAFE;
+        return split_step(pl, free_len, fresh);
+    }
+    /* blocked (or not provable: near a contact): the old proofs there are false; handled by the
+     * next vp_planner_next (an error there leaves this PROBE's record replayable) */
     pl->st.reprove_blocked++;
-    if (res->hit == 1)
-        for (k = 0; k < 3; k++) h[k] = pl->dev.iss_o[k] + res->dist * pl->dev.iss_d[k];
-    return vp_pl_withdraw_at(pl, res->hit == 1 ? h : NULL, old);
+    pl->rescan.blocked = res->hit == 1 ? 1 : 2;
+    pl->rescan.blocked_proof = old;
+    for (k = 0; k < 3; k++) pl->rescan.blocked_at[k] = pl->dev.iss_o[k] + res->dist * pl->dev.iss_d[k];
+    return VP_OK;
+}
+
+/* What the last PROBE asked for (vp_planner_next, before anything else): a blocked route step's
+ * withdrawal, or a moved sample's removal. */
+VP_PL_API int vp_pl_rescan_pending(vp_planner_t *pl)
+{
+    if (pl->rescan.blocked) {
+        int b = pl->rescan.blocked;
+        pl->rescan.blocked = 0;
+        VP_TRY(vp_pl_withdraw_at(pl, b == 1 ? pl->rescan.blocked_at : NULL, pl->rescan.blocked_proof));
+    }
+    if (pl->rescan.drop != NONE) {
+        uint32_t v = pl->rescan.drop;
+        pl->rescan.drop = NONE;
+        VP_TRY(drop_sample(pl, v));
+    }
+    return VP_OK;
 }
 
 static int rescan(vp_planner_t *pl, int at_start)
@@ -537,6 +611,8 @@ static int rescan(vp_planner_t *pl, int at_start)
     pl->rescan.cur = NONE;
     pl->rescan.reprove = 0;
     pl->rescan.ndoomed = 0;
+    pl->rescan.drop = NONE;
+    pl->rescan.blocked = 0;
     pl->rescan.tol = pl->cfg.noise_tol > KEEP_TOL_REL * (1.0 + vp_pl_omega_circumradius(&pl->cfg))
                          ? pl->cfg.noise_tol : KEEP_TOL_REL * (1.0 + vp_pl_omega_circumradius(&pl->cfg));
     pl->phase = PH_VERIFY;

@@ -276,6 +276,7 @@ VP_PL_API int vp_pl_reprove_feed(vp_planner_t *pl, const vp_probe_result_t *res)
 VP_PL_API int vp_pl_verify_next(vp_planner_t *pl);
 VP_PL_API int vp_pl_verify_feed(vp_planner_t *pl, const vp_probe_result_t *res);
 VP_PL_API int vp_pl_remove_doomed(vp_planner_t *pl);
+VP_PL_API int vp_pl_rescan_pending(vp_planner_t *pl);
 #endif
 
 /* proof.c */
