@@ -200,7 +200,7 @@ $(BUILD)/tests/core/test_gmp_%: tests/core/test_gmp_%.c tests/vp_test.h $(LIBS) 
 	@mkdir -p $(@D)
 	$(CC) $(HOST_CFLAGS) -Itests -o $@ $< $(LIBS) $(PORT_LIBS) -lgmp $(LDLIBS)
 
-$(BUILD)/tests/%: tests/%.c tests/vp_test.h $(LIBS) $(CONFIG)
+$(BUILD)/tests/%: tests/%.c $(wildcard tests/*.h) $(LIBS) $(CONFIG)
 	@mkdir -p $(@D)
 	$(CC) $(HOST_CFLAGS) -Itests -o $@ $< $(LIBS) $(PORT_LIBS) $(LDLIBS)
 

@@ -85,6 +85,17 @@ int vp_sim_session_set_path(vp_sim_session_t *g, const vp_sim_options_t *o, char
     return VP_OK;
 }
 
+/* The log is open: every command goes to it (the session hooks). */
+static void attach_log(vp_sim_session_t *g, vp_sim_t *s)
+{
+    g->active = 1;
+    g->w.raw = &s->raw;
+    g->w.stop_after = g->stop_after;
+    g->hooks.ctx = &g->w;
+    g->hooks.after = vp_sessionlog_after;
+    s->hooks = &g->hooks;
+}
+
 /* The object of the last RESCAN event of the loaded log (its text: --surface SPEC). */
 static int last_rescan_surface(vp_sim_session_t *g, char *err, size_t errlen)
 {
@@ -153,12 +164,7 @@ static int rescan_begin(vp_sim_session_t *g, vp_sim_t *s, const vp_sim_options_t
         snprintf(err, errlen, "cannot write the session log %s: %s", g->path, strerror(errno));
         return st;
     }
-    g->active = 1;
-    g->w.raw = &s->raw;
-    g->w.stop_after = g->stop_after;
-    g->hooks.ctx = &g->w;
-    g->hooks.after = vp_sessionlog_after;
-    s->hooks = &g->hooks;
+    attach_log(g, s);
     return VP_OK;
 }
 
@@ -238,12 +244,7 @@ int vp_sim_session_begin(vp_sim_session_t *g, vp_sim_t *s, const vp_sim_options_
             snprintf(err, errlen, "cannot write the session log %s: %s", g->path, strerror(errno));
         return st;
     }
-    g->active = 1;
-    g->w.raw = &s->raw;
-    g->w.stop_after = g->stop_after;
-    g->hooks.ctx = &g->w;
-    g->hooks.after = vp_sessionlog_after;
-    s->hooks = &g->hooks;
+    attach_log(g, s);
     return VP_OK;
 }
 

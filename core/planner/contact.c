@@ -147,39 +147,28 @@ VP_PL_API uint32_t vp_pl_rec_at(const vp_planner_t *pl, const double *p)
     return NONE;
 }
 
-static int touch_at(vp_planner_t *pl, double at)
+/* Every proof through point c is false: withdrawn. */
+static void revoke_through(vp_planner_t *pl, const double *c)
 {
-    double u[3], len, c[3], tol, back[3];
-    uint32_t i, from_rec, v, touch = PROOF_NONE;
-    int k, st;
-    vp_sub3(u, pl->dev.pos, pl->contact.move_from);
-    len = sqrt(vp_dot3(u, u));
-    if (!(at >= 0.0) || !(at <= len + pl->ptol)) return VP_EINVAL;
-    if (at > len) at = len;
-    if (len > 0.0)
-        for (k = 0; k < 3; k++) u[k] /= len;
-    for (k = 0; k < 3; k++) c[k] = pl->contact.move_from[k] + at * u[k];
-    /* Omega holds the object (A2): a contact outside it breaks the assumption every proof
-     * outside Omega rests on */
-    if (!vp_pl_omega_inside(&pl->cfg, c)) return VP_ERANGE;
-    /* the seeds' probes start outside Omega: a contact before them is not expected */
-    if (pl->phase == PH_SEED || pl->dt.dim < 3) return VP_EUNSAFE;
-    pl->contact.moved = 0;
-    pl->st.contacts++;
-    /* every proof through the contact point is false */
-    tol = pl->ptol + pl->cfg.noise_tol;
+    double tol = pl->ptol + pl->cfg.noise_tol;
+    uint32_t i;
     for (i = 0; i < pl->pool.nproof; i++)
         if (proof_near(&pl->pool.proof[i], c, tol)) {
             pl->pool.proof[i].len = -1.0;
             pl->st.revoked++;
         }
-    contact_keep(pl, c, pl->cfg.eps > CONTACT_REACH_NOISE * pl->cfg.noise_tol ? pl->cfg.eps
-                                                                             : CONTACT_REACH_NOISE * pl->cfg.noise_tol);
-    /* the part travelled up to the contact is free: the way back */
-    memcpy(back, pl->contact.move_from, sizeof back);
-    if (at > 0.0) VP_TRY(vp_pl_proof_add(pl, back, u, at, &touch));
-    /* what the device was about to do is dropped: its route and probe go back to the queue */
-    if (pl->probe.ready && pl->probe.task.off > 0.0) {
+}
+
+/* Proofs were withdrawn: what the device was about to do is dropped (its route; its probe back to
+ * the queue, or a re-scan's measuring probe to be tried again), and the prev chains are rebuilt
+ * over the proofs that stand. */
+static int abandon_plan(vp_planner_t *pl)
+{
+    if (pl->phase == PH_VERIFY) {
+        /* a re-scan's measuring probe: its line is tried again (another way there, or the next) */
+        if (pl->probe.ready && pl->rescan.cur != NONE && pl->rescan.along > 0) pl->rescan.along--;
+        pl->probe.ready = 0;
+    } else if (pl->probe.ready && pl->probe.task.off > 0.0) {
         /* a walked ray goes on from where the device was to stand: not any more */
         vp_pl_probe_drop(pl);
     } else if (pl->probe.ready) {
@@ -196,85 +185,86 @@ static int touch_at(vp_planner_t *pl, double at)
     pl->route.n = pl->route.i = 0;
     VP_TRY(rebuild_chains(pl));
     reset_tets(pl);
-    /* the device stands at the contact; it backs off to the move's start */
-    from_rec = vp_pl_rec_at(pl, back);
-    if (from_rec == NONE) {
-        st = vp_pl_rec_new(pl, back, NONE, vp_pl_omega_inside(&pl->cfg, back) ? REC_LOST : REC_OUT, &from_rec);
-        if (st != VP_OK) return st;
-    }
-    memcpy(pl->dev.pos, c, sizeof c);
-    pl->dev.at = from_rec;
-    if (at > 0.0) VP_TRY(vp_pl_route_push(pl, back, touch));
-    /* the contact point is a sample of S */
+    return VP_OK;
+}
+
+/* The record standing at p, or a new one there (lost inside Omega: no proven chain yet). */
+static int rec_here(vp_planner_t *pl, const double *p, uint32_t *r)
+{
+    *r = vp_pl_rec_at(pl, p);
+    if (*r != NONE) return VP_OK;
+    return vp_pl_rec_new(pl, p, NONE, vp_pl_omega_inside(&pl->cfg, p) ? REC_LOST : REC_OUT, r);
+}
+
+/* Point c of S (a contact, a blocked step's hit) becomes a sample. */
+static int insert_point(vp_planner_t *pl, const double *c)
+{
+    uint32_t v;
+    int st;
     if (!vp_pl_pools_have_room(pl)) return VP_ENOMEM;
     st = vp_dt_insert(&pl->dt, c, VP_DT_NONE, &v);
     if (st == VP_EDUP) return VP_OK;
     if (st != VP_OK) return st;
     pl->st.insertions++;
     pl->close.exhaustive = 0;
-    if (pl->phase != PH_RUN) pl->phase = PH_RUN;
+    if (pl->phase != PH_RUN && pl->phase != PH_VERIFY) pl->phase = PH_RUN; /* a re-scan's measuring goes on */
     st = vp_pl_after_insert(pl, v);
     vp_pl_note_peak(pl);
     return st;
 }
 
+static int touch_at(vp_planner_t *pl, double at)
+{
+    double u[3], len, c[3], back[3];
+    uint32_t from_rec, touch = PROOF_NONE;
+    int k;
+    vp_sub3(u, pl->dev.pos, pl->contact.move_from);
+    len = sqrt(vp_dot3(u, u));
+    if (!(at >= 0.0) || !(at <= len + pl->ptol)) return VP_EINVAL;
+    if (at > len) at = len;
+    if (len > 0.0)
+        for (k = 0; k < 3; k++) u[k] /= len;
+    for (k = 0; k < 3; k++) c[k] = pl->contact.move_from[k] + at * u[k];
+    /* Omega holds the object (A2): a contact outside it breaks the assumption every proof
+     * outside Omega rests on */
+    if (!vp_pl_omega_inside(&pl->cfg, c)) return VP_ERANGE;
+    /* the seeds' probes start outside Omega: a contact before them is not expected */
+    if (pl->phase == PH_SEED || pl->dt.dim < 3) return VP_EUNSAFE;
+    pl->contact.moved = 0;
+    pl->st.contacts++;
+    revoke_through(pl, c);
+    contact_keep(pl, c, pl->cfg.eps > CONTACT_REACH_NOISE * pl->cfg.noise_tol ? pl->cfg.eps
+                                                                             : CONTACT_REACH_NOISE * pl->cfg.noise_tol);
+    /* the part travelled up to the contact is free: the way back */
+    memcpy(back, pl->contact.move_from, sizeof back);
+    if (at > 0.0) VP_TRY(vp_pl_proof_add(pl, back, u, at, &touch));
+    VP_TRY(abandon_plan(pl));
+    /* the device stands at the contact; it backs off to the move's start */
+    VP_TRY(rec_here(pl, back, &from_rec));
+    memcpy(pl->dev.pos, c, sizeof c);
+    pl->dev.at = from_rec;
+    if (at > 0.0) VP_TRY(vp_pl_route_push(pl, back, touch));
+    /* the contact point is a sample of S */
+    return insert_point(pl, c);
+}
+
 /* A re-scan's probe of a stale route step (rescan.c) found S on the step, at h (NULL: the step
- * could not be probed whole): its proof `old` and every proof through h are false. What the
- * device was about to do goes back to the queue, the prev chains are rebuilt over the proofs
- * that stand, the device keeps its place (a record there), and h becomes a sample. */
+ * could not be proven: near a contact): its proof `old` and every proof through h are false. What
+ * the device was about to do is dropped, the prev chains are rebuilt, the device keeps its place
+ * (a record there), and h becomes a sample. */
 VP_PL_API int vp_pl_withdraw_at(vp_planner_t *pl, const double *h, uint32_t old)
 {
-    uint32_t i, r, v;
-    double tol = pl->ptol + pl->cfg.noise_tol;
-    int st;
+    uint32_t r;
     if (h && !vp_pl_omega_inside(&pl->cfg, h)) return VP_ERANGE; /* Omega holds the object (A2) */
     if (old < pl->pool.nproof && pl->pool.proof[old].len >= 0.0) {
         pl->pool.proof[old].len = -1.0;
         pl->st.revoked++;
     }
-    if (h)
-        for (i = 0; i < pl->pool.nproof; i++)
-            if (proof_near(&pl->pool.proof[i], h, tol)) {
-                pl->pool.proof[i].len = -1.0;
-                pl->st.revoked++;
-            }
-    if (pl->phase == PH_VERIFY) {
-        /* a re-scan's measuring probe: its line is tried again (another way there, or the next) */
-        if (pl->probe.ready && pl->rescan.cur != NONE && pl->rescan.along > 0) pl->rescan.along--;
-        pl->probe.ready = 0;
-    } else if (pl->probe.ready && pl->probe.task.off > 0.0) {
-        vp_pl_probe_drop(pl);
-    } else if (pl->probe.ready) {
-        pl->probe.ready = 0;
-        if (pl->phase == PH_RUN || pl->phase == PH_CLOSE) {
-            if (pl->pool.ntask >= pl->pool.cap_task) vp_pl_task_compact(pl);
-            if (pl->pool.ntask >= pl->pool.cap_task) return VP_ENOMEM;
-            pl->pool.task[pl->pool.ntask++] = pl->probe.task;
-        }
-    }
-    if (pl->phase == PH_RESEED) pl->phase = PH_COMPONENTS;
-    pl->sc.pending = 0;
-    pl->route.deferred = 0;
-    pl->route.n = pl->route.i = 0;
-    VP_TRY(rebuild_chains(pl));
-    reset_tets(pl);
-    r = vp_pl_rec_at(pl, pl->dev.pos);
-    if (r == NONE) {
-        st = vp_pl_rec_new(pl, pl->dev.pos, NONE, vp_pl_omega_inside(&pl->cfg, pl->dev.pos) ? REC_LOST : REC_OUT, &r);
-        if (st != VP_OK) return st;
-    }
+    if (h) revoke_through(pl, h);
+    VP_TRY(abandon_plan(pl));
+    VP_TRY(rec_here(pl, pl->dev.pos, &r));
     pl->dev.at = r;
-    if (!h) return VP_OK;
-    if (!vp_pl_pools_have_room(pl)) return VP_ENOMEM;
-    st = vp_dt_insert(&pl->dt, h, VP_DT_NONE, &v);
-    if (st == VP_EDUP) return VP_OK;
-    if (st != VP_OK) return st;
-    pl->st.insertions++;
-    pl->close.exhaustive = 0;
-    if (pl->phase != PH_RUN && pl->phase != PH_VERIFY) pl->phase = PH_RUN; /* measuring goes on */
-    st = vp_pl_after_insert(pl, v);
-    vp_pl_note_peak(pl);
-    return st;
+    return h ? insert_point(pl, h) : VP_OK;
 }
 
 int vp_planner_touch(vp_planner_t *pl, double at)

@@ -113,6 +113,20 @@ static void hold_for_shortcut(vp_planner_t *pl)
     pl->route.i = pl->route.n;
 }
 
+/* The route to a measuring point planned (st: its status): the PROBE along unit d, the sample
+ * expected at distance e. 1: prepared; 0: no way there; < 0: an error. */
+static int measure_along(vp_planner_t *pl, int st, const double *d, double e)
+{
+    if (st < 0) return st;
+    if (st == PL_UNREACHABLE) return 0;
+    pl->rescan.expect = e;
+    pl->rescan.tries = 0;
+    /* far enough past the sample to see a surface that receded (then not where it was) */
+    VP_TRY(vp_pl_seed_issue(pl, d, e + pl->cfg.eps));
+    hold_for_shortcut(pl);
+    return 1;
+}
+
 /* Puts the device outside Omega on the line through sample v along d and prepares the PROBE
  * towards it. 1: prepared; 0: no way there. */
 static int measure_from_outside(vp_planner_t *pl, uint32_t v, const double *d)
@@ -128,14 +142,7 @@ static int measure_from_outside(vp_planner_t *pl, uint32_t v, const double *d)
     /* round Omega, outside it; from inside (after measuring from an origin there) out over
      * the free graph first */
     st = vp_pl_omega_inside(&pl->cfg, pl->dev.pos) ? vp_pl_plan_route(pl, NONE, q) : vp_pl_route_outside(pl, q);
-    if (st < 0) return st;
-    if (st == PL_UNREACHABLE) return 0;
-    pl->rescan.expect = te;
-    pl->rescan.tries = 0;
-    /* far enough past the sample to see a surface that receded (then not where it was) */
-    VP_TRY(vp_pl_seed_issue(pl, d, te + pl->cfg.eps));
-    hold_for_shortcut(pl);
-    return 1;
+    return measure_along(pl, st, d, te);
 }
 
 /* From where the probe that found sample v stood (a record inside Omega: the device goes there
@@ -154,13 +161,7 @@ static int measure_from_origin(vp_planner_t *pl, uint32_t v)
     e = vp_dot3(d, vp_dt_point(&pl->dt, v)) - vp_dot3(d, q->o);
     if (!(e > 0.0)) return 0;
     st = vp_pl_plan_route(pl, r, NULL);
-    if (st < 0) return st;
-    if (st == PL_UNREACHABLE) return 0;
-    pl->rescan.expect = e;
-    pl->rescan.tries = 0;
-    VP_TRY(vp_pl_seed_issue(pl, d, e + pl->cfg.eps));
-    hold_for_shortcut(pl);
-    return 1;
+    return measure_along(pl, st, d, e);
 }
 
 /* No line of this pass reached sample v: from inside in the next pass, or removed (unseen). */

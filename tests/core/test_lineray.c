@@ -13,6 +13,7 @@
 #include "vp_run.h"
 #include "vp_logfmt.h"
 #include "vp_test.h"
+#include "vp_test_ellipsoid.h"
 
 #define ARENA (32u << 20)
 static const double AX[3] = { 1.0, 0.7, 0.5 }; /* semi-axes */
@@ -24,40 +25,15 @@ typedef struct ell_dev {
     unsigned long probes, rays, ray_hits, into;
 } ell_dev_t;
 
-static double ell_f(const double *x)
-{
-    return x[0] * x[0] / (AX[0] * AX[0]) + x[1] * x[1] / (AX[1] * AX[1]) + x[2] * x[2] / (AX[2] * AX[2]) - 1.0;
-}
-
-/* first t in (0, len] where p + t u meets the ellipsoid from outside; 0 if none */
-static int ell_first(const double *p, const double *u, double len, double *t)
-{
-    double a = 0, b = 0, c = ell_f(p), disc, s;
-    int k;
-    for (k = 0; k < 3; k++) {
-        a += u[k] * u[k] / (AX[k] * AX[k]);
-        b += p[k] * u[k] / (AX[k] * AX[k]);
-    }
-    disc = b * b - a * c;
-    if (disc <= 0.0) return 0;
-    s = (-b - sqrt(disc)) / a;
-    if (s <= 1e-12 || s > len) return 0;
-    *t = s;
-    return 1;
-}
+static const vp_test_ell_t ELL = { { 1.0, 0.7, 0.5 }, { 0, 0, 0 } };
+static double ell_f(const double *x) { return vp_test_ell_f(&ELL, x); }
+static int ell_first(const double *p, const double *u, double len, double *t) { return vp_test_ell_first(&ELL, p, u, len, t); }
 
 static int dev_move(void *ctx, const vp_cmd_t *cmd, int *collided)
 {
     ell_dev_t *d = ctx;
-    double u[3], len, t;
-    int k;
-    for (k = 0; k < 3; k++) u[k] = cmd->to[k] - d->pos[k];
-    len = sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
-    *collided = 0;
-    if (len > 0.0) {
-        for (k = 0; k < 3; k++) u[k] /= len;
-        if (ell_first(d->pos, u, len, &t) || ell_f(cmd->to) < 0.0) { d->into++; *collided = 1; }
-    }
+    *collided = vp_test_ell_move_enters(&ELL, d->pos, cmd->to);
+    d->into += (unsigned long)*collided;
     memcpy(d->pos, cmd->to, sizeof d->pos);
     return VP_OK;
 }

@@ -10,53 +10,22 @@
 #include "vp_planner.h"
 #include "vp_run.h"
 #include "vp_test.h"
+#include "vp_test_ellipsoid.h"
 
 #define ARENA (32u << 20)
 
 typedef struct ell_dev {
-    double ax[3], c[3];      /* semi-axes, centre */
+    vp_test_ell_t e;         /* the object now */
     double pos[3];
     unsigned long probes, moves, into;
 } ell_dev_t;
 
-static double ell_f(const ell_dev_t *d, const double *x)
-{
-    double s = -1.0;
-    int k;
-    for (k = 0; k < 3; k++) s += (x[k] - d->c[k]) * (x[k] - d->c[k]) / (d->ax[k] * d->ax[k]);
-    return s;
-}
-
-/* first t in (0, len] where p + t u meets the ellipsoid from outside; 0 if none */
-static int ell_first(const ell_dev_t *d, const double *p, const double *u, double len, double *t)
-{
-    double a = 0, b = 0, c = ell_f(d, p), disc, s;
-    int k;
-    for (k = 0; k < 3; k++) {
-        a += u[k] * u[k] / (d->ax[k] * d->ax[k]);
-        b += (p[k] - d->c[k]) * u[k] / (d->ax[k] * d->ax[k]);
-    }
-    disc = b * b - a * c;
-    if (disc <= 0.0) return 0;
-    s = (-b - sqrt(disc)) / a;
-    if (s <= 1e-12 || s > len) return 0;
-    *t = s;
-    return 1;
-}
-
 static int dev_move(void *ctx, const vp_cmd_t *cmd, int *collided)
 {
     ell_dev_t *d = ctx;
-    double u[3], len, t;
-    int k;
-    for (k = 0; k < 3; k++) u[k] = cmd->to[k] - d->pos[k];
-    len = sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
-    *collided = 0;
     d->moves++;
-    if (len > 0.0) {
-        for (k = 0; k < 3; k++) u[k] /= len;
-        if (ell_first(d, d->pos, u, len, &t) || ell_f(d, cmd->to) < 0.0) { d->into++; *collided = 1; }
-    }
+    *collided = vp_test_ell_move_enters(&d->e, d->pos, cmd->to);
+    d->into += (unsigned long)*collided;
     memcpy(d->pos, cmd->to, sizeof d->pos);
     return VP_OK;
 }
@@ -66,7 +35,7 @@ static int dev_probe(void *ctx, const vp_cmd_t *cmd, vp_probe_result_t *res)
     ell_dev_t *d = ctx;
     double t;
     d->probes++;
-    res->hit = ell_first(d, d->pos, cmd->dir, cmd->range, &t);
+    res->hit = vp_test_ell_first(&d->e, d->pos, cmd->dir, cmd->range, &t);
     res->dist = res->hit ? t : 0.0;
     return VP_OK;
 }
@@ -114,7 +83,7 @@ static void judge(const char *what, const ell_dev_t *d, double eps, unsigned *nv
         int k;
         if (!vp_planner_facet(&pl, i, v, &r, c)) continue;
         nf++;
-        if (fabs(ell_f(d, c)) > 1e-9) off_surface++;
+        if (fabs(vp_test_ell_f(&d->e, c)) > 1e-9) off_surface++;
         for (k = 0; k < 3; k++) {
             const double *p = vp_dt_point(dt, v[k]);
             double e = sqrt((p[0] - c[0]) * (p[0] - c[0]) + (p[1] - c[1]) * (p[1] - c[1]) + (p[2] - c[2]) * (p[2] - c[2]));
@@ -133,7 +102,7 @@ static void judge(const char *what, const ell_dev_t *d, double eps, unsigned *nv
         if (found != 1 || same != 1) open++;
     }
     for (i = 0; i < dt->nvert; i++)
-        if (used[i] && fabs(ell_f(d, vp_dt_point(dt, i))) > 1e-9) off_surface++;
+        if (used[i] && fabs(vp_test_ell_f(&d->e, vp_dt_point(dt, i))) > 1e-9) off_surface++;
     CHECKF(nf > 0 && open == 0, "%s: %u of %u half-edges without a single reverse", what, open, nh);
     CHECKF((long)nv - (long)(nh / 2) + (long)nf == 2, "%s: Euler characteristic %ld", what,
            (long)nv - (long)(nh / 2) + (long)nf);
@@ -162,7 +131,7 @@ static void fresh(ell_dev_t *d, double eps)
     vp_run_result_t r;
     config(&cfg, eps);
     memset(d, 0, sizeof *d);
-    d->ax[0] = 1.0; d->ax[1] = 0.7; d->ax[2] = 0.5;
+    d->e.ax[0] = 1.0; d->e.ax[1] = 0.7; d->e.ax[2] = 0.5;
     memcpy(d->pos, cfg.start, sizeof d->pos);
     CHECK(vp_planner_init(&pl, arena, sizeof arena, &cfg) == VP_OK);
     run(d, &r);
@@ -205,8 +174,8 @@ static void test_changed(double eps, const double *ax, const double *c, const ch
     fresh(&d, eps);
     p0 = d.probes;
     d.probes = d.moves = 0;
-    memcpy(d.ax, ax, sizeof d.ax);
-    memcpy(d.c, c, sizeof d.c);
+    memcpy(d.e.ax, ax, sizeof d.e.ax);
+    memcpy(d.e.c, c, sizeof d.e.c);
     memcpy(d.pos, pl.cfg.start, sizeof d.pos);
     CHECK(vp_planner_rescan(&pl) == VP_OK);
     run(&d, &r);

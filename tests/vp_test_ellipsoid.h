@@ -1,0 +1,47 @@
+/* vp_test_ellipsoid.h — an ellipsoid written from its formula alone, for the tests that check the
+ * planner without host-sim (test_lineray, test_rescan): its implicit value, a ray's first entry
+ * from outside, and whether a straight move enters it. */
+#ifndef VP_TEST_ELLIPSOID_H
+#define VP_TEST_ELLIPSOID_H
+#include <math.h>
+
+typedef struct vp_test_ell {
+    double ax[3], c[3]; /* semi-axes, centre */
+} vp_test_ell_t;
+
+static double vp_test_ell_f(const vp_test_ell_t *e, const double *x)
+{
+    double y0 = x[0] - e->c[0], y1 = x[1] - e->c[1], y2 = x[2] - e->c[2];
+    return y0 * y0 / (e->ax[0] * e->ax[0]) + y1 * y1 / (e->ax[1] * e->ax[1]) + y2 * y2 / (e->ax[2] * e->ax[2]) - 1.0;
+}
+
+/* first t in (0, len] where p + t u meets the ellipsoid from outside; 0 if none */
+static int vp_test_ell_first(const vp_test_ell_t *e, const double *p, const double *u, double len, double *t)
+{
+    double a = 0, b = 0, c = vp_test_ell_f(e, p), disc, s;
+    int k;
+    for (k = 0; k < 3; k++) {
+        a += u[k] * u[k] / (e->ax[k] * e->ax[k]);
+        b += (p[k] - e->c[k]) * u[k] / (e->ax[k] * e->ax[k]);
+    }
+    disc = b * b - a * c;
+    if (disc <= 0.0) return 0;
+    s = (-b - sqrt(disc)) / a;
+    if (s <= 1e-12 || s > len) return 0;
+    *t = s;
+    return 1;
+}
+
+/* 1 if the straight move from p to q enters the ellipsoid or ends inside it */
+static int vp_test_ell_move_enters(const vp_test_ell_t *e, const double *p, const double *q)
+{
+    double u[3], len, t;
+    int k;
+    for (k = 0; k < 3; k++) u[k] = q[k] - p[k];
+    len = sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
+    if (!(len > 0.0)) return 0;
+    for (k = 0; k < 3; k++) u[k] /= len;
+    return vp_test_ell_first(e, p, u, len, &t) || vp_test_ell_f(e, q) < 0.0;
+}
+
+#endif
