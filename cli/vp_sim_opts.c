@@ -57,6 +57,19 @@ int vp_sim_parse_option(vp_sim_options_t *o, int argc, char **argv, int *i, char
         (*i)++;
         return 0;
     }
+    if (!strcmp(a, "--proof-life")) {
+        char *e;
+        long n;
+        if (!val) { snprintf(err, errlen, "--proof-life needs N (commands)"); return -1; }
+        n = strtol(val, &e, 10);
+        if (e == val || *e || n < 0 || n > 1000000000L) {
+            snprintf(err, errlen, "--proof-life takes a number of commands, 0 (never) to 1e9, not '%s'", val);
+            return -1;
+        }
+        o->proof_life = n;
+        (*i)++;
+        return 0;
+    }
     if (!strcmp(a, "--line-laser")) {
         char *e;
         long n;

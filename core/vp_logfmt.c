@@ -68,10 +68,10 @@ static size_t bounded_len(const char *s, size_t max)
  * the configuration is written. */
 static int sizing(const vp_planner_config_t *c) { return c->size_rel != 0.0 || c->min_size != 0.0; }
 #ifndef VP_CORE_MCU
-/* version 4: those three and a line laser's rays per frame (uint32, then 4 zero bytes) */
+/* version 4: those three, a line laser's rays per frame and the proofs' life (two uint32) */
 static uint32_t header_version(const vp_planner_config_t *c)
 {
-    return c->line_rays != 0u ? 4u : c->max_distance != 0.0 ? 3u : sizing(c) ? 2u : 1u;
+    return c->line_rays != 0u || c->proof_life != 0u ? 4u : c->max_distance != 0.0 ? 3u : sizing(c) ? 2u : 1u;
 }
 static uint32_t ext_bytes(uint32_t version) { return version >= 4u ? 32u : version == 3u ? 24u : version == 2u ? 16u : 0u; }
 #define PROBE_LIKE(t) ((t) == VP_LOGFMT_PROBE || (t) == VP_LOGFMT_RAY)
@@ -160,7 +160,7 @@ int vp_logfmt_header_encode(const vp_logfmt_header_t *h, void *buf, size_t cap)
 #ifndef VP_CORE_MCU
         if (header_version(c) >= 4u) {
             put32(q + 24, c->line_rays);
-            put32(q + 28, 0);
+            put32(q + 28, c->proof_life);
         }
 #endif
         q += ext_bytes(header_version(c));
@@ -218,7 +218,8 @@ static int header_decode(const unsigned char *p, uint32_t n, vp_logfmt_header_t 
 #ifndef VP_CORE_MCU
         if (h->version >= 4u) {
             c->line_rays = get32(q + nl + 24);
-            if (get32(q + nl + 28) != 0u || c->line_rays > VP_PLANNER_MAX_LINE_RAYS) return 0;
+            c->proof_life = get32(q + nl + 28);
+            if (c->line_rays > VP_PLANNER_MAX_LINE_RAYS) return 0;
         }
 #endif
         if (!vp_finite(c->size_rel) || !vp_finite(c->min_size) || !vp_finite(c->max_distance) ||

@@ -22,8 +22,8 @@
 #ifndef VP_CORE_MCU
 #define VP_LOGFMT_VERSION     4u  /* 2 adds the sizing field (size_rel, min_size) after the note,
                                      3 the distance bound too, 4 a line laser's rays per frame
-                                     (and RAY records); a header is written in the oldest
-                                     version that holds its configuration */
+                                     (and RAY records) and the proofs' life; a header is written
+                                     in the oldest version that holds its configuration */
 #else
 #define VP_LOGFMT_VERSION     3u  /* a microcontroller core has no line laser */
 #endif

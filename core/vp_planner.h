@@ -67,6 +67,9 @@ typedef struct vp_planner_config {
                                     probe's origin in the same frame (vp_planner_feed_ray); their
                                     hits become samples where no sample lies within eps. 0: a
                                     dot laser (one ray per PROBE) */
+    uint32_t proof_life;         /* an object that moves: a proof of free space older than this
+                                    many commands (PROBEs and MOVEs) is stale, probed again before
+                                    the device moves along it; 0: proofs never expire */
 } vp_planner_config_t;
 
 /* VP_CMD_RAY is never issued by vp_planner_next: it names one more ray of the last PROBE's frame
@@ -144,6 +147,7 @@ typedef struct vp_task {
 typedef struct vp_proof {
     double o[3], d[3], len;
     uint32_t prev;
+    uint32_t born;     /* commands issued when it was made (cfg.proof_life) */
 } vp_proof_t;
 
 /* The planner's state, in parts by role (like grbl's stepper.c). Each part says who writes it;

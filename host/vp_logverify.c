@@ -10,6 +10,7 @@ struct vp_lv_probe {
     double o[3], d[3];   /* origin relative to Omega's centre, unit direction */
     double len;          /* the free part: o .. o + len d */
     uint32_t record;
+    uint64_t born;       /* PROBE and MOVE records up to and with it (the header's proof life) */
 };
 
 struct vp_lv_entry {
@@ -251,6 +252,7 @@ static int probe_part(vp_logverify_t *v, const vp_lv_probe_t *pr, const double *
         dq[k] = wq[k] - aq * pr->d[k];
     }
     if (!(pr->len >= 0.0)) return VP_OK; /* withdrawn by a contact */
+    if (v->cfg.proof_life > 0 && v->commands - pr->born > v->cfg.proof_life) return VP_OK; /* too old */
     if (vp_dot3(dp, dp) > t2 || vp_dot3(dq, dq) > t2) return VP_OK;
     (*on_line)++;
     if (aq == ap) return ap >= 0.0 && ap <= pr->len ? push_iv(v, n, 0.0, 1.0) : VP_OK;
@@ -484,6 +486,7 @@ static int add_free(vp_logverify_t *v, const double *origin, const double *u, do
         P->d[i] = u[i];
     }
     P->len = len;
+    P->born = v->commands;
     P->record = v->index;
     foot(P->o, u, c);
     line_cells(v, u, c, k);
@@ -531,8 +534,8 @@ static int add_contact(vp_logverify_t *v, const vp_logfmt_record_t *r)
 int vp_logverify_add(vp_logverify_t *v, const vp_logfmt_record_t *r)
 {
     int st = VP_OK;
-    if (r->type == VP_LOGFMT_MOVE) st = check_move(v, r);
-    else if (r->type == VP_LOGFMT_PROBE) st = add_probe(v, r);
+    if (r->type == VP_LOGFMT_MOVE) { st = check_move(v, r); v->commands++; }
+    else if (r->type == VP_LOGFMT_PROBE) { v->commands++; st = add_probe(v, r); }
     else if (r->type == VP_LOGFMT_RAY) v->res.rays++; /* the planner moves on PROBE proofs alone */
     else if (r->event == VP_LOGFMT_EV_CONTACT) { v->res.events++; st = add_contact(v, r); }
     else if (r->event == VP_LOGFMT_EV_RESCAN) {

@@ -95,6 +95,7 @@ typedef struct vp_logverify {
     double (*iv)[2]; size_t cap_iv;             /* per-move interval scratch */
     uint32_t *seen; uint32_t stamp;             /* per-probe stamp: counted once per move */
     uint32_t index;                             /* next record index */
+    uint64_t commands;                          /* PROBE and MOVE records so far */
     double from[3];                             /* where the last MOVE started */
     vp_logverify_result_t res;
 } vp_logverify_t;

@@ -343,6 +343,7 @@ int vp_sessionlog_same_config(const vp_planner_config_t *a, uint64_t arena_a,
     else if (a->confirm_misses != b->confirm_misses) f = "confirm misses";
     else if (a->flags != b->flags) f = "planner flags";
     else if (a->line_rays != b->line_rays) f = "line laser rays (--line-laser)";
+    else if (a->proof_life != b->proof_life) f = "proof life (--proof-life)";
     else if (arena_a != arena_b) f = "arena size";
     for (i = 0; !f && i < a->ninterior && i < VP_PLANNER_MAX_SEEDS; i++)
         if (!bits_eq(a->interior[i], b->interior[i], 3)) f = "interior points";

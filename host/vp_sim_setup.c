@@ -20,6 +20,19 @@ void vp_sim_options_default(vp_sim_options_t *o)
     o->speed = VP_SIM_SPEED;
     o->accel = VP_SIM_ACCEL;
     o->probe_time = VP_SIM_PROBE_TIME;
+    o->proof_life = -1;
+}
+
+/* --motion without --proof-life: a proof expires once the object may have moved this share of
+ * eps since it was made, the speed bound taken over this horizon (s) */
+#define PROOF_LIFE_EPS_SHARE (1.0 / 64.0)
+#define PROOF_LIFE_HORIZON 3600.0
+
+static double omega_diameter(const vp_planner_config_t *c)
+{
+    double d[3];
+    vp_sub3(d, c->omega_hi, c->omega_lo);
+    return c->omega_kind == VP_OMEGA_BALL ? 2.0 * c->omega_radius : sqrt(vp_dot3(d, d));
 }
 
 int vp_sim_config(const vp_surface_t *surf, double eps, int ball, double margin,
@@ -183,6 +196,7 @@ int vp_sim_open(vp_sim_t *s, const vp_sim_options_t *o, char *err, size_t errlen
     s->cfg.max_range = o->max_range;
     s->cfg.flags = o->flags;
     s->cfg.line_rays = o->line_rays;
+    if (o->proof_life >= 0) s->cfg.proof_life = (uint32_t)o->proof_life;
     s->line_half = 0.5 * o->line_deg * (M_PI / 180.0);
     memset(&dc, 0, sizeof dc);
     dc.clearance = o->clearance;
@@ -197,6 +211,16 @@ int vp_sim_open(vp_sim_t *s, const vp_sim_options_t *o, char *err, size_t errlen
     if (o->motion) {
         if ((st = vp_motion_open(o->motion, s->surf, &s->motion, err, errlen)) != VP_OK) return st;
         dc.motion = s->motion;
+    }
+    if (s->motion && o->proof_life < 0) {
+        /* proofs expire once the object may have moved PROOF_LIFE_EPS_SHARE eps since: the
+         * longest command (a move across Omega, or a probe) bounds the time per command */
+        double lam = vp_motion_speed_bound(s->motion, 0.0, PROOF_LIFE_HORIZON), r = omega_diameter(&s->cfg);
+        double tmax = r / o->speed + (o->accel > 0 ? o->speed / o->accel : 0.0);
+        double n;
+        if (o->probe_time > tmax) tmax = o->probe_time;
+        n = lam > 0 && tmax > 0 ? floor(s->cfg.eps * PROOF_LIFE_EPS_SHARE / (lam * tmax)) : 0.0;
+        s->cfg.proof_life = lam > 0 ? (n < 1 ? 1u : n > 1e9 ? 1000000000u : (uint32_t)n) : 0u;
     }
     dc.speed = o->speed;
     dc.accel = o->accel;

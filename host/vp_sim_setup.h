@@ -34,6 +34,8 @@ typedef struct vp_sim_options {
     int contact;              /* the head has a contact switch (--contact) */
     unsigned line_rays;       /* a line laser: more rays per probe (--line-laser N[,DEG]; 0: a dot) */
     double line_deg;          /* the fan's full angle, degrees */
+    long proof_life;          /* --proof-life N: proofs older than N commands are proven again
+                                 (-1: unset: with --motion from the speed bound, else never) */
     const char *motion;       /* a moving object (vp_motion.h spec); NULL: static */
     double speed, accel, probe_time; /* the device's clock: travel speed, acceleration, one probe's time */
 } vp_sim_options_t;

@@ -26,6 +26,9 @@ static int proof_new(vp_planner_t *pl, const double *o, const double *d, double 
     memcpy(q->d, d, sizeof q->d);
     q->len = len;
     q->prev = prev;
+#if VP_PL_CONTACTS /* a microcontroller core's proofs never expire (cfg.proof_life is not read) */
+    q->born = (uint32_t)(pl->st.probes + pl->st.moves);
+#endif
     *out = pl->pool.nproof++;
     return VP_OK;
 }

@@ -28,15 +28,26 @@
  * above the rounding of a re-measured distance, far below any physical size */
 #define KEEP_TOL_REL 1e-9
 
+/* A proof is stale when it was made before a re-scan, or (cfg.proof_life) when it or a piece of
+ * its chain is older than the proofs' life: the object may have moved into it since. */
+#define CHAIN_LOOK 64u
 static int stale(const vp_planner_t *pl, uint32_t id)
 {
-    return pl->rescan.mark > 0 && id < pl->rescan.mark;
+    uint32_t now, n = 0;
+    if (id >= pl->pool.nproof) return 0; /* outside Omega (A2), or none */
+    if (pl->rescan.mark > 0 && id < pl->rescan.mark) return 1;
+    if (pl->cfg.proof_life == 0) return 0;
+    now = (uint32_t)(pl->st.probes + pl->st.moves);
+    for (; id < pl->pool.nproof && n < CHAIN_LOOK; id = pl->pool.proof[id].prev, n++)
+        if (now - pl->pool.proof[id].born > pl->cfg.proof_life) return 1;
+    return 0;
 }
 
 /* 1 if the next MOVE of the route rests on a stale proof: it is probed first */
 VP_PL_API int vp_pl_step_stale(const vp_planner_t *pl)
 {
-    return pl->route.i < pl->route.n && stale(pl, pl->route.proof[pl->route.i]);
+    return (pl->rescan.mark > 0 || pl->cfg.proof_life > 0) && pl->route.i < pl->route.n &&
+           stale(pl, pl->route.proof[pl->route.i]);
 }
 
 /* vertex record v is a sample in the triangulation now */

@@ -254,6 +254,21 @@ static void test_crafted(void)
     pb(&c, 1, 0, 0, -1, 0, 0, 1, 0, 0);   /* probed again after the re-scan: free to the centre */
     mv(&c, 0, 0, 0);
     expect(&c, "rescan_reproved", 0, -1, 0, -1);
+    /* the header's proof life (an object that moves): a free part proves moves for that many
+     * commands (PROBEs and MOVEs) after it, no longer */
+    box_header(&c, 0, 2, 0, 0);
+    c.h.cfg.proof_life = 2;
+    mv(&c, 1, 0, 0);
+    pb(&c, 1, 0, 0, -1, 0, 0, 2, 0, 0);   /* a miss through Omega */
+    mv(&c, 0.5, 0, 0);                    /* 0 commands old */
+    mv(&c, 0.6, 0, 0);                    /* 1 */
+    mv(&c, 0.4, 0, 0);                    /* 2 */
+    bad = mv(&c, 0.3, 0, 0);              /* 3: too old */
+    expect(&c, "proof_life", 1, bad, 0, -1);
+    CHECK(vp_logverify_run(&c.h, c.r, c.n, &r) == VP_OK && r.nmoves_listed == 1 && r.move[0].seq == bad);
+    c.h.cfg.proof_life = 0;               /* the same log without a life: proven */
+    expect(&c, "proof_life_none", 0, -1, 0, -1);
+
     /* a probe after the RESCAN event from where the device stood before it: off its position */
     box_header(&c, 0, 2, 0, 0);
     mv(&c, 1, 0, 0);
