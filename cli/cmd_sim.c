@@ -250,3 +250,36 @@ int vp_cli_sim(int argc, char **argv)
     vp_sim_session_free(&g);
     return i;
 }
+
+/* `voroprobe track`: `sim --track N` under its own name (--rounds N, default 5). */
+int vp_cli_track(int argc, char **argv)
+{
+    char **av = malloc(((size_t)argc + 3) * sizeof *av);
+    const char *rounds = "5";
+    int i, n = 0, st;
+    if (!av) { fprintf(stderr, "track: out of memory\n"); return 1; }
+    av[n++] = argv[0];
+    for (i = 1; i < argc; i++) {
+        if (!strcmp(argv[i], "--help") || !strcmp(argv[i], "-h")) {
+            printf("usage: voroprobe track --surface SPEC (--eps E | --eps-rel R) [--motion SPEC] [--rounds N] [options]\n"
+                   "Keeps the mesh of an object that moves and deforms (host-sim's --motion) over N rounds\n"
+                   "(default 5) after a first scan: each round is a re-scan from where the device stands,\n"
+                   "every sample measured again, the moved ones removed and their surroundings scanned\n"
+                   "again, every old proof of free space probed again before the device moves along it.\n"
+                   "Every round's figures (time, probes, samples kept and removed, closed, genus,\n"
+                   "collisions with the moving object, Hausdorff to it at the round's end) go to the\n"
+                   "summary and --json (\"rounds\"). The options are those of `voroprobe sim` (see\n"
+                   "voroprobe sim --help); `track` is `sim --track N`.\n");
+            free(av);
+            return 0;
+        }
+        if (!strcmp(argv[i], "--rounds") && i + 1 < argc) { rounds = argv[++i]; continue; }
+        av[n++] = argv[i];
+    }
+    av[n++] = (char *)"--track";
+    av[n++] = (char *)rounds;
+    av[n] = NULL;
+    st = vp_cli_sim(n, av);
+    free(av);
+    return st;
+}

@@ -10,6 +10,7 @@ static const struct vp_cli_cmd commands[] = {
     { "sim", vp_cli_sim, "scan a simulated object (host-sim) and write the mesh" },
     { "scan", vp_cli_scan, "scan an object on a board's machine (or --dry-run on host-sim), logged" },
     { "calibrate", vp_cli_calibrate, "fit the rangefinder model against a flat target; write the calibration" },
+    { "track", vp_cli_track, "keep the mesh of a moving, deforming object over rounds of re-scans (host-sim)" },
     { "mcu", vp_cli_mcu, "scan with the planner on a microcontroller (qemu, serial, pipe), host-sim as the object" },
     { "replay", vp_cli_replay, "replay a session log through the planner, bit for bit, and mesh it" },
     { "mesh", vp_cli_mesh, "the mesh (and probed points) of a session log, complete or not" },

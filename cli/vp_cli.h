@@ -13,6 +13,7 @@ struct vp_cli_cmd {
 
 int vp_cli_bench_delaunay(int argc, char **argv);
 int vp_cli_sim(int argc, char **argv);
+int vp_cli_track(int argc, char **argv);
 int vp_cli_replay(int argc, char **argv);
 int vp_cli_mesh(int argc, char **argv);
 int vp_cli_log(int argc, char **argv);

@@ -7,8 +7,8 @@
 #     measure against the object at that time), no two vertices closer than in the first scan;
 #     the log verified and replayed to the same mesh (RESCAN events with code 1: the device
 #     stays where it stands);
-# (2) the object standing still, 2 rounds: each round one probe per sample, none removed, the
-#     same mesh;
+# (2) the object standing still, 2 rounds (`voroprobe track --rounds 2`, the same as
+#     `sim --track 2`): each round one probe per sample, none removed, the same mesh;
 # (3) --track takes 1..1000.
 set -u
 B=${BUILD:-build}
@@ -49,7 +49,7 @@ grep -q "4 re-scan(s)" "$tmp/v.txt" || bad "bump: log verify saw $(tail -n 1 "$t
 cmp -s "$tmp/r.ply" "$tmp/b.ply" || bad "bump: the replayed mesh differs"
 
 J="$tmp/s.json"
-"$VP" sim --surface torus --eps-rel 0.04 --track 2 --out "$tmp/s" --quiet --json >"$J" 2>&1 || bad "still: exit $?"
+"$VP" track --surface torus --eps-rel 0.04 --rounds 2 --out "$tmp/s" --quiet --json >"$J" 2>&1 || bad "still: exit $?"
 python3 - "$J" <<'PY' || fail=1
 import json, sys
 d = json.loads(open(sys.argv[1]).read().strip().splitlines()[-1])
