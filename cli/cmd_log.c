@@ -367,6 +367,7 @@ static void dump_header_text(const vp_logfmt_header_t *h, FILE *f)
     fprintf(f, "# angle bound %.17g, confirm misses %u, planner flags 0x%x, arena %llu bytes\n", c->min_angle,
             c->confirm_misses, c->flags, (unsigned long long)h->arena_bytes);
     if (c->line_rays) fprintf(f, "# line laser: up to %u more rays per probe\n", c->line_rays);
+    if (c->proof_life) fprintf(f, "# proofs' life: %u commands (older proofs are probed again before a move)\n", c->proof_life);
 }
 
 static void dump_header_json(const vp_logfmt_header_t *h, FILE *f)
@@ -391,6 +392,7 @@ static void dump_header_json(const vp_logfmt_header_t *h, FILE *f)
     fprintf(f, ",\"clearance\":"); json_num(f, c->clearance);
     fprintf(f, ",\"min_angle\":"); json_num(f, c->min_angle);
     if (c->line_rays) fprintf(f, ",\"line_rays\":%u", c->line_rays);
+    if (c->proof_life) fprintf(f, ",\"proof_life\":%u", c->proof_life);
     fprintf(f, ",\"confirm_misses\":%u,\"flags\":%u,\"arena_bytes\":%llu}}\n", c->confirm_misses, c->flags,
             (unsigned long long)h->arena_bytes);
 }

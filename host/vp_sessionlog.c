@@ -270,8 +270,10 @@ int vp_replay_run(vp_replay_t *R, const vp_sessionlog_t *L, uint32_t upto, char 
                 if (rec.code != 1) memcpy(R->pos, L->header.cfg.start, sizeof R->pos);
                 R->done = 0;
                 R->rescans++;
-                R->probes_since_rescan = 0;
-                vp_planner_get_stats(R->pl, &R->at_rescan);
+                if (rec.code != 1) { /* a re-scan of the object now (not a tracking round) */
+                    R->probes_since_rescan = 0;
+                    vp_planner_get_stats(R->pl, &R->at_rescan);
+                }
             }
             if (rec.event == VP_LOGFMT_EV_DONE && !R->done) {
                 /* the planner must agree that the session is complete */

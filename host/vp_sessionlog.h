@@ -56,8 +56,8 @@ typedef struct vp_replay {
     uint64_t moves;            /* MOVE records replayed */
     uint64_t contacts;         /* CONTACT events replayed (moves the contact switch stopped) */
     uint64_t rescans;          /* RESCAN events replayed (vp_planner_rescan) */
-    uint64_t probes_since_rescan; /* PROBE records after the last RESCAN */
-    vp_planner_stats_t at_rescan; /* the planner's counters when the last re-scan began */
+    uint64_t probes_since_rescan; /* PROBE records after the last RESCAN of code 0 */
+    vp_planner_stats_t at_rescan; /* the planner's counters when that re-scan began */
     int done;                  /* the planner said DONE after the last record */
 } vp_replay_t;
 

@@ -104,13 +104,14 @@ static int last_rescan_surface(vp_sim_session_t *g, char *err, size_t errlen)
     for (i = g->L.n; i-- > 0;) {
         vp_logfmt_record_t rec;
         if (vp_sessionlog_record(&g->L, i, &rec) != VP_OK || rec.type != VP_LOGFMT_EVENT ||
-            rec.event != VP_LOGFMT_EV_RESCAN)
+            rec.event != VP_LOGFMT_EV_RESCAN || rec.code == 1) /* a tracking round: the object stays */
             continue;
         if (strncmp(rec.text, "--surface ", 10) != 0 || !rec.text[10]) break;
         memcpy(g->rescan_spec, rec.text + 10, strlen(rec.text + 10) + 1);
         g->rescan_surface = g->rescan_spec;
         return VP_OK;
     }
+    if (i == (uint32_t)-1) return VP_OK; /* tracking rounds only: the logged object */
     snprintf(err, errlen, "the log's last RESCAN event does not name the object (--surface SPEC)");
     return VP_ECORRUPT;
 }
@@ -201,10 +202,13 @@ int vp_sim_session_begin(vp_sim_session_t *g, vp_sim_t *s, const vp_sim_options_
         if (R.rescans > 0) {
             /* a paused re-scan: the object is the one its last RESCAN event names */
             if ((st = last_rescan_surface(g, err, errlen)) != VP_OK) return st;
-            if ((st = vp_sim_swap_surface(s, g->rescan_surface, err, errlen)) != VP_OK) return st;
-            s->before = R.at_rescan;
+            if (g->rescan_surface) {
+                if ((st = vp_sim_swap_surface(s, g->rescan_surface, err, errlen)) != VP_OK) return st;
+                s->before = R.at_rescan;
+            }
         }
-        vp_simdev_restore(s->dev, R.pos, R.rescans > 0 ? R.probes_since_rescan : R.probes);
+        /* the simulated device's probes so far (its noise): since the object was swapped */
+        vp_simdev_restore(s->dev, R.pos, g->rescan_surface ? R.probes_since_rescan : R.probes);
         if (msg) fprintf(msg, "resume: %u records replayed (%llu probes, %llu moves), device at %.6g %.6g %.6g%s\n",
                          R.applied, (unsigned long long)R.probes, (unsigned long long)R.moves,
                          R.pos[0], R.pos[1], R.pos[2], g->complete ? "; the session is already complete" : "");

@@ -4,6 +4,7 @@
 #include <string.h>
 #include "vp_sim_setup.h"
 #include "vp_vec3.h"
+#include "vp_kdtree.h"
 #include "vp_outcome.h"
 #include "vp_meshio.h"
 #include "vp_note.h"
@@ -216,7 +217,12 @@ int vp_sim_open(vp_sim_t *s, const vp_sim_options_t *o, char *err, size_t errlen
         /* proofs expire once the object may have moved PROOF_LIFE_EPS_SHARE eps since: the
          * longest command (a move across Omega, or a probe) bounds the time per command */
         double lam = vp_motion_speed_bound(s->motion, 0.0, PROOF_LIFE_HORIZON), r = omega_diameter(&s->cfg);
-        double tmax = r / o->speed + (o->accel > 0 ? o->speed / o->accel : 0.0);
+        double c[3], far, tmax;
+        for (k = 0; k < 3; k++)
+            c[k] = s->cfg.omega_kind == VP_OMEGA_BALL ? s->cfg.omega_center[k] : 0.5 * (s->cfg.omega_lo[k] + s->cfg.omega_hi[k]);
+        far = 2.0 * vp_dist3(s->cfg.start, c) + r; /* the first move, from the start, may be longer */
+        if (far > r) r = far;
+        tmax = r / o->speed + (o->accel > 0 ? o->speed / o->accel : 0.0);
         double n;
         if (o->probe_time > tmax) tmax = o->probe_time;
         n = lam > 0 && tmax > 0 ? floor(s->cfg.eps * PROOF_LIFE_EPS_SHARE / (lam * tmax)) : 0.0;
@@ -359,7 +365,7 @@ static void round_figures(vp_sim_t *s, const vp_sim_options_t *o, const vp_plann
     vp_simdev_stats_t ds;
     vp_mesh_t m;
     vp_meshcheck_t mc;
-    size_t i, j;
+    size_t i;
     vp_planner_get_stats(s->pl, &st);
     vp_simdev_stats(s->dev, &ds);
     memset(r, 0, sizeof *r);
@@ -390,11 +396,19 @@ static void round_figures(vp_sim_t *s, const vp_sim_options_t *o, const vp_plann
                       : vp_hausdorff(&m, s->surf, o->hausdorff, 7, &h) == VP_OK)
             r->hausdorff = h.hausdorff;
     }
-    for (i = 0; i < m.nv; i++)
-        for (j = i + 1; j < m.nv; j++) {
-            double d = vp_dist3(m.xyz + 3 * i, m.xyz + 3 * j);
-            if (r->min_spacing < 0 || d < r->min_spacing) r->min_spacing = d;
+    {
+        /* the closest two vertices: each one's nearest other (a kd-tree) */
+        vp_kdtree_t *kt = NULL;
+        if (m.nv >= 2 && vp_kdtree_build(m.xyz, m.nv, &kt) == VP_OK) {
+            for (i = 0; i < m.nv; i++) {
+                size_t idx[2];
+                double d2[2];
+                if (vp_kdtree_knn(kt, m.xyz + 3 * i, 2, idx, d2) == 2 && (r->min_spacing < 0 || sqrt(d2[1]) < r->min_spacing))
+                    r->min_spacing = sqrt(d2[1]);
+            }
+            vp_kdtree_free(kt);
         }
+    }
     vp_mesh_free(&m);
 }
 

@@ -264,7 +264,8 @@ VP_PL_API int vp_pl_withdraw_at(vp_planner_t *pl, const double *h, uint32_t old)
     VP_TRY(abandon_plan(pl));
     VP_TRY(rec_here(pl, pl->dev.pos, &r));
     pl->dev.at = r;
-    return h ? insert_point(pl, h) : VP_OK;
+    /* while the seeds are placed there is no triangulation to take a sample yet */
+    return h && pl->phase != PH_SEED && pl->dt.dim == 3 ? insert_point(pl, h) : VP_OK;
 }
 
 int vp_planner_touch(vp_planner_t *pl, double at)

@@ -158,6 +158,9 @@ int vp_planner_init(vp_planner_t *pl, void *arena, size_t bytes, const vp_planne
         pl->sin_angle = x * (1.0 - x2 / 6.0 * (1.0 - x2 / 20.0 * (1.0 - x2 / 42.0 * (1.0 - x2 / 72.0))));
     }
     memcpy(pl->dev.pos, cfg->start, sizeof pl->dev.pos);
+#if VP_PL_CONTACTS
+    pl->rescan.drop = pl->rescan.cur = NONE; /* no re-scan yet */
+#endif
     st = vp_pl_rec_new(pl, cfg->start, NONE, REC_OUT, &pl->dev.at);
     if (st != VP_OK) return st;
     vp_pl_note_peak(pl);
@@ -342,7 +345,7 @@ int vp_planner_next(vp_planner_t *pl, vp_cmd_t *cmd)
     pl->rays.left = 0;          /* the last PROBE's frame is over */
 #endif
 #if VP_PL_CONTACTS
-    if (pl->rescan.blocked || (pl->rescan.drop != NONE && pl->rescan.mark > 0)) {
+    if (pl->rescan.blocked || pl->rescan.drop != NONE) {
         /* a re-scan's last PROBE found a route step blocked or a sample moved */
         st = vp_pl_rescan_pending(pl);
         if (st < 0) { pl->error = st; return st; }

@@ -38,8 +38,12 @@ static int stale(const vp_planner_t *pl, uint32_t id)
     if (pl->rescan.mark > 0 && id < pl->rescan.mark) return 1;
     if (pl->cfg.proof_life == 0) return 0;
     now = (uint32_t)(pl->st.probes + pl->st.moves);
-    for (; id < pl->pool.nproof && n < CHAIN_LOOK; id = pl->pool.proof[id].prev, n++)
+    /* the pieces vp_pl_proof_covers may use: a withdrawn one covers nothing and is not counted */
+    for (; id < pl->pool.nproof && n < CHAIN_LOOK; id = pl->pool.proof[id].prev) {
+        if (!(pl->pool.proof[id].len >= 0.0)) continue;
+        n++;
         if (now - pl->pool.proof[id].born > pl->cfg.proof_life) return 1;
+    }
     return 0;
 }
 
@@ -574,7 +578,7 @@ VP_PL_API int vp_pl_rescan_pending(vp_planner_t *pl)
         pl->rescan.blocked = 0;
         VP_TRY(vp_pl_withdraw_at(pl, b == 1 ? pl->rescan.blocked_at : NULL, pl->rescan.blocked_proof));
     }
-    if (pl->rescan.drop != NONE) {
+    if (pl->rescan.drop != NONE && pl->rescan.mark > 0) {
         uint32_t v = pl->rescan.drop;
         pl->rescan.drop = NONE;
         VP_TRY(drop_sample(pl, v));
