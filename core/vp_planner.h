@@ -265,7 +265,6 @@ typedef struct vp_pl_rescan {
     uint32_t along;                        /* 0: its probe's line, 1: its normal */
     uint32_t tries;                        /* misses of the current PROBE re-probed */
     double expect;                         /* the sample's distance along the PROBE */
-    double q[3];                           /* scratch: a sample's measuring point */
     double tol;                            /* kept when found within this of it */
     int reprove;                           /* 1: the PROBE out is a route step's proof */
     uint32_t doomed[8], ndoomed;           /* samples to remove once the triangulation keeps 3D

@@ -70,8 +70,8 @@ static int in_set(const vp_planner_t *pl, uint32_t v)
  * tets around v go into the scratch (VP_PL_SCRATCH: nothing holds it between commands). */
 static int outward_normal(vp_planner_t *pl, uint32_t v, double *nrm)
 {
-    uint32_t *inc = pl->pool.astar;
-    int n = vp_dt_incident_tets(&pl->dt, v, inc, (int)(pl->pool.cap_astar < 65536u ? pl->pool.cap_astar : 65536u)), i, f;
+    uint32_t *inc;
+    int n = vp_pl_incident(pl, v, 0, &inc), i, f;
     nrm[0] = nrm[1] = nrm[2] = 0.0;
     if (n < 0) return n == VP_ENOMEM ? VP_OK : n;
     for (i = 0; i < n; i++) {
@@ -199,8 +199,8 @@ static int line_exhausted(vp_planner_t *pl, uint32_t v)
  * the tets around v and then those around each neighbour go into the scratch. */
 static void forget_facets_at(vp_planner_t *pl, uint32_t u, uint32_t held)
 {
-    uint32_t *inc = pl->pool.astar + held, room = pl->pool.cap_astar - held;
-    int n = vp_dt_incident_tets(&pl->dt, u, inc, (int)(room < 65536u ? room : 65536u)), i, f;
+    uint32_t *inc;
+    int n = vp_pl_incident(pl, u, held, &inc), i, f;
     for (i = 0; i < n; i++) {
         uint32_t t = inc[i];
         const uint32_t *w = vp_dt_tet(&pl->dt, t);
@@ -217,8 +217,8 @@ static void forget_facets_at(vp_planner_t *pl, uint32_t u, uint32_t held)
 
 static int explore_around(vp_planner_t *pl, uint32_t u, uint32_t held)
 {
-    uint32_t *inc = pl->pool.astar + held, room = pl->pool.cap_astar - held;
-    int n = vp_dt_incident_tets(&pl->dt, u, inc, (int)(room < 65536u ? room : 65536u)), i, f;
+    uint32_t *inc;
+    int n = vp_pl_incident(pl, u, held, &inc), i, f;
     if (n < 0) return n;
     for (i = 0; i < n; i++) {
         uint32_t t = inc[i];
@@ -238,8 +238,8 @@ static int explore_around(vp_planner_t *pl, uint32_t u, uint32_t held)
 /* The neighbours of v (the vertices of its star) into the scratch's front: their count. */
 static uint32_t neighbours(vp_planner_t *pl, uint32_t v, uint32_t cap)
 {
-    uint32_t *ring = pl->pool.astar, *inc = ring + cap, nr = 0, k;
-    int n = vp_dt_incident_tets(&pl->dt, v, inc, (int)(pl->pool.cap_astar - cap < 65536u ? pl->pool.cap_astar - cap : 65536u)), i;
+    uint32_t *ring = pl->pool.astar, *inc, nr = 0, k;
+    int n = vp_pl_incident(pl, v, cap, &inc), i;
     for (i = 0; i < n; i++) {
         const uint32_t *w = vp_dt_tet(&pl->dt, inc[i]);
         for (k = 0; k < 4; k++) {
@@ -286,19 +286,23 @@ static int remove_sample(vp_planner_t *pl, uint32_t v, uint32_t nr)
 /* Sample v is not where it was: its facets and its neighbours' are forgotten, and it is removed;
  * while too few samples are left for that (the whole object moved), it waits (doomed) until
  * new samples are in. */
+/* Before v's facets are forgotten: room for the update, the facet hash current, v's neighbours
+ * listed at the scratch's front (*nr of them). */
+static int ready_to_forget(vp_planner_t *pl, uint32_t v, uint32_t *nr)
+{
+    if (pl->pool.cap_astar < 4u * RING_CAP || !vp_pl_pools_have_room(pl)) return VP_ENOMEM;
+    if (pl->pool.fhash_dirty) { vp_pl_fhash_rebuild(pl); pl->pool.fhash_dirty = 0; }
+    *nr = neighbours(pl, v, RING_CAP);
+    forget_facets_at(pl, v, *nr);
+    return VP_OK;
+}
+
 static int drop_sample(vp_planner_t *pl, uint32_t v)
 {
-    uint32_t nr;
+    uint32_t nr, i;
     pl->st.rescan_dropped++;
-    if (pl->pool.cap_astar < 4u * RING_CAP) return VP_ENOMEM;
-    if (!vp_pl_pools_have_room(pl)) return VP_ENOMEM;
-    if (pl->pool.fhash_dirty) { vp_pl_fhash_rebuild(pl); pl->pool.fhash_dirty = 0; }
-    nr = neighbours(pl, v, RING_CAP);
-    forget_facets_at(pl, v, nr);
-    {
-        uint32_t i;
-        for (i = 0; i < nr; i++) forget_facets_at(pl, pl->pool.astar[i], nr);
-    }
+    VP_TRY(ready_to_forget(pl, v, &nr));
+    for (i = 0; i < nr; i++) forget_facets_at(pl, pl->pool.astar[i], nr);
     if (pl->dt.ninserted <= KEEP_MIN) {
         if (pl->rescan.ndoomed >= sizeof pl->rescan.doomed / sizeof pl->rescan.doomed[0]) return VP_ENOMEM;
         pl->rescan.doomed[pl->rescan.ndoomed++] = v;
@@ -314,10 +318,7 @@ VP_PL_API int vp_pl_remove_doomed(vp_planner_t *pl)
     while (pl->rescan.ndoomed > 0 && pl->dt.ninserted > KEEP_MIN) {
         uint32_t v = pl->rescan.doomed[--pl->rescan.ndoomed], nr;
         if (!in_set(pl, v)) continue;
-        if (!vp_pl_pools_have_room(pl)) return VP_ENOMEM;
-        if (pl->pool.fhash_dirty) { vp_pl_fhash_rebuild(pl); pl->pool.fhash_dirty = 0; }
-        nr = neighbours(pl, v, RING_CAP);
-        forget_facets_at(pl, v, nr);
+        VP_TRY(ready_to_forget(pl, v, &nr)); /* its neighbours' were forgotten when it was doomed */
         VP_TRY(remove_sample(pl, v, nr));
     }
     return VP_OK;
@@ -333,8 +334,9 @@ static int wanted(const vp_planner_t *pl, uint32_t v)
     return !(a & AUX_TAKEN) && in_set(pl, v) && (pl->rescan.pass == 0 || (a & AUX_DEFER));
 }
 
-/* Where sample v is measured from in pass 0 (on dOmega along its probe's line), else itself. */
-static const double *measuring_point(vp_planner_t *pl, uint32_t v)
+/* Where sample v is measured from in pass 0 (on dOmega along its probe's line, into q), else
+ * the sample itself. */
+static const double *measuring_point(vp_planner_t *pl, uint32_t v, double *q)
 {
     double d[3], te;
     const double *p = vp_dt_point(&pl->dt, v);
@@ -342,8 +344,8 @@ static const double *measuring_point(vp_planner_t *pl, uint32_t v)
     if (pl->rescan.pass != 0 || !sample_line(pl, v, 0, d)) return p;
     for (k = 0; k < 3; k++) d[k] = -d[k];
     te = vp_pl_omega_exit(&pl->cfg, p, d);
-    for (k = 0; k < 3; k++) pl->rescan.q[k] = p[k] + te * d[k];
-    return pl->rescan.q;
+    for (k = 0; k < 3; k++) q[k] = p[k] + te * d[k];
+    return q;
 }
 
 /* Of the next NEAR_SAMPLES samples this pass still wants (in vertex order), the one nearest the
@@ -351,13 +353,13 @@ static const double *measuring_point(vp_planner_t *pl, uint32_t v)
 static uint32_t next_sample(vp_planner_t *pl)
 {
     uint32_t v, seen = 0, best = NONE;
-    double bd = VP_PL_HUGE;
+    double bd = VP_PL_HUGE, q[3];
     while (pl->rescan.next < pl->rescan.nvert && !wanted(pl, pl->rescan.next)) pl->rescan.next++;
     for (v = pl->rescan.next; v < pl->rescan.nvert && seen < NEAR_SAMPLES; v++) {
         double d;
         if (!wanted(pl, v)) continue;
         seen++;
-        d = vp_dist3(pl->dev.pos, measuring_point(pl, v));
+        d = vp_dist3(pl->dev.pos, measuring_point(pl, v, q));
         if (d < bd) { bd = d; best = v; }
     }
     if (best != NONE) vp_dt_vertex(&pl->dt, best)->aux |= AUX_TAKEN;

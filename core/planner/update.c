@@ -221,10 +221,17 @@ VP_PL_API int vp_pl_after_insert(vp_planner_t *pl, uint32_t pv)
  * (VP_PL_SCRATCH): at most INCIDENT_MAX of them, a bound on the work (a vertex of a good mesh
  * has some 30). */
 #define INCIDENT_MAX 65536u
+VP_PL_API int vp_pl_incident(vp_planner_t *pl, uint32_t v, uint32_t held, uint32_t **inc)
+{
+    uint32_t room = pl->pool.cap_astar - held;
+    *inc = pl->pool.astar + held;
+    return vp_dt_incident_tets(&pl->dt, v, *inc, (int)(room > INCIDENT_MAX ? INCIDENT_MAX : room));
+}
+
 static uint32_t find_facet_slow(vp_planner_t *pl, const uint32_t *fv, int *fi, uint32_t held)
 {
-    uint32_t *inc = pl->pool.astar + held, room = pl->pool.cap_astar - held;
-    int n = vp_dt_incident_tets(&pl->dt, fv[0], inc, (int)(room > INCIDENT_MAX ? INCIDENT_MAX : room)), k;
+    uint32_t *inc;
+    int n = vp_pl_incident(pl, fv[0], held, &inc), k;
     for (k = 0; k < n; k++) {
         const uint32_t *w = vp_dt_tet(&pl->dt, inc[k]);
         int a = facet_index_of(w, fv[1]), b = facet_index_of(w, fv[2]), c = facet_index_of(w, fv[0]);

@@ -342,6 +342,7 @@ VP_PL_API int vp_pl_after_insert(vp_planner_t *pl, uint32_t pv);
 VP_PL_API int vp_pl_ray_sample(vp_planner_t *pl);
 #endif
 VP_PL_API uint32_t vp_pl_find_facet(vp_planner_t *pl, const uint32_t *fv, int *fi, uint32_t held);
+VP_PL_API int vp_pl_incident(vp_planner_t *pl, uint32_t v, uint32_t held, uint32_t **inc);
 VP_PL_API int vp_pl_pools_have_room(const vp_planner_t *pl);
 VP_PL_API int vp_pl_refine(vp_planner_t *pl);
 
