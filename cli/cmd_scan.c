@@ -816,11 +816,11 @@ static int scan_report(scan_job_t *j)
                j->run.w.file.syncs);
         if (j->o.rescan || j->rescans > 0)
             printf("rescan of %s: %llu probes since the re-scan began (the session re-scanned took %llu); samples: %llu "
-                   "kept, %llu removed (%llu covered or out of reach of every line), %llu measured along their normal; "
-                   "%llu route steps proven again (%llu blocked)\n", j->o.rescan ? j->o.rescan : j->o.log,
+                   "kept, %llu removed (%llu moved: the point measured took their place; %llu covered or out of reach of "
+                   "every line), %llu measured along their normal; %llu route steps proven again (%llu blocked)\n", j->o.rescan ? j->o.rescan : j->o.log,
                    (unsigned long long)(ps.probes - j->before.probes), (unsigned long long)j->before.probes,
                    (unsigned long long)ps.rescan_kept, (unsigned long long)ps.rescan_dropped,
-                   (unsigned long long)ps.rescan_unseen, (unsigned long long)ps.rescan_normal,
+                   (unsigned long long)ps.rescan_moved, (unsigned long long)ps.rescan_unseen, (unsigned long long)ps.rescan_normal,
                    (unsigned long long)ps.reproved, (unsigned long long)ps.reprove_blocked);
         printf("mesh: %u vertices, %u facets; %s, %d component(s), genus %d\n", (unsigned)j->mesh.nv, (unsigned)j->mesh.nt,
                have_mc && mc.closed_manifold ? "closed 2-manifold" : "NOT closed (yet)", have_mc ? mc.components : -1,
@@ -924,10 +924,11 @@ static int scan_report(scan_job_t *j)
                    j->dev.stage_s[VP_STAGE_SEED], j->dev.stage_s[VP_STAGE_REFINE], j->dev.stage_s[VP_STAGE_CLOSE],
                    j->mesh.nv ? mt / (double)j->mesh.nv : 0.0);
             if (j->o.rescan || j->rescans > 0)
-                printf(",\"rescan\":{\"probes\":%llu,\"old_probes\":%llu,\"kept\":%llu,\"dropped\":%llu,\"unseen\":%llu,"
-                       "\"normal\":%llu,\"reproved\":%llu,\"blocked\":%llu}", (unsigned long long)(ps.probes - j->before.probes),
+                printf(",\"rescan\":{\"probes\":%llu,\"old_probes\":%llu,\"kept\":%llu,\"dropped\":%llu,\"moved\":%llu,"
+                       "\"unseen\":%llu,\"normal\":%llu,\"reproved\":%llu,\"blocked\":%llu}", (unsigned long long)(ps.probes - j->before.probes),
                        (unsigned long long)j->before.probes, (unsigned long long)ps.rescan_kept,
-                       (unsigned long long)ps.rescan_dropped, (unsigned long long)ps.rescan_unseen,
+                       (unsigned long long)ps.rescan_dropped, (unsigned long long)ps.rescan_moved,
+                       (unsigned long long)ps.rescan_unseen,
                        (unsigned long long)ps.rescan_normal, (unsigned long long)ps.reproved,
                        (unsigned long long)ps.reprove_blocked);
             if (j->o.dry) {

@@ -116,6 +116,8 @@ typedef struct vp_planner_stats {
     uint64_t rescan_kept;      /* a re-scan (vp_planner_rescan): samples measured again and kept */
     uint64_t rescan_dropped;   /* samples not where they were (moved, gone, covered): removed */
     uint64_t rescan_unseen;    /* of those, samples no line reached (covered, or out of reach) */
+    uint64_t rescan_moved;     /* of those, samples found again near where they were: the point
+                                  measured takes the sample's place (paper 001's vertex move) */
     uint64_t rescan_normal;    /* samples measured along their normal (their probe's line blocked
                                   or unknown) */
     uint64_t reproved;         /* route steps on proofs from before the re-scan, probed again and
@@ -271,6 +273,10 @@ typedef struct vp_pl_rescan {
                                               without them (a few samples left: the object moved) */
     uint32_t drop;                         /* a sample the last PROBE showed moved: removed by the
                                               next vp_planner_next (NONE: none) */
+    int move;                              /* 1: ... and the point that PROBE met takes its place
+                                              (move_to; the line it keeps: move_aux) */
+    double move_to[3];
+    uint32_t move_aux;
     int blocked;                           /* the last route-step PROBE found the step blocked:
                                               1 at blocked_at, 2 with no point; handled by the
                                               next vp_planner_next */

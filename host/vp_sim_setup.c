@@ -375,6 +375,7 @@ static void round_figures(vp_sim_t *s, const vp_sim_options_t *o, const vp_plann
     r->moves = st.moves - b->moves;
     r->kept = st.rescan_kept - b->rescan_kept;
     r->dropped = st.rescan_dropped - b->rescan_dropped;
+    r->moved = st.rescan_moved - b->rescan_moved;
     r->reproved = st.reproved - b->reproved;
     r->blocked = st.reprove_blocked - b->reprove_blocked;
     r->collisions = ds.collisions - c0;
@@ -412,6 +413,30 @@ static void round_figures(vp_sim_t *s, const vp_sim_options_t *o, const vp_plann
     vp_mesh_free(&m);
 }
 
+/* each round's mesh as OUT.roundK.ply (--out): what a tracking session hands over per round */
+static int round_mesh(vp_sim_t *s, const vp_sim_options_t *o, int k, FILE *progress)
+{
+    char path[VP_PATH_MAX], ext[32], err[256];
+    vp_mesh_t m;
+    int st;
+    if (!o->out) return VP_OK;
+    snprintf(ext, sizeof ext, ".round%d.ply", k);
+    if ((st = vp_path_cat(path, sizeof path, o->out, ext, err, sizeof err)) != VP_OK) {
+        if (progress) fprintf(progress, "sim: %s\n", err);
+        return st;
+    }
+    if (vp_mkdirs_for(o->out) != 0) {
+        if (progress) fprintf(progress, "sim: cannot create the folder of %s: %s\n", o->out, strerror(errno));
+        return VP_EIO;
+    }
+    vp_mesh_init(&m);
+    st = vp_session_mesh(s->pl, &m);
+    if (st == VP_OK && (st = vp_mesh_write_file(&m, path, VP_MESH_PLY_BIN)) != VP_OK && progress)
+        fprintf(progress, "sim: cannot write %s: %s\n", path, strerror(errno));
+    vp_mesh_free(&m);
+    return st;
+}
+
 int vp_sim_track(vp_sim_t *s, const vp_sim_options_t *o, int n, int (*rescan_event)(void *ctx, int round),
                  void *ctx, FILE *progress)
 {
@@ -424,6 +449,7 @@ int vp_sim_track(vp_sim_t *s, const vp_sim_options_t *o, int n, int (*rescan_eve
     memset(&zero, 0, sizeof zero);
     round_figures(s, o, &zero, 0, 0.0, &r[0]);
     s->nrounds = 1;
+    if ((st = round_mesh(s, o, 0, progress)) != VP_OK) return st;
     for (k = 1; k <= n && s->run.status == VP_OK; k++) {
         vp_planner_stats_t b;
         vp_simdev_stats_t ds;
@@ -434,6 +460,7 @@ int vp_sim_track(vp_sim_t *s, const vp_sim_options_t *o, int n, int (*rescan_eve
         vp_sim_run(s, progress);
         round_figures(s, o, &b, ds.collisions, ds.time, &r[k]);
         s->nrounds = k + 1;
+        if ((st = round_mesh(s, o, k, progress)) != VP_OK) break;
     }
     return st;
 }
@@ -549,11 +576,13 @@ void vp_sim_report(const vp_sim_t *s, const vp_sim_options_t *o, FILE *f)
         }
         if (s->rescan)
             fprintf(f, "rescan of %s: %llu probes, %llu moves (the session re-scanned took %llu probes); samples: %llu "
-                    "kept, %llu removed (%llu covered or out of reach of every line), %llu measured along their normal; "
-                    "%llu route steps proven again (%llu blocked)\n", s->rescan_spec,
+                    "kept, %llu removed (%llu moved: the point measured took their place; %llu covered or out of reach of "
+                    "every line), %llu measured along their normal; %llu route steps proven again (%llu blocked)\n",
+                    s->rescan_spec,
                     (unsigned long long)(st.probes - s->before.probes), (unsigned long long)(st.moves - s->before.moves),
                     (unsigned long long)s->before.probes, (unsigned long long)(st.rescan_kept - s->before.rescan_kept),
                     (unsigned long long)(st.rescan_dropped - s->before.rescan_dropped),
+                    (unsigned long long)(st.rescan_moved - s->before.rescan_moved),
                     (unsigned long long)(st.rescan_unseen - s->before.rescan_unseen),
                     (unsigned long long)(st.rescan_normal - s->before.rescan_normal),
                     (unsigned long long)(st.reproved - s->before.reproved),
@@ -563,14 +592,16 @@ void vp_sim_report(const vp_sim_t *s, const vp_sim_options_t *o, FILE *f)
                     "keeps the old interior points): scan afresh\n", s->components, s->check.components);
         if (s->nrounds > 0) {
             int k;
-            fprintf(f, "tracking: %d round(s) after the first scan (a re-scan each, from where the device stood)\n", s->nrounds - 1);
+            fprintf(f, "tracking: %d round(s) after the first scan (a re-scan each, from where the device stood)", s->nrounds - 1);
+            if (o->out) fprintf(f, "; each round's mesh in %s.round0.ply .. %s.round%d.ply", o->out, o->out, s->nrounds - 1);
+            fprintf(f, "\n");
             for (k = 0; k < s->nrounds; k++) {
                 const vp_sim_round_t *r = &s->rounds[k];
-                fprintf(f, "  round %d: t %.4g..%.4g s, %llu probes, %llu moves, samples kept %llu removed %llu, steps proven "
-                        "again %llu (%llu blocked); %u vertices, %s, genus %d; collisions %lu; Hausdorff at its end %.6g; "
+                fprintf(f, "  round %d: t %.4g..%.4g s, %llu probes, %llu moves, samples kept %llu removed %llu (moved %llu), steps "
+                        "proven again %llu (%llu blocked); %u vertices, %s, genus %d; collisions %lu; Hausdorff at its end %.6g; "
                         "closest vertices %.6g\n", k, r->t0, r->t1, (unsigned long long)r->probes, (unsigned long long)r->moves,
-                        (unsigned long long)r->kept, (unsigned long long)r->dropped, (unsigned long long)r->reproved,
-                        (unsigned long long)r->blocked, r->vertices, r->closed ? "closed" : "NOT closed", r->genus,
+                        (unsigned long long)r->kept, (unsigned long long)r->dropped, (unsigned long long)r->moved,
+                        (unsigned long long)r->reproved, (unsigned long long)r->blocked, r->vertices, r->closed ? "closed" : "NOT closed", r->genus,
                         r->collisions, r->hausdorff, r->min_spacing);
             }
         }
@@ -620,11 +651,12 @@ void vp_sim_report(const vp_sim_t *s, const vp_sim_options_t *o, FILE *f)
                 s->cfg.min_size, s->cfg.max_distance, touch);
         if (s->rescan)
             fprintf(f, ",\"rescan\":{\"surface\":\"%s\",\"probes\":%llu,\"moves\":%llu,\"old_probes\":%llu,"
-                    "\"kept\":%llu,\"dropped\":%llu,\"unseen\":%llu,\"normal\":%llu,\"reproved\":%llu,"
+                    "\"kept\":%llu,\"dropped\":%llu,\"moved\":%llu,\"unseen\":%llu,\"normal\":%llu,\"reproved\":%llu,"
                     "\"blocked\":%llu}", s->rescan_spec, (unsigned long long)(st.probes - s->before.probes),
                     (unsigned long long)(st.moves - s->before.moves), (unsigned long long)s->before.probes,
                     (unsigned long long)(st.rescan_kept - s->before.rescan_kept),
                     (unsigned long long)(st.rescan_dropped - s->before.rescan_dropped),
+                    (unsigned long long)(st.rescan_moved - s->before.rescan_moved),
                     (unsigned long long)(st.rescan_unseen - s->before.rescan_unseen),
                     (unsigned long long)(st.rescan_normal - s->before.rescan_normal),
                     (unsigned long long)(st.reproved - s->before.reproved),
@@ -635,11 +667,11 @@ void vp_sim_report(const vp_sim_t *s, const vp_sim_options_t *o, FILE *f)
             for (k = 0; k < s->nrounds; k++) {
                 const vp_sim_round_t *r = &s->rounds[k];
                 fprintf(f, "%s{\"t0\":%.6g,\"t1\":%.6g,\"probes\":%llu,\"moves\":%llu,\"kept\":%llu,\"dropped\":%llu,"
-                        "\"reproved\":%llu,\"blocked\":%llu,\"collisions\":%lu,\"status\":\"%s\",\"closed\":%s,"
+                        "\"moved\":%llu,\"reproved\":%llu,\"blocked\":%llu,\"collisions\":%lu,\"status\":\"%s\",\"closed\":%s,"
                         "\"genus\":%d,\"components\":%d,\"vertices\":%u,\"hausdorff\":%.6g,\"min_spacing\":%.6g}",
                         k ? "," : "", r->t0, r->t1, (unsigned long long)r->probes, (unsigned long long)r->moves,
-                        (unsigned long long)r->kept, (unsigned long long)r->dropped, (unsigned long long)r->reproved,
-                        (unsigned long long)r->blocked, r->collisions, vp_strerror(r->status), r->closed ? "true" : "false",
+                        (unsigned long long)r->kept, (unsigned long long)r->dropped, (unsigned long long)r->moved,
+                        (unsigned long long)r->reproved, (unsigned long long)r->blocked, r->collisions, vp_strerror(r->status), r->closed ? "true" : "false",
                         r->genus, r->components, r->vertices, r->hausdorff, r->min_spacing);
             }
             fprintf(f, "]");

@@ -27,6 +27,13 @@
 /* a sample found again within this share of (1 + Omega's circumradius) is where it was: far
  * above the rounding of a re-measured distance, far below any physical size */
 #define KEEP_TOL_REL 1e-9
+/* a sample found again farther than that but within MOVE_REACH eps of where it was, on the line
+ * measured, moved there: the point measured takes its place when no sample lies within
+ * MOVE_SPACING eps of it (paper 001 moves each vertex with the surface and keeps any two R/3
+ * apart). Farther: removed, and the refinement finds the surface there. A surface of another
+ * part nearer than that on the line is thinner than eps/2: outside paper 000's range. */
+#define MOVE_REACH 0.5
+#define MOVE_SPACING (1.0 / 3.0)
 
 /* A proof is stale when it was made before a re-scan, or (cfg.proof_life) when it or a piece of
  * its chain is older than the proofs' life: the object may have moved into it since. */
@@ -441,6 +448,18 @@ VP_PL_API int vp_pl_verify_feed(vp_planner_t *pl, const vp_probe_result_t *res)
         pl->probe.ready = 1;
         return VP_OK;
     }
+    if (res->hit == 1 && fabs(res->dist - e) <= MOVE_REACH * pl->cfg.eps) {
+        /* near where it was, on the line measured: the sample moved there (its line goes with it
+         * where it was measured along that line; along its normal, it keeps none) */
+        int k;
+        pl->rescan.cur = NONE;
+        vp_dt_vertex(&pl->dt, v)->aux &= ~AUX_DEFER;
+        pl->rescan.drop = v;
+        pl->rescan.move = 1;
+        for (k = 0; k < 3; k++) pl->rescan.move_to[k] = pl->dev.iss_o[k] + res->dist * pl->dev.iss_d[k];
+        pl->rescan.move_aux = pl->rescan.along == 2u ? 0u : (vp_dt_vertex(&pl->dt, v)->aux & AUX_PROOF);
+        return VP_OK;
+    }
     if ((res->hit == 1 && res->dist < e - tol) || res->hit == VP_PROBE_TOO_CLOSE) {
         /* something nearer along this line: covered, or only blocked from here */
         if (pl->rescan.along < (pl->rescan.pass == 0 ? 2u : 3u)) return VP_OK; /* the next line */
@@ -581,9 +600,25 @@ VP_PL_API int vp_pl_rescan_pending(vp_planner_t *pl)
         VP_TRY(vp_pl_withdraw_at(pl, b == 1 ? pl->rescan.blocked_at : NULL, pl->rescan.blocked_proof));
     }
     if (pl->rescan.drop != NONE && pl->rescan.mark > 0) {
-        uint32_t v = pl->rescan.drop;
+        uint32_t v = pl->rescan.drop, nv;
+        int moved = pl->rescan.move, st;
         pl->rescan.drop = NONE;
+        pl->rescan.move = 0;
         VP_TRY(drop_sample(pl, v));
+        if (moved) {
+            /* paper 001's vertex move: the point measured takes the sample's place, unless a
+             * sample lies within R/3 of it (its spacing invariant; R, the balls' radius, is at
+             * most eps); then the sample is only removed (its deletion) */
+            double sp = MOVE_SPACING * pl->cfg.eps;
+            if (pl->cfg.min_size > 0.0 && pl->cfg.min_size < sp) sp = pl->cfg.min_size;
+            st = vp_pl_sample_insert(pl, pl->rescan.move_to, VP_DT_NONE, sp, &nv);
+            if (st < 0) return st;
+            if (st == 1) {
+                vp_dt_vertex(&pl->dt, nv)->aux = (vp_dt_vertex(&pl->dt, nv)->aux & AUX_NRM) | pl->rescan.move_aux;
+                pl->st.rescan_moved++;
+                vp_pl_note_peak(pl);
+            }
+        }
     }
     return VP_OK;
 }
@@ -630,6 +665,7 @@ static int rescan(vp_planner_t *pl, int at_start)
     pl->rescan.reprove = 0;
     pl->rescan.ndoomed = 0;
     pl->rescan.drop = NONE;
+    pl->rescan.move = 0;
     pl->rescan.blocked = 0;
     pl->rescan.tol = pl->cfg.noise_tol > KEEP_TOL_REL * (1.0 + vp_pl_omega_circumradius(&pl->cfg))
                          ? pl->cfg.noise_tol : KEEP_TOL_REL * (1.0 + vp_pl_omega_circumradius(&pl->cfg));

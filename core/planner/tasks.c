@@ -383,9 +383,10 @@ VP_PL_API void vp_pl_probe_drop(vp_planner_t *pl)
 #define OCCLUDED_REACH 1.0
 /* Inserts the point h of S when no sample lies within sp of it: the nearest sample is a vertex
  * of a tet whose circumsphere holds h (it becomes h's Delaunay neighbour), found by walking the
- * conflict region from the tet that holds it. 1: inserted; 0: not (a sample too near, outside
- * Omega, a conflict region too large to walk, no room); < 0 an error. */
-static int sample_insert(vp_planner_t *pl, const double h[3], uint32_t hint, double sp)
+ * conflict region from the tet that holds it. 1: inserted (the new sample in *v when v is not
+ * NULL); 0: not (a sample too near, outside Omega, a conflict region too large to walk, no
+ * room); < 0 an error. */
+VP_PL_API int vp_pl_sample_insert(vp_planner_t *pl, const double h[3], uint32_t hint, double sp, uint32_t *vout)
 {
     double near2 = VP_PL_HUGE;
     uint32_t t0, *stack = pl->pool.astar, n = 0, seen = 0, v;
@@ -416,6 +417,7 @@ static int sample_insert(vp_planner_t *pl, const double h[3], uint32_t hint, dou
     if (st != VP_OK) return st;
     pl->st.insertions++;
     pl->close.exhaustive = 0;
+    if (vout) *vout = v;
     st = vp_pl_after_insert(pl, v);
     return st == VP_OK ? 1 : st;
 }
@@ -439,7 +441,7 @@ static int occluded_sample(vp_planner_t *pl, double dist)
     if (fv[0] == VP_DT_GHOST || fv[1] == VP_DT_GHOST || fv[2] == VP_DT_GHOST || !facet_circumcenter(pl, fv, m) ||
         vp_dist3(m, h) > OCCLUDED_REACH * pl->cfg.eps)
         return VP_OK;
-    st = sample_insert(pl, h, pl->probe.task.tet, sp);
+    st = vp_pl_sample_insert(pl, h, pl->probe.task.tet, sp, NULL);
     return st < 0 ? st : VP_OK;
 }
 
@@ -460,7 +462,7 @@ VP_PL_API int vp_pl_ray_sample(vp_planner_t *pl)
     if (pl->probe.task.tet < pl->dt.ntet_slots && vp_dt_alive(&pl->dt, pl->probe.task.tet)) hint = pl->probe.task.tet;
     else
         while (hint < pl->dt.ntet_slots && !vp_dt_alive(&pl->dt, hint)) hint++;
-    st = sample_insert(pl, h, hint, pl->cfg.eps);
+    st = vp_pl_sample_insert(pl, h, hint, pl->cfg.eps, NULL);
     pl->st.ray_samples += st == 1;
     return st;
 }

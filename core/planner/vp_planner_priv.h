@@ -335,6 +335,9 @@ VP_PL_API int vp_pl_task_start(vp_planner_t *pl, vp_task_t *k);
 VP_PL_API int vp_pl_task_origin(const vp_planner_t *pl, const vp_task_t *k, double *o);
 #endif
 VP_PL_API int vp_pl_tet_point(const vp_planner_t *pl, uint32_t t, double *p);
+#if VP_PL_CONTACTS || VP_PL_LINE_LASER
+VP_PL_API int vp_pl_sample_insert(vp_planner_t *pl, const double h[3], uint32_t hint, double sp, uint32_t *vout);
+#endif
 
 /* update.c */
 VP_PL_API int vp_pl_after_insert(vp_planner_t *pl, uint32_t pv);

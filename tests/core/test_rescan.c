@@ -184,9 +184,10 @@ static void test_changed(double eps, const double *ax, const double *c, const ch
     vp_planner_get_stats(&pl, &s);
     CHECK(s.rescan_dropped > 0);
     judge(what, &d, eps, &nv);
-    printf("ellipsoid eps %g, %s: %lu probes (the first scan %lu), %llu samples kept, %llu removed, %u vertices, "
-           "%llu route steps proven again (%llu blocked), no move into it\n", eps, what, d.probes, p0,
-           (unsigned long long)s.rescan_kept, (unsigned long long)s.rescan_dropped, nv,
+    printf("ellipsoid eps %g, %s: %lu probes (the first scan %lu), %llu samples kept, %llu removed (%llu moved), "
+           "%u vertices, %llu route steps proven again (%llu blocked), no move into it\n", eps, what, d.probes, p0,
+           (unsigned long long)s.rescan_kept, (unsigned long long)s.rescan_dropped,
+           (unsigned long long)s.rescan_moved, nv,
            (unsigned long long)s.reproved, (unsigned long long)s.reprove_blocked);
 }
 
