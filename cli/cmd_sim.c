@@ -47,7 +47,9 @@ static void sim_usage(FILE *f)
         "  --sync POLICY      when the log is synced: record (each, default), N (every N\n"
         "                     records), Tms (every T ms), N,Tms, close (only at the end)\n"
         "  --rescan LOG       scan again an object scanned before (LOG's session, with its options):\n"
-        "                     every sample is measured again from outside Omega and kept or removed,\n"
+        "                     every sample is measured again from outside Omega and kept, moved\n"
+        "                     (found within eps/2 on its line: the point measured takes its place)\n"
+        "                     or removed,\n"
         "                     the device re-proves old free space before it moves through it, and\n"
         "                     the scan goes on where something changed; --surface names the object\n"
         "                     now (default: the logged one). Writes a new log (LOG's records, a\n"
@@ -55,7 +57,14 @@ static void sim_usage(FILE *f)
         "  --track N          after the scan, N rounds of tracking: each a re-scan from where the\n"
         "                     device stands (with --motion the object moves on); every round's\n"
         "                     figures (probes, samples kept and removed, closed, genus, collisions,\n"
-        "                     Hausdorff at its end) in the summary and --json (\"rounds\")\n"
+        "                     Hausdorff at its end) in the summary and --json (\"rounds\"); each\n"
+        "                     round's mesh in PREFIX.roundK.ply\n"
+        "  --rescan-sparse    with --rescan or --track: a sample is not measured when all its\n"
+        "                     neighbours are and hold (no two neighbours both left out; some 20%%\n"
+        "                     fewer probes); a change narrower than the sample spacing that moves\n"
+        "                     only such samples goes unseen\n"
+        );
+    fprintf(f,
         "  --stop-after N     pause the session after N commands (a PAUSE event; resumable)\n"
         "  --power-cut BYTES  simulate a power cut once the log reaches BYTES bytes (torn write)\n"
         "  --noise S          Gaussian noise of each hit distance (standard deviation; at most eps/16)\n"
@@ -123,13 +132,14 @@ static void sim_usage(FILE *f)
         "%s\n\n%s\n", vp_surface_help(), vp_motion_help());
 }
 
-/* --track: a round begins: the RESCAN event (code 1: the device stays where it stands) */
+/* --track: a round begins: the RESCAN event (code: the re-scan's flags; VP_RESCAN_HERE, the
+ * device stays where it stands) */
 static int track_event(void *ctx, int round)
 {
     vp_sim_session_t *g = ctx;
     char text[64];
     snprintf(text, sizeof text, "tracking round %d", round);
-    return vp_logwriter_event(&g->w.file, VP_LOGFMT_EV_RESCAN, 1, text);
+    return vp_logwriter_event(&g->w.file, VP_LOGFMT_EV_RESCAN, VP_RESCAN_HERE | (g->sparse ? VP_RESCAN_SPARSE : 0u), text);
 }
 
 int vp_cli_sim(int argc, char **argv)
@@ -171,6 +181,11 @@ int vp_cli_sim(int argc, char **argv)
         return 1;
     }
     if (!o.surface) { fprintf(stderr, "sim: --surface is required (see --help)\n"); return 2; }
+    if (g.sparse && !g.rescan && !track) {
+        fprintf(stderr, "sim: --rescan-sparse is for a re-scan (--rescan) or tracking (--track)\n");
+        vp_sim_session_free(&g);
+        return 2;
+    }
     for (i = 1; i < argc && !o.motion; i++)
         if (!strcmp(argv[i], "--speed") || !strcmp(argv[i], "--accel") || !strcmp(argv[i], "--probe-time")) {
             fprintf(stderr, "sim: %s sets the clock of a moving object: give --motion too\n", argv[i]);
@@ -220,7 +235,8 @@ int vp_cli_sim(int argc, char **argv)
     }
     st = g.complete ? VP_OK : vp_sim_run(&sim, o.quiet ? NULL : stderr);
     if (track > 0 && !g.complete && st == VP_OK) {
-        st = vp_sim_track(&sim, &o, track, g.active ? track_event : NULL, &g, o.quiet ? NULL : stderr);
+        st = vp_sim_track(&sim, &o, track, g.sparse ? VP_RESCAN_SPARSE : 0u, g.active ? track_event : NULL, &g,
+                          o.quiet ? NULL : stderr);
         if (st == VP_OK) st = sim.run.status;
     }
     i = vp_sim_session_end(&g, &sim, stderr);

@@ -195,6 +195,7 @@ int vp_sim_session_parse_option(vp_sim_session_t *g, int argc, char **argv, int 
 {
     const char *a = argv[*i], *val = *i + 1 < argc ? argv[*i + 1] : NULL;
     if (!strcmp(a, "--no-log")) { g->no_log = 1; return 0; }
+    if (!strcmp(a, "--rescan-sparse")) { g->sparse = 1; return 0; }
     if (strcmp(a, "--log") && strcmp(a, "--resume") && strcmp(a, "--rescan") && strcmp(a, "--sync") &&
         strcmp(a, "--stop-after") && strcmp(a, "--power-cut"))
         return 1;

@@ -66,10 +66,11 @@ enum vp_logfmt_event {
     VP_LOGFMT_EV_CONTACT = 8,     /* right after a MOVE: the head's contact switch stopped it;
                                      value[0] the distance along the move, value[1..3] the point */
     VP_LOGFMT_EV_RESCAN = 9       /* a re-scan starts (vp_planner_rescan): the object may have
-                                     changed; every free part logged before is stale; code 0: the
-                                     device is at the start again (text: the object now, e.g.
-                                     "--surface SPEC"); code 1: it stays where it stands (a round
-                                     of tracking, vp_planner_rescan_here) */
+                                     changed; every free part logged before is stale; the code
+                                     holds vp_planner_rescan_with's flags: bit 0 clear, the device
+                                     is at the start again (text: the object now, e.g. "--surface
+                                     SPEC"), set, it stays where it stands (a round of tracking);
+                                     bit 1, a sparse re-scan */
 };
 
 typedef struct vp_logfmt_record {

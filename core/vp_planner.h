@@ -118,6 +118,7 @@ typedef struct vp_planner_stats {
     uint64_t rescan_unseen;    /* of those, samples no line reached (covered, or out of reach) */
     uint64_t rescan_moved;     /* of those, samples found again near where they were: the point
                                   measured takes the sample's place (paper 001's vertex move) */
+    uint64_t rescan_skipped;   /* kept unmeasured (VP_RESCAN_SPARSE): every neighbour held */
     uint64_t rescan_normal;    /* samples measured along their normal (their probe's line blocked
                                   or unknown) */
     uint64_t reproved;         /* route steps on proofs from before the re-scan, probed again and
@@ -363,6 +364,14 @@ int vp_planner_rescan(vp_planner_t *pl);
 /* The same with the device where it stands (the next round of tracking a moving object: it
  * leaves over stale steps, each proven again first). */
 int vp_planner_rescan_here(vp_planner_t *pl);
+/* Either, by flags (a RESCAN event's code carries them): VP_RESCAN_HERE, the device stays;
+ * VP_RESCAN_SPARSE, a sample all of whose Delaunay neighbours are measured is not measured itself
+ * (no two neighbours both left out) unless one of them is not where it was: about 70% of the
+ * samples are measured on an unchanged object, and a change narrower than the sample spacing
+ * that moves only samples left out goes unseen. Other bits: VP_EINVAL. */
+#define VP_RESCAN_HERE 1u
+#define VP_RESCAN_SPARSE 2u
+int vp_planner_rescan_with(vp_planner_t *pl, unsigned flags);
 #endif
 
 /* The mesh: restricted facets with their vertices (indices into vp_planner_dt()), oriented with

@@ -543,7 +543,7 @@ int vp_logverify_add(vp_logverify_t *v, const vp_logfmt_record_t *r)
          * the device is at the start again */
         size_t i;
         for (i = 0; i < v->npr; i++) v->pr[i].len = -1.0;
-        if (r->code != 1) memcpy(v->res.pos, v->cfg.start, sizeof v->res.pos); /* 1: the device stays */
+        if (!(r->code & VP_RESCAN_HERE)) memcpy(v->res.pos, v->cfg.start, sizeof v->res.pos); /* the device stays */
         v->res.events++;
         v->res.rescans++;
     }

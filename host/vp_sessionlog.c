@@ -261,16 +261,16 @@ int vp_replay_run(vp_replay_t *R, const vp_sessionlog_t *L, uint32_t upto, char 
             }
             if (rec.event == VP_LOGFMT_EV_RESCAN) {
                 /* a re-scan: the planner measures its samples again from the start */
-                st = rec.code == 1 ? vp_planner_rescan_here(R->pl) : vp_planner_rescan(R->pl);
+                st = vp_planner_rescan_with(R->pl, rec.code); /* the code: the re-scan's flags */
                 if (st != VP_OK) {
                     snprintf(err, errlen, "record %u (byte offset %zu): the planner refused the re-scan: %s",
                              i, L->off[i], vp_strerror(st));
                     return st;
                 }
-                if (rec.code != 1) memcpy(R->pos, L->header.cfg.start, sizeof R->pos);
+                if (!(rec.code & VP_RESCAN_HERE)) memcpy(R->pos, L->header.cfg.start, sizeof R->pos);
                 R->done = 0;
                 R->rescans++;
-                if (rec.code != 1) { /* a re-scan of the object now (not a tracking round) */
+                if (!(rec.code & VP_RESCAN_HERE)) { /* a re-scan of the object now (not a tracking round) */
                     R->probes_since_rescan = 0;
                     vp_planner_get_stats(R->pl, &R->at_rescan);
                 }

@@ -104,7 +104,7 @@ static int last_rescan_surface(vp_sim_session_t *g, char *err, size_t errlen)
     for (i = g->L.n; i-- > 0;) {
         vp_logfmt_record_t rec;
         if (vp_sessionlog_record(&g->L, i, &rec) != VP_OK || rec.type != VP_LOGFMT_EVENT ||
-            rec.event != VP_LOGFMT_EV_RESCAN || rec.code == 1) /* a tracking round: the object stays */
+            rec.event != VP_LOGFMT_EV_RESCAN || (rec.code & VP_RESCAN_HERE)) /* a tracking round: the object stays */
             continue;
         if (strncmp(rec.text, "--surface ", 10) != 0 || !rec.text[10]) break;
         memcpy(g->rescan_spec, rec.text + 10, strlen(rec.text + 10) + 1);
@@ -147,7 +147,7 @@ static int rescan_begin(vp_sim_session_t *g, vp_sim_t *s, const vp_sim_options_t
     st = vp_replay_run(&R, &g->L, g->L.n, why, sizeof why);
     if (st != VP_OK) { snprintf(err, errlen, "%s: replay failed: %s", g->rescan, why); return st; }
     g->replayed = R.applied;
-    if ((st = vp_planner_rescan(s->pl)) != VP_OK) {
+    if ((st = vp_planner_rescan_with(s->pl, g->sparse ? VP_RESCAN_SPARSE : 0u)) != VP_OK) {
         snprintf(err, errlen, "%s: the planner cannot re-scan this session: %s", g->rescan, vp_strerror(st));
         return st;
     }
@@ -161,7 +161,7 @@ static int rescan_begin(vp_sim_session_t *g, vp_sim_t *s, const vp_sim_options_t
     }
     st = vp_logwriter_create_copy(&g->w.file, g->path, g->L.data, g->L.good_bytes, g->L.n, &g->fcfg);
     snprintf(text, sizeof text, "--surface %s", now);
-    if (st == VP_OK) st = vp_logwriter_event(&g->w.file, VP_LOGFMT_EV_RESCAN, 0, text);
+    if (st == VP_OK) st = vp_logwriter_event(&g->w.file, VP_LOGFMT_EV_RESCAN, g->sparse ? VP_RESCAN_SPARSE : 0u, text);
     if (st != VP_OK) {
         snprintf(err, errlen, "cannot write the session log %s: %s", g->path, strerror(errno));
         return st;

@@ -16,6 +16,8 @@ typedef struct vp_sim_session {
                                     on --resume of a re-scan, the last RESCAN event's) */
     char rescan_spec[VP_LOGFMT_TEXT_MAX + 1];
     int no_log;                  /* --no-log */
+    int sparse;                  /* --rescan-sparse: re-scans and tracking rounds measure part of
+                                    the samples (VP_RESCAN_SPARSE) */
     vp_logwriter_config_t fcfg;    /* --sync, --power-cut */
     unsigned long stop_after;    /* --stop-after N */
     /* state */

@@ -376,6 +376,7 @@ static void round_figures(vp_sim_t *s, const vp_sim_options_t *o, const vp_plann
     r->kept = st.rescan_kept - b->rescan_kept;
     r->dropped = st.rescan_dropped - b->rescan_dropped;
     r->moved = st.rescan_moved - b->rescan_moved;
+    r->skipped = st.rescan_skipped - b->rescan_skipped;
     r->reproved = st.reproved - b->reproved;
     r->blocked = st.reprove_blocked - b->reprove_blocked;
     r->collisions = ds.collisions - c0;
@@ -437,7 +438,7 @@ static int round_mesh(vp_sim_t *s, const vp_sim_options_t *o, int k, FILE *progr
     return st;
 }
 
-int vp_sim_track(vp_sim_t *s, const vp_sim_options_t *o, int n, int (*rescan_event)(void *ctx, int round),
+int vp_sim_track(vp_sim_t *s, const vp_sim_options_t *o, int n, unsigned flags, int (*rescan_event)(void *ctx, int round),
                  void *ctx, FILE *progress)
 {
     int k, st = VP_OK;
@@ -456,7 +457,7 @@ int vp_sim_track(vp_sim_t *s, const vp_sim_options_t *o, int n, int (*rescan_eve
         vp_planner_get_stats(s->pl, &b);
         vp_simdev_stats(s->dev, &ds);
         if (rescan_event && (st = rescan_event(ctx, k)) != VP_OK) break;
-        if ((st = vp_planner_rescan_here(s->pl)) != VP_OK) break;
+        if ((st = vp_planner_rescan_with(s->pl, VP_RESCAN_HERE | flags)) != VP_OK) break;
         vp_sim_run(s, progress);
         round_figures(s, o, &b, ds.collisions, ds.time, &r[k]);
         s->nrounds = k + 1;
@@ -576,11 +577,12 @@ void vp_sim_report(const vp_sim_t *s, const vp_sim_options_t *o, FILE *f)
         }
         if (s->rescan)
             fprintf(f, "rescan of %s: %llu probes, %llu moves (the session re-scanned took %llu probes); samples: %llu "
-                    "kept, %llu removed (%llu moved: the point measured took their place; %llu covered or out of reach of "
+                    "kept, %llu not measured (their neighbours held), %llu removed (%llu moved: the point measured took their place; %llu covered or out of reach of "
                     "every line), %llu measured along their normal; %llu route steps proven again (%llu blocked)\n",
                     s->rescan_spec,
                     (unsigned long long)(st.probes - s->before.probes), (unsigned long long)(st.moves - s->before.moves),
                     (unsigned long long)s->before.probes, (unsigned long long)(st.rescan_kept - s->before.rescan_kept),
+                    (unsigned long long)(st.rescan_skipped - s->before.rescan_skipped),
                     (unsigned long long)(st.rescan_dropped - s->before.rescan_dropped),
                     (unsigned long long)(st.rescan_moved - s->before.rescan_moved),
                     (unsigned long long)(st.rescan_unseen - s->before.rescan_unseen),
@@ -597,11 +599,12 @@ void vp_sim_report(const vp_sim_t *s, const vp_sim_options_t *o, FILE *f)
             fprintf(f, "\n");
             for (k = 0; k < s->nrounds; k++) {
                 const vp_sim_round_t *r = &s->rounds[k];
-                fprintf(f, "  round %d: t %.4g..%.4g s, %llu probes, %llu moves, samples kept %llu removed %llu (moved %llu), steps "
-                        "proven again %llu (%llu blocked); %u vertices, %s, genus %d; collisions %lu; Hausdorff at its end %.6g; "
+                fprintf(f, "  round %d: t %.4g..%.4g s, %llu probes, %llu moves, samples kept %llu (not measured %llu) removed %llu (moved "
+                        "%llu), steps proven again %llu (%llu blocked); %u vertices, %s, genus %d; collisions %lu; Hausdorff at its end %.6g; "
                         "closest vertices %.6g\n", k, r->t0, r->t1, (unsigned long long)r->probes, (unsigned long long)r->moves,
-                        (unsigned long long)r->kept, (unsigned long long)r->dropped, (unsigned long long)r->moved,
-                        (unsigned long long)r->reproved, (unsigned long long)r->blocked, r->vertices, r->closed ? "closed" : "NOT closed", r->genus,
+                        (unsigned long long)r->kept, (unsigned long long)r->skipped, (unsigned long long)r->dropped,
+                        (unsigned long long)r->moved, (unsigned long long)r->reproved, (unsigned long long)r->blocked,
+                        r->vertices, r->closed ? "closed" : "NOT closed", r->genus,
                         r->collisions, r->hausdorff, r->min_spacing);
             }
         }
@@ -651,10 +654,11 @@ void vp_sim_report(const vp_sim_t *s, const vp_sim_options_t *o, FILE *f)
                 s->cfg.min_size, s->cfg.max_distance, touch);
         if (s->rescan)
             fprintf(f, ",\"rescan\":{\"surface\":\"%s\",\"probes\":%llu,\"moves\":%llu,\"old_probes\":%llu,"
-                    "\"kept\":%llu,\"dropped\":%llu,\"moved\":%llu,\"unseen\":%llu,\"normal\":%llu,\"reproved\":%llu,"
+                    "\"kept\":%llu,\"skipped\":%llu,\"dropped\":%llu,\"moved\":%llu,\"unseen\":%llu,\"normal\":%llu,\"reproved\":%llu,"
                     "\"blocked\":%llu}", s->rescan_spec, (unsigned long long)(st.probes - s->before.probes),
                     (unsigned long long)(st.moves - s->before.moves), (unsigned long long)s->before.probes,
                     (unsigned long long)(st.rescan_kept - s->before.rescan_kept),
+                    (unsigned long long)(st.rescan_skipped - s->before.rescan_skipped),
                     (unsigned long long)(st.rescan_dropped - s->before.rescan_dropped),
                     (unsigned long long)(st.rescan_moved - s->before.rescan_moved),
                     (unsigned long long)(st.rescan_unseen - s->before.rescan_unseen),
@@ -666,12 +670,13 @@ void vp_sim_report(const vp_sim_t *s, const vp_sim_options_t *o, FILE *f)
             fprintf(f, ",\"rounds\":[");
             for (k = 0; k < s->nrounds; k++) {
                 const vp_sim_round_t *r = &s->rounds[k];
-                fprintf(f, "%s{\"t0\":%.6g,\"t1\":%.6g,\"probes\":%llu,\"moves\":%llu,\"kept\":%llu,\"dropped\":%llu,"
-                        "\"moved\":%llu,\"reproved\":%llu,\"blocked\":%llu,\"collisions\":%lu,\"status\":\"%s\",\"closed\":%s,"
+                fprintf(f, "%s{\"t0\":%.6g,\"t1\":%.6g,\"probes\":%llu,\"moves\":%llu,\"kept\":%llu,\"skipped\":%llu,"
+                        "\"dropped\":%llu,\"moved\":%llu,\"reproved\":%llu,\"blocked\":%llu,\"collisions\":%lu,\"status\":\"%s\",\"closed\":%s,"
                         "\"genus\":%d,\"components\":%d,\"vertices\":%u,\"hausdorff\":%.6g,\"min_spacing\":%.6g}",
                         k ? "," : "", r->t0, r->t1, (unsigned long long)r->probes, (unsigned long long)r->moves,
-                        (unsigned long long)r->kept, (unsigned long long)r->dropped, (unsigned long long)r->moved,
-                        (unsigned long long)r->reproved, (unsigned long long)r->blocked, r->collisions, vp_strerror(r->status), r->closed ? "true" : "false",
+                        (unsigned long long)r->kept, (unsigned long long)r->skipped, (unsigned long long)r->dropped,
+                        (unsigned long long)r->moved, (unsigned long long)r->reproved, (unsigned long long)r->blocked,
+                        r->collisions, vp_strerror(r->status), r->closed ? "true" : "false",
                         r->genus, r->components, r->vertices, r->hausdorff, r->min_spacing);
             }
             fprintf(f, "]");

@@ -113,7 +113,7 @@ void vp_sim_close(vp_sim_t *s);
  * where the device stands, vp_planner_rescan_here), what it took and what it left. */
 typedef struct vp_sim_round {
     double t0, t1;                   /* the simulated clock at its start and end (s) */
-    uint64_t probes, moves, kept, dropped, moved, reproved, blocked;
+    uint64_t probes, moves, kept, skipped, dropped, moved, reproved, blocked;
     unsigned long collisions;        /* moves that touched the moving object in this round */
     int status, closed, genus, components;
     unsigned vertices;
@@ -122,7 +122,7 @@ typedef struct vp_sim_round {
 } vp_sim_round_t;
 /* Runs rounds 1..n after the first scan (each: rescan_event(ctx, k), the re-scan, its figures in
  * s->rounds[k]; s->rounds[0] is the first scan); stops early when a round does not end DONE. */
-int vp_sim_track(vp_sim_t *s, const vp_sim_options_t *o, int n, int (*rescan_event)(void *ctx, int round),
+int vp_sim_track(vp_sim_t *s, const vp_sim_options_t *o, int n, unsigned flags, int (*rescan_event)(void *ctx, int round),
                  void *ctx, FILE *progress);
 /* A re-scan: the simulated object becomes `spec` (the device back at the start, its counters from
  * zero), after the session so far was replayed into s->pl with the old one. The planner's

@@ -2,11 +2,13 @@
 # `sim --rescan`: a second scan of an object scanned before (issue: objects that change).
 # (1) the object unchanged (sphere, torus, genus2, ellipsoid, blobby, a tessellated sphere; a
 #     body-mode run): the mesh is the old one byte for byte, with at most 35% of the old
-#     session's probes (the figures are printed; the README's table comes from here);
+#     session's probes (the figures are printed; the README's table comes from here); with
+#     --rescan-sparse the same mesh with at most 30% of them;
 # (2) a bump on 5% of the sphere's area, 0.15 high (tests/rescan_objects.py): closed, genus 0, as close to
 #     the bumped object as a fresh scan of it (host-sim's measure and CGAL's), the probes beyond
 #     the re-measuring at most a quarter of a fresh scan's; CGAL measures the old mesh far from
-#     the bumped object (the measure's case that must fail);
+#     the bumped object (the measure's case that must fail); the same with --rescan-sparse: as
+#     close as a fresh scan (the change is seen through the samples measured around it);
 # (2b) a torus whose tube swells into the hole: closed, genus 1; CGAL (tests/cgal_moves.cpp)
 #     finds no move after the RESCAN event through the swollen torus, and finds the old
 #     session's moves through it (the checker's case that must fail: trusting the old proofs
@@ -16,10 +18,11 @@
 #     replayed to the same mesh;
 # (5) refusals: an object outside the session's Omega, --resume with --rescan, the old log as
 #     the new one (also by another name), a session option (--seed) with --rescan; --no-log
-#     writes no log; a new part far from the old object, which the re-scan never meets, ends
-#     not closed (exit 4) and says so;
+#     writes no log; --rescan-sparse without a re-scan; a new part far from the old object,
+#     which the re-scan never meets, ends not closed (exit 4) and says so;
 # (6) `scan --rescan` on the rpi4 gantry's dry run: the same object gives the old mesh byte for
-#     byte; a smaller one closes with 0 moves through it and 0 head collisions, its log verified;
+#     byte (also with --rescan-sparse); a smaller one closes with 0 moves through it and 0 head
+#     collisions, its log verified;
 #     paused and resumed, the same mesh.
 set -u
 B=${BUILD:-build}
@@ -77,6 +80,14 @@ for spec in sphere:0.03 torus:0.03 genus2:0.03 ellipsoid:0.03 blobby:0.03 "off:$
   awk -v r="$ratio" 'BEGIN { exit !(r <= 0.35) }' || bad "$name: the re-scan took $ratio of the old probes"
   [ "$d" = 0 ] || bad "$name: $d samples removed from an unchanged object"
   verified "$tmp/$name.rescan.vplog" "$name" "$tmp/$name.rescan.ply"
+  "$VP" sim --rescan "$tmp/$name.vplog" --rescan-sparse --out "$tmp/$name-sp" --json $S >"$tmp/$name-sp.json" 2>&1; rc=$?
+  [ $rc -eq 0 ] || { bad "$name: sparse re-scan exit $rc"; tail -3 "$tmp/$name-sp.json"; continue; }
+  cmp -s "$tmp/$name.ply" "$tmp/$name-sp.ply" || bad "$name: the sparse re-scan's mesh is not the old one"
+  p=$(rfield "$tmp/$name-sp.json" probes); sk=$(rfield "$tmp/$name-sp.json" skipped)
+  ratio=$(awk -v p="$p" -v o="$o" 'BEGIN { printf "%.3f", p / o }')
+  echo "  --rescan-sparse: $p probes ($ratio), $sk samples not measured"
+  awk -v r="$ratio" 'BEGIN { exit !(r <= 0.30) }' || bad "$name: the sparse re-scan took $ratio of the old probes"
+  verified "$tmp/$name-sp.vplog" "$name sparse" "$tmp/$name-sp.ply"
 done
 
 # ---- (2) a bump on 5% of the area
@@ -101,6 +112,15 @@ if [ $rc -ne 0 ]; then bad "bump: re-scan exit $rc"; tail -3 "$tmp/bump.json"; e
   [ "$col" = 0 ] || bad "bump: $col collisions"
   verified "$tmp/bump.vplog" bump "$tmp/bump.ply"
 fi
+"$VP" sim --rescan "$tmp/sphere_off.vplog" --rescan-sparse --surface "off:$tmp/obj/sphere_bump.off" --out "$tmp/bsp" --json $S \
+  >"$tmp/bsp.json" 2>&1 || bad "bump, sparse: exit $?"
+h=$(field "$tmp/bsp.json" hausdorff); ch=$(chaus "$tmp/bsp.off" "$tmp/obj/sphere_bump.off")
+echo "bump, --rescan-sparse: $(rfield "$tmp/bsp.json" probes) probes, $(rfield "$tmp/bsp.json" skipped) samples not measured," \
+     "$(rfield "$tmp/bsp.json" dropped) removed ($(rfield "$tmp/bsp.json" moved) moved); genus $(field "$tmp/bsp.json" genus)," \
+     "Hausdorff $h, by CGAL $ch"
+[ "$(field "$tmp/bsp.json" genus)" = 0 ] && [ "$(field "$tmp/bsp.json" collisions)" = 0 ] || bad "bump, sparse: genus or collisions"
+awk -v h="$ch" -v f="${cfh:-0}" 'BEGIN { exit !(h <= 1.5 * f + 1e-9) }' || bad "bump, sparse: CGAL's Hausdorff $ch (fresh $cfh)"
+verified "$tmp/bsp.vplog" "bump sparse" "$tmp/bsp.ply"
 
 # ---- (2b) a torus whose tube swells into its hole, where the old session's head went
 "$VP" sim --surface "off:$tmp/obj/torus.off" --eps-rel 0.03 --out "$tmp/torus_off" $S >/dev/null 2>&1 || bad "torus.off: fresh scan"
@@ -148,6 +168,12 @@ R="scan --board boards/rpi4-gantry.ini --dry-run --eps 6 --quiet"
 cmp -s "$tmp/m.ply" "$tmp/mr.ply" || bad "rpi4 re-scan: not the old mesh"
 echo "rpi4 dry run, the same object: $(rfield "$tmp/mr.json" probes) probes (the first scan $(rfield "$tmp/mr.json" old_probes))," \
      "$(field "$tmp/mr.json" machine_s) s of machine time, the old mesh byte for byte"
+"$VP" scan --rescan "$tmp/m.vplog" --rescan-sparse --log "$tmp/ms.vplog" --quiet --json >"$tmp/ms.json" 2>&1 ||
+  bad "rpi4 sparse re-scan: exit $?"
+cmp -s "$tmp/m.ply" "$tmp/ms.ply" || bad "rpi4 sparse re-scan: not the old mesh"
+"$VP" log verify "$tmp/ms.vplog" >/dev/null 2>&1 || bad "rpi4 sparse re-scan: log verify"
+echo "rpi4 dry run, the same object, --rescan-sparse: $(rfield "$tmp/ms.json" probes) probes," \
+     "$(rfield "$tmp/ms.json" skipped) samples not measured, $(field "$tmp/ms.json" machine_s) s of machine time, the old mesh"
 "$VP" scan --rescan "$tmp/m.vplog" --log "$tmp/mc.vplog" --surface "ellipsoid*20@202,150,150" --quiet --json >"$tmp/mc.json" 2>&1 ||
   bad "rpi4 re-scan of a smaller object: exit $?"
 [ "$(field "$tmp/mc.json" closed)" = true ] && [ "$(field "$tmp/mc.json" through)" = 0 ] && [ "$(field "$tmp/mc.json" head_collisions)" = 0 ] ||
@@ -179,6 +205,10 @@ cmp -s "$tmp/mp.ply" "$tmp/mc.ply" || bad "rpi4 re-scan paused and resumed: anot
 [ $? -eq 4 ] && grep -q "a part the re-scan never met" "$tmp/o.txt" || bad "a new part far away: $(tail -3 "$tmp/o.txt")"
 "$VP" scan --rescan "$tmp/m.vplog" --log "$tmp/m.vplog" --quiet >"$tmp/o.txt" 2>&1
 [ $? -eq 2 ] && grep -q "writes a new log" "$tmp/o.txt" || bad "scan: the old log as the new one: $(cat "$tmp/o.txt")"
+"$VP" sim --surface sphere --eps 0.2 --rescan-sparse --no-log $S >"$tmp/o.txt" 2>&1
+[ $? -eq 2 ] && grep -q "is for a re-scan" "$tmp/o.txt" || bad "sim --rescan-sparse alone: $(cat "$tmp/o.txt")"
+"$VP" scan --board boards/rpi4-gantry.ini --dry-run --eps 6 --rescan-sparse --log "$tmp/x.vplog" --quiet >"$tmp/o.txt" 2>&1
+[ $? -eq 2 ] && grep -q "goes with --rescan" "$tmp/o.txt" || bad "scan --rescan-sparse alone: $(cat "$tmp/o.txt")"
 
 [ $fail -eq 0 ] && echo "rescan: unchanged objects give their mesh again, a bump and a moved part are scanned again where they changed"
 exit $fail

@@ -188,6 +188,7 @@ static int measure_from_origin(vp_planner_t *pl, uint32_t v)
 
 /* No line of this pass reached sample v: from inside in the next pass, or removed (unseen). */
 static int drop_sample(vp_planner_t *pl, uint32_t v);
+static void unskip_neighbours(vp_planner_t *pl, uint32_t nr);
 static int line_exhausted(vp_planner_t *pl, uint32_t v)
 {
     vp_dt_vertex_t *r = vp_dt_vertex(&pl->dt, v);
@@ -309,6 +310,7 @@ static int drop_sample(vp_planner_t *pl, uint32_t v)
     uint32_t nr, i;
     pl->st.rescan_dropped++;
     VP_TRY(ready_to_forget(pl, v, &nr));
+    if (pl->phase == PH_VERIFY) unskip_neighbours(pl, nr);
     for (i = 0; i < nr; i++) forget_facets_at(pl, pl->pool.astar[i], nr);
     if (pl->dt.ninserted <= KEEP_MIN) {
         if (pl->rescan.ndoomed >= sizeof pl->rescan.doomed / sizeof pl->rescan.doomed[0]) return VP_ENOMEM;
@@ -338,7 +340,37 @@ VP_PL_API int vp_pl_remove_doomed(vp_planner_t *pl)
 static int wanted(const vp_planner_t *pl, uint32_t v)
 {
     uint32_t a = vp_dt_vertex(&pl->dt, v)->aux;
-    return !(a & AUX_TAKEN) && in_set(pl, v) && (pl->rescan.pass == 0 || (a & AUX_DEFER));
+    return !(a & (AUX_TAKEN | AUX_SKIP)) && in_set(pl, v) && (pl->rescan.pass == 0 || (a & AUX_DEFER));
+}
+
+/* A sparse re-scan: the samples left out, greedily in vertex order, no two of them neighbours
+ * (a maximal independent set of the Delaunay graph; hull samples too: their ghost neighbour is
+ * not a sample). The scratch holds each one's neighbours in turn. */
+static void choose_skipped(vp_planner_t *pl)
+{
+    uint32_t v, i, nr;
+    for (v = 0; v < pl->dt.nvert; v++) {
+        if (!in_set(pl, v)) continue;
+        nr = neighbours(pl, v, RING_CAP);
+        if (nr < 3) continue;
+        for (i = 0; i < nr && !(vp_dt_vertex(&pl->dt, pl->pool.astar[i])->aux & AUX_SKIP); i++) {}
+        if (i == nr) vp_dt_vertex(&pl->dt, v)->aux |= AUX_SKIP;
+    }
+}
+
+/* The neighbours of a sample not where it was (the scratch's front, nr of them): those left out
+ * are measured after all (in the current pass; the cursor goes back to them). */
+static void unskip_neighbours(vp_planner_t *pl, uint32_t nr)
+{
+    uint32_t i;
+    for (i = 0; i < nr; i++) {
+        uint32_t u = pl->pool.astar[i];
+        vp_dt_vertex_t *r = vp_dt_vertex(&pl->dt, u);
+        if (!(r->aux & AUX_SKIP)) continue;
+        r->aux &= ~AUX_SKIP;
+        if (pl->rescan.pass == 1) r->aux |= AUX_DEFER;
+        if (u < pl->rescan.next) pl->rescan.next = u;
+    }
 }
 
 /* Where sample v is measured from in pass 0 (on dOmega along its probe's line, into q), else
@@ -415,6 +447,11 @@ static int verify_done(vp_planner_t *pl)
 {
     uint32_t t;
     pl->phase = PH_RUN;
+    for (t = 0; t < pl->dt.nvert; t++) {
+        vp_dt_vertex_t *r = vp_dt_vertex(&pl->dt, t);
+        if ((r->aux & AUX_SKIP) && in_set(pl, t)) pl->st.rescan_skipped++;
+        r->aux &= ~AUX_SKIP;
+    }
     for (t = 0; t < pl->dt.ntet_slots; t++)
         if (vp_dt_alive(&pl->dt, t) && tet_active(pl, t) && !vp_dt_is_ghost(&pl->dt, t))
             VP_TRY(vp_pl_explore(pl, t));
@@ -623,14 +660,15 @@ VP_PL_API int vp_pl_rescan_pending(vp_planner_t *pl)
     return VP_OK;
 }
 
-static int rescan(vp_planner_t *pl, int at_start)
+static int rescan(vp_planner_t *pl, unsigned flags)
 {
     uint32_t t;
     int f;
-    if (!pl) return VP_EINVAL;
+    if (!pl || (flags & ~(VP_RESCAN_HERE | VP_RESCAN_SPARSE))) return VP_EINVAL;
     if (pl->error) return pl->error;
     if (pl->dev.awaiting) return VP_ESTATE;
     if (pl->dt.dim < 3 || pl->phase == PH_SEED) return VP_ESTATE;
+    if ((flags & VP_RESCAN_SPARSE) && pl->pool.cap_astar < 4u * RING_CAP) return VP_ENOMEM;
     /* what was under way is dropped: its probes and routes were for the old object */
     pl->route.n = pl->route.i = 0;
     pl->route.deferred = 0;
@@ -641,7 +679,7 @@ static int rescan(vp_planner_t *pl, int at_start)
     for (t = 0; t < pl->dt.ntet_slots; t++)
         if (vp_dt_alive(&pl->dt, t))
             for (f = 0; f < 4; f++) side_set(pl, t, f, side_get(pl, t, f) & ~SIDE_QUEUED);
-    if (at_start) {
+    if (!(flags & VP_RESCAN_HERE)) {
         memcpy(pl->dev.pos, pl->cfg.start, sizeof pl->dev.pos);
         pl->dev.at = 0; /* the start's record (vp_planner_init) */
     } else {
@@ -660,7 +698,8 @@ static int rescan(vp_planner_t *pl, int at_start)
     pl->rescan.nvert = pl->dt.nvert;
     pl->rescan.next = 0;
     pl->rescan.pass = 0;
-    for (t = 0; t < pl->dt.nvert; t++) vp_dt_vertex(&pl->dt, t)->aux &= ~(AUX_TAKEN | AUX_DEFER);
+    for (t = 0; t < pl->dt.nvert; t++) vp_dt_vertex(&pl->dt, t)->aux &= ~(AUX_TAKEN | AUX_DEFER | AUX_SKIP);
+    if (flags & VP_RESCAN_SPARSE) choose_skipped(pl);
     pl->rescan.cur = NONE;
     pl->rescan.reprove = 0;
     pl->rescan.ndoomed = 0;
@@ -673,7 +712,8 @@ static int rescan(vp_planner_t *pl, int at_start)
     return VP_OK;
 }
 
-int vp_planner_rescan(vp_planner_t *pl) { return rescan(pl, 1); }
-int vp_planner_rescan_here(vp_planner_t *pl) { return rescan(pl, 0); }
+int vp_planner_rescan(vp_planner_t *pl) { return rescan(pl, 0); }
+int vp_planner_rescan_here(vp_planner_t *pl) { return rescan(pl, VP_RESCAN_HERE); }
+int vp_planner_rescan_with(vp_planner_t *pl, unsigned flags) { return rescan(pl, flags); }
 
 #endif

@@ -56,12 +56,13 @@
 
 /* a sample's aux word (its vp_dt vertex record): bit 31, its normal estimate in pool.nrm is
  * valid (facets.c); bit 30, a re-scan measures it from inside Omega, in its second pass; bit 29,
- * the re-scan's current pass has taken it; bits 0-28, 1 + the proof of the probe that found it
- * (0: none; rescan.c) */
+ * the re-scan's current pass has taken it; bit 28, a sparse re-scan leaves it unmeasured while
+ * its neighbours hold; bits 0-27, 1 + the proof of the probe that found it (0: none; rescan.c) */
 #define AUX_NRM 0x80000000u
 #define AUX_DEFER 0x40000000u
 #define AUX_TAKEN 0x20000000u
-#define AUX_PROOF 0x1FFFFFFFu
+#define AUX_SKIP 0x10000000u
+#define AUX_PROOF 0x0FFFFFFFu
 
 /* facet record flags */
 #define FREC_FLIP 1u     /* (v0,v1,v2) is oriented inward: swap two for output */
