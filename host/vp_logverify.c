@@ -542,6 +542,7 @@ int vp_logverify_add(vp_logverify_t *v, const vp_logfmt_record_t *r)
         /* a re-scan: the object may have changed, so nothing proven before proves anything now;
          * the device is at the start again */
         size_t i;
+        if (r->code < 0 || ((unsigned)r->code & ~(VP_RESCAN_HERE | VP_RESCAN_SPARSE))) return VP_ECORRUPT; /* no such flags */
         for (i = 0; i < v->npr; i++) v->pr[i].len = -1.0;
         if (!(r->code & VP_RESCAN_HERE)) memcpy(v->res.pos, v->cfg.start, sizeof v->res.pos); /* the device stays */
         v->res.events++;

@@ -177,6 +177,11 @@ def main():
     prev = None
     for k, r in enumerate(rounds):
         V, F = read("%s.round%d.ply" % (out, k))
+        if len(F) == 0:
+            print("FAIL: round %d: no mesh" % k)
+            ok = False
+            prev = V
+            continue
         sigma = sigma_at(obj, r["t1"], IV, IF)
         slack = obj.speed * (r["t1"] - r["t0"])
         bad, fig = check(V, F, sigma, eps, slack, prev if k > 0 else None)

@@ -337,10 +337,12 @@ VP_PL_API int vp_pl_remove_doomed(vp_planner_t *pl)
  * (with a body, round Omega); vertex order alone is already roughly local */
 #define NEAR_SAMPLES 128u
 
+/* pass 0: every sample not left out (AUX_SKIP); pass 1: those deferred to it (AUX_DEFER), with
+ * AUX_SKIP too when a sparse re-scan left one out until a neighbour moved in pass 1 */
 static int wanted(const vp_planner_t *pl, uint32_t v)
 {
     uint32_t a = vp_dt_vertex(&pl->dt, v)->aux;
-    return !(a & (AUX_TAKEN | AUX_SKIP)) && in_set(pl, v) && (pl->rescan.pass == 0 || (a & AUX_DEFER));
+    return !(a & AUX_TAKEN) && in_set(pl, v) && (pl->rescan.pass == 0 ? !(a & AUX_SKIP) : (a & AUX_DEFER) != 0);
 }
 
 /* A sparse re-scan: the samples left out, greedily in vertex order, no two of them neighbours
@@ -359,16 +361,17 @@ static void choose_skipped(vp_planner_t *pl)
 }
 
 /* The neighbours of a sample not where it was (the scratch's front, nr of them): those left out
- * are measured after all (in the current pass; the cursor goes back to them). */
+ * are measured after all, in the current pass (the cursor goes back to them); in pass 1 from
+ * outside first, as pass 0 would have (AUX_DEFER with AUX_SKIP kept: measure_next). */
 static void unskip_neighbours(vp_planner_t *pl, uint32_t nr)
 {
     uint32_t i;
     for (i = 0; i < nr; i++) {
         uint32_t u = pl->pool.astar[i];
         vp_dt_vertex_t *r = vp_dt_vertex(&pl->dt, u);
-        if (!(r->aux & AUX_SKIP)) continue;
-        r->aux &= ~AUX_SKIP;
+        if (!(r->aux & AUX_SKIP) || (r->aux & AUX_DEFER)) continue;
         if (pl->rescan.pass == 1) r->aux |= AUX_DEFER;
+        else r->aux &= ~AUX_SKIP;
         if (u < pl->rescan.next) pl->rescan.next = u;
     }
 }
@@ -427,7 +430,10 @@ static int measure_next(vp_planner_t *pl)
             v = next_sample(pl);
             if (v == NONE) continue;
             pl->rescan.cur = v;
-            pl->rescan.along = pl->rescan.pass == 0 ? 0u : 2u;
+            /* pass 1 goes in to the probe's origin, but a sample a sparse re-scan left out until
+             * then gets the lines from outside first */
+            pl->rescan.along = pl->rescan.pass == 0 || (vp_dt_vertex(&pl->dt, v)->aux & AUX_SKIP) ? 0u : 2u;
+            vp_dt_vertex(&pl->dt, v)->aux &= ~AUX_SKIP;
         }
         v = pl->rescan.cur;
         while (pl->rescan.along < last) {

@@ -275,6 +275,16 @@ static void test_crafted(void)
     ev(&c, VP_LOGFMT_EV_RESCAN);
     bad = pb(&c, 1, 0, 0, -1, 0, 0, 1, 0, 0);
     expect(&c, "rescan_restart", 0, -1, 1, bad);
+    /* the RESCAN event's code holds flags (bit 0: the device stays, bit 1: a sparse re-scan);
+     * other bits are not a log voroprobe writes (replay refuses them too) */
+    box_header(&c, 0, 2, 0, 0);
+    mv(&c, 1, 0, 0);
+    bad = ev(&c, VP_LOGFMT_EV_RESCAN);
+    c.r[bad].code = VP_RESCAN_HERE | VP_RESCAN_SPARSE;
+    pb(&c, 1, 0, 0, -1, 0, 0, 1, 0, 0);   /* from where it stood: on its position */
+    expect(&c, "rescan_here_sparse", 0, -1, 0, -1);
+    c.r[bad].code = 4;
+    CHECK(vp_logverify_run(&c.h, c.r, c.n, &r) == VP_ECORRUPT);
 
     /* a move through Omega with no probe */
     box_header(&c, 0, 2, 0, 0);
