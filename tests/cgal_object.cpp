@@ -6,6 +6,8 @@
 //       meshes (PMP::approximate_symmetric_Hausdorff_distance, 20 points per unit of area
 //       relative to the diagonal); one JSON line. Used to measure every mesher's output the
 //       same way, independently of voroprobe's own measure.
+//   cgal_object edges A.off                       the edges of the 3D Delaunay triangulation of
+//       A's vertices (CGAL's Delaunay_triangulation_3), one "i j" line each (vertex indices, i < j)
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Surface_mesh.h>
 #include <CGAL/Side_of_triangle_mesh.h>
@@ -22,7 +24,12 @@
 #include <CGAL/AABB_traits.h>
 #include <CGAL/AABB_face_graph_triangle_primitive.h>
 #include <CGAL/Polygon_mesh_processing/triangulate_faces.h>
+#include <CGAL/Delaunay_triangulation_3.h>
+#include <CGAL/Triangulation_vertex_base_with_info_3.h>
+#include <algorithm>
 #include <chrono>
+#include <utility>
+#include <vector>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -135,12 +142,34 @@ static int hausdorff_cmd(const char *a, const char *b)
     return 0;
 }
 
+static int edges_cmd(const char *a)
+{
+    typedef CGAL::Triangulation_vertex_base_with_info_3<unsigned, K> Vb;
+    typedef CGAL::Triangulation_data_structure_3<Vb> Tds;
+    typedef CGAL::Delaunay_triangulation_3<K, Tds> Dt;
+    Mesh m;
+    if (!read_mesh(a, m)) return 1;
+    std::vector<std::pair<K::Point_3, unsigned>> pts;
+    for (Mesh::Vertex_index v : m.vertices()) pts.push_back(std::make_pair(m.point(v), (unsigned)v.idx()));
+    Dt dt(pts.begin(), pts.end());
+    std::vector<std::pair<unsigned, unsigned>> out;
+    for (Dt::Finite_edges_iterator e = dt.finite_edges_begin(); e != dt.finite_edges_end(); ++e) {
+        unsigned i = e->first->vertex(e->second)->info(), j = e->first->vertex(e->third)->info();
+        out.push_back(std::make_pair(std::min(i, j), std::max(i, j)));
+    }
+    std::sort(out.begin(), out.end());
+    for (const std::pair<unsigned, unsigned> &e : out) std::printf("%u %u\n", e.first, e.second);
+    return 0;
+}
+
 int main(int argc, char **argv)
 {
+    if (argc == 3 && !std::strcmp(argv[1], "edges")) return edges_cmd(argv[2]);
     if (argc == 6 && !std::strcmp(argv[1], "mesh"))
         return mesh_cmd(argv[2], std::atof(argv[3]), std::atof(argv[4]), argv[5]);
     if (argc == 4 && !std::strcmp(argv[1], "hausdorff")) return hausdorff_cmd(argv[2], argv[3]);
     std::fprintf(stderr, "usage: cgal_object mesh OBJECT.off H RADIUS OUT.off\n"
-                         "       cgal_object hausdorff A.off B.off\n");
+                         "       cgal_object hausdorff A.off B.off\n"
+                         "       cgal_object edges A.off\n");
     return 2;
 }

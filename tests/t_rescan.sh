@@ -3,7 +3,9 @@
 # (1) the object unchanged (sphere, torus, genus2, ellipsoid, blobby, a tessellated sphere; a
 #     body-mode run): the mesh is the old one byte for byte, with at most 35% of the old
 #     session's probes (the figures are printed; the README's table comes from here); with
-#     --rescan-sparse the same mesh with at most 30% of them;
+#     --rescan-sparse the same mesh with at most 30% of them, and the samples it left out (those
+#     no PROBE after the RESCAN event hit) no two neighbours in CGAL's Delaunay triangulation of
+#     the samples (tests/sparse_check.py, which must fail when one more is taken as left out);
 # (2) a bump on 5% of the sphere's area, 0.15 high (tests/rescan_objects.py): closed, genus 0, as close to
 #     the bumped object as a fresh scan of it (host-sim's measure and CGAL's), the probes beyond
 #     the re-measuring at most a quarter of a fresh scan's; CGAL measures the old mesh far from
@@ -87,6 +89,16 @@ for spec in sphere:0.03 torus:0.03 genus2:0.03 ellipsoid:0.03 blobby:0.03 "off:$
   ratio=$(awk -v p="$p" -v o="$o" 'BEGIN { printf "%.3f", p / o }')
   echo "  --rescan-sparse: $p probes ($ratio), $sk samples not measured"
   awk -v r="$ratio" 'BEGIN { exit !(r <= 0.30) }' || bad "$name: the sparse re-scan took $ratio of the old probes"
+  if [ -x "$CO" ]; then
+    # which samples it left out, from its log, against CGAL's Delaunay triangulation of them
+    "$VP" log dump "$tmp/$name-sp.vplog" --csv >"$tmp/sp.csv" 2>/dev/null
+    "$CO" edges "$tmp/$name.off" >"$tmp/edges.txt" || bad "$name: CGAL's Delaunay edges"
+    python3 tests/sparse_check.py "$tmp/$name.off" "$tmp/sp.csv" "$tmp/edges.txt" "$sk" >"$tmp/spc.txt" ||
+      bad "$name: sparse: $(cat "$tmp/spc.txt")"
+    python3 tests/sparse_check.py "$tmp/$name.off" "$tmp/sp.csv" "$tmp/edges.txt" "$sk" must-fail >/dev/null ||
+      bad "$name: the sparse check passes two neighbours left out"
+    echo "    $(cat "$tmp/spc.txt")"
+  fi
   verified "$tmp/$name-sp.vplog" "$name sparse" "$tmp/$name-sp.ply"
 done
 
