@@ -23,12 +23,17 @@ typedef struct logjob {
     size_t arena;          /* 0: the header's */
     unsigned long upto;    /* replay only the first N records (0: all) */
     int quiet;
+    int samples;           /* replay --samples: round by round, PREFIX.samples.csv */
+    unsigned kept_old, removed_old, nsamples; /* ... its figures */
     vp_sessionlog_t L;
     vp_replay_t R;
     vp_mesh_t mesh;
 } logjob_t;
 
-/* Loads and replays; prints the load problem (if any) to stderr. 0 ok, 1 failure. */
+static int replay_samples(logjob_t *j, const char *cmd);
+
+/* Loads and replays (with --samples, round by round); prints the load problem (if any) to
+ * stderr. 0 ok, 1 failure. */
 static int load_and_replay(logjob_t *j, const char *cmd)
 {
     char err[1400], stop[600];
@@ -39,7 +44,10 @@ static int load_and_replay(logjob_t *j, const char *cmd)
         fprintf(stderr, "%s: %s: %s\n", cmd, j->log, stop);
     }
     st = vp_replay_open(&j->R, &j->L, j->arena, err, sizeof err);
-    if (st == VP_OK) st = vp_replay_run(&j->R, &j->L, j->upto ? (uint32_t)j->upto : j->L.n, err, sizeof err);
+    if (st == VP_OK && j->samples) {
+        if (replay_samples(j, cmd)) return 1;
+    } else if (st == VP_OK)
+        st = vp_replay_run(&j->R, &j->L, j->upto ? (uint32_t)j->upto : j->L.n, err, sizeof err);
     if (st != VP_OK) { fprintf(stderr, "%s: %s: %s\n", cmd, j->log, err); return 1; }
     vp_mesh_init(&j->mesh);
     st = vp_session_mesh(j->R.pl, &j->mesh);
@@ -126,7 +134,76 @@ static void replay_usage(FILE *f)
         "  --arena BYTES  planner arena (default: the size in the log header)\n"
         "  --upto N       replay only the first N records\n"
         "  --png FILE     also a picture of the mesh (four views, drawn in software)\n"
+        "  --samples      also PREFIX.samples.csv: every sample the session had, with the round it\n"
+        "                 came in and the one a re-scan removed it in (0: the first scan; K: after\n"
+        "                 the K-th RESCAN event, a re-scan or a tracking round; removed empty: a\n"
+        "                 sample at the end). A sample that moved is one removed and one added.\n"
         "  --quiet        no summary\n");
+}
+
+/* --samples: the log replayed round by round (up to each RESCAN event, then to the end); each
+ * sample's first round and the first round it is missing from. 0 ok, 1 failure (said). */
+static int replay_samples(logjob_t *j, const char *cmd)
+{
+    char err[1400], path[VP_PATH_MAX];
+    uint32_t i, cap = 0, *added = NULL, *removed = NULL, round = 0;
+    const vp_dt_t *dt;
+    FILE *f;
+    int st = VP_OK;
+    if (vp_path_cat(path, sizeof path, j->out, ".samples.csv", err, sizeof err) != VP_OK) {
+        fprintf(stderr, "%s: %s\n", cmd, err);
+        return 1;
+    }
+    for (i = 0; i <= j->L.n && st == VP_OK; i++) {
+        vp_logfmt_record_t rec;
+        uint32_t v, n;
+        int last = i == j->L.n;
+        if (!last && (vp_sessionlog_record(&j->L, i, &rec) != VP_OK || rec.type != VP_LOGFMT_EVENT ||
+                      rec.event != VP_LOGFMT_EV_RESCAN))
+            continue;
+        /* the session up to this RESCAN event (or to the end): round `round` ends */
+        st = vp_replay_run(&j->R, &j->L, i, err, sizeof err);
+        if (st != VP_OK) break;
+        dt = vp_planner_dt(j->R.pl);
+        n = dt->nvert;
+        if (n > cap) {
+            uint32_t *a = realloc(added, n * sizeof *a), *b;
+            if (a) added = a;
+            b = a ? realloc(removed, n * sizeof *b) : NULL;
+            if (!a || !b) { st = VP_ENOMEM; break; }
+            removed = b;
+            for (v = cap; v < n; v++) { added[v] = round; removed[v] = UINT32_MAX; }
+            cap = n;
+        }
+        for (v = 0; v < n; v++)
+            if (removed[v] == UINT32_MAX && vp_dt_vertex(dt, v)->tet == VP_DT_NONE) removed[v] = round;
+        round++;
+    }
+    if (st != VP_OK) {
+        fprintf(stderr, "%s: %s: %s\n", cmd, j->log, err[0] && st != VP_ENOMEM ? err : vp_strerror(st));
+        free(added); free(removed);
+        return 1;
+    }
+    f = fopen(path, "w");
+    if (!f) { fprintf(stderr, "%s: cannot write %s: %s\n", cmd, path, strerror(errno)); free(added); free(removed); return 1; }
+    fprintf(f, "sample,x,y,z,added,removed\n");
+    j->kept_old = j->removed_old = j->nsamples = 0;
+    dt = vp_planner_dt(j->R.pl);
+    for (i = 0; i < cap; i++) {
+        const double *p = vp_dt_point(dt, i);
+        fprintf(f, "%u,%.17g,%.17g,%.17g,%u,", i, p[0], p[1], p[2], added[i]);
+        if (removed[i] != UINT32_MAX) fprintf(f, "%u\n", removed[i]);
+        else fprintf(f, "\n");
+        if (removed[i] == UINT32_MAX) j->nsamples++;
+        if (round > 1 && added[i] < round - 1) {
+            if (removed[i] == UINT32_MAX) j->kept_old++;
+            else if (removed[i] == round - 1) j->removed_old++;
+        }
+    }
+    free(added);
+    free(removed);
+    if (fclose(f) != 0) { fprintf(stderr, "%s: cannot write %s: %s\n", cmd, path, strerror(errno)); return 1; }
+    return 0;
 }
 
 int vp_cli_replay(int argc, char **argv)
@@ -137,12 +214,14 @@ int vp_cli_replay(int argc, char **argv)
     vp_mesh_init(&j.mesh);
     for (i = 1; i < argc; i++) {
         if (!strcmp(argv[i], "--help") || !strcmp(argv[i], "-h")) { replay_usage(stdout); return 0; }
+        if (!strcmp(argv[i], "--samples")) { j.samples = 1; continue; }
         rc = job_option(&j, argc, argv, &i, "replay");
         if (rc < 0) return 2;
         if (rc > 0) { fprintf(stderr, "replay: unknown option %s (see --help)\n", argv[i]); return 2; }
     }
     if (!j.log || !j.out) { fprintf(stderr, "replay: give LOG and --out PREFIX (see --help)\n"); return 2; }
-    if (check_out(j.out, ".ply", "replay")) return 2;
+    if (check_out(j.out, j.samples ? ".samples.csv" : ".ply", "replay")) return 2;
+    if (j.samples && j.upto) { fprintf(stderr, "replay: --samples replays the whole log (not with --upto)\n"); return 2; }
     rc = load_and_replay(&j, "replay");
     if (rc == 0) rc = write_mesh(&j.mesh, j.out, ".ply", VP_MESH_PLY_BIN, "replay") ||
                       write_mesh(&j.mesh, j.out, ".off", VP_MESH_OFF, "replay") || job_png(&j, "replay");
@@ -153,7 +232,11 @@ int vp_cli_replay(int argc, char **argv)
         printf("session %s; mesh: %zu vertices, %zu facets\n",
                j.R.done ? "complete (DONE)" : "incomplete (no DONE): the mesh is the one at the end of the log",
                j.mesh.nv, j.mesh.nt);
-        printf("wrote %s.ply and %s.off\n", j.out, j.out);
+        if (j.samples && j.R.rescans > 0)
+            printf("samples: %u at the end; of those before the last RESCAN event, %u still samples, %u removed "
+                   "(a sample that moved: removed, and added in the last round)\n", j.nsamples, j.kept_old, j.removed_old);
+        printf("wrote %s.ply and %s.off%s%s%s\n", j.out, j.out, j.samples ? " and " : "", j.samples ? j.out : "",
+               j.samples ? ".samples.csv" : "");
     }
     job_free(&j);
     return rc;

@@ -6,6 +6,8 @@
 //       meshes (PMP::approximate_symmetric_Hausdorff_distance, 20 points per unit of area
 //       relative to the diagonal); one JSON line. Used to measure every mesher's output the
 //       same way, independently of voroprobe's own measure.
+//   cgal_object distance A.off POINTS             each point's distance to the triangle mesh A
+//       (an AABB tree of A's faces), one line each; POINTS: "x y z" lines
 //   cgal_object edges A.off                       the edges of the 3D Delaunay triangulation of
 //       A's vertices (CGAL's Delaunay_triangulation_3), one "i j" line each (vertex indices, i < j)
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
@@ -142,6 +144,21 @@ static int hausdorff_cmd(const char *a, const char *b)
     return 0;
 }
 
+static int distance_cmd(const char *a, const char *pts)
+{
+    typedef CGAL::AABB_face_graph_triangle_primitive<Mesh> Prim;
+    typedef CGAL::AABB_tree<CGAL::AABB_traits<K, Prim>> Tree;
+    Mesh m;
+    if (!read_mesh(a, m)) return 1;
+    std::ifstream in(pts);
+    if (!in) { std::fprintf(stderr, "cannot read %s\n", pts); return 1; }
+    Tree tree(faces(m).first, faces(m).second, m);
+    tree.accelerate_distance_queries();
+    double x, y, z;
+    while (in >> x >> y >> z) std::printf("%.9g\n", std::sqrt(tree.squared_distance(K::Point_3(x, y, z))));
+    return 0;
+}
+
 static int edges_cmd(const char *a)
 {
     typedef CGAL::Triangulation_vertex_base_with_info_3<unsigned, K> Vb;
@@ -165,11 +182,13 @@ static int edges_cmd(const char *a)
 int main(int argc, char **argv)
 {
     if (argc == 3 && !std::strcmp(argv[1], "edges")) return edges_cmd(argv[2]);
+    if (argc == 4 && !std::strcmp(argv[1], "distance")) return distance_cmd(argv[2], argv[3]);
     if (argc == 6 && !std::strcmp(argv[1], "mesh"))
         return mesh_cmd(argv[2], std::atof(argv[3]), std::atof(argv[4]), argv[5]);
     if (argc == 4 && !std::strcmp(argv[1], "hausdorff")) return hausdorff_cmd(argv[2], argv[3]);
     std::fprintf(stderr, "usage: cgal_object mesh OBJECT.off H RADIUS OUT.off\n"
                          "       cgal_object hausdorff A.off B.off\n"
-                         "       cgal_object edges A.off\n");
+                         "       cgal_object edges A.off\n"
+                         "       cgal_object distance A.off POINTS\n");
     return 2;
 }

@@ -10,7 +10,9 @@
 #     the bumped object as a fresh scan of it (host-sim's measure and CGAL's), the probes beyond
 #     the re-measuring at most a quarter of a fresh scan's; CGAL measures the old mesh far from
 #     the bumped object (the measure's case that must fail); the same with --rescan-sparse: as
-#     close as a fresh scan (the change is seen through the samples measured around it);
+#     close as a fresh scan (the change is seen through the samples measured around it); the
+#     log says which old samples were kept (replay --samples): CGAL finds each kept one on the
+#     bumped object and each removed one off it (also for the swollen torus, sparse);
 # (2b) a torus whose tube swells into the hole: closed, genus 1; CGAL (tests/cgal_moves.cpp)
 #     finds no move after the RESCAN event through the swollen torus, and finds the old
 #     session's moves through it (the checker's case that must fail: trusting the old proofs
@@ -49,6 +51,24 @@ else
 fi
 chaus() { "$CO" hausdorff "$1" "$2" | sed -n 's/.*"hausdorff":\([^,}]*\).*/\1/p'; }
 mkdir -p "$tmp/obj" && python3 tests/rescan_objects.py "$tmp/obj" 0.15 || bad "tests/rescan_objects.py"
+
+# which old samples a re-scan kept, from its log (replay --samples), against the object now (CGAL):
+# every one kept lies on it, every one removed does not
+kept_on() { # LOG OBJECT.off WHAT KEPT REMOVED (the figures the re-scan reported)
+  "$VP" replay "$1" --out "$tmp/ks" --samples --quiet || { bad "$3: replay --samples"; return; }
+  awk -F, 'NR > 1 && $5 == 0 { print $2, $3, $4 }' "$tmp/ks.samples.csv" >"$tmp/ks.pts"
+  awk -F, 'NR > 1 && $5 == 0 { print ($6 == "" ? "kept" : "removed") }' "$tmp/ks.samples.csv" >"$tmp/ks.what"
+  "$CO" distance "$2" "$tmp/ks.pts" >"$tmp/ks.d" || { bad "$3: CGAL's distances"; return; }
+  r=$(paste -d' ' "$tmp/ks.d" "$tmp/ks.what" | awk -v tol=1e-9 '
+    $2 == "kept" { k++; if ($1 > km) km = $1; if ($1 > tol) kb++ }
+    $2 == "removed" { r++; if ($1 <= tol) rb++; if (rm == "" || $1 < rm) rm = $1 }
+    END { printf "%d %d %d %d %g %g", k, r, kb, rb, km, rm }')
+  set -- "$@" $r
+  echo "$3, the log's samples (replay --samples): $6 kept, farthest ${10} from the object now (CGAL); $7 removed, nearest ${11}"
+  [ "$6" = "$4" ] && [ "$7" = "$5" ] || bad "$3: replay --samples counts $6 kept, $7 removed; the re-scan said $4, $5"
+  [ "$8" = 0 ] || bad "$3: $8 samples kept off the object now"
+  [ "$9" = 0 ] || bad "$3: $9 samples removed that lie on the object now"
+}
 
 verified() { # LOG WHAT: log verify proves every move; replay gives the same mesh as PLY
   "$VP" log verify "$1" >"$tmp/v.txt" 2>&1 || { bad "$2: log verify: $(tail -n 1 "$tmp/v.txt")"; return; }
@@ -123,6 +143,13 @@ if [ $rc -ne 0 ]; then bad "bump: re-scan exit $rc"; tail -3 "$tmp/bump.json"; e
   awk -v c="$cold" 'BEGIN { exit !(c >= 0.13) }' || bad "bump: CGAL measures the old mesh only $cold from the bumped sphere"
   [ "$col" = 0 ] || bad "bump: $col collisions"
   verified "$tmp/bump.vplog" bump "$tmp/bump.ply"
+  if [ -x "$CO" ]; then
+    kept_on "$tmp/bump.vplog" "$tmp/obj/sphere_bump.off" bump "$k" "$d"
+    # the checker's case that must fail: the same samples against the sphere before the bump
+    "$CO" distance "$tmp/obj/sphere.off" "$tmp/ks.pts" | paste -d' ' - "$tmp/ks.what" |
+      awk '$2 == "removed" && $1 <= 1e-9 { n++ } END { exit !(n > 0) }' ||
+      bad "bump: against the sphere before the bump, no removed sample lies on it (the check must fail there)"
+  fi
 fi
 "$VP" sim --rescan "$tmp/sphere_off.vplog" --rescan-sparse --surface "off:$tmp/obj/sphere_bump.off" --out "$tmp/bsp" --json $S \
   >"$tmp/bsp.json" 2>&1 || bad "bump, sparse: exit $?"
@@ -162,6 +189,8 @@ echo "swollen torus, --rescan-sparse: $p probes ($pn measuring every sample), $(
      "removed $(rfield "$tmp/swsp.json" dropped) ($(rfield "$tmp/swollen.json" dropped))"
 [ "$p" -le "$pn" ] || bad "swollen torus, sparse: $p probes, more than measuring every sample ($pn)"
 verified "$tmp/swsp.vplog" "swollen torus sparse" "$tmp/swsp.ply"
+[ -x "$CO" ] && kept_on "$tmp/swsp.vplog" "$tmp/obj/torus_swollen.off" "swollen torus sparse" \
+  "$(( $(rfield "$tmp/swsp.json" kept) + $(rfield "$tmp/swsp.json" skipped) ))" "$(rfield "$tmp/swsp.json" dropped)"
 if [ -x "${CG:-}" ]; then
   moves "$tmp/swsp.vplog" after >"$tmp/after.txt"
   "$CG" "$tmp/obj/torus_swollen.off" "$tmp/after.txt" >"$tmp/cga.txt" 2>&1 || bad "swollen torus, sparse: CGAL: $(tail -n 1 "$tmp/cga.txt")"
