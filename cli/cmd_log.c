@@ -180,7 +180,7 @@ static int replay_samples(logjob_t *j, const char *cmd)
         round++;
     }
     if (st != VP_OK) {
-        fprintf(stderr, "%s: %s: %s\n", cmd, j->log, err[0] && st != VP_ENOMEM ? err : vp_strerror(st));
+        fprintf(stderr, "%s: %s: %s\n", cmd, j->log, st != VP_ENOMEM ? err : vp_strerror(st));
         free(added); free(removed);
         return 1;
     }

@@ -357,34 +357,64 @@ int vp_sim_run(vp_sim_t *s, FILE *progress)
     return vp_session_run(s->pl, &ops, s->hooks, 0, progress, &s->run);
 }
 
-/* the figures of the round that just ended (its counters since b, c0 collisions before it) */
-static void round_figures(vp_sim_t *s, const vp_sim_options_t *o, const vp_planner_stats_t *b, unsigned long c0,
-                          double t0, vp_sim_round_t *r)
+/* what the planner did since its counters were b (a re-scan's, a round's): into r's counts */
+static void counts_since(const vp_planner_stats_t *st, const vp_planner_stats_t *b, vp_sim_round_t *r)
+{
+    r->probes = st->probes - b->probes;
+    r->moves = st->moves - b->moves;
+    r->kept = st->rescan_kept - b->rescan_kept;
+    r->skipped = st->rescan_skipped - b->rescan_skipped;
+    r->dropped = st->rescan_dropped - b->rescan_dropped;
+    r->moved = st->rescan_moved - b->rescan_moved;
+    r->unseen = st->rescan_unseen - b->rescan_unseen;
+    r->normal = st->rescan_normal - b->rescan_normal;
+    r->reproved = st->reproved - b->reproved;
+    r->blocked = st->reprove_blocked - b->reprove_blocked;
+}
+
+/* each round's mesh as OUT.roundK.ply (--out): what a tracking session hands over per round */
+static int round_mesh(const vp_mesh_t *m, const vp_sim_options_t *o, int k, FILE *progress)
+{
+    char path[VP_PATH_MAX], ext[32], err[256];
+    int st;
+    if (!o->out) return VP_OK;
+    snprintf(ext, sizeof ext, ".round%d.ply", k);
+    if ((st = vp_path_cat(path, sizeof path, o->out, ext, err, sizeof err)) != VP_OK) {
+        if (progress) fprintf(progress, "sim: %s\n", err);
+        return st;
+    }
+    if (vp_mkdirs_for(o->out) != 0) {
+        if (progress) fprintf(progress, "sim: cannot create the folder of %s: %s\n", o->out, strerror(errno));
+        return VP_EIO;
+    }
+    if ((st = vp_mesh_write_file(m, path, VP_MESH_PLY_BIN)) != VP_OK && progress)
+        fprintf(progress, "sim: cannot write %s: %s\n", path, strerror(errno));
+    return st;
+}
+
+/* Round k just ended (its counters since b, c0 collisions before it): its figures into r and its
+ * mesh to OUT.roundK.ply. */
+static int round_figures(vp_sim_t *s, const vp_sim_options_t *o, const vp_planner_stats_t *b, unsigned long c0,
+                         double t0, int k, FILE *progress, vp_sim_round_t *r)
 {
     vp_planner_stats_t st;
     vp_simdev_stats_t ds;
     vp_mesh_t m;
     vp_meshcheck_t mc;
     size_t i;
+    int err;
     vp_planner_get_stats(s->pl, &st);
     vp_simdev_stats(s->dev, &ds);
     memset(r, 0, sizeof *r);
     r->t0 = t0;
     r->t1 = ds.time;
-    r->probes = st.probes - b->probes;
-    r->moves = st.moves - b->moves;
-    r->kept = st.rescan_kept - b->rescan_kept;
-    r->dropped = st.rescan_dropped - b->rescan_dropped;
-    r->moved = st.rescan_moved - b->rescan_moved;
-    r->skipped = st.rescan_skipped - b->rescan_skipped;
-    r->reproved = st.reproved - b->reproved;
-    r->blocked = st.reprove_blocked - b->reprove_blocked;
+    counts_since(&st, b, r);
     r->collisions = ds.collisions - c0;
     r->status = s->run.status;
     r->hausdorff = -1.0;
     r->min_spacing = -1.0;
     vp_mesh_init(&m);
-    if (vp_session_mesh(s->pl, &m) != VP_OK) { vp_mesh_free(&m); return; }
+    if ((err = vp_session_mesh(s->pl, &m)) != VP_OK) { vp_mesh_free(&m); return err; }
     r->vertices = (unsigned)m.nv;
     if (vp_meshcheck_analyze(&m, &mc) == VP_OK) {
         r->closed = mc.closed_manifold;
@@ -411,31 +441,9 @@ static void round_figures(vp_sim_t *s, const vp_sim_options_t *o, const vp_plann
             vp_kdtree_free(kt);
         }
     }
+    err = round_mesh(&m, o, k, progress);
     vp_mesh_free(&m);
-}
-
-/* each round's mesh as OUT.roundK.ply (--out): what a tracking session hands over per round */
-static int round_mesh(vp_sim_t *s, const vp_sim_options_t *o, int k, FILE *progress)
-{
-    char path[VP_PATH_MAX], ext[32], err[256];
-    vp_mesh_t m;
-    int st;
-    if (!o->out) return VP_OK;
-    snprintf(ext, sizeof ext, ".round%d.ply", k);
-    if ((st = vp_path_cat(path, sizeof path, o->out, ext, err, sizeof err)) != VP_OK) {
-        if (progress) fprintf(progress, "sim: %s\n", err);
-        return st;
-    }
-    if (vp_mkdirs_for(o->out) != 0) {
-        if (progress) fprintf(progress, "sim: cannot create the folder of %s: %s\n", o->out, strerror(errno));
-        return VP_EIO;
-    }
-    vp_mesh_init(&m);
-    st = vp_session_mesh(s->pl, &m);
-    if (st == VP_OK && (st = vp_mesh_write_file(&m, path, VP_MESH_PLY_BIN)) != VP_OK && progress)
-        fprintf(progress, "sim: cannot write %s: %s\n", path, strerror(errno));
-    vp_mesh_free(&m);
-    return st;
+    return err;
 }
 
 int vp_sim_track(vp_sim_t *s, const vp_sim_options_t *o, int n, unsigned flags, int (*rescan_event)(void *ctx, int round),
@@ -448,9 +456,9 @@ int vp_sim_track(vp_sim_t *s, const vp_sim_options_t *o, int n, unsigned flags, 
     free(s->rounds);
     s->rounds = r;
     memset(&zero, 0, sizeof zero);
-    round_figures(s, o, &zero, 0, 0.0, &r[0]);
+    st = round_figures(s, o, &zero, 0, 0.0, 0, progress, &r[0]);
     s->nrounds = 1;
-    if ((st = round_mesh(s, o, 0, progress)) != VP_OK) return st;
+    if (st != VP_OK) return st;
     for (k = 1; k <= n && s->run.status == VP_OK; k++) {
         vp_planner_stats_t b;
         vp_simdev_stats_t ds;
@@ -459,9 +467,9 @@ int vp_sim_track(vp_sim_t *s, const vp_sim_options_t *o, int n, unsigned flags, 
         if (rescan_event && (st = rescan_event(ctx, k)) != VP_OK) break;
         if ((st = vp_planner_rescan_with(s->pl, VP_RESCAN_HERE | flags)) != VP_OK) break;
         vp_sim_run(s, progress);
-        round_figures(s, o, &b, ds.collisions, ds.time, &r[k]);
+        st = round_figures(s, o, &b, ds.collisions, ds.time, k, progress, &r[k]);
         s->nrounds = k + 1;
-        if ((st = round_mesh(s, o, k, progress)) != VP_OK) break;
+        if (st != VP_OK) break;
     }
     return st;
 }
@@ -575,20 +583,18 @@ void vp_sim_report(const vp_sim_t *s, const vp_sim_options_t *o, FILE *f)
                 fprintf(f, "; Hausdorff at the start %.6g, at the end %.6g", s->haus.hausdorff, s->haus_end.hausdorff);
             fprintf(f, "\n");
         }
-        if (s->rescan)
+        if (s->rescan) {
+            vp_sim_round_t d;
+            counts_since(&st, &s->before, &d);
             fprintf(f, "rescan of %s: %llu probes, %llu moves (the session re-scanned took %llu probes); samples: %llu "
-                    "kept, %llu not measured (their neighbours held), %llu removed (%llu moved: the point measured took their place; %llu covered or out of reach of "
-                    "every line), %llu measured along their normal; %llu route steps proven again (%llu blocked)\n",
-                    s->rescan_spec,
-                    (unsigned long long)(st.probes - s->before.probes), (unsigned long long)(st.moves - s->before.moves),
-                    (unsigned long long)s->before.probes, (unsigned long long)(st.rescan_kept - s->before.rescan_kept),
-                    (unsigned long long)(st.rescan_skipped - s->before.rescan_skipped),
-                    (unsigned long long)(st.rescan_dropped - s->before.rescan_dropped),
-                    (unsigned long long)(st.rescan_moved - s->before.rescan_moved),
-                    (unsigned long long)(st.rescan_unseen - s->before.rescan_unseen),
-                    (unsigned long long)(st.rescan_normal - s->before.rescan_normal),
-                    (unsigned long long)(st.reproved - s->before.reproved),
-                    (unsigned long long)(st.reprove_blocked - s->before.reprove_blocked));
+                    "kept, %llu not measured (their neighbours held), %llu removed (%llu moved: the point measured "
+                    "took their place; %llu covered or out of reach of every line), %llu measured along their normal; "
+                    "%llu route steps proven again (%llu blocked)\n", s->rescan_spec, (unsigned long long)d.probes,
+                    (unsigned long long)d.moves, (unsigned long long)s->before.probes, (unsigned long long)d.kept,
+                    (unsigned long long)d.skipped, (unsigned long long)d.dropped, (unsigned long long)d.moved,
+                    (unsigned long long)d.unseen, (unsigned long long)d.normal, (unsigned long long)d.reproved,
+                    (unsigned long long)d.blocked);
+        }
         if (s->rescan && s->have_check && s->check.components < s->components)
             fprintf(f, "rescan: the object now has %d component(s), the mesh %d: a part the re-scan never met (it "
                     "keeps the old interior points): scan afresh\n", s->components, s->check.components);
@@ -652,19 +658,17 @@ void vp_sim_report(const vp_sim_t *s, const vp_sim_options_t *o, FILE *f)
                 (unsigned long long)st.escalations, (unsigned long long)st.reseeds, st.missing_components,
                 (unsigned long long)st.unproven, (unsigned long long)st.stalls, s->target, s->cfg.size_rel,
                 s->cfg.min_size, s->cfg.max_distance, touch);
-        if (s->rescan)
+        if (s->rescan) {
+            vp_sim_round_t d;
+            counts_since(&st, &s->before, &d);
             fprintf(f, ",\"rescan\":{\"surface\":\"%s\",\"probes\":%llu,\"moves\":%llu,\"old_probes\":%llu,"
-                    "\"kept\":%llu,\"skipped\":%llu,\"dropped\":%llu,\"moved\":%llu,\"unseen\":%llu,\"normal\":%llu,\"reproved\":%llu,"
-                    "\"blocked\":%llu}", s->rescan_spec, (unsigned long long)(st.probes - s->before.probes),
-                    (unsigned long long)(st.moves - s->before.moves), (unsigned long long)s->before.probes,
-                    (unsigned long long)(st.rescan_kept - s->before.rescan_kept),
-                    (unsigned long long)(st.rescan_skipped - s->before.rescan_skipped),
-                    (unsigned long long)(st.rescan_dropped - s->before.rescan_dropped),
-                    (unsigned long long)(st.rescan_moved - s->before.rescan_moved),
-                    (unsigned long long)(st.rescan_unseen - s->before.rescan_unseen),
-                    (unsigned long long)(st.rescan_normal - s->before.rescan_normal),
-                    (unsigned long long)(st.reproved - s->before.reproved),
-                    (unsigned long long)(st.reprove_blocked - s->before.reprove_blocked));
+                    "\"kept\":%llu,\"skipped\":%llu,\"dropped\":%llu,\"moved\":%llu,\"unseen\":%llu,\"normal\":%llu,"
+                    "\"reproved\":%llu,\"blocked\":%llu}", s->rescan_spec, (unsigned long long)d.probes,
+                    (unsigned long long)d.moves, (unsigned long long)s->before.probes, (unsigned long long)d.kept,
+                    (unsigned long long)d.skipped, (unsigned long long)d.dropped, (unsigned long long)d.moved,
+                    (unsigned long long)d.unseen, (unsigned long long)d.normal, (unsigned long long)d.reproved,
+                    (unsigned long long)d.blocked);
+        }
         if (s->nrounds > 0) {
             int k;
             fprintf(f, ",\"rounds\":[");

@@ -113,7 +113,7 @@ void vp_sim_close(vp_sim_t *s);
  * where the device stands, vp_planner_rescan_here), what it took and what it left. */
 typedef struct vp_sim_round {
     double t0, t1;                   /* the simulated clock at its start and end (s) */
-    uint64_t probes, moves, kept, skipped, dropped, moved, reproved, blocked;
+    uint64_t probes, moves, kept, skipped, dropped, moved, unseen, normal, reproved, blocked;
     unsigned long collisions;        /* moves that touched the moving object in this round */
     int status, closed, genus, components;
     unsigned vertices;

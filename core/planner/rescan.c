@@ -291,9 +291,6 @@ static int remove_sample(vp_planner_t *pl, uint32_t v, uint32_t nr)
 /* a triangulation keeps this many samples at least (vp_dt_remove drops to a flat set below) */
 #define KEEP_MIN 5u
 
-/* Sample v is not where it was: its facets and its neighbours' are forgotten, and it is removed;
- * while too few samples are left for that (the whole object moved), it waits (doomed) until
- * new samples are in. */
 /* Before v's facets are forgotten: room for the update, the facet hash current, v's neighbours
  * listed at the scratch's front (*nr of them). */
 static int ready_to_forget(vp_planner_t *pl, uint32_t v, uint32_t *nr)
@@ -305,6 +302,9 @@ static int ready_to_forget(vp_planner_t *pl, uint32_t v, uint32_t *nr)
     return VP_OK;
 }
 
+/* Sample v is not where it was: its facets and its neighbours' are forgotten, and it is removed;
+ * while too few samples are left for that (the whole object moved), it waits (doomed) until
+ * new samples are in. */
 static int drop_sample(vp_planner_t *pl, uint32_t v)
 {
     uint32_t nr, i;
@@ -472,6 +472,16 @@ VP_PL_API int vp_pl_verify_next(vp_planner_t *pl)
     return VP_OK;
 }
 
+/* The sample being measured, v, is done with: kept, or (drop) removed by the next
+ * vp_planner_next (an error there, such as a full arena, leaves this PROBE's record replayable). */
+static int measured(vp_planner_t *pl, uint32_t v, int drop)
+{
+    pl->rescan.cur = NONE;
+    vp_dt_vertex(&pl->dt, v)->aux &= ~AUX_DEFER;
+    if (drop) pl->rescan.drop = v;
+    return VP_OK;
+}
+
 VP_PL_API int vp_pl_verify_feed(vp_planner_t *pl, const vp_probe_result_t *res)
 {
     uint32_t v = pl->rescan.cur;
@@ -480,9 +490,7 @@ VP_PL_API int vp_pl_verify_feed(vp_planner_t *pl, const vp_probe_result_t *res)
     else pl->st.misses++;
     if (res->hit == 1 && fabs(res->dist - e) <= tol) {
         pl->st.rescan_kept++;
-        pl->rescan.cur = NONE;
-        vp_dt_vertex(&pl->dt, v)->aux &= ~AUX_DEFER;
-        return VP_OK;
+        return measured(pl, v, 0);
     }
     if (res->hit == 0 && pl->rescan.tries < pl->cfg.confirm_misses) {
         /* a miss where the sample should be: a dropout, or the surface gone; look again */
@@ -495,30 +503,20 @@ VP_PL_API int vp_pl_verify_feed(vp_planner_t *pl, const vp_probe_result_t *res)
         /* near where it was, on the line measured: the sample moved there (its line goes with it
          * where it was measured along that line; along its normal, it keeps none) */
         int k;
-        pl->rescan.cur = NONE;
-        vp_dt_vertex(&pl->dt, v)->aux &= ~AUX_DEFER;
-        pl->rescan.drop = v;
         pl->rescan.move = 1;
         for (k = 0; k < 3; k++) pl->rescan.move_to[k] = pl->dev.iss_o[k] + res->dist * pl->dev.iss_d[k];
         pl->rescan.move_aux = pl->rescan.along == 2u ? 0u : (vp_dt_vertex(&pl->dt, v)->aux & AUX_PROOF);
-        return VP_OK;
+        return measured(pl, v, 1);
     }
     if ((res->hit == 1 && res->dist < e - tol) || res->hit == VP_PROBE_TOO_CLOSE) {
         /* something nearer along this line: covered, or only blocked from here */
         if (pl->rescan.along < (pl->rescan.pass == 0 ? 2u : 3u)) return VP_OK; /* the next line */
         if (pl->rescan.pass == 0) return line_exhausted(pl, v);
-        pl->rescan.cur = NONE;
-        vp_dt_vertex(&pl->dt, v)->aux &= ~AUX_DEFER;
         pl->st.rescan_unseen++;
-        pl->rescan.drop = v;
-        return VP_OK;
+        return measured(pl, v, 1);
     }
-    /* not where it was: removed by the next vp_planner_next (an error there, such as a full
-     * arena, leaves this PROBE's record replayable) */
-    pl->rescan.cur = NONE;
-    vp_dt_vertex(&pl->dt, v)->aux &= ~AUX_DEFER;
-    pl->rescan.drop = v;
-    return VP_OK;
+    /* not where it was */
+    return measured(pl, v, 1);
 }
 
 /* The PROBE of a stale route step: from the device along the step (unit d), its length in
