@@ -58,6 +58,7 @@ static const vp_bkey_t k_axis[] = {
     { "accel", K_NUM, A(ax.accel), 1, POS, 1e7, R_YES },
     { "travel", K_RANGE, A(ax.travel_min), 2, -1e6, 1e6, R_YES },
     { "backlash", K_NUM, A(ax.backlash), 1, 0, 100, R_NO },
+    { "jerk", K_NUM, A(ax.jerk), 1, 0, 1e5, R_NO },
     { "invert", K_BOOL, A(ax.invert_dir), 0, ANY, R_NO },
     { "home", K_HOME, A(ax.home_dir), 0, ANY, R_NO },
     { "home_pos", K_NUM, A(ax.home_pos), 1, -1e6, 1e6, R_NO },

@@ -49,11 +49,54 @@ int vp_step_block_init(vp_step_block_t *b, int naxes, const int32_t *delta, cons
     return VP_OK;
 }
 
+int vp_step_block_ends(vp_step_block_t *b, double vi, double vo)
+{
+    double a, n, vp2, lim;
+    if (!b || !(vi >= 0) || !(vo >= 0) || !isfinite(vi) || !isfinite(vo)) return VP_EINVAL;
+    if (!b->n || (vi == 0 && vo == 0)) return VP_OK;
+    a = b->a;
+    n = b->n;
+    if (vi > b->v) vi = b->v;
+    if (vo > b->v) vo = b->v;
+    /* what the block's acceleration can change over its n steps */
+    lim = sqrt(vi * vi + 2 * a * n);
+    if (vo > lim) vo = lim;
+    lim = sqrt(vo * vo + 2 * a * n);
+    if (vi > lim) vi = lim;
+    b->ends = 1;
+    b->vi = vi;
+    b->vo = vo;
+    vp2 = b->v * b->v;
+    b->sa = (vp2 - vi * vi) / (2 * a);
+    b->sd = (vp2 - vo * vo) / (2 * a);
+    if (b->sa + b->sd >= n) { /* no cruise: the peak where the two ramps meet */
+        vp2 = a * n + 0.5 * (vi * vi + vo * vo);
+        b->vp = sqrt(vp2);
+        if (b->vp < vi) b->vp = vi;
+        if (b->vp < vo) b->vp = vo;
+        b->sa = (b->vp * b->vp - vi * vi) / (2 * a);
+        if (b->sa > n) b->sa = n;
+        b->sd = n - b->sa;
+    } else
+        b->vp = b->v;
+    b->ta = (b->vp - vi) / a;
+    b->td = (b->vp - vo) / a;
+    b->T = b->ta + (n - b->sa - b->sd) / b->vp + b->td;
+    return VP_OK;
+}
+
 static double vp_step_block_time(const vp_step_block_t *b, double s)
 {
     if (b->stopping) {
         double q = b->v0 * b->v0 - 2 * b->a * (s - b->s0);
         return b->t0 + (b->v0 - sqrt(q > 0 ? q : 0)) / b->a;
+    }
+    if (b->ends) {
+        /* 2s / (sqrt(vi^2 + 2as) + vi): (sqrt(..) - vi) / a without the cancellation */
+        double r = b->n - s > 0 ? b->n - s : 0;
+        if (s <= b->sa) return 2 * s / (sqrt(b->vi * b->vi + 2 * b->a * s) + b->vi);
+        if (s <= b->n - b->sd) return b->ta + (s - b->sa) / b->vp;
+        return r > 0 ? b->T - 2 * r / (sqrt(b->vo * b->vo + 2 * b->a * r) + b->vo) : b->T;
     }
     if (s <= b->sa) return sqrt(2 * s / b->a);
     if (s <= b->n - b->sa) return b->ta + (s - b->sa) / b->vp;
@@ -66,6 +109,11 @@ double vp_step_block_rate(const vp_step_block_t *b)
     if (b->stopping) {
         double q = b->v0 * b->v0 - 2 * b->a * (s - b->s0);
         return sqrt(q > 0 ? q : 0);
+    }
+    if (b->ends) {
+        if (s <= b->sa) return sqrt(b->vi * b->vi + 2 * b->a * s);
+        if (s <= b->n - b->sd) return b->vp;
+        return sqrt(b->vo * b->vo + 2 * b->a * (b->n - s > 0 ? b->n - s : 0));
     }
     if (s <= b->sa) return sqrt(2 * b->a * s);
     if (s <= b->n - b->sa) return b->vp;
@@ -116,6 +164,12 @@ typedef struct vp_run {
     int contact;         /* VP_RUN_MOVE: VP_STEP_WATCH_* */
     int armed;           /* the contact was seen open: its closing stops the move */
     vp_step_contact_t *c;
+    /* VP_RUN_MOVE through a waypoint without stopping: the last block ended at rate vlast
+     * (steps/s of its dominant axis), its last tick due at t_last, woken at prev, the motor's
+     * interval hmot (0: none yet) */
+    int join;
+    int64_t t_last, prev, hmot;
+    double vlast;
 } vp_run_t;
 
 static void vp_step_emit_late(vp_step_t *s, int kind, int axis, const char *what, int64_t late_ns, uint64_t count)
@@ -260,7 +314,8 @@ static int64_t vp_step_min_next(int64_t h1_ns, double a)
 static int vp_step_run_block(vp_step_t *s, vp_step_block_t *b, vp_run_t *r)
 {
     uint32_t dmask = 0, dval = 0, mask, smask;
-    int64_t start, t_ns, wake = 0, now, shift = 0, prev = -1, hmot = 0, hcap, late, rise, worst = 0;
+    int64_t start, t_ns, wake = 0, now, shift = 0, prev = -1, hmot = 0, hcap, late, rise, worst = 0, first = 0;
+    int join = r->join && b->ends && b->vi > 0 && r->vlast > 0;
     uint64_t nretime = 0;
     double t;
     int i, rc;
@@ -279,6 +334,17 @@ static int vp_step_run_block(vp_step_t *s, vp_step_block_t *b, vp_run_t *r)
         if (vp_step_write(s, dmask, dval) < 0) return vp_step_trip(s, VP_STEP_FAULT_IO, VP_STEP_EV_ESTOP, -1, "write failed");
         wake = s->cfg.dir_setup_ns;
     }
+    r->join = 0;
+    if (join && s->enabled) {
+        /* on through the waypoint: the first tick follows the last one at the entry rate, the
+         * limiter goes on from the motor's interval (scaled to this block's dominant axis) and
+         * a direction just written still gets its setup time */
+        if (wake) first = s->io.now(s->io.ctx) + wake;
+        start = r->t_last;
+        prev = r->prev;
+        if (r->hmot > 0) hmot = (int64_t)llround((double)r->hmot * r->vlast / b->vi);
+        goto run;
+    }
     if (!s->enabled) {
         uint32_t em = vp_step_all(s->cfg.naxes, vp_bit_en);
         if (vp_step_write(s, em, em) < 0) return vp_step_trip(s, VP_STEP_FAULT_IO, VP_STEP_EV_ESTOP, -1, "write failed");
@@ -287,6 +353,7 @@ static int vp_step_run_block(vp_step_t *s, vp_step_block_t *b, vp_run_t *r)
     }
     if (s->cfg.lead_ns > wake) wake = s->cfg.lead_ns;
     start = s->io.now(s->io.ctx) + wake;
+run:
     s->st.blocks++;
     /* the rate cap as an interval (1 ns of deadline rounding allowed) */
     hcap = (int64_t)floor(1e9 / b->v);
@@ -299,6 +366,7 @@ static int vp_step_run_block(vp_step_t *s, vp_step_block_t *b, vp_run_t *r)
             if (hmot > 0) { int64_t e2 = prev + vp_step_min_next(hmot, b->a); if (e2 > early) early = e2; }
             if (t_ns < early) { if (early - t_ns > 1000) s->st.limited++; shift += early - t_ns; t_ns = early; }
         }
+        if (t_ns < first) { shift += first - t_ns; t_ns = first; }
         /* long waits are cut into polls so the e-stop is seen within poll_ns (shorter while a
          * change is being confirmed by the debouncer) */
         for (;;) {
@@ -363,6 +431,13 @@ static int vp_step_run_block(vp_step_t *s, vp_step_block_t *b, vp_run_t *r)
     }
     s->st.move_time += vp_step_block_time(b, b->end);
     if (nretime) vp_step_emit_late(s, VP_STEP_EV_RETIME, -1, "late steps: profile re-entered", worst, nretime);
+    if (r->mode == VP_RUN_MOVE && b->ends && b->vo > 0 && !b->stopping && b->end == b->n && prev >= 0) {
+        r->join = 1;
+        r->t_last = start + shift + (int64_t)llround(b->T * 1e9);
+        r->prev = prev;
+        r->hmot = hmot;
+        r->vlast = b->vo;
+    }
     return VP_OK;
 }
 
@@ -375,8 +450,10 @@ static void vp_step_limits(const vp_step_t *s, double *rate, double *acc)
     }
 }
 
-/* Backlash take-up for reversing axes, then the block itself. */
-static int vp_step_exec(vp_step_t *s, const int32_t *delta, const double *rate, const double *acc, vp_run_t *r)
+/* Backlash take-up for reversing axes (at rest: a path's planner stops there), then the block
+ * itself between the dominant rates vin and vout. */
+static int vp_step_exec(vp_step_t *s, const int32_t *delta, const double *rate, const double *acc, double vin,
+                        double vout, vp_run_t *r)
 {
     int32_t bd[VP_STEP_MAX_AXES];
     double brate[VP_STEP_MAX_AXES], bacc[VP_STEP_MAX_AXES];
@@ -394,9 +471,73 @@ static int vp_step_exec(vp_step_t *s, const int32_t *delta, const double *rate, 
     if (any) {
         VP_TRY(vp_step_block_init(&b, s->cfg.naxes, bd, brate, bacc, s->cfg.max_step_rate));
         VP_TRY(vp_step_run_block(s, &b, &br));
+        r->join = 0;
+        vin = 0;
     }
+    if (!r->join) vin = 0;     /* the last block stopped (or there was none): from rest */
     VP_TRY(vp_step_block_init(&b, s->cfg.naxes, delta, rate, acc, s->cfg.max_step_rate));
+    VP_TRY(vp_step_block_ends(&b, vin, vout));
     return vp_step_run_block(s, &b, r);
+}
+
+/* The junction rates of a path's blocks d[0..nb-1] (steps; lastdir: each axis's direction before
+ * the first): vin[w], vout[w] in steps/s of block w's dominant axis, the last block ending at
+ * rest. A junction is passed at a rate only where every axis moving on either side has a jerk,
+ * none reverses with backlash to take up, and the blocks turn by less than 90 degrees in
+ * jerk-scaled step space; its exit rate x and entry rate rho * x keep each axis's jump
+ * |x a_i - rho x b_i| (a, b: the axis's steps per dominant step before and after) within its
+ * jerk, rho the least-squares match of the two velocities. Then grbl's two passes: backward
+ * from rest (each block can slow down to its exit), forward from rest (each can speed up). */
+static void vp_step_plan(const vp_step_t *s, const int32_t (*d)[VP_STEP_MAX_AXES], int nb, const int8_t *lastdir,
+                         const double *rate, const double *acc, double *vin, double *vout)
+{
+    double n[VP_STEP_PLAN], a[VP_STEP_PLAN], v[VP_STEP_PLAN], rho[VP_STEP_PLAN], xmax[VP_STEP_PLAN];
+    int8_t dir[VP_STEP_MAX_AXES];
+    int w, i, na = s->cfg.naxes;
+    memcpy(dir, lastdir, sizeof dir);
+    for (w = 0; w < nb; w++) {
+        vp_step_block_t b;
+        n[w] = a[w] = v[w] = 0;
+        if (vp_step_block_init(&b, na, d[w], rate, acc, s->cfg.max_step_rate) == VP_OK && b.n) {
+            n[w] = b.n; a[w] = b.a; v[w] = b.v;
+        }
+        vin[w] = vout[w] = rho[w] = xmax[w] = 0;
+    }
+    for (w = 0; w + 1 < nb; w++) {
+        double num = 0, den = 0, x;
+        int ok = n[w] > 0 && n[w + 1] > 0;
+        for (i = 0; i < na; i++) if (d[w][i]) dir[i] = (int8_t)(d[w][i] > 0 ? 1 : -1);
+        for (i = 0; ok && i < na; i++) {
+            double J = s->cfg.axis[i].jerk * s->cfg.axis[i].steps_per_unit, ai = d[w][i] / n[w], bi = d[w + 1][i] / n[w + 1];
+            if (!d[w][i] && !d[w + 1][i]) continue;
+            if (!(J > 0)) ok = 0;
+            else if (d[w + 1][i] && dir[i] && (d[w + 1][i] > 0 ? 1 : -1) != dir[i] && s->backlash[i]) ok = 0;
+            else { num += ai * bi / (J * J); den += bi * bi / (J * J); }
+        }
+        if (!ok || !(den > 0) || !(num > 0)) continue;
+        rho[w] = num / den;
+        x = v[w] < v[w + 1] / rho[w] ? v[w] : v[w + 1] / rho[w];
+        for (i = 0; i < na; i++) {
+            double J = s->cfg.axis[i].jerk * s->cfg.axis[i].steps_per_unit, jump = fabs(d[w][i] / n[w] - rho[w] * d[w + 1][i] / n[w + 1]);
+            if (jump > 0 && J / jump < x) x = J / jump;
+        }
+        xmax[w] = x;
+    }
+    /* backward: block w+1 slows from its entry rho x to its exit over its steps */
+    for (w = nb - 2; w >= 0; w--) {
+        double x = xmax[w];
+        if (!(x > 0)) continue;
+        {
+            double y = sqrt(vout[w + 1] * vout[w + 1] + 2 * a[w + 1] * n[w + 1]) / rho[w];
+            vout[w] = x < y ? x : y;
+        }
+    }
+    /* forward: block w speeds up from its entry over its steps */
+    for (w = 0; w < nb; w++) {
+        double y = sqrt(vin[w] * vin[w] + 2 * a[w] * n[w]);
+        if (vout[w] > y) vout[w] = y;
+        if (w + 1 < nb) vin[w + 1] = rho[w] * vout[w];
+    }
 }
 
 int32_t vp_step_to_steps(const vp_step_t *s, int axis, double units)
@@ -510,7 +651,8 @@ int vp_step_move_watch(vp_step_t *s, const double *way, int n, int watch, vp_ste
     vp_step_contact_t unused;
     vp_run_t r;
     uint32_t in = 0;
-    int w, rc, na;
+    double vin[VP_STEP_PLAN], vout[VP_STEP_PLAN];
+    int w, rc, na, i;
     if (!s || !way || n < 0 || watch < VP_STEP_WATCH_NONE || watch > VP_STEP_WATCH_RELEASE || (watch && !c)) return VP_EINVAL;
     if (!c) c = &unused;
     memset(c, 0, sizeof *c);
@@ -542,8 +684,25 @@ int vp_step_move_watch(vp_step_t *s, const double *way, int n, int watch, vp_ste
         }
     }
     for (w = 0; w < n; w++) {
+        int q = w % VP_STEP_PLAN;
+        if (q == 0) {
+            /* the next window's junctions (none when a contact is watched: a stop there is
+             * taken from rest) */
+            int32_t d[VP_STEP_PLAN][VP_STEP_MAX_AXES], p[VP_STEP_MAX_AXES];
+            int nb = n - w < VP_STEP_PLAN ? n - w : VP_STEP_PLAN, k;
+            memset(vin, 0, sizeof vin);
+            memset(vout, 0, sizeof vout);
+            if (!watch && nb > 1) {
+                memcpy(p, s->pos, sizeof p);
+                for (k = 0; k < nb; k++) {
+                    vp_step_target(s, way + (size_t)(w + k) * na, p, d[k]);
+                    for (i = 0; i < na; i++) p[i] += d[k][i];
+                }
+                vp_step_plan(s, (const int32_t (*)[VP_STEP_MAX_AXES])d, nb, s->last_dir, rate, acc, vin, vout);
+            }
+        }
         vp_step_target(s, way + (size_t)w * na, s->pos, delta);
-        VP_TRY(vp_step_exec(s, delta, rate, acc, &r));
+        VP_TRY(vp_step_exec(s, delta, rate, acc, vin[q], vout[q], &r));
         if (r.contact && r.triggered) {
             c->hit = 1;
             c->way = w;
@@ -599,7 +758,7 @@ static int vp_step_home_move(vp_step_t *s, int axis, int32_t steps, double rate,
     r->mode = VP_RUN_HOME;
     r->axis = axis;
     r->watch = watch;
-    return vp_step_exec(s, delta, rt, acc, r);
+    return vp_step_exec(s, delta, rt, acc, 0, 0, r);
 }
 
 static int vp_step_home_fail(vp_step_t *s, int axis, int rc, const char *what)

@@ -58,6 +58,9 @@ typedef struct vp_step_axis {
     double home_feed;        /* units/s (0: home_seek / 10) */
     double home_pulloff;     /* units (0: 1 unit) */
     int home_order;          /* homing goes by increasing order, then by axis index */
+    double jerk;             /* units/s: the speed change the axis takes at once where a path
+                                bends at a waypoint (Marlin's classic jerk); 0: a path's
+                                waypoints are passed at rest */
 } vp_step_axis_t;
 
 enum { VP_STEP_EV_ESTOP = 1, VP_STEP_EV_LIMIT, VP_STEP_EV_HOME_FAIL, VP_STEP_EV_HOMED,
@@ -98,13 +101,16 @@ enum { VP_STEP_FAULT_NONE = 0, VP_STEP_FAULT_ESTOP, VP_STEP_FAULT_LIMIT, VP_STEP
        VP_STEP_FAULT_IO, VP_STEP_FAULT_LATE,
        VP_STEP_FAULT_CONTACT };  /* the contact stayed closed after a move that backed off it */
 
-/* One block: Bresenham over `delta` with a rest-to-rest trapezoid on the dominant axis. */
+/* One block: Bresenham over `delta` with a trapezoid on the dominant axis, from rest to rest or
+ * between the entry and exit rates a path's junctions allow (vp_step_block_ends). */
 typedef struct vp_step_block {
     int naxes;
     int32_t delta[VP_STEP_MAX_AXES];
     uint32_t n, k, end;      /* dominant steps: total, done, last one (a stop moves it) */
     double v, a;             /* dominant step rate cap and acceleration */
     double sa, ta, vp, T;    /* accel steps and time, peak rate, total time */
+    int ends;                /* entry or exit rate not 0 */
+    double vi, vo, sd, td;   /* entry and exit rates, decel steps and time */
     int stopping;
     double s0, t0, v0;       /* decelerating stop from step s0 at t0 with rate v0 */
     uint64_t acc[VP_STEP_MAX_AXES];
@@ -114,6 +120,10 @@ typedef struct vp_step_block {
  * rate_cap caps every axis's step rate (0: none). VP_EINVAL for a bad limit. */
 int  vp_step_block_init(vp_step_block_t *b, int naxes, const int32_t *delta, const double *rate,
                         const double *acc, double rate_cap);
+/* Entry and exit dominant rates (steps/s, at most the block's cap; a change the block's
+ * acceleration cannot make over its steps is cut to what it can): the trapezoid becomes
+ * vi -> peak -> vo. VP_EINVAL for a negative or NaN rate. */
+int  vp_step_block_ends(vp_step_block_t *b, double vi, double vo);
 /* Next dominant tick: 1 with its time (s from the block start) and the axes that step (bit i,
  * direction from the sign of delta[i]); 0 when the block is done. */
 int  vp_step_block_next(vp_step_block_t *b, double *t, uint32_t *mask);
@@ -164,7 +174,13 @@ int  vp_step_home(vp_step_t *s);
  * moved); VP_ESTATE (fault pending or not homed); VP_EABORT (e-stop or hard limit during the
  * move: stopped at once, position = the steps issued, fault set); VP_EINVAL (NaN). */
 int  vp_step_move(vp_step_t *s, const double *target);
-/* n moves through waypoints (n * naxes values); all are checked against travel first. */
+/* n moves through waypoints (n * naxes values); all are checked against travel first. Where
+ * every axis moving on both sides of a waypoint has a jerk, the waypoint is passed without
+ * stopping: the junction's rate keeps each axis's speed change within its jerk (none reverses
+ * where it has backlash), and a look-ahead over up to VP_STEP_PLAN blocks keeps each block's
+ * acceleration, so the path ends at rest (grbl's planner idea, Marlin's jerk rule). The joints
+ * keep to the same straight pieces between waypoints either way. */
+#define VP_STEP_PLAN 32
 int  vp_step_move_path(vp_step_t *s, const double *way, int n);
 
 /* How a move watches the contact input. STOP: a contact that closes (or is closed before the
