@@ -167,7 +167,7 @@ typedef struct vp_run {
     /* VP_RUN_MOVE through a waypoint without stopping: the last block ended at rate vlast
      * (steps/s of its dominant axis), its last tick due at t_last, woken at prev, the motor's
      * interval hmot (0: none yet) */
-    int join;
+    int join, retimed;   /* retimed: the last tick was a retime (the motor slower than planned) */
     int64_t t_last, prev, hmot;
     double vlast;
 } vp_run_t;
@@ -342,7 +342,9 @@ static int vp_step_run_block(vp_step_t *s, vp_step_block_t *b, vp_run_t *r)
         if (wake) first = s->io.now(s->io.ctx) + wake;
         start = r->t_last;
         prev = r->prev;
-        if (r->hmot > 0) hmot = (int64_t)llround((double)r->hmot * r->vlast / b->vi);
+        /* on time, the plan is trusted as at a start (its first interval is the junction's);
+         * after a retime the motor's interval goes on, scaled to this block's dominant axis */
+        if (r->retimed && r->hmot > 0) hmot = (int64_t)llround((double)r->hmot * r->vlast / b->vi);
         goto run;
     }
     if (!s->enabled) {
@@ -416,7 +418,8 @@ run:
          * catch-up burst). Up to max_late_ns it is phase jitter (the motor keeps the commanded
          * interval); beyond, a real slow-down the limiter ramps up from. */
         shift += late;
-        if (prev >= 0) hmot = late > (int64_t)s->cfg.max_late_ns ? now - prev : t_ns - prev;
+        r->retimed = late > (int64_t)s->cfg.max_late_ns;
+        if (prev >= 0) hmot = r->retimed ? now - prev : t_ns - prev;
         prev = now;
         s->io.wait_until(s->io.ctx, rise + s->cfg.pulse_ns);
         if (vp_step_write(s, smask, 0) < 0 || rc < 0)
@@ -481,15 +484,15 @@ static int vp_step_exec(vp_step_t *s, const int32_t *delta, const double *rate, 
 }
 
 /* The junction rates of a path's blocks d[0..nb-1] (steps; lastdir: each axis's direction before
- * the first): vin[w], vout[w] in steps/s of block w's dominant axis, the last block ending at
- * rest. A junction is passed at a rate only where every axis moving on either side has a jerk,
+ * the first; v0: the first block's entry rate, as the plan before gave it): vin[w], vout[w] in
+ * steps/s of block w's dominant axis, the last block ending at rest. A junction is passed at a rate only where every axis moving on either side has a jerk,
  * none reverses with backlash to take up, and the blocks turn by less than 90 degrees in
  * jerk-scaled step space; its exit rate x and entry rate rho * x keep each axis's jump
  * |x a_i - rho x b_i| (a, b: the axis's steps per dominant step before and after) within its
  * jerk, rho the least-squares match of the two velocities. Then grbl's two passes: backward
  * from rest (each block can slow down to its exit), forward from rest (each can speed up). */
 static void vp_step_plan(const vp_step_t *s, const int32_t (*d)[VP_STEP_MAX_AXES], int nb, const int8_t *lastdir,
-                         const double *rate, const double *acc, double *vin, double *vout)
+                         const double *rate, const double *acc, double v0, double *vin, double *vout)
 {
     double n[VP_STEP_PLAN], a[VP_STEP_PLAN], v[VP_STEP_PLAN], rho[VP_STEP_PLAN], xmax[VP_STEP_PLAN];
     int8_t dir[VP_STEP_MAX_AXES];
@@ -533,6 +536,7 @@ static void vp_step_plan(const vp_step_t *s, const int32_t (*d)[VP_STEP_MAX_AXES
         }
     }
     /* forward: block w speeds up from its entry over its steps */
+    vin[0] = v0;
     for (w = 0; w < nb; w++) {
         double y = sqrt(vin[w] * vin[w] + 2 * a[w] * n[w]);
         if (vout[w] > y) vout[w] = y;
@@ -571,7 +575,7 @@ int vp_step_init(vp_step_t *s, const vp_step_config_t *cfg, const vp_io_t *io)
             a->travel_min > a->travel_max || !(a->backlash >= 0) || !isfinite(a->backlash) ||
             a->home_dir < -1 || a->home_dir > 1 || !isfinite(a->home_pos) || !(a->home_seek >= 0) ||
             !(a->home_feed >= 0) || !(a->home_pulloff >= 0) || !isfinite(a->home_seek) ||
-            !isfinite(a->home_feed) || !isfinite(a->home_pulloff)) return VP_EINVAL;
+            !isfinite(a->home_feed) || !isfinite(a->home_pulloff) || !(a->jerk >= 0) || !isfinite(a->jerk)) return VP_EINVAL;
         if (fabs(a->travel_min) * a->steps_per_unit > 2e9 || fabs(a->travel_max) * a->steps_per_unit > 2e9) return VP_EINVAL;
         if (!a->home_seek) a->home_seek = a->max_speed / 4;
         if (!a->home_feed) a->home_feed = a->home_seek / 10;
@@ -652,7 +656,7 @@ int vp_step_move_watch(vp_step_t *s, const double *way, int n, int watch, vp_ste
     vp_run_t r;
     uint32_t in = 0;
     double vin[VP_STEP_PLAN], vout[VP_STEP_PLAN];
-    int w, rc, na, i;
+    int w, rc, na, i, base = 0, nplan = 0;
     if (!s || !way || n < 0 || watch < VP_STEP_WATCH_NONE || watch > VP_STEP_WATCH_RELEASE || (watch && !c)) return VP_EINVAL;
     if (!c) c = &unused;
     memset(c, 0, sizeof *c);
@@ -684,21 +688,26 @@ int vp_step_move_watch(vp_step_t *s, const double *way, int n, int watch, vp_ste
         }
     }
     for (w = 0; w < n; w++) {
-        int q = w % VP_STEP_PLAN;
-        if (q == 0) {
-            /* the next window's junctions (none when a contact is watched: a stop there is
-             * taken from rest) */
+        int q = w - base;
+        if (w == 0 || (q >= VP_STEP_PLAN / 2 && base + nplan < n)) {
+            /* the junctions of the next VP_STEP_PLAN blocks, re-planned halfway through so the
+             * path ends at rest only at its end (none when a contact is watched: a stop there is
+             * taken from rest); the first block enters at the rate the last plan gave it */
             int32_t d[VP_STEP_PLAN][VP_STEP_MAX_AXES], p[VP_STEP_MAX_AXES];
             int nb = n - w < VP_STEP_PLAN ? n - w : VP_STEP_PLAN, k;
+            double v0 = w > 0 && r.join ? vin[q] : 0;
             memset(vin, 0, sizeof vin);
             memset(vout, 0, sizeof vout);
+            base = w;
+            nplan = nb;
+            q = 0;
             if (!watch && nb > 1) {
                 memcpy(p, s->pos, sizeof p);
                 for (k = 0; k < nb; k++) {
                     vp_step_target(s, way + (size_t)(w + k) * na, p, d[k]);
                     for (i = 0; i < na; i++) p[i] += d[k][i];
                 }
-                vp_step_plan(s, (const int32_t (*)[VP_STEP_MAX_AXES])d, nb, s->last_dir, rate, acc, vin, vout);
+                vp_step_plan(s, (const int32_t (*)[VP_STEP_MAX_AXES])d, nb, s->last_dir, rate, acc, v0, vin, vout);
             }
         }
         vp_step_target(s, way + (size_t)w * na, s->pos, delta);

@@ -174,13 +174,13 @@ int  vp_step_home(vp_step_t *s);
  * moved); VP_ESTATE (fault pending or not homed); VP_EABORT (e-stop or hard limit during the
  * move: stopped at once, position = the steps issued, fault set); VP_EINVAL (NaN). */
 int  vp_step_move(vp_step_t *s, const double *target);
+#define VP_STEP_PLAN 32   /* blocks a path's look-ahead plans at once (re-planned halfway) */
 /* n moves through waypoints (n * naxes values); all are checked against travel first. Where
- * every axis moving on both sides of a waypoint has a jerk, the waypoint is passed without
+ * every axis moving on either side of a waypoint has a jerk, the waypoint is passed without
  * stopping: the junction's rate keeps each axis's speed change within its jerk (none reverses
- * where it has backlash), and a look-ahead over up to VP_STEP_PLAN blocks keeps each block's
+ * where it has backlash), and a look-ahead over VP_STEP_PLAN blocks keeps each block's
  * acceleration, so the path ends at rest (grbl's planner idea, Marlin's jerk rule). The joints
  * keep to the same straight pieces between waypoints either way. */
-#define VP_STEP_PLAN 32
 int  vp_step_move_path(vp_step_t *s, const double *way, int n);
 
 /* How a move watches the contact input. STOP: a contact that closes (or is closed before the
