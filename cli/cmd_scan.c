@@ -48,6 +48,10 @@ static void scan_usage(FILE *f)
         "  --resume         replay LOG, home, go back along the logged free route to where the\n"
         "                   scan stopped and continue it (the options come from the log)\n"
         "  --eps E          largest surface Delaunay ball radius, mm (default: the board's eps)\n"
+        "  --accuracy H     the target, mm: facets are refined where they stray more than H/3 from\n"
+        "                   the surface (down to balls of H/4), so the mesh can follow the object\n"
+        "                   within H with fewer samples where it is flat; a dry run measures it\n"
+        "                   (exit 6 when the mesh is farther); eps stays the largest ball\n"
         "  --calib FILE     rangefinder calibration file (default: the board's [rangefinder]\n"
         "                   calibration when that file exists, else the camera geometry)\n"
         "  --out PREFIX     mesh files PREFIX.ply and PREFIX.off (default: LOG without .vplog)\n"
@@ -77,7 +81,8 @@ static void scan_usage(FILE *f)
         "command N of this run).\n"
         "Exit status: 0 DONE (closed mesh), 1 failed or stopped by a fault, 2 usage, 3 paused, 4 DONE but\n"
         "the mesh is not closed (or misses a component), 5 a dry run moved through the object (the laser\n"
-        "origin's path, or any part of the head's body swept along a move or an aim: board [head]).\n");
+        "origin's path, or any part of the head's body swept along a move or an aim: board [head]), 6 a\n"
+        "dry run's mesh farther from the object than --accuracy.\n");
     {
         char b[256];
         vp_backends_describe(b, sizeof b);
@@ -90,6 +95,7 @@ typedef struct scan_opts {
     const char *rescan;           /* --rescan OLD: the session to scan again */
     int near;                     /* -1: the board's near_spots; 0 too-close; 1 measure */
     double eps, noise_tol;
+    double accuracy;              /* --accuracy H (mm): the distance bound and its floor */
     int confirm, dry, resume, quiet, have_sync, json;
     int sparse;                   /* --rescan-sparse (VP_RESCAN_SPARSE) */
     size_t arena;
@@ -127,7 +133,7 @@ static int scan_option(scan_opts_t *o, int argc, char **argv, int *i, int from_n
     if (!strcmp(a, "--json") && !from_note) { o->json = 1; return 0; }
     if (!strcmp(a, "--rescan-sparse") && !from_note) { o->sparse = 1; return 0; }
     if (strcmp(a, "--board") && strcmp(a, "--log") && strcmp(a, "--calib") && strcmp(a, "--out") &&
-        strcmp(a, "--surface") && strcmp(a, "--eps") && strcmp(a, "--noise-tol") && strcmp(a, "--confirm") &&
+        strcmp(a, "--surface") && strcmp(a, "--eps") && strcmp(a, "--accuracy") && strcmp(a, "--noise-tol") && strcmp(a, "--confirm") &&
         strcmp(a, "--arena") && strcmp(a, "--seed") && strcmp(a, "--sync") && strcmp(a, "--stop-after") &&
         strcmp(a, "--estop-at") && strcmp(a, "--near-spots") && (strcmp(a, "--board-crc") || !from_note) &&
         (strcmp(a, "--rescan") || from_note))
@@ -165,6 +171,9 @@ static int scan_option(scan_opts_t *o, int argc, char **argv, int *i, int from_n
     } else if (!strcmp(a, "--eps")) {
         if (!(v > 0)) { snprintf(err, n, "--eps must be > 0"); return -1; }
         o->eps = v;
+    } else if (!strcmp(a, "--accuracy")) {
+        if (!(v > 0)) { snprintf(err, n, "--accuracy must be > 0 (mm)"); return -1; }
+        o->accuracy = v;
     } else if (!strcmp(a, "--noise-tol")) {
         if (!(v >= 0)) { snprintf(err, n, "--noise-tol must be >= 0"); return -1; }
         o->noise_tol = v;
@@ -191,6 +200,7 @@ static void scan_note(const scan_opts_t *o, const char *board, double eps, const
     vp_note_put(buf, n, &len, "scan");
     vp_note_put_str(buf, n, &len, "--board", board);
     vp_note_put_num(buf, n, &len, "--eps", eps);
+    if (o->accuracy > 0) vp_note_put_num(buf, n, &len, "--accuracy", o->accuracy);
     vp_note_put_opt(buf, n, &len, "--arena", "%zu", o->arena);
     vp_note_put_num(buf, n, &len, "--noise-tol", o->noise_tol);
     vp_note_put_opt(buf, n, &len, "--confirm", "%d", o->confirm);
@@ -402,7 +412,7 @@ static int scan_options(scan_job_t *j)
             }
         if (j->cl.dry && !j->o.dry) { fprintf(stderr, "scan: %s is a scan of the real machine: it cannot go on as a dry run\n", src); return j->rc; }
         if (!j->cl.dry && j->o.dry) j->cl.dry = 1;   /* a dry run's log goes on as a dry run */
-        if ((j->cl.eps && j->cl.eps != j->o.eps) ||
+        if ((j->cl.eps && j->cl.eps != j->o.eps) || (j->cl.accuracy && j->cl.accuracy != j->o.accuracy) ||
             (!j->cl.rescan && j->cl.surface && strcmp(j->cl.surface, j->o.surface ? j->o.surface : "")) ||
             (j->cl.near >= 0 && j->cl.near != j->o.near) ||
             (j->cl.seed && j->cl.seed != j->o.seed)) {
@@ -516,6 +526,9 @@ static int scan_prepare(scan_job_t *j)
     /* ---- the planner's configuration: the board's scan volume, eps and rangefinder ---- */
     vp_board_planner_config(&j->b, &j->cfg);
     j->cfg.eps = j->o.eps;
+    /* an accuracy target: facets refined where they stray from the surface (paper 002's sizing
+     * by the distance bound), down to a floor */
+    if (j->o.accuracy > 0) vp_accuracy_config(&j->cfg, j->o.accuracy);
     j->cfg.noise_tol = j->o.noise_tol;
     j->dev.noise_tol = j->o.noise_tol;
     j->cfg.confirm_misses = (uint32_t)j->o.confirm;
@@ -586,6 +599,11 @@ static int scan_prepare(scan_job_t *j)
                 model_source(&j->b));
         if (j->b.calib_missing)
             fprintf(stderr, "scan: note: the calibration file %s does not exist yet (voroprobe calibrate writes it)\n", j->b.calib_path);
+        if (j->o.accuracy > 0 && j->cfg.noise_tol > j->cfg.max_distance)
+            fprintf(stderr, "scan: note: --accuracy %g refines facets that stray more than %.3g mm from the surface, but the "
+                    "hits are trusted only to %g mm (--noise-tol): that is the bound used, and the target may not be met; "
+                    "lower --noise-tol to what the rangefinder shows (a dry run prints the probe error)\n",
+                    j->o.accuracy, j->cfg.max_distance, j->cfg.noise_tol);
         if (j->o.dry && (vp_surface_components(j->dev.dr->surf) > 1 || !vp_surface_inside(j->dev.dr->surf, j->b.interior)))
             fprintf(stderr, "scan: note: the board's interior point is not inside the simulated object: its own %u "
                     "interior point(s) are used\n", j->cfg.ninterior);
@@ -917,6 +935,12 @@ static int scan_report(scan_job_t *j)
             if (j->rc == 0 && j->mesh.nt > 0 && vp_hausdorff(&j->mesh, j->dev.dr->surf, 20000, 7, &hd) == VP_OK) {
                 printf("dry run: the mesh is within %.2f mm of the object (Hausdorff), eps %g mm\n", hd.hausdorff, j->o.eps);
                 hausdorff = hd.hausdorff;
+                if (j->o.accuracy > 0) {
+                    printf("accuracy: target %g mm, measured %.3f mm: %s (distance bound %.3g mm, floor %.3g mm)\n",
+                           j->o.accuracy, hd.hausdorff, hd.hausdorff <= j->o.accuracy ? "within" : "NOT within",
+                           j->cfg.max_distance, j->cfg.min_size);
+                    if (hd.hausdorff > j->o.accuracy) j->rc = VP_EXIT_NOT_WITHIN_TARGET;
+                }
             }
             printf("dry run: %d frames rendered, %.1f s wall\n", (int)m->st.frames, vp_rt_seconds() - j->wall0);
         }
@@ -945,6 +969,7 @@ static int scan_report(scan_job_t *j)
                     printf("%s\"%s\":%lu", i ? "," : "", j->dev.board.head.part[i].name, j->dev.head_part[i]);
                 printf("}");
                 if (hausdorff >= 0) printf(",\"hausdorff\":%.4f", hausdorff);
+                if (j->o.accuracy > 0) printf(",\"accuracy_target\":%g", j->o.accuracy);
                 if (j->dev.board.line_laser)
                     printf(",\"rays\":%lu,\"ray_rms\":%.4f,\"ray_worst\":%.4f,\"ray_false\":%lu", j->dev.rays,
                            j->dev.rays ? sqrt(j->dev.ray_err2 / (double)j->dev.rays) : 0.0, j->dev.ray_err_max, j->dev.ray_false);

@@ -143,6 +143,12 @@ int vp_sim_check_out(const vp_sim_options_t *o, char *err, size_t errlen)
 #define ACCURACY_FLOOR 4.0
 #endif
 
+void vp_accuracy_config(vp_planner_config_t *cfg, double target)
+{
+    cfg->max_distance = target / ACCURACY_SHARE;
+    cfg->min_size = target / ACCURACY_FLOOR < cfg->eps ? target / ACCURACY_FLOOR : cfg->eps;
+}
+
 int vp_sim_open(vp_sim_t *s, const vp_sim_options_t *o, char *err, size_t errlen)
 {
     vp_simdev_config_t dc;
@@ -177,8 +183,7 @@ int vp_sim_open(vp_sim_t *s, const vp_sim_options_t *o, char *err, size_t errlen
     s->cfg.clearance = o->clearance;
     s->cfg.min_angle = o->min_angle;
     if (s->target > 0) {
-        s->cfg.max_distance = s->target / ACCURACY_SHARE;
-        s->cfg.min_size = s->target / ACCURACY_FLOOR < s->cfg.eps ? s->target / ACCURACY_FLOOR : s->cfg.eps;
+        vp_accuracy_config(&s->cfg, s->target);
     } else if (o->size_rel > 0) {
         s->cfg.size_rel = o->size_rel;
         s->cfg.min_size = o->min_size > 0 ? o->min_size : s->cfg.eps / 10.0;
