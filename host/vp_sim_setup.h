@@ -89,11 +89,11 @@ void vp_sim_options_default(vp_sim_options_t *o);
 #define VP_SIM_EPS_MIN_COORD 1e-12
 #define VP_SIM_NOISE_MAX_REL (1.0 / 16.0)
 #define VP_SIM_DROPOUT_MAX   0.5
-/* VP_OK, or VP_EINVAL with a message naming the option, its range and the smallest or largest
- * accepted value (diag: the object's bounding-box diagonal, for --eps-rel). */
 /* An accuracy target H (the mesh within H of the object): the distance bound H / 3 and its
  * floor min(H / 4, eps) in the planner's configuration (measured: README, the accuracy table). */
 void vp_accuracy_config(vp_planner_config_t *cfg, double target);
+/* VP_OK, or VP_EINVAL with a message naming the option, its range and the smallest or largest
+ * accepted value (diag: the object's bounding-box diagonal, for --eps-rel). */
 int vp_sim_check_ranges(const vp_planner_config_t *cfg, double diag, const vp_sim_options_t *o, char *err,
                         size_t errlen);
 /* PREFIX.ply and PREFIX.off fit a path (VP_EINVAL and a message when they do not). */

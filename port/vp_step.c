@@ -475,9 +475,8 @@ static int vp_step_exec(vp_step_t *s, const int32_t *delta, const double *rate, 
         VP_TRY(vp_step_block_init(&b, s->cfg.naxes, bd, brate, bacc, s->cfg.max_step_rate));
         VP_TRY(vp_step_run_block(s, &b, &br));
         r->join = 0;
-        vin = 0;
     }
-    if (!r->join) vin = 0;     /* the last block stopped (or there was none): from rest */
+    if (!r->join) vin = 0;     /* the last block stopped (or there was none, or backlash): from rest */
     VP_TRY(vp_step_block_init(&b, s->cfg.naxes, delta, rate, acc, s->cfg.max_step_rate));
     VP_TRY(vp_step_block_ends(&b, vin, vout));
     return vp_step_run_block(s, &b, r);
@@ -485,9 +484,10 @@ static int vp_step_exec(vp_step_t *s, const int32_t *delta, const double *rate, 
 
 /* The junction rates of a path's blocks d[0..nb-1] (steps; lastdir: each axis's direction before
  * the first; v0: the first block's entry rate, as the plan before gave it): vin[w], vout[w] in
- * steps/s of block w's dominant axis, the last block ending at rest. A junction is passed at a rate only where every axis moving on either side has a jerk,
- * none reverses with backlash to take up, and the blocks turn by less than 90 degrees in
- * jerk-scaled step space; its exit rate x and entry rate rho * x keep each axis's jump
+ * steps/s of block w's dominant axis, the last block ending at rest. A junction is passed at a
+ * rate only where every axis moving on either side has a jerk, none reverses with backlash to
+ * take up, and the blocks turn by less than 90 degrees in jerk-scaled step space; its exit rate
+ * x and entry rate rho * x keep each axis's jump
  * |x a_i - rho x b_i| (a, b: the axis's steps per dominant step before and after) within its
  * jerk, rho the least-squares match of the two velocities. Then grbl's two passes: backward
  * from rest (each block can slow down to its exit), forward from rest (each can speed up). */
@@ -495,9 +495,11 @@ static void vp_step_plan(const vp_step_t *s, const int32_t (*d)[VP_STEP_MAX_AXES
                          const double *rate, const double *acc, double v0, double *vin, double *vout)
 {
     double n[VP_STEP_PLAN], a[VP_STEP_PLAN], v[VP_STEP_PLAN], rho[VP_STEP_PLAN], xmax[VP_STEP_PLAN];
+    double J[VP_STEP_MAX_AXES];   /* jerk in steps/s */
     int8_t dir[VP_STEP_MAX_AXES];
     int w, i, na = s->cfg.naxes;
     memcpy(dir, lastdir, sizeof dir);
+    for (i = 0; i < na; i++) J[i] = s->cfg.axis[i].jerk * s->cfg.axis[i].steps_per_unit;
     for (w = 0; w < nb; w++) {
         vp_step_block_t b;
         n[w] = a[w] = v[w] = 0;
@@ -511,29 +513,27 @@ static void vp_step_plan(const vp_step_t *s, const int32_t (*d)[VP_STEP_MAX_AXES
         int ok = n[w] > 0 && n[w + 1] > 0;
         for (i = 0; i < na; i++) if (d[w][i]) dir[i] = (int8_t)(d[w][i] > 0 ? 1 : -1);
         for (i = 0; ok && i < na; i++) {
-            double J = s->cfg.axis[i].jerk * s->cfg.axis[i].steps_per_unit, ai = d[w][i] / n[w], bi = d[w + 1][i] / n[w + 1];
+            double ai = d[w][i] / n[w], bi = d[w + 1][i] / n[w + 1];
             if (!d[w][i] && !d[w + 1][i]) continue;
-            if (!(J > 0)) ok = 0;
+            if (!(J[i] > 0)) ok = 0;
             else if (d[w + 1][i] && dir[i] && (d[w + 1][i] > 0 ? 1 : -1) != dir[i] && s->backlash[i]) ok = 0;
-            else { num += ai * bi / (J * J); den += bi * bi / (J * J); }
+            else { num += ai * bi / (J[i] * J[i]); den += bi * bi / (J[i] * J[i]); }
         }
         if (!ok || !(den > 0) || !(num > 0)) continue;
         rho[w] = num / den;
         x = v[w] < v[w + 1] / rho[w] ? v[w] : v[w + 1] / rho[w];
         for (i = 0; i < na; i++) {
-            double J = s->cfg.axis[i].jerk * s->cfg.axis[i].steps_per_unit, jump = fabs(d[w][i] / n[w] - rho[w] * d[w + 1][i] / n[w + 1]);
-            if (jump > 0 && J / jump < x) x = J / jump;
+            double jump = fabs(d[w][i] / n[w] - rho[w] * d[w + 1][i] / n[w + 1]);
+            if (jump > 0 && J[i] / jump < x) x = J[i] / jump;
         }
         xmax[w] = x;
     }
     /* backward: block w+1 slows from its entry rho x to its exit over its steps */
     for (w = nb - 2; w >= 0; w--) {
-        double x = xmax[w];
-        if (!(x > 0)) continue;
-        {
-            double y = sqrt(vout[w + 1] * vout[w + 1] + 2 * a[w + 1] * n[w + 1]) / rho[w];
-            vout[w] = x < y ? x : y;
-        }
+        double y;
+        if (!(xmax[w] > 0)) continue;
+        y = sqrt(vout[w + 1] * vout[w + 1] + 2 * a[w + 1] * n[w + 1]) / rho[w];
+        vout[w] = xmax[w] < y ? xmax[w] : y;
     }
     /* forward: block w speeds up from its entry over its steps */
     vin[0] = v0;

@@ -73,4 +73,5 @@ def main():
                 f += [(a, b, c), (a, c, d)]
         write_off(out + "/" + name + ".off", v, f)
 
-main()
+if __name__ == "__main__":
+    main()

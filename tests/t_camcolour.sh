@@ -6,11 +6,8 @@
 # 16..240) and inverts it; ours must agree within 1 grey level (rounding). The check must fail
 # the full-range (JPEG) conversion, which a V4L2 YUYV camera does not send by default.
 B=${BUILD:-build}
-PY=/usr/bin/python3
-if ! [ -x "$PY" ] || ! "$PY" -c "import numpy" >/dev/null 2>&1; then
-  echo "skipped: /usr/bin/python3 cannot import numpy (apt-get install python3-numpy)"
-  exit 77
-fi
+. tests/need_python.sh
+need_python numpy python3-numpy
 tmp=$(mktemp -d) || exit 1
 trap 'rm -rf "$tmp"' EXIT
 "$B/tests/port/test_port_camctl" "$tmp" >"$tmp/log" 2>&1 || { cat "$tmp/log"; echo "FAIL: test_port_camctl"; exit 1; }

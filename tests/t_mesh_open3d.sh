@@ -6,11 +6,8 @@
 # pointing back to the probe origin. Skips (77) only when open3d cannot be imported.
 B=${BUILD:-build}
 VP=${VP:-$B/voroprobe}
-PY=/usr/bin/python3
-if ! [ -x "$PY" ] || ! "$PY" -c "import open3d" >/dev/null 2>&1; then
-  echo "skipped: /usr/bin/python3 cannot import open3d (apt-get install python3-open3d)"
-  exit 77
-fi
+. tests/need_python.sh
+need_python open3d python3-open3d
 tmp=$(mktemp -d) || exit 1
 trap 'rm -rf "$tmp"' EXIT
 "$VP" sim --surface sphere@2.5,0,0+torus --eps-rel 0.04 --noise 0.0005 --dropout 0.05 --out "$tmp/s" \

@@ -3,11 +3,8 @@
 # python3-open3d (always /usr/bin/python3, not a python3 found on PATH). Binary and ASCII.
 # Skips (77) only when /usr/bin/python3 cannot import open3d.
 BUILD=${BUILD:-build}
-PY=/usr/bin/python3
-if ! [ -x "$PY" ] || ! "$PY" -c "import open3d" >/dev/null 2>&1; then
-  echo "skipped: /usr/bin/python3 cannot import open3d (apt-get install python3-open3d)"
-  exit 77
-fi
+. tests/need_python.sh
+need_python open3d python3-open3d
 tmp=$(mktemp -d) || exit 1
 trap 'rm -rf "$tmp"' EXIT
 "$BUILD/tests/mesh/test_meshio" --write-ply "$tmp/torus.ply" || { echo "FAIL: test_meshio --write-ply"; exit 1; }

@@ -9,11 +9,8 @@
 # reader (commas), the PLY and session-log inputs, and the usage and input errors.
 B=${BUILD:-build}
 VP=${VP:-$B/voroprobe}
-PY=/usr/bin/python3
-if ! [ -x "$PY" ] || ! "$PY" -c "import open3d" >/dev/null 2>&1; then
-  echo "skipped: /usr/bin/python3 cannot import open3d (apt-get install python3-open3d)"
-  exit 77
-fi
+. tests/need_python.sh
+need_python open3d python3-open3d
 tmp=$(mktemp -d) || exit 1
 trap 'rm -rf "$tmp"' EXIT
 fail=0

@@ -24,37 +24,12 @@ if [ ! -x "$CG" ] || [ tests/cgal_object.cpp -nt "$CG" ]; then
     bad "tests/cgal_object.cpp does not build (log: $D/build.log)"
 fi
 # the object: an icosahedron subdivided three times onto a sphere of radius 24 mm at (200, 150,
-# 150), 642 vertices (written here, numbers to 17 digits: the dry run and CGAL read the same)
-python3 - "$tmp/object.off" <<'PYEOF' || bad "writing the object"
-import math, sys
-t = (1 + 5 ** 0.5) / 2
-V = [(-1, t, 0), (1, t, 0), (-1, -t, 0), (1, -t, 0), (0, -1, t), (0, 1, t), (0, -1, -t), (0, 1, -t),
-     (t, 0, -1), (t, 0, 1), (-t, 0, -1), (-t, 0, 1)]
-F = [(0, 11, 5), (0, 5, 1), (0, 1, 7), (0, 7, 10), (0, 10, 11), (1, 5, 9), (5, 11, 4), (11, 10, 2), (10, 7, 6),
-     (7, 1, 8), (3, 9, 4), (3, 4, 2), (3, 2, 6), (3, 6, 8), (3, 8, 9), (4, 9, 5), (2, 4, 11), (6, 2, 10),
-     (8, 6, 7), (9, 8, 1)]
-V = [tuple(c / math.sqrt(sum(x * x for x in v)) for c in v) for v in V]
-for level in range(3):
-    mid, G = {}, []
-    def m(a, b):
-        k = (min(a, b), max(a, b))
-        if k not in mid:
-            p = [(V[a][i] + V[b][i]) / 2 for i in range(3)]
-            n = math.sqrt(sum(x * x for x in p))
-            V.append(tuple(x / n for x in p))
-            mid[k] = len(V) - 1
-        return mid[k]
-    for a, b, c in F:
-        ab, bc, ca = m(a, b), m(b, c), m(c, a)
-        G += [(a, ab, ca), (b, bc, ab), (c, ca, bc), (ab, bc, ca)]
-    F = G
-with open(sys.argv[1], "w") as f:
-    f.write("OFF\n%d %d 0\n" % (len(V), len(F)))
-    for v in V:
-        f.write("%.17g %.17g %.17g\n" % (200 + 24 * v[0], 150 + 24 * v[1], 150 + 24 * v[2]))
-    for a, b, c in F:
-        f.write("3 %d %d %d\n" % (a, b, c))
-PYEOF
+# 150), 642 vertices (tests/rescan_objects.py's icosphere, numbers to 17 digits: the dry run and
+# CGAL read the same)
+python3 -c 'import sys; sys.path.insert(0, "tests")
+from rescan_objects import icosphere, write_off
+v, f = icosphere(3)
+write_off(sys.argv[1], [(200 + 24 * x, 150 + 24 * y, 150 + 24 * z) for x, y, z in v], f)' "$tmp/object.off" || bad "writing the object"
 OBJ="off:$tmp/object.off*1@0,0,0"
 chaus() { "$CG" hausdorff "$1" "$2" | sed -n 's/.*"hausdorff":\([0-9.e+-]*\).*/\1/p'; }
 
