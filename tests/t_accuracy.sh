@@ -11,8 +11,6 @@
 set -u
 BUILD=${BUILD:-build}
 VP=${VP:-$BUILD/voroprobe}
-D="$BUILD/accuracy"
-mkdir -p "$D"
 tmp=$(mktemp -d) || exit 1
 trap 'rm -rf "$tmp"' EXIT
 fail=0
@@ -20,19 +18,11 @@ bad() { echo "FAIL: $*"; fail=1; }
 field() { tail -n 1 "$1" | sed -n "s/.*\"$2\":\([^,}]*\).*/\1/p" | tr -d '"'; }
 
 # ---- the independent measure
-CG="$D/cgal_object"
-if [ -f /usr/include/CGAL/Polygon_mesh_processing/distance.h ] && command -v g++ >/dev/null 2>&1; then
-  if [ ! -x "$CG" ] || [ tests/cgal_object.cpp -nt "$CG" ]; then
-    g++ -O2 -o "$CG.tmp" tests/cgal_object.cpp -lgmp -lmpfr >"$D/build.log" 2>&1 && mv "$CG.tmp" "$CG" ||
-      { bad "tests/cgal_object.cpp does not build (log: $D/build.log)"; rm -f "$CG"; }
-  fi
-else
-  bad "no CGAL (libcgal-dev): the accuracy would be measured by voroprobe alone"
-fi
-chaus() { "$CG" hausdorff "$1" "$2" | sed -n 's/.*"hausdorff":\([^,}]*\).*/\1/p'; }
+. tests/cgal_object.sh
+cgal_object_build "$BUILD" || bad "$CG_WHY"
 
 # ---- the checker must fail: the cube moved by 0.01 along x is at least 0.01 away
-if [ -x "$CG" ]; then
+if [ -x "$CO" ]; then
   # (OFF: the header line, comments, the counts, then the 8 vertices)
   awk '/^#/ || NF == 0 { next } !h { print; h = 1; next } !c { print; c = 1; next }
        n < 8 { print $1 + 0.01, $2, $3; n++; next } { print }' tests/meshes/cube.off >"$tmp/moved.off"
@@ -59,7 +49,7 @@ for c in sphere:0.01:0 torus:0.01:1 off:tests/meshes/cube.off:0.005:0 off:tests/
   awk -v d="$(field "$tmp/$n.txt" max_distance)" -v t="$t" 'BEGIN { exit !(d > 0 && d < t) }' || bad "$n: no distance bound below the target"
   hc=-
   case $s in
-    off:*) if [ -x "$CG" ]; then
+    off:*) if [ -x "$CO" ]; then
              hc=$(chaus "${s#off:}" "$tmp/$n.off")
              awk -v h="$hc" -v t="$t" 'BEGIN { exit !(h > 0 && h <= t) }' || bad "$n: CGAL measures $hc, above the target $t"
            fi;;

@@ -40,16 +40,8 @@ field() { tail -n 1 "$1" | sed -n "s/.*\"$2\":\([^,}]*\).*/\1/p" | tr -d '"'; }
 rfield() { tail -n 1 "$1" | sed -n "s/.*\"rescan\":{[^}]*\"$2\":\([^,}]*\).*/\1/p" | tr -d '"'; }
 . tests/cgal_moves.sh
 cgal_moves_build "$B" || bad "$CG_WHY"
-CO="$B/safety/cgal_object"
-if [ -f /usr/include/CGAL/Polygon_mesh_processing/distance.h ]; then
-  if [ ! -x "$CO" ] || [ tests/cgal_object.cpp -nt "$CO" ]; then
-    g++ -O2 -o "$CO.tmp" tests/cgal_object.cpp -lgmp -lmpfr >"$tmp/co-build.log" 2>&1 && mv "$CO.tmp" "$CO" ||
-      bad "tests/cgal_object.cpp does not build"
-  fi
-else
-  bad "no CGAL (libcgal-dev): the re-scan's accuracy would be measured by voroprobe alone"
-fi
-chaus() { "$CO" hausdorff "$1" "$2" | sed -n 's/.*"hausdorff":\([^,}]*\).*/\1/p'; }
+. tests/cgal_object.sh
+cgal_object_build "$B" || bad "$CG_WHY"
 mkdir -p "$tmp/obj" && python3 tests/rescan_objects.py "$tmp/obj" 0.15 || bad "tests/rescan_objects.py"
 
 # which old samples a re-scan kept, from its log (replay --samples), against the object now (CGAL):
