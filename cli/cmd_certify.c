@@ -101,7 +101,7 @@ typedef struct certify_input {
     vp_sessionlog_t L;
     vp_replay_t R;
     double *centers, *samples;
-    size_t nsamples;
+    size_t nsamples, ncut; /* samples; facets of cut tets (vp_planner_facet returns 2) */
     int complete;
 } certify_input_t;
 
@@ -141,7 +141,9 @@ static int certify_from_log(certify_args_t *o, certify_input_t *in, vp_cert_conf
     if (!in->centers || !in->samples) { fprintf(stderr, "certify: out of memory\n"); return 1; }
     for (s = 0; s < vp_planner_facet_slots(in->R.pl); s++) {
         uint32_t v[3];
-        if (vp_planner_facet(in->R.pl, s, v, NULL, in->centers + 3 * (size_t)nf)) nf++;
+        int k = vp_planner_facet(in->R.pl, s, v, NULL, in->centers + 3 * (size_t)nf);
+        if (k) nf++;
+        if (k == 2) in->ncut++;
     }
     for (s = 0; s < dt->nvert; s++)
         if (vp_dt_vertex(dt, s)->tet != VP_DT_NONE) memcpy(in->samples + 3 * in->nsamples++, vp_dt_point(dt, s), 3 * sizeof(double));
@@ -199,6 +201,9 @@ static int certify_report(const certify_args_t *o, const certify_input_t *in, co
                     c.big_balls, c.open_balls, c.max_radius, c.max_radius_facet);
         printf("    ball centres are probed surface points on the facets' Voronoi edges (largest radius spread %.2g)\n",
                c.max_spread);
+        if (in->ncut)
+            printf("    except %zu facet(s) of tets cut off where the inside touched itself below the manifold floor: "
+                   "their balls are their circumballs\n", in->ncut);
     } else {
         if (c.h3 < 0)
             printf(": the ball centres on S are unknown for a bare mesh; necessary conditions hold: every circumradius "

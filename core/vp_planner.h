@@ -107,6 +107,8 @@ typedef struct vp_planner_stats {
     uint64_t unproven;         /* segments an inference took for free that no probe covers:
                                   never added to the free graph */
     uint64_t manifold_refinements; /* facets refined because an edge had not two facets */
+    uint64_t fins_cut;         /* tets of the inside cut off at an edge where it touched itself
+                                  below the manifold floor (a fin's tip; close.c) */
     uint64_t stalls;           /* steps that made no progress (bounded: see VP_ESTALL) */
     uint64_t contacts;         /* moves the head's contact switch stopped (vp_planner_touch) */
     uint64_t revoked;          /* proofs of free space a contact showed false */
@@ -377,7 +379,8 @@ int vp_planner_rescan_with(vp_planner_t *pl, unsigned flags);
 /* The mesh: restricted facets with their vertices (indices into vp_planner_dt()), oriented with
  * the normal (b-a)x(c-a) pointing out of the object. vp_planner_facet returns the ball radius
  * through *radius (may be NULL). Iterate i < vp_planner_facet_slots(). Returns 1 for a facet,
- * 0 for an empty slot. */
+ * 2 for a facet of a tet cut off at a pinch below the manifold floor (its ball is its circumball,
+ * not a probed surface point; stats.fins_cut), 0 for an empty slot. */
 uint32_t vp_planner_facet_slots(const vp_planner_t *pl);
 int vp_planner_facet(const vp_planner_t *pl, uint32_t i, uint32_t v[3], double *radius,
                      double center[3]);

@@ -619,6 +619,10 @@ void vp_sim_report(const vp_sim_t *s, const vp_sim_options_t *o, FILE *f)
                         r->collisions, r->hausdorff, r->min_spacing);
             }
         }
+        if (st.fins_cut)
+            fprintf(f, "closing: %llu tet(s) of the inside cut off where it touched itself thinner than the manifold "
+                    "floor (the tip of a fin or an acute fold; their facets' balls at most 4 times that floor)\n",
+                    (unsigned long long)st.fins_cut);
         if (st.unproven || st.stalls)
             fprintf(f, "safety: %llu segments an inference proposed were not proven free (never travelled); "
                     "%llu sides could not be probed\n", (unsigned long long)st.unproven, (unsigned long long)st.stalls);
@@ -648,7 +652,7 @@ void vp_sim_report(const vp_sim_t *s, const vp_sim_options_t *o, FILE *f)
                 "\"total_seconds\":%.4f,\"arena_bytes_peak\":%zu,\"insertions\":%llu,\"routes\":%llu,"
                 "\"astar_expansions\":%llu,\"astar_fallbacks\":%llu,\"shortcut_probes\":%llu,"
                 "\"escalations\":%llu,\"reseeds\":%llu,\"missing_components\":%u,\"unproven\":%llu,"
-                "\"stalls\":%llu,\"accuracy_target\":%.6g,\"size_rel\":%.6g,\"min_size\":%.6g,\"max_distance\":%.6g%s",
+                "\"stalls\":%llu,\"fins_cut\":%llu,\"accuracy_target\":%.6g,\"size_rel\":%.6g,\"min_size\":%.6g,\"max_distance\":%.6g%s",
                 s->rescan ? s->rescan_spec : o->surface, s->cfg.eps, vp_outcome_name(ex), ex, vp_strerror(s->run.status), nv, (unsigned)s->mesh.nt,
                 (unsigned long long)st.probes, (unsigned long long)st.hits,
                 (unsigned long long)st.misses, (unsigned long long)st.reprobes,
@@ -661,7 +665,7 @@ void vp_sim_report(const vp_sim_t *s, const vp_sim_options_t *o, FILE *f)
                 (unsigned long long)st.routes, (unsigned long long)st.astar_expansions,
                 (unsigned long long)st.astar_fallbacks, (unsigned long long)st.shortcut_probes,
                 (unsigned long long)st.escalations, (unsigned long long)st.reseeds, st.missing_components,
-                (unsigned long long)st.unproven, (unsigned long long)st.stalls, s->target, s->cfg.size_rel,
+                (unsigned long long)st.unproven, (unsigned long long)st.stalls, (unsigned long long)st.fins_cut, s->target, s->cfg.size_rel,
                 s->cfg.min_size, s->cfg.max_distance, touch);
         if (s->rescan) {
             vp_sim_round_t d;

@@ -8,6 +8,9 @@
 //       same way, independently of voroprobe's own measure.
 //   cgal_object distance A.off POINTS             each point's distance to the triangle mesh A
 //       (an AABB tree of A's faces), one line each; POINTS: "x y z" lines
+//   cgal_object topology A.off                    whether A's triangles make a closed 2-manifold
+//       (PMP::is_polygon_soup_a_polygon_mesh on the soup as read, then CGAL::is_closed on the
+//       Surface_mesh it becomes), its components and genus (Euler characteristic); one JSON line
 //   cgal_object edges A.off                       the edges of the 3D Delaunay triangulation of
 //       A's vertices (CGAL's Delaunay_triangulation_3), one "i j" line each (vertex indices, i < j)
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
@@ -28,6 +31,9 @@
 #include <CGAL/Polygon_mesh_processing/triangulate_faces.h>
 #include <CGAL/Delaunay_triangulation_3.h>
 #include <CGAL/Triangulation_vertex_base_with_info_3.h>
+#include <CGAL/Polygon_mesh_processing/polygon_soup_to_polygon_mesh.h>
+#include <CGAL/Polygon_mesh_processing/connected_components.h>
+#include <CGAL/IO/polygon_soup_io.h>
 #include <algorithm>
 #include <chrono>
 #include <utility>
@@ -179,8 +185,29 @@ static int edges_cmd(const char *a)
     return 0;
 }
 
+static int topology_cmd(const char *a)
+{
+    std::vector<K::Point_3> pts;
+    std::vector<std::vector<std::size_t>> tris;
+    if (!CGAL::IO::read_polygon_soup(a, pts, tris)) { std::fprintf(stderr, "cannot read %s\n", a); return 1; }
+    bool manifold = PMP::is_polygon_soup_a_polygon_mesh(tris), closed = false;
+    long comps = -1, genus = -1;
+    if (manifold) {
+        Mesh m;
+        PMP::polygon_soup_to_polygon_mesh(pts, tris, m);
+        closed = CGAL::is_closed(m);
+        comps = (long)PMP::connected_components(m, m.add_property_map<Mesh::Face_index, std::size_t>("f:cc").first);
+        long chi = (long)m.number_of_vertices() - (long)m.number_of_edges() + (long)m.number_of_faces();
+        if (closed) genus = (2 * comps - chi) / 2;
+    }
+    std::printf("{\"mesh\":\"%s\",\"manifold\":%s,\"closed\":%s,\"components\":%ld,\"genus\":%ld}\n", a,
+                manifold ? "true" : "false", closed ? "true" : "false", comps, genus);
+    return 0;
+}
+
 int main(int argc, char **argv)
 {
+    if (argc == 3 && !std::strcmp(argv[1], "topology")) return topology_cmd(argv[2]);
     if (argc == 3 && !std::strcmp(argv[1], "edges")) return edges_cmd(argv[2]);
     if (argc == 4 && !std::strcmp(argv[1], "distance")) return distance_cmd(argv[2], argv[3]);
     if (argc == 6 && !std::strcmp(argv[1], "mesh"))
@@ -188,6 +215,7 @@ int main(int argc, char **argv)
     if (argc == 4 && !std::strcmp(argv[1], "hausdorff")) return hausdorff_cmd(argv[2], argv[3]);
     std::fprintf(stderr, "usage: cgal_object mesh OBJECT.off H RADIUS OUT.off\n"
                          "       cgal_object hausdorff A.off B.off\n"
+                         "       cgal_object topology A.off\n"
                          "       cgal_object edges A.off\n"
                          "       cgal_object distance A.off POINTS\n");
     return 2;

@@ -99,6 +99,110 @@ static int refine_at_edges(vp_planner_t *pl, const uint32_t *tab, uint32_t slots
     return (int)refined;
 }
 
+/* A fin thinner than the floor. The mesh is the boundary between the tets known outside (their
+ * Voronoi vertex reached) and the rest, the inside. Where the manifold criterion has refined an
+ * edge down to its floor and the edge still has four facets, the inside touches itself along
+ * the edge (a wedge whose tip is thinner than the floor, as on an acute fold). The pinch is cut:
+ * one inside tet of the ring is taken as outside (SIDE_CUT): its facets towards the outside go,
+ * its facets towards the inside come in as facets without a probed ball (FREC_CUT: the facet's
+ * circumcentre, never refined). Only a tet whose facets that go are hits with balls of at most
+ * CUT_BALL floors: the surface moves by no more than those. Counted (fins_cut). */
+#define CUT_BALL 4.0
+static int tet_outside(const vp_planner_t *pl, uint32_t t)
+{
+    return tet_active(pl, t) || (side_get(pl, t, 0) & SIDE_CUT);
+}
+
+static int cut_tet(vp_planner_t *pl, uint32_t t)
+{
+    const uint32_t *w = vp_dt_tet(&pl->dt, t);
+    uint32_t recs[4], nr = 0, nin = 0, i;
+    double lim = CUT_BALL * manifold_floor(pl);
+    int f;
+    for (f = 0; f < 4; f++) {
+        uint32_t u = w[4 + f] >> 2, fv[3], r;
+        if (w[f] == VP_DT_GHOST) return 0;
+        if (!tet_outside(pl, u)) { nin++; continue; }
+        vp_dt_facet(&pl->dt, t, f, fv);
+        r = vp_pl_frec_lookup(pl, fv);
+        if (r == NONE || (pl->pool.frec[r].flags & FREC_DOUBLE) || !(pl->pool.frec[r].r <= lim)) return 0;
+        recs[nr++] = r;
+    }
+    if (!(pl->pool.nfacets + nin < pl->pool.cap_frec)) return 0;
+    for (i = 0; i < nr; i++) vp_pl_frec_delete(pl, recs[i]);
+    for (f = 0; f < 4; f++) {
+        uint32_t u = w[4 + f] >> 2, fv[3], r;
+        if (tet_outside(pl, u)) continue;
+        vp_dt_facet(&pl->dt, t, f, fv);
+        VP_TRY(vp_pl_frec_add_cut(pl, fv, vp_dt_point(&pl->dt, w[f]), t, &r));
+    }
+    for (f = 0; f < 4; f++) side_set(pl, t, f, side_get(pl, t, f) | SIDE_CUT);
+    pl->st.fins_cut++;
+    return 1;
+}
+
+/* At every edge with four facets or more (the manifold criterion has nothing left to refine
+ * there): one cut, the first tet of its ring that can be. Returns how many, or a status. */
+static int cut_fins(vp_planner_t *pl, const uint32_t *tab, uint32_t slots)
+{
+    uint32_t i, cut = 0;
+    for (i = 0; i < slots; i++) {
+        uint32_t a = tab[3 * i], b = tab[3 * i + 1], t;
+        int fi, broken = 0, st = 0;
+        ring_t r;
+        if (a == NONE || tab[3 * i + 2] < 4) continue;
+        t = edge_facet(pl, a, b, 0);
+        if (t == NONE) continue;
+        t = vp_pl_find_facet(pl, pl->pool.frec[t].v, &fi, 3u * slots);
+        if (t == NONE || !ring_start(pl, &r, t, a, b)) continue;
+        do {
+            if (!tet_outside(pl, r.cur) && (st = cut_tet(pl, r.cur)) != 0) break;
+        } while (ring_step(pl, &r, &broken));
+        if (st < 0) return st;
+        cut += (uint32_t)st;
+    }
+    return (int)cut;
+}
+
+/* A vertex where the inside touches itself (two cones meeting at their tips, below the floor):
+ * the smaller of the inside's parts in the vertex's star (tets joined by facets at the vertex)
+ * is cut off, tet by tet (cut_tet). 1 if a tet was cut; 0 when none could be, the star is too
+ * large to look at here, or it is the outside that is split there (left to certify). */
+#define STAR_MAX 128
+static int cut_star(vp_planner_t *pl, uint32_t v)
+{
+    uint32_t tets[STAR_MAX], comp[STAR_MAX], queue[STAR_MAX], ncomp = 0, best = NONE, bsize = 0, cut = 0, i, k;
+    int n = vp_dt_incident_tets(&pl->dt, v, tets, STAR_MAX), st;
+    if (n <= 0 || n >= STAR_MAX) return 0;
+    for (i = 0; i < (uint32_t)n; i++) comp[i] = tet_outside(pl, tets[i]) ? NONE : NONE - 1;
+    for (i = 0; i < (uint32_t)n; i++) {
+        uint32_t qh = 0, qt = 0;
+        if (comp[i] != NONE - 1) continue;
+        comp[i] = ncomp;
+        queue[qt++] = i;
+        while (qh < qt) {
+            const uint32_t *w = vp_dt_tet(&pl->dt, tets[queue[qh++]]);
+            int f;
+            for (f = 0; f < 4; f++) {
+                uint32_t u = w[4 + f] >> 2;
+                if (w[f] == v) continue; /* the facet across does not hold v */
+                for (k = 0; k < (uint32_t)n && tets[k] != u; k++) {}
+                if (k < (uint32_t)n && comp[k] == NONE - 1) { comp[k] = ncomp; queue[qt++] = k; }
+            }
+        }
+        if (best == NONE || qt < bsize) { best = ncomp; bsize = qt; }
+        ncomp++;
+    }
+    if (ncomp < 2) return 0;
+    for (i = 0; i < (uint32_t)n; i++)
+        if (comp[i] == best) {
+            if ((st = cut_tet(pl, tets[i])) < 0) return st;
+            if (st == 0) break; /* what was cut stays cut: the boundary is still one */
+            cut++;
+        }
+    return cut > 0;
+}
+
 /* 1 if the facets fl[0..n) around vertex v form one cycle: walking from facet to facet across
  * the edges at v comes back to the first after all n (every edge has two facets here) */
 static int one_cycle(const vp_planner_t *pl, uint32_t v, const uint32_t *fl, uint32_t n)
@@ -139,13 +243,13 @@ static int refine_at_pinches(vp_planner_t *pl)
     list = first + nv + 1;
     memset(first, 0, ((size_t)nv + 1u) * sizeof *first);
     for (i = 0; i < pl->pool.nfrec; i++)
-        if (pl->pool.frec[i].v[0] != NONE) {
+        if (pl->pool.frec[i].v[0] != NONE && !(pl->pool.frec[i].flags & FREC_DOUBLE)) {
             first[pl->pool.frec[i].v[0] + 1]++; first[pl->pool.frec[i].v[1] + 1]++; first[pl->pool.frec[i].v[2] + 1]++;
         }
     for (v = 0; v < nv; v++) first[v + 1] += first[v];
     /* fill: first[v] runs to the end of v's list, which is then where v + 1's begins */
     for (i = 0; i < pl->pool.nfrec; i++)
-        if (pl->pool.frec[i].v[0] != NONE) {
+        if (pl->pool.frec[i].v[0] != NONE && !(pl->pool.frec[i].flags & FREC_DOUBLE)) {
             int k;
             for (k = 0; k < 3; k++) list[first[pl->pool.frec[i].v[k]]++] = i;
         }
@@ -157,7 +261,14 @@ static int refine_at_pinches(vp_planner_t *pl)
             if (f->flags & FREC_STUCK) continue;
             if (best == NONE || f->r > pl->pool.frec[best].r) best = list[i];
         }
-        if (best == NONE || pl->pool.frec[best].heap != NONE || !(pl->pool.frec[best].r > floor)) continue;
+        if (best != NONE && pl->pool.frec[best].heap != NONE) continue;
+        if (best == NONE || !(pl->pool.frec[best].r > floor)) {
+            /* at the floor: cut (one vertex per pass, the lists above go stale) */
+            int st;
+            if (refined > 0 || (st = cut_star(pl, v)) == 0) continue;
+            if (st > 0) pl->close.mark = 0;
+            return st;
+        }
         VP_TRY(vp_pl_heap_push(pl, best));
         refined++;
     }
@@ -175,7 +286,7 @@ VP_PL_API int vp_pl_close_holes(vp_planner_t *pl, int refine_only)
     for (i = 0; i < pl->pool.nfrec; i++) {
         const vp_frec_t *f = &pl->pool.frec[i];
         int e;
-        if (f->v[0] == NONE) continue;
+        if (f->v[0] == NONE || (f->flags & FREC_DOUBLE)) continue;
         for (e = 0; e < 3; e++) {
             uint32_t a = f->v[e], b = f->v[(e + 1) % 3], h;
             if (a > b) { uint32_t t = a; a = b; b = t; }
@@ -206,6 +317,11 @@ VP_PL_API int vp_pl_close_holes(vp_planner_t *pl, int refine_only)
          * detect_access below probes every edge of every active vertex */
         int r = refine_at_edges(pl, tab, slots);
         if (r != 0) return r;
+        if ((r = cut_fins(pl, tab, slots)) != 0) {
+            if (r < 0) return r;
+            pl->close.mark = 0; /* count the edges again */
+            return r;
+        }
     }
     if (holes > 0 && pushed == 0 && !pl->close.exhaustive) {
         /* no active vertex next to the holes: detect_access in full from every active vertex
@@ -235,7 +351,7 @@ static int mesh_encloses(const vp_planner_t *pl, const double *o)
         const vp_frec_t *f = &pl->pool.frec[i];
         const double *a, *b, *c;
         double e1[3], e2[3], p[3], q[3], t[3], det, u, v, w;
-        if (f->v[0] == NONE) continue;
+        if (f->v[0] == NONE || (f->flags & FREC_DOUBLE)) continue;
         a = vp_dt_point(&pl->dt, f->v[0]);
         b = vp_dt_point(&pl->dt, f->v[1]);
         c = vp_dt_point(&pl->dt, f->v[2]);

@@ -551,17 +551,18 @@ static int facet_too_sharp(const vp_planner_t *pl, const uint32_t *v)
 
 /* Adds facet fv (any order) with ball centre c; `outside` is a point on the probe's side, so
  * the facet is stored facing it. A facet already known keeps its first ball. */
-VP_PL_API int vp_pl_frec_add(vp_planner_t *pl, const uint32_t *fv, const double *c, const double *outside,
-                             uint32_t tet, uint32_t proof, uint32_t *out)
+/* The record of facet fv (any order) with ball centre c, stored facing `outside`, not rated;
+ * *found = 1 when the facet has one already (it keeps its first ball). */
+static int frec_insert(vp_planner_t *pl, const uint32_t *fv, const double *c, const double *outside,
+                       uint32_t tet, uint32_t proof, uint32_t *out, int *found)
 {
     uint32_t v[3], k, h;
-    int found;
     vp_frec_t *f;
     const double *a;
     v[0] = fv[0]; v[1] = fv[1]; v[2] = fv[2];
     sort3(v);
-    h = fhash_find(pl, v, &found);
-    if (found) { *out = pl->pool.fhash[h]; return VP_OK; }
+    h = fhash_find(pl, v, found);
+    if (*found) { *out = pl->pool.fhash[h]; return VP_OK; }
     if (pl->pool.frec_free != NONE) {
         k = pl->pool.frec_free;
         pl->pool.frec_free = pl->pool.frec[k].v[1];
@@ -578,13 +579,41 @@ VP_PL_API int vp_pl_frec_add(vp_planner_t *pl, const uint32_t *fv, const double 
     f->c[0] = c[0]; f->c[1] = c[1]; f->c[2] = c[2];
     a = vp_dt_point(&pl->dt, v[0]);
     f->r = vp_dist3(c, a);
+    f->key = f->r;
     if (vp_orient3d(a, vp_dt_point(&pl->dt, v[1]), vp_dt_point(&pl->dt, v[2]), outside) < 0)
         f->flags |= FREC_FLIP;
     if (pl->pool.fhash[h] == HASH_TOMB && pl->pool.ntomb > 0) pl->pool.ntomb--;
     pl->pool.fhash[h] = k;
     pl->pool.nfacets++;
     *out = k;
-    if (facet_rate(pl, f) || facet_too_sharp(pl, v)) return vp_pl_heap_push(pl, k);
+    return VP_OK;
+}
+
+/* Adds facet fv (any order) with ball centre c; `outside` is a point on the probe's side, so
+ * the facet is stored facing it. A facet already known keeps its first ball. */
+VP_PL_API int vp_pl_frec_add(vp_planner_t *pl, const uint32_t *fv, const double *c, const double *outside,
+                             uint32_t tet, uint32_t proof, uint32_t *out)
+{
+    int found, st = frec_insert(pl, fv, c, outside, tet, proof, out, &found);
+    if (st != VP_OK || found) return st;
+    if (facet_rate(pl, &pl->pool.frec[*out]) || facet_too_sharp(pl, pl->pool.frec[*out].v)) return vp_pl_heap_push(pl, *out);
+    return VP_OK;
+}
+
+/* A facet of a tet cut off at a pinch (close.c): its ball is its circumball (no probe found
+ * it), and it is never rated nor refined: its centre is not a point of S. The scratch
+ * (pool.astar) is left alone: the closing pass holds its edge table there. */
+VP_PL_API int vp_pl_frec_add_cut(vp_planner_t *pl, const uint32_t *fv, const double *outside, uint32_t tet, uint32_t *out)
+{
+    double m[3];
+    int k, st;
+    if (!vp_pl_facet_circumcenter(pl, fv, m))
+        for (k = 0; k < 3; k++)
+            m[k] = (vp_dt_point(&pl->dt, fv[0])[k] + vp_dt_point(&pl->dt, fv[1])[k] + vp_dt_point(&pl->dt, fv[2])[k]) / 3.0;
+    st = frec_insert(pl, fv, m, outside, tet, PROOF_NONE, out, &k);
+    if (st != VP_OK) return st;
+    vp_pl_heap_remove(pl, *out);
+    pl->pool.frec[*out].flags |= FREC_CUT | FREC_STUCK;
     return VP_OK;
 }
 

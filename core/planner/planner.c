@@ -518,13 +518,13 @@ int vp_planner_facet(const vp_planner_t *pl, uint32_t i, uint32_t v[3], double *
     const vp_frec_t *f;
     if (i >= pl->pool.nfrec) return 0;
     f = &pl->pool.frec[i];
-    if (f->v[0] == NONE) return 0;
+    if (f->v[0] == NONE || (f->flags & FREC_DOUBLE)) return 0;
     v[0] = f->v[0];
     v[1] = (f->flags & FREC_FLIP) ? f->v[2] : f->v[1];
     v[2] = (f->flags & FREC_FLIP) ? f->v[1] : f->v[2];
     if (radius) *radius = f->r;
     if (center) memcpy(center, f->c, sizeof f->c);
-    return 1;
+    return (f->flags & FREC_CUT) ? 2 : 1;
 }
 
 void vp_planner_get_stats(const vp_planner_t *pl, vp_planner_stats_t *st)

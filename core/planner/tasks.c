@@ -23,7 +23,6 @@
  * makes the tet flat: its Voronoi vertex is at the far end of its side */
 #define FLAT_REL 1e-9
 
-static int facet_circumcenter(const vp_planner_t *pl, const uint32_t *fv, double *m);
 
 /* The parameter of a tet's Voronoi vertex on the line m + s n through its facet's circumcentre
  * (rho2 the facet's squared circumradius, d the tet's fourth vertex on side `side` of n): the
@@ -55,7 +54,7 @@ static int edge_geom_line(const vp_planner_t *pl, uint32_t t, int f, edgegeom_t 
     if (fv[0] == VP_DT_GHOST || fv[1] == VP_DT_GHOST || fv[2] == VP_DT_GHOST) return VP_EINVAL;
     a = vp_dt_point(&pl->dt, fv[0]); b = vp_dt_point(&pl->dt, fv[1]); c = vp_dt_point(&pl->dt, fv[2]);
     vp_sub3(ab, b, a); vp_sub3(ac, c, a); vp_cross3(n, ab, ac);
-    if (!vp_normalize3(n) || !facet_circumcenter(pl, fv, m)) return VP_EDEGEN;
+    if (!vp_normalize3(n) || !vp_pl_facet_circumcenter(pl, fv, m)) return VP_EDEGEN;
     rho2 = vp_dist3(m, a);
     rho2 *= rho2;
     vp_pl_omega_center(&pl->cfg, co);
@@ -202,8 +201,8 @@ static int activate(vp_planner_t *pl, uint32_t t, uint32_t rec)
     return vp_pl_explore(pl, t);
 }
 
-/* the unique point of the facet's plane equidistant from its vertices */
-static int facet_circumcenter(const vp_planner_t *pl, const uint32_t *fv, double *m)
+/* the unique point of the facet's plane equidistant from its vertices; 0 for a flat facet */
+VP_PL_API int vp_pl_facet_circumcenter(const vp_planner_t *pl, const uint32_t *fv, double *m)
 {
     const double *a = vp_dt_point(&pl->dt, fv[0]), *b = vp_dt_point(&pl->dt, fv[1]),
                  *c = vp_dt_point(&pl->dt, fv[2]);
@@ -228,7 +227,7 @@ static int expect_hit(const vp_planner_t *pl, uint32_t t, int f, const double *o
     uint32_t fv[3];
     double m[3], d[3], s;
     vp_dt_facet(&pl->dt, t, f, fv);
-    if (!facet_circumcenter(pl, fv, m)) return 0;
+    if (!vp_pl_facet_circumcenter(pl, fv, m)) return 0;
     vp_sub3(d, m, origin);
     s = vp_dot3(d, dir);
     return s > 0.0 && s < range;
@@ -438,7 +437,7 @@ static int occluded_sample(vp_planner_t *pl, double dist)
     /* only a point near the unseen facet (within eps of its circumcentre: the picking region
      * about the surface Delaunay ball it would have) */
     vp_dt_facet(&pl->dt, pl->probe.task.tet, pl->probe.task.facet, fv);
-    if (fv[0] == VP_DT_GHOST || fv[1] == VP_DT_GHOST || fv[2] == VP_DT_GHOST || !facet_circumcenter(pl, fv, m) ||
+    if (fv[0] == VP_DT_GHOST || fv[1] == VP_DT_GHOST || fv[2] == VP_DT_GHOST || !vp_pl_facet_circumcenter(pl, fv, m) ||
         vp_dist3(m, h) > OCCLUDED_REACH * pl->cfg.eps)
         return VP_OK;
     st = vp_pl_sample_insert(pl, h, pl->probe.task.tet, sp, NULL);

@@ -48,6 +48,7 @@
 #define SIDE_BLOCKED 16u /* not probed again from this end: too close to measure, occluded from
                            dOmega (a device with a body), or degenerate (with SIDE_DEGEN) */
 #define SIDE_DEGEN   32u /* blocked because the edge is degenerate, not because it is unseen */
+#define SIDE_CUT     64u /* on all four sides: an inside tet cut off at a pinch (close.c) */
 
 /* record flags */
 #define REC_OUT 1u       /* on or outside dOmega: joins every other such record outside */
@@ -68,6 +69,8 @@
 #define FREC_FLIP 1u     /* (v0,v1,v2) is oriented inward: swap two for output */
 #define FREC_STUCK 2u    /* its centre could not be inserted: not refined again */
 #define FREC_DOUBLE 4u   /* hit from both ends: the dual edge crosses S twice */
+#define FREC_CUT 8u      /* no probed ball: a facet of a tet cut off at a pinch (close.c); its
+                            ball is its circumball, never refined */
 
 /* VP_PL_PHASES — the planner's state machine, in one place (planner.c runs it).
  *
@@ -314,6 +317,8 @@ VP_PL_API int vp_pl_frec_add(vp_planner_t *pl, const uint32_t *fv, const double 
                              uint32_t tet, uint32_t proof, uint32_t *out);
 VP_PL_API void vp_pl_frec_delete(vp_planner_t *pl, uint32_t k);
 VP_PL_API uint32_t vp_pl_frec_lookup(const vp_planner_t *pl, const uint32_t *fv);
+VP_PL_API int vp_pl_facet_circumcenter(const vp_planner_t *pl, const uint32_t *fv, double *m);
+VP_PL_API int vp_pl_frec_add_cut(vp_planner_t *pl, const uint32_t *fv, const double *outside, uint32_t tet, uint32_t *out);
 VP_PL_API void vp_pl_frec_set_ball(vp_planner_t *pl, uint32_t k, const double *c);
 VP_PL_API void vp_pl_heap_remove(vp_planner_t *pl, uint32_t k);
 VP_PL_API int vp_pl_heap_push(vp_planner_t *pl, uint32_t k);
