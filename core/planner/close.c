@@ -141,6 +141,22 @@ static int cut_tet(vp_planner_t *pl, uint32_t t)
     return 1;
 }
 
+/* Tet t is reached (outside): its cut facets towards cut tets no longer lie between the outside
+ * and the inside, and go. Nothing to do before the first cut. */
+VP_PL_API void vp_pl_cut_reached(vp_planner_t *pl, uint32_t t)
+{
+    const uint32_t *w = vp_dt_tet(&pl->dt, t);
+    int f;
+    if (pl->st.fins_cut == 0) return;
+    for (f = 0; f < 4; f++) {
+        uint32_t fv[3], r;
+        if (!(side_get(pl, w[4 + f] >> 2, 0) & SIDE_CUT) || vp_pl_facet_has_ghost(pl, t, f)) continue;
+        vp_dt_facet(&pl->dt, t, f, fv);
+        r = vp_pl_frec_lookup(pl, fv);
+        if (r != NONE && (pl->pool.frec[r].flags & FREC_CUT)) vp_pl_frec_delete(pl, r);
+    }
+}
+
 /* At every edge with four facets or more (the manifold criterion has nothing left to refine
  * there): one cut, the first tet of its ring that can be. Returns how many, or a status. */
 static int cut_fins(vp_planner_t *pl, const uint32_t *tab, uint32_t slots)

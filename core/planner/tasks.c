@@ -198,6 +198,7 @@ VP_PL_API int vp_pl_explore(vp_planner_t *pl, uint32_t t)
 static int activate(vp_planner_t *pl, uint32_t t, uint32_t rec)
 {
     pay(pl, t)[0] = rec;
+    vp_pl_cut_reached(pl, t);
     return vp_pl_explore(pl, t);
 }
 

@@ -131,6 +131,11 @@ VP_PL_API int vp_pl_after_insert(vp_planner_t *pl, uint32_t pv)
         if (vp_pl_facet_has_ghost(pl, n, jn)) continue;
         vp_dt_facet(&pl->dt, n, jn, fv);
         r = vp_pl_frec_lookup(pl, fv);
+        if (r != NONE && (pl->pool.frec[r].flags & FREC_CUT)) {
+            /* a cut tet's facet (close.c): made again below if U is the cut one */
+            vp_pl_frec_delete(pl, r);
+            r = NONE;
+        }
         if (r != NONE) {
             int dbl = (pl->pool.frec[r].flags & FREC_DOUBLE) != 0;
             memcpy(oldc, pl->pool.frec[r].c, sizeof oldc);
@@ -179,6 +184,11 @@ VP_PL_API int vp_pl_after_insert(vp_planner_t *pl, uint32_t pv)
         }
         side_set(pl, n, jn, sn);
         side_set(pl, U, (int)jj, (side_get(pl, U, (int)jj) & ~SIDE_MASK) | sU);
+        if ((side_get(pl, U, 0) & SIDE_CUT) && pay(pl, n)[0] == NONE && vp_pl_frec_lookup(pl, fv) == NONE) {
+            /* a new inside tet against a cut one: the boundary runs between them */
+            uint32_t cr;
+            VP_TRY(vp_pl_frec_add_cut(pl, fv, vp_dt_point(&pl->dt, vp_dt_tet(&pl->dt, U)[jj]), n, &cr));
+        }
         if (sn == SIDE_FREE) {
             side_free(pl, n, jn, pfree);
             side_free(pl, U, (int)jj, pfree);
@@ -211,6 +221,8 @@ VP_PL_API int vp_pl_after_insert(vp_planner_t *pl, uint32_t pv)
             if (nr != NONE) pay(pl, n)[0] = nr;
         }
     }
+    for (q = 0; q < nc; q++)
+        if (pay(pl, created[q])[0] != NONE) vp_pl_cut_reached(pl, created[q]);
     return explore_cavity(pl, pv, created, nc);
 }
 

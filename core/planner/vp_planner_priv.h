@@ -318,6 +318,7 @@ VP_PL_API int vp_pl_frec_add(vp_planner_t *pl, const uint32_t *fv, const double 
 VP_PL_API void vp_pl_frec_delete(vp_planner_t *pl, uint32_t k);
 VP_PL_API uint32_t vp_pl_frec_lookup(const vp_planner_t *pl, const uint32_t *fv);
 VP_PL_API int vp_pl_facet_circumcenter(const vp_planner_t *pl, const uint32_t *fv, double *m);
+VP_PL_API void vp_pl_cut_reached(vp_planner_t *pl, uint32_t t);
 VP_PL_API int vp_pl_frec_add_cut(vp_planner_t *pl, const uint32_t *fv, const double *outside, uint32_t tet, uint32_t *out);
 VP_PL_API void vp_pl_frec_set_ball(vp_planner_t *pl, uint32_t k, const double *c);
 VP_PL_API void vp_pl_heap_remove(vp_planner_t *pl, uint32_t k);

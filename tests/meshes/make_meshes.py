@@ -283,6 +283,23 @@ def sphere_degenerate():
           "exact midpoint m of an edge ab, the face (m,a,b) has three collinear corners (area 0)", V, F)
 
 
+def wedge():
+    # a knife edge: the triangle (0,0), (1,h), (1,-h) with h = tan 13 degrees (an apex of 26
+    # degrees, dino's sharpest fold), extruded from z = 0 to 0.5; faces turned outward by the
+    # centroid test below
+    h = math.tan(math.radians(13.0))
+    V = [(0, 0, 0), (1, h, 0), (1, -h, 0), (0, 0, 0.5), (1, h, 0.5), (1, -h, 0.5)]
+    T = [(0, 1, 2), (3, 5, 4), (0, 3, 4), (0, 4, 1), (0, 2, 5), (0, 5, 3), (1, 4, 5), (1, 5, 2)]
+    c = [sum(v[k] for v in V) / len(V) for k in range(3)]
+    F = []
+    for a, b, d in T:
+        u = [V[b][k] - V[a][k] for k in range(3)]
+        w = [V[d][k] - V[a][k] for k in range(3)]
+        n = (u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2], u[0] * w[1] - u[1] * w[0])
+        F.append((a, b, d) if sum(n[k] * (V[a][k] - c[k]) for k in range(3)) > 0 else (a, d, b))
+    write("wedge26.off", "a wedge with a knife edge: apex angle 26 degrees along the z axis, 1 deep, 0.5 high", V, F)
+
+
 cube()
 box_half()
 tetra()
@@ -293,3 +310,4 @@ bowtie_gap()
 cylinder()
 cone()
 sphere_degenerate()
+wedge()
