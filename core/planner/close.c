@@ -259,13 +259,13 @@ static int refine_at_pinches(vp_planner_t *pl)
     list = first + nv + 1;
     memset(first, 0, ((size_t)nv + 1u) * sizeof *first);
     for (i = 0; i < pl->pool.nfrec; i++)
-        if (pl->pool.frec[i].v[0] != NONE && !(pl->pool.frec[i].flags & FREC_DOUBLE)) {
+        if (pl->pool.frec[i].v[0] != NONE && !(pl->pool.frec[i].flags & FREC_NOTMESH)) {
             first[pl->pool.frec[i].v[0] + 1]++; first[pl->pool.frec[i].v[1] + 1]++; first[pl->pool.frec[i].v[2] + 1]++;
         }
     for (v = 0; v < nv; v++) first[v + 1] += first[v];
     /* fill: first[v] runs to the end of v's list, which is then where v + 1's begins */
     for (i = 0; i < pl->pool.nfrec; i++)
-        if (pl->pool.frec[i].v[0] != NONE && !(pl->pool.frec[i].flags & FREC_DOUBLE)) {
+        if (pl->pool.frec[i].v[0] != NONE && !(pl->pool.frec[i].flags & FREC_NOTMESH)) {
             int k;
             for (k = 0; k < 3; k++) list[first[pl->pool.frec[i].v[k]]++] = i;
         }
@@ -292,17 +292,38 @@ static int refine_at_pinches(vp_planner_t *pl)
     return (int)refined;
 }
 
+/* Parity for the facets hit once: a facet whose both tets are outside (reached, or cut) is not
+ * on the boundary of the inside, like one hit from both ends; it is one whose other end was
+ * reached another way (an edge between two known-free ends is not probed). Marked afresh at
+ * every closing pass (FREC_OUTOUT), which is also where the mesh is read at the end. */
+static void mark_outside_pairs(vp_planner_t *pl)
+{
+    uint32_t k;
+    for (k = 0; k < pl->pool.nfrec; k++) {
+        vp_frec_t *f = &pl->pool.frec[k];
+        uint32_t t;
+        int fi;
+        if (f->v[0] == NONE) continue;
+        f->flags &= ~FREC_OUTOUT;
+        if (f->flags & FREC_DOUBLE) continue;
+        t = vp_pl_find_facet(pl, f->v, &fi, 0);
+        if (t != NONE && tet_outside(pl, t) && tet_outside(pl, vp_dt_tet(&pl->dt, t)[4 + fi] >> 2))
+            f->flags |= FREC_OUTOUT;
+    }
+}
+
 VP_PL_API int vp_pl_close_holes(vp_planner_t *pl, int refine_only)
 {
     /* edge counts in a scratch hash: 3 words per slot (a, b, count) */
     uint32_t slots = 1, i, *tab = pl->pool.astar, pushed = 0, holes = 0;
+    mark_outside_pairs(pl);
     while (slots < 4u * pl->pool.nfacets + 16u) slots <<= 1;
     if (3u * slots > pl->pool.cap_astar) return 0; /* too big to check here: left to certify */
     for (i = 0; i < 3u * slots; i++) tab[i] = NONE;
     for (i = 0; i < pl->pool.nfrec; i++) {
         const vp_frec_t *f = &pl->pool.frec[i];
         int e;
-        if (f->v[0] == NONE || (f->flags & FREC_DOUBLE)) continue;
+        if (f->v[0] == NONE || (f->flags & FREC_NOTMESH)) continue;
         for (e = 0; e < 3; e++) {
             uint32_t a = f->v[e], b = f->v[(e + 1) % 3], h;
             if (a > b) { uint32_t t = a; a = b; b = t; }
@@ -367,7 +388,7 @@ static int mesh_encloses(const vp_planner_t *pl, const double *o)
         const vp_frec_t *f = &pl->pool.frec[i];
         const double *a, *b, *c;
         double e1[3], e2[3], p[3], q[3], t[3], det, u, v, w;
-        if (f->v[0] == NONE || (f->flags & FREC_DOUBLE)) continue;
+        if (f->v[0] == NONE || (f->flags & FREC_NOTMESH)) continue;
         a = vp_dt_point(&pl->dt, f->v[0]);
         b = vp_dt_point(&pl->dt, f->v[1]);
         c = vp_dt_point(&pl->dt, f->v[2]);

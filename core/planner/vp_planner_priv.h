@@ -71,6 +71,8 @@
 #define FREC_DOUBLE 4u   /* hit from both ends: the dual edge crosses S twice */
 #define FREC_CUT 8u      /* no probed ball: a facet of a tet cut off at a pinch (close.c); its
                             ball is its circumball, never refined */
+#define FREC_OUTOUT 16u  /* both its tets outside at the last closing pass (close.c) */
+#define FREC_NOTMESH (FREC_DOUBLE | FREC_OUTOUT) /* between two outside tets: not in the mesh */
 
 /* VP_PL_PHASES — the planner's state machine, in one place (planner.c runs it).
  *
