@@ -107,8 +107,8 @@ typedef struct vp_planner_stats {
     uint64_t unproven;         /* segments an inference took for free that no probe covers:
                                   never added to the free graph */
     uint64_t manifold_refinements; /* facets refined because an edge had not two facets */
-    uint64_t fins_cut;         /* tets of the inside cut off at an edge where it touched itself
-                                  below the manifold floor (a fin's tip; close.c) */
+    uint64_t fins_cut;         /* tets of the inside cut off where it touched itself (at an edge
+                                  or a vertex) below the manifold floor (a fin's tip; close.c) */
     uint64_t stalls;           /* steps that made no progress (bounded: see VP_ESTALL) */
     uint64_t contacts;         /* moves the head's contact switch stopped (vp_planner_touch) */
     uint64_t revoked;          /* proofs of free space a contact showed false */

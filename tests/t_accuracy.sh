@@ -76,12 +76,12 @@ for c in sphere:0.01:0 torus:0.01:1 off:tests/meshes/cube.off:0.005:0 off:tests/
   "$VP" log verify "$tmp/$n.vplog" >"$tmp/$n.verify" 2>&1 || { bad "$n: log verify failed"; tail -3 "$tmp/$n.verify"; }
   case $n in
     wedge26) fc=$(field "$tmp/$n.txt" fins_cut)
-                  [ "${fc:-0}" -gt 0 ] ||
-                    bad "$n: the knife edge closed without a cut (fins_cut ${fc:-none}): this run no longer tests cuts"
-                  # certify says which balls are not probed points: the cut tets' facets
-                  "$VP" certify "$tmp/$n.vplog" >"$tmp/$n.cert" 2>&1
-                  grep -q "H1 .*holds" "$tmp/$n.cert" && grep -q "except [0-9]* facet(s) of tets cut off" "$tmp/$n.cert" ||
-                    { bad "$n: certify does not hold H1 or does not name the cut facets"; grep -E "H1|except" "$tmp/$n.cert"; };;
+             [ "${fc:-0}" -gt 0 ] ||
+               bad "$n: the knife edge closed without a cut (fins_cut ${fc:-none}): this run no longer tests cuts"
+             # certify says which balls are not probed points: the cut tets' facets
+             "$VP" certify "$tmp/$n.vplog" >"$tmp/$n.cert" 2>&1
+             grep -q "H1 .*holds" "$tmp/$n.cert" && grep -q "except [0-9]* facet(s) of tets cut off" "$tmp/$n.cert" ||
+               { bad "$n: certify does not hold H1 or does not name the cut facets"; grep -E "H1|except" "$tmp/$n.cert"; };;
   esac
   summary="$summary $n:${v}v,H/T=$(awk -v h="$h" -v t="$t" 'BEGIN { printf "%.2f", h / t }'),cgal=$(awk -v h="$hc" -v t="$t" 'BEGIN { if (h == "-") print "-"; else printf "%.2f", h / t }')"
 done

@@ -259,13 +259,13 @@ static int refine_at_pinches(vp_planner_t *pl)
     list = first + nv + 1;
     memset(first, 0, ((size_t)nv + 1u) * sizeof *first);
     for (i = 0; i < pl->pool.nfrec; i++)
-        if (pl->pool.frec[i].v[0] != NONE && !(pl->pool.frec[i].flags & FREC_NOTMESH)) {
+        if (frec_in_mesh(&pl->pool.frec[i])) {
             first[pl->pool.frec[i].v[0] + 1]++; first[pl->pool.frec[i].v[1] + 1]++; first[pl->pool.frec[i].v[2] + 1]++;
         }
     for (v = 0; v < nv; v++) first[v + 1] += first[v];
     /* fill: first[v] runs to the end of v's list, which is then where v + 1's begins */
     for (i = 0; i < pl->pool.nfrec; i++)
-        if (pl->pool.frec[i].v[0] != NONE && !(pl->pool.frec[i].flags & FREC_NOTMESH)) {
+        if (frec_in_mesh(&pl->pool.frec[i])) {
             int k;
             for (k = 0; k < 3; k++) list[first[pl->pool.frec[i].v[k]]++] = i;
         }
@@ -316,14 +316,15 @@ VP_PL_API int vp_pl_close_holes(vp_planner_t *pl, int refine_only)
 {
     /* edge counts in a scratch hash: 3 words per slot (a, b, count) */
     uint32_t slots = 1, i, *tab = pl->pool.astar, pushed = 0, holes = 0;
-    mark_outside_pairs(pl);
+    /* refine_only follows a full pass with nothing probed, inserted or cut since: the marks hold */
+    if (!refine_only) mark_outside_pairs(pl);
     while (slots < 4u * pl->pool.nfacets + 16u) slots <<= 1;
     if (3u * slots > pl->pool.cap_astar) return 0; /* too big to check here: left to certify */
     for (i = 0; i < 3u * slots; i++) tab[i] = NONE;
     for (i = 0; i < pl->pool.nfrec; i++) {
         const vp_frec_t *f = &pl->pool.frec[i];
         int e;
-        if (f->v[0] == NONE || (f->flags & FREC_NOTMESH)) continue;
+        if (!frec_in_mesh(f)) continue;
         for (e = 0; e < 3; e++) {
             uint32_t a = f->v[e], b = f->v[(e + 1) % 3], h;
             if (a > b) { uint32_t t = a; a = b; b = t; }
@@ -388,7 +389,7 @@ static int mesh_encloses(const vp_planner_t *pl, const double *o)
         const vp_frec_t *f = &pl->pool.frec[i];
         const double *a, *b, *c;
         double e1[3], e2[3], p[3], q[3], t[3], det, u, v, w;
-        if (f->v[0] == NONE || (f->flags & FREC_NOTMESH)) continue;
+        if (!frec_in_mesh(f)) continue;
         a = vp_dt_point(&pl->dt, f->v[0]);
         b = vp_dt_point(&pl->dt, f->v[1]);
         c = vp_dt_point(&pl->dt, f->v[2]);

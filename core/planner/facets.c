@@ -549,8 +549,6 @@ static int facet_too_sharp(const vp_planner_t *pl, const uint32_t *v)
     return lmin < 2.0 * r * pl->sin_angle;
 }
 
-/* Adds facet fv (any order) with ball centre c; `outside` is a point on the probe's side, so
- * the facet is stored facing it. A facet already known keeps its first ball. */
 /* The record of facet fv (any order) with ball centre c, stored facing `outside`, not rated;
  * *found = 1 when the facet has one already (it keeps its first ball). */
 static int frec_insert(vp_planner_t *pl, const uint32_t *fv, const double *c, const double *outside,

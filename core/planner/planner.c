@@ -518,7 +518,7 @@ int vp_planner_facet(const vp_planner_t *pl, uint32_t i, uint32_t v[3], double *
     const vp_frec_t *f;
     if (i >= pl->pool.nfrec) return 0;
     f = &pl->pool.frec[i];
-    if (f->v[0] == NONE || (f->flags & FREC_NOTMESH)) return 0;
+    if (!frec_in_mesh(f)) return 0;
     v[0] = f->v[0];
     v[1] = (f->flags & FREC_FLIP) ? f->v[2] : f->v[1];
     v[2] = (f->flags & FREC_FLIP) ? f->v[1] : f->v[2];

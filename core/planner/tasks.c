@@ -23,7 +23,6 @@
  * makes the tet flat: its Voronoi vertex is at the far end of its side */
 #define FLAT_REL 1e-9
 
-
 /* The parameter of a tet's Voronoi vertex on the line m + s n through its facet's circumcentre
  * (rho2 the facet's squared circumradius, d the tet's fourth vertex on side `side` of n): the
  * point equidistant from d and the facet's vertices; a flat tet's goes to the far end. */

@@ -256,6 +256,8 @@ static inline void side_set(vp_planner_t *pl, uint32_t t, int f, unsigned s)
     *w = (*w & ~(0xFFu << (8 * f))) | ((uint32_t)(s & 0xFFu) << (8 * f));
 }
 static inline int tet_active(const vp_planner_t *pl, uint32_t t) { return tet_rec(pl, t) != NONE; }
+/* 1 if facet record f is a facet of the mesh: live, and between the outside and the inside */
+static inline int frec_in_mesh(const vp_frec_t *f) { return f->v[0] != NONE && !(f->flags & FREC_NOTMESH); }
 /* side f of t (its whole Voronoi edge) proven free by `proof`; other flags kept */
 static inline void side_free(vp_planner_t *pl, uint32_t t, int f, uint32_t proof)
 {
