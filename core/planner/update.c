@@ -181,6 +181,10 @@ VP_PL_API int vp_pl_after_insert(vp_planner_t *pl, uint32_t pv)
             }
         } else if (r != NONE) {
             sn = sU = SIDE_UNKNOWN;
+        } else if (sU == SIDE_HIT || sU == SIDE_BEHIND) {
+            /* a hit whose record went with a cut (close.c), the cut tet now in the cavity: the
+             * facet is between U and a new tet again and is probed again */
+            sU = SIDE_UNKNOWN;
         }
         side_set(pl, n, jn, sn);
         side_set(pl, U, (int)jj, (side_get(pl, U, (int)jj) & ~SIDE_MASK) | sU);
