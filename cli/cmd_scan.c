@@ -864,6 +864,12 @@ static int scan_report(scan_job_t *j)
                    "closing %.0f s (%lu); %.1f s per vertex%s\n", j->dev.stage_s[VP_STAGE_SEED], j->dev.stage_cmds[VP_STAGE_SEED],
                    j->dev.stage_s[VP_STAGE_REFINE], j->dev.stage_cmds[VP_STAGE_REFINE], j->dev.stage_s[VP_STAGE_CLOSE],
                    j->dev.stage_cmds[VP_STAGE_CLOSE], j->mesh.nv ? mt / (double)j->mesh.nv : 0.0, j->o.dry ? " (simulated)" : "");
+            printf("machine time by motion: moves %.0f s (%lu, %.2f s each), aims %.0f s, settling %.0f s, frames and "
+                   "reading %.0f s (%.2f s per probe for the three)%s\n", 1e-9 * (double)m->st.move_ns, m->st.moves,
+                   m->st.moves ? 1e-9 * (double)m->st.move_ns / (double)m->st.moves : 0.0, 1e-9 * (double)m->st.aim_ns,
+                   1e-9 * (double)m->st.settle_ns, 1e-9 * (double)m->st.read_ns,
+                   m->st.probes ? 1e-9 * (double)(m->st.aim_ns + m->st.settle_ns + m->st.read_ns) / (double)m->st.probes : 0.0,
+                   j->o.dry ? " (simulated)" : "");
             if (j->dev.unreadable) {
                 char why[300];
                 vp_scan_unreadable_text(&j->dev, why, sizeof why);
@@ -954,6 +960,9 @@ static int scan_report(scan_job_t *j)
             printf(",\"machine_s_seed\":%.1f,\"machine_s_refine\":%.1f,\"machine_s_close\":%.1f,\"machine_s_per_vertex\":%.2f",
                    j->dev.stage_s[VP_STAGE_SEED], j->dev.stage_s[VP_STAGE_REFINE], j->dev.stage_s[VP_STAGE_CLOSE],
                    j->mesh.nv ? mt / (double)j->mesh.nv : 0.0);
+            printf(",\"machine_s_moves\":%.1f,\"machine_s_aims\":%.1f,\"machine_s_settle\":%.1f,\"machine_s_read\":%.1f",
+                   1e-9 * (double)m->st.move_ns, 1e-9 * (double)m->st.aim_ns, 1e-9 * (double)m->st.settle_ns,
+                   1e-9 * (double)m->st.read_ns);
             if (j->o.rescan || j->rescans > 0)
                 printf(",\"rescan\":{\"probes\":%llu,\"old_probes\":%llu,\"kept\":%llu,\"skipped\":%llu,\"dropped\":%llu,"
                        "\"moved\":%llu,\"unseen\":%llu,\"normal\":%llu,\"reproved\":%llu,\"blocked\":%llu}", (unsigned long long)(ps.probes - j->before.probes),

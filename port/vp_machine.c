@@ -547,7 +547,7 @@ int vp_machine_ray(const vp_machine_t *m, unsigned i, double dir[3], double *dis
     return 1;
 }
 
-int vp_machine_probe(vp_machine_t *m, const vp_cmd_t *cmd, vp_probe_result_t *res)
+static int vp_machine_probe_do(vp_machine_t *m, const vp_cmd_t *cmd, vp_probe_result_t *res)
 {
     double target[VP_KIN_JOINTS], o0[3], d[3], dist = 0;
     vp_frame_t f;
@@ -562,13 +562,16 @@ int vp_machine_probe(vp_machine_t *m, const vp_cmd_t *cmd, vp_probe_result_t *re
     n = vp_kin_aim_path(&m->kin, m->j, target, m->way, VP_MACHINE_MAX_WAY);
     if (n < 0) return n;
     vp_machine_beam(m, o0, d);
+    t0 = m->io.now(m->io.ctx);
     rc = vp_step_move_path(&m->step, &m->way[0][0], n);
     vp_machine_sync(m);
     if (rc < 0) return rc;
     vp_machine_beam(m, m->last.origin, m->last.dir);
     m->st.travel += vp_dist3(o0, m->last.origin);
+    m->st.aim_ns += m->io.now(m->io.ctx) - t0;
     t0 = m->io.now(m->io.ctx);
     if (m->cfg.settle_ns) m->io.wait_until(m->io.ctx, t0 + m->cfg.settle_ns);
+    m->st.settle_ns += m->io.now(m->io.ctx) - t0;
     m->nline = m->nrays = 0;
     if (m->cfg.line) {
         /* a line laser: the distance along the beam as the full model gives it (span, near) */
@@ -692,11 +695,30 @@ vp_reading_t vp_machine_reading(const vp_machine_t *m, const vp_cmd_t *cmd, int 
     return kind;
 }
 
+/* A probe: what the aim and the settle took is counted inside, the rest is reading. */
+int vp_machine_probe(vp_machine_t *m, const vp_cmd_t *cmd, vp_probe_result_t *res)
+{
+    int64_t t0, before;
+    int rc;
+    if (!m) return VP_EINVAL;
+    t0 = m->io.now(m->io.ctx);
+    before = m->st.aim_ns + m->st.settle_ns;
+    rc = vp_machine_probe_do(m, cmd, res);
+    m->st.read_ns += m->io.now(m->io.ctx) - t0 - (m->st.aim_ns + m->st.settle_ns - before);
+    return rc;
+}
+
 int vp_machine_exec(vp_machine_t *m, const vp_cmd_t *cmd, vp_probe_result_t *res)
 {
+    int64_t t0;
+    int rc;
     if (!m || !cmd) return VP_EINVAL;
     switch (cmd->kind) {
-    case VP_CMD_MOVE: return vp_machine_move(m, cmd);
+    case VP_CMD_MOVE:
+        t0 = m->io.now(m->io.ctx);
+        rc = vp_machine_move(m, cmd);
+        m->st.move_ns += m->io.now(m->io.ctx) - t0;
+        return rc;
     case VP_CMD_PROBE: return vp_machine_probe(m, cmd, res);
     case VP_CMD_DONE: return VP_OK;
     default: return VP_EINVAL;

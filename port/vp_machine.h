@@ -53,6 +53,8 @@ typedef struct vp_machine_stats {
     unsigned long line_points;        /* a line laser: points read (every column), and of them */
     unsigned long line_rays;          /* reported as rays (within the calibrated span) */
     unsigned long line_gaps;          /* probes whose axis fell in a gap of the line: unreadable */
+    int64_t move_ns, aim_ns, settle_ns, read_ns; /* machine time by motion (the io clock): MOVEs;
+                                         a PROBE's aim, its settle, its frames and their reading */
 } vp_machine_stats_t;
 
 /* Why a probe's frames were refused (VP_EIO, nothing read from them). */

@@ -31,6 +31,13 @@ awk -v t="$(field "$tmp/r.txt" machine_s)" -v a="$(field "$tmp/r.txt" machine_s_
     -v c="$(field "$tmp/r.txt" machine_s_close)" -v p="$(field "$tmp/r.txt" machine_s_per_vertex)" -v n="$(field "$tmp/r.txt" vertices)" \
     'BEGIN { d = a + b + c - t; q = t / n - p; exit !(t > 0 && d < 0.25 && d > -0.25 && q < 0.01 && q > -0.01) }' ||
   bad "dry run: machine time by stage does not add up ($(tail -n 1 "$tmp/r.txt" | cut -c1-200))"
+# and by motion: moves, aims, settling and reading add up to it too, every part spent but the
+# settling, which is the board's settle_ms per probe
+awk -v t="$(field "$tmp/r.txt" machine_s)" -v a="$(field "$tmp/r.txt" machine_s_moves)" -v b="$(field "$tmp/r.txt" machine_s_aims)" \
+    -v c="$(field "$tmp/r.txt" machine_s_settle)" -v r="$(field "$tmp/r.txt" machine_s_read)" -v n="$(field "$tmp/r.txt" probes)" \
+    -v ms="$(sed -n 's/^settle_ms *= *\([0-9.]*\).*/\1/p' $BOARD)" \
+    'BEGIN { d = a + b + c + r - t; e = c - n * ms / 1000; exit !(a > 0 && b > 0 && r > 0 && d < 0.25 && d > -0.25 && e < 0.06 && e > -0.06) }' ||
+  bad "dry run: machine time by motion does not add up ($(tail -n 1 "$tmp/r.txt" | cut -c1-300))"
 motions=$(field "$tmp/r.txt" head_motions)
 [ "${motions:-0}" -gt 500 ] || bad "dry run: only ${motions:-0} motions checked"
 # the ball rule's premise, from the log alone: no move and no probe puts the laser origin inside

@@ -55,13 +55,20 @@ typedef struct scan_dev {
     scan_out_t *o;
     double se;
     long n;
+    double move_floor;  /* what the MOVEs take at least: each axis at its top speed throughout */
 } scan_dev_t;
 
 static int scan_move(void *ctx, const vp_cmd_t *c, int *collided)
 {
     scan_dev_t *s = ctx;
-    int rc = vp_machine_exec(s->m, c, NULL);
+    int k, rc = vp_machine_exec(s->m, c, NULL);
+    double t = 0;
     (void)collided;
+    for (k = 0; k < 3; k++) {
+        double tk = fabs(c->to[k] - c->from[k]) / s->b->axis[k].ax.max_speed;
+        if (tk > t) t = tk;
+    }
+    s->move_floor += t;
     CHECKF(rc == VP_OK, "command %ld (move): %s", s->n, vp_strerror(rc));
     s->n++;
     return rc;
@@ -107,6 +114,7 @@ static void scan(const char *board, long cap, scan_out_t *o)
     vp_device_ops_t ops;
     vp_run_result_t run;
     long n;
+    int64_t run0;
     clock_t t0 = clock();
     int rc = vp_board_load(board, &b, err, sizeof err);
     memset(o, 0, sizeof *o);
@@ -127,8 +135,21 @@ static void scan(const char *board, long cap, scan_out_t *o)
     ops.probe = scan_probe;
     ops.touched = NULL;
     ops.rays = NULL;
+    run0 = d->rec.now;
     rc = vp_run(pl, &ops, NULL, (unsigned long)cap, &run);
     CHECKF(rc == VP_OK, "scan: %s", vp_strerror(rc));
+    {
+        /* machine time by motion: the four parts add up to the clock over the run, the MOVEs take
+         * at least what their longest axis needs at top speed, and every part is spent */
+        const vp_machine_stats_t *t = &m->st;
+        printf("  machine time by motion: moves %.1f s (at least %.1f), aims %.1f s, settling %.1f s, reading %.1f s; "
+               "the clock %.1f s\n", t->move_ns * 1e-9, sd.move_floor, t->aim_ns * 1e-9, t->settle_ns * 1e-9, t->read_ns * 1e-9,
+               (d->rec.now - run0) * 1e-9);
+        CHECK(t->move_ns + t->aim_ns + t->settle_ns + t->read_ns == d->rec.now - run0);
+        CHECK(t->move_ns * 1e-9 >= sd.move_floor && sd.move_floor > 0);
+        CHECK(t->aim_ns > 0 && t->read_ns >= 0);
+        CHECK(t->settle_ns == (int64_t)llround(b.settle_ms * 1e6) * (int64_t)t->probes);
+    }
     o->done = run.done;
     n = (long)run.commands;
     o->rms = o->hits ? sqrt(sd.se / o->hits) : 0;
