@@ -948,6 +948,16 @@ static int scan_report(scan_job_t *j)
                     if (hd.hausdorff > j->o.accuracy) j->rc = VP_EXIT_NOT_WITHIN_TARGET;
                 }
             }
+            {
+                /* the object is known here: a closed mesh of another genus or with other parts is
+                 * a wrong answer, said so */
+                int g = vp_surface_genus(j->dev.dr->surf), nc = vp_surface_components(j->dev.dr->surf);
+                if (j->rc == 0 && have_mc && mc.closed_manifold && g >= 0 && (mc.genus != g || mc.components != nc)) {
+                    printf("dry run: the mesh has genus %d in %d component(s), the object genus %d in %d: wrong topology\n",
+                           mc.genus, mc.components, g, nc);
+                    j->rc = VP_EXIT_WRONG_TOPOLOGY;
+                }
+            }
             printf("dry run: %d frames rendered, %.1f s wall\n", (int)m->st.frames, vp_rt_seconds() - j->wall0);
         }
         printf("wrote %s.ply and %s.off\n", j->prefix, j->prefix);

@@ -128,7 +128,8 @@ static void sim_usage(FILE *f)
         "around every component), 1 error (the scan stopped; the mesh so far is written), 2 usage,\n"
         "3 stopped (--stop-after, Ctrl-C or SIGTERM: a PAUSE event, resumable), 4 not_closed (DONE but\n"
         "the mesh is open or misses a component: run certify), 5 collision (a move touched the object),\n"
-        "6 not_within_target (closed, but farther from the object than --accuracy).\n\n"
+        "6 not_within_target (closed, but farther from the object than --accuracy), 7 wrong_topology\n"
+        "(closed, but not with the object's genus or number of components).\n\n"
         "%s\n\n%s\n", vp_surface_help(), vp_motion_help());
 }
 

@@ -8,6 +8,7 @@ int vp_outcome(const vp_outcome_in_t *in)
     if (in->paused) return VP_EXIT_STOPPED;
     if (in->run_status != VP_OK) return VP_EXIT_ERROR;
     if (!in->closed_manifold || in->missing_components > 0) return VP_EXIT_NOT_CLOSED;
+    if (in->wrong_topology) return VP_EXIT_WRONG_TOPOLOGY;
     if (in->beyond_target) return VP_EXIT_NOT_WITHIN_TARGET;
     return VP_EXIT_CLOSED;
 }
@@ -22,6 +23,7 @@ const char *vp_outcome_name(int exit_status)
     case VP_EXIT_NOT_CLOSED: return "not_closed";
     case VP_EXIT_COLLISION: return "collision";
     case VP_EXIT_NOT_WITHIN_TARGET: return "not_within_target";
+    case VP_EXIT_WRONG_TOPOLOGY: return "wrong_topology";
     default: return "unknown";
     }
 }

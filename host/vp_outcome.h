@@ -10,13 +10,16 @@
  *                 the head's body swept along a move or an aim): the one promise broken
  *   6  not_within_target  closed, but the measured Hausdorff distance is above the accuracy
  *                         target (sim --accuracy: only a simulation can measure it)
+ *   7  wrong_topology     closed, but its genus or number of components is not the object's
+ *                         (only a simulation or a dry run knows the object's)
  */
 #ifndef VP_OUTCOME_H
 #define VP_OUTCOME_H
 
 enum vp_exit {
     VP_EXIT_CLOSED = 0, VP_EXIT_ERROR = 1, VP_EXIT_USAGE = 2, VP_EXIT_STOPPED = 3,
-    VP_EXIT_NOT_CLOSED = 4, VP_EXIT_COLLISION = 5, VP_EXIT_NOT_WITHIN_TARGET = 6
+    VP_EXIT_NOT_CLOSED = 4, VP_EXIT_COLLISION = 5, VP_EXIT_NOT_WITHIN_TARGET = 6,
+    VP_EXIT_WRONG_TOPOLOGY = 7
 };
 
 typedef struct vp_outcome_in {
@@ -26,6 +29,7 @@ typedef struct vp_outcome_in {
     int closed_manifold;    /* the mesh, checked */
     unsigned missing_components;
     int beyond_target;      /* the measured Hausdorff distance exceeds the accuracy target */
+    int wrong_topology;     /* closed, but not with the object's genus and components (known) */
 } vp_outcome_in_t;
 
 int vp_outcome(const vp_outcome_in_t *in);   /* the exit status */

@@ -515,6 +515,16 @@ int vp_sim_finish(vp_sim_t *s, const vp_sim_options_t *o, char *err, size_t errl
     return VP_OK;
 }
 
+/* 1 if the mesh is closed but not with the object's topology: its genus (summed over the
+ * components) or its number of components differs from the object's, where the object's is
+ * known (a mesh file that is no closed oriented manifold has none) */
+int vp_sim_wrong_topology(const vp_sim_t *s)
+{
+    int g = vp_surface_genus(s->surf);
+    if (!s->have_check || !s->check.closed_manifold || g < 0 || s->motion) return 0;
+    return s->check.genus != g || s->check.components != s->components;
+}
+
 int vp_sim_exit(const vp_sim_t *s)
 {
     vp_outcome_in_t in;
@@ -532,6 +542,7 @@ int vp_sim_exit(const vp_sim_t *s)
     if (s->rescan && s->have_check && s->check.components < s->components)
         in.missing_components += (unsigned)(s->components - s->check.components);
     in.beyond_target = s->target > 0 && s->have_haus && s->haus.hausdorff > s->target;
+    in.wrong_topology = vp_sim_wrong_topology(s);
     return vp_outcome(&in);
 }
 
@@ -630,6 +641,8 @@ void vp_sim_report(const vp_sim_t *s, const vp_sim_options_t *o, FILE *f)
                 ex == VP_EXIT_NOT_CLOSED ? ": the mesh is not closed around every component; certify names where" :
                 ex == VP_EXIT_COLLISION ? ": a move touched the object" :
                 ex == VP_EXIT_NOT_WITHIN_TARGET ? ": the mesh is farther from the object than the accuracy target" :
+                ex == VP_EXIT_WRONG_TOPOLOGY ? ": the mesh is closed, but its genus or components are not the object's (a "
+                                               "handle through a part thinner than the samples' spacing, or parts joined or split)" :
                 ex == VP_EXIT_ERROR ? ": the scan stopped on an error; the mesh so far is written" : "");
     }
     if (o->json) {

@@ -106,8 +106,11 @@ int vp_sim_open(vp_sim_t *s, const vp_sim_options_t *o, char *err, size_t errlen
 int vp_sim_run(vp_sim_t *s, FILE *progress);
 /* Builds the mesh, analyses it, measures Hausdorff and writes PREFIX.ply / PREFIX.off. */
 int vp_sim_finish(vp_sim_t *s, const vp_sim_options_t *o, char *err, size_t errlen);
-/* The exit status of the scan (vp_outcome.h): closed, error, stopped, not_closed, collision. */
+/* The exit status of the scan (vp_outcome.h): closed, error, stopped, not_closed, collision,
+ * not_within_target, wrong_topology. */
 int vp_sim_exit(const vp_sim_t *s);
+/* 1 if the mesh closed with another genus or number of components than the object's. */
+int vp_sim_wrong_topology(const vp_sim_t *s);
 /* Human summary, and with o->json one JSON object as the last line. */
 void vp_sim_report(const vp_sim_t *s, const vp_sim_options_t *o, FILE *f);
 void vp_sim_close(vp_sim_t *s);

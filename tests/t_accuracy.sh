@@ -14,6 +14,8 @@
 #   - the checkers must fail: the same mesh moved by a known amount is measured at least that far;
 #     a pinched edge, a pinched vertex and an open cube are not closed 2-manifolds
 #   - a target the rangefinder's noise cannot meet is caught (exit 6, and the summary says why)
+#   - a mesh that closes with another topology than the object's is caught (exit 7): two spheres
+#     0.1 apart joined into one at a coarse eps (CGAL counts one component)
 #   - misuse is refused (exit 2)
 set -u
 BUILD=${BUILD:-build}
@@ -88,6 +90,20 @@ for c in sphere:0.01:0 torus:0.01:1 off:tests/meshes/cube.off:0.005:0 off:tests/
 done
 "$VP" log dump "$tmp/sphere.vplog" | head -5 | grep -q -- "--accuracy-rel 0.01" || bad "the target is not in the log's note"
 
+# ---- a closed mesh of the wrong topology is said so: two unit spheres 0.1 apart, at an eps three
+# times the gap (far outside the guarantee), close as one joined part (CGAL: one component):
+# exit 7, wrong_topology; at eps 0.1 they close as two (CGAL: two), exit 0
+for c in 0.3:7:wrong_topology:1 0.1:0:closed:2; do
+  e=${c%%:*}; x=${c#*:}; x=${x%%:*}; st=${c#*:*:}; st=${st%%:*}; k=${c##*:}
+  "$VP" sim --surface "sphere+sphere@2.1,0,0" --eps "$e" --out "$tmp/two$e" --json --quiet --no-log >"$tmp/two$e.txt" 2>&1; rc=$?
+  [ $rc -eq "$x" ] && [ "$(field "$tmp/two$e.txt" status)" = "$st" ] ||
+    { bad "two spheres 0.1 apart at eps $e: exit $rc ($x, $st expected)"; tail -2 "$tmp/two$e.txt"; }
+  if [ -x "$CO" ]; then
+    "$CO" topology "$tmp/two$e.off" | grep -q "\"closed\":true,\"components\":$k," ||
+      bad "two spheres at eps $e: CGAL topology: $("$CO" topology "$tmp/two$e.off") ($k components expected)"
+  fi
+done
+
 # ---- a target the noise cannot meet: caught, and said why
 "$VP" sim --surface sphere --accuracy-rel 0.005 --noise 0.01 --out "$tmp/n" >"$tmp/n.txt" 2>&1; rc=$?
 [ $rc -eq 6 ] && grep -q "NOT within" "$tmp/n.txt" && grep -q "noise" "$tmp/n.txt" ||
@@ -102,5 +118,5 @@ done
 "$VP" sim --surface sphere --eps 0.1 --max-distance -1 --out "$tmp/x" >/dev/null 2>&1; rc=$?
 [ $rc -eq 2 ] || bad "--max-distance -1: exit $rc"
 
-[ $fail -eq 0 ] && echo "accuracy: within the target by voroprobe's and CGAL's measures, each a closed 2-manifold of the object's genus to CGAL:$summary; the moved cube measured right, noise beyond the target caught (exit 6), misuse refused${missing:+; NOT measured here (no such file):$missing}"
+[ $fail -eq 0 ] && echo "accuracy: within the target by voroprobe's and CGAL's measures, each a closed 2-manifold of the object's genus to CGAL:$summary; the moved cube measured right, noise beyond the target caught (exit 6), two spheres joined into one caught (exit 7; CGAL: one component), misuse refused${missing:+; NOT measured here (no such file):$missing}"
 exit $fail

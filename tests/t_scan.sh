@@ -5,7 +5,8 @@
 # mesh bytes; a scan stopped by --stop-after (a Ctrl-C raised on purpose), by a real SIGINT,
 # by the e-stop, and twice in a row, resumes to the same mesh bytes; too-close results are
 # logged; calibration on a mis-mounted simulated camera recovers its true model within bound
-# and scan then uses the file; bad boards and missing hardware fail with clear messages.
+# and scan then uses the file; bad boards and missing hardware fail with clear messages; a mesh
+# that closes with another topology than the simulated object's exits 7.
 set -u
 B=${BUILD:-build}
 VP=${VP:-$B/voroprobe}
@@ -185,5 +186,13 @@ grep -q "dry run on host-sim: ellipsoid\*" "$tmp/ns.err" || bad "default object 
 [ $rc -eq 3 ] && grep -q "torus\*" "$tmp/to.err" && grep -q "interior point is not inside the simulated object" "$tmp/to.err" ||
   { bad "--surface torus on sim.ini (exit $rc)"; cat "$tmp/to.err"; }
 
-[ $fail -eq 0 ] && echo "scan dry runs: DONE, replay, 2 pauses, a double pause, SIGINT, e-stop resumed byte-identical; calibration within bound; errors clear"
+# ---- a dry run knows the object: two spheres 0.5 mm apart joined into one closed mesh at eps 10
+# is a wrong answer, said so (exit 7, wrong_topology), not "closed"
+"$VP" scan --board $BOARD --dry-run --surface "sphere*10@190,150,150+sphere*10@210.5,150,150" --eps 10 \
+  --log "$tmp/two.vplog" --out "$tmp/two" $S --json >"$tmp/two.txt" 2>"$tmp/two.err"; rc=$?
+[ $rc -eq 7 ] && grep -q '"status":"wrong_topology"' "$tmp/two.txt" &&
+  grep -q "genus 0 in 1 component(s), the object genus 0 in 2: wrong topology" "$tmp/two.txt" ||
+  { bad "two spheres joined on the dry run: exit $rc"; grep -E "^mesh|wrong" "$tmp/two.txt"; }
+
+[ $fail -eq 0 ] && echo "scan dry runs: DONE, replay, 2 pauses, a double pause, SIGINT, e-stop resumed byte-identical; calibration within bound; two spheres joined caught (exit 7); errors clear"
 exit $fail

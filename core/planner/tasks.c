@@ -77,11 +77,13 @@ VP_PL_API int vp_pl_edge_geom(const vp_planner_t *pl, uint32_t t, int f, edgegeo
     int st = vp_dt_voronoi_edge(&pl->dt, t, f, &e), k;
     int tg = vp_dt_is_ghost(&pl->dt, t);
     memset(g, 0, sizeof *g);
-    if (st != VP_OK) return st;
+    /* VP_EDEGEN: a tet of the edge is flat to the last bit (no float circumcentre at all): as
+     * a far one, its Voronoi vertex is at the far end of its side of the facet's line */
+    if (st != VP_OK && st != VP_EDEGEN) return st;
     {
         double co[3], big = FAR_VERTEX_REL * (vp_pl_omega_circumradius(&pl->cfg) + 1.0);
         vp_pl_omega_center(&pl->cfg, co);
-        if (vp_dist3(e.from, co) > big || (!e.is_ray && vp_dist3(e.to, co) > big)) {
+        if (st == VP_EDEGEN || vp_dist3(e.from, co) > big || (!e.is_ray && vp_dist3(e.to, co) > big)) {
             if (!tg) return edge_geom_line(pl, t, f, g);
             /* a ghost tet: the finite side's edge, walked the other way */
             {
