@@ -106,13 +106,65 @@ static int refine_at_edges(vp_planner_t *pl, const uint32_t *tab, uint32_t slots
  * one inside tet of the ring is taken as outside (SIDE_CUT): its facets towards the outside go,
  * its facets towards the inside come in as facets without a probed ball (FREC_CUT: the facet's
  * circumcentre, never refined). Only a tet whose facets that go are hits with balls of at most
- * CUT_BALL floors: the surface moves by no more than those. Counted (fins_cut). */
+ * CUT_BALL floors (the surface moves by no more than those) and whose removal keeps the topology
+ * of the inside (vp_pl_cut_keeps_topology). Counted (fins_cut). */
 #define CUT_BALL 4.0
 /* the refine-only round cuts at fins only when at most this many edges are still odd */
 #define LAST_HOLES 4u
 static int tet_outside(const vp_planner_t *pl, uint32_t t)
 {
     return tet_active(pl, t) || (side_get(pl, t, 0) & SIDE_CUT);
+}
+
+#define STAR_MAX 128 /* tets of a vertex's star looked at, at most */
+
+/* a tet of the inside: neither reached, nor cut, nor a ghost (the outside at infinity) */
+static int tet_inside(const vp_planner_t *pl, uint32_t t)
+{
+    return !vp_dt_is_ghost(&pl->dt, t) && !tet_outside(pl, t);
+}
+
+/* 1 if taking inside tet t out keeps the topology of the inside: the part of t's boundary that
+ * the rest of the inside holds (its facets, edges and vertices in another inside tet) is not
+ * empty, is connected and has Euler characteristic 1 (a disk or a tree on the sphere that is
+ * t's boundary: contractible, so the inside without t is a deformation retract of it). Taking
+ * out a tet held along a loop would punch a tunnel (a handle too many), one held all round
+ * would leave a cavity, one held at two places apart would cut the inside in two. */
+VP_PL_API int vp_pl_cut_keeps_topology(const vp_planner_t *pl, uint32_t t)
+{
+    const uint32_t *w = vp_dt_tet(&pl->dt, t);
+    uint32_t star[STAR_MAX], root[4];
+    int held_v[4], held_e[4][4], nv = 0, ne = 0, nf = 0, i, j, k, n, broken = 0, comps = 0;
+    for (i = 0; i < 4; i++) {
+        root[i] = (uint32_t)i;
+        held_v[i] = 0;
+        for (j = 0; j < 4; j++) held_e[i][j] = 0;
+    }
+    for (i = 0; i < 4; i++) {
+        /* facet i (opposite vertex i) */
+        if (tet_inside(pl, w[4 + i] >> 2)) nf++;
+        n = vp_dt_incident_tets(&pl->dt, w[i], star, STAR_MAX);
+        if (n <= 0 || n >= STAR_MAX) return 0; /* too large to look at: not cut */
+        for (k = 0; k < n && !held_v[i]; k++) held_v[i] = star[k] != t && tet_inside(pl, star[k]);
+        nv += held_v[i];
+    }
+    for (i = 0; i < 4; i++)
+        for (j = i + 1; j < 4; j++) {
+            ring_t r;
+            if (!held_v[i] || !held_v[j] || !ring_start(pl, &r, t, w[i], w[j])) continue;
+            while (ring_step(pl, &r, &broken))
+                if (tet_inside(pl, r.cur)) { held_e[i][j] = 1; break; }
+            if (broken) return 0;
+            if (held_e[i][j]) {
+                uint32_t a = root[i], b = root[j];
+                while (root[a] != a) a = root[a];
+                while (root[b] != b) b = root[b];
+                root[a] = b;
+                ne++;
+            }
+        }
+    for (i = 0; i < 4; i++) comps += held_v[i] && root[i] == (uint32_t)i;
+    return nv > 0 && comps == 1 && nv - ne + nf == 1;
 }
 
 static int cut_tet(vp_planner_t *pl, uint32_t t)
@@ -130,6 +182,7 @@ static int cut_tet(vp_planner_t *pl, uint32_t t)
         if (r == NONE || (pl->pool.frec[r].flags & FREC_DOUBLE) || !(pl->pool.frec[r].r <= lim)) return 0;
         recs[nr++] = r;
     }
+    if (!vp_pl_cut_keeps_topology(pl, t)) return 0;
     if (!(pl->pool.nfacets + nin < pl->pool.cap_frec)) return 0;
     for (i = 0; i < nr; i++) vp_pl_frec_delete(pl, recs[i]);
     for (f = 0; f < 4; f++) {
@@ -186,7 +239,6 @@ static int cut_fins(vp_planner_t *pl, const uint32_t *tab, uint32_t slots)
  * the smaller of the inside's parts in the vertex's star (tets joined by facets at the vertex)
  * is cut off, tet by tet (cut_tet). 1 if a tet was cut; 0 when none could be, the star is too
  * large to look at here, or it is the outside that is split there (left to certify). */
-#define STAR_MAX 128
 static int cut_star(vp_planner_t *pl, uint32_t v)
 {
     uint32_t tets[STAR_MAX], comp[STAR_MAX], queue[STAR_MAX], ncomp = 0, best = NONE, bsize = 0, cut = 0, i, k;

@@ -365,6 +365,7 @@ VP_PL_API int vp_pl_check_components(vp_planner_t *pl);
 VP_PL_API void vp_pl_reseed_dir(uint32_t attempt, double *d);
 VP_PL_API int vp_pl_close_holes(vp_planner_t *pl, int refine_only);
 VP_PL_API int vp_pl_reseed_feed(vp_planner_t *pl, const vp_probe_result_t *res);
+VP_PL_API int vp_pl_cut_keeps_topology(const vp_planner_t *pl, uint32_t t);
 
 /* seed.c */
 VP_PL_API double vp_pl_omega_exit(const vp_planner_config_t *c, const double *p, const double *u);

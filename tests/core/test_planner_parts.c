@@ -1,6 +1,7 @@
 /* Parts of the planner alone, through its private header (core/planner/vp_planner_priv.h):
  * the proof check (proof.c), the route outside Omega (route.c), the bad-ball heap and the facet
- * hash (facets.c). Each check comes with a case it must refuse, so that none passes vacuously. */
+ * hash (facets.c), the topology rule of cuts (close.c, against Betti numbers computed here).
+ * Each check comes with a case it must refuse, so that none passes vacuously. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -262,6 +263,140 @@ static void test_facets(void *arena)
     }
 }
 
+/* ---- cut_keeps_topology (close.c) against Betti numbers over GF(2) computed here from scratch:
+ * on random triangulations with random inside tets, taking out a tet the rule lets go never
+ * changes the inside's Betti numbers; the rule must also refuse some tets whose removal does
+ * change them (a rule that let every tet go would fail here) and let some go. */
+#define TOPO_MAX 4096
+typedef struct cplx { uint32_t s[TOPO_MAX][4]; int n; } cplx_t;
+
+static int cplx_find(const cplx_t *c, const uint32_t *s, int k)
+{
+    int i, j;
+    for (i = 0; i < c->n; i++) {
+        for (j = 0; j < k && c->s[i][j] == s[j]; j++) {}
+        if (j == k) return i;
+    }
+    return -1;
+}
+
+static int cplx_add(cplx_t *c, const uint32_t *s, int k)
+{
+    int i = cplx_find(c, s, k), j;
+    if (i >= 0) return i;
+    if (c->n >= TOPO_MAX) return -1;
+    for (j = 0; j < k; j++) c->s[c->n][j] = s[j];
+    return c->n++;
+}
+
+static void sort_ids(uint32_t *s, int k)
+{
+    int i, j;
+    for (i = 1; i < k; i++)
+        for (j = i; j > 0 && s[j - 1] > s[j]; j--) { uint32_t x = s[j]; s[j] = s[j - 1]; s[j - 1] = x; }
+}
+
+/* rank over GF(2) of the boundary map from k-simplices of `hi` to (k-1)-simplices of `lo` */
+static int rank_gf2(const cplx_t *hi, const cplx_t *lo, int k)
+{
+    static uint64_t m[TOPO_MAX][TOPO_MAX / 64];
+    int words = (lo->n + 63) / 64, r, i, j, col, rank = 0;
+    for (r = 0; r < hi->n; r++) {
+        memset(m[r], 0, sizeof m[r]);
+        for (i = 0; i < k + 1; i++) {
+            uint32_t f[4];
+            int n = 0, c;
+            for (j = 0; j < k + 1; j++) if (j != i) f[n++] = hi->s[r][j];
+            c = cplx_find(lo, f, k);
+            if (c >= 0) m[r][c / 64] ^= 1ull << (c % 64);
+        }
+    }
+    for (col = 0; col < lo->n && rank < hi->n; col++) {
+        int piv = -1;
+        for (r = rank; r < hi->n && piv < 0; r++) if (m[r][col / 64] >> (col % 64) & 1) piv = r;
+        if (piv < 0) continue;
+        if (piv != rank) for (j = 0; j < words; j++) { uint64_t x = m[piv][j]; m[piv][j] = m[rank][j]; m[rank][j] = x; }
+        for (r = 0; r < hi->n; r++)
+            if (r != rank && (m[r][col / 64] >> (col % 64) & 1))
+                for (j = 0; j < words; j++) m[r][j] ^= m[rank][j];
+        rank++;
+    }
+    return rank;
+}
+
+/* Betti numbers b0..b2 over GF(2) of the closure of the inside tets other than `skip` */
+static void inside_betti(const vp_planner_t *pl, uint32_t skip, int b[3])
+{
+    static cplx_t c[4];
+    uint32_t t;
+    int k, r1, r2, r3;
+    for (k = 0; k < 4; k++) c[k].n = 0;
+    for (t = 0; t < pl->dt.ntet_slots; t++) {
+        const uint32_t *w;
+        uint32_t s[4];
+        int i, j, l;
+        if (t == skip || !vp_dt_alive(&pl->dt, t) || vp_dt_is_ghost(&pl->dt, t) || tet_active(pl, t)) continue;
+        w = vp_dt_tet(&pl->dt, t);
+        for (i = 0; i < 4; i++) s[i] = w[i];
+        sort_ids(s, 4);
+        cplx_add(&c[3], s, 4);
+        for (i = 0; i < 4; i++) {
+            uint32_t f[3];
+            int n = 0;
+            for (j = 0; j < 4; j++) if (j != i) f[n++] = s[j];
+            cplx_add(&c[2], f, 3);
+            cplx_add(&c[0], &s[i], 1);
+            for (l = i + 1; l < 4; l++) { uint32_t e[2]; e[0] = s[i]; e[1] = s[l]; cplx_add(&c[1], e, 2); }
+        }
+    }
+    r1 = rank_gf2(&c[1], &c[0], 1);
+    r2 = rank_gf2(&c[2], &c[1], 2);
+    r3 = rank_gf2(&c[3], &c[2], 3);
+    b[0] = c[0].n - r1;
+    b[1] = c[1].n - r1 - r2;
+    b[2] = c[2].n - r2 - r3;
+}
+
+static void test_cut_topology(void *arena)
+{
+    static vp_planner_t pl;
+    int round, kept = 0, refused_changing = 0, refused_same = 0;
+    for (round = 0; round < 24; round++) {
+        uint32_t i, t, v;
+        double share = 0.45 + 0.4 * (round % 3) / 2.0, p[3];
+        int b0[3];
+        CHECK(init(&pl, arena, VP_OMEGA_BOX) == VP_OK);
+        for (i = 0; i < 22; i++) {
+            p[0] = urand() - 0.5; p[1] = urand() - 0.5; p[2] = urand() - 0.5;
+            vp_dt_insert(&pl.dt, p, VP_DT_NONE, &v);
+        }
+        /* ghost tets outside (the outside at infinity), finite ones inside with some share */
+        for (t = 0; t < pl.dt.ntet_slots; t++) {
+            uint32_t *w;
+            if (!vp_dt_alive(&pl.dt, t)) continue;
+            w = (uint32_t *)vp_dt_payload(&pl.dt, t);
+            w[0] = vp_dt_is_ghost(&pl.dt, t) || urand() > share ? 0u : NONE;
+            w[1] = 0;
+        }
+        inside_betti(&pl, NONE, b0);
+        for (t = 0; t < pl.dt.ntet_slots; t++) {
+            int b[3], same, keeps;
+            if (!vp_dt_alive(&pl.dt, t) || vp_dt_is_ghost(&pl.dt, t) || tet_active(&pl, t)) continue;
+            inside_betti(&pl, t, b);
+            same = b[0] == b0[0] && b[1] == b0[1] && b[2] == b0[2];
+            keeps = vp_pl_cut_keeps_topology(&pl, t);
+            CHECKF(!keeps || same, "round %d tet %u: let go, but the Betti numbers go from %d %d %d to %d %d %d", round, t,
+                   b0[0], b0[1], b0[2], b[0], b[1], b[2]);
+            kept += keeps;
+            refused_changing += !keeps && !same;
+            refused_same += !keeps && same;
+        }
+    }
+    printf("cut_keeps_topology: %d tets let go (Betti numbers kept, by GF(2) ranks), %d refused that would change them, "
+           "%d refused that would keep them\n", kept, refused_changing, refused_same);
+    CHECK(kept > 100 && refused_changing > 100);
+}
+
 int main(void)
 {
     void *arena = malloc(ARENA);
@@ -270,6 +405,7 @@ int main(void)
     test_outside_route(arena, VP_OMEGA_BOX);
     test_outside_route(arena, VP_OMEGA_BALL);
     test_facets(arena);
+    test_cut_topology(arena);
     free(arena);
     return vp_test_done("test_planner_parts");
 }
