@@ -82,7 +82,8 @@ static void scan_usage(FILE *f)
         "Exit status: 0 DONE (closed mesh), 1 failed or stopped by a fault, 2 usage, 3 paused, 4 DONE but\n"
         "the mesh is not closed (or misses a component), 5 a dry run moved through the object (the laser\n"
         "origin's path, or any part of the head's body swept along a move or an aim: board [head]), 6 a\n"
-        "dry run's mesh farther from the object than --accuracy.\n");
+        "dry run's mesh farther from the object than --accuracy, 7 a dry run's mesh closed with another\n"
+        "genus or number of components than the object's.\n");
     {
         char b[256];
         vp_backends_describe(b, sizeof b);
