@@ -58,7 +58,7 @@ if [ "${1:-}" = "--one" ]; then
   else
     [ "$coll" = 0 ] || verdict="$verdict collisions"
     if [ "$rc" = 0 ] && [ "$closed" != true ]; then verdict="$verdict exit-0-not-closed"; fi
-    # the exit status and the JSON's status agree (0 closed, 4 not_closed, 1 error)
+    # the exit status and the JSON's status agree (0 closed, 4 not_closed, 1 error, 7 wrong_topology)
     case "$rc:$status" in
       0:closed|4:not_closed|1:error|7:wrong_topology) ;;
       *) verdict="$verdict exit-$rc-says-$status";;
