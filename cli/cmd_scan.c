@@ -952,10 +952,10 @@ static int scan_report(scan_job_t *j)
             {
                 /* the object is known here: a closed mesh of another genus or with other parts is
                  * a wrong answer, said so (before a missed target, as vp_outcome orders them) */
-                int g = vp_surface_genus(j->dev.dr->surf), nc = vp_surface_components(j->dev.dr->surf);
-                if ((j->rc == 0 || j->rc == VP_EXIT_NOT_WITHIN_TARGET) && have_mc && mc.closed_manifold && g >= 0 && (mc.genus != g || mc.components != nc)) {
+                const vp_surface_t *surf = j->dev.dr->surf;
+                if ((j->rc == 0 || j->rc == VP_EXIT_NOT_WITHIN_TARGET) && have_mc && vp_topology_differs(&mc, surf)) {
                     printf("dry run: the mesh has genus %d in %d component(s), the object genus %d in %d: wrong topology\n",
-                           mc.genus, mc.components, g, nc);
+                           mc.genus, mc.components, vp_surface_genus(surf), vp_surface_components(surf));
                     j->rc = VP_EXIT_WRONG_TOPOLOGY;
                 }
             }

@@ -515,14 +515,16 @@ int vp_sim_finish(vp_sim_t *s, const vp_sim_options_t *o, char *err, size_t errl
     return VP_OK;
 }
 
-/* 1 if the mesh is closed but not with the object's topology: its genus (summed over the
- * components) or its number of components differs from the object's, where the object's is
- * known (a mesh file that is no closed oriented manifold has none) */
+int vp_topology_differs(const vp_meshcheck_t *mc, const vp_surface_t *surf)
+{
+    int g = vp_surface_genus(surf);
+    if (!mc->closed_manifold || g < 0) return 0;
+    return mc->genus != g || mc->components != vp_surface_components(surf);
+}
+
 int vp_sim_wrong_topology(const vp_sim_t *s)
 {
-    int g = vp_surface_genus(s->surf);
-    if (!s->have_check || !s->check.closed_manifold || g < 0 || s->motion) return 0;
-    return s->check.genus != g || s->check.components != s->components;
+    return s->have_check && !s->motion && vp_topology_differs(&s->check, s->surf);
 }
 
 int vp_sim_exit(const vp_sim_t *s)

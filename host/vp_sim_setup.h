@@ -109,7 +109,11 @@ int vp_sim_finish(vp_sim_t *s, const vp_sim_options_t *o, char *err, size_t errl
 /* The exit status of the scan (vp_outcome.h): closed, error, stopped, not_closed, collision,
  * not_within_target, wrong_topology. */
 int vp_sim_exit(const vp_sim_t *s);
-/* 1 if the mesh closed with another genus or number of components than the object's. */
+/* 1 if a closed mesh (mc) has another genus (summed over its components) or number of
+ * components than the object, where the object's is known (a mesh file that is no closed
+ * oriented manifold has none): sim and a dry run say so (exit 7). */
+int vp_topology_differs(const vp_meshcheck_t *mc, const vp_surface_t *surf);
+/* The same for the scan's mesh against its object (a moving object: never). */
 int vp_sim_wrong_topology(const vp_sim_t *s);
 /* Human summary, and with o->json one JSON object as the last line. */
 void vp_sim_report(const vp_sim_t *s, const vp_sim_options_t *o, FILE *f);

@@ -134,11 +134,10 @@ VP_PL_API int vp_pl_cut_keeps_topology(const vp_planner_t *pl, uint32_t t)
 {
     const uint32_t *w = vp_dt_tet(&pl->dt, t);
     uint32_t star[STAR_MAX], root[4];
-    int held_v[4], held_e[4][4], nv = 0, ne = 0, nf = 0, i, j, k, n, broken = 0, comps = 0;
+    int held_v[4], nv = 0, ne = 0, nf = 0, i, j, k, n, broken = 0, comps = 0;
     for (i = 0; i < 4; i++) {
         root[i] = (uint32_t)i;
         held_v[i] = 0;
-        for (j = 0; j < 4; j++) held_e[i][j] = 0;
     }
     for (i = 0; i < 4; i++) {
         /* facet i (opposite vertex i) */
@@ -151,11 +150,11 @@ VP_PL_API int vp_pl_cut_keeps_topology(const vp_planner_t *pl, uint32_t t)
     for (i = 0; i < 4; i++)
         for (j = i + 1; j < 4; j++) {
             ring_t r;
+            int held = 0;
             if (!held_v[i] || !held_v[j] || !ring_start(pl, &r, t, w[i], w[j])) continue;
-            while (ring_step(pl, &r, &broken))
-                if (tet_inside(pl, r.cur)) { held_e[i][j] = 1; break; }
+            while (!held && ring_step(pl, &r, &broken)) held = tet_inside(pl, r.cur);
             if (broken) return 0;
-            if (held_e[i][j]) {
+            if (held) {
                 uint32_t a = root[i], b = root[j];
                 while (root[a] != a) a = root[a];
                 while (root[b] != b) b = root[b];
