@@ -172,6 +172,8 @@ typedef struct vp_pl_pools {
     vp_proof_t *proof; uint32_t nproof, cap_proof;    /* free parts of probes: proof.c */
     uint32_t *astar; uint32_t cap_astar;              /* scratch, see VP_PL_SCRATCH in the
                                                          private header for who owns it when */
+    uint32_t *vstamp;                                 /* per sample (cap_nrm of them): the size
+                                                         pass's epoch of its last change (facets.c) */
     double *nrm; uint32_t cap_nrm;                    /* per sample: its normal estimate, valid
                                                          while the sample record's aux is 1
                                                          (facets.c; update.c clears it) */
@@ -233,6 +235,7 @@ typedef struct vp_pl_seed {
 typedef struct vp_pl_close {
     uint64_t mark;           /* probes + insertions + 1 when holes were last closed */
     uint64_t size_mark;      /* insertions + 1 at the last pass of the sizing field */
+    uint32_t size_epoch;     /* the size passes so far, plus 1 (facets.c: what changed since) */
     int exhaustive;          /* detect_access in full until the next insertion */
     uint32_t h2_done;        /* bit i: o_i is enclosed by the mesh */
     uint8_t h2_tries[VP_PLANNER_MAX_SEEDS];

@@ -403,10 +403,11 @@ static int facet_at_corner(vp_planner_t *pl, const vp_frec_t *f)
  * bound, or (with a distance bound) its centre too far from the facet, unless the ball is
  * already at the floor min_size; or its dual edge crosses S twice, down to MANIFOLD_FLOOR_MIN of
  * that floor (the manifold criterion's). The key is how far over its bounds the ball is. */
-static int facet_rate(vp_planner_t *pl, vp_frec_t *f)
+VP_PL_API int vp_pl_facet_rate(vp_planner_t *pl, vp_frec_t *f)
 {
     double b = vp_pl_size_bound(pl, f->v, f->c), d;
     int bad = f->r > b;
+    f->rated = pl->close.size_epoch;
     f->key = pl->cfg.size_rel > 0.0 || pl->cfg.max_distance > 0.0 ? f->r / b : f->r;
     /* its dual Voronoi edge crosses S twice (a fin or a gap thinner than the samples are apart:
      * the topological ball property fails there); the farther crossing is the ball kept */
@@ -429,19 +430,46 @@ static int facet_rate(vp_planner_t *pl, vp_frec_t *f)
     return bad;
 }
 
-/* With the sizing field: every facet rated again (dM estimates shrink as samples arrive); the
- * ones now bad are queued. Returns how many. */
+/* What a rating reads: the stars of the facet's samples (their poles and normals) and the
+ * records at its samples (the neighbours across its edges, for the bend). Each sample keeps the
+ * size pass's epoch in which one of those last changed (pool.vstamp: an insertion or removal
+ * touches the samples of the tets it kills, a record's birth, second ball or death its three).
+ * A record whose samples last changed before the epoch it was rated in would rate the same: the
+ * pass skips it (tests/core/test_planner_parts.c rates such records afresh on a whole scan). */
+VP_PL_API void vp_pl_sample_touch(vp_planner_t *pl, uint32_t v)
+{
+    if (v < pl->pool.cap_nrm) pl->pool.vstamp[v] = pl->close.size_epoch;
+}
+
+static void frec_touch(vp_planner_t *pl, const vp_frec_t *f)
+{
+    int i;
+    for (i = 0; i < 3; i++) vp_pl_sample_touch(pl, f->v[i]);
+}
+
+static int frec_unchanged(const vp_planner_t *pl, const vp_frec_t *f)
+{
+    int i;
+    for (i = 0; i < 3; i++)
+        if (f->v[i] >= pl->pool.cap_nrm || pl->pool.vstamp[f->v[i]] >= f->rated) return 0;
+    return 1;
+}
+
+/* With the sizing field: every facet rated again (dM estimates shrink as samples arrive), but
+ * for those whose samples saw no change since they were rated; the ones now bad are queued.
+ * Returns how many. */
 VP_PL_API int vp_pl_size_pass(vp_planner_t *pl)
 {
     uint32_t k, n = 0;
     for (k = 0; k < pl->pool.nfrec; k++) {
         vp_frec_t *f = &pl->pool.frec[k];
-        if (f->v[0] == NONE || f->heap != NONE || (f->flags & FREC_STUCK)) continue;
-        if (facet_rate(pl, f)) {
+        if (f->v[0] == NONE || f->heap != NONE || (f->flags & FREC_STUCK) || frec_unchanged(pl, f)) continue;
+        if (vp_pl_facet_rate(pl, f)) {
             VP_TRY(vp_pl_heap_push(pl, k));
             n++;
         }
     }
+    pl->close.size_epoch++;
     return (int)n;
 }
 
@@ -519,6 +547,7 @@ VP_PL_API void vp_pl_frec_delete(vp_planner_t *pl, uint32_t k)
 {
     int found;
     uint32_t h = fhash_find(pl, pl->pool.frec[k].v, &found);
+    frec_touch(pl, &pl->pool.frec[k]);
     if (found) {
         pl->pool.fhash[h] = HASH_TOMB;
         if (++pl->pool.ntomb > (pl->pool.hash_mask + 1u) / 4u) pl->pool.fhash_dirty = 1;
@@ -570,8 +599,10 @@ static int frec_insert(vp_planner_t *pl, const uint32_t *fv, const double *c, co
     }
     f = &pl->pool.frec[k];
     memcpy(f->v, v, sizeof v);
+    frec_touch(pl, f);
     f->heap = NONE;
     f->flags = 0;
+    f->rated = 0;
     f->hint = tet;
     f->proof = proof;
     f->c[0] = c[0]; f->c[1] = c[1]; f->c[2] = c[2];
@@ -594,7 +625,7 @@ VP_PL_API int vp_pl_frec_add(vp_planner_t *pl, const uint32_t *fv, const double 
 {
     int found, st = frec_insert(pl, fv, c, outside, tet, proof, out, &found);
     if (st != VP_OK || found) return st;
-    if (facet_rate(pl, &pl->pool.frec[*out]) || facet_too_sharp(pl, pl->pool.frec[*out].v)) return vp_pl_heap_push(pl, *out);
+    if (vp_pl_facet_rate(pl, &pl->pool.frec[*out]) || facet_too_sharp(pl, pl->pool.frec[*out].v)) return vp_pl_heap_push(pl, *out);
     return VP_OK;
 }
 
@@ -622,13 +653,14 @@ VP_PL_API void vp_pl_frec_set_ball(vp_planner_t *pl, uint32_t k, const double *c
     vp_frec_t *f = &pl->pool.frec[k];
     double r = vp_dist3(c, vp_dt_point(&pl->dt, f->v[0]));
     f->flags |= FREC_DOUBLE;
+    frec_touch(pl, f);
     if (!(r > f->r)) return;
     f->c[0] = c[0]; f->c[1] = c[1]; f->c[2] = c[2];
     f->r = r;
     if (f->heap != NONE) {
-        (void)facet_rate(pl, f);
+        (void)vp_pl_facet_rate(pl, f);
         heap_up(pl, f->heap);
-    } else if (facet_rate(pl, f) && !(f->flags & FREC_STUCK)) {
+    } else if (vp_pl_facet_rate(pl, f) && !(f->flags & FREC_STUCK)) {
         (void)vp_pl_heap_push(pl, k);
     }
 }

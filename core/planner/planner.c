@@ -90,6 +90,7 @@ int vp_planner_init(vp_planner_t *pl, void *arena, size_t bytes, const vp_planne
 #endif
     memset(pl, 0, sizeof *pl);
     pl->cfg = *cfg;
+    pl->close.size_epoch = 1;
     cur = (unsigned char *)arena;
     end = cur + bytes;
     /* the split, per 100 units, from the peaks measured per output vertex (README): the
@@ -138,9 +139,12 @@ int vp_planner_init(vp_planner_t *pl, void *arena, size_t bytes, const vp_planne
     if (cfg->max_distance > 0.0) {
         size_t nb = dtb / 16;
         if (dtb - nb < sh[7] * unit) nb = dtb - sh[7] * unit;
-        pl->pool.cap_nrm = (uint32_t)(nb / (3 * sizeof(double)) < 0xFFFFFFF0u ? nb / (3 * sizeof(double)) : 0xFFFFFFF0u);
+        size_t per = 3 * sizeof(double) + sizeof(uint32_t); /* a normal and a change stamp */
+        pl->pool.cap_nrm = (uint32_t)(nb / per < 0xFFFFFFF0u ? nb / per : 0xFFFFFFF0u);
         pl->pool.nrm = pl->pool.cap_nrm > 0 ? carve(&cur, end, (size_t)pl->pool.cap_nrm * 3 * sizeof(double)) : NULL;
-        if (!pl->pool.nrm) pl->pool.cap_nrm = 0;
+        pl->pool.vstamp = pl->pool.nrm ? carve(&cur, end, (size_t)pl->pool.cap_nrm * sizeof(uint32_t)) : NULL;
+        if (!pl->pool.nrm || !pl->pool.vstamp) { pl->pool.cap_nrm = 0; pl->pool.nrm = NULL; pl->pool.vstamp = NULL; }
+        else memset(pl->pool.vstamp, 0xFF, (size_t)pl->pool.cap_nrm * sizeof(uint32_t)); /* unknown: changed */
         dtb = (size_t)(end - cur);
     }
     st = vp_dt_init(&pl->dt, cur, dtb, KPAY * 4);

@@ -269,7 +269,10 @@ static int remove_sample(vp_planner_t *pl, uint32_t v, uint32_t nr)
     uint32_t i, nc, q;
     const uint32_t *created;
     int st;
-    for (i = 0; i < nr; i++) vp_dt_vertex(&pl->dt, pl->pool.astar[i])->aux &= ~AUX_NRM; /* their stars change */
+    for (i = 0; i < nr; i++) { /* their stars change */
+        vp_dt_vertex(&pl->dt, pl->pool.astar[i])->aux &= ~AUX_NRM;
+        vp_pl_sample_touch(pl, pl->pool.astar[i]);
+    }
     st = vp_dt_remove(&pl->dt, v);
     if (st != VP_OK) return st;
     created = vp_dt_last_created(&pl->dt, &nc);

@@ -87,11 +87,15 @@ VP_PL_API int vp_pl_after_insert(vp_planner_t *pl, uint32_t pv)
     ckidx = kbound + nk;
     /* the killed tets' payloads, before created tets overwrite their slots; their vertices'
      * stars changed, so their normal estimates (facets.c) are stale */
+    vp_pl_sample_touch(pl, pv);
     for (q = 0; q < nk; q++) {
         memcpy(kpay + KPAY * q, pay(pl, killed[q]), KPAY * sizeof(uint32_t));
         kbound[q] = 0;
         for (ki = 0; ki < 4; ki++)
-            if (kverts[4 * q + ki] < pl->pool.cap_nrm) pl->dt.vtop[-(ptrdiff_t)kverts[4 * q + ki]].aux &= ~AUX_NRM;
+            if (kverts[4 * q + ki] < pl->pool.cap_nrm) {
+                pl->dt.vtop[-(ptrdiff_t)kverts[4 * q + ki]].aux &= ~AUX_NRM;
+                vp_pl_sample_touch(pl, kverts[4 * q + ki]);
+            }
     }
     for (q = 0; q < nc; q++) {
         uint32_t ks = cfrom[q] >> 2;

@@ -132,6 +132,7 @@ struct vp_frec {
     double r;          /* ball radius */
     double key;        /* the heap's order: r, or r / g(c) with the sizing field (bad above 1) */
     uint32_t proof;    /* the probe that found the ball: free up to its centre, less the noise */
+    uint32_t rated;    /* the size pass's epoch when it was last rated (facets.c) */
 };
 
 /* VP_PL_API marks a function shared by the files of core/planner/: external by default (each
@@ -328,7 +329,10 @@ VP_PL_API void vp_pl_frec_set_ball(vp_planner_t *pl, uint32_t k, const double *c
 VP_PL_API void vp_pl_heap_remove(vp_planner_t *pl, uint32_t k);
 VP_PL_API int vp_pl_heap_push(vp_planner_t *pl, uint32_t k);
 VP_PL_API double vp_pl_size_bound(vp_planner_t *pl, const uint32_t *v, const double *c);
+VP_PL_API int vp_pl_facet_rate(vp_planner_t *pl, vp_frec_t *f);
 VP_PL_API int vp_pl_size_pass(vp_planner_t *pl);
+VP_PL_API void vp_pl_sample_touch(vp_planner_t *pl, uint32_t v);
+VP_PL_API void vp_pl_sample_touch(vp_planner_t *pl, uint32_t v);
 
 /* tasks.c */
 VP_PL_API int vp_pl_edge_geom(const vp_planner_t *pl, uint32_t t, int f, edgegeom_t *g);

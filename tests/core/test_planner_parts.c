@@ -8,6 +8,7 @@
 #include <string.h>
 #include "../../core/planner/vp_planner_priv.h"
 #include "vp_test.h"
+#include "vp_test_ellipsoid.h"
 
 #define ARENA (16u << 20)
 
@@ -397,6 +398,98 @@ static void test_cut_topology(void *arena)
     CHECK(kept > 100 && refused_changing > 100);
 }
 
+/* ---- the size pass rates again only the records whose samples changed (facets.c): checked
+ * against a fresh rating of every record on a whole scan of an ellipsoid with a distance bound.
+ * Any record the pass would skip (in no heap, not stuck, every sample's change stamp older than
+ * its rating) must rate the same now: the same key, and good. With the stamps wiped (a change
+ * not recorded) the same check must find records whose rating went stale. */
+typedef struct ell_dev { vp_test_ell_t e; double pos[3]; } ell_dev_t;
+
+static long skipped_stale(vp_planner_t *pl, long *checked)
+{
+    uint32_t k;
+    long stale = 0;
+    for (k = 0; k < pl->pool.nfrec; k++) {
+        vp_frec_t *f = &pl->pool.frec[k];
+        double key = f->key;
+        uint32_t rated = f->rated;
+        int i, old = 1, bad;
+        if (f->v[0] == NONE || f->heap != NONE || (f->flags & FREC_STUCK)) continue;
+        for (i = 0; i < 3; i++) old &= f->v[i] < pl->pool.cap_nrm && pl->pool.vstamp[f->v[i]] < rated;
+        if (!old) continue;
+        (*checked)++;
+        bad = vp_pl_facet_rate(pl, f);
+        stale += bad || f->key != key;
+        f->key = key;
+        f->rated = rated;
+    }
+    return stale;
+}
+
+static long size_pass_scan(void *arena, int wipe, long *checked, uint32_t *nv, long *passes_out)
+{
+    vp_planner_config_t c;
+    vp_planner_t pl;
+    ell_dev_t d;
+    vp_cmd_t cmd;
+    long stale = 0, steps = 0;
+    uint32_t epoch = 1;
+    long passes = 0;
+    int k;
+    memset(&c, 0, sizeof c);
+    d.e.ax[0] = 1.0; d.e.ax[1] = 0.45; d.e.ax[2] = 0.3;
+    d.e.c[0] = d.e.c[1] = d.e.c[2] = 0.0;
+    c.omega_kind = VP_OMEGA_BOX;
+    for (k = 0; k < 3; k++) { c.omega_lo[k] = -d.e.ax[k] - 0.3; c.omega_hi[k] = d.e.ax[k] + 0.3; }
+    c.ninterior = 1;
+    c.start[2] = d.e.ax[2] + 0.5;
+    c.eps = 0.15;           /* an accuracy target of 0.006: eps diag/20, bound H/3, floor H/4 */
+    c.max_distance = 0.002;
+    c.min_size = 0.0015;
+    memcpy(d.pos, c.start, sizeof d.pos);
+    *checked = 0;
+    CHECK(vp_planner_init(&pl, arena, ARENA, &c) == VP_OK);
+    CHECK(pl.pool.vstamp != NULL && pl.pool.cap_nrm > 0);
+    if (!pl.pool.vstamp) return 0;
+    for (;;) {
+        if (vp_planner_next(&pl, &cmd) != VP_OK || cmd.kind == VP_CMD_DONE || ++steps > 2000000) break;
+        if (cmd.kind == VP_CMD_MOVE) {
+            CHECK(!vp_test_ell_move_enters(&d.e, d.pos, cmd.to));
+            memcpy(d.pos, cmd.to, sizeof d.pos);
+        } else if (cmd.kind == VP_CMD_PROBE) {
+            vp_probe_result_t res;
+            double t;
+            memset(&res, 0, sizeof res);
+            res.hit = vp_test_ell_first(&d.e, d.pos, cmd.dir, cmd.range, &t);
+            res.dist = res.hit ? t : 0.0;
+            if (vp_planner_feed(&pl, &res) != VP_OK) break;
+        }
+        if (pl.close.size_epoch != epoch || steps % 101 == 0) {
+            epoch = pl.close.size_epoch;
+            passes++;
+            if (wipe) memset(pl.pool.vstamp, 0, (size_t)pl.pool.cap_nrm * sizeof(uint32_t));
+            stale += skipped_stale(&pl, checked);
+        }
+    }
+    CHECK(cmd.kind == VP_CMD_DONE);
+    *nv = pl.dt.ninserted;
+    *passes_out = passes;
+    return stale;
+}
+
+static void test_size_pass(void *arena)
+{
+    long checked, checked_w, stale, stale_w, np, np_w;
+    uint32_t nv, nv_w;
+    stale = size_pass_scan(arena, 0, &checked, &nv, &np);
+    stale_w = size_pass_scan(arena, 1, &checked_w, &nv_w, &np_w);
+    printf("size pass: %ld records it would skip, rated afresh after each pass and every 101 steps (%ld times) of "
+           "a scan of %u samples: %ld stale; with the change stamps wiped, %ld of %ld stale\n",
+           checked, np, nv, stale, stale_w, checked_w);
+    CHECK(stale == 0 && checked > 5000);
+    CHECK(stale_w > 0);
+}
+
 int main(void)
 {
     void *arena = malloc(ARENA);
@@ -406,6 +499,7 @@ int main(void)
     test_outside_route(arena, VP_OMEGA_BALL);
     test_facets(arena);
     test_cut_topology(arena);
+    test_size_pass(arena);
     free(arena);
     return vp_test_done("test_planner_parts");
 }
