@@ -242,23 +242,31 @@ static double facet_bend(vp_planner_t *pl, const vp_frec_t *f)
 {
     double fn[3], worst = 0.0;
     int e, held = 0, broken = 0, k;
+    uint32_t t = f->hint;
     frec_normal(pl, f, fn);
     if (vp_dot3(fn, fn) == 0.0) return 0.0;
-    if (vp_dt_alive(&pl->dt, f->hint)) {
-        const uint32_t *w = vp_dt_tet(&pl->dt, f->hint);
+    if (vp_dt_alive(&pl->dt, t)) {
+        const uint32_t *w = vp_dt_tet(&pl->dt, t);
         for (k = 0; k < 4; k++) held += w[k] == f->v[0] || w[k] == f->v[1] || w[k] == f->v[2];
+    }
+    if (held != 3) {
+        /* the record's tet is gone: a tet that has the facet now (one walk round a sample, not
+         * one per edge; the rings round its edges hold the same facets) */
+        int fi;
+        t = vp_pl_find_facet(pl, f->v, &fi, 0);
+        held = t != NONE ? 3 : 0;
     }
     for (e = 0; e < 3; e++) {
         uint32_t a = f->v[e], b = f->v[(e + 1) % 3], x = f->v[(e + 2) % 3];
         if (held == 3) {
             /* around the edge from the facet's tet: each facet (a, b, o) of the ring once */
             ring_t r;
-            if (ring_start(pl, &r, f->hint, a, b))
+            if (ring_start(pl, &r, t, a, b))
                 do {
                     if (r.other != x) worst = bend_at(pl, fn, a, b, r.other, worst);
                 } while (ring_step(pl, &r, &broken));
         } else {
-            /* the record's tet is gone: the tets around a that hold b */
+            /* no tet has the facet: the tets around a that hold b */
             uint32_t *tets = pl->pool.astar;
             int n = vp_dt_incident_tets(&pl->dt, a, tets, (int)pl->pool.cap_astar), i, j;
             for (i = 0; i < n; i++) {
