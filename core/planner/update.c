@@ -86,7 +86,8 @@ VP_PL_API int vp_pl_after_insert(vp_planner_t *pl, uint32_t pv)
     kbound = kpay + KPAY * nk;
     ckidx = kbound + nk;
     /* the killed tets' payloads, before created tets overwrite their slots; their vertices'
-     * stars changed, so their normal estimates (facets.c) are stale */
+     * stars changed (and the new sample's), so their normal estimates and ratings (facets.c)
+     * are stale */
     vp_pl_sample_touch(pl, pv);
     for (q = 0; q < nk; q++) {
         memcpy(kpay + KPAY * q, pay(pl, killed[q]), KPAY * sizeof(uint32_t));

@@ -332,7 +332,6 @@ VP_PL_API double vp_pl_size_bound(vp_planner_t *pl, const uint32_t *v, const dou
 VP_PL_API int vp_pl_facet_rate(vp_planner_t *pl, vp_frec_t *f);
 VP_PL_API int vp_pl_size_pass(vp_planner_t *pl);
 VP_PL_API void vp_pl_sample_touch(vp_planner_t *pl, uint32_t v);
-VP_PL_API void vp_pl_sample_touch(vp_planner_t *pl, uint32_t v);
 
 /* tasks.c */
 VP_PL_API int vp_pl_edge_geom(const vp_planner_t *pl, uint32_t t, int f, edgegeom_t *g);
