@@ -451,6 +451,9 @@ static void dump_header_text(const vp_logfmt_header_t *h, FILE *f)
             c->confirm_misses, c->flags, (unsigned long long)h->arena_bytes);
     if (c->line_rays) fprintf(f, "# line laser: up to %u more rays per probe\n", c->line_rays);
     if (c->proof_life) fprintf(f, "# proofs' life: %u commands (older proofs are probed again before a move)\n", c->proof_life);
+    if (c->min_feature > 0)
+        fprintf(f, "# tubes: min feature %.17g, feature margin %.17g (the device with a body may move inside Omega)\n",
+                c->min_feature, c->feature_margin);
 }
 
 static void dump_header_json(const vp_logfmt_header_t *h, FILE *f)
@@ -476,6 +479,10 @@ static void dump_header_json(const vp_logfmt_header_t *h, FILE *f)
     fprintf(f, ",\"min_angle\":"); json_num(f, c->min_angle);
     if (c->line_rays) fprintf(f, ",\"line_rays\":%u", c->line_rays);
     if (c->proof_life) fprintf(f, ",\"proof_life\":%u", c->proof_life);
+    if (c->min_feature > 0) {
+        fprintf(f, ",\"min_feature\":"); json_num(f, c->min_feature);
+        fprintf(f, ",\"feature_margin\":"); json_num(f, c->feature_margin);
+    }
     fprintf(f, ",\"confirm_misses\":%u,\"flags\":%u,\"arena_bytes\":%llu}}\n", c->confirm_misses, c->flags,
             (unsigned long long)h->arena_bytes);
 }
@@ -708,6 +715,9 @@ static int log_verify(const char *path, int json)
     if (res->rescans)
         printf("; %llu re-scan(s): no free part logged before one proves a move after it",
                (unsigned long long)res->rescans);
+    if (res->tube_moves)
+        printf("; %llu move(s) inside Omega checked by the tube rule (%llu points of their capsules)",
+               (unsigned long long)res->tube_moves, (unsigned long long)res->tube_points);
     printf("\n");
     if (json) {
         printf("{\"moves\":%llu,\"probes\":%llu,\"unproven_moves\":%llu,\"first_unproven_record\":",
@@ -724,6 +734,9 @@ static int log_verify(const char *path, int json)
         printf(",\"index_fallbacks\":%llu,\"contacts\":%llu,\"withdrawn\":%llu", (unsigned long long)res->scans,
                (unsigned long long)res->contacts, (unsigned long long)res->withdrawn);
         if (res->rescans) printf(",\"rescans\":%llu", (unsigned long long)res->rescans);
+        if (res->tube_moves)
+            printf(",\"tube_moves\":%llu,\"tube_points\":%llu", (unsigned long long)res->tube_moves,
+                   (unsigned long long)res->tube_points);
         printf(",\"log_complete\":%s,\"ok\":%s}\n", L.status == VP_OK ? "true" : "false", res->ok ? "true" : "false");
     }
     st = res->ok ? 0 : 1;

@@ -885,6 +885,10 @@ static int scan_report(scan_job_t *j)
         }
         printf("planner: %llu probes in all, largest ball %.4g mm (eps %g), arena peak %zu bytes\n",
                (unsigned long long)ps.probes, ps.max_ball, j->o.eps, ps.arena_peak);
+        if (j->b.clearance > 0 && j->b.min_feature > 0)
+            printf("tubes: min feature %g mm, margin %g mm ([omega]): %llu moves inside Omega, %llu probes started "
+                   "inside it\n", j->b.min_feature, j->b.feature_margin, (unsigned long long)ps.tube_moves,
+                   (unsigned long long)ps.tube_starts);
         if (j->rc == 0 && have_mc && !mc.closed_manifold) {
             printf("warning: the planner said DONE but the mesh is not closed (%zu boundary edges): the planner leaves open "
                    "what its probes could not see (%llu too-close results%s, %llu Voronoi edges occluded from dOmega)\n",

@@ -89,6 +89,7 @@ int vp_sim_parse_option(vp_sim_options_t *o, int argc, char **argv, int *i, char
     if (strncmp(a, "--", 2) != 0) return 1;
     if (strcmp(a, "--surface") && strcmp(a, "--eps") && strcmp(a, "--eps-rel") && strcmp(a, "--out") &&
         strcmp(a, "--noise") && strcmp(a, "--dropout") && strcmp(a, "--clearance") &&
+        strcmp(a, "--min-feature") && strcmp(a, "--feature-margin") &&
         strcmp(a, "--max-range") && strcmp(a, "--min-range") && strcmp(a, "--arena") && strcmp(a, "--omega") &&
         strcmp(a, "--seed") && strcmp(a, "--hausdorff") && strcmp(a, "--confirm") && strcmp(a, "--margin") &&
         strcmp(a, "--angle") && strcmp(a, "--size-rel") && strcmp(a, "--min-size") && strcmp(a, "--max-distance") &&
@@ -126,6 +127,12 @@ int vp_sim_parse_option(vp_sim_options_t *o, int argc, char **argv, int *i, char
     } else if (!strcmp(a, "--clearance")) {
         if (!(v >= 0)) { snprintf(err, errlen, "--clearance must be >= 0"); return -1; }
         o->clearance = v;
+    } else if (!strcmp(a, "--min-feature")) {
+        if (!(v >= 0)) { snprintf(err, errlen, "--min-feature must be >= 0"); return -1; }
+        o->min_feature = v;
+    } else if (!strcmp(a, "--feature-margin")) {
+        if (!(v >= 0)) { snprintf(err, errlen, "--feature-margin must be >= 0"); return -1; }
+        o->feature_margin = v;
     } else if (!strcmp(a, "--min-range")) {
         if (!(v >= 0)) { snprintf(err, errlen, "--min-range must be >= 0"); return -1; }
         o->min_range = v;

@@ -68,12 +68,17 @@ static size_t bounded_len(const char *s, size_t max)
  * the configuration is written. */
 static int sizing(const vp_planner_config_t *c) { return c->size_rel != 0.0 || c->min_size != 0.0; }
 #ifndef VP_CORE_MCU
-/* version 4: those three, a line laser's rays per frame and the proofs' life (two uint32) */
+/* version 4: those three, a line laser's rays per frame and the proofs' life (two uint32);
+ * version 5: those and the tubes' feature size and margin (two doubles) */
 static uint32_t header_version(const vp_planner_config_t *c)
 {
-    return c->line_rays != 0u || c->proof_life != 0u ? 4u : c->max_distance != 0.0 ? 3u : sizing(c) ? 2u : 1u;
+    return c->min_feature != 0.0 || c->feature_margin != 0.0 ? 5u
+           : c->line_rays != 0u || c->proof_life != 0u ? 4u : c->max_distance != 0.0 ? 3u : sizing(c) ? 2u : 1u;
 }
-static uint32_t ext_bytes(uint32_t version) { return version >= 4u ? 32u : version == 3u ? 24u : version == 2u ? 16u : 0u; }
+static uint32_t ext_bytes(uint32_t version)
+{
+    return version >= 5u ? 48u : version == 4u ? 32u : version == 3u ? 24u : version == 2u ? 16u : 0u;
+}
 #define PROBE_LIKE(t) ((t) == VP_LOGFMT_PROBE || (t) == VP_LOGFMT_RAY)
 #else
 static uint32_t header_version(const vp_planner_config_t *c)
@@ -162,6 +167,10 @@ int vp_logfmt_header_encode(const vp_logfmt_header_t *h, void *buf, size_t cap)
             put32(q + 24, c->line_rays);
             put32(q + 28, c->proof_life);
         }
+        if (header_version(c) >= 5u) {
+            putd(q + 32, c->min_feature);
+            putd(q + 40, c->feature_margin);
+        }
 #endif
         q += ext_bytes(header_version(c));
     }
@@ -220,6 +229,11 @@ static int header_decode(const unsigned char *p, uint32_t n, vp_logfmt_header_t 
             c->line_rays = get32(q + nl + 24);
             c->proof_life = get32(q + nl + 28);
             if (c->line_rays > VP_PLANNER_MAX_LINE_RAYS) return 0;
+        }
+        if (h->version >= 5u) {
+            c->min_feature = getd(q + nl + 32);
+            c->feature_margin = getd(q + nl + 40);
+            if (!vp_finite(c->min_feature) || !vp_finite(c->feature_margin)) return 0;
         }
 #endif
         if (!vp_finite(c->size_rel) || !vp_finite(c->min_size) || !vp_finite(c->max_distance) ||

@@ -20,9 +20,10 @@
 #include "vp_status.h"
 
 #ifndef VP_CORE_MCU
-#define VP_LOGFMT_VERSION     4u  /* 2 adds the sizing field (size_rel, min_size) after the note,
+#define VP_LOGFMT_VERSION     5u  /* 2 adds the sizing field (size_rel, min_size) after the note,
                                      3 the distance bound too, 4 a line laser's rays per frame
-                                     (and RAY records) and the proofs' life; a header is written
+                                     (and RAY records) and the proofs' life, 5 the tubes' feature
+                                     size and margin; a header is written
                                      in the oldest version that holds its configuration */
 #else
 #define VP_LOGFMT_VERSION     3u  /* a microcontroller core has no line laser */

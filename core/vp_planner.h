@@ -28,6 +28,9 @@
 #define VP_PLANNER_MAX_CONTACTS 16 /* contacts kept apart; more widen the nearest one's reach */
 #define VP_PLANNER_MAX_LINE_RAYS 4096 /* a line laser's rays per frame (image columns) */
 #define VP_PLANNER_RAY_QUEUE 64    /* line-laser points waiting to become samples */
+/* the tubes' feature margin when none is given, per unit of min_feature: a right-angled corner
+ * of a box reaches (sqrt 3 - 1) = 0.732 of it beyond its inner balls, an edge of 60 degrees 1 */
+#define VP_FEATURE_MARGIN_DEFAULT 0.75
 
 /* planner options (flags) */
 #define VP_PLAN_PAPER        0x1u /* detect_access as published: probe every edge of every
@@ -70,6 +73,14 @@ typedef struct vp_planner_config {
     uint32_t proof_life;         /* an object that moves: a proof of free space older than this
                                     many commands (PROBEs and MOVEs) is stale, probed again before
                                     the device moves along it; 0: proofs never expire */
+    double min_feature;          /* with a clearance (body mode): > 0 lets the device travel inside
+                                    Omega through tubes proven free (tube.c), on the assumption
+                                    that every point of the object lies within feature_margin of
+                                    a ball of this radius inside the object; 0: never inside */
+    double feature_margin;       /* how far the object may reach beyond its balls of radius
+                                    min_feature (sharp convex edges and corners: a dihedral angle
+                                    theta needs min_feature (1/sin(theta/2) - 1), a cube's corner
+                                    0.74 min_feature) */
 } vp_planner_config_t;
 
 /* VP_CMD_RAY is never issued by vp_planner_next: it names one more ray of the last PROBE's frame
@@ -101,6 +112,8 @@ typedef struct vp_planner_stats {
     uint64_t escalations;      /* holes closed by probing every edge of every active vertex */
     uint64_t too_close;        /* probes that saw a surface nearer than the minimum range */
     uint64_t occluded;         /* body mode: the line met S before the edge */
+    uint64_t tube_moves;       /* body mode: moves inside Omega along tubes proven free */
+    uint64_t tube_starts;      /* body mode: probes started inside Omega (nearer their edge) */
     uint64_t reseeds;          /* samples added on components the seeds had missed */
     uint64_t noise_drops;      /* hits that a full miss from the edge's other end contradicted
                                   (S within the noise of that end): the facet dropped */
@@ -291,6 +304,22 @@ typedef struct vp_pl_rescan {
 } vp_pl_rescan_t;
 #endif
 
+#ifndef VP_CORE_MCU
+/* Tubes proven free inside Omega (tube.c): a bit per cell of a grid over Omega's bounding box,
+ * set when the cell lies within min_feature of free space. on: 0 when off (no min_feature, or a
+ * contact or a re-scan made the marks stale). The device's way out: where it is inside Omega
+ * (inside) and the point outside from which a proven tube reaches it (exit). */
+typedef struct vp_pl_tube {
+    uint8_t *bits;
+    uint32_t n[3];
+    double lo[3], cell, half;  /* the grid: its corner, cell side, half a cell's diagonal */
+    double mark;               /* a cell is marked within this distance of a free ray */
+    double reach;              /* clearance + feature_margin + min_feature: the checked capsule */
+    int on, inside, goal_in;   /* goal_in: the next route's goal is a start inside Omega */
+    double exit[3], goal_exit[3];
+} vp_pl_tube_t;
+#endif
+
 /* High-water marks of the pools whose use goes up and down (for stats.arena_peak). */
 typedef struct vp_pl_peak {
     uint32_t task, heap, route, astar, path;
@@ -315,6 +344,7 @@ typedef struct vp_planner {
 #ifndef VP_CORE_MCU
     vp_pl_rays_t rays;
     vp_pl_rescan_t rescan;
+    vp_pl_tube_t tube;
 #endif
     vp_pl_peak_t peak;
     vp_planner_stats_t st;   /* counters, written where things happen */

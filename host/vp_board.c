@@ -130,6 +130,8 @@ static const vp_bkey_t k_omega[] = {
     { "eps", K_NUM, B(eps), 1, POS, 1e5, R_YES },
     { "start", K_NUMS, B(start), 3, -1e6, 1e6, R_YES },
     { "clearance", K_NUM, B(clearance), 1, 0, 1e4, R_NO },
+    { "min_feature", K_NUM, B(min_feature), 1, 0, 1e4, R_NO },
+    { "feature_margin", K_NUM, B(feature_margin), 1, 0, 1e4, R_NO },
     { NULL, 0, 0, 0, 0, 0, 0 } };
 static const vp_bkey_t k_sim[] = {
     { "surface", K_STR, B(sim_surface), 256, ANY, R_NO },
@@ -843,6 +845,19 @@ static int vp_board_check_head(vp_bctx_t *c, char *err, size_t el)
                       "the simulated object)" : "", vp_seen(c, S_HEAD, key[k]) ? "" : "; this is the default ",
                       vp_seen(c, S_HEAD, key[k]) ? "" : key[k]);
     }
+    if (b->min_feature > 0) {
+        /* tubes prove the clearance ball's way, nothing beyond it: the whole head inside it */
+        if (!(b->clearance > 0))
+            return vp_bad(c, S_OMEGA, "min_feature", err, el, "tubes inside Omega are for a head with a body: set "
+                          "clearance (the ball about the laser origin that holds the whole head)");
+        if (worst >= 0 && b->head_reach + b->head_margin > b->clearance)
+            return vp_bad(c, S_OMEGA, "min_feature", err, el, "tubes inside Omega prove the clearance ball's way only, "
+                          "and the %s reaches %.1f mm from the laser origin, beyond the clearance %g (clear_by = swept "
+                          "does not help inside Omega: a dry run of a torus brought the camera into it): raise "
+                          "clearance to %.1f or more, or set min_feature = 0", b->head.part[worst].name,
+                          b->head_reach + b->head_margin, b->clearance, b->head_reach + b->head_margin);
+        if (!vp_seen(c, S_OMEGA, "feature_margin")) b->feature_margin = VP_FEATURE_MARGIN_DEFAULT * b->min_feature;
+    }
     if (b->clear_swept && b->io != VP_BOARD_IO_SIM)
         return vp_bad(c, S_HEAD, "clear_by", err, el, "swept checks the simulated object only: a board that drives motors "
                       "(io = gpiod) needs the ball rule (clear_by = ball)");
@@ -1307,6 +1322,8 @@ void vp_board_planner_config(const vp_board_t *b, vp_planner_config_t *c)
     memcpy(c->start, b->start, sizeof c->start);
     c->max_range = b->tri.max_range;
     c->clearance = b->clearance;
+    c->min_feature = b->min_feature;
+    c->feature_margin = b->feature_margin;
     if (b->line_laser) {
         /* the rays a frame can give: one per column looked at */
         int step = b->line_step > 0 ? b->line_step : (b->cam_model.width + VP_MACHINE_MAX_LINE - 1) / VP_MACHINE_MAX_LINE;

@@ -105,6 +105,7 @@ typedef struct vp_board {
     int omega_kind;                      /* VP_OMEGA_BOX / VP_OMEGA_BALL (vp_planner.h values) */
     double omega_lo[3], omega_hi[3], omega_center[3], omega_radius;
     double interior[3], start[3], eps, clearance;
+    double min_feature, feature_margin;  /* tubes inside Omega (0: the head stays outside) */
     /* [sim]: dry runs */
     char sim_surface[256];
     double sim_blur, sim_noise, sim_ambient, sim_gradient, sim_texture, sim_energy;

@@ -165,6 +165,13 @@ int vp_logverify_begin(vp_logverify_t *v, const vp_logfmt_header_t *h)
     v->res.tol = v->tol;
     memcpy(v->res.pos, c->start, sizeof v->res.pos);
     v->res.ok = 1;
+    if (c->clearance > 0.0 && c->min_feature > 0.0) {
+        if (!isfinite(c->min_feature) || !isfinite(c->feature_margin) || !(c->feature_margin >= 0.0) ||
+            !isfinite(c->clearance))
+            return VP_EINVAL;
+        v->tubes = 1;
+        v->tcell = 2.0 * c->min_feature;
+    }
     return VP_OK;
 }
 
@@ -377,6 +384,163 @@ static void lerp(const double *p, const double *q, double s, double *x)
     for (k = 0; k < 3; k++) x[k] = p[k] + s * (q[k] - p[k]);
 }
 
+/* ---------- tubes: the free parts by cells of 2 rho ---------- */
+
+static uint64_t tkey(const int64_t *k)
+{
+    uint64_t h = 0x13198A2E03707344ull;
+    int i;
+    for (i = 0; i < 3; i++) h = mix(h, k[i]);
+    return h;
+}
+
+static int trehash(vp_logverify_t *v, size_t slots)
+{
+    uint32_t *h = malloc(slots * sizeof *h);
+    size_t i;
+    if (!h) return VP_ENOMEM;
+    for (i = 0; i < slots; i++) h[i] = LV_NONE;
+    for (i = 0; i < v->ntent; i++) {
+        size_t s = (size_t)(v->tent[i].key & (slots - 1));
+        v->tent[i].next = h[s];
+        h[s] = (uint32_t)i;
+    }
+    free(v->thead);
+    v->thead = h;
+    v->tmask = slots - 1;
+    return VP_OK;
+}
+
+/* probe id into the cell with key; once per cell (its entries for id are the newest) */
+static int tadd(vp_logverify_t *v, uint64_t key, uint32_t id)
+{
+    size_t s;
+    uint32_t e;
+    int st;
+    if (v->thead)
+        for (e = v->thead[key & v->tmask]; e != LV_NONE && v->tent[e].probe == id; e = v->tent[e].next)
+            if (v->tent[e].key == key) return VP_OK;
+    if ((st = grow((void **)&v->tent, &v->cap_tent, v->ntent + 1, sizeof *v->tent)) != VP_OK) return st;
+    if (!v->thead || v->ntent + 1 > (v->tmask + 1) / 2)
+        if ((st = trehash(v, v->thead ? 2 * (v->tmask + 1) : 4096)) != VP_OK) return st;
+    s = (size_t)(key & v->tmask);
+    v->tent[v->ntent].key = key;
+    v->tent[v->ntent].probe = id;
+    v->tent[v->ntent].next = v->thead[s];
+    v->thead[s] = (uint32_t)v->ntent;
+    v->ntent++;
+    return VP_OK;
+}
+
+/* A free part into every cell within one cell of a point of it taken rho / 2 apart: a point
+ * nearer than rho to the part lies within 1.25 rho < one cell of such a point, so its own cell
+ * lists the part. */
+static int tube_add(vp_logverify_t *v, uint32_t id)
+{
+    const vp_lv_probe_t *P = &v->pr[id];
+    double step = 0.25 * v->tcell, n = ceil(P->len / step);
+    double i;
+    int st;
+    if (n > 1e7) return VP_OK; /* left out: it proves no tube (never more than is true) */
+    for (i = 0.0; i <= n; i += 1.0) {
+        double s = n > 0.0 ? P->len * (i / n) : 0.0;
+        int64_t c[3], k[3];
+        int a;
+        for (a = 0; a < 3; a++) c[a] = cell(P->o[a] + s * P->d[a], v->tcell);
+        for (k[0] = c[0] - 1; k[0] <= c[0] + 1; k[0]++)
+            for (k[1] = c[1] - 1; k[1] <= c[1] + 1; k[1]++)
+                for (k[2] = c[2] - 1; k[2] <= c[2] + 1; k[2]++)
+                    if ((st = tadd(v, tkey(k), id)) != VP_OK) return st;
+    }
+    return VP_OK;
+}
+
+/* distance from x (relative to the centre) to a free part */
+static double part_dist(const vp_lv_probe_t *P, const double *x)
+{
+    double w[3], s, e[3];
+    int k;
+    for (k = 0; k < 3; k++) w[k] = x[k] - P->o[k];
+    s = vp_dot3(w, P->d);
+    if (s < 0.0) s = 0.0;
+    if (s > P->len) s = P->len;
+    for (k = 0; k < 3; k++) e[k] = w[k] - s * P->d[k];
+    return sqrt(vp_dot3(e, e));
+}
+
+/* distance from x (relative to the centre, inside Omega) to the outside of Omega */
+static double outside_dist(const vp_logverify_t *v, const double *x)
+{
+    const vp_planner_config_t *c = &v->cfg;
+    double best = HUGE_VAL;
+    int k;
+    if (c->omega_kind == VP_OMEGA_BALL) return c->omega_radius - sqrt(vp_dot3(x, x));
+    for (k = 0; k < 3; k++) {
+        double lo = x[k] + v->centre[k] - c->omega_lo[k], hi = c->omega_hi[k] - x[k] - v->centre[k];
+        if (lo < best) best = lo;
+        if (hi < best) best = hi;
+    }
+    return best;
+}
+
+/* 1 if x (relative to the centre) lies nearer than rho to free space */
+static int near_free(vp_logverify_t *v, const double *x)
+{
+    double rho = v->cfg.min_feature + v->tol;
+    int64_t k[3];
+    uint64_t key;
+    uint32_t e;
+    int a;
+    if (outside_dist(v, x) < rho) return 1;
+    if (!v->thead) return 0;
+    for (a = 0; a < 3; a++) k[a] = cell(x[a], v->tcell);
+    key = tkey(k);
+    for (e = v->thead[key & v->tmask]; e != LV_NONE; e = v->tent[e].next) {
+        const vp_lv_probe_t *P = &v->pr[v->tent[e].probe];
+        if (v->tent[e].key != key || !(P->len >= 0.0)) continue;
+        if (v->cfg.proof_life > 0 && v->commands - P->born > v->cfg.proof_life) continue;
+        if (part_dist(P, x) < rho) return 1;
+    }
+    return 0;
+}
+
+/* The tube rule (vp_logverify.h) for the move p -> q (relative to the centre): 1 if it holds;
+ * else *bad is the first lattice point found farther than rho from free space. */
+static int tube_holds(vp_logverify_t *v, const double *p, const double *q, double *bad)
+{
+    double R = v->cfg.clearance + v->cfg.feature_margin + v->cfg.min_feature, sp = 0.5 * v->cfg.min_feature;
+    double lo[3], d[3], len2;
+    long n[3], i[3];
+    int k;
+    for (k = 0; k < 3; k++) {
+        double a = (p[k] < q[k] ? p[k] : q[k]) - R, b = (p[k] < q[k] ? q[k] : p[k]) + R;
+        lo[k] = p[k] - sp * ceil((p[k] - a) / sp);
+        n[k] = (long)ceil((b - lo[k]) / sp);
+        d[k] = q[k] - p[k];
+    }
+    len2 = vp_dot3(d, d);
+    for (i[0] = 0; i[0] <= n[0]; i[0]++)
+        for (i[1] = 0; i[1] <= n[1]; i[1]++)
+            for (i[2] = 0; i[2] <= n[2]; i[2]++) {
+                double x[3], w[3], t = 0.0, e[3];
+                for (k = 0; k < 3; k++) x[k] = lo[k] + sp * (double)i[k];
+                vp_sub3(w, x, p);
+                if (len2 > 0.0) {
+                    t = vp_dot3(w, d) / len2;
+                    if (t < 0.0) t = 0.0;
+                    if (t > 1.0) t = 1.0;
+                }
+                for (k = 0; k < 3; k++) e[k] = w[k] - t * d[k];
+                if (vp_dot3(e, e) > R * R) continue;
+                v->res.tube_points++;
+                if (!near_free(v, x)) {
+                    memcpy(bad, x, sizeof x);
+                    return 0;
+                }
+            }
+    return 1;
+}
+
 static int check_move(vp_logverify_t *v, const vp_logfmt_record_t *r)
 {
     vp_logverify_result_t *R = &v->res;
@@ -393,6 +557,36 @@ static int check_move(vp_logverify_t *v, const vp_logfmt_record_t *r)
     if (len <= v->tol) return VP_OK;   /* shorter than the tolerance: nothing to cover */
     if ((st = outside_part(v, p, q, &n)) != VP_OK) return st;
     if (n > 0 && uncovered(v, n, &gaps, &g0, &g1) == 0.0) { R->moves_outside++; return VP_OK; }
+    if (v->tubes) {
+        /* a body inside Omega: the tube rule alone (a ray proves no volume); a move that enters
+         * Omega by no more than the tolerance (an end on dOmega, rounded) is outside */
+        double bad[3];
+        if (!isfinite(len)) return VP_EINVAL;
+        if (n > 0 && !(uncovered(v, n, &gaps, &g0, &g1) * len > v->tol)) return VP_OK;
+        for (k = 0; k < 3; k++) {
+            pr[k] = p[k] - v->centre[k];
+            qr[k] = q[k] - v->centre[k];
+        }
+        R->tube_moves++;
+        if (tube_holds(v, pr, qr, bad)) return VP_OK;
+        R->unproven_moves++;
+        R->unproven_length += len;
+        if (R->nmoves_listed < VP_LOGVERIFY_LIST) {
+            vp_logverify_move_t *m = &R->move[R->nmoves_listed++];
+            memset(m, 0, sizeof *m);
+            m->record = v->index;
+            m->seq = r->seq;
+            m->move = R->moves;
+            memcpy(m->from, p, sizeof m->from);
+            memcpy(m->to, q, sizeof m->to);
+            m->length = len;
+            m->unproven = len;
+            m->gap_s1 = 1.0;
+            for (k = 0; k < 3; k++) m->gap_from[k] = m->gap_to[k] = bad[k] + v->centre[k];
+            m->gaps = 1;
+        }
+        return VP_OK;
+    }
     if (isfinite(len)) {
         for (k = 0; k < 3; k++) {
             pr[k] = p[k] - v->centre[k];
@@ -496,7 +690,7 @@ static int add_free(vp_logverify_t *v, const double *origin, const double *u, do
     for (i = 0; i < 3; i++) k[i] = cell(P->o[i], v->ho);
     if ((st = add_entry(v, key3(k), id)) != VP_OK) return st;
     v->npr++;
-    return VP_OK;
+    return v->tubes ? tube_add(v, id) : VP_OK;
 }
 
 /* CONTACT: the MOVE before stopped at value[0] along it, where the surface is. */
@@ -564,6 +758,8 @@ void vp_logverify_end(vp_logverify_t *v, vp_logverify_result_t *res)
     free(v->head);
     free(v->iv);
     free(v->seen);
+    free(v->tent);
+    free(v->thead);
     memset(v, 0, sizeof *v);
 }
 

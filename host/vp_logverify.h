@@ -18,7 +18,13 @@
  *   of the move up to the point is free (the head travelled it);
  * - a move is proven when the segment parameter interval [0,1] is covered by its part outside
  *   Omega and the free parts of earlier probes on its line (both its ends within tol of the
- *   probe's line), the uncovered length adding up to at most tol.
+ *   probe's line), the uncovered length adding up to at most tol;
+ * - with tubes (a header with a clearance C and a feature size rho > 0, margin eta; the object
+ *   lies within eta of its balls of radius rho): a move not wholly outside Omega is proven when
+ *   every point of the capsule of radius C + eta + rho about it lies nearer than rho to a free
+ *   part or to the outside of Omega. The check looks at the points of a lattice of spacing
+ *   rho / 2 anchored at the move's start (the planner proves the whole capsule on a grid of its
+ *   own): a point farther than rho from all free space is a violation.
  *
  * Streaming: vp_logverify_begin, vp_logverify_add for each record in log order,
  * vp_logverify_end. Probes are kept in a hash on their quantised line (direction and foot
@@ -72,6 +78,8 @@ typedef struct vp_logverify_result {
     uint64_t rescans;          /* RESCAN events: every free part before one is stale after it */
     uint64_t scans;            /* moves too short for the line index that the probes fired
                                   from their ends did not prove (all probes scanned) */
+    uint64_t tube_moves;       /* with tubes: moves not wholly outside Omega, checked by the tube rule */
+    uint64_t tube_points;      /* points of their capsules looked at */
     double unproven_length;    /* summed over the unproven moves */
     double tol;                /* the tolerance used (VP_LOGVERIFY_TOL_REL x Omega's diameter) */
     double pos[3];             /* the device position after the last record */
@@ -97,6 +105,11 @@ typedef struct vp_logverify {
     uint32_t index;                             /* next record index */
     uint64_t commands;                          /* PROBE and MOVE records so far */
     double from[3];                             /* where the last MOVE started */
+    int tubes;                                  /* the header has a clearance and min_feature */
+    double tcell;                               /* the free parts' cells: 2 min_feature */
+    vp_lv_entry_t *tent; size_t ntent, cap_tent; /* a free part in every cell it passes within
+                                                   1.25 min_feature of */
+    uint32_t *thead; size_t tmask;
     vp_logverify_result_t res;
 } vp_logverify_t;
 

@@ -346,6 +346,8 @@ int vp_sessionlog_same_config(const vp_planner_config_t *a, uint64_t arena_a,
     else if (a->flags != b->flags) f = "planner flags";
     else if (a->line_rays != b->line_rays) f = "line laser rays (--line-laser)";
     else if (a->proof_life != b->proof_life) f = "proof life (--proof-life)";
+    else if (!bits_eq(&a->min_feature, &b->min_feature, 1)) f = "tubes' feature size (--min-feature)";
+    else if (!bits_eq(&a->feature_margin, &b->feature_margin, 1)) f = "tubes' feature margin (--feature-margin)";
     else if (arena_a != arena_b) f = "arena size";
     for (i = 0; !f && i < a->ninterior && i < VP_PLANNER_MAX_SEEDS; i++)
         if (!bits_eq(a->interior[i], b->interior[i], 3)) f = "interior points";

@@ -36,6 +36,8 @@ void vp_sim_session_note(const vp_sim_options_t *o, char *buf, size_t n)
     vp_note_put_num(buf, n, &len, "--dropout", o->dropout);
     if (o->confirm >= 0) vp_note_put_opt(buf, n, &len, "--confirm", "%d", o->confirm);
     vp_note_put_num(buf, n, &len, "--clearance", o->clearance);
+    if (o->min_feature > 0) vp_note_put_num(buf, n, &len, "--min-feature", o->min_feature);
+    if (o->min_feature > 0 && o->feature_margin >= 0) vp_note_put_num(buf, n, &len, "--feature-margin", o->feature_margin);
     vp_note_put_num(buf, n, &len, "--max-range", o->max_range);
     if (o->min_range > 0) vp_note_put_num(buf, n, &len, "--min-range", o->min_range);
     if (o->min_angle > 0) vp_note_put_num(buf, n, &len, "--angle", o->min_angle);

@@ -22,6 +22,7 @@ void vp_sim_options_default(vp_sim_options_t *o)
     o->accel = VP_SIM_ACCEL;
     o->probe_time = VP_SIM_PROBE_TIME;
     o->proof_life = -1;
+    o->feature_margin = -1;
 }
 
 /* --motion without --proof-life: a proof expires once the object may have moved this share of
@@ -181,6 +182,12 @@ int vp_sim_open(vp_sim_t *s, const vp_sim_options_t *o, char *err, size_t errlen
     s->cfg.confirm_misses = (uint32_t)(o->confirm >= 0 ? o->confirm
                                        : o->dropout > 0 ? (int)ceil(log(1e-6) / log(o->dropout)) - 1 : 0);
     s->cfg.clearance = o->clearance;
+    s->cfg.min_feature = o->min_feature;
+    s->cfg.feature_margin = o->min_feature > 0 ? (o->feature_margin >= 0 ? o->feature_margin : VP_FEATURE_MARGIN_DEFAULT * o->min_feature) : 0.0;
+    if (o->min_feature > 0 && !(o->clearance > 0)) {
+        snprintf(err, errlen, "--min-feature lets a device with a body into Omega: give --clearance too");
+        return VP_EINVAL;
+    }
     s->cfg.min_angle = o->min_angle;
     if (s->target > 0) {
         vp_accuracy_config(&s->cfg, s->target);
@@ -589,6 +596,15 @@ void vp_sim_report(const vp_sim_t *s, const vp_sim_options_t *o, FILE *f)
                     "%llu miss(es) near a contact not trusted; dark patches read %lu probe(s) as misses\n",
                     (unsigned long long)st.contacts, (unsigned long long)st.revoked,
                     (unsigned long long)st.dark_misses, ds.dark_misses);
+        if (s->cfg.clearance > 0)
+            fprintf(f, "body: clearance %.6g; %llu Voronoi edges occluded from where they were probed; ",
+                    s->cfg.clearance, (unsigned long long)st.occluded);
+        if (s->cfg.clearance > 0 && s->cfg.min_feature > 0)
+            fprintf(f, "tubes (min feature %.6g, margin %.6g): %llu moves inside Omega, %llu probes started "
+                    "inside it\n", s->cfg.min_feature, s->cfg.feature_margin, (unsigned long long)st.tube_moves,
+                    (unsigned long long)st.tube_starts);
+        else if (s->cfg.clearance > 0)
+            fprintf(f, "the device stays outside Omega\n");
         if (s->cfg.line_rays)
             fprintf(f, "line laser: %u more rays per probe over %.3g degrees: %llu rays, %llu hits, %llu of them "
                     "made samples\n", s->cfg.line_rays, o->line_deg, (unsigned long long)st.rays,
@@ -658,6 +674,12 @@ void vp_sim_report(const vp_sim_t *s, const vp_sim_options_t *o, FILE *f)
                      ",\"line_rays\":%u,\"line_deg\":%.6g,\"rays\":%llu,\"ray_hits\":%llu,\"ray_samples\":%llu",
                      s->cfg.line_rays, o->line_deg, (unsigned long long)st.rays, (unsigned long long)st.ray_hits,
                      (unsigned long long)st.ray_samples);
+        if (s->cfg.clearance > 0)
+            snprintf(touch + strlen(touch), sizeof touch - strlen(touch),
+                     ",\"clearance\":%.6g,\"occluded\":%llu,\"min_feature\":%.6g,\"feature_margin\":%.6g,"
+                     "\"tube_moves\":%llu,\"tube_starts\":%llu", s->cfg.clearance, (unsigned long long)st.occluded,
+                     s->cfg.min_feature, s->cfg.feature_margin, (unsigned long long)st.tube_moves,
+                     (unsigned long long)st.tube_starts);
         fprintf(f, "{\"surface\":\"%s\",\"eps\":%.9g,\"status\":\"%s\",\"exit\":%d,\"planner_status\":\"%s\","
                 "\"vertices\":%u,\"facets\":%u,"
                 "\"probes\":%llu,\"hits\":%llu,\"misses\":%llu,\"reprobes\":%llu,\"moves\":%llu,"

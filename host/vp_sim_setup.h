@@ -17,6 +17,7 @@ typedef struct vp_sim_options {
     double eps, eps_rel;
     const char *out;          /* PREFIX; NULL: do not write */
     double noise, dropout, clearance, max_range, min_range, min_angle;
+    double min_feature, feature_margin; /* with a clearance: tubes inside Omega (0: never inside) */
     double size_rel, min_size;  /* the sizing field (0: off); its floor (0: eps / 10) */
     double max_distance;      /* the distance bound (0: off) */
     double accuracy, accuracy_rel; /* the Hausdorff target (absolute, or of the diagonal; 0: none):

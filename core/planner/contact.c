@@ -156,6 +156,7 @@ static void revoke_through(vp_planner_t *pl, const double *c)
         if (proof_near(&pl->pool.proof[i], c, tol)) {
             pl->pool.proof[i].len = -1.0;
             pl->st.revoked++;
+            vp_pl_tube_off(pl); /* the marks of that proof stay in the grid */
         }
 }
 
@@ -259,6 +260,7 @@ VP_PL_API int vp_pl_withdraw_at(vp_planner_t *pl, const double *h, uint32_t old)
     if (old < pl->pool.nproof && pl->pool.proof[old].len >= 0.0) {
         pl->pool.proof[old].len = -1.0;
         pl->st.revoked++;
+        vp_pl_tube_off(pl);
     }
     if (h) revoke_through(pl, h);
     VP_TRY(abandon_plan(pl));

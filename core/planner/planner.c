@@ -88,6 +88,15 @@ int vp_planner_init(vp_planner_t *pl, void *arena, size_t bytes, const vp_planne
 #if VP_PL_LINE_LASER /* a microcontroller core takes no rays: line_rays is not read there */
     if (cfg->line_rays > VP_PLANNER_MAX_LINE_RAYS) return VP_EINVAL;
 #endif
+#if VP_PL_TUBES /* nor tubes: min_feature is not read there */
+    /* tubes need a body, proofs that last (an object that moves makes marks stale) and a
+     * feature size Omega can hold */
+    if (!(cfg->min_feature >= 0.0) || !(cfg->feature_margin >= 0.0) || cfg->min_feature > CFG_MAX ||
+        cfg->feature_margin > CFG_MAX ||
+        (cfg->min_feature > 0.0 && (!(cfg->clearance > 0.0) || cfg->proof_life > 0u ||
+                                    cfg->min_feature > vp_pl_omega_circumradius(cfg))))
+        return VP_EINVAL;
+#endif
     memset(pl, 0, sizeof *pl);
     pl->cfg = *cfg;
     pl->close.size_epoch = 1;
@@ -147,6 +156,20 @@ int vp_planner_init(vp_planner_t *pl, void *arena, size_t bytes, const vp_planne
         else memset(pl->pool.vstamp, 0xFF, (size_t)pl->pool.cap_nrm * sizeof(uint32_t)); /* unknown: changed */
         dtb = (size_t)(end - cur);
     }
+#if VP_PL_TUBES
+    if (cfg->min_feature > 0.0) {
+        /* the grid of tube marks: at most an eighth of what is left, the triangulation keeping
+         * its least share */
+        size_t budget = dtb / 8, nb;
+        double ptol = PROOF_TOL_REL * (1.0 + vp_pl_omega_circumradius(cfg));
+        if (dtb - budget < sh[7] * unit) budget = dtb - sh[7] * unit;
+        nb = vp_pl_tube_plan(cfg, ptol, budget, &pl->tube);
+        if (nb == 0 || !(pl->tube.bits = carve(&cur, end, nb))) return VP_ENOMEM;
+        memset(pl->tube.bits, 0, nb);
+        pl->tube.on = 1;
+        dtb = (size_t)(end - cur);
+    }
+#endif
     st = vp_dt_init(&pl->dt, cur, dtb, KPAY * 4);
     if (st != VP_OK) return st == VP_EINVAL ? VP_ENOMEM : st;
     pl->pool.hash_mask = hwords - 1;
@@ -196,6 +219,7 @@ static int issue_move(vp_planner_t *pl, vp_cmd_t *cmd)
 {
     const double *to = pl->route.pts + 3 * (size_t)pl->route.i;
     if (!vp_pl_proof_covers(pl, pl->route.proof[pl->route.i], pl->dev.pos, to)) return VP_EUNSAFE;
+    if (pl->route.proof[pl->route.i] == PROOF_TUBE) pl->st.tube_moves++;
     pl->route.i++;
     cmd->kind = VP_CMD_MOVE;
     memcpy(cmd->from, pl->dev.pos, sizeof cmd->from);

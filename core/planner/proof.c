@@ -30,6 +30,9 @@ static int proof_new(vp_planner_t *pl, const double *o, const double *d, double 
     q->born = (uint32_t)(pl->st.probes + pl->st.moves);
 #endif
     *out = pl->pool.nproof++;
+#if VP_PL_TUBES
+    vp_pl_tube_mark(pl, o, d, len);
+#endif
     return VP_OK;
 }
 
@@ -60,6 +63,9 @@ VP_PL_API int vp_pl_proof_covers(const vp_planner_t *pl, uint32_t id, const doub
     const vp_proof_t *p;
     uint32_t n = 0, i, j;
     if (id == PROOF_OUTSIDE) return !vp_pl_seg_enters_omega(&pl->cfg, a, b);
+#if VP_PL_TUBES
+    if (id == PROOF_TUBE) return !vp_pl_seg_enters_omega(&pl->cfg, a, b) || vp_pl_tube_free(pl, a, b);
+#endif
     if (id >= pl->pool.nproof) return 0;
     p = &pl->pool.proof[id];
     if (VP_PL_CONTACTS && !(p->len >= 0.0)) return 0; /* withdrawn by a contact */

@@ -716,6 +716,8 @@ static int rescan(vp_planner_t *pl, unsigned flags)
     pl->rescan.tol = pl->cfg.noise_tol > KEEP_TOL_REL * (1.0 + vp_pl_omega_circumradius(&pl->cfg))
                          ? pl->cfg.noise_tol : KEEP_TOL_REL * (1.0 + vp_pl_omega_circumradius(&pl->cfg));
     pl->phase = PH_VERIFY;
+    vp_pl_tube_off(pl); /* the marks are of the object as it was */
+    if (!(flags & VP_RESCAN_HERE)) pl->tube.inside = 0;
     return VP_OK;
 }
 

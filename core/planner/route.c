@@ -607,6 +607,55 @@ static int in_reach(const vp_planner_t *pl, const double *a, const double *b)
     return !(pl->cfg.max_range > 0.0) || vp_dist3(a, b) <= pl->cfg.max_range;
 }
 
+#if VP_PL_TUBES
+/* Body mode with tubes: the length of the way from the device to `to` (on dOmega) without a
+ * new tube: out along the tube it came in by, then round Omega outside it. */
+VP_PL_API double vp_pl_tube_way_out(vp_planner_t *pl, const double *to)
+{
+    const double *p = pl->pool.vrec[pl->dev.at].p;
+    double l = 0.0, out = 0.0;
+    if (pl->tube.inside) {
+        out = vp_dist3(p, pl->tube.exit);
+        p = pl->tube.exit;
+    }
+    if (outside_route(pl, p, to, 1, &l) != VP_OK) return VP_PL_HUGE;
+    return out + l;
+}
+
+/* Body mode with tubes (tube.c): from `from` to `to` straight when that tube is proven;
+ * otherwise out of Omega (back along the tube the device came in by), round Omega outside it,
+ * and in along the goal's own tube (tube.goal_exit, proven by task_start) when the goal is
+ * inside Omega. */
+static int tube_route(vp_planner_t *pl, const double *from, const double *to, double *len)
+{
+    vp_pl_tube_t *T = &pl->tube;
+    double cur[3], ol = 0.0;
+    int to_in = T->goal_in;
+    T->goal_in = 0;
+    *len = 0.0;
+    if (T->on && vp_pl_tube_free(pl, from, to)) {
+        VP_TRY(vp_pl_route_push(pl, to, PROOF_TUBE));
+        *len = vp_dist3(from, to);
+    } else {
+        memcpy(cur, from, sizeof cur);
+        if (T->inside) {
+            VP_TRY(vp_pl_route_push(pl, T->exit, PROOF_TUBE));
+            *len += vp_dist3(cur, T->exit);
+            memcpy(cur, T->exit, sizeof cur);
+        }
+        VP_TRY(outside_route(pl, cur, to_in ? T->goal_exit : to, 0, &ol));
+        *len += ol;
+        if (to_in) {
+            VP_TRY(vp_pl_route_push(pl, to, PROOF_TUBE));
+            *len += vp_dist3(T->goal_exit, to);
+        }
+    }
+    T->inside = to_in;
+    if (to_in) memcpy(T->exit, T->goal_exit, sizeof T->exit);
+    return VP_OK;
+}
+#endif
+
 /* Plans the device's route from where it stands to record b, or to the outside point gp when
  * b == NONE (a record is then made there). Sets pl->dev.at to the destination record. */
 VP_PL_API int vp_pl_plan_route(vp_planner_t *pl, uint32_t b, const double *gp)
@@ -622,6 +671,17 @@ VP_PL_API int vp_pl_plan_route(vp_planner_t *pl, uint32_t b, const double *gp)
     if (pl->cfg.clearance > 0.0) {
         /* a device with a body never enters Omega: every probe starts on dOmega */
         if (b != NONE && !(pl->pool.vrec[b].flags & REC_OUT)) return VP_EDEGEN;
+#if VP_PL_TUBES
+        if (pl->tube.on || pl->tube.inside) {
+            /* a device with a body enters Omega only along tubes proven free */
+            const double *to = b != NONE ? pl->pool.vrec[b].p : gp;
+            int in = pl->tube.goal_in;
+            VP_TRY(tube_route(pl, pl->pool.vrec[pl->dev.at].p, to, &tl));
+            if (b == NONE && (st = vp_pl_rec_new(pl, gp, NONE, in ? 0u : REC_OUT, &b)) != VP_OK) return st;
+            pl->dev.at = b;
+            return VP_OK;
+        }
+#endif
         st = outside_route(pl, pl->pool.vrec[pl->dev.at].p, b != NONE ? pl->pool.vrec[b].p : gp, 0, &tl);
         if (st != VP_OK) return st;
         if (b == NONE && (st = vp_pl_rec_new(pl, gp, NONE, REC_OUT, &b)) != VP_OK) return st;

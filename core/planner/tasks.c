@@ -256,6 +256,48 @@ static int body_origin(const vp_planner_t *pl, const edgegeom_t *g, double *o, d
     return 1;
 }
 
+#if VP_PL_TUBES
+/* halvings of the search for the start nearest the edge whose way out is proven */
+#define TUBE_START_HALVINGS 8
+
+/* Body mode with tubes: how far a probe that would start at o on dOmega, along unit dir, may
+ * start further in (at most `most`): a sub-capsule of a proven capsule is proven, so the starts
+ * o + s dir whose tube back to o is proven (tube.c) are those up to some s_in, found by halving;
+ * of those, the one nearest the device, if its tube from the device is proven too and going
+ * there and back out to o is no longer than the way to o without it (so a start inside never
+ * lengthens the travel). Returns that advance (0: start at o); tube.goal_exit keeps o. */
+static double tube_start(vp_planner_t *pl, const double *o, const double *dir, double most)
+{
+    const double *p = pl->pool.vrec[pl->dev.at].p;
+    double w[3], s, lo = 0.0, hi = most, x[3];
+    int q, i;
+    memcpy(pl->tube.goal_exit, o, sizeof pl->tube.goal_exit);
+    if (!(most > 0.0)) return 0.0;
+    for (q = 0; q < 3; q++) x[q] = o[q] + most * dir[q];
+    if (!vp_pl_tube_free(pl, x, o)) {
+        for (i = 0; i < TUBE_START_HALVINGS; i++) {
+            double mid = 0.5 * (lo + hi);
+            for (q = 0; q < 3; q++) x[q] = o[q] + mid * dir[q];
+            if (vp_pl_tube_free(pl, x, o)) lo = mid;
+            else hi = mid;
+        }
+        most = lo;
+        if (!(most > 0.0)) return 0.0;
+    }
+    vp_sub3(w, p, o);
+    s = vp_dot3(w, dir);
+    if (s > most) s = most;
+    if (!(s > 0.0)) return 0.0;
+    for (q = 0; q < 3; q++) x[q] = o[q] + s * dir[q];
+    /* worth it only if going there and back out to o is no longer than the way to o without it */
+    if (vp_dist3(p, x) + s > vp_pl_tube_way_out(pl, o)) return 0.0;
+    if (!vp_pl_tube_free(pl, p, x)) return 0.0;
+    pl->st.tube_starts++;
+    pl->tube.goal_in = 1;
+    return s;
+}
+#endif
+
 #ifndef VP_CORE_MCU
 /* Body mode: where task k's probe would start (the edge's line leaving Omega behind its active
  * vertex); 0 when that cannot be said cheaply (the task is then not preferred). */
@@ -310,6 +352,15 @@ VP_PL_API int vp_pl_task_start(vp_planner_t *pl, vp_task_t *k)
          * line leaves Omega behind the vertex; only a hit beyond the vertex is on the edge */
         double t1b;
         if (!body_origin(pl, &g, o, &t1b)) return task_unprobeable(pl, t, f);
+#if VP_PL_TUBES
+        if (pl->tube.on) {
+            /* start nearer the vertex (at least the clearance behind it) where tubes allow */
+            double adv = tube_start(pl, o, g.dir, t1b - pl->cfg.clearance);
+            int q;
+            for (q = 0; q < 3; q++) o[q] += adv * g.dir[q];
+            t1b -= adv;
+        }
+#endif
         range = t1b + g.t1;
         pl->probe.standoff = t1b;
     } else if (g.a_inside) {
@@ -331,6 +382,14 @@ VP_PL_API int vp_pl_task_start(vp_planner_t *pl, vp_task_t *k)
             back += step;
         }
         if (vp_pl_omega_inside(&pl->cfg, o)) return task_unprobeable(pl, t, f);
+#if VP_PL_TUBES
+        if (pl->tube.on && pl->cfg.clearance > 0.0 && k->off <= 0.0) {
+            /* start further along the edge (up to the clearance before its end) where tubes allow */
+            double adv = tube_start(pl, o, g.dir, range - pl->cfg.clearance);
+            for (q = 0; q < 3; q++) o[q] += adv * g.dir[q];
+            range -= adv;
+        }
+#endif
     }
     if (k->off > 0.0) {
         /* resume a range-limited probe from the end of its free part */

@@ -175,10 +175,15 @@ struct vp_frec {
  * microcontroller core leaves them out (its flash budget). */
 #define VP_PL_LINE_LASER VP_PL_CONTACTS
 
+/* VP_PL_TUBES: travel inside Omega with a body through tubes proven free (tube.c); a
+ * microcontroller core leaves it out (its RAM: the grid of marks). */
+#define VP_PL_TUBES VP_PL_CONTACTS
+
 /* plan_route: no way known to the goal (a contact withdrew the proofs of every way there) */
 #define PL_UNREACHABLE 1
 #define PROOF_NONE      0xFFFFFFFFu
 #define PROOF_OUTSIDE   0xFFFFFFFDu
+#define PROOF_TUBE      0xFFFFFFFCu /* a tube proven free inside Omega (tube.c) */
 #define FEDGE_WORDS 5u
 #define KPAY 6u /* payload words of a tet: record, sides, four side proofs */
 /* Headroom of one insertion's update (vp_pl_pools_have_room): pool.room entries of facets,
@@ -314,6 +319,9 @@ VP_PL_API int vp_pl_route_push(vp_planner_t *pl, const double *p, uint32_t proof
 VP_PL_API int vp_pl_route_outside(vp_planner_t *pl, const double *q);
 #endif
 VP_PL_API int vp_pl_seg_enters_omega(const vp_planner_config_t *c, const double *a, const double *b);
+#if VP_PL_TUBES
+VP_PL_API double vp_pl_tube_way_out(vp_planner_t *pl, const double *to);
+#endif
 VP_PL_API int vp_pl_walk_on(vp_planner_t *pl, uint32_t from, uint32_t proof, double e[3]);
 
 /* facets.c */
@@ -377,6 +385,14 @@ VP_PL_API int vp_pl_seed_issue(vp_planner_t *pl, const double *dir, double range
 VP_PL_API int vp_pl_seed_miss_on(vp_planner_t *pl);
 VP_PL_API int vp_pl_seed_next(vp_planner_t *pl);
 VP_PL_API int vp_pl_start_run(vp_planner_t *pl);
+
+/* tube.c */
+#if VP_PL_TUBES
+VP_PL_API size_t vp_pl_tube_plan(const vp_planner_config_t *c, double ptol, size_t budget, vp_pl_tube_t *T);
+VP_PL_API void vp_pl_tube_mark(vp_planner_t *pl, const double *o, const double *d, double len);
+VP_PL_API int vp_pl_tube_free(const vp_planner_t *pl, const double *a, const double *b);
+VP_PL_API void vp_pl_tube_off(vp_planner_t *pl);
+#endif
 
 /* planner.c */
 VP_PL_API void vp_pl_note_peak(vp_planner_t *pl);

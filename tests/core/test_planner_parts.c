@@ -1,6 +1,7 @@
 /* Parts of the planner alone, through its private header (core/planner/vp_planner_priv.h):
  * the proof check (proof.c), the route outside Omega (route.c), the bad-ball heap and the facet
- * hash (facets.c), the topology rule of cuts (close.c, against Betti numbers computed here).
+ * hash (facets.c), the topology rule of cuts (close.c, against Betti numbers computed here),
+ * tubes inside Omega (tube.c, against a brute force written here).
  * Each check comes with a case it must refuse, so that none passes vacuously. */
 #include <math.h>
 #include <stdio.h>
@@ -490,6 +491,134 @@ static void test_size_pass(void *arena)
     CHECK(stale_w > 0);
 }
 
+/* ---- tubes (tube.c): a device with a body (a ball of radius C) travels inside Omega where
+ * the capsule of radius C + margin + rho about its move lies nearer than rho to the free parts
+ * of probes or to Omega's outside. On a scan of a ball (exact distances): every move keeps the
+ * body off the ball, and every tube move is checked here by brute force at points of its capsule
+ * against every free part (a second implementation: no grid); the same check with half the
+ * feature size must refuse some, so that it is not vacuous. */
+static double seg_point_dist(const double *a, const double *b, const double *p)
+{
+    double d[3], w[3], t = 0.0, e[3], l2;
+    int k;
+    vp_sub3(d, b, a);
+    vp_sub3(w, p, a);
+    l2 = vp_dot3(d, d);
+    if (l2 > 0.0) { t = vp_dot3(w, d) / l2; if (t < 0.0) t = 0.0; if (t > 1.0) t = 1.0; }
+    for (k = 0; k < 3; k++) e[k] = w[k] - t * d[k];
+    return sqrt(vp_dot3(e, e));
+}
+
+/* 1 if x lies nearer than rho to a live free part or to the outside of the box Omega */
+static int near_free_brute(const vp_planner_t *pl, const double *x, double rho)
+{
+    uint32_t i;
+    int k;
+    for (k = 0; k < 3; k++)
+        if (x[k] - pl->cfg.omega_lo[k] < rho || pl->cfg.omega_hi[k] - x[k] < rho) return 1;
+    for (i = 0; i < pl->pool.nproof; i++) {
+        const vp_proof_t *q = &pl->pool.proof[i];
+        double e[3];
+        if (!(q->len >= 0.0)) continue;
+        for (k = 0; k < 3; k++) e[k] = q->o[k] + q->len * q->d[k];
+        if (seg_point_dist(q->o, e, x) < rho) return 1;
+    }
+    return 0;
+}
+
+/* of n random points of the capsule of radius r about [a, b], those not near free space */
+static int capsule_misses(const vp_planner_t *pl, const double *a, const double *b, double r, double rho, int n)
+{
+    int i, bad = 0, k;
+    for (i = 0; i < n;) {
+        double x[3], t = urand();
+        for (k = 0; k < 3; k++) x[k] = a[k] + t * (b[k] - a[k]) + r * (2.0 * urand() - 1.0);
+        if (seg_point_dist(a, b, x) > r) continue;
+        i++;
+        bad += !near_free_brute(pl, x, rho);
+    }
+    return bad;
+}
+
+static void test_tubes(void *arena)
+{
+    vp_planner_config_t c;
+    vp_planner_t pl;
+    vp_test_ell_t e;
+    vp_cmd_t cmd;
+    double pos[3], R = 0.5, C = 0.1, rho = 0.25, reach, worst = 1e9;
+    long steps = 0, tube_moves = 0, checked_pts = 0, misses = 0, half_refused = 0, grid_refused = 0, refused_brute = 0;
+    int k;
+    memset(&c, 0, sizeof c);
+    for (k = 0; k < 3; k++) { e.ax[k] = R; e.c[k] = 0.0; c.omega_lo[k] = -1.0; c.omega_hi[k] = 1.0; }
+    c.omega_kind = VP_OMEGA_BOX;
+    c.ninterior = 1;
+    c.start[2] = 1.5;
+    c.eps = 0.06;
+    c.clearance = C;
+    c.min_feature = rho;
+    c.feature_margin = VP_FEATURE_MARGIN_DEFAULT * rho;
+    reach = C + c.feature_margin + rho;
+    memcpy(pos, c.start, sizeof pos);
+    CHECK(vp_planner_init(&pl, arena, ARENA, &c) == VP_OK);
+    CHECK(pl.tube.on && pl.tube.bits != NULL && pl.tube.cell <= rho / 4.0 + 1e-15);
+    for (;;) {
+        if (vp_planner_next(&pl, &cmd) != VP_OK || cmd.kind == VP_CMD_DONE || ++steps > 2000000) break;
+        if (cmd.kind == VP_CMD_MOVE) {
+            double o[3] = { 0, 0, 0 }, d = seg_point_dist(pos, cmd.to, o) - R;
+            if (d < worst) worst = d;
+            if (pl.route.proof[pl.route.i - 1] == PROOF_TUBE && vp_pl_seg_enters_omega(&pl.cfg, pos, cmd.to)) {
+                tube_moves++;
+                misses += capsule_misses(&pl, pos, cmd.to, reach, rho, 200);
+                half_refused += capsule_misses(&pl, pos, cmd.to, reach, 0.5 * rho, 200) > 0;
+                checked_pts += 200;
+            }
+            memcpy(pos, cmd.to, sizeof pos);
+        } else if (cmd.kind == VP_CMD_PROBE) {
+            vp_probe_result_t res;
+            double t;
+            memset(&res, 0, sizeof res);
+            res.hit = vp_test_ell_first(&e, pos, cmd.dir, cmd.range, &t);
+            res.dist = res.hit ? t : 0.0;
+            if (vp_planner_feed(&pl, &res) != VP_OK) break;
+        }
+    }
+    CHECK(cmd.kind == VP_CMD_DONE);
+    /* segments near the ball the grid refuses: most have points far from free space */
+    for (k = 0; k < 400; k++) {
+        double a[3], b[3];
+        int q;
+        for (q = 0; q < 3; q++) { a[q] = 1.6 * urand() - 0.8; b[q] = 1.6 * urand() - 0.8; }
+        if (vp_pl_tube_free(&pl, a, b)) continue;
+        grid_refused++;
+        refused_brute += capsule_misses(&pl, a, b, reach, rho, 200) > 0;
+    }
+    printf("tubes: a ball of radius %.2f, clearance %.2f, feature %.2f: %llu samples, %ld tube moves (%llu probes "
+           "started inside Omega), the body at least %.4f from the ball; %ld of %ld capsule points not near free "
+           "space (brute force), %ld moves refused with half the feature size; %ld of %ld random segments the grid "
+           "refuses have such points\n", R, C, rho, (unsigned long long)pl.dt.ninserted, tube_moves,
+           (unsigned long long)pl.st.tube_starts, worst - C, misses, checked_pts, half_refused, refused_brute, grid_refused);
+    CHECK(tube_moves > 50 && pl.st.tube_starts > 20);
+    CHECK(worst >= C);
+    CHECK(misses == 0);
+    CHECK(half_refused > tube_moves / 4);
+    CHECK(grid_refused > 100 && refused_brute > grid_refused / 2);
+    /* without a feature size: never inside Omega */
+    c.min_feature = 0.0;
+    c.feature_margin = 0.0;
+    CHECK(vp_planner_init(&pl, arena, ARENA, &c) == VP_OK && !pl.tube.on && !vp_pl_tube_free(&pl, pos, pos));
+    /* refused: tubes without a body, with proofs that expire, or larger than Omega */
+    c.min_feature = rho;
+    c.clearance = 0.0;
+    CHECK(vp_planner_init(&pl, arena, ARENA, &c) == VP_EINVAL);
+    c.clearance = C;
+    c.proof_life = 100;
+    CHECK(vp_planner_init(&pl, arena, ARENA, &c) == VP_EINVAL);
+    c.proof_life = 0;
+    c.min_feature = 10.0;
+    CHECK(vp_planner_init(&pl, arena, ARENA, &c) == VP_EINVAL);
+}
+
 int main(void)
 {
     void *arena = malloc(ARENA);
@@ -500,6 +629,7 @@ int main(void)
     test_facets(arena);
     test_cut_topology(arena);
     test_size_pass(arena);
+    test_tubes(arena);
     free(arena);
     return vp_test_done("test_planner_parts");
 }

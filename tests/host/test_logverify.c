@@ -4,7 +4,8 @@
  * probe, parallel to a probed line 1e-6 away, a chord of a ball Omega) and a probe from where
  * the device never moved are named with their record number; legitimate moves (outside Omega,
  * along dOmega, covered end to end by two collinear probes and the outside part, a tangent to a
- * ball Omega, across a PAUSE/RESUME) pass; a torn tail is verified up to its last good record;
+ * ball Omega, across a PAUSE/RESUME) pass; with tubes, a move whose capsule a fan of misses
+ * covers passes, and one beyond the fan or along a single ray is refused; a torn tail is verified up to its last good record;
  * a synthetic 500k-record log runs in seconds.
  *
  *   test_logverify              the checks above
@@ -425,6 +426,42 @@ static void test_crafted(void)
     expect(&c, "ball_chord", 1, bad, 0, -1);
     CHECK(vp_logverify_run(&c.h, c.r, c.n, &r) == VP_OK);
     CHECK(r.nmoves_listed == 1 && fabs(r.move[0].unproven - sqrt(2.0)) < 1e-9);
+
+    /* tubes (clearance 0.1, feature 0.2, margin 0: the capsule of 0.3 about a move must lie
+     * within 0.2 of free space): a fan of 25 misses from (1,0,0) proves the tube to (0.6,0,0);
+     * a move on to (-0.2,0,0) reaches 0.3 beyond the fan's ends and is refused */
+    {
+        vp_planner_config_t tc;
+        int a, b;
+        box_header(&c, 0, 2, 0, 0);
+        tc = c.h.cfg;
+        tc.clearance = 0.1;
+        tc.min_feature = 0.2;
+        vp_logfmt_header_init(&c.h, &tc, 1u << 20, VP_LOGFMT_UNITS_NONE, "test", "crafted by test_logverify (tubes)");
+        mv(&c, 1, 0, 0);
+        for (a = -2; a <= 2; a++)
+            for (b = -2; b <= 2; b++) pb(&c, 1, 0, 0, -1, 0.2 * a, 0.2 * b, 1.0, 0, 0);
+        mv(&c, 0.6, 0, 0);
+        mv(&c, 1, 0, 0);
+        bad = mv(&c, -0.2, 0, 0);
+        expect(&c, "tube_fan", 1, bad, 0, -1);
+        CHECK(vp_logverify_run(&c.h, c.r, c.n, &r) == VP_OK);
+        CHECK(r.tube_moves == 3 && r.tube_points > 100 && r.move[0].gap_from[0] < -0.2);
+        /* one probe along the move proves its line, not its tube */
+        box_header(&c, 0, 2, 0, 0);
+        tc = c.h.cfg;
+        tc.clearance = 0.1;
+        tc.min_feature = 0.2;
+        vp_logfmt_header_init(&c.h, &tc, 1u << 20, VP_LOGFMT_UNITS_NONE, "test", "crafted by test_logverify (tubes)");
+        mv(&c, 1, 0, 0);
+        pb(&c, 1, 0, 0, -1, 0, 0, 1.0, 0, 0);
+        bad = mv(&c, 0.6, 0, 0);
+        expect(&c, "tube_one_ray", 1, bad, 0, -1);
+        /* ... which the line rule (no feature size) takes */
+        tc.min_feature = 0.0;
+        vp_logfmt_header_init(&c.h, &tc, 1u << 20, VP_LOGFMT_UNITS_NONE, "test", "crafted by test_logverify (line)");
+        expect(&c, "tube_one_ray_line_rule", 0, -1, 0, -1);
+    }
 }
 
 /* A synthetic log of 250k probes and 250k moves, each move along the probe before it (all

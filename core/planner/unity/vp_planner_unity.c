@@ -14,6 +14,7 @@
 #ifndef VP_CORE_MCU /* the contact safety net: not on a microcontroller (VP_PL_CONTACTS) */
 #include "../contact.c"
 #include "../rescan.c"
+#include "../tube.c"
 #endif
 #include "../seed.c"
 #include "../planner.c"

@@ -1,0 +1,60 @@
+#!/bin/sh
+# Travel inside Omega with a body (core/planner/tube.c): a device of radius C enters Omega only
+# along tubes proven free, on the assumption that every point of the object lies within the
+# feature margin of a ball of radius min_feature inside it.
+# - the torus (sim --clearance 0.05, eps-rel 0.03, --min-feature 0.2): moves and probe starts
+#   inside Omega, 0 collisions of the device's ball with the object (host-sim's exact check), less
+#   travel than the device kept outside Omega, and the log proven free by `log verify`, which
+#   checks every move inside Omega by the tube rule on its own (a lattice of capsule points
+#   against the free parts, no grid);
+# - the checker's case it must catch: the 26-degree knife edge (tests/meshes/wedge26.off) breaks
+#   the assumption with no margin (its edge reaches 3.45 min_feature beyond any inner ball):
+#   host-sim finds the device's ball touching the wedge and the run exits 5, while the log still
+#   verifies (the rule held; the object did not keep the assumption); with the margin the edge
+#   needs (0.35) the same scan closes with 0 collisions;
+# - a board whose head reaches beyond the clearance ball is refused tubes (boards/sim.ini).
+set -u
+B=${BUILD:-build}
+VP=${VP:-$B/voroprobe}
+tmp=$(mktemp -d) || exit 1
+trap 'rm -rf "$tmp"' EXIT
+fail=0
+bad() { echo "FAIL: $*"; fail=1; }
+field() { tail -n 1 "$1" | sed -n "s/.*\"$2\":\([^,}]*\).*/\1/p"; }
+
+# the torus, without and with tubes
+for mf in 0 0.2; do
+  (cd "$tmp" && "$OLDPWD/$VP" sim --surface torus --clearance 0.05 --eps-rel 0.03 --min-feature $mf \
+     --out "torus$mf" --json --quiet >"torus$mf.json" 2>"torus$mf.err")
+done
+t0=$(field "$tmp/torus0.json" travel); t1=$(field "$tmp/torus0.2.json" travel)
+[ "$(field "$tmp/torus0.2.json" collisions)" = 0 ] || bad "torus with tubes: $(field "$tmp/torus0.2.json" collisions) collisions"
+tm=$(field "$tmp/torus0.2.json" tube_moves); ts=$(field "$tmp/torus0.2.json" tube_starts)
+[ -n "$tm" ] && [ "$tm" -gt 100 ] && [ "$ts" -gt 50 ] || bad "torus: $tm moves and $ts starts inside Omega"
+awk -v a="$t0" -v b="$t1" 'BEGIN { exit !(a > 0 && b > 0 && b < 0.9 * a) }' || bad "torus: travel $t1 with tubes, $t0 without"
+"$VP" log verify "$tmp/torus0.2.vplog" --json >"$tmp/v.json" 2>&1 || bad "torus: log verify: $(head -n 1 "$tmp/v.json")"
+vm=$(field "$tmp/v.json" tube_moves)
+[ -n "$vm" ] && [ "$vm" -gt 100 ] || bad "torus: log verify checked $vm moves by the tube rule"
+
+# the knife edge: the assumption broken, then kept
+(cd "$tmp" && "$OLDPWD/$VP" sim --surface off:"$OLDPWD/tests/meshes/wedge26.off" --eps-rel 0.02 --clearance 0.02 \
+   --min-feature 0.1 --feature-margin 0 --out wedge0 --json --quiet >wedge0.json 2>wedge0.err)
+rc=$?
+c=$(field "$tmp/wedge0.json" collisions)
+[ $rc -eq 5 ] && [ -n "$c" ] && [ "$c" -gt 0 ] || bad "wedge, no margin: exit $rc, $c collisions (host-sim must catch the edge)"
+"$VP" log verify "$tmp/wedge0.vplog" >"$tmp/w.txt" 2>&1 || bad "wedge, no margin: the rule itself held, but log verify says $(tail -n 1 "$tmp/w.txt")"
+(cd "$tmp" && "$OLDPWD/$VP" sim --surface off:"$OLDPWD/tests/meshes/wedge26.off" --eps-rel 0.02 --clearance 0.02 \
+   --min-feature 0.1 --feature-margin 0.35 --out wedge1 --json --quiet >wedge1.json 2>wedge1.err)
+rc=$?
+[ $rc -eq 0 ] && [ "$(field "$tmp/wedge1.json" collisions)" = 0 ] && [ "$(field "$tmp/wedge1.json" tube_moves)" -gt 0 ] ||
+  bad "wedge, margin 0.35: exit $rc, $(field "$tmp/wedge1.json" collisions) collisions, $(field "$tmp/wedge1.json" tube_moves) tube moves"
+
+# a head beyond its clearance ball gets no tubes
+sed 's/^clearance = 12/clearance = 12\nmin_feature = 5/' boards/sim.ini >"$tmp/sim-tube.ini"
+"$VP" scan --board "$tmp/sim-tube.ini" --dry-run --log "$tmp/s.vplog" >"$tmp/s.txt" 2>&1
+rc=$?
+[ $rc -ne 0 ] && grep -q "min_feature: tubes inside Omega prove the clearance ball's way only" "$tmp/s.txt" ||
+  bad "sim.ini with min_feature: exit $rc, $(head -n 1 "$tmp/s.txt")"
+
+[ $fail = 0 ] || exit 1
+echo "tubes: torus travel $t0 -> $t1 ($tm moves, $ts probe starts inside Omega, 0 collisions; log verify: $vm moves by the tube rule); knife edge without its margin: $c collisions caught (exit 5), with it closed, 0"
