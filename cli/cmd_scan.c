@@ -887,8 +887,11 @@ static int scan_report(scan_job_t *j)
                (unsigned long long)ps.probes, ps.max_ball, j->o.eps, ps.arena_peak);
         if (j->b.clearance > 0 && j->b.min_feature > 0)
             printf("tubes: min feature %g mm, margin %g mm ([omega]): %llu moves inside Omega, %llu probes started "
-                   "inside it\n", j->b.min_feature, j->b.feature_margin, (unsigned long long)ps.tube_moves,
-                   (unsigned long long)ps.tube_starts);
+                   "inside it, %llu of them past what occluded their line; %llu tubes surveyed first (%llu probes, "
+                   "%llu found blocked)\n", j->b.min_feature, j->b.feature_margin,
+                   (unsigned long long)ps.tube_moves, (unsigned long long)(ps.tube_starts + ps.vantages),
+                   (unsigned long long)ps.vantages, (unsigned long long)ps.surveys,
+                   (unsigned long long)ps.survey_probes, (unsigned long long)ps.surveys_failed);
         if (j->rc == 0 && have_mc && !mc.closed_manifold) {
             printf("warning: the planner said DONE but the mesh is not closed (%zu boundary edges): the planner leaves open "
                    "what its probes could not see (%llu too-close results%s, %llu Voronoi edges occluded from dOmega)\n",

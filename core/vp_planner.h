@@ -114,6 +114,8 @@ typedef struct vp_planner_stats {
     uint64_t occluded;         /* body mode: the line met S before the edge */
     uint64_t tube_moves;       /* body mode: moves inside Omega along tubes proven free */
     uint64_t tube_starts;      /* body mode: probes started inside Omega (nearer their edge) */
+    uint64_t vantages;         /* body mode: lines probed again from past what occluded them */
+    uint64_t surveys, survey_probes, surveys_failed; /* tubes surveyed by parallel rays first */
     uint64_t reseeds;          /* samples added on components the seeds had missed */
     uint64_t noise_drops;      /* hits that a full miss from the edge's other end contradicted
                                   (S within the noise of that end): the facet dropped */
@@ -216,6 +218,7 @@ typedef struct vp_pl_probe {
     vp_task_t task;                        /* the task it carries out */
     double origin[3], dir[3], range, full;
     double standoff;                       /* origin to the edge's vertex (body mode) */
+    int vantage;                           /* body mode with tubes: started past an occluder */
     int ready;                             /* prepared: issue it once the route is done */
     uint32_t origin_rec;
     uint32_t cur_proof;                    /* the proof made from its result (or none): proof.c */
@@ -317,6 +320,12 @@ typedef struct vp_pl_tube {
     double reach;              /* clearance + feature_margin + min_feature: the checked capsule */
     int on, inside, goal_in;   /* goal_in: the next route's goal is a start inside Omega */
     double exit[3], goal_exit[3];
+    /* a survey: parallel rays from outside Omega that prove a tube from sx out along su, fired
+     * one by one (i of n, on an m x m grid d apart across it), then the probe pend from sx */
+    uint32_t survey_i, survey_n, survey_m;
+    int survey_ready, survey_wait;
+    double sx[3], su[3], sw1[3], sw2[3], sd, ss, ray_range;
+    vp_pl_probe_t pend;
 } vp_pl_tube_t;
 #endif
 

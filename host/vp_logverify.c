@@ -86,20 +86,20 @@ static void line_cells(const vp_logverify_t *v, const double *u, const double *c
     }
 }
 
-static int rehash(vp_logverify_t *v, size_t slots)
+static int rehash(vp_lv_hash_t *H, size_t slots)
 {
     uint32_t *h = malloc(slots * sizeof *h);
     size_t i;
     if (!h) return VP_ENOMEM;
     for (i = 0; i < slots; i++) h[i] = LV_NONE;
-    for (i = 0; i < v->nent; i++) {
-        size_t s = (size_t)(v->ent[i].key & (slots - 1));
-        v->ent[i].next = h[s];
+    for (i = 0; i < H->n; i++) {
+        size_t s = (size_t)(H->ent[i].key & (slots - 1));
+        H->ent[i].next = h[s];
         h[s] = (uint32_t)i;
     }
-    free(v->head);
-    v->head = h;
-    v->mask = slots - 1;
+    free(H->head);
+    H->head = h;
+    H->mask = slots - 1;
     return VP_OK;
 }
 
@@ -116,20 +116,26 @@ static int grow(void **p, size_t *cap, size_t need, size_t size)
     return VP_OK;
 }
 
-static int add_entry(vp_logverify_t *v, uint64_t key, uint32_t probe)
+static int add_entry(vp_lv_hash_t *H, uint64_t key, uint32_t probe)
 {
     size_t s;
     int st;
-    if ((st = grow((void **)&v->ent, &v->cap_ent, v->nent + 1, sizeof *v->ent)) != VP_OK) return st;
-    if (!v->head || v->nent + 1 > (v->mask + 1) / 2)
-        if ((st = rehash(v, v->head ? 2 * (v->mask + 1) : 4096)) != VP_OK) return st;
-    s = (size_t)(key & v->mask);
-    v->ent[v->nent].key = key;
-    v->ent[v->nent].probe = probe;
-    v->ent[v->nent].next = v->head[s];
-    v->head[s] = (uint32_t)v->nent;
-    v->nent++;
+    if ((st = grow((void **)&H->ent, &H->cap, H->n + 1, sizeof *H->ent)) != VP_OK) return st;
+    if (!H->head || H->n + 1 > (H->mask + 1) / 2)
+        if ((st = rehash(H, H->head ? 2 * (H->mask + 1) : 4096)) != VP_OK) return st;
+    s = (size_t)(key & H->mask);
+    H->ent[H->n].key = key;
+    H->ent[H->n].probe = probe;
+    H->ent[H->n].next = H->head[s];
+    H->head[s] = (uint32_t)H->n;
+    H->n++;
     return VP_OK;
+}
+
+static void hash_free(vp_lv_hash_t *H)
+{
+    free(H->ent);
+    free(H->head);
 }
 
 int vp_logverify_begin(vp_logverify_t *v, const vp_logfmt_header_t *h)
@@ -317,8 +323,8 @@ static int origin_parts(vp_logverify_t *v, const double *x, const double *p, con
             for (k[2] = k0[2]; k[2] <= k1[2]; k[2]++) {
                 uint64_t key = key3(k);
                 uint32_t e;
-                for (e = v->head[key & v->mask]; e != LV_NONE; e = v->ent[e].next)
-                    if (v->ent[e].key == key && (st = visit(v, v->ent[e].probe, p, q, n, on_line)) != VP_OK) return st;
+                for (e = v->lines.head[key & v->lines.mask]; e != LV_NONE; e = v->lines.ent[e].next)
+                    if (v->lines.ent[e].key == key && (st = visit(v, v->lines.ent[e].probe, p, q, n, on_line)) != VP_OK) return st;
             }
     return VP_OK;
 }
@@ -369,8 +375,8 @@ static int probe_parts(vp_logverify_t *v, const double *p, const double *q, doub
     for (;;) {
         uint64_t key = key6(k);
         uint32_t e;
-        for (e = v->head[key & v->mask]; e != LV_NONE; e = v->ent[e].next)
-            if (v->ent[e].key == key && (st = visit(v, v->ent[e].probe, p, q, n, on_line)) != VP_OK) return st;
+        for (e = v->lines.head[key & v->lines.mask]; e != LV_NONE; e = v->lines.ent[e].next)
+            if (v->lines.ent[e].key == key && (st = visit(v, v->lines.ent[e].probe, p, q, n, on_line)) != VP_OK) return st;
         for (i = 0; i < 6 && k[i] == k1[i]; i++) k[i] = k0[i];
         if (i == 6) break;
         k[i]++;
@@ -394,42 +400,14 @@ static uint64_t tkey(const int64_t *k)
     return h;
 }
 
-static int trehash(vp_logverify_t *v, size_t slots)
-{
-    uint32_t *h = malloc(slots * sizeof *h);
-    size_t i;
-    if (!h) return VP_ENOMEM;
-    for (i = 0; i < slots; i++) h[i] = LV_NONE;
-    for (i = 0; i < v->ntent; i++) {
-        size_t s = (size_t)(v->tent[i].key & (slots - 1));
-        v->tent[i].next = h[s];
-        h[s] = (uint32_t)i;
-    }
-    free(v->thead);
-    v->thead = h;
-    v->tmask = slots - 1;
-    return VP_OK;
-}
-
 /* probe id into the cell with key; once per cell (its entries for id are the newest) */
 static int tadd(vp_logverify_t *v, uint64_t key, uint32_t id)
 {
-    size_t s;
     uint32_t e;
-    int st;
-    if (v->thead)
-        for (e = v->thead[key & v->tmask]; e != LV_NONE && v->tent[e].probe == id; e = v->tent[e].next)
-            if (v->tent[e].key == key) return VP_OK;
-    if ((st = grow((void **)&v->tent, &v->cap_tent, v->ntent + 1, sizeof *v->tent)) != VP_OK) return st;
-    if (!v->thead || v->ntent + 1 > (v->tmask + 1) / 2)
-        if ((st = trehash(v, v->thead ? 2 * (v->tmask + 1) : 4096)) != VP_OK) return st;
-    s = (size_t)(key & v->tmask);
-    v->tent[v->ntent].key = key;
-    v->tent[v->ntent].probe = id;
-    v->tent[v->ntent].next = v->thead[s];
-    v->thead[s] = (uint32_t)v->ntent;
-    v->ntent++;
-    return VP_OK;
+    if (v->cells.head)
+        for (e = v->cells.head[key & v->cells.mask]; e != LV_NONE && v->cells.ent[e].probe == id; e = v->cells.ent[e].next)
+            if (v->cells.ent[e].key == key) return VP_OK;
+    return add_entry(&v->cells, key, id);
 }
 
 /* A free part into every cell within one cell of a point of it taken rho / 2 apart: a point
@@ -492,12 +470,12 @@ static int near_free(vp_logverify_t *v, const double *x)
     uint32_t e;
     int a;
     if (outside_dist(v, x) < rho) return 1;
-    if (!v->thead) return 0;
+    if (!v->cells.head) return 0;
     for (a = 0; a < 3; a++) k[a] = cell(x[a], v->tcell);
     key = tkey(k);
-    for (e = v->thead[key & v->tmask]; e != LV_NONE; e = v->tent[e].next) {
-        const vp_lv_probe_t *P = &v->pr[v->tent[e].probe];
-        if (v->tent[e].key != key || !(P->len >= 0.0)) continue;
+    for (e = v->cells.head[key & v->cells.mask]; e != LV_NONE; e = v->cells.ent[e].next) {
+        const vp_lv_probe_t *P = &v->pr[v->cells.ent[e].probe];
+        if (v->cells.ent[e].key != key || !(P->len >= 0.0)) continue;
         if (v->cfg.proof_life > 0 && v->commands - P->born > v->cfg.proof_life) continue;
         if (part_dist(P, x) < rho) return 1;
     }
@@ -541,8 +519,37 @@ static int tube_holds(vp_logverify_t *v, const double *p, const double *q, doubl
     return 1;
 }
 
+/* A move counted as unproven (`missing` of its length, the first gap s0..s1 of `gaps`); its
+ * listing (NULL past VP_LOGVERIFY_LIST) */
+static vp_logverify_move_t *unproven(vp_logverify_t *v, const vp_logfmt_record_t *r, const double *p,
+                                     const double *q, double len, double missing, double s0, double s1,
+                                     uint32_t gaps)
+{
+    vp_logverify_result_t *R = &v->res;
+    vp_logverify_move_t *m;
+    R->unproven_moves++;
+    R->unproven_length += missing;
+    if (R->nmoves_listed >= VP_LOGVERIFY_LIST) return NULL;
+    m = &R->move[R->nmoves_listed++];
+    memset(m, 0, sizeof *m);
+    m->record = v->index;
+    m->seq = r->seq;
+    m->move = R->moves;
+    memcpy(m->from, p, sizeof m->from);
+    memcpy(m->to, q, sizeof m->to);
+    m->length = len;
+    m->unproven = missing;
+    m->gap_s0 = s0;
+    m->gap_s1 = s1;
+    lerp(p, q, s0, m->gap_from);
+    lerp(p, q, s1, m->gap_to);
+    m->gaps = gaps;
+    return m;
+}
+
 static int check_move(vp_logverify_t *v, const vp_logfmt_record_t *r)
 {
+    vp_logverify_move_t *m;
     vp_logverify_result_t *R = &v->res;
     double p[3], q[3], pr[3], qr[3], len, gap, g0 = 0.0, g1 = 0.0;
     size_t n = 0;
@@ -569,22 +576,10 @@ static int check_move(vp_logverify_t *v, const vp_logfmt_record_t *r)
         }
         R->tube_moves++;
         if (tube_holds(v, pr, qr, bad)) return VP_OK;
-        R->unproven_moves++;
-        R->unproven_length += len;
-        if (R->nmoves_listed < VP_LOGVERIFY_LIST) {
-            vp_logverify_move_t *m = &R->move[R->nmoves_listed++];
-            memset(m, 0, sizeof *m);
-            m->record = v->index;
-            m->seq = r->seq;
-            m->move = R->moves;
-            memcpy(m->from, p, sizeof m->from);
-            memcpy(m->to, q, sizeof m->to);
-            m->length = len;
-            m->unproven = len;
-            m->gap_s1 = 1.0;
+        /* the whole move unproven; its gap named by the point found far from free space */
+        m = unproven(v, r, p, q, len, len, 0.0, 1.0, 1u);
+        if (m)
             for (k = 0; k < 3; k++) m->gap_from[k] = m->gap_to[k] = bad[k] + v->centre[k];
-            m->gaps = 1;
-        }
         return VP_OK;
     }
     if (isfinite(len)) {
@@ -596,24 +591,8 @@ static int check_move(vp_logverify_t *v, const vp_logfmt_record_t *r)
     }
     gap = uncovered(v, n, &gaps, &g0, &g1);
     if (!(gap * len > v->tol)) return VP_OK;
-    R->unproven_moves++;
-    R->unproven_length += gap * len;
-    if (R->nmoves_listed < VP_LOGVERIFY_LIST) {
-        vp_logverify_move_t *m = &R->move[R->nmoves_listed++];
-        m->record = v->index;
-        m->seq = r->seq;
-        m->move = R->moves;
-        memcpy(m->from, p, sizeof m->from);
-        memcpy(m->to, q, sizeof m->to);
-        m->length = len;
-        m->unproven = gap * len;
-        m->gap_s0 = g0;
-        m->gap_s1 = g1;
-        lerp(p, q, g0, m->gap_from);
-        lerp(p, q, g1, m->gap_to);
-        m->gaps = gaps;
-        m->probes_on_line = on_line;
-    }
+    m = unproven(v, r, p, q, len, gap * len, g0, g1, gaps);
+    if (m) m->probes_on_line = on_line;
     return VP_OK;
 }
 
@@ -684,11 +663,11 @@ static int add_free(vp_logverify_t *v, const double *origin, const double *u, do
     P->record = v->index;
     foot(P->o, u, c);
     line_cells(v, u, c, k);
-    if ((st = add_entry(v, key6(k), id)) != VP_OK) return st;
+    if ((st = add_entry(&v->lines, key6(k), id)) != VP_OK) return st;
     line_cells(v, nu, c, k);
-    if ((st = add_entry(v, key6(k), id)) != VP_OK) return st;
+    if ((st = add_entry(&v->lines, key6(k), id)) != VP_OK) return st;
     for (i = 0; i < 3; i++) k[i] = cell(P->o[i], v->ho);
-    if ((st = add_entry(v, key3(k), id)) != VP_OK) return st;
+    if ((st = add_entry(&v->lines, key3(k), id)) != VP_OK) return st;
     v->npr++;
     return v->tubes ? tube_add(v, id) : VP_OK;
 }
@@ -754,12 +733,10 @@ void vp_logverify_end(vp_logverify_t *v, vp_logverify_result_t *res)
     v->res.ok = v->res.unproven_moves == 0 && v->res.probes_off_position == 0;
     if (res) *res = v->res;
     free(v->pr);
-    free(v->ent);
-    free(v->head);
+    hash_free(&v->lines);
     free(v->iv);
     free(v->seen);
-    free(v->tent);
-    free(v->thead);
+    hash_free(&v->cells);
     memset(v, 0, sizeof *v);
 }
 

@@ -93,13 +93,17 @@ typedef struct vp_logverify_result {
 /* The verifier's state (fields are private). */
 typedef struct vp_lv_probe vp_lv_probe_t;
 typedef struct vp_lv_entry vp_lv_entry_t;
+/* a hash of probe indices by 64-bit key (chained; heads UINT32_MAX: empty) */
+typedef struct vp_lv_hash {
+    vp_lv_entry_t *ent; size_t n, cap;
+    uint32_t *head; size_t mask;
+} vp_lv_hash_t;
 typedef struct vp_logverify {
     vp_planner_config_t cfg;
     double centre[3], diam, tol, hu, hc, ho;
     vp_lv_probe_t *pr; size_t npr, cap_pr;      /* probes with a free part */
-    vp_lv_entry_t *ent; size_t nent, cap_ent;   /* hash entries (each probe on its line as +d
-                                                   and -d, and on its origin) */
-    uint32_t *head; size_t mask;                /* hash heads (UINT32_MAX: empty) */
+    vp_lv_hash_t lines;                         /* each probe on its line as +d and -d, and on
+                                                   its origin */
     double (*iv)[2]; size_t cap_iv;             /* per-move interval scratch */
     uint32_t *seen; uint32_t stamp;             /* per-probe stamp: counted once per move */
     uint32_t index;                             /* next record index */
@@ -107,9 +111,8 @@ typedef struct vp_logverify {
     double from[3];                             /* where the last MOVE started */
     int tubes;                                  /* the header has a clearance and min_feature */
     double tcell;                               /* the free parts' cells: 2 min_feature */
-    vp_lv_entry_t *tent; size_t ntent, cap_tent; /* a free part in every cell it passes within
+    vp_lv_hash_t cells;                         /* a free part in every cell it passes within
                                                    1.25 min_feature of */
-    uint32_t *thead; size_t tmask;
     vp_logverify_result_t res;
 } vp_logverify_t;
 

@@ -601,8 +601,11 @@ void vp_sim_report(const vp_sim_t *s, const vp_sim_options_t *o, FILE *f)
                     s->cfg.clearance, (unsigned long long)st.occluded);
         if (s->cfg.clearance > 0 && s->cfg.min_feature > 0)
             fprintf(f, "tubes (min feature %.6g, margin %.6g): %llu moves inside Omega, %llu probes started "
-                    "inside it\n", s->cfg.min_feature, s->cfg.feature_margin, (unsigned long long)st.tube_moves,
-                    (unsigned long long)st.tube_starts);
+                    "inside it, %llu of them past what occluded their line; %llu tubes surveyed first (%llu probes, "
+                    "%llu found blocked)\n", s->cfg.min_feature, s->cfg.feature_margin,
+                    (unsigned long long)st.tube_moves, (unsigned long long)(st.tube_starts + st.vantages),
+                    (unsigned long long)st.vantages, (unsigned long long)st.surveys,
+                    (unsigned long long)st.survey_probes, (unsigned long long)st.surveys_failed);
         else if (s->cfg.clearance > 0)
             fprintf(f, "the device stays outside Omega\n");
         if (s->cfg.line_rays)
@@ -664,7 +667,7 @@ void vp_sim_report(const vp_sim_t *s, const vp_sim_options_t *o, FILE *f)
                 ex == VP_EXIT_ERROR ? ": the scan stopped on an error; the mesh so far is written" : "");
     }
     if (o->json) {
-        char touch[400] = "";
+        char touch[800] = "";
         if (o->contact || o->ndark)
             snprintf(touch, sizeof touch, ",\"contacts\":%llu,\"revoked\":%llu,\"dark_misses\":%llu,\"dark_probes\":%lu",
                      (unsigned long long)st.contacts, (unsigned long long)st.revoked,
@@ -677,9 +680,12 @@ void vp_sim_report(const vp_sim_t *s, const vp_sim_options_t *o, FILE *f)
         if (s->cfg.clearance > 0)
             snprintf(touch + strlen(touch), sizeof touch - strlen(touch),
                      ",\"clearance\":%.6g,\"occluded\":%llu,\"min_feature\":%.6g,\"feature_margin\":%.6g,"
-                     "\"tube_moves\":%llu,\"tube_starts\":%llu", s->cfg.clearance, (unsigned long long)st.occluded,
-                     s->cfg.min_feature, s->cfg.feature_margin, (unsigned long long)st.tube_moves,
-                     (unsigned long long)st.tube_starts);
+                     "\"tube_moves\":%llu,\"tube_starts\":%llu,\"vantages\":%llu,\"surveys\":%llu,"
+                     "\"survey_probes\":%llu,\"surveys_failed\":%llu", s->cfg.clearance,
+                     (unsigned long long)st.occluded, s->cfg.min_feature, s->cfg.feature_margin,
+                     (unsigned long long)st.tube_moves, (unsigned long long)st.tube_starts,
+                     (unsigned long long)st.vantages, (unsigned long long)st.surveys,
+                     (unsigned long long)st.survey_probes, (unsigned long long)st.surveys_failed);
         fprintf(f, "{\"surface\":\"%s\",\"eps\":%.9g,\"status\":\"%s\",\"exit\":%d,\"planner_status\":\"%s\","
                 "\"vertices\":%u,\"facets\":%u,"
                 "\"probes\":%llu,\"hits\":%llu,\"misses\":%llu,\"reprobes\":%llu,\"moves\":%llu,"

@@ -402,6 +402,19 @@ int vp_planner_next(vp_planner_t *pl, vp_cmd_t *cmd)
             pl->probe.ready = 0;
             issue_probe(pl, cmd, pl->probe.origin, pl->probe.dir, pl->probe.range);
             return VP_OK;
+#if VP_PL_TUBES
+        } else if (pl->tube.survey_ready) {
+            /* a survey ray, from where its route ended, back along the tube */
+            double d[3];
+            pl->tube.survey_ready = 0;
+            pl->tube.survey_wait = 1;
+            d[0] = -pl->tube.su[0]; d[1] = -pl->tube.su[1]; d[2] = -pl->tube.su[2];
+            issue_probe(pl, cmd, pl->dev.pos, d, vp_pl_clamp_range(pl, pl->tube.ray_range));
+            return VP_OK;
+        } else if (pl->tube.survey_i < pl->tube.survey_n) {
+            st = vp_pl_survey_next(pl);
+            if (st >= 0) continue;
+#endif
         } else {
             int done = 0;
             st = phase_step(pl, &done);
@@ -485,6 +498,10 @@ int vp_planner_feed(vp_planner_t *pl, const vp_probe_result_t *res)
     pl->dev.awaiting = 0;
 #if VP_PL_LINE_LASER
     pl->rays.left = pl->cfg.line_rays;
+#endif
+#if VP_PL_TUBES
+    if (pl->tube.survey_wait) st = vp_pl_survey_feed(pl, res);
+    else
 #endif
 #if VP_PL_CONTACTS
     if (pl->rescan.reprove) st = vp_pl_reprove_feed(pl, res);

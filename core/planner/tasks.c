@@ -347,6 +347,7 @@ VP_PL_API int vp_pl_task_start(vp_planner_t *pl, vp_task_t *k)
         return 0;
     }
     pl->probe.standoff = 0.0;
+    pl->probe.vantage = 0;
     if (g.a_inside && pl->cfg.clearance > 0.0) {
         /* a device with a body stays outside Omega: it probes the edge's line from where the
          * line leaves Omega behind the vertex; only a hit beyond the vertex is on the edge */
@@ -529,6 +530,132 @@ VP_PL_API int vp_pl_ray_sample(vp_planner_t *pl)
 #endif
 #endif
 
+#if VP_PL_TUBES
+/* ways out looked at from a start past an occluder: the 26 directions of a cube's faces, edges
+ * and corners (vantage_dir) */
+static void vantage_dir(int j, double *u)
+{
+    int q, c[3];
+    c[0] = j % 3 - 1; c[1] = (j / 3) % 3 - 1; c[2] = j / 9 - 1;
+    for (q = 0; q < 3; q++) u[q] = (double)c[q];
+    vp_normalize3(u);
+}
+#define VANTAGE_STARTS 6
+#define SURVEY_MAX 64u /* tubes surveyed per scan at most */
+#define VANTAGE_KEEP 4 /* the clearest ways out checked for a proven tube */
+
+/* Body mode with tubes: the current probe again, from x (s further along its line), reached by a
+ * tube from e on dOmega. Returns 1 when it is ready, 0 when no route, < 0 an error. */
+VP_PL_API int vp_pl_vantage_go(vp_planner_t *pl, const double *x, double s, const double *e)
+{
+    vp_pl_probe_t *P = &pl->probe;
+    int st;
+    memcpy(pl->tube.goal_exit, e, sizeof pl->tube.goal_exit);
+    pl->tube.goal_in = 1;
+    st = vp_pl_plan_route(pl, NONE, x);
+    if (st != VP_OK) { pl->tube.goal_in = 0; return st < 0 ? st : 0; }
+    memcpy(P->origin, x, sizeof P->origin);
+    P->standoff -= s;
+    P->range -= s;
+    P->full -= s;
+    P->origin_rec = pl->dev.at;
+    P->chain_proof = PROOF_NONE;
+    P->vantage = 1;
+    P->ready = 1;
+    side_set(pl, P->task.tet, P->task.facet, side_get(pl, P->task.tet, P->task.facet) | SIDE_QUEUED);
+    pl->st.vantages++;
+    return 1;
+}
+
+/* The probe waiting for a survey will not be made (no tube proven): its side is unseen. */
+VP_PL_API int vp_pl_vantage_unseen(vp_planner_t *pl)
+{
+    vp_task_t *k = &pl->probe.task;
+    if (vp_dt_alive(&pl->dt, k->tet))
+        side_set(pl, k->tet, k->facet, side_get(pl, k->tet, k->facet) | SIDE_BLOCKED);
+    return VP_OK;
+}
+
+/* the least distance from a sample to segment [a, b], or any value below `need` once one sample
+ * is nearer than that (a guess at how clear a way is, cut short when it is not) */
+static double sample_clearance(const vp_planner_t *pl, const double *a, const double *b, double need)
+{
+    double d[3], l2, best = VP_PL_HUGE, n2 = need * need;
+    uint32_t v;
+    int q;
+    vp_sub3(d, b, a);
+    l2 = vp_dot3(d, d);
+    for (v = 0; v < pl->dt.nvert; v++) {
+        const vp_dt_vertex_t *p = vp_dt_vertex(&pl->dt, v);
+        double w[3], t = 0.0, e[3], dd;
+        if (p->tet == VP_DT_NONE || p->tet > VP_DT_MAX_VERTICES) continue;
+        vp_sub3(w, p->xyz, a);
+        if (l2 > 0.0) { t = vp_dot3(w, d) / l2; if (t < 0.0) t = 0.0; if (t > 1.0) t = 1.0; }
+        for (q = 0; q < 3; q++) e[q] = w[q] - t * d[q];
+        dd = vp_dot3(e, e);
+        if (dd < best) best = dd;
+        if (best < n2) break;
+    }
+    return sqrt(best);
+}
+
+/* Body mode with tubes: the line met S at `dist`, before the edge's vertex (at the standoff).
+ * The same line is probed again from past the occluder, between it and the vertex, when a
+ * tube from there straight out of Omega (towards a face, an edge or a corner of a cube) is
+ * proven: the device goes round Omega to that way out and in along it. Of those ways, only the
+ * clearest few (farthest from every sample, and clear of them by the body and the margin) are
+ * checked; when none is proven, the clearest is surveyed first by parallel rays (tube.c). Once
+ * per task. Returns 1 when the probe (or the survey) is under way. */
+static int vantage_retry(vp_planner_t *pl, double dist)
+{
+    vp_pl_probe_t *P = &pl->probe;
+    double lo = dist + pl->cfg.clearance, hi = P->standoff - pl->cfg.clearance, o[3], dir[3];
+    double need = pl->cfg.clearance + pl->cfg.feature_margin + 0.5 * pl->cfg.min_feature;
+    double cx[VANTAGE_KEEP][3], cu[VANTAGE_KEEP][3], cc[VANTAGE_KEEP], cs[VANTAGE_KEEP];
+    int i, j, q, n = 0;
+    if (!(lo < hi)) return 0;
+    memcpy(o, P->origin, sizeof o);
+    memcpy(dir, P->dir, sizeof dir);
+    for (i = 0; i < VANTAGE_STARTS; i++) {
+        /* from the vertex's end of the stretch towards the occluder (the line may run through the
+         * occluding part for a while past its first point) */
+        double s = hi - (hi - lo) * i / (VANTAGE_STARTS - 1), x[3];
+        for (q = 0; q < 3; q++) x[q] = o[q] + s * dir[q];
+        if (sample_clearance(pl, x, x, need) < need) continue;
+        for (j = 0; j < 27; j++) {
+            double e[3], u[3], T, c;
+            int at;
+            if (j == 13) continue; /* the centre of the cube: no direction */
+            vantage_dir(j, u);
+            T = vp_pl_omega_exit(&pl->cfg, x, u);
+            if (!(T > 0.0)) continue;
+            for (q = 0; q < 3; q++) e[q] = x[q] + T * u[q];
+            c = sample_clearance(pl, x, e, need);
+            if (c < need || (n == VANTAGE_KEEP && c <= cc[n - 1])) continue;
+            /* kept in order, clearest first */
+            for (at = n < VANTAGE_KEEP ? n++ : n - 1; at > 0 && cc[at - 1] < c; at--) {
+                memcpy(cx[at], cx[at - 1], sizeof cx[at]);
+                memcpy(cu[at], cu[at - 1], sizeof cu[at]);
+                cc[at] = cc[at - 1];
+                cs[at] = cs[at - 1];
+            }
+            memcpy(cx[at], x, sizeof x);
+            memcpy(cu[at], u, sizeof u);
+            cc[at] = c;
+            cs[at] = s;
+        }
+    }
+    for (i = 0; i < n; i++) {
+        double e[3], T = vp_pl_omega_exit(&pl->cfg, cx[i], cu[i]);
+        for (q = 0; q < 3; q++) e[q] = cx[i][q] + T * cu[i][q];
+        if (vp_pl_tube_free(pl, cx[i], e)) return vp_pl_vantage_go(pl, cx[i], cs[i], e);
+    }
+    if (n == 0 || pl->st.surveys >= SURVEY_MAX) return 0;
+    vp_pl_survey_start(pl, cx[0], cu[0], cs[0]);
+    return 1;
+}
+#endif
+
 /* The result of the probe of the current task. */
 VP_PL_API int vp_pl_task_finish(vp_planner_t *pl, const vp_probe_result_t *res)
 {
@@ -548,6 +675,15 @@ VP_PL_API int vp_pl_task_finish(vp_planner_t *pl, const vp_probe_result_t *res)
     }
     if (res->hit && pl->probe.standoff > 0.0 && res->dist < pl->probe.standoff + tol) {
         /* from a standoff: the line met S before reaching the vertex; the edge is unseen */
+#if VP_PL_TUBES
+        if (pl->tube.on && !pl->probe.vantage) {
+            /* from past the occluder, if a tube leads there */
+            VP_TRY(vp_pl_probe_proof(pl, res, &fr)); /* the free part up to the occluder */
+            st = vantage_retry(pl, res->dist);
+            if (st < 0) return st;
+            if (st == 1) { pl->st.hits++; pl->st.occluded++; return VP_OK; }
+        }
+#endif
         side_set(pl, t, f, side_get(pl, t, f) | SIDE_BLOCKED);
         pl->st.hits++;
         pl->st.occluded++;

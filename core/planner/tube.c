@@ -175,6 +175,87 @@ VP_PL_API int vp_pl_tube_free(const vp_planner_t *pl, const double *a, const dou
     return tube_cells(pl, a, b, pl->tube.reach + pl->tube.half + pl->ptol, NULL);
 }
 
+/* ---------- surveys: the planner proves a tube before it enters it ----------
+ * Parallel rays along -u from outside Omega, on a square grid across the tube d apart: every
+ * point of the capsule's cross-section lies within d / sqrt 2 of a ray, and d / sqrt 2 is below
+ * the mark, so the cells of a capsule whose rays all miss are all marked. The device goes round
+ * Omega outside it from one ray's origin to the next. */
+#define SURVEY_SPACING 1.35 /* d in marks: below sqrt 2 */
+
+/* A survey of the tube from x out of Omega along unit u, for the current probe moved s along its
+ * line to x once the tube is proven (vp_pl_vantage_go). */
+VP_PL_API void vp_pl_survey_start(vp_planner_t *pl, const double *x, const double *u, double s)
+{
+    vp_pl_tube_t *T = &pl->tube;
+    double t[3] = { 0, 0, 1 }, r = T->reach + T->half;
+    if (fabs(u[2]) > 0.8) { t[0] = 1; t[2] = 0; }
+    memcpy(T->sx, x, sizeof T->sx);
+    memcpy(T->su, u, sizeof T->su);
+    vp_cross3(T->sw1, u, t);
+    vp_normalize3(T->sw1);
+    vp_cross3(T->sw2, u, T->sw1);
+    T->sd = SURVEY_SPACING * T->mark;
+    T->survey_m = 2u * (uint32_t)ceil(r / T->sd) + 1u;
+    T->survey_n = T->survey_m * T->survey_m;
+    T->survey_i = 0;
+    T->ss = s;
+    T->pend = pl->probe;
+    pl->probe.chain_proof = PROOF_NONE;
+    pl->st.surveys++;
+}
+
+/* After the survey's last ray: the probe waiting for it goes ahead if the tube is now proven, or
+ * its side is left unseen. */
+static int survey_finish(vp_planner_t *pl)
+{
+    vp_pl_tube_t *T = &pl->tube;
+    double e[3], tx;
+    int q, st;
+    pl->probe = T->pend;
+    tx = vp_pl_omega_exit(&pl->cfg, T->sx, T->su);
+    for (q = 0; q < 3; q++) e[q] = T->sx[q] + tx * T->su[q];
+    if (vp_pl_tube_free(pl, T->sx, e)) {
+        st = vp_pl_vantage_go(pl, T->sx, T->ss, e);
+        if (st != 0) return st < 0 ? st : VP_OK;
+    }
+    pl->st.surveys_failed++;
+    return vp_pl_vantage_unseen(pl);
+}
+
+/* The route to the next survey ray's origin (outside Omega); its probe follows the route. */
+VP_PL_API int vp_pl_survey_next(vp_planner_t *pl)
+{
+    vp_pl_tube_t *T = &pl->tube;
+    double p[3], o[3], a, b, t, back = T->reach + T->half;
+    int q;
+    a = (double)(T->survey_i % T->survey_m) - (double)(T->survey_m / 2u);
+    b = (double)(T->survey_i / T->survey_m) - (double)(T->survey_m / 2u);
+    for (q = 0; q < 3; q++) p[q] = T->sx[q] + T->sd * (a * T->sw1[q] + b * T->sw2[q]);
+    /* out along u until outside Omega, a rounding's breadth beyond dOmega */
+    t = vp_pl_omega_exit(&pl->cfg, p, T->su) + pl->ptol;
+    for (q = 0; q < 3; q++) o[q] = p[q] + t * T->su[q];
+    if (vp_pl_omega_inside(&pl->cfg, o)) /* rounding: skip it */
+        return ++T->survey_i < T->survey_n ? VP_OK : survey_finish(pl);
+    T->ray_range = t + back;
+    T->goal_in = 0;
+    VP_TRY(vp_pl_plan_route(pl, NONE, o));
+    T->survey_ready = 1;
+    return VP_OK;
+}
+
+/* A survey ray's result: its free part marks the grid. */
+VP_PL_API int vp_pl_survey_feed(vp_planner_t *pl, const vp_probe_result_t *res)
+{
+    vp_pl_tube_t *T = &pl->tube;
+    uint32_t pf;
+    T->survey_wait = 0;
+    VP_TRY(vp_pl_probe_proof(pl, res, &pf));
+    pl->st.survey_probes++;
+    if (res->hit == 1) pl->st.hits++;
+    else if (res->hit == 0) pl->st.misses++;
+    return ++T->survey_i < T->survey_n ? VP_OK : survey_finish(pl);
+}
+
 /* The marks no longer prove anything (a contact withdrew a proof, a re-scan): tubes off. */
 VP_PL_API void vp_pl_tube_off(vp_planner_t *pl)
 {

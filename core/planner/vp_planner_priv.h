@@ -392,6 +392,11 @@ VP_PL_API size_t vp_pl_tube_plan(const vp_planner_config_t *c, double ptol, size
 VP_PL_API void vp_pl_tube_mark(vp_planner_t *pl, const double *o, const double *d, double len);
 VP_PL_API int vp_pl_tube_free(const vp_planner_t *pl, const double *a, const double *b);
 VP_PL_API void vp_pl_tube_off(vp_planner_t *pl);
+VP_PL_API void vp_pl_survey_start(vp_planner_t *pl, const double *x, const double *u, double s);
+VP_PL_API int vp_pl_survey_next(vp_planner_t *pl);
+VP_PL_API int vp_pl_survey_feed(vp_planner_t *pl, const vp_probe_result_t *res);
+VP_PL_API int vp_pl_vantage_go(vp_planner_t *pl, const double *x, double s, const double *e);
+VP_PL_API int vp_pl_vantage_unseen(vp_planner_t *pl);
 #endif
 
 /* planner.c */

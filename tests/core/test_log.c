@@ -53,7 +53,8 @@ static int header_equal(const vp_logfmt_header_t *a, const vp_logfmt_header_t *b
                 same(x->max_range, y->max_range) && same(x->noise_tol, y->noise_tol) &&
                 same(x->clearance, y->clearance) && same(x->min_angle, y->min_angle) &&
                 same(x->size_rel, y->size_rel) && same(x->min_size, y->min_size) &&
-                same(x->max_distance, y->max_distance);
+                same(x->max_distance, y->max_distance) && same(x->min_feature, y->min_feature) &&
+                same(x->feature_margin, y->feature_margin);
     for (k = 0; k < 3; k++)
         ok = ok && same(x->omega_lo[k], y->omega_lo[k]) && same(x->omega_hi[k], y->omega_hi[k]) &&
              same(x->omega_center[k], y->omega_center[k]) && same(x->start[k], y->start[k]);
@@ -184,7 +185,7 @@ static void test_roundtrip(void)
         }
     }
     /* the planner configuration the format covers: a new field needs a new format version */
-    CHECKF(sizeof(vp_planner_config_t) == 592,
+    CHECKF(sizeof(vp_planner_config_t) == 608,
            "vp_planner_config_t changed (%zu bytes): update core/vp_logfmt.c, doc/session-log.md, VP_LOGFMT_VERSION",
            sizeof(vp_planner_config_t));
 }
@@ -401,6 +402,23 @@ static void test_sizing_header(void)
         cfg.min_size = 2.0 * cfg.eps; /* a floor above eps */
         CHECK(vp_planner_init(&pl, arena, sizeof arena, &cfg) == VP_EINVAL);
     }
+    /* tubes: version 5, 48 bytes; a NaN feature size is damage */
+    h.cfg.max_distance = 0.0;
+    h.cfg.min_size = 0.0;
+    h.cfg.min_feature = bits_double(0x3FB999999999999Aull); /* 0.1 */
+    h.cfg.feature_margin = 0.075;
+    nb = vp_logfmt_header_encode(&h, b, sizeof b);
+    CHECK(nb == na + 48 && b[8] == 5);
+    vp_logfmt_reader_init(&r);
+    CHECK(vp_logfmt_reader_push(&r, b, (size_t)nb, &used, &rec) == VP_LOGFMT_GOT_HEADER && used == (size_t)nb);
+    g = r.header;
+    h.version = 5;
+    CHECK(header_equal(&g, &h) && g.cfg.min_feature == h.cfg.min_feature && g.cfg.feature_margin == 0.075);
+    h.cfg.min_feature = bits_double(0x7FF8000000000000ull);
+    nb = vp_logfmt_header_encode(&h, b, sizeof b);
+    vp_logfmt_reader_init(&r);
+    CHECK(nb == na + 48 && vp_logfmt_reader_push(&r, b, (size_t)nb, &used, &rec) == VP_ECORRUPT);
+    h.cfg.min_feature = h.cfg.feature_margin = 0.0;
 }
 
 int main(void)

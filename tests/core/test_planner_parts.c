@@ -546,7 +546,7 @@ static void test_tubes(void *arena)
     vp_planner_t pl;
     vp_test_ell_t e;
     vp_cmd_t cmd;
-    double pos[3], R = 0.5, C = 0.1, rho = 0.25, reach, worst = 1e9;
+    double pos[3], R = 0.5, C = 0.1, rho = 0.3, reach, worst = 1e9;
     long steps = 0, tube_moves = 0, checked_pts = 0, misses = 0, half_refused = 0, grid_refused = 0, refused_brute = 0;
     int k;
     memset(&c, 0, sizeof c);
@@ -554,7 +554,7 @@ static void test_tubes(void *arena)
     c.omega_kind = VP_OMEGA_BOX;
     c.ninterior = 1;
     c.start[2] = 1.5;
-    c.eps = 0.06;
+    c.eps = 0.04;
     c.clearance = C;
     c.min_feature = rho;
     c.feature_margin = VP_FEATURE_MARGIN_DEFAULT * rho;

@@ -62,6 +62,17 @@ static void ball_header(crafted_t *c)
     vp_logfmt_header_init(&c->h, &cfg, 1u << 20, VP_LOGFMT_UNITS_NONE, "test", "crafted by test_logverify (ball)");
 }
 
+/* the box header with a body of 0.1 and tubes of feature size rho (0: none), margin 0 */
+static void tube_header(crafted_t *c, double rho)
+{
+    vp_planner_config_t tc;
+    box_header(c, 0, 2, 0, 0);
+    tc = c->h.cfg;
+    tc.clearance = 0.1;
+    tc.min_feature = rho;
+    vp_logfmt_header_init(&c->h, &tc, 1u << 20, VP_LOGFMT_UNITS_NONE, "test", "crafted by test_logverify (tubes)");
+}
+
 static uint32_t ev(crafted_t *c, uint32_t event)
 {
     vp_logfmt_record_event(&c->r[c->n], (uint32_t)c->n, event, 0, "crafted");
@@ -431,13 +442,8 @@ static void test_crafted(void)
      * within 0.2 of free space): a fan of 25 misses from (1,0,0) proves the tube to (0.6,0,0);
      * a move on to (-0.2,0,0) reaches 0.3 beyond the fan's ends and is refused */
     {
-        vp_planner_config_t tc;
         int a, b;
-        box_header(&c, 0, 2, 0, 0);
-        tc = c.h.cfg;
-        tc.clearance = 0.1;
-        tc.min_feature = 0.2;
-        vp_logfmt_header_init(&c.h, &tc, 1u << 20, VP_LOGFMT_UNITS_NONE, "test", "crafted by test_logverify (tubes)");
+        tube_header(&c, 0.2);
         mv(&c, 1, 0, 0);
         for (a = -2; a <= 2; a++)
             for (b = -2; b <= 2; b++) pb(&c, 1, 0, 0, -1, 0.2 * a, 0.2 * b, 1.0, 0, 0);
@@ -447,19 +453,14 @@ static void test_crafted(void)
         expect(&c, "tube_fan", 1, bad, 0, -1);
         CHECK(vp_logverify_run(&c.h, c.r, c.n, &r) == VP_OK);
         CHECK(r.tube_moves == 3 && r.tube_points > 100 && r.move[0].gap_from[0] < -0.2);
-        /* one probe along the move proves its line, not its tube */
-        box_header(&c, 0, 2, 0, 0);
-        tc = c.h.cfg;
-        tc.clearance = 0.1;
-        tc.min_feature = 0.2;
-        vp_logfmt_header_init(&c.h, &tc, 1u << 20, VP_LOGFMT_UNITS_NONE, "test", "crafted by test_logverify (tubes)");
+        /* one probe along the move proves its line, not its tube ... */
+        tube_header(&c, 0.2);
         mv(&c, 1, 0, 0);
         pb(&c, 1, 0, 0, -1, 0, 0, 1.0, 0, 0);
         bad = mv(&c, 0.6, 0, 0);
         expect(&c, "tube_one_ray", 1, bad, 0, -1);
         /* ... which the line rule (no feature size) takes */
-        tc.min_feature = 0.0;
-        vp_logfmt_header_init(&c.h, &tc, 1u << 20, VP_LOGFMT_UNITS_NONE, "test", "crafted by test_logverify (line)");
+        c.h.cfg.min_feature = 0.0;
         expect(&c, "tube_one_ray_line_rule", 0, -1, 0, -1);
     }
 }
