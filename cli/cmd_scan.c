@@ -989,6 +989,12 @@ static int scan_report(scan_job_t *j)
                        (unsigned long long)ps.rescan_unseen,
                        (unsigned long long)ps.rescan_normal, (unsigned long long)ps.reproved,
                        (unsigned long long)ps.reprove_blocked);
+            if (j->b.clearance > 0 && j->b.min_feature > 0)
+                printf(",\"min_feature\":%g,\"feature_margin\":%g,\"tube_moves\":%llu,\"tube_starts\":%llu,"
+                       "\"vantages\":%llu,\"surveys\":%llu,\"survey_probes\":%llu", j->b.min_feature, j->b.feature_margin,
+                       (unsigned long long)ps.tube_moves, (unsigned long long)ps.tube_starts,
+                       (unsigned long long)ps.vantages, (unsigned long long)ps.surveys,
+                       (unsigned long long)ps.survey_probes);
             if (j->o.dry) {
                 printf(",\"through\":%lu,\"head_collisions\":%lu,\"head_motions\":%lu,\"head_parts\":{", j->dev.through,
                        j->dev.head_hits, j->dev.head_motions);
