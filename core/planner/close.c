@@ -19,6 +19,15 @@ static int probe_around_edge(vp_planner_t *pl, uint32_t t0, uint32_t x, uint32_t
         if (tet_active(pl, r.cur))
             for (f = 0; f < 4; f++) {
                 unsigned s = side_get(pl, r.cur, f);
+#if VP_PL_TUBES
+                if (pl->tube.on && (s & (SIDE_BLOCKED | SIDE_DEGEN | SIDE_RETRIED | SIDE_QUEUED)) == SIDE_BLOCKED &&
+                    (s & SIDE_MASK) == SIDE_UNKNOWN) {
+                    /* unseen at a hole: once more, now that more tubes are proven (the line from
+                     * past its occluder, or a survey) */
+                    s = (s & ~SIDE_BLOCKED) | SIDE_RETRIED;
+                    side_set(pl, r.cur, f, s);
+                }
+#endif
                 if ((s & SIDE_MASK) != SIDE_UNKNOWN || (s & (SIDE_QUEUED | SIDE_BLOCKED)) ||
                     vp_pl_facet_has_ghost(pl, r.cur, f))
                     continue;

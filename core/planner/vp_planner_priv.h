@@ -49,6 +49,7 @@
                            dOmega (a device with a body), or degenerate (with SIDE_DEGEN) */
 #define SIDE_DEGEN   32u /* blocked because the edge is degenerate, not because it is unseen */
 #define SIDE_CUT     64u /* on all four sides: an inside tet cut off at a pinch (close.c) */
+#define SIDE_RETRIED 128u /* with tubes: a side left unseen, probed once more while closing holes */
 
 /* record flags */
 #define REC_OUT 1u       /* on or outside dOmega: joins every other such record outside */
