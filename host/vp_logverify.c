@@ -433,8 +433,8 @@ static int tube_add(vp_logverify_t *v, uint32_t id)
     return VP_OK;
 }
 
-/* distance from x (relative to the centre) to a free part */
-static double part_dist(const vp_lv_probe_t *P, const double *x)
+/* squared distance from x (relative to the centre) to a free part */
+static double part_dist2(const vp_lv_probe_t *P, const double *x)
 {
     double w[3], s, e[3];
     int k;
@@ -443,7 +443,7 @@ static double part_dist(const vp_lv_probe_t *P, const double *x)
     if (s < 0.0) s = 0.0;
     if (s > P->len) s = P->len;
     for (k = 0; k < 3; k++) e[k] = w[k] - s * P->d[k];
-    return sqrt(vp_dot3(e, e));
+    return vp_dot3(e, e);
 }
 
 /* distance from x (relative to the centre, inside Omega) to the outside of Omega */
@@ -477,7 +477,7 @@ static int near_free(vp_logverify_t *v, const double *x)
         const vp_lv_probe_t *P = &v->pr[v->cells.ent[e].probe];
         if (v->cells.ent[e].key != key || !(P->len >= 0.0)) continue;
         if (v->cfg.proof_life > 0 && v->commands - P->born > v->cfg.proof_life) continue;
-        if (part_dist(P, x) < rho) return 1;
+        if (part_dist2(P, x) < rho * rho) return 1;
     }
     return 0;
 }
@@ -676,7 +676,7 @@ static int add_free(vp_logverify_t *v, const double *origin, const double *u, do
 static int add_contact(vp_logverify_t *v, const vp_logfmt_record_t *r)
 {
     vp_logverify_result_t *R = &v->res;
-    double d[3], u[3], c[3], len, at = r->value[0];
+    double d[3], u[3], c[3], cr[3], len, at = r->value[0];
     size_t i;
     int k;
     vp_sub3(d, R->pos, v->from);
@@ -688,16 +688,10 @@ static int add_contact(vp_logverify_t *v, const vp_logfmt_record_t *r)
     }
     R->contacts++;
     /* every free part through the point was wrong */
+    for (k = 0; k < 3; k++) cr[k] = c[k] - v->centre[k];
     for (i = 0; i < v->npr; i++) {
         vp_lv_probe_t *P = &v->pr[i];
-        double w[3], s, e[3];
-        if (!(P->len >= 0.0)) continue;
-        for (k = 0; k < 3; k++) w[k] = c[k] - v->centre[k] - P->o[k];
-        s = vp_dot3(w, P->d);
-        if (s < 0.0) s = 0.0;
-        if (s > P->len) s = P->len;
-        for (k = 0; k < 3; k++) e[k] = w[k] - s * P->d[k];
-        if (vp_dot3(e, e) <= v->tol * v->tol) { P->len = -1.0; R->withdrawn++; }
+        if (P->len >= 0.0 && part_dist2(P, cr) <= v->tol * v->tol) { P->len = -1.0; R->withdrawn++; }
     }
     memcpy(R->pos, c, sizeof R->pos);
     /* the head travelled up to the point */

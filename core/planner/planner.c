@@ -99,6 +99,8 @@ int vp_planner_init(vp_planner_t *pl, void *arena, size_t bytes, const vp_planne
 #endif
     memset(pl, 0, sizeof *pl);
     pl->cfg = *cfg;
+    /* the slack of a proof: rounding of constructed points, far below any physical size */
+    pl->ptol = PROOF_TOL_REL * (1.0 + vp_pl_omega_circumradius(cfg));
     pl->close.size_epoch = 1;
     cur = (unsigned char *)arena;
     end = cur + bytes;
@@ -161,9 +163,8 @@ int vp_planner_init(vp_planner_t *pl, void *arena, size_t bytes, const vp_planne
         /* the grid of tube marks: at most an eighth of what is left, the triangulation keeping
          * its least share */
         size_t budget = dtb / 8, nb;
-        double ptol = PROOF_TOL_REL * (1.0 + vp_pl_omega_circumradius(cfg));
         if (dtb - budget < sh[7] * unit) budget = dtb - sh[7] * unit;
-        nb = vp_pl_tube_plan(cfg, ptol, budget, &pl->tube);
+        nb = vp_pl_tube_plan(cfg, pl->ptol, budget, &pl->tube);
         if (nb == 0 || !(pl->tube.bits = carve(&cur, end, nb))) return VP_ENOMEM;
         memset(pl->tube.bits, 0, nb);
         pl->tube.on = 1;
@@ -176,8 +177,6 @@ int vp_planner_init(vp_planner_t *pl, void *arena, size_t bytes, const vp_planne
     for (i = 0; i < hwords; i++) pl->pool.fhash[i] = HASH_EMPTY;
     pl->pool.frec_free = NONE;
     pl->probe.cur_proof = pl->probe.chain_proof = PROOF_NONE;
-    /* the slack of a proof: rounding of constructed points, far below any physical size */
-    pl->ptol = PROOF_TOL_REL * (1.0 + vp_pl_omega_circumradius(cfg));
     pl->phase = PH_SEED;
     {
         /* sin of the angle bound by its Taylor series (|x| <= pi/6: error below 1e-9) */

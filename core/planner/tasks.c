@@ -582,17 +582,13 @@ static double sample_clearance(const vp_planner_t *pl, const double *a, const do
 {
     double d[3], l2, best = VP_PL_HUGE, n2 = need * need;
     uint32_t v;
-    int q;
     vp_sub3(d, b, a);
     l2 = vp_dot3(d, d);
     for (v = 0; v < pl->dt.nvert; v++) {
         const vp_dt_vertex_t *p = vp_dt_vertex(&pl->dt, v);
-        double w[3], t = 0.0, e[3], dd;
+        double dd;
         if (p->tet == VP_DT_NONE || p->tet > VP_DT_MAX_VERTICES) continue;
-        vp_sub3(w, p->xyz, a);
-        if (l2 > 0.0) { t = vp_dot3(w, d) / l2; if (t < 0.0) t = 0.0; if (t > 1.0) t = 1.0; }
-        for (q = 0; q < 3; q++) e[q] = w[q] - t * d[q];
-        dd = vp_dot3(e, e);
+        dd = vp_pl_seg_dist2(a, d, l2, p->xyz);
         if (dd < best) best = dd;
         if (best < n2) break;
     }
@@ -611,7 +607,7 @@ static int vantage_retry(vp_planner_t *pl, double dist)
     vp_pl_probe_t *P = &pl->probe;
     double lo = dist + pl->cfg.clearance, hi = P->standoff - pl->cfg.clearance, o[3], dir[3];
     double need = pl->cfg.clearance + pl->cfg.feature_margin + 0.5 * pl->cfg.min_feature;
-    double cx[VANTAGE_KEEP][3], cu[VANTAGE_KEEP][3], cc[VANTAGE_KEEP], cs[VANTAGE_KEEP];
+    double cx[VANTAGE_KEEP][3], cu[VANTAGE_KEEP][3], ce[VANTAGE_KEEP][3], cc[VANTAGE_KEEP], cs[VANTAGE_KEEP];
     int i, j, q, n = 0;
     if (!(lo < hi)) return 0;
     memcpy(o, P->origin, sizeof o);
@@ -636,20 +632,19 @@ static int vantage_retry(vp_planner_t *pl, double dist)
             for (at = n < VANTAGE_KEEP ? n++ : n - 1; at > 0 && cc[at - 1] < c; at--) {
                 memcpy(cx[at], cx[at - 1], sizeof cx[at]);
                 memcpy(cu[at], cu[at - 1], sizeof cu[at]);
+                memcpy(ce[at], ce[at - 1], sizeof ce[at]);
                 cc[at] = cc[at - 1];
                 cs[at] = cs[at - 1];
             }
             memcpy(cx[at], x, sizeof x);
             memcpy(cu[at], u, sizeof u);
+            memcpy(ce[at], e, sizeof e);
             cc[at] = c;
             cs[at] = s;
         }
     }
-    for (i = 0; i < n; i++) {
-        double e[3], T = vp_pl_omega_exit(&pl->cfg, cx[i], cu[i]);
-        for (q = 0; q < 3; q++) e[q] = cx[i][q] + T * cu[i][q];
-        if (vp_pl_tube_free(pl, cx[i], e)) return vp_pl_vantage_go(pl, cx[i], cs[i], e);
-    }
+    for (i = 0; i < n; i++)
+        if (vp_pl_tube_free(pl, cx[i], ce[i])) return vp_pl_vantage_go(pl, cx[i], cs[i], ce[i]);
     if (n == 0 || pl->st.surveys >= SURVEY_MAX) return 0;
     vp_pl_survey_start(pl, cx[0], cu[0], cs[0]);
     return 1;
@@ -675,18 +670,17 @@ VP_PL_API int vp_pl_task_finish(vp_planner_t *pl, const vp_probe_result_t *res)
     }
     if (res->hit && pl->probe.standoff > 0.0 && res->dist < pl->probe.standoff + tol) {
         /* from a standoff: the line met S before reaching the vertex; the edge is unseen */
+        pl->st.hits++;
+        pl->st.occluded++;
 #if VP_PL_TUBES
         if (pl->tube.on && !pl->probe.vantage) {
             /* from past the occluder, if a tube leads there */
             VP_TRY(vp_pl_probe_proof(pl, res, &fr)); /* the free part up to the occluder */
             st = vantage_retry(pl, res->dist);
-            if (st < 0) return st;
-            if (st == 1) { pl->st.hits++; pl->st.occluded++; return VP_OK; }
+            if (st != 0) return st < 0 ? st : VP_OK;
         }
 #endif
         side_set(pl, t, f, side_get(pl, t, f) | SIDE_BLOCKED);
-        pl->st.hits++;
-        pl->st.occluded++;
 #if VP_PL_CONTACTS
         return occluded_sample(pl, res->dist);
 #else

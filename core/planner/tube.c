@@ -59,7 +59,8 @@ VP_PL_API size_t vp_pl_tube_plan(const vp_planner_config_t *c, double ptol, size
     return 0;
 }
 
-static double seg_dist2(const double *a, const double *d, double len2, const double *p)
+/* the squared distance from p to segment a .. a + d (len2 = |d|^2; 0: the point a) */
+VP_PL_API double vp_pl_seg_dist2(const double *a, const double *d, double len2, const double *p)
 {
     double w[3], t = 0.0, e[3];
     int k;
@@ -147,7 +148,7 @@ static int tube_cells(const vp_planner_t *pl, const double *a, const double *b, 
                 c[k] = x;
                 c[u] = T->lo[u] + ((double)j + 0.5) * T->cell;
                 c[v] = T->lo[v] + ((double)l + 0.5) * T->cell;
-                if (seg_dist2(a, d, len2, c) > r2) continue;
+                if (vp_pl_seg_dist2(a, d, len2, c) > r2) continue;
                 idx[k] = (size_t)i; idx[u] = (size_t)j; idx[v] = (size_t)l;
                 bit = (idx[2] * T->n[1] + idx[1]) * T->n[0] + idx[0];
                 if (set) set[bit >> 3] |= (uint8_t)(1u << (bit & 7u));

@@ -389,6 +389,7 @@ VP_PL_API int vp_pl_start_run(vp_planner_t *pl);
 
 /* tube.c */
 #if VP_PL_TUBES
+VP_PL_API double vp_pl_seg_dist2(const double *a, const double *d, double len2, const double *p);
 VP_PL_API size_t vp_pl_tube_plan(const vp_planner_config_t *c, double ptol, size_t budget, vp_pl_tube_t *T);
 VP_PL_API void vp_pl_tube_mark(vp_planner_t *pl, const double *o, const double *d, double len);
 VP_PL_API int vp_pl_tube_free(const vp_planner_t *pl, const double *a, const double *b);
