@@ -563,13 +563,14 @@ static int check_move(vp_logverify_t *v, const vp_logfmt_record_t *r)
     len = dist3(p, q);
     if (len <= v->tol) return VP_OK;   /* shorter than the tolerance: nothing to cover */
     if ((st = outside_part(v, p, q, &n)) != VP_OK) return st;
-    if (n > 0 && uncovered(v, n, &gaps, &g0, &g1) == 0.0) { R->moves_outside++; return VP_OK; }
+    gap = n > 0 ? uncovered(v, n, &gaps, &g0, &g1) : 1.0; /* of the move, inside Omega */
+    if (gap == 0.0) { R->moves_outside++; return VP_OK; }
     if (v->tubes) {
         /* a body inside Omega: the tube rule alone (a ray proves no volume); a move that enters
          * Omega by no more than the tolerance (an end on dOmega, rounded) is outside */
         double bad[3];
         if (!isfinite(len)) return VP_EINVAL;
-        if (n > 0 && !(uncovered(v, n, &gaps, &g0, &g1) * len > v->tol)) return VP_OK;
+        if (!(gap * len > v->tol)) return VP_OK;
         for (k = 0; k < 3; k++) {
             pr[k] = p[k] - v->centre[k];
             qr[k] = q[k] - v->centre[k];
