@@ -540,9 +540,9 @@ static void vantage_dir(int j, double *u)
     for (q = 0; q < 3; q++) u[q] = (double)c[q];
     vp_normalize3(u);
 }
-#define VANTAGE_STARTS 6
-#define SURVEY_MAX 64u /* tubes surveyed per scan at most */
+#define VANTAGE_STARTS 24 /* starts looked at on a line at most, min_feature / 2 apart or more */
 #define VANTAGE_KEEP 4 /* the clearest ways out checked for a proven tube */
+#define SURVEY_FAILS_FREE 8u /* surveys found blocked before the ratio to those that pass counts */
 
 /* Body mode with tubes: the current probe again, from x (s further along its line), reached by a
  * tube from e on dOmega. Returns 1 when it is ready, 0 when no route, < 0 an error. */
@@ -595,6 +595,13 @@ static double sample_clearance(const vp_planner_t *pl, const double *a, const do
     return sqrt(best);
 }
 
+/* A way out is better when less of it is unexplored (cells on its axis no free ray has marked:
+ * the object's inside is never marked), then when it is clearer of the samples. */
+static int way_better(uint32_t un, double c, uint32_t un_than, double c_than)
+{
+    return un < un_than || (un == un_than && c > c_than);
+}
+
 /* Body mode with tubes: the line met S at `dist`, before the edge's vertex (at the standoff).
  * The same line is probed again from past the occluder, between it and the vertex, when a
  * tube from there straight out of Omega (towards a face, an edge or a corner of a cube) is
@@ -607,45 +614,62 @@ static int vantage_retry(vp_planner_t *pl, double dist)
     vp_pl_probe_t *P = &pl->probe;
     double lo = dist + pl->cfg.clearance, hi = P->standoff - pl->cfg.clearance, o[3], dir[3];
     double need = pl->cfg.clearance + pl->cfg.feature_margin + 0.5 * pl->cfg.min_feature;
+    double need_x = pl->tube.reach + pl->tube.half;
     double cx[VANTAGE_KEEP][3], cu[VANTAGE_KEEP][3], ce[VANTAGE_KEEP][3], cc[VANTAGE_KEEP], cs[VANTAGE_KEEP];
-    int i, j, q, n = 0;
-    if (!(lo < hi)) return 0;
+    uint32_t cn[VANTAGE_KEEP];
+    int i, j, q, n = 0, starts;
     memcpy(o, P->origin, sizeof o);
     memcpy(dir, P->dir, sizeof dir);
-    for (i = 0; i < VANTAGE_STARTS; i++) {
+    if (!(lo < hi)) return 0;
+    starts = (int)ceil((hi - lo) / (0.5 * pl->cfg.min_feature)) + 1;
+    if (starts > VANTAGE_STARTS) starts = VANTAGE_STARTS;
+    if (starts < 2) starts = 2;
+    for (i = 0; i < starts; i++) {
         /* from the vertex's end of the stretch towards the occluder (the line may run through the
          * occluding part for a while past its first point) */
-        double s = hi - (hi - lo) * i / (VANTAGE_STARTS - 1), x[3];
+        double s = hi - (hi - lo) * i / (starts - 1), x[3];
         for (q = 0; q < 3; q++) x[q] = o[q] + s * dir[q];
-        if (sample_clearance(pl, x, x, need) < need) continue;
+        if (sample_clearance(pl, x, x, need_x) < need_x) continue;
         for (j = 0; j < 27; j++) {
             double e[3], u[3], T, c;
+            uint32_t un;
             int at;
             if (j == 13) continue; /* the centre of the cube: no direction */
             vantage_dir(j, u);
             T = vp_pl_omega_exit(&pl->cfg, x, u);
             if (!(T > 0.0)) continue;
             for (q = 0; q < 3; q++) e[q] = x[q] + T * u[q];
+            un = vp_pl_tube_unexplored(pl, x, e);
+            if (n == VANTAGE_KEEP && un > cn[n - 1]) continue;
             c = sample_clearance(pl, x, e, need);
-            if (c < need || (n == VANTAGE_KEEP && c <= cc[n - 1])) continue;
-            /* kept in order, clearest first */
-            for (at = n < VANTAGE_KEEP ? n++ : n - 1; at > 0 && cc[at - 1] < c; at--) {
+            if (c < need) continue;
+            if (n == VANTAGE_KEEP && !way_better(un, c, cn[n - 1], cc[n - 1])) continue;
+            /* kept in order, best first */
+            for (at = n < VANTAGE_KEEP ? n++ : n - 1; at > 0 && way_better(un, c, cn[at - 1], cc[at - 1]); at--) {
                 memcpy(cx[at], cx[at - 1], sizeof cx[at]);
                 memcpy(cu[at], cu[at - 1], sizeof cu[at]);
                 memcpy(ce[at], ce[at - 1], sizeof ce[at]);
                 cc[at] = cc[at - 1];
+                cn[at] = cn[at - 1];
                 cs[at] = cs[at - 1];
             }
             memcpy(cx[at], x, sizeof x);
             memcpy(cu[at], u, sizeof u);
             memcpy(ce[at], e, sizeof e);
             cc[at] = c;
+            cn[at] = un;
             cs[at] = s;
         }
     }
     for (i = 0; i < n; i++)
-        if (vp_pl_tube_free(pl, cx[i], ce[i])) return vp_pl_vantage_go(pl, cx[i], cs[i], ce[i]);
-    if (n == 0 || pl->st.surveys >= SURVEY_MAX) return 0;
+        if (vp_pl_tube_free(pl, cx[i], ce[i])) {
+            int st = vp_pl_vantage_go(pl, cx[i], cs[i], ce[i]);
+            if (st != 0) return st;
+        }
+    /* surveys take at most half of all probes, and stop where most are found blocked */
+    if (n == 0 || pl->st.survey_probes > pl->st.probes - pl->st.survey_probes ||
+        pl->st.surveys_failed >= SURVEY_FAILS_FREE + 2u * (pl->st.surveys - pl->st.surveys_failed))
+        return 0;
     vp_pl_survey_start(pl, cx[0], cu[0], cs[0]);
     return 1;
 }

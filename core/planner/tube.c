@@ -176,6 +176,39 @@ VP_PL_API int vp_pl_tube_free(const vp_planner_t *pl, const double *a, const dou
     return tube_cells(pl, a, b, pl->tube.reach + pl->tube.half + pl->ptol, NULL);
 }
 
+/* How much of the way [a, b] is unexplored: the cells on its axis (points a cell's side apart)
+ * neither marked nor near Omega's outside. Cells inside the object are never marked, so a way
+ * through explored free space counts few; the vantage ranks its ways out by it. */
+VP_PL_API uint32_t vp_pl_tube_unexplored(const vp_planner_t *pl, const double *a, const double *b)
+{
+    const vp_pl_tube_t *T = &pl->tube;
+    double d[3], len, c[3];
+    uint32_t n = 0, i, steps;
+    size_t last = (size_t)-1;
+    int k;
+    vp_sub3(d, b, a);
+    len = sqrt(vp_dot3(d, d));
+    steps = (uint32_t)ceil(len / T->cell);
+    for (i = 0; i <= steps; i++) {
+        double t = steps ? (double)i / (double)steps : 0.0;
+        size_t idx[3], bit;
+        int in = 1;
+        for (k = 0; k < 3; k++) {
+            long j;
+            j = cell_of(T, k, a[k] + t * d[k]);
+            if (j < 0 || j >= (long)T->n[k]) { in = 0; break; }
+            idx[k] = (size_t)j;
+            c[k] = T->lo[k] + ((double)j + 0.5) * T->cell;
+        }
+        if (!in) continue;
+        bit = (idx[2] * T->n[1] + idx[1]) * T->n[0] + idx[0];
+        if (bit == last) continue;
+        last = bit;
+        if (!(T->bits[bit >> 3] & (1u << (bit & 7u))) && !near_outside(pl, c)) n++;
+    }
+    return n;
+}
+
 /* ---------- surveys: the planner proves a tube before it enters it ----------
  * Parallel rays along -u from outside Omega, on a square grid across the tube d apart: every
  * point of the capsule's cross-section lies within d / sqrt 2 of a ray, and d / sqrt 2 is below
@@ -223,15 +256,36 @@ static int survey_finish(vp_planner_t *pl)
     return vp_pl_vantage_unseen(pl);
 }
 
+/* Where survey ray i crosses the plane across the tube at its start: the grid's centre first,
+ * then square rings about it outwards (ring k holds the 8k points at k steps), so that a tube
+ * the object blocks near its axis shows it after a few rays. */
+static void survey_point(const vp_pl_tube_t *T, uint32_t i, double *p)
+{
+    uint32_t k = 0, j, side, t;
+    long a = 0, b = 0;
+    int q;
+    if (i > 0) {
+        while ((2u * k + 1u) * (2u * k + 1u) <= i) k++;
+        j = i - (2u * k - 1u) * (2u * k - 1u);
+        side = j / (2u * k);
+        t = j % (2u * k);
+        switch (side) {
+        case 0: a = -(long)k + (long)t; b = -(long)k; break;
+        case 1: a = (long)k; b = -(long)k + (long)t; break;
+        case 2: a = (long)k - (long)t; b = (long)k; break;
+        default: a = -(long)k; b = (long)k - (long)t; break;
+        }
+    }
+    for (q = 0; q < 3; q++) p[q] = T->sx[q] + T->sd * ((double)a * T->sw1[q] + (double)b * T->sw2[q]);
+}
+
 /* The route to the next survey ray's origin (outside Omega); its probe follows the route. */
 VP_PL_API int vp_pl_survey_next(vp_planner_t *pl)
 {
     vp_pl_tube_t *T = &pl->tube;
-    double p[3], o[3], a, b, t, back = T->reach + T->half;
+    double p[3], o[3], t, back = T->reach + T->half;
     int q;
-    a = (double)(T->survey_i % T->survey_m) - (double)(T->survey_m / 2u);
-    b = (double)(T->survey_i / T->survey_m) - (double)(T->survey_m / 2u);
-    for (q = 0; q < 3; q++) p[q] = T->sx[q] + T->sd * (a * T->sw1[q] + b * T->sw2[q]);
+    survey_point(T, T->survey_i, p);
     /* out along u until outside Omega, a rounding's breadth beyond dOmega */
     t = vp_pl_omega_exit(&pl->cfg, p, T->su) + pl->ptol;
     for (q = 0; q < 3; q++) o[q] = p[q] + t * T->su[q];
@@ -252,8 +306,19 @@ VP_PL_API int vp_pl_survey_feed(vp_planner_t *pl, const vp_probe_result_t *res)
     T->survey_wait = 0;
     VP_TRY(vp_pl_probe_proof(pl, res, &pf));
     pl->st.survey_probes++;
-    if (res->hit == 1) pl->st.hits++;
-    else if (res->hit == 0) pl->st.misses++;
+    if (res->hit == 1) {
+        /* a point of S within the body and the margin of the way: no ball of the assumption
+         * about it is ever proven free, so the tube cannot be; the survey ends here */
+        double h[3], d[3], e[3], tx, r = pl->cfg.clearance + pl->cfg.feature_margin;
+        int q;
+        pl->st.hits++;
+        for (q = 0; q < 3; q++) h[q] = pl->dev.iss_o[q] + res->dist * pl->dev.iss_d[q];
+        tx = vp_pl_omega_exit(&pl->cfg, T->sx, T->su);
+        for (q = 0; q < 3; q++) e[q] = T->sx[q] + tx * T->su[q];
+        vp_sub3(d, e, T->sx);
+        if (vp_pl_seg_dist2(T->sx, d, vp_dot3(d, d), h) < r * r) T->survey_i = T->survey_n - 1u;
+    } else if (res->hit == 0)
+        pl->st.misses++;
     return ++T->survey_i < T->survey_n ? VP_OK : survey_finish(pl);
 }
 

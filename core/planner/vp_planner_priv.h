@@ -393,6 +393,7 @@ VP_PL_API double vp_pl_seg_dist2(const double *a, const double *d, double len2, 
 VP_PL_API size_t vp_pl_tube_plan(const vp_planner_config_t *c, double ptol, size_t budget, vp_pl_tube_t *T);
 VP_PL_API void vp_pl_tube_mark(vp_planner_t *pl, const double *o, const double *d, double len);
 VP_PL_API int vp_pl_tube_free(const vp_planner_t *pl, const double *a, const double *b);
+VP_PL_API uint32_t vp_pl_tube_unexplored(const vp_planner_t *pl, const double *a, const double *b);
 VP_PL_API void vp_pl_tube_off(vp_planner_t *pl);
 VP_PL_API void vp_pl_survey_start(vp_planner_t *pl, const double *x, const double *u, double s);
 VP_PL_API int vp_pl_survey_next(vp_planner_t *pl);
