@@ -605,10 +605,11 @@ static int way_better(uint32_t un, double c, uint32_t un_than, double c_than)
 /* Body mode with tubes: the line met S at `dist`, before the edge's vertex (at the standoff).
  * The same line is probed again from past the occluder, between it and the vertex, when a
  * tube from there straight out of Omega (towards a face, an edge or a corner of a cube) is
- * proven: the device goes round Omega to that way out and in along it. Of those ways, only the
- * clearest few (farthest from every sample, and clear of them by the body and the margin) are
- * checked; when none is proven, the clearest is surveyed first by parallel rays (tube.c). Once
- * per task. Returns 1 when the probe (or the survey) is under way. */
+ * proven: the device goes round Omega to that way out and in along it. Starts lie at least the
+ * tube's reach from every sample; of their ways, clear of the samples by the body and the
+ * margin, only the best few (way_better) are checked; when none is proven, the best is
+ * surveyed first by parallel rays (tube.c), within the survey budget. Once per task. Returns 1
+ * when the probe (or the survey) is under way. */
 static int vantage_retry(vp_planner_t *pl, double dist)
 {
     vp_pl_probe_t *P = &pl->probe;

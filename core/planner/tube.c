@@ -213,7 +213,8 @@ VP_PL_API uint32_t vp_pl_tube_unexplored(const vp_planner_t *pl, const double *a
  * Parallel rays along -u from outside Omega, on a square grid across the tube d apart: every
  * point of the capsule's cross-section lies within d / sqrt 2 of a ray, and d / sqrt 2 is below
  * the mark, so the cells of a capsule whose rays all miss are all marked. The device goes round
- * Omega outside it from one ray's origin to the next. */
+ * Omega outside it from one ray's origin to the next, the grid's centre first; a ray that meets
+ * S within the body and the margin of the way ends the survey (vp_pl_survey_feed). */
 #define SURVEY_SPACING 1.35 /* d in marks: below sqrt 2 */
 
 /* A survey of the tube from x out of Omega along unit u, for the current probe moved s along its
