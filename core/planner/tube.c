@@ -214,7 +214,7 @@ VP_PL_API uint32_t vp_pl_tube_unexplored(const vp_planner_t *pl, const double *a
  * point of the capsule's cross-section lies within d / sqrt 2 of a ray, and d / sqrt 2 is below
  * the mark, so the cells of a capsule whose rays all miss are all marked. The device goes round
  * Omega outside it from one ray's origin to the next, the grid's centre first; a ray that meets
- * S within the body and the margin of the way ends the survey (vp_pl_survey_feed). */
+ * S within the body's radius of the way ends the survey (vp_pl_survey_feed). */
 #define SURVEY_SPACING 1.35 /* d in marks: below sqrt 2 */
 
 /* A survey of the tube from x out of Omega along unit u, for the current probe moved s along its
@@ -308,9 +308,11 @@ VP_PL_API int vp_pl_survey_feed(vp_planner_t *pl, const vp_probe_result_t *res)
     VP_TRY(vp_pl_probe_proof(pl, res, &pf));
     pl->st.survey_probes++;
     if (res->hit == 1) {
-        /* a point of S within the body and the margin of the way: no ball of the assumption
-         * about it is ever proven free, so the tube cannot be; the survey ends here */
-        double h[3], d[3], e[3], tx, r = pl->cfg.clearance + pl->cfg.feature_margin;
+        /* a point of S within the body's radius C of the way: the ball B(c, rho) inside the
+         * object that the assumption puts within eta of it has c within C + eta + rho of the
+         * way, and c's cell can never be marked (c is rho from every free point), so the tube
+         * cannot be proven; the survey ends here */
+        double h[3], d[3], e[3], tx, r = pl->cfg.clearance;
         int q;
         pl->st.hits++;
         for (q = 0; q < 3; q++) h[q] = pl->dev.iss_o[q] + res->dist * pl->dev.iss_d[q];
