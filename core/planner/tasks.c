@@ -541,7 +541,7 @@ static void vantage_dir(int j, double *u)
     vp_normalize3(u);
 }
 #define VANTAGE_STARTS 24 /* starts looked at on a line at most, min_feature / 2 apart or more */
-#define VANTAGE_KEEP 4 /* the clearest ways out checked for a proven tube */
+#define VANTAGE_KEEP 4 /* the best ways out (way_better) checked for a proven tube */
 #define SURVEY_FAILS_FREE 8u /* surveys found blocked before the ratio to those that pass counts */
 
 /* Body mode with tubes: the current probe again, from x (s further along its line), reached by a
