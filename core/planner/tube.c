@@ -99,6 +99,19 @@ static int near_outside(const vp_planner_t *pl, const double *c)
     return 0;
 }
 
+/* the bit of the cell with indices idx */
+static size_t cell_bit(const vp_pl_tube_t *T, const size_t *idx)
+{
+    return (idx[2] * T->n[1] + idx[1]) * T->n[0] + idx[0];
+}
+
+/* 1 when the cell (bit, centre c) is neither marked nor near Omega's outside: no tube through it
+ * is proven yet */
+static int cell_open(const vp_planner_t *pl, size_t bit, const double *c)
+{
+    return !(pl->tube.bits[bit >> 3] & (1u << (bit & 7u))) && !near_outside(pl, c);
+}
+
 /* The cells whose centre lies within r of segment [a, b]: with set (the grid's bits) marks
  * them; otherwise returns 0
  * at the first that is neither marked nor near the outside (1: all are). Slab by slab across
@@ -150,9 +163,9 @@ static int tube_cells(const vp_planner_t *pl, const double *a, const double *b, 
                 c[v] = T->lo[v] + ((double)l + 0.5) * T->cell;
                 if (vp_pl_seg_dist2(a, d, len2, c) > r2) continue;
                 idx[k] = (size_t)i; idx[u] = (size_t)j; idx[v] = (size_t)l;
-                bit = (idx[2] * T->n[1] + idx[1]) * T->n[0] + idx[0];
+                bit = cell_bit(T, idx);
                 if (set) set[bit >> 3] |= (uint8_t)(1u << (bit & 7u));
-                else if (!(T->bits[bit >> 3] & (1u << (bit & 7u))) && !near_outside(pl, c)) return 0;
+                else if (cell_open(pl, bit, c)) return 0;
             }
     }
     return 1;
@@ -201,10 +214,10 @@ VP_PL_API uint32_t vp_pl_tube_unexplored(const vp_planner_t *pl, const double *a
             c[k] = T->lo[k] + ((double)j + 0.5) * T->cell;
         }
         if (!in) continue;
-        bit = (idx[2] * T->n[1] + idx[1]) * T->n[0] + idx[0];
+        bit = cell_bit(T, idx);
         if (bit == last) continue;
         last = bit;
-        if (!(T->bits[bit >> 3] & (1u << (bit & 7u))) && !near_outside(pl, c)) n++;
+        n += (uint32_t)cell_open(pl, bit, c);
     }
     return n;
 }
