@@ -116,6 +116,9 @@ typedef struct vp_planner_stats {
     uint64_t tube_starts;      /* body mode: probes started inside Omega (nearer their edge) */
     uint64_t vantages;         /* body mode: lines probed again from past what occluded them */
     uint64_t surveys, survey_probes, surveys_failed; /* tubes surveyed by parallel rays first */
+    uint64_t aims;             /* body mode: probes aimed from aside at a hidden facet's edge */
+    uint64_t aim_balls;        /* hidden facets whose surface Delaunay ball those found */
+    uint64_t aim_reached;      /* hidden facets whose far vertex those saw free (reached) */
     uint64_t reseeds;          /* samples added on components the seeds had missed */
     uint64_t noise_drops;      /* hits that a full miss from the edge's other end contradicted
                                   (S within the noise of that end): the facet dropped */
@@ -329,6 +332,21 @@ typedef struct vp_pl_tube {
 } vp_pl_tube_t;
 #endif
 
+#ifndef VP_CORE_MCU
+/* Body mode: a hidden facet's Voronoi edge [a, a + len e] found from aside (aim.c). Lines
+ * along direction d through points q(t) of the edge, t in (lo, hi), halve the stretch where S
+ * crosses it: q(lo) was seen free, the line through q(hi) met S just before it. */
+typedef struct vp_pl_aim {
+    int on;                    /* 1: the probe prepared or issued is an aimed one */
+    uint32_t dir_i, steps;     /* the direction tried (of AIM_DIRS), the lines along it so far */
+    int to_vertex;             /* the edge ends at its far vertex in Omega (else at dOmega) */
+    double a[3], e[3], len;    /* the edge */
+    double out[3];             /* a point on the edge's line outside S: the facet's outer side */
+    double d[3], t, lo, hi;    /* this direction; the point q(t) the issued line passes through */
+    double sq;                 /* the line's origin to q(t) */
+} vp_pl_aim_t;
+#endif
+
 /* High-water marks of the pools whose use goes up and down (for stats.arena_peak). */
 typedef struct vp_pl_peak {
     uint32_t task, heap, route, astar, path;
@@ -354,6 +372,7 @@ typedef struct vp_planner {
     vp_pl_rays_t rays;
     vp_pl_rescan_t rescan;
     vp_pl_tube_t tube;
+    vp_pl_aim_t aim;
 #endif
     vp_pl_peak_t peak;
     vp_planner_stats_t st;   /* counters, written where things happen */

@@ -366,6 +366,7 @@ static int vp_scan_dev_move_do(void *ctx, const vp_cmd_t *cmd, int *collided)
 {
     vp_scan_dev_t *d = ctx;
     double j0[VP_KIN_JOINTS];
+    unsigned long turns = d->m->st.turns;
     int st;
     vp_scan_trip(d);
     memcpy(j0, d->m->j, sizeof j0);
@@ -401,8 +402,13 @@ static int vp_scan_dev_move_do(void *ctx, const vp_cmd_t *cmd, int *collided)
         }
     }
     if (d->dry) {
-        /* a MOVE is one straight line of all five joints: the whole head along it */
+        /* a MOVE is one straight line of all five joints: the whole head along it, after the
+         * turn about the laser origin the machine made first, if any (vp_machine_move) */
         unsigned long before = d->head_hits;
+        if (d->m->st.turns != turns && d->m->turn_n > 0) {
+            vp_scan_head_path(d, j0, (const double (*)[VP_KIN_JOINTS])d->m->way, d->m->turn_n);
+            memcpy(j0, d->m->way[d->m->turn_n - 1], sizeof j0);
+        }
         vp_scan_head_path(d, j0, (const double (*)[VP_KIN_JOINTS])d->m->j, 1);
         if (d->head_hits != before) *collided = 1;
     }

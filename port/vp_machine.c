@@ -114,11 +114,43 @@ static int vp_machine_touch_move(vp_machine_t *m, const vp_cmd_t *cmd)
     return VP_OK;
 }
 
+/* A MOVE keeps the head's orientation, so the carriage sits at a fixed offset from the laser
+ * origin all along the line. When that offset puts the carriage outside its travel at the
+ * MOVE's end, the head first turns about the laser origin where it stands (the aim's path: the
+ * origin stays put) to the orientation nearest in pan and tilt, of the 26 towards a cube's faces,
+ * edges and corners, that keeps both ends within travel (the travel is a box: the line between
+ * is too). VP_ERANGE when none does. */
+static int vp_machine_turn_for(vp_machine_t *m, const double to[3])
+{
+    double o[3], d[3], jt[VP_KIN_JOINTS], best[VP_KIN_JOINTS], j1[VP_KIN_JOINTS], cost, bcost = HUGE_VAL;
+    int i, k, n, rc;
+    vp_machine_beam(m, o, d);
+    for (i = 0; i < 27; i++) {
+        double u[3] = { (double)(i % 3 - 1), (double)((i / 3) % 3 - 1), (double)(i / 9 - 1) };
+        double l = vp_norm3(u);
+        if (i == 13) continue;
+        for (k = 0; k < 3; k++) u[k] /= l;
+        if (vp_kin_aim(&m->kin, m->j, o, u, jt) != VP_OK || vp_kin_move(&m->kin, jt, to, j1) != VP_OK) continue;
+        cost = fabs(jt[VP_J_PAN] - m->j[VP_J_PAN]) + fabs(jt[VP_J_TILT] - m->j[VP_J_TILT]);
+        if (cost < bcost) { bcost = cost; memcpy(best, jt, sizeof best); }
+    }
+    if (!(bcost < HUGE_VAL)) return VP_ERANGE;
+    n = vp_kin_aim_path(&m->kin, m->j, best, m->way, VP_MACHINE_MAX_WAY);
+    if (n < 0) return n;
+    rc = vp_step_move_path(&m->step, &m->way[0][0], n);
+    vp_machine_sync(m);
+    m->turn_n = n;
+    if (rc >= 0) m->st.turns++;
+    return rc < 0 ? rc : VP_OK;
+}
+
 int vp_machine_move(vp_machine_t *m, const vp_cmd_t *cmd)
 {
+    double j1[VP_KIN_JOINTS];
     if (!m || !cmd || cmd->kind != VP_CMD_MOVE) return VP_EINVAL;
     m->last.contact = 0;
     m->last.contact_at = m->last.overtravel = 0;
+    if (!m->touched && vp_kin_move(&m->kin, m->j, cmd->to, j1) == VP_ERANGE) VP_TRY(vp_machine_turn_for(m, cmd->to));
     if (m->cfg.contact) return vp_machine_touch_move(m, cmd);
     m->st.moves++;
     return vp_machine_goto(m, cmd->to);

@@ -53,6 +53,8 @@ typedef struct vp_machine_stats {
     unsigned long line_points;        /* a line laser: points read (every column), and of them */
     unsigned long line_rays;          /* reported as rays (within the calibrated span) */
     unsigned long line_gaps;          /* probes whose axis fell in a gap of the line: unreadable */
+    unsigned long turns;              /* MOVEs the head first turned for (its orientation put the
+                                         carriage outside its travel at the MOVE's end) */
     int64_t move_ns, aim_ns, settle_ns, read_ns; /* machine time by motion (the io clock): MOVEs;
                                          a PROBE's aim, its settle, its frames and their reading */
 } vp_machine_stats_t;
@@ -132,6 +134,7 @@ typedef struct vp_machine {
     vp_machine_config_t cfg;
     double j[VP_KIN_JOINTS];          /* joints as stepped (units) */
     double way[VP_MACHINE_MAX_WAY][VP_KIN_JOINTS];
+    int turn_n;                       /* the last turn before a MOVE: its path, way[0 .. turn_n) */
     vp_machine_stats_t st;
     vp_machine_last_t last;
     vp_spot_ws_t ws;

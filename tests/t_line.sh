@@ -146,7 +146,11 @@ B3="off:tests/meshes/box.off*36@182,141,138+off:tests/meshes/box.off*20@190,145,
 "$VP" scan --board "$D/rpi4-line.ini" --dry-run --eps 6 --surface "$B3" --json --log "$o.vplog" --out "$o" >"$o.out" 2>&1
 rc=$?
 tail -n 1 "$o.out" >"$o.json"
-[ $rc = 0 ] || [ $rc = 4 ] || bad "stacked boxes, line laser: exit $rc ($(grep SAFETY "$o.out"))"
+# (the boxes lie 0.4 and 0.2 mm apart, 15-30 times below eps: where the mesh closes it joins them
+# into one surface of genus 0, and host-sim says so, wrong topology, exit 7, as for two spheres
+# closer than eps in README)
+[ $rc = 0 ] || [ $rc = 4 ] || { [ $rc = 7 ] && grep -q 'the mesh has genus 0 in 1 component(s), the object genus 0 in 3' "$o.out"; } ||
+  bad "stacked boxes, line laser: exit $rc ($(grep -E 'SAFETY|topology' "$o.out"))"
 grep -q '^SAFETY' "$o.out" && bad "stacked boxes, line laser: $(grep SAFETY "$o.out")"
 grep -q ' 0 false hits, [0-9]* hidden spots, 0 moves through the object' "$o.out" || bad "stacked boxes, line laser: $(grep 'dry run: probe error' "$o.out")"
 "$VP" log verify "$o.vplog" >/dev/null 2>&1 || bad "stacked boxes, line laser: log verify"

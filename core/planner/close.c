@@ -20,10 +20,10 @@ static int probe_around_edge(vp_planner_t *pl, uint32_t t0, uint32_t x, uint32_t
             for (f = 0; f < 4; f++) {
                 unsigned s = side_get(pl, r.cur, f);
 #if VP_PL_TUBES
-                if (pl->tube.on && (s & (SIDE_BLOCKED | SIDE_DEGEN | SIDE_RETRIED | SIDE_QUEUED)) == SIDE_BLOCKED &&
+                if (pl->cfg.clearance > 0.0 && (s & (SIDE_BLOCKED | SIDE_DEGEN | SIDE_RETRIED | SIDE_QUEUED)) == SIDE_BLOCKED &&
                     (s & SIDE_MASK) == SIDE_UNKNOWN) {
                     /* unseen at a hole: once more, now that more tubes are proven (the line from
-                     * past its occluder, or a survey) */
+                     * past its occluder, or a survey), or from aside (aim.c) */
                     s = (s & ~SIDE_BLOCKED) | SIDE_RETRIED;
                     side_set(pl, r.cur, f, s);
                 }

@@ -348,12 +348,21 @@ VP_PL_API int vp_pl_task_start(vp_planner_t *pl, vp_task_t *k)
     }
     pl->probe.standoff = 0.0;
     pl->probe.vantage = 0;
+#if VP_PL_CONTACTS
+    pl->aim.on = 0;
+#endif
     if (g.a_inside && pl->cfg.clearance > 0.0) {
         /* a device with a body stays outside Omega: it probes the edge's line from where the
          * line leaves Omega behind the vertex; only a hit beyond the vertex is on the edge */
         double t1b;
         if (!body_origin(pl, &g, o, &t1b)) return task_unprobeable(pl, t, f);
 #if VP_PL_TUBES
+        if ((s & SIDE_RETRIED) && !pl->tube.on) {
+            /* unseen at a hole: its line is what occluded it; from aside instead (aim.c) */
+            st = vp_pl_aim_start(pl, k, o);
+            if (st < 0) pl->error = st;
+            return st > 0;
+        }
         if (pl->tube.on) {
             /* start nearer the vertex (at least the clearance behind it) where tubes allow */
             double adv = tube_start(pl, o, g.dir, t1b - pl->cfg.clearance);
@@ -432,6 +441,7 @@ VP_PL_API void vp_pl_probe_drop(vp_planner_t *pl)
 {
     vp_task_t *k = &pl->probe.task;
     pl->probe.ready = 0;
+    pl->aim.on = 0;
     if (vp_dt_alive(&pl->dt, k->tet))
         side_set(pl, k->tet, k->facet, (side_get(pl, k->tet, k->facet) & ~(SIDE_QUEUED | SIDE_FORCED)) | SIDE_BLOCKED);
 }
@@ -486,13 +496,13 @@ VP_PL_API int vp_pl_sample_insert(vp_planner_t *pl, const double h[3], uint32_t 
 /* A sample seen from elsewhere: where the line from dOmega met S before an occluded Voronoi edge
  * is a point of S (the "picking region" variant of Delaunay refinement takes such points near
  * the ball it refines). Inserted when no sample lies within OCCLUDED_SPACING eps of it, so the
- * samples keep a spacing and the refinement its bound. */
+ * samples keep a spacing and the refinement its bound. 1 when inserted. */
 static int occluded_sample(vp_planner_t *pl, double dist)
 {
     double h[3], sp = OCCLUDED_SPACING * pl->cfg.eps;
     uint32_t fv[3];
     double m[3];
-    int q, st;
+    int q;
     if (pl->cfg.min_size > 0.0 && pl->cfg.min_size < sp) sp = pl->cfg.min_size;
     for (q = 0; q < 3; q++) h[q] = pl->probe.origin[q] + dist * pl->probe.dir[q];
     if (!vp_pl_omega_inside(&pl->cfg, h)) return VP_OK;
@@ -502,8 +512,7 @@ static int occluded_sample(vp_planner_t *pl, double dist)
     if (fv[0] == VP_DT_GHOST || fv[1] == VP_DT_GHOST || fv[2] == VP_DT_GHOST || !vp_pl_facet_circumcenter(pl, fv, m) ||
         vp_dist3(m, h) > OCCLUDED_REACH * pl->cfg.eps)
         return VP_OK;
-    st = vp_pl_sample_insert(pl, h, pl->probe.task.tet, sp, NULL);
-    return st < 0 ? st : VP_OK;
+    return vp_pl_sample_insert(pl, h, pl->probe.task.tet, sp, NULL);
 }
 
 /* The oldest of a line laser's queued hits (planner.c, vp_planner_feed_ray) becomes a sample when
@@ -676,14 +685,43 @@ static int vantage_retry(vp_planner_t *pl, double dist)
 }
 #endif
 
+/* Side f of t met S at h, a point of its Voronoi edge: the facet's record with its surface
+ * Delaunay ball centred at h (`outside` a point on the probe's side; pf the proof of the free
+ * part up to h, or none), the side hit, the other end behind S unless it was hit too. */
+VP_PL_API int vp_pl_side_hit(vp_planner_t *pl, uint32_t t, int f, const double *h, const double *outside, uint32_t pf)
+{
+    const uint32_t *w = vp_dt_tet(&pl->dt, t);
+    uint32_t u = w[4 + f] >> 2, j = w[4 + f] & 3u, fv[3], fr;
+    unsigned su = side_get(pl, u, (int)j) & SIDE_MASK;
+    int st;
+    vp_dt_facet(&pl->dt, t, f, fv);
+    st = vp_pl_frec_add(pl, fv, h, outside, t, pf, &fr);
+    if (st != VP_OK) return st;
+    side_set(pl, t, f, SIDE_HIT);
+    if (su == SIDE_HIT) {
+        /* seen from both ends: two balls; the larger one decides refinement */
+        vp_pl_frec_set_ball(pl, fr, h);
+    } else {
+        side_set(pl, u, (int)j, (side_get(pl, u, (int)j) & ~SIDE_MASK) | SIDE_BEHIND);
+    }
+    return VP_OK;
+}
+
 /* The result of the probe of the current task. */
 VP_PL_API int vp_pl_task_finish(vp_planner_t *pl, const vp_probe_result_t *res)
 {
     vp_task_t *k = &pl->probe.task;
     uint32_t t = k->tet, u, j, fv[3], fr;
-    int f = k->facet, st, q;
-    const uint32_t *w = vp_dt_tet(&pl->dt, t);
+    int f = k->facet, q;
+#if VP_PL_CONTACTS
+    int st;
+#endif
+    const uint32_t *w;
     double tol = pl->cfg.noise_tol;
+#if VP_PL_CONTACTS
+    if (pl->aim.on) return vp_pl_aim_feed(pl, res);
+#endif
+    w = vp_dt_tet(&pl->dt, t);
     u = w[4 + f] >> 2;
     j = w[4 + f] & 3u;
     side_set(pl, t, f, side_get(pl, t, f) & ~(SIDE_QUEUED | SIDE_FORCED));
@@ -705,10 +743,18 @@ VP_PL_API int vp_pl_task_finish(vp_planner_t *pl, const vp_probe_result_t *res)
             if (st != 0) return st < 0 ? st : VP_OK;
         }
 #endif
-        side_set(pl, t, f, side_get(pl, t, f) | SIDE_BLOCKED);
 #if VP_PL_CONTACTS
-        return occluded_sample(pl, res->dist);
+        {
+            unsigned was = side_get(pl, t, f);
+            side_set(pl, t, f, was | SIDE_BLOCKED);
+            st = occluded_sample(pl, res->dist);
+            if (st != 0 || !(was & SIDE_RETRIED)) return st < 0 ? st : VP_OK;
+            /* unseen at a hole, once more: from aside (aim.c) */
+            st = vp_pl_aim_start(pl, k, pl->probe.origin);
+            return st < 0 ? st : VP_OK;
+        }
 #else
+        side_set(pl, t, f, side_get(pl, t, f) | SIDE_BLOCKED);
         return VP_OK;
 #endif
     }
@@ -720,22 +766,11 @@ VP_PL_API int vp_pl_task_finish(vp_planner_t *pl, const vp_probe_result_t *res)
         if (d < inset) d = inset;
         for (q = 0; q < 3; q++) h[q] = pl->probe.origin[q] + d * pl->probe.dir[q];
         pl->st.hits++;
-        vp_dt_facet(&pl->dt, t, f, fv);
         {
-            unsigned su = side_get(pl, u, (int)j) & SIDE_MASK;
             uint32_t pf;
             VP_TRY(vp_pl_probe_proof(pl, res, &pf));
-            st = vp_pl_frec_add(pl, fv, h, pl->probe.origin, t, pf, &fr);
-            if (st != VP_OK) return st;
-            side_set(pl, t, f, SIDE_HIT);
-            if (su == SIDE_HIT) {
-                /* seen from both ends: two balls; the larger one decides refinement */
-                vp_pl_frec_set_ball(pl, fr, h);
-            } else {
-                side_set(pl, u, (int)j, (side_get(pl, u, (int)j) & ~SIDE_MASK) | SIDE_BEHIND);
-            }
+            return vp_pl_side_hit(pl, t, f, h, pl->probe.origin, pf);
         }
-        return VP_OK;
     }
     pl->st.misses++;
     /* a dropout must not open a way into the object: a miss is trusted only after
@@ -786,16 +821,24 @@ VP_PL_API int vp_pl_task_finish(vp_planner_t *pl, const vp_probe_result_t *res)
     side_set(pl, t, f, SIDE_UNKNOWN);
     side_free(pl, t, f, k->proof);
     side_free(pl, u, (int)j, k->proof);
+    return vp_pl_tet_reached(pl, u, k->proof);
+}
+
+/* Tet u's Voronoi vertex was seen free by the current probe (`proof` its free part, from the
+ * probe's origin): u is reached (outside), linked to the origin's record. */
+VP_PL_API int vp_pl_tet_reached(vp_planner_t *pl, uint32_t u, uint32_t proof)
+{
+    int st;
     if (!tet_active(pl, u)) {
         double c[3];
         uint32_t r;
         if (vp_dt_is_ghost(&pl->dt, u) || vp_pl_tet_point(pl, u, c) != VP_OK || !vp_pl_omega_inside(&pl->cfg, c))
             return activate(pl, u, VREC_OUT);
-        st = vp_pl_rec_link(pl, c, pl->probe.origin_rec, 0, k->proof, &r);
+        st = vp_pl_rec_link(pl, c, pl->probe.origin_rec, 0, proof, &r);
         if (st != VP_OK || r == NONE) return st;
         return activate(pl, u, r);
     }
     if (tet_rec(pl, u) != VREC_OUT && pl->probe.origin_rec != NONE)
-        return vp_pl_edge_add(pl, pl->probe.origin_rec, tet_rec(pl, u), k->proof);
+        return vp_pl_edge_add(pl, pl->probe.origin_rec, tet_rec(pl, u), proof);
     return VP_OK;
 }

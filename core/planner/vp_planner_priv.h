@@ -351,7 +351,9 @@ VP_PL_API void vp_pl_task_compact(vp_planner_t *pl);
 #if VP_PL_CONTACTS
 VP_PL_API void vp_pl_probe_drop(vp_planner_t *pl);
 #endif
+VP_PL_API int vp_pl_side_hit(vp_planner_t *pl, uint32_t t, int f, const double *h, const double *outside, uint32_t pf);
 VP_PL_API int vp_pl_task_finish(vp_planner_t *pl, const vp_probe_result_t *res);
+VP_PL_API int vp_pl_tet_reached(vp_planner_t *pl, uint32_t u, uint32_t proof);
 VP_PL_API int vp_pl_task_push(vp_planner_t *pl, uint32_t t, int f, int forced);
 VP_PL_API int vp_pl_task_start(vp_planner_t *pl, vp_task_t *k);
 #ifndef VP_CORE_MCU
@@ -400,6 +402,12 @@ VP_PL_API int vp_pl_survey_next(vp_planner_t *pl);
 VP_PL_API int vp_pl_survey_feed(vp_planner_t *pl, const vp_probe_result_t *res);
 VP_PL_API int vp_pl_vantage_go(vp_planner_t *pl, const double *x, double s, const double *e);
 VP_PL_API int vp_pl_vantage_unseen(vp_planner_t *pl);
+#endif
+
+/* aim.c */
+#if VP_PL_CONTACTS
+VP_PL_API int vp_pl_aim_start(vp_planner_t *pl, const vp_task_t *k, const double *out);
+VP_PL_API int vp_pl_aim_feed(vp_planner_t *pl, const vp_probe_result_t *res);
 #endif
 
 /* planner.c */

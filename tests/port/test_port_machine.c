@@ -12,6 +12,7 @@
 #include "vp_hausdorff.h"
 #include "vp_meshcheck.h"
 #include "vp_meshio.h"
+#include "vp_vec3.h"
 #include "vp_planner.h"
 #include "vp_run.h"
 #include "vp_session.h"
@@ -253,6 +254,65 @@ int main(void)
     printf("dry run on %s: %lu probes (%lu hits), %lu moves, %llu GPIO edges, %.2f s simulated\n", b.name, m->st.probes,
            m->st.hits, m->st.moves, (unsigned long long)d->rec.edges, d->rec.now * 1e-9);
     vp_dryrun_close(d);
+
+    /* a MOVE the head's orientation cannot make: the head first turns about the laser origin, then
+     * moves; the origin ends where commanded. The case is searched on the rpi4 board (its axes'
+     * travel is tight about Omega): a point of dOmega, a direction the head can aim along there,
+     * and a point 10 mm away that the carriage cannot reach in that orientation but can in another */
+    {
+        double from[3], to[3], u[3], jt[VP_KIN_JOINTS], j1[VP_KIN_JOINTS], j2[VP_KIN_JOINTS];
+        int found = 0, a, bdir, e, k, other;
+        rc = vp_board_load("boards/rpi4-gantry.ini", &b, err, sizeof err);
+        CHECKF(rc == VP_OK, "%s", err);
+        CHECK(vp_dryrun_open(&b, NULL, &d, err, sizeof err) == VP_OK);
+        m = vp_dryrun_machine(d);
+        CHECK(vp_machine_home(m) == VP_OK);
+        for (a = 0; a < 26 * 26 && !found; a++)
+            for (e = 0; e < 26 && !found; e++) {
+                int i3 = a / 26 + (a / 26 >= 13), i4 = a % 26 + (a % 26 >= 13), i5 = e + (e >= 13);
+                double p0[3] = { i3 % 3 - 1.0, (i3 / 3) % 3 - 1.0, i3 / 9 - 1.0 }, l0 = vp_norm3(p0);
+                double w[3] = { i5 % 3 - 1.0, (i5 / 3) % 3 - 1.0, i5 / 9 - 1.0 }, lw = vp_norm3(w);
+                for (k = 0; k < 3; k++) {
+                    from[k] = b.omega_center[k] + b.omega_radius * p0[k] / l0;
+                    u[k] = (double)((i4 / (k == 0 ? 1 : k == 1 ? 3 : 9)) % 3) - 1.0;
+                    to[k] = from[k] + 10.0 * w[k] / lw;
+                }
+                if (vp_norm3(u) == 0.0) continue;
+                vp_normalize3(u);
+                if (vp_kin_aim(&m->kin, m->j, from, u, jt) != VP_OK || vp_kin_move(&m->kin, jt, from, j1) != VP_OK ||
+                    vp_kin_move(&m->kin, jt, to, j1) != VP_ERANGE)
+                    continue;
+                for (bdir = 0, other = 0; bdir < 27 && !other; bdir++) {
+                    double v[3] = { bdir % 3 - 1.0, (bdir / 3) % 3 - 1.0, bdir / 9 - 1.0 };
+                    if (bdir == 13) continue;
+                    vp_normalize3(v);
+                    other = vp_kin_aim(&m->kin, jt, from, v, j2) == VP_OK && vp_kin_move(&m->kin, j2, to, j1) == VP_OK;
+                }
+                found = other;
+            }
+        CHECKF(found, "no MOVE on rpi4 that needs a turn first");
+        if (found) {
+            double tgt[3];
+            int q;
+            CHECK(vp_machine_goto(m, from) == VP_OK);
+            for (q = 0; q < 3; q++) tgt[q] = from[q] + 50.0 * u[q];
+            cmd_probe(&c, from, tgt, 10); /* the head aims along u */
+            CHECK(vp_machine_exec(m, &c, &res) == VP_OK);
+            CHECK(vp_kin_move(&m->kin, m->j, to, j1) == VP_ERANGE); /* what MOVE refused before */
+            cmd_move(&c, from, to);
+            CHECK(vp_machine_exec(m, &c, &res) == VP_OK && m->st.turns == 1 && m->turn_n > 0);
+            vp_machine_beam(m, o, dir);
+            CHECKF(vp_dist3(o, to) < 0.02, "after the turn and the move at %g %g %g", o[0], o[1], o[2]);
+            /* a MOVE no orientation can make: refused, nothing moved, no turn */
+            cmd_move(&c, to, (double[3]){ 900, 150, 150 });
+            CHECK(vp_machine_exec(m, &c, &res) == VP_ERANGE && m->st.turns == 1);
+            vp_machine_beam(m, o, dir);
+            CHECK(vp_dist3(o, to) < 0.02);
+            printf("a MOVE from (%g, %g, %g) to (%g, %g, %g) with the head along (%g, %g, %g): turned first, then moved\n",
+                   from[0], from[1], from[2], to[0], to[1], to[2], u[0], u[1], u[2]);
+        }
+        vp_dryrun_close(d);
+    }
 
     /* calibration on the dry run: a flat target at x = 300, 20 stations from 200 to 15 mm */
     {

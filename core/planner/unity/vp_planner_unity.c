@@ -15,6 +15,7 @@
 #include "../contact.c"
 #include "../rescan.c"
 #include "../tube.c"
+#include "../aim.c"
 #endif
 #include "../seed.c"
 #include "../planner.c"

@@ -1,0 +1,211 @@
+/* aim.c — body mode: a hidden facet's surface Delaunay ball found from aside (beyond paper 000,
+ * which probes each Voronoi edge along itself).
+ *
+ * A head that stays outside Omega probes a Voronoi edge along its line from dOmega; where the
+ * object occludes that line (a torus's inner side, a cup's wall) the edge is unseen, and a hole
+ * at such a facet stays open. But S can be met on the edge itself by lines from other
+ * directions. Along a direction d tilted from the edge e, a line through a point q(t) of the
+ * edge [a, a + len e] either passes q(t) free (q(t) lies outside the object: S crosses the edge
+ * further on), or meets S just before q(t) (within len / cos of the tilt, as a surface crossing
+ * the edge before q(t) would be met), or meets something farther from q(t) (occluded: the next
+ * direction). Halving [lo, hi] between a point seen free and one met just before, the line
+ * meets S within `tol` of q(t): that point of S, taken onto the edge, is the centre of the
+ * facet's surface Delaunay ball (every point of a Voronoi edge is equidistant to the facet's
+ * three samples and farther from the others), as the probe along the edge would have found it,
+ * up to tol along S's normal (max of the hits' noise and AIM_TOL_REL eps). What the refinement
+ * guarantees is unchanged (every ball at most eps, checked exactly at the end); only the
+ * centre's distance to S is tol instead of the noise. The head never enters Omega: each line
+ * starts on dOmega, reached round Omega like every probe in body mode.
+ *
+ * Used for the sides left unseen at a hole while closing (SIDE_RETRIED: once per side). */
+#include "vp_planner_priv.h"
+
+#if VP_PL_CONTACTS
+
+#define AIM_DIRS 8u       /* directions tried per hidden side: two tilts, four turns each */
+#define AIM_STEPS 24u     /* lines along one direction at most (halvings of the edge) */
+#define AIM_TOL_REL 0.01  /* of eps: a line meeting S this near q(t) has found the ball */
+#define AIM_MID_T 0.5     /* halving starts at the edge's midpoint */
+#define AIM_SHARE 3u      /* aims start while they are at most 1 in AIM_SHARE + 1 of all probes */
+
+/* direction i of AIM_DIRS: tilted 30 degrees from e (four turns a quarter apart), then 45
+ * degrees (four turns between those); u, v span the plane normal to e. The line meets S about
+ * as obliquely as it is tilted from e (a Voronoi edge of a good facet runs near S's normal): a
+ * steeper tilt reads the spot at a grazing angle, where a triangulating rangefinder errs most */
+static void aim_dir(uint32_t i, const double *e, double *d)
+{
+    static const double tilt_cos[2] = {0.86602540378443865, 0.70710678118654752}, tilt_sin[2] = {0.5, 0.70710678118654752};
+    static const double turn[8][2] = {{1.0, 0.0}, {0.0, 1.0}, {-1.0, 0.0}, {0.0, -1.0},
+                                      {0.70710678118654752, 0.70710678118654752}, {-0.70710678118654752, 0.70710678118654752},
+                                      {-0.70710678118654752, -0.70710678118654752}, {0.70710678118654752, -0.70710678118654752}};
+    double u[3], v[3], ax[3] = {0.0, 0.0, 0.0};
+    int q, k = 0, tl = i < 4u ? 0 : 1;
+    /* the axis least along e, crossed with e */
+    for (q = 1; q < 3; q++)
+        if (fabs(e[q]) < fabs(e[k])) k = q;
+    ax[k] = 1.0;
+    vp_cross3(u, e, ax);
+    vp_normalize3(u);
+    vp_cross3(v, e, u);
+    for (q = 0; q < 3; q++)
+        d[q] = tilt_cos[tl] * e[q] + tilt_sin[tl] * (turn[i][0] * u[q] + turn[i][1] * v[q]);
+}
+
+static double aim_tol(const vp_planner_t *pl)
+{
+    double tol = AIM_TOL_REL * pl->cfg.eps;
+    return pl->cfg.noise_tol > tol ? pl->cfg.noise_tol : tol;
+}
+
+/* how far before q(t) a line along this direction may meet S and still be taken as the edge's
+ * own crossing: the edge's length over the cosine of the tilt, plus the tolerance */
+static double aim_near(const vp_planner_t *pl)
+{
+    const vp_pl_aim_t *A = &pl->aim;
+    return A->len / vp_dot3(A->d, A->e) + aim_tol(pl);
+}
+
+/* The side is left unseen: no aimed line found its ball. */
+static int aim_give_up(vp_planner_t *pl)
+{
+    vp_task_t *k = &pl->probe.task;
+    pl->aim.on = 0;
+    if (vp_dt_alive(&pl->dt, k->tet))
+        side_set(pl, k->tet, k->facet, (side_get(pl, k->tet, k->facet) & ~(SIDE_QUEUED | SIDE_FORCED)) | SIDE_BLOCKED);
+    return VP_OK;
+}
+
+/* Prepares the line through q(t) along the current direction, trying the next directions
+ * while one cannot be issued (its line leaves Omega too soon, or is out of the rangefinder's
+ * reach, or no route to its origin). Returns 1 when a probe is ready, 0 when the side stays
+ * unseen, < 0 an error. */
+static int aim_issue(vp_planner_t *pl)
+{
+    vp_pl_aim_t *A = &pl->aim;
+    vp_pl_probe_t *P = &pl->probe;
+    for (; A->dir_i < AIM_DIRS; A->dir_i++, A->steps = 0, A->lo = 0.0, A->hi = 1.0) {
+        double q[3], back[3], t0, t1, o[3], range;
+        int k, st;
+        if (A->steps == 0) aim_dir(A->dir_i, A->e, A->d);
+        /* this direction is done after AIM_STEPS lines, or once the stretch left is below what
+         * a line can tell apart (the tolerance along the edge) */
+        if (A->steps >= AIM_STEPS || (A->steps > 0 && (A->hi - A->lo) * A->len * vp_dot3(A->d, A->e) < aim_tol(pl)))
+            continue;
+        /* the first line of a direction passes the far vertex, when it lies in Omega */
+        A->t = A->steps == 0 ? (A->to_vertex ? 1.0 : AIM_MID_T) : 0.5 * (A->lo + A->hi);
+        for (k = 0; k < 3; k++) {
+            q[k] = A->a[k] + A->t * A->len * A->e[k];
+            back[k] = -A->d[k];
+        }
+        if (!vp_pl_omega_clip(&pl->cfg, q, back, VP_PL_HUGE, &t0, &t1) || !(t1 > 0.0)) continue;
+        for (k = 0; k < 3; k++) o[k] = q[k] - t1 * A->d[k];
+        range = t1 + aim_near(pl);
+        if (vp_pl_clamp_range(pl, range) < t1 + aim_tol(pl)) continue; /* q(t) out of reach */
+        st = vp_pl_plan_route(pl, NONE, o);
+        if (st == PL_UNREACHABLE) continue;
+        if (st != VP_OK) return st < 0 ? st : 0;
+        A->sq = t1;
+        A->steps++;
+        memcpy(P->origin, o, sizeof o);
+        memcpy(P->dir, A->d, sizeof P->dir);
+        P->range = P->full = vp_pl_clamp_range(pl, range);
+        P->standoff = 0.0;
+        P->vantage = 0;
+        P->origin_rec = pl->dev.at;
+        P->chain_proof = PROOF_NONE;
+        P->ready = 1;
+        pl->st.aims++;
+        return 1;
+    }
+    return 0;
+}
+
+/* Side k of the current probe (body mode) was unseen along its edge's line, whose origin was
+ * `out` (on the facet's outer side). Aims at the edge from aside. Returns 1 when the first line
+ * is under way, 0 when none could be (the side is left unseen), < 0 an error. */
+VP_PL_API int vp_pl_aim_start(vp_planner_t *pl, const vp_task_t *k, const double *out)
+{
+    vp_pl_aim_t *A = &pl->aim;
+    edgegeom_t g;
+    int st;
+    if (k != &pl->probe.task) pl->probe.task = *k;
+    /* a budget: where most hidden facets cannot be seen from aside either (a cavity deeper than
+     * the tilts reach), the lines would cost more than the rest of the scan */
+    if (AIM_SHARE * pl->st.aims > pl->st.probes - pl->st.aims) return aim_give_up(pl);
+    if (vp_pl_edge_geom(pl, k->tet, k->facet, &g) != VP_OK || !g.a_inside || !(g.t1 > 0.0)) return aim_give_up(pl);
+    memcpy(A->a, g.a, sizeof A->a);
+    memcpy(A->e, g.dir, sizeof A->e);
+    memcpy(A->out, out, sizeof A->out);
+    A->len = g.t1;
+    A->to_vertex = !(g.t1 < g.len);
+    A->dir_i = A->steps = 0;
+    A->lo = 0.0;
+    A->hi = 1.0;
+    A->on = 1;
+    st = aim_issue(pl);
+    if (st <= 0) {
+        VP_TRY(aim_give_up(pl));
+        return st;
+    }
+    side_set(pl, k->tet, k->facet, side_get(pl, k->tet, k->facet) | SIDE_QUEUED);
+    return 1;
+}
+
+/* The answer to an aimed line. */
+VP_PL_API int vp_pl_aim_feed(vp_planner_t *pl, const vp_probe_result_t *res)
+{
+    vp_pl_aim_t *A = &pl->aim;
+    vp_task_t *k = &pl->probe.task;
+    double tol = aim_tol(pl);
+    uint32_t pf = PROOF_NONE;
+    int st;
+    if (res->hit == 1) pl->st.hits++;
+    else if (res->hit == 0) pl->st.misses++;
+    else pl->st.too_close++;
+    if (res->hit != VP_PROBE_TOO_CLOSE) VP_TRY(vp_pl_probe_proof(pl, res, &pf)); /* its free part */
+    if (!vp_dt_alive(&pl->dt, k->tet)) { A->on = 0; return VP_OK; } /* the facet has gone */
+    side_set(pl, k->tet, k->facet, side_get(pl, k->tet, k->facet) & ~SIDE_QUEUED);
+    if (res->hit == VP_PROBE_TOO_CLOSE) {
+        A->steps = AIM_STEPS; /* nothing learnt along this direction */
+    } else if (res->hit == 0 || res->dist > A->sq + tol) {
+        if (A->t == 1.0) {
+            /* the far vertex seen free: its tet is reached (outside), and its own sides are
+             * probed like any; this facet lies between two outside tets, not on S (or on S
+             * twice) */
+            const uint32_t *w = vp_dt_tet(&pl->dt, k->tet);
+            A->on = 0;
+            pl->st.aim_reached++;
+            /* the edge itself is not proven free: never probed again */
+            side_set(pl, k->tet, k->facet, side_get(pl, k->tet, k->facet) | SIDE_BLOCKED);
+            return vp_pl_tet_reached(pl, w[4 + k->facet] >> 2, pf);
+        }
+        A->lo = A->t; /* q(t) seen free: S crosses the edge further on */
+    } else if (res->dist >= A->sq - tol) {
+        /* S met within tol of q(t): the ball's centre, on the edge */
+        double h[3], c[3], s, inset = 1e-9 * A->len;
+        int q;
+        for (q = 0; q < 3; q++) h[q] = pl->probe.origin[q] + res->dist * A->d[q];
+        vp_sub3(c, h, A->a);
+        s = vp_dot3(c, A->e);
+        if (s > A->len - inset) s = A->len - inset;
+        if (s < inset) s = inset;
+        for (q = 0; q < 3; q++) c[q] = A->a[q] + s * A->e[q];
+        A->on = 0;
+        pl->st.aim_balls++;
+        st = vp_pl_side_hit(pl, k->tet, k->facet, c, A->out, PROOF_NONE);
+        return st;
+    } else if (res->dist >= A->sq - aim_near(pl)) {
+        A->hi = A->t; /* met just before q(t): S crosses the edge before it */
+    } else {
+        A->steps = AIM_STEPS; /* occluded along this direction too */
+    }
+    st = aim_issue(pl);
+    if (st > 0) {
+        side_set(pl, k->tet, k->facet, side_get(pl, k->tet, k->facet) | SIDE_QUEUED);
+        return VP_OK;
+    }
+    VP_TRY(aim_give_up(pl));
+    return st;
+}
+
+#endif
