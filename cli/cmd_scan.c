@@ -871,6 +871,9 @@ static int scan_report(scan_job_t *j)
                    1e-9 * (double)m->st.settle_ns, 1e-9 * (double)m->st.read_ns,
                    m->st.probes ? 1e-9 * (double)(m->st.aim_ns + m->st.settle_ns + m->st.read_ns) / (double)m->st.probes : 0.0,
                    j->o.dry ? " (simulated)" : "");
+            if (m->st.turns)
+                printf("machine: %lu MOVEs turned the head about the laser origin first (its orientation put the "
+                       "carriage outside its travel at the MOVE's end)\n", m->st.turns);
             if (j->dev.unreadable) {
                 char why[300];
                 vp_scan_unreadable_text(&j->dev, why, sizeof why);
@@ -985,6 +988,7 @@ static int scan_report(scan_job_t *j)
             printf(",\"machine_s_moves\":%.1f,\"machine_s_aims\":%.1f,\"machine_s_settle\":%.1f,\"machine_s_read\":%.1f",
                    1e-9 * (double)m->st.move_ns, 1e-9 * (double)m->st.aim_ns, 1e-9 * (double)m->st.settle_ns,
                    1e-9 * (double)m->st.read_ns);
+            printf(",\"turns\":%lu", m->st.turns);
             if (j->o.rescan || j->rescans > 0)
                 printf(",\"rescan\":{\"probes\":%llu,\"old_probes\":%llu,\"kept\":%llu,\"skipped\":%llu,\"dropped\":%llu,"
                        "\"moved\":%llu,\"unseen\":%llu,\"normal\":%llu,\"reproved\":%llu,\"blocked\":%llu}", (unsigned long long)(ps.probes - j->before.probes),

@@ -4,8 +4,10 @@
  * A head that stays outside Omega probes a Voronoi edge along its line from dOmega; where the
  * object occludes that line (a torus's inner side, a cup's wall) the edge is unseen, and a hole
  * at such a facet stays open. But S can be met on the edge itself by lines from other
- * directions. Along a direction d tilted from the edge e, a line through a point q(t) of the
- * edge [a, a + len e] either passes q(t) free (q(t) lies outside the object: S crosses the edge
+ * directions. The first line along a direction passes the edge's far vertex b (when b lies in
+ * Omega): seen free, b is outside the object, its tet is reached (its sides probed like any) and
+ * the facet lies between two outside tets. Otherwise, along a direction d tilted from the edge e,
+ * a line through a point q(t) of the edge [a, a + len e] either passes q(t) free (q(t) lies outside the object: S crosses the edge
  * further on), or meets S just before q(t) (within len / cos of the tilt, as a surface crossing
  * the edge before q(t) would be met), or meets something farther from q(t) (occluded: the next
  * direction). Halving [lo, hi] between a point seen free and one met just before, the line
@@ -17,7 +19,8 @@
  * centre's distance to S is tol instead of the noise. The head never enters Omega: each line
  * starts on dOmega, reached round Omega like every probe in body mode.
  *
- * Used for the sides left unseen at a hole while closing (SIDE_RETRIED: once per side). */
+ * Used for the sides left unseen at a hole while closing (SIDE_RETRIED: once per side), while
+ * aims are at most a quarter of all probes (AIM_SHARE). */
 #include "vp_planner_priv.h"
 
 #if VP_PL_CONTACTS
