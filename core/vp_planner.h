@@ -38,6 +38,9 @@
 #define VP_PLAN_PREV_CHAINS  0x2u /* travel along prev chains (tree paths) only */
 #define VP_PLAN_LARGEST      0x4u /* always refine the largest bad ball (paper); otherwise the
                                      largest one near the device among the big ones */
+#define VP_PLAN_NO_AIM       0x8u /* body mode: no lines aimed from aside at hidden facets (aim.c):
+                                     for a head that reaches beyond the clearance ball, whose
+                                     body only a dry run's sweep checks */
 
 typedef struct vp_planner_config {
     int omega_kind;              /* VP_OMEGA_BOX or VP_OMEGA_BALL */

@@ -1322,6 +1322,9 @@ void vp_board_planner_config(const vp_board_t *b, vp_planner_config_t *c)
     memcpy(c->start, b->start, sizeof c->start);
     c->max_range = b->tri.max_range;
     c->clearance = b->clearance;
+    /* lines aimed from aside turn the head in ways no other probe does: only for a head that
+     * lies within the clearance ball in every pose (the ball rule), never for clear_by = swept */
+    if (b->clearance > 0 && b->head_reach + b->head_margin > b->clearance) c->flags |= VP_PLAN_NO_AIM;
     c->min_feature = b->min_feature;
     c->feature_margin = b->feature_margin;
     if (b->line_laser) {

@@ -134,7 +134,8 @@ VP_PL_API int vp_pl_aim_start(vp_planner_t *pl, const vp_task_t *k, const double
     if (k != &pl->probe.task) pl->probe.task = *k;
     /* a budget: where most hidden facets cannot be seen from aside either (a cavity deeper than
      * the tilts reach), the lines would cost more than the rest of the scan */
-    if (AIM_SHARE * pl->st.aims > pl->st.probes - pl->st.aims) return aim_give_up(pl);
+    if ((pl->cfg.flags & VP_PLAN_NO_AIM) || AIM_SHARE * pl->st.aims > pl->st.probes - pl->st.aims)
+        return aim_give_up(pl);
     if (vp_pl_edge_geom(pl, k->tet, k->facet, &g) != VP_OK || !g.a_inside || !(g.t1 > 0.0)) return aim_give_up(pl);
     memcpy(A->a, g.a, sizeof A->a);
     memcpy(A->e, g.dir, sizeof A->e);

@@ -20,7 +20,8 @@ static int probe_around_edge(vp_planner_t *pl, uint32_t t0, uint32_t x, uint32_t
             for (f = 0; f < 4; f++) {
                 unsigned s = side_get(pl, r.cur, f);
 #if VP_PL_TUBES
-                if (pl->cfg.clearance > 0.0 && (s & (SIDE_BLOCKED | SIDE_DEGEN | SIDE_RETRIED | SIDE_QUEUED)) == SIDE_BLOCKED &&
+                if (pl->cfg.clearance > 0.0 && (pl->tube.on || !(pl->cfg.flags & VP_PLAN_NO_AIM)) &&
+                    (s & (SIDE_BLOCKED | SIDE_DEGEN | SIDE_RETRIED | SIDE_QUEUED)) == SIDE_BLOCKED &&
                     (s & SIDE_MASK) == SIDE_UNKNOWN) {
                     /* unseen at a hole: once more, now that more tubes are proven (the line from
                      * past its occluder, or a survey), or from aside (aim.c) */
