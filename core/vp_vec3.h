@@ -103,4 +103,13 @@ static inline int vp_normalize3(double *v)
     return 1;
 }
 
+/* The plane normal to unit u, spanned by unit w1 = u x t / |u x t| and w2 = u x w1 (t: any
+ * direction not along u). */
+static inline void vp_normal_frame3(const double *u, const double *t, double *w1, double *w2)
+{
+    vp_cross3(w1, u, t);
+    vp_normalize3(w1);
+    vp_cross3(w2, u, w1);
+}
+
 #endif

@@ -47,9 +47,7 @@ static void aim_dir(uint32_t i, const double *e, double *d)
     for (q = 1; q < 3; q++)
         if (fabs(e[q]) < fabs(e[k])) k = q;
     ax[k] = 1.0;
-    vp_cross3(u, e, ax);
-    vp_normalize3(u);
-    vp_cross3(v, e, u);
+    vp_normal_frame3(e, ax, u, v);
     for (q = 0; q < 3; q++)
         d[q] = tilt_cos[tl] * e[q] + tilt_sin[tl] * (turn[i][0] * u[q] + turn[i][1] * v[q]);
 }
@@ -102,8 +100,8 @@ static int aim_issue(vp_planner_t *pl)
         }
         if (!vp_pl_omega_clip(&pl->cfg, q, back, VP_PL_HUGE, &t0, &t1) || !(t1 > 0.0)) continue;
         for (k = 0; k < 3; k++) o[k] = q[k] - t1 * A->d[k];
-        range = t1 + aim_near(pl);
-        if (vp_pl_clamp_range(pl, range) < t1 + aim_tol(pl)) continue; /* q(t) out of reach */
+        range = vp_pl_clamp_range(pl, t1 + aim_near(pl));
+        if (range < t1 + aim_tol(pl)) continue; /* q(t) out of reach */
         st = vp_pl_plan_route(pl, NONE, o);
         if (st == PL_UNREACHABLE) continue;
         if (st != VP_OK) return st < 0 ? st : 0;
@@ -111,7 +109,7 @@ static int aim_issue(vp_planner_t *pl)
         A->steps++;
         memcpy(P->origin, o, sizeof o);
         memcpy(P->dir, A->d, sizeof P->dir);
-        P->range = P->full = vp_pl_clamp_range(pl, range);
+        P->range = P->full = range;
         P->standoff = 0.0;
         P->vantage = 0;
         P->origin_rec = pl->dev.at;

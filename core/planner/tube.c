@@ -239,9 +239,7 @@ VP_PL_API void vp_pl_survey_start(vp_planner_t *pl, const double *x, const doubl
     if (fabs(u[2]) > 0.8) { t[0] = 1; t[2] = 0; }
     memcpy(T->sx, x, sizeof T->sx);
     memcpy(T->su, u, sizeof T->su);
-    vp_cross3(T->sw1, u, t);
-    vp_normalize3(T->sw1);
-    vp_cross3(T->sw2, u, T->sw1);
+    vp_normal_frame3(u, t, T->sw1, T->sw2);
     T->sd = SURVEY_SPACING * T->mark;
     T->survey_m = 2u * (uint32_t)ceil(r / T->sd) + 1u;
     T->survey_n = T->survey_m * T->survey_m;
