@@ -631,7 +631,7 @@ static int scan_log_open(scan_job_t *j)
     j->run.w.raw = &j->dev.raw;
     if (j->o.resume) {
         vp_replay_t R;
-        char why[300];
+        char why[420];
         if (!vp_sessionlog_same_config(&j->L.header.cfg, j->L.header.arena_bytes, &j->cfg, (uint64_t)j->o.arena, why, sizeof why)) {
             fprintf(stderr, "scan: %s: the scan configuration is not the logged one (%s): the board file or the "
                     "calibration changed since\n", j->o.log, why);
@@ -662,7 +662,7 @@ static int scan_log_open(scan_job_t *j)
     } else if (j->o.rescan) {
         /* a re-scan: the old session replayed, copied to the new log, a RESCAN event */
         vp_replay_t R;
-        char why[300];
+        char why[420];
         if (!vp_sessionlog_same_config(&j->L.header.cfg, j->L.header.arena_bytes, &j->cfg, (uint64_t)j->o.arena, why, sizeof why)) {
             fprintf(stderr, "scan: %s: the scan configuration is not the logged one (%s): the board file or the "
                     "calibration changed since; a re-scan needs the session's\n", j->o.rescan, why);
@@ -785,7 +785,7 @@ static int scan_go(scan_job_t *j)
     } else if (st == VP_OK) {
         j->rc = 0;
     } else if (j->dev.fault) {
-        char why[300];
+        char why[420];
         const vp_cmd_t *c = &j->dev.fault_cmd;
         vp_scan_fault_text(&j->dev, why, sizeof why);
         if (c->kind == VP_CMD_MOVE)
@@ -808,7 +808,7 @@ static int scan_go(scan_job_t *j)
         vp_logwriter_event(&j->run.w.file, VP_LOGFMT_EV_FAULT, st, text);
         fprintf(stderr, "scan: the scan stopped: %s%s\n", text, st == VP_ENOMEM ? " (the arena is full: --arena)" : "");
         if (j->dev.unreadable) {
-            char why[300];
+            char why[420];
             vp_scan_unreadable_text(&j->dev, why, sizeof why);
             fprintf(stderr, "scan: %lu frame(s) could not be read (%s)%s\n", j->dev.unreadable, why,
                     j->dev.unread_why[0] ? ": a spot off the laser line means the rangefinder model is off: calibrate" : "");
@@ -875,7 +875,7 @@ static int scan_report(scan_job_t *j)
                 printf("machine: %lu MOVEs turned the head about the laser origin first (its orientation put the "
                        "carriage outside its travel at the MOVE's end)\n", m->st.turns);
             if (j->dev.unreadable) {
-                char why[300];
+                char why[420];
                 vp_scan_unreadable_text(&j->dev, why, sizeof why);
                 printf("unreadable frames: %s\n", why);
             }
@@ -989,6 +989,7 @@ static int scan_report(scan_job_t *j)
                    1e-9 * (double)m->st.move_ns, 1e-9 * (double)m->st.aim_ns, 1e-9 * (double)m->st.settle_ns,
                    1e-9 * (double)m->st.read_ns);
             printf(",\"turns\":%lu", m->st.turns);
+            printf(",\"unreadable\":%lu,\"unreadable_no_spot\":%lu", j->dev.unreadable, j->dev.unread_why[5]);
             if (j->o.rescan || j->rescans > 0)
                 printf(",\"rescan\":{\"probes\":%llu,\"old_probes\":%llu,\"kept\":%llu,\"skipped\":%llu,\"dropped\":%llu,"
                        "\"moved\":%llu,\"unseen\":%llu,\"normal\":%llu,\"reproved\":%llu,\"blocked\":%llu}", (unsigned long long)(ps.probes - j->before.probes),
@@ -1012,6 +1013,7 @@ static int scan_report(scan_job_t *j)
                 for (i = 0; i < j->dev.board.head.nparts; i++)
                     printf("%s\"%s\":%lu", i ? "," : "", j->dev.board.head.part[i].name, j->dev.head_part[i]);
                 printf("}");
+                printf(",\"false_hits\":%lu,\"hidden_spots\":%lu", j->dev.false_hits, j->dev.false_misses);
                 if (hausdorff >= 0) printf(",\"hausdorff\":%.4f", hausdorff);
                 if (j->o.accuracy > 0) printf(",\"accuracy_target\":%g", j->o.accuracy);
                 if (j->dev.board.line_laser)

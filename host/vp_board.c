@@ -117,6 +117,7 @@ static const vp_bkey_t k_range[] = {
     { "calibration", K_STR, B(calibration), 256, ANY, R_NO },
     { "near_spots", K_STR, B(near_spots), 16, ANY, R_NO },
     { "confirm_spot", K_BOOL, B(confirm_spot), 0, ANY, R_NO },
+    { "backdrop", K_NUMS, B(backdrop), 6, -1e6, 1e6, R_NO },
     { "laser", K_STR, B(laser_kind), 8, ANY, R_NO },
     { "fan", K_NUM, B(line_fan), 1, 1, 120, R_NO },
     { "fan_used", K_NUM, B(line_fan_used), 1, 1, 120, R_NO },
@@ -647,6 +648,26 @@ static int vp_board_check_fixture(vp_bctx_t *c, char *err, size_t el)
     return VP_OK;
 }
 
+/* The ball about Omega's centre oc within which the laser origin stays: the planner's detours
+ * outside Omega may go round its circumsphere (1.01 times its radius, hugging dOmega 1% of it
+ * away; 1.02 allowed), or at the start's distance. Returns 1 when the start's distance decides. */
+static int vp_board_origin_ball(const vp_board_t *b, double oc[3], double *lim)
+{
+    double rcirc = 0, rs = 0;
+    int k;
+    for (k = 0; k < 3; k++) {
+        double lo = b->omega_kind == VP_OMEGA_BOX ? b->omega_lo[k] : b->omega_center[k] - b->omega_radius;
+        double hi = b->omega_kind == VP_OMEGA_BOX ? b->omega_hi[k] : b->omega_center[k] + b->omega_radius;
+        oc[k] = 0.5 * (lo + hi);
+        rcirc += 0.25 * (hi - lo) * (hi - lo);
+        rs += (b->start[k] - oc[k]) * (b->start[k] - oc[k]);
+    }
+    rcirc = b->omega_kind == VP_OMEGA_BALL ? b->omega_radius : sqrt(rcirc);
+    rs = sqrt(rs);
+    *lim = 1.02 * rcirc > rs ? 1.02 * rcirc : rs;
+    return !(1.02 * rcirc >= rs);
+}
+
 /* Omega and the start, within reach of the head in any orientation (the planner's detours round
  * Omega included). */
 static int vp_board_check_omega(vp_bctx_t *c, char *err, size_t el)
@@ -690,27 +711,55 @@ static int vp_board_check_omega(vp_bctx_t *c, char *err, size_t el)
                     return vp_bad(c, S_OMEGA, "start", err, el, "%c = %g is beyond %s travel less the head's reach", "xyz"[k], b->start[k], sec_name[S_AX0 + k]);
         }
         {
-            /* The planner's detours outside Omega may go round its circumsphere (1.01 times its
-             * radius, hugging dOmega 1% of it away, or at the start's distance): all of that
-             * must be within reach */
-            double oc[3], rcirc = 0, rs = 0, lim;
-            for (k = 0; k < 3; k++) {
-                oc[k] = 0.5 * (lo[k] + hi[k]);
-                rcirc += 0.25 * (hi[k] - lo[k]) * (hi[k] - lo[k]);
-                rs += (b->start[k] - oc[k]) * (b->start[k] - oc[k]);
-            }
-            rcirc = b->omega_kind == VP_OMEGA_BALL ? b->omega_radius : sqrt(rcirc);
-            rs = sqrt(rs);
-            lim = 1.02 * rcirc > rs ? 1.02 * rcirc : rs;
+            /* the planner's detours round Omega: all of them must be within reach */
+            double oc[3], lim;
+            int by_start = vp_board_origin_ball(b, oc, &lim);
             for (k = 0; k < 3; k++)
                 if (oc[k] - lim - reach < b->axis[k].ax.travel_min || oc[k] + lim + reach > b->axis[k].ax.travel_max)
                     return vp_bad(c, S_OMEGA, key, err, el, "the planner's detours round Omega reach %.1f mm from its centre "
                                   "(%s): %c from %.1f to %.1f is not within %s travel %g..%g less the head's reach %.1f mm; "
-                                  "use a smaller %s", lim, 1.02 * rcirc >= rs ? "1.02 x its circumradius" : "the start's distance",
+                                  "use a smaller %s", lim, by_start ? "the start's distance" : "1.02 x its circumradius",
                                   "xyz"[k], oc[k] - lim, oc[k] + lim, sec_name[S_AX0 + k], b->axis[k].ax.travel_min,
                                   b->axis[k].ax.travel_max, reach, b->omega_kind == VP_OMEGA_BOX ? "box, or a ball" : "ball");
         }
     }
+    return VP_OK;
+}
+
+/* The backdrop: the walls must hold every place the laser origin goes (Omega and the detours
+ * round it, the start) with the head's reach to spare, and lie within max_range of it, so that
+ * a beam meeting nothing shows its spot on a wall; a frame with no spot then means the spot was
+ * hidden or the surface it fell on returned too little light, never empty space. */
+static int vp_board_check_backdrop(vp_bctx_t *c, char *err, size_t el)
+{
+    vp_board_t *b = c->b;
+    vp_kin_config_t kc;
+    vp_kin_t kin;
+    double oc[3], lim, far = 0;
+    int k;
+    b->have_backdrop = vp_seen(c, S_RANGE, "backdrop") != 0;
+    if (!b->have_backdrop) return VP_OK;
+    vp_board_kin_config(b, &kc);
+    if (vp_kin_init(&kin, &kc) != VP_OK) return vp_bad(c, S_HEAD, NULL, err, el, "bad head geometry");
+    if (b->line_laser)
+        return vp_bad(c, S_RANGE, "backdrop", err, el, "is read for a dot laser only: a line laser's columns without a "
+                      "point are not checked against it");
+    for (k = 0; k < 3; k++)
+        if (!(b->backdrop[k] < b->backdrop[3 + k]))
+            return vp_bad(c, S_RANGE, "backdrop", err, el, "expected XLO, YLO, ZLO, XHI, YHI, ZHI with each LO below its HI");
+    vp_board_origin_ball(b, oc, &lim);
+    for (k = 0; k < 3; k++) {
+        double a = oc[k] - b->backdrop[k], z = b->backdrop[3 + k] - oc[k];
+        if (a <= lim + kin.reach || z <= lim + kin.reach)
+            return vp_bad(c, S_RANGE, "backdrop", err, el, "the laser origin goes %.1f mm from Omega's centre and the head "
+                          "reaches %.1f mm beyond it: the walls must lie farther on every side (%c: %g..%g about %.1f)",
+                          lim, kin.reach, "xyz"[k], b->backdrop[k], b->backdrop[3 + k], oc[k]);
+        far += (a > z ? a : z) * (a > z ? a : z);
+    }
+    far = sqrt(far) + lim;
+    if (far > b->max_range)
+        return vp_bad(c, S_RANGE, "backdrop", err, el, "its far corner can lie %.1f mm from the laser origin, beyond "
+                      "max_range (%g mm): a beam meeting nothing would show no spot there", far, b->max_range);
     return VP_OK;
 }
 
@@ -874,6 +923,7 @@ static int vp_board_check(vp_bctx_t *c, char *err, size_t el)
     VP_TRY(vp_board_check_fixture(c, err, el));
     VP_TRY(vp_board_check_contact(c, err, el));
     VP_TRY(vp_board_check_omega(c, err, el));
+    VP_TRY(vp_board_check_backdrop(c, err, el));
     return vp_board_check_head(c, err, el);
 }
 
@@ -1288,6 +1338,7 @@ void vp_board_machine_config(const vp_board_t *b, vp_machine_config_t *m)
     m->spot.band = b->band;
     m->contact = vp_board_has_contact(b);
     m->confirm = b->confirm_spot;
+    m->backdrop = b->have_backdrop;
     m->use_rf = b->have_rf;
     if (b->have_rf) m->rf = b->rf;
     if (b->line_laser) {

@@ -82,6 +82,11 @@ typedef struct vp_board {
     char near_spots[16];                 /* "too-close" (default) or "measure" */
     int confirm_spot;                    /* [rangefinder] confirm_spot: a second laser-on frame must show the
                                             spot where the first did (vp_machine_config_t.confirm) */
+    double backdrop[6];                  /* [rangefinder] backdrop = XLO, YLO, ZLO, XHI, YHI, ZHI: matte
+                                            walls round the machine (a box, mm) on which every beam
+                                            that meets nothing ends, within max_range */
+    int have_backdrop;                   /* then a frame with no spot is unreadable, never free space
+                                            (vp_machine_config_t.backdrop) */
     int near_measure;                    /* a spot nearer than min_range: 1 a hit at the model's
                                             extrapolated distance, 0 VP_PROBE_TOO_CLOSE */
     char laser_kind[8];                  /* [rangefinder] laser = dot (default) or line */

@@ -65,6 +65,27 @@ static void vp_camsim_beam(const vp_camsim_config_t *c, double d[3])
     for (i = 0; i < 3; i++) d[i] = c->laser_dir[i] / n;
 }
 
+/* Where a beam from o (inside the backdrop's box) along d leaves the box, within maxr: the
+ * distance and the wall's inward normal. 0 when o is not inside or the wall is beyond maxr. */
+static int vp_camsim_backdrop(const vp_camsim_scene_t *sc, const double o[3], const double d[3], double maxr,
+                              double *t, double n[3])
+{
+    double best = maxr;
+    int k, face = -1;
+    for (k = 0; k < 3; k++) {
+        double tk;
+        if (!(o[k] > sc->backdrop_lo[k] && o[k] < sc->backdrop_hi[k])) return 0;
+        if (d[k] == 0) continue;
+        tk = ((d[k] > 0 ? sc->backdrop_hi[k] : sc->backdrop_lo[k]) - o[k]) / d[k];
+        if (tk <= best) { best = tk; face = k; }
+    }
+    if (face < 0) return 0;
+    n[0] = n[1] = n[2] = 0;
+    n[face] = d[face] > 0 ? -1 : 1;
+    *t = best;
+    return 1;
+}
+
 /* Approximately normal deviate from one 64-bit draw (sum of four 16-bit uniforms). */
 static double vp_camsim_gauss(vp_rng_t *r)
 {
@@ -407,7 +428,7 @@ static int vp_camsim_draw(const vp_camsim_config_t *c, const vp_camsim_scene_t *
                           int64_t t_move, vp_camsim_line_truth_t *line)
 {
     const int w = c->cam.width, h = c->cam.height;
-    double ex[3], o[3], d[3], cpos[3], t = 0, blur, beam, energy, maxr, tx, ty, phx, phy;
+    double ex[3], o[3], d[3], cpos[3], t = 0, blur, beam, energy, maxr, tx, ty, phx, phy, wall_n[3];
     vp_camsim_truth_t tr;
     float *acc;
     int i, x, y;
@@ -460,11 +481,14 @@ static int vp_camsim_draw(const vp_camsim_config_t *c, const vp_camsim_scene_t *
         double num = sc->plane_d - (sc->plane_n[0] * o[0] + sc->plane_n[1] * o[1] + sc->plane_n[2] * o[2]);
         if (fabs(den) > 1e-12) { t = num / den; tr.hit = t > 0 && t <= maxr; }
     }
-    if (tr.hit && c->laser_kind != VP_CAMSIM_LINE) {
+    /* no object on the beam: its spot on the backdrop, if there is one */
+    if (!tr.hit && sc->backdrop && c->laser_kind != VP_CAMSIM_LINE) tr.backdrop = vp_camsim_backdrop(sc, o, d, maxr, &t, wall_n);
+    if ((tr.hit || tr.backdrop) && c->laser_kind != VP_CAMSIM_LINE) {
         double n[3], vc[3], lc, cos_i, cos_e, t1[3], t2[3], j1[2], j2[2], uv1[2], q[3], r1, sxx, sxy, syy;
         tr.dist = t;
         for (i = 0; i < 3; i++) tr.point[i] = o[i] + t * d[i];
-        if (sc->surf) vp_surface_normal(sc->surf, tr.point, n);
+        if (tr.backdrop) memcpy(n, wall_n, sizeof n);
+        else if (sc->surf) vp_surface_normal(sc->surf, tr.point, n);
         else for (i = 0; i < 3; i++) n[i] = sc->plane_n[i];
         cos_i = vp_dot3(n, d);
         if (cos_i > 0) { for (i = 0; i < 3; i++) n[i] = -n[i]; cos_i = -cos_i; }   /* the lit side */
@@ -503,7 +527,7 @@ static int vp_camsim_draw(const vp_camsim_config_t *c, const vp_camsim_scene_t *
             sxx = blur * blur + j1[0] * j1[0] + j2[0] * j2[0];
             syy = blur * blur + j1[1] * j1[1] + j2[1] * j2[1];
             sxy = j1[0] * j1[1] + j2[0] * j2[1];
-            if (c->dark_albedo > 0 && tr.point[2] >= c->dark_z[0] && tr.point[2] <= c->dark_z[1]) tr.albedo = c->dark_albedo;
+            if (tr.hit && c->dark_albedo > 0 && tr.point[2] >= c->dark_z[0] && tr.point[2] <= c->dark_z[1]) tr.albedo = c->dark_albedo;
             tr.energy = energy * tr.albedo * cos_e * (300.0 / lc) * (300.0 / lc);
             tr.sigma_px = sqrt(sqrt(sxx * syy - sxy * sxy));
             tr.peak = tr.energy / (2 * VP_PI * tr.sigma_px * tr.sigma_px);

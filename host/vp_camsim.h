@@ -4,7 +4,8 @@
  * ambient light (level, gradient, smooth texture), an optional ghost spot (a reflection),
  * Gaussian noise, 8-bit quantisation and saturation; and a real world's faults: laser speckle, the
  * head still ringing after a move, mains flicker of the ambient light, a moving glint, a dark
- * band on the object. The spot is hidden when the surface faces
+ * band on the object; a backdrop (the walls round the machine) where a beam that meets no
+ * object ends. The spot is hidden when the surface faces
  * away from the camera or the object occludes it. Truth (distance, image point) comes out with
  * each frame, so the detection and triangulation code can be measured against it.
  * As a vp_cam backend ("camsim") it renders at the head pose a callback gives. */
@@ -87,11 +88,15 @@ typedef struct vp_camsim_scene {
                                     off too, of this peak (grey levels above the background) */
     double mark[3];              /* its centre (world, on the plane) */
     double mark_sigma;           /* its 1-sigma radius, mm (0: 0.4) */
+    int backdrop;                /* 1: matte walls round the machine (a box, world mm): a beam that
+                                    meets no object ends on them, where the camera may see its spot */
+    double backdrop_lo[3], backdrop_hi[3];
 } vp_camsim_scene_t;
 
 typedef struct vp_camsim_truth {
     int hit;                     /* the beam met the object within max_range */
     int visible;                 /* and the camera sees the spot (in frame, lit side, not hidden) */
+    int backdrop;                /* the beam met no object but the backdrop: the spot is on a wall */
     double dist;                 /* along the beam from the laser origin, mm */
     double uv[2];                /* where the spot's centre projects */
     double point[3];             /* world hit point */

@@ -218,6 +218,12 @@ int vp_dryrun_open(const vp_board_t *b, const vp_dryrun_options_t *o, vp_dryrun_
     }
     memset(&scene, 0, sizeof scene);
     scene.surf = d->surf;
+    if (b->have_backdrop) {
+        /* the walls round the machine */
+        scene.backdrop = 1;
+        memcpy(scene.backdrop_lo, b->backdrop, sizeof scene.backdrop_lo);
+        memcpy(scene.backdrop_hi, b->backdrop + 3, sizeof scene.backdrop_hi);
+    }
     if (opt.flat_target) {
         scene.surf = NULL;
         scene.plane_n[0] = 1;

@@ -178,6 +178,9 @@ void vp_scan_unreadable_text(const vp_scan_dev_t *d, char *buf, size_t n)
     if (d->unread_why[4] && strlen(buf) + 1 < n)
         snprintf(buf + strlen(buf), n - strlen(buf), ", %lu not the laser's spot (light there in the laser-off "
                  "frame, or not again there in a second laser-on frame)", d->unread_why[4]);
+    if (d->unread_why[5] && strlen(buf) + 1 < n)
+        snprintf(buf + strlen(buf), n - strlen(buf), ", %lu with no spot where the backdrop would show one (hidden "
+                 "from the camera, or on a surface too dark)", d->unread_why[5]);
 }
 
 void vp_scan_step_report(const vp_scan_dev_t *d, char *buf, size_t n, double value[4])
@@ -442,7 +445,7 @@ static int vp_scan_dev_probe_do(void *ctx, const vp_cmd_t *cmd, vp_probe_result_
     if (kind == VP_READING_NEAR) d->near++;
     if (kind >= VP_READING_OFF_LINE) {
         d->unreadable++;
-        d->unread_why[kind == VP_READING_NOT_LASER ? 4 : kind - VP_READING_OFF_LINE]++;
+        d->unread_why[kind == VP_READING_NOT_LASER ? 4 : kind == VP_READING_NO_SPOT ? 5 : kind - VP_READING_OFF_LINE]++;
     }
     if (res->hit == VP_PROBE_TOO_CLOSE) d->too_close++;
     else if (res->hit) d->hits++;
@@ -450,7 +453,8 @@ static int vp_scan_dev_probe_do(void *ctx, const vp_cmd_t *cmd, vp_probe_result_
     if (d->dry && res->hit != VP_PROBE_TOO_CLOSE) {
         /* a hit is judged against the surface within the noise tolerance the planner trusts hits
          * to: a hit at the end of the range whose surface lies just beyond it is a measurement,
-         * not a false hit; a miss only within the range */
+         * not a false hit; so is a miss whose surface lies within that tolerance of the range's
+         * end (its spot read at the range or just past it): a miss is false only before that */
         double t;
         int truth = vp_surface_ray(d->dr->surf, cmd->from, cmd->dir, cmd->range + (res->hit ? d->noise_tol : 0.0), &t);
         if (res->hit && truth) {
@@ -469,7 +473,9 @@ static int vp_scan_dev_probe_do(void *ctx, const vp_cmd_t *cmd, vp_probe_result_
             for (k = 0; k < 3; k++) q[k] = cmd->from[k] + res->dist * cmd->dir[k];
             if (vp_surface_distance(d->dr->surf, q) <= d->noise_tol) d->grazing++;
             else d->false_hits++;
-        } else if (truth && t >= (m->cfg.line ? m->cfg.line_model.min_range : m->tri.min_range)) d->false_misses++;
+        } else if (truth && t >= (m->cfg.line ? m->cfg.line_model.min_range : m->tri.min_range) &&
+                   t < cmd->range - d->noise_tol)
+            d->false_misses++;
     }
     return VP_OK;
 }

@@ -32,7 +32,8 @@ typedef struct vp_scan_dev {
     unsigned long commands;       /* commands executed by this run */
     unsigned long too_close, hits, misses, through; /* results as fed; dry run: moves through the object */
     unsigned long unreadable;     /* of too_close: a blob, several spots, a spot off the line or below the model */
-    unsigned long unread_why[5];  /* off the line, too big, several spots, below the model, not the laser */
+    unsigned long unread_why[6];  /* off the line, too big, several spots, below the model, not the laser,
+                                     no spot where the backdrop would show one */
     unsigned long near;           /* spots nearer than min_range (too close, or hits with near_measure) */
     int near_measure;             /* 1: a spot nearer than min_range is a hit at the extrapolated distance */
     double raw;                   /* last probe's raw reading: spot position along the line, px (NaN: none) */

@@ -717,6 +717,13 @@ vp_reading_t vp_machine_reading(const vp_machine_t *m, const vp_cmd_t *cmd, int 
         int beyond = s >= sfar || (dd >= t->min_range && dd > cmd->range);
         if (!beyond) unreadable = 1;
     } else if (r != VP_SPOT_FOUND && r != VP_SPOT_NONE) unreadable = 1;
+    else if (r == VP_SPOT_NONE && !res->hit && m->cfg.backdrop) {
+        /* every beam ends on the backdrop within the range: no spot means the camera did not see
+         * where it ended (hidden behind the object, or a surface returning too little light) */
+        res->hit = VP_PROBE_TOO_CLOSE;
+        res->dist = 0;
+        return VP_READING_NO_SPOT;
+    }
     if (unreadable) {
         res->hit = VP_PROBE_TOO_CLOSE;
         kind = r == VP_SPOT_OFF_LINE ? VP_READING_OFF_LINE : r == VP_SPOT_TOO_BIG ? VP_READING_TOO_BIG

@@ -100,6 +100,9 @@ typedef struct vp_machine_config {
     int single_frame;                 /* tests only: no laser-off frame, no differencing */
     int contact;                      /* 1: the head has a contact switch (VP_IO_CONTACT); MOVEs
                                          watch it */
+    int backdrop;                     /* 1: walls round the machine end every beam that meets
+                                         nothing, within the range: a frame with no spot is
+                                         unreadable (VP_READING_NO_SPOT), never free space */
     int confirm;                      /* 1: the spot must be the laser's: a second laser-on frame right
                                          after the first shows it where the first did (within
                                          confirm_px, or 0.4 of the spot's radius), and the laser-off frame is plain there (no light
@@ -184,7 +187,8 @@ int vp_machine_exec(vp_machine_t *m, const vp_cmd_t *cmd, vp_probe_result_t *res
  * or a spot below the model's valid span proves nothing free: VP_PROBE_TOO_CLOSE too. res->dist
  * is 0 for VP_PROBE_TOO_CLOSE. With the full model (cfg.use_rf) a spot beyond the calibrated span,
  * or below it (unless near_measure), is VP_PROBE_TOO_CLOSE too, never a miss, and a spot whose
- * camera ray misses the beam is off the line. *raw (may be NULL): the spot's position along the
+ * camera ray misses the beam is off the line. With cfg.backdrop a frame with no spot at all is
+ * VP_PROBE_TOO_CLOSE (VP_READING_NO_SPOT): the beam would have lit a wall. *raw (may be NULL): the spot's position along the
  * image line, px (full model: its distance along the beam, mm)
  * (NaN: no spot). Returns what the reading was (VP_READING_*). */
 typedef enum vp_reading {
@@ -194,8 +198,10 @@ typedef enum vp_reading {
     VP_READING_TOO_BIG = 3,        /* unreadable: a blob too big for a spot */
     VP_READING_SEVERAL = 4,        /* unreadable: several spots */
     VP_READING_BELOW_MODEL = 5,    /* unreadable: a spot below the model's valid span, or another failure */
-    VP_READING_NOT_LASER = 6       /* unreadable: too wide for the laser's spot, or it moved between two
+    VP_READING_NOT_LASER = 6,      /* unreadable: too wide for the laser's spot, or it moved between two
                                       laser-on frames (VP_SPOT_NOT_LASER, VP_SPOT_MOVED) */
+    VP_READING_NO_SPOT = 7         /* unreadable: no spot at all where the backdrop (cfg.backdrop) would
+                                      show one: hidden from the camera, or on a surface too dark */
 } vp_reading_t;
 vp_reading_t vp_machine_reading(const vp_machine_t *m, const vp_cmd_t *cmd, int was_near, int near_measure,
                                 vp_probe_result_t *res, double *raw);

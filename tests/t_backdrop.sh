@@ -1,0 +1,80 @@
+#!/bin/sh
+# A backdrop ([rangefinder] backdrop: matte walls round the machine on which every beam that
+# meets nothing ends, within max_range): a frame with no spot is then unreadable, never free
+# space. Without it a spot the camera cannot see (hidden behind the object, as on a torus's far
+# inner side seen through its hole, or on a surface too dark to return the laser) reads as a
+# miss, and the planner takes space inside the object for free. boards/sim-enclosed.ini's dry
+# run (a 100 mm object, the head in its clearance ball). Checked, none of it by voroprobe's own
+# code:
+#   - host-sim's exact ray against the object counts the misses that had a surface on them
+#     (hidden spots), and the moves through the object;
+#   - CGAL (tests/cgal_object.cpp topology) says the torus's mesh is a closed 2-manifold of
+#     genus 1; `log verify` proves every move free;
+#   - the same runs without the backdrop must fail: hidden spots, and the torus open.
+set -u
+BUILD=${BUILD:-build}
+VP=${VP:-$BUILD/voroprobe}
+tmp=$(mktemp -d) || exit 1
+trap 'rm -rf "$tmp"' EXIT
+fail=0
+bad() { echo "FAIL: $*"; fail=1; }
+field() { tail -n 1 "$1" | sed -n "s/.*\"$2\":\([^,}]*\).*/\1/p" | tr -d '"'; }
+. tests/cgal_object.sh
+cgal_object_build "$BUILD" || { echo "FAIL: $CG_WHY"; exit 1; }
+B=boards/sim-enclosed.ini
+grep -v '^backdrop' "$B" >"$tmp/open.ini"
+
+# ---- the 100 mm torus at eps 6: its far inner side is seen through the hole
+"$VP" scan --board "$B" --dry-run --eps 6 --log "$tmp/t.vplog" --quiet --json >"$tmp/t.out" 2>&1
+rc=$?
+[ $rc -eq 0 ] || bad "torus: exit $rc ($(grep '^mesh' "$tmp/t.out"))"
+[ "$(field "$tmp/t.out" hidden_spots)" = 0 ] || bad "torus: $(field "$tmp/t.out" hidden_spots) misses with a surface on them"
+[ "$(field "$tmp/t.out" through)" = 0 ] || bad "torus: moves through the object"
+[ "$(field "$tmp/t.out" head_collisions)" = 0 ] || bad "torus: head collisions"
+ns=$(field "$tmp/t.out" unreadable_no_spot)
+[ "${ns:-0}" -gt 0 ] || bad "torus: no frame without a spot (the hidden spots were not met)"
+"$CO" topology "$tmp/t.off" | grep -q '"manifold":true,"closed":true,"components":1,"genus":1}' ||
+  bad "torus: CGAL topology: $("$CO" topology "$tmp/t.off")"
+"$VP" log verify "$tmp/t.vplog" >"$tmp/t.verify" 2>&1 || bad "torus: log verify: $(tail -n 1 "$tmp/t.verify")"
+# without the walls: the hidden spots are read as free space, and the torus stays open
+"$VP" scan --board "$tmp/open.ini" --dry-run --eps 6 --log "$tmp/o.vplog" --quiet --json >"$tmp/o.out" 2>&1
+orc=$?
+oh=$(field "$tmp/o.out" hidden_spots)
+[ "${oh:-0}" -gt 0 ] || bad "torus without the backdrop: no hidden spot counted (the check cannot see them)"
+[ $orc -eq 4 ] || bad "torus without the backdrop: exit $orc, expected 4 (open)"
+"$CO" topology "$tmp/o.off" | grep -q '"closed":false' || bad "torus without the backdrop: CGAL calls it closed"
+
+# ---- a dark band (albedo 0.0007) round the 100 mm sphere at eps 12: the spot is too faint
+(cat "$B"; printf 'dark = 0.0007, -10, 10\n') >"$tmp/dark.ini"
+grep -v '^backdrop' "$tmp/dark.ini" >"$tmp/dark-open.ini"
+"$VP" scan --board "$tmp/dark.ini" --dry-run --surface 'sphere*50' --eps 12 --log "$tmp/d.vplog" --quiet --json >"$tmp/d.out" 2>&1
+drc=$?
+[ "$(field "$tmp/d.out" hidden_spots)" = 0 ] || bad "dark band: $(field "$tmp/d.out" hidden_spots) misses with a surface on them"
+[ "$(field "$tmp/d.out" through)" = 0 ] || bad "dark band: moves through the object"
+dn=$(field "$tmp/d.out" unreadable_no_spot)
+[ "${dn:-0}" -gt 0 ] || bad "dark band: no frame without a spot"
+[ $drc -eq 4 ] && grep -q 'with no spot where the backdrop would show one' "$tmp/d.out" ||
+  bad "dark band: exit $drc, expected 4 (the band cannot be seen) with the frames named"
+"$VP" log verify "$tmp/d.vplog" >"$tmp/d.verify" 2>&1 || bad "dark band: log verify: $(tail -n 1 "$tmp/d.verify")"
+"$VP" scan --board "$tmp/dark-open.ini" --dry-run --surface 'sphere*50' --eps 12 --log "$tmp/do.vplog" --quiet --json \
+  --stop-after 1500 >"$tmp/do.out" 2>&1
+dh=$(sed -n 's/^dry run: probe error.* \([0-9]*\) hidden spots.*/\1/p' "$tmp/do.out")
+[ "${dh:-0}" -gt 100 ] || bad "dark band without the backdrop: ${dh:-no} hidden spots in 1500 commands (expected many)"
+
+# ---- the loader
+sed 's/^\[rangefinder\]/[rangefinder]\nlaser = line/' "$B" >"$tmp/l.ini"
+sed -i 's/^\[laser\]//' "$tmp/l.ini"
+"$VP" scan --board "$tmp/l.ini" --dry-run --log "$tmp/l.vplog" >"$tmp/l.out" 2>&1
+grep -q 'backdrop: is read for a dot laser only\|needs \[laser\] pin' "$tmp/l.out" || bad "line laser with a backdrop: $(head -n 1 "$tmp/l.out")"
+sed 's/^backdrop = .*/backdrop = -220, -220, -220, 220, 220, 220/' "$B" >"$tmp/n.ini"
+"$VP" scan --board "$tmp/n.ini" --dry-run --log "$tmp/n.vplog" >"$tmp/n.out" 2>&1
+grep -q 'backdrop: the laser origin goes 200.0 mm from Omega.s centre and the head reaches' "$tmp/n.out" ||
+  bad "walls too near: $(head -n 1 "$tmp/n.out")"
+sed 's/^max_range = .*/max_range = 600/' "$B" >"$tmp/f.ini"
+"$VP" scan --board "$tmp/f.ini" --dry-run --log "$tmp/f.vplog" >"$tmp/f.out" 2>&1
+grep -q 'backdrop: its far corner can lie 719.6 mm from the laser origin, beyond max_range (600 mm)' "$tmp/f.out" ||
+  bad "walls beyond max_range: $(head -n 1 "$tmp/f.out")"
+[ $fail = 0 ] || exit 1
+echo "t_backdrop: 100 mm torus at eps 6 closed with genus 1 (CGAL), 0 hidden spots, $ns frames without a spot unreadable," \
+  "$(field "$tmp/t.out" machine_s) s; without the backdrop $oh hidden spots, open, $(field "$tmp/o.out" machine_s) s;" \
+  "a dark band: 0 hidden spots, $dn unreadable, exit 4 (without: $dh hidden spots in 1500 commands); bad walls refused"
