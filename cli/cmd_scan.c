@@ -936,8 +936,8 @@ static int scan_report(scan_job_t *j)
                    j->dev.true_n ? sqrt(j->dev.err2 / (double)j->dev.true_n) : 0.0, j->dev.err_max, j->dev.true_n, j->dev.false_hits,
                    j->dev.false_misses, j->dev.through);
             if (j->dev.grazing)
-                printf("dry run: %lu hits where the beam grazes a limb (no crossing along the ray; the point within "
-                       "%g mm of the surface)\n", j->dev.grazing, j->dev.noise_tol);
+                printf("dry run: %lu hits where the beam grazes a limb or clips a thin edge (the point, and the ray's "
+                       "free part, within %g mm of the surface)\n", j->dev.grazing, j->dev.noise_tol);
             if (j->dev.board.line_laser)
                 printf("dry run: line laser: %lu rays from the probes' frames, error against the true object rms "
                        "%.3f mm, worst %.3f mm; %lu false (off the surface by more than %g mm); %lu probes with the "

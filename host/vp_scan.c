@@ -171,6 +171,18 @@ int vp_scan_open(vp_scan_dev_t *d, const vp_board_t *b, int dry, const char *sur
     return VP_OK;
 }
 
+int vp_scan_depth_beyond(const vp_surface_t *surf, const double o[3], const double dir[3], double t0, double t1,
+                         double tol)
+{
+    double step = 0.25 * tol, s, p[3];
+    int k;
+    for (s = t0; s <= t1; s += step) {
+        for (k = 0; k < 3; k++) p[k] = o[k] + s * dir[k];
+        if (vp_surface_inside(surf, p) && vp_surface_distance(surf, p) > 0.875 * tol) return 1;
+    }
+    return 0;
+}
+
 void vp_scan_unreadable_text(const vp_scan_dev_t *d, char *buf, size_t n)
 {
     snprintf(buf, n, "%lu off the laser line, %lu blobs too big for a spot, %lu with several spots, %lu below the "
@@ -457,7 +469,12 @@ static int vp_scan_dev_probe_do(void *ctx, const vp_cmd_t *cmd, vp_probe_result_
          * end (its spot read at the range or just past it): a miss is false only before that */
         double t;
         int truth = vp_surface_ray(d->dr->surf, cmd->from, cmd->dir, cmd->range + (res->hit ? d->noise_tol : 0.0), &t);
-        if (res->hit && truth) {
+        if (res->hit && truth && res->dist - t > d->noise_tol &&
+            !vp_scan_depth_beyond(d->dr->surf, cmd->from, cmd->dir, t, res->dist, d->noise_tol)) {
+            /* read past a thin edge the ray clips, its free part nowhere deeper inside than the
+             * tolerance: the beam, within the machine's aim, passed beside the edge */
+            d->grazing++;
+        } else if (res->hit && truth) {
             double e = fabs(res->dist - t);
             /* past the surface by more than the noise tolerance: the planner would take space
              * inside the object for free */

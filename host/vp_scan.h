@@ -17,6 +17,7 @@
 #include "vp_machine.h"
 #include "vp_session.h"
 #include "vp_sessionlog.h"
+#include "vp_surface.h"
 
 typedef struct vp_scan_dev {
     vp_board_t board;
@@ -53,7 +54,8 @@ typedef struct vp_scan_dev {
     unsigned long past;           /* hits farther than the surface by more than noise_tol (space
                                      inside the object read as free) */
     unsigned long grazing;        /* hits whose ray meets no surface but whose point lies within
-                                     noise_tol of it (a beam grazing a limb) */
+                                     noise_tol of it (a beam grazing a limb), or read past a thin
+                                     edge the ray clips, nowhere deeper inside than noise_tol */
     double err2, err_max;
     unsigned long rays, ray_false;       /* a line laser: rays fed, and (dry run) hits off the surface by more than noise_tol */
     double ray_err2, ray_err_max;        /* (dry run) their errors against the surface */
@@ -65,6 +67,15 @@ typedef struct vp_scan_dev {
     double head_tol;              /* a part nearer the surface than this is a head collision: 0.5 mm,
                                      or the board's head_margin (origin_tol, steps, backlash) if larger */
 } vp_scan_dev_t;
+
+/* Dry runs: 1 if some point of the ray o + s dir (dir a unit vector), s in [t0, t1], lies
+ * deeper than tol inside the object; 0 if none lies deeper than 7/8 tol (between the two,
+ * either). Depth, the distance to the surface inside, changes by at most the step between
+ * samples, so samples tol / 4 apart catch any point deeper than tol. A hit read more than tol
+ * past the surface whose free part is nowhere deeper is a beam that passed beside a thin edge
+ * the ray clips (counted as grazing), not space inside the object taken for free. */
+int vp_scan_depth_beyond(const vp_surface_t *surf, const double o[3], const double dir[3], double t0, double t1,
+                         double tol);
 
 /* Dry runs: the smallest head_tol (mm). */
 #define VP_SCAN_HEAD_TOL 0.5
