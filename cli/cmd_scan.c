@@ -59,7 +59,8 @@ static void scan_usage(FILE *f)
         "                   close (default: the board's log_sync, else record)\n"
         "  --arena BYTES    planner memory (default 64M; K, M, G suffixes)\n"
         "  --noise-tol MM   hits are trusted to within this distance (default 2)\n"
-        "  --confirm N      re-probes of a miss where a hit is expected (default 2)\n"
+        "  --confirm N      re-probes of a miss where a hit is expected (default 2; 0 on a board\n"
+        "                   with a backdrop, where a spot that drops out reads as unreadable)\n"
         "  --near-spots M   a spot nearer than the rangefinder's min_range: too-close (the planner\n"
         "                   gets VP_PROBE_TOO_CLOSE: never free, never sampled) or measure (a hit\n"
         "                   at the model's extrapolated distance); default: the board's near_spots\n"
@@ -111,7 +112,7 @@ static void scan_defaults(scan_opts_t *o)
 {
     memset(o, 0, sizeof *o);
     o->noise_tol = 2;
-    o->confirm = 2;
+    o->confirm = -1;          /* 2, or 0 on a board with a backdrop */
     o->arena = (size_t)64 << 20;
     o->near = -1;
 }
@@ -475,6 +476,9 @@ static int scan_board(scan_job_t *j)
     snprintf(j->board_path, sizeof j->board_path, "%s", j->o.board);
     if (!j->o.eps) j->o.eps = j->b.eps;
     if (j->o.near < 0) j->o.near = j->b.near_measure;
+    /* a miss is re-probed in case the spot dropped out; with a backdrop a spot that drops out
+     * leaves the frame unreadable, and a miss is a spot seen past the range: nothing to repeat */
+    if (j->o.confirm < 0) j->o.confirm = j->b.have_backdrop ? 0 : 2;
     if (j->o.dry) {
         if (j->o.resume && j->rescans > 0) ; /* a re-scan resumed: the object its last RESCAN event names */
         else if (j->o.resume || (j->o.rescan && !j->cl.surface))

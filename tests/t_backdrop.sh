@@ -36,6 +36,8 @@ ns=$(field "$tmp/t.out" unreadable_no_spot)
 "$CO" topology "$tmp/t.off" | grep -q '"manifold":true,"closed":true,"components":1,"genus":1}' ||
   bad "torus: CGAL topology: $("$CO" topology "$tmp/t.off")"
 "$VP" log verify "$tmp/t.vplog" >"$tmp/t.verify" 2>&1 || bad "torus: log verify: $(tail -n 1 "$tmp/t.verify")"
+# a miss is a spot seen past the range: not repeated with the walls (the log's header says so)
+"$VP" log dump "$tmp/t.vplog" 2>/dev/null | grep -q 'confirm misses 0,' || bad "torus: misses still confirmed with a backdrop"
 # without the walls: the hidden spots are read as free space, and the torus stays open
 "$VP" scan --board "$tmp/open.ini" --dry-run --eps 6 --log "$tmp/o.vplog" --quiet --json >"$tmp/o.out" 2>&1
 orc=$?
@@ -43,6 +45,7 @@ oh=$(field "$tmp/o.out" hidden_spots)
 [ "${oh:-0}" -gt 0 ] || bad "torus without the backdrop: no hidden spot counted (the check cannot see them)"
 [ $orc -eq 4 ] || bad "torus without the backdrop: exit $orc, expected 4 (open)"
 "$CO" topology "$tmp/o.off" | grep -q '"closed":false' || bad "torus without the backdrop: CGAL calls it closed"
+"$VP" log dump "$tmp/o.vplog" 2>/dev/null | grep -q 'confirm misses 2,' || bad "torus without the backdrop: misses not confirmed"
 
 # ---- a dark band (albedo 0.0007) round the 100 mm sphere at eps 12: the spot is too faint
 (cat "$B"; printf 'dark = 0.0007, -10, 10\n') >"$tmp/dark.ini"
