@@ -907,8 +907,12 @@ static int scan_report(scan_job_t *j)
             printf("warning: the planner said DONE but the mesh is not closed (%zu boundary edges): the planner leaves open "
                    "what its probes could not see (%llu too-close results%s, %llu Voronoi edges occluded from dOmega)\n",
                    mc.boundary_edges, (unsigned long long)ps.too_close,
-                   j->o.near || !ps.too_close ? "" : ": --near-spots measure reports near spots as hits",
+                   j->o.near || !ps.too_close || !j->dev.near ? "" : ": --near-spots measure reports near spots as hits",
                    (unsigned long long)ps.occluded);
+            if (j->dev.unread_why[5])
+                printf("warning: %lu frames showed no spot where the backdrop would: a surface too dark for the "
+                       "exposure ([camera] exposure_us, gain) or spots hidden from the camera; neither is taken for "
+                       "free space\n", j->dev.unread_why[5]);
             j->rc = VP_EXIT_NOT_CLOSED;
         }
         if (j->rc == 0 && ps.missing_components > 0) {

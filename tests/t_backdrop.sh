@@ -56,7 +56,8 @@ drc=$?
 [ "$(field "$tmp/d.out" through)" = 0 ] || bad "dark band: moves through the object"
 dn=$(field "$tmp/d.out" unreadable_no_spot)
 [ "${dn:-0}" -gt 0 ] || bad "dark band: no frame without a spot"
-[ $drc -eq 4 ] && grep -q 'with no spot where the backdrop would show one' "$tmp/d.out" ||
+[ $drc -eq 4 ] && grep -q 'with no spot where the backdrop would show one' "$tmp/d.out" &&
+  grep -q 'frames showed no spot where the backdrop would: a surface too dark' "$tmp/d.out" ||
   bad "dark band: exit $drc, expected 4 (the band cannot be seen) with the frames named"
 "$VP" log verify "$tmp/d.vplog" >"$tmp/d.verify" 2>&1 || bad "dark band: log verify: $(tail -n 1 "$tmp/d.verify")"
 "$VP" scan --board "$tmp/dark-open.ini" --dry-run --surface 'sphere*50' --eps 12 --log "$tmp/do.vplog" --quiet --json \
