@@ -598,6 +598,9 @@ static int vp_board_check_range(vp_bctx_t *c, char *err, size_t el)
         if (b->confirm_spot)
             return vp_bad(c, S_RANGE, "confirm_spot", err, el, "a line laser has no spot to confirm (its detector refuses "
                           "columns lit with the laser off)");
+        if (vp_seen(c, S_RANGE, "backdrop"))
+            return vp_bad(c, S_RANGE, "backdrop", err, el, "is read for a dot laser only: a line laser's columns without a "
+                          "point are not checked against it");
         if (fabs(b->line_normal[0]) > 1e-3 * nl)
             return vp_bad(c, S_RANGE, "line_normal", err, el, "must be at right angles to the beam (+x): the fan holds the beam");
         if (!b->laser.chip[0])
@@ -726,10 +729,12 @@ static int vp_board_check_omega(vp_bctx_t *c, char *err, size_t el)
     return VP_OK;
 }
 
-/* The backdrop: the walls must hold every place the laser origin goes (Omega and the detours
- * round it, the start) with the head's reach to spare, and lie within max_range of it, so that
- * a beam meeting nothing shows its spot on a wall; a frame with no spot then means the spot was
- * hidden or the surface it fell on returned too little light, never empty space. */
+/* The backdrop: the walls must lie beyond everywhere the head can go (each axis's travel, plus
+ * the laser origin's distance from the carriage and the body's from the origin: homing runs to
+ * the travel's ends) and within the rangefinder's range of every place the laser origin probes
+ * from (Omega and the detours round it, the start), so that a beam meeting nothing shows its
+ * spot on a wall; a frame with no spot then means the spot was hidden or the surface it fell on
+ * returned too little light, never empty space. */
 static int vp_board_check_backdrop(vp_bctx_t *c, char *err, size_t el)
 {
     vp_board_t *b = c->b;
@@ -741,25 +746,29 @@ static int vp_board_check_backdrop(vp_bctx_t *c, char *err, size_t el)
     if (!b->have_backdrop) return VP_OK;
     vp_board_kin_config(b, &kc);
     if (vp_kin_init(&kin, &kc) != VP_OK) return vp_bad(c, S_HEAD, NULL, err, el, "bad head geometry");
-    if (b->line_laser)
-        return vp_bad(c, S_RANGE, "backdrop", err, el, "is read for a dot laser only: a line laser's columns without a "
-                      "point are not checked against it");
     for (k = 0; k < 3; k++)
         if (!(b->backdrop[k] < b->backdrop[3 + k]))
             return vp_bad(c, S_RANGE, "backdrop", err, el, "expected XLO, YLO, ZLO, XHI, YHI, ZHI with each LO below its HI");
+    for (k = 0; k < 3; k++) {
+        /* the head: the carriage anywhere in its travel, the body round it */
+        double body = kin.reach + b->head_reach;
+        if (b->backdrop[k] > b->axis[k].ax.travel_min - body || b->backdrop[3 + k] < b->axis[k].ax.travel_max + body)
+            return vp_bad(c, S_RANGE, "backdrop", err, el, "%c from %g to %g: the walls must lie beyond %s travel %g..%g "
+                          "plus the head (%.1f mm: the laser origin %.1f from the carriage, the body %.1f from it)",
+                          "xyz"[k], b->backdrop[k], b->backdrop[3 + k], sec_name[S_AX0 + k], b->axis[k].ax.travel_min,
+                          b->axis[k].ax.travel_max, body, kin.reach, b->head_reach);
+    }
     vp_board_origin_ball(b, oc, &lim);
     for (k = 0; k < 3; k++) {
         double a = oc[k] - b->backdrop[k], z = b->backdrop[3 + k] - oc[k];
-        if (a <= lim + kin.reach || z <= lim + kin.reach)
-            return vp_bad(c, S_RANGE, "backdrop", err, el, "the laser origin goes %.1f mm from Omega's centre and the head "
-                          "reaches %.1f mm beyond it: the walls must lie farther on every side (%c: %g..%g about %.1f)",
-                          lim, kin.reach, "xyz"[k], b->backdrop[k], b->backdrop[3 + k], oc[k]);
         far += (a > z ? a : z) * (a > z ? a : z);
     }
+    /* the laser origin within lim of Omega's centre, a wall point within the far corner's distance */
     far = sqrt(far) + lim;
-    if (far > b->max_range)
+    if (far > b->tri.max_range)
         return vp_bad(c, S_RANGE, "backdrop", err, el, "its far corner can lie %.1f mm from the laser origin, beyond "
-                      "max_range (%g mm): a beam meeting nothing would show no spot there", far, b->max_range);
+                      "the rangefinder's range (%g mm): a beam meeting nothing would show no spot there", far,
+                      b->tri.max_range);
     return VP_OK;
 }
 
@@ -923,8 +932,8 @@ static int vp_board_check(vp_bctx_t *c, char *err, size_t el)
     VP_TRY(vp_board_check_fixture(c, err, el));
     VP_TRY(vp_board_check_contact(c, err, el));
     VP_TRY(vp_board_check_omega(c, err, el));
-    VP_TRY(vp_board_check_backdrop(c, err, el));
-    return vp_board_check_head(c, err, el);
+    VP_TRY(vp_board_check_head(c, err, el));
+    return vp_board_check_backdrop(c, err, el);
 }
 
 static void vp_board_defaults(vp_board_t *b)

@@ -174,9 +174,15 @@ int vp_scan_open(vp_scan_dev_t *d, const vp_board_t *b, int dry, const char *sur
 int vp_scan_depth_beyond(const vp_surface_t *surf, const double o[3], const double dir[3], double t0, double t1,
                          double tol)
 {
-    double step = 0.25 * tol, s, p[3];
+    double p[3];
+    long n, i;
     int k;
-    for (s = t0; s <= t1; s += step) {
+    if (!(tol > 0)) return 1;                 /* nothing is within no tolerance: say deep */
+    if (!(t1 > t0)) t1 = t0;
+    /* n equal parts no longer than tol / 4, both ends sampled: every point within tol / 8 */
+    n = (long)ceil((t1 - t0) / (0.25 * tol));
+    for (i = 0; i <= n; i++) {
+        double s = n > 0 ? t0 + (t1 - t0) * (double)i / (double)n : t0;
         for (k = 0; k < 3; k++) p[k] = o[k] + s * dir[k];
         if (vp_surface_inside(surf, p) && vp_surface_distance(surf, p) > 0.875 * tol) return 1;
     }
@@ -491,8 +497,12 @@ static int vp_scan_dev_probe_do(void *ctx, const vp_cmd_t *cmd, vp_probe_result_
             if (vp_surface_distance(d->dr->surf, q) <= d->noise_tol) d->grazing++;
             else d->false_hits++;
         } else if (truth && t >= (m->cfg.line ? m->cfg.line_model.min_range : m->tri.min_range) &&
-                   t < cmd->range - d->noise_tol)
-            d->false_misses++;
+                   t < cmd->range - d->noise_tol) {
+            /* a surface on the ray: false unless the ray only clips a thin edge, nowhere deeper
+             * inside than the tolerance (the beam passed beside it), as for a hit read past one */
+            if (vp_scan_depth_beyond(d->dr->surf, cmd->from, cmd->dir, t, cmd->range, d->noise_tol)) d->false_misses++;
+            else d->grazing++;
+        }
     }
     return VP_OK;
 }

@@ -715,9 +715,11 @@ vp_reading_t vp_machine_reading(const vp_machine_t *m, const vp_cmd_t *cmd, int 
     } else if (r == VP_SPOT_FOUND && !res->hit) {
         double dd = vp_tri_eval(t, s, NULL), sfar = vp_tri_s(t, t->max_range);
         int beyond = s >= sfar || (dd >= t->min_range && dd > cmd->range);
-        if (!beyond) unreadable = 1;
+        /* with a backdrop every wall lies within the range: a spot past the model's far end is
+         * no wall's, a reflection */
+        if (!beyond || (m->cfg.backdrop && s >= sfar)) unreadable = 1;
     } else if (r != VP_SPOT_FOUND && r != VP_SPOT_NONE) unreadable = 1;
-    else if (r == VP_SPOT_NONE && !res->hit && m->cfg.backdrop) {
+    else if (r == VP_SPOT_NONE && !res->hit && m->cfg.backdrop && !m->cfg.line) {
         /* every beam ends on the backdrop within the range: no spot means the camera did not see
          * where it ended (hidden behind the object, or a surface returning too little light) */
         res->hit = VP_PROBE_TOO_CLOSE;

@@ -48,6 +48,7 @@ oh=$(field "$tmp/o.out" hidden_spots)
 "$VP" log dump "$tmp/o.vplog" 2>/dev/null | grep -q 'confirm misses 2,' || bad "torus without the backdrop: misses not confirmed"
 
 # ---- a dark band (albedo 0.0007) round the 100 mm sphere at eps 12: the spot is too faint
+grep -q '^\[sim\]' "$B" && [ "$(grep '^\[' "$B" | tail -n 1)" = "[sim]" ] || bad "the board's last section is not [sim]"
 (cat "$B"; printf 'dark = 0.0007, -10, 10\n') >"$tmp/dark.ini"
 grep -v '^backdrop' "$tmp/dark.ini" >"$tmp/dark-open.ini"
 "$VP" scan --board "$tmp/dark.ini" --dry-run --surface 'sphere*50' --eps 12 --log "$tmp/d.vplog" --quiet --json >"$tmp/d.out" 2>&1
@@ -67,17 +68,16 @@ dh=$(sed -n 's/^dry run: probe error.* \([0-9]*\) hidden spots.*/\1/p' "$tmp/do.
 
 # ---- the loader
 sed 's/^\[rangefinder\]/[rangefinder]\nlaser = line/' "$B" >"$tmp/l.ini"
-sed -i 's/^\[laser\]//' "$tmp/l.ini"
-"$VP" scan --board "$tmp/l.ini" --dry-run --log "$tmp/l.vplog" >"$tmp/l.out" 2>&1
-grep -q 'backdrop: is read for a dot laser only\|needs \[laser\] pin' "$tmp/l.out" || bad "line laser with a backdrop: $(head -n 1 "$tmp/l.out")"
-sed 's/^backdrop = .*/backdrop = -220, -220, -220, 220, 220, 220/' "$B" >"$tmp/n.ini"
-"$VP" scan --board "$tmp/n.ini" --dry-run --log "$tmp/n.vplog" >"$tmp/n.out" 2>&1
-grep -q 'backdrop: the laser origin goes 200.0 mm from Omega.s centre and the head reaches' "$tmp/n.out" ||
-  bad "walls too near: $(head -n 1 "$tmp/n.out")"
-sed 's/^max_range = .*/max_range = 600/' "$B" >"$tmp/f.ini"
-"$VP" scan --board "$tmp/f.ini" --dry-run --log "$tmp/f.vplog" >"$tmp/f.out" 2>&1
-grep -q 'backdrop: its far corner can lie 719.6 mm from the laser origin, beyond max_range (600 mm)' "$tmp/f.out" ||
-  bad "walls beyond max_range: $(head -n 1 "$tmp/f.out")"
+"$VP" scan --board "$tmp/l.ini" --dry-run --log "$tmp/l.vplog" --stop-after 1 >"$tmp/l.out" 2>&1
+grep -q 'backdrop: is read for a dot laser only' "$tmp/l.out" || bad "line laser with a backdrop: $(head -n 1 "$tmp/l.out")"
+sed 's/^backdrop = .*/backdrop = -330, -350, -350, 350, 350, 350/' "$B" >"$tmp/n.ini"
+"$VP" scan --board "$tmp/n.ini" --dry-run --log "$tmp/n.vplog" --stop-after 1 >"$tmp/n.out" 2>&1
+grep -q 'backdrop: x from -330 to 350: the walls must lie beyond axis.x travel -230..230 plus the head (116.7 mm' "$tmp/n.out" ||
+  bad "walls within the head's reach: $(head -n 1 "$tmp/n.out")"
+sed 's/^max_range = .*/max_range = 700/' "$B" >"$tmp/f.ini"
+"$VP" scan --board "$tmp/f.ini" --dry-run --log "$tmp/f.vplog" --stop-after 1 >"$tmp/f.out" 2>&1
+grep -q 'backdrop: its far corner can lie 766.2 mm from the laser origin, beyond the rangefinder.s range (700 mm)' "$tmp/f.out" ||
+  bad "walls beyond the range: $(head -n 1 "$tmp/f.out")"
 [ $fail = 0 ] || exit 1
 echo "t_backdrop: 100 mm torus at eps 6 closed with genus 1 (CGAL), 0 hidden spots, $ns frames without a spot unreadable," \
   "$(field "$tmp/t.out" machine_s) s; without the backdrop $oh hidden spots, open, $(field "$tmp/o.out" machine_s) s;" \

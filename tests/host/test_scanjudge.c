@@ -4,7 +4,8 @@
  *  - 2000 random stretches through and beside spheres of several radii: every stretch deeper
  *    than the tolerance is called deep, none shallower than 7/8 of it is;
  *  - a ray that clips a sphere's edge (0.5 mm deep, tolerance 2) is not, one through the centre
- *    is; a stretch from the entry point 1 mm in is not, 3 mm in is. */
+ *    is; a stretch from the entry point 1 mm in is not, 3 mm in is, and so is one whose deepest
+ *    point (2.1 mm) is its very end; with no tolerance everything is deep. */
 #include <math.h>
 #include <stdio.h>
 #include "vp_rng.h"
@@ -75,6 +76,11 @@ int main(void)
             CHECK(vp_scan_depth_beyond(s, o2, d, 0, 80, 2) == 1);
             CHECK(vp_scan_depth_beyond(s, o2, d, 20, 21, 2) == 0);   /* the entry, 1 mm in */
             CHECK(vp_scan_depth_beyond(s, o2, d, 20, 23, 2) == 1);   /* 3 mm in */
+            /* the deepest point at the stretch's very end (2.1 mm), the stretch not a whole
+             * number of steps long */
+            CHECK(vp_scan_depth_beyond(s, o2, d, 19.2, 22.1, 2) == 1);
+            CHECK(vp_scan_depth_beyond(s, o2, d, 20, 20, 2) == 0);   /* a point on the surface */
+            CHECK(vp_scan_depth_beyond(s, o2, d, 20, 22, 0) == 1);   /* no tolerance: deep */
         }
         vp_surface_close(s);
     }
