@@ -722,13 +722,12 @@ vp_reading_t vp_machine_reading(const vp_machine_t *m, const vp_cmd_t *cmd, int 
     else if (r == VP_SPOT_NONE && !res->hit && m->cfg.backdrop && !m->cfg.line) {
         /* every beam ends on the backdrop within the range: no spot means the camera did not see
          * where it ended (hidden behind the object, or a surface returning too little light) */
-        res->hit = VP_PROBE_TOO_CLOSE;
-        res->dist = 0;
-        return VP_READING_NO_SPOT;
+        unreadable = 1;
     }
     if (unreadable) {
         res->hit = VP_PROBE_TOO_CLOSE;
-        kind = r == VP_SPOT_OFF_LINE ? VP_READING_OFF_LINE : r == VP_SPOT_TOO_BIG ? VP_READING_TOO_BIG
+        kind = r == VP_SPOT_NONE ? VP_READING_NO_SPOT : r == VP_SPOT_OFF_LINE ? VP_READING_OFF_LINE
+             : r == VP_SPOT_TOO_BIG ? VP_READING_TOO_BIG
              : r == VP_SPOT_SEVERAL ? VP_READING_SEVERAL : r == VP_SPOT_NOT_LASER || r == VP_SPOT_MOVED ? VP_READING_NOT_LASER
              : VP_READING_BELOW_MODEL;
     }
