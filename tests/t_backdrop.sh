@@ -10,6 +10,8 @@
 #     (hidden spots), and the moves through the object;
 #   - CGAL (tests/cgal_object.cpp topology) says the torus's mesh is a closed 2-manifold of
 #     genus 1; `log verify` proves every move free;
+#   - CGAL says fandisk's mesh at eps 8 is a closed 2-manifold of genus 0 (the manifold
+#     criterion refines at an edge of four facets);
 #   - the same runs without the backdrop must fail: hidden spots, and the torus open.
 set -u
 BUILD=${BUILD:-build}
@@ -47,6 +49,21 @@ oh=$(field "$tmp/o.out" hidden_spots)
 "$CO" topology "$tmp/o.off" | grep -q '"closed":false' || bad "torus without the backdrop: CGAL calls it closed"
 "$VP" log dump "$tmp/o.vplog" 2>/dev/null | grep -q 'confirm misses 2,' || bad "torus without the backdrop: misses not confirmed"
 
+# ---- a CAD part (fandisk, 100 mm) at eps 8: its sharp edges leave an edge of four facets (an
+# outside tet between two inside ones) whose ring had a side once unseen and since probed; the
+# manifold criterion must refine there (it stopped at any side ever marked unseen, and the mesh
+# ended non-manifold, exit 4)
+"$VP" scan --board "$B" --dry-run --surface 'off:../shared/meshes/fandisk.off*100' --eps 8 \
+  --log "$tmp/f8.vplog" --quiet --json >"$tmp/f8.out" 2>&1
+frc=$?
+[ $frc -eq 0 ] || bad "fandisk: exit $frc ($(grep '^mesh' "$tmp/f8.out"))"
+[ "$(field "$tmp/f8.out" through)" = 0 ] || bad "fandisk: moves through the object"
+[ "$(field "$tmp/f8.out" head_collisions)" = 0 ] || bad "fandisk: head collisions"
+[ "$(field "$tmp/f8.out" hidden_spots)" = 0 ] || bad "fandisk: hidden spots"
+"$CO" topology "$tmp/f8.off" | grep -q '"manifold":true,"closed":true,"components":1,"genus":0}' ||
+  bad "fandisk: CGAL topology: $("$CO" topology "$tmp/f8.off")"
+"$VP" log verify "$tmp/f8.vplog" >"$tmp/f8.verify" 2>&1 || bad "fandisk: log verify: $(tail -n 1 "$tmp/f8.verify")"
+
 # ---- a dark band (albedo 0.0007) round the 100 mm sphere at eps 12: the spot is too faint
 grep -q '^\[sim\]' "$B" && [ "$(grep '^\[' "$B" | tail -n 1)" = "[sim]" ] || bad "the board's last section is not [sim]"
 (cat "$B"; printf 'dark = 0.0007, -10, 10\n') >"$tmp/dark.ini"
@@ -80,5 +97,5 @@ grep -q 'backdrop: its far corner can lie 766.2 mm from the laser origin, beyond
   bad "walls beyond the range: $(head -n 1 "$tmp/f.out")"
 [ $fail = 0 ] || exit 1
 echo "t_backdrop: 100 mm torus at eps 6 closed with genus 1 (CGAL), 0 hidden spots, $ns frames without a spot unreadable," \
-  "$(field "$tmp/t.out" machine_s) s; without the backdrop $oh hidden spots, open, $(field "$tmp/o.out" machine_s) s;" \
+  "$(field "$tmp/t.out" machine_s) s; fandisk at eps 8 closed, genus 0 (CGAL), $(field "$tmp/f8.out" machine_s) s; without the backdrop $oh hidden spots, open, $(field "$tmp/o.out" machine_s) s;" \
   "a dark band: 0 hidden spots, $dn unreadable, exit 4 (without: $dh hidden spots in 1500 commands); bad walls refused"

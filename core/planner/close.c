@@ -55,8 +55,10 @@ static int ring_blocked(const vp_planner_t *pl, uint32_t t0, uint32_t x, uint32_
     if (!ring_start(pl, &r, t0, x, y)) return 1;
     do {
         int f;
-        for (f = 0; f < 4; f++)
-            if ((side_get(pl, r.cur, f) & (SIDE_BLOCKED | SIDE_DEGEN)) == SIDE_BLOCKED) return 1;
+        for (f = 0; f < 4; f++) {
+            unsigned s = side_get(pl, r.cur, f);
+            if ((s & (SIDE_BLOCKED | SIDE_DEGEN)) == SIDE_BLOCKED && (s & SIDE_MASK) == SIDE_UNKNOWN) return 1;
+        }
     } while (ring_step(pl, &r, &broken));
     return broken;
 }
