@@ -17,8 +17,9 @@
  * constructed points (Voronoi vertices, hits), far below any physical size */
 #define PROOF_TOL_REL 1e-10
 #define DEG_TO_RAD 0.017453292519943295
-/* body mode: the newest tasks looked at for the one whose probe starts nearest the head */
-#define NEAR_WINDOW 32u
+/* body mode with tubes: the newest tasks looked at for the one whose probe starts nearest the
+ * head (without tubes all of them are; with tubes that ended the mug open, its tubes unproven) */
+#define NEAR_WINDOW_TUBES 32u
 
 /* ---------- arena ---------- */
 
@@ -296,9 +297,11 @@ static int phase_step(vp_planner_t *pl, int *done)
 #ifndef VP_CORE_MCU /* a microcontroller core keeps the newest-first order (its flash budget) */
             if (pl->cfg.clearance > 0.0 && pl->pool.ntask > 1) {
                 /* body mode: every probe starts on dOmega and the head travels round Omega to it:
-                 * of the newest tasks, the one whose probe starts nearest the head goes first */
-                uint32_t i, lo = pl->pool.ntask > NEAR_WINDOW ? pl->pool.ntask - NEAR_WINDOW : 0, best = pl->pool.ntask - 1;
+                 * of the waiting tasks (with tubes, of the newest), the one whose probe starts
+                 * nearest the head goes first */
+                uint32_t i, lo = 0, best = pl->pool.ntask - 1;
                 double bd = VP_PL_HUGE, o[3];
+                if (pl->cfg.min_feature > 0.0 && pl->pool.ntask > NEAR_WINDOW_TUBES) lo = pl->pool.ntask - NEAR_WINDOW_TUBES;
                 for (i = pl->pool.ntask; i-- > lo;)
                     if (vp_pl_task_origin(pl, &pl->pool.task[i], o)) {
                         double d = vp_dist3(o, pl->dev.pos);
