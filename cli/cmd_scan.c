@@ -875,6 +875,9 @@ static int scan_report(scan_job_t *j)
                    1e-9 * (double)m->st.settle_ns, 1e-9 * (double)m->st.read_ns,
                    m->st.probes ? 1e-9 * (double)(m->st.aim_ns + m->st.settle_ns + m->st.read_ns) / (double)m->st.probes : 0.0,
                    j->o.dry ? " (simulated)" : "");
+            if (m->st.moves_turning)
+                printf("machine: %lu MOVEs turned the head towards their PROBE on the way (the laser origin on the "
+                       "line: the ball rule)\n", m->st.moves_turning);
             if (m->st.turns)
                 printf("machine: %lu MOVEs turned the head about the laser origin first (its orientation put the "
                        "carriage outside its travel at the MOVE's end)\n", m->st.turns);
@@ -996,7 +999,7 @@ static int scan_report(scan_job_t *j)
             printf(",\"machine_s_moves\":%.1f,\"machine_s_aims\":%.1f,\"machine_s_settle\":%.1f,\"machine_s_read\":%.1f",
                    1e-9 * (double)m->st.move_ns, 1e-9 * (double)m->st.aim_ns, 1e-9 * (double)m->st.settle_ns,
                    1e-9 * (double)m->st.read_ns);
-            printf(",\"turns\":%lu", m->st.turns);
+            printf(",\"turns\":%lu,\"moves_turning\":%lu", m->st.turns, m->st.moves_turning);
             printf(",\"unreadable\":%lu,\"unreadable_no_spot\":%lu", j->dev.unreadable, j->dev.unread_why[5]);
             if (j->o.rescan || j->rescans > 0)
                 printf(",\"rescan\":{\"probes\":%llu,\"old_probes\":%llu,\"kept\":%llu,\"skipped\":%llu,\"dropped\":%llu,"

@@ -430,7 +430,10 @@ static int vp_scan_dev_move_do(void *ctx, const vp_cmd_t *cmd, int *collided)
             vp_scan_head_path(d, j0, (const double (*)[VP_KIN_JOINTS])d->m->way, d->m->turn_n);
             memcpy(j0, d->m->way[d->m->turn_n - 1], sizeof j0);
         }
-        vp_scan_head_path(d, j0, (const double (*)[VP_KIN_JOINTS])d->m->j, 1);
+        if (d->m->move_n > 0)   /* it turned on the way: the pieces it took */
+            vp_scan_head_path(d, j0, (const double (*)[VP_KIN_JOINTS])d->m->way, d->m->move_n);
+        else
+            vp_scan_head_path(d, j0, (const double (*)[VP_KIN_JOINTS])d->m->j, 1);
         if (d->head_hits != before) *collided = 1;
     }
     return VP_OK;

@@ -144,12 +144,52 @@ static int vp_machine_turn_for(vp_machine_t *m, const double to[3])
     return rc < 0 ? rc : VP_OK;
 }
 
+/* A MOVE that names the PROBE it leads to (turn_on_move): the head turns on the way, by this
+ * MOVE's share of the way left (its length over its own plus cmd->range), towards the
+ * orientation the PROBE will aim from (vp_kin_aim at the route's end: the PROBE's origin is the
+ * last MOVE's target). The path is vp_kin_aim_path's: the laser origin along the line, pan and
+ * tilt in step, pieces short enough that the origin stays within origin_tol of the line, every
+ * piece's end within travel (the travel is a box: the pieces between are too). 1 when it moved
+ * so, 0 when the MOVE is to be made straight (no such PROBE named, or the turn does not fit). */
+static int vp_machine_move_turning(vp_machine_t *m, const vp_cmd_t *cmd)
+{
+    double tgt[VP_KIN_JOINTS], mid[VP_KIN_JOINTS], end[VP_KIN_JOINTS], o0[3], o1[3], d[3], len, f;
+    int n, w, rc;
+    if (!m->cfg.turn_on_move || m->cfg.contact || m->touched || !isfinite(cmd->range) || !(cmd->range >= 0) ||
+        !(fabs(vp_norm3(cmd->dir) - 1) <= 1e-9))
+        return 0;
+    if (vp_kin_aim(&m->kin, m->j, cmd->to, cmd->dir, tgt) != VP_OK) return 0;
+    len = vp_dist3(cmd->from, cmd->to);
+    f = len + cmd->range > 0 ? len / (len + cmd->range) : 1.0;
+    memcpy(mid, m->j, sizeof mid);
+    mid[VP_J_PAN] = m->j[VP_J_PAN] + f * (tgt[VP_J_PAN] - m->j[VP_J_PAN]);
+    mid[VP_J_TILT] = m->j[VP_J_TILT] + f * (tgt[VP_J_TILT] - m->j[VP_J_TILT]);
+    if (f >= 1.0) memcpy(mid, tgt, sizeof mid);
+    if (vp_kin_move(&m->kin, mid, cmd->to, end) != VP_OK) return 0;
+    n = vp_kin_aim_path(&m->kin, m->j, end, m->way, VP_MACHINE_MAX_WAY);
+    if (n < 1) return 0;
+    for (w = 0; w < n; w++)
+        if (!vp_kin_in_travel(&m->kin, m->way[w])) return 0;
+    m->st.moves++;
+    vp_machine_beam(m, o0, d);
+    rc = vp_step_move_path(&m->step, &m->way[0][0], n);
+    vp_machine_sync(m);
+    vp_machine_beam(m, o1, d);
+    m->st.travel += vp_dist3(o0, o1);
+    m->move_n = n;
+    if (rc >= 0) m->st.moves_turning++;
+    return rc < 0 ? rc : 1;
+}
+
 int vp_machine_move(vp_machine_t *m, const vp_cmd_t *cmd)
 {
     double j1[VP_KIN_JOINTS];
+    int rc;
     if (!m || !cmd || cmd->kind != VP_CMD_MOVE) return VP_EINVAL;
     m->last.contact = 0;
     m->last.contact_at = m->last.overtravel = 0;
+    m->move_n = 0;
+    if ((rc = vp_machine_move_turning(m, cmd)) != 0) return rc < 0 ? rc : VP_OK;
     if (!m->touched && vp_kin_move(&m->kin, m->j, cmd->to, j1) == VP_ERANGE) VP_TRY(vp_machine_turn_for(m, cmd->to));
     if (m->cfg.contact) return vp_machine_touch_move(m, cmd);
     m->st.moves++;

@@ -55,6 +55,8 @@ typedef struct vp_machine_stats {
     unsigned long line_gaps;          /* probes whose axis fell in a gap of the line: unreadable */
     unsigned long turns;              /* MOVEs the head first turned for (its orientation put the
                                          carriage outside its travel at the MOVE's end) */
+    unsigned long moves_turning;      /* MOVEs that turned the head towards their PROBE on the way
+                                         (turn_on_move) */
     int64_t move_ns, aim_ns, settle_ns, read_ns; /* machine time by motion (the io clock): MOVEs;
                                          a PROBE's aim, its settle, its frames and their reading */
 } vp_machine_stats_t;
@@ -100,6 +102,12 @@ typedef struct vp_machine_config {
     int single_frame;                 /* tests only: no laser-off frame, no differencing */
     int contact;                      /* 1: the head has a contact switch (VP_IO_CONTACT); MOVEs
                                          watch it */
+    int turn_on_move;                 /* 1: a MOVE that names the PROBE it leads to (cmd dir, and
+                                         in range the way left after it) turns the head towards
+                                         that probe's direction on the way, its share of the turn
+                                         by length, the laser origin kept on the line (within the
+                                         kinematics' origin_tol): only for a head within its
+                                         clearance ball in every pose (the ball rule) */
     int backdrop;                     /* 1: walls round the machine end every beam that meets
                                          nothing, within the range: a frame with no spot is
                                          unreadable (VP_READING_NO_SPOT), never free space */
@@ -138,6 +146,8 @@ typedef struct vp_machine {
     double j[VP_KIN_JOINTS];          /* joints as stepped (units) */
     double way[VP_MACHINE_MAX_WAY][VP_KIN_JOINTS];
     int turn_n;                       /* the last turn before a MOVE: its path, way[0 .. turn_n) */
+    int move_n;                       /* the last MOVE turned on its way: its path, way[0 .. move_n)
+                                         (0: one straight line of the joints) */
     vp_machine_stats_t st;
     vp_machine_last_t last;
     vp_spot_ws_t ws;

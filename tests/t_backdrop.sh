@@ -33,6 +33,12 @@ rc=$?
 [ "$(field "$tmp/t.out" hidden_spots)" = 0 ] || bad "torus: $(field "$tmp/t.out" hidden_spots) misses with a surface on them"
 [ "$(field "$tmp/t.out" through)" = 0 ] || bad "torus: moves through the object"
 [ "$(field "$tmp/t.out" head_collisions)" = 0 ] || bad "torus: head collisions"
+# the head turned on the way to its probes (the ball rule): the aims took next to nothing, and
+# the dry run's sweep of the head along the pieces the machine took found no collision (above)
+mt=$(field "$tmp/t.out" moves_turning)
+[ "${mt:-0}" -gt 1000 ] || bad "torus: ${mt:-no} MOVEs turned the head on the way"
+awk -v a="$(field "$tmp/t.out" machine_s_aims)" -v t="$(field "$tmp/t.out" machine_s)" 'BEGIN { exit !(t > 0 && a < 0.01 * t) }' ||
+  bad "torus: aims $(field "$tmp/t.out" machine_s_aims) s of $(field "$tmp/t.out" machine_s) s"
 ns=$(field "$tmp/t.out" unreadable_no_spot)
 [ "${ns:-0}" -gt 0 ] || bad "torus: no frame without a spot (the hidden spots were not met)"
 "$CO" topology "$tmp/t.off" | grep -q '"manifold":true,"closed":true,"components":1,"genus":1}' ||

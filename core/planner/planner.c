@@ -224,6 +224,19 @@ static int issue_move(vp_planner_t *pl, vp_cmd_t *cmd)
     cmd->kind = VP_CMD_MOVE;
     memcpy(cmd->from, pl->dev.pos, sizeof cmd->from);
     memcpy(cmd->to, to, sizeof cmd->to);
+#if VP_PL_CONTACTS
+    if (pl->cfg.clearance > 0.0 && pl->probe.ready && !pl->sc.pending) {
+        /* the route leads to a PROBE: its direction, and the way left after this MOVE, so that
+         * a machine may turn the head towards it on the way (a hint: the PROBE aims anyway) */
+        uint32_t q;
+        const double *prev = to;
+        memcpy(cmd->dir, pl->probe.dir, sizeof cmd->dir);
+        for (q = pl->route.i; q < pl->route.n; q++) {
+            cmd->range += vp_dist3(prev, pl->route.pts + 3 * (size_t)q);
+            prev = pl->route.pts + 3 * (size_t)q;
+        }
+    }
+#endif
     pl->st.travel += vp_dist3(pl->dev.pos, to);
     pl->st.moves++;
 #if VP_PL_CONTACTS

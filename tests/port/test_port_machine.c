@@ -314,6 +314,83 @@ int main(void)
         vp_dryrun_close(d);
     }
 
+    /* A MOVE that names its PROBE (boards/sim-enclosed.ini: the ball rule, so turn_on_move): the
+     * head turns on the way, the laser origin kept on the line. Checked against the kinematics'
+     * forward map, sampled along every piece of the joints' path: the origin within origin_tol
+     * (plus a step) of the commanded line; at the end the beam along the PROBE's direction; the
+     * PROBE's aim then takes no time. The same MOVE on the machine told not to turn (the swept
+     * rule) keeps its orientation and the PROBE turns the head. */
+    {
+        double A[3] = { 90, 60, 120 }, B[3] = { 100, -40, 110 }, dirA[3], j0[VP_KIN_JOINTS], jh[VP_KIN_JOINTS];
+        double tol, worst = 0, aim_on = 0, aim_off = 0, hit_on = 0, hit_off = 0;
+        int pass, w, q, k;
+        rc = vp_board_load("boards/sim-enclosed.ini", &b, err, sizeof err);
+        CHECKF(rc == VP_OK, "%s", err);
+        for (pass = 0; pass < 2; pass++) {
+            vp_cmd_t mv;
+            int64_t a0;
+            CHECK(vp_dryrun_open(&b, NULL, &d, err, sizeof err) == VP_OK);
+            m = vp_dryrun_machine(d);
+            CHECK(m->cfg.turn_on_move == 1);
+            if (pass == 1) m->cfg.turn_on_move = 0;
+            tol = m->kin.cfg.origin_tol > 0 ? m->kin.cfg.origin_tol : 0.1;
+            CHECK(vp_machine_home(m) == VP_OK && vp_machine_goto(m, b.start) == VP_OK);
+            /* half the turn on the first MOVE (the way left after it as long as itself) */
+            for (k = 0; k < 3; k++) dirA[k] = -A[k];
+            vp_normalize3(dirA);
+            cmd_move(&mv, b.start, A);
+            memcpy(mv.dir, dirA, sizeof mv.dir);
+            mv.range = vp_dist3(b.start, A);
+            memcpy(j0, m->j, sizeof j0);
+            CHECK(vp_kin_aim(&m->kin, j0, A, dirA, jh) == VP_OK);
+            CHECK(vp_machine_exec(m, &mv, &res) == VP_OK);
+            vp_machine_beam(m, o, dir);
+            CHECKF(vp_dist3(o, A) < 0.02, "pass %d: at %g %g %g", pass, o[0], o[1], o[2]);
+            if (pass == 0) {
+                CHECKF(m->move_n > 1 && m->st.moves_turning == 1, "%d pieces, %lu", m->move_n, m->st.moves_turning);
+                CHECKF(fabs(m->j[VP_J_PAN] - 0.5 * (j0[VP_J_PAN] + jh[VP_J_PAN])) < 0.05 &&
+                       fabs(m->j[VP_J_TILT] - 0.5 * (j0[VP_J_TILT] + jh[VP_J_TILT])) < 0.05,
+                       "pan %g tilt %g, half of %g %g", m->j[VP_J_PAN], m->j[VP_J_TILT], jh[VP_J_PAN], jh[VP_J_TILT]);
+                for (w = 0; w < m->move_n; w++) {
+                    const double *pa = w ? m->way[w - 1] : j0, *pb = m->way[w];
+                    for (q = 0; q <= 40; q++) {
+                        double jj[VP_KIN_JOINTS], oo[3], dd[3], t = q / 40.0, ab[3], s = 0, l2 = 0, foot[3];
+                        for (k = 0; k < VP_KIN_JOINTS; k++) jj[k] = pa[k] + t * (pb[k] - pa[k]);
+                        vp_kin_forward(&m->kin, jj, oo, dd);
+                        for (k = 0; k < 3; k++) { ab[k] = A[k] - b.start[k]; s += (oo[k] - b.start[k]) * ab[k]; l2 += ab[k] * ab[k]; }
+                        s = s < 0 ? 0 : s > l2 ? 1 : s / l2;
+                        for (k = 0; k < 3; k++) foot[k] = b.start[k] + s * ab[k];
+                        if (vp_dist3(oo, foot) > worst) worst = vp_dist3(oo, foot);
+                    }
+                }
+                CHECKF(worst <= tol + 0.02, "the origin %g mm off the line (origin_tol %g)", worst, tol);
+            } else {
+                CHECK(m->move_n == 0 && m->st.moves_turning == 0 && m->j[VP_J_PAN] == j0[VP_J_PAN] &&
+                      m->j[VP_J_TILT] == j0[VP_J_TILT]);
+            }
+            /* the last MOVE (nothing left after it): the head ends along the PROBE's direction */
+            cmd_move(&mv, A, B);
+            for (k = 0; k < 3; k++) mv.dir[k] = b.interior[k] - B[k]; /* at the torus's tube */
+            vp_normalize3(mv.dir);
+            mv.range = 0;
+            CHECK(vp_machine_exec(m, &mv, &res) == VP_OK);
+            vp_machine_beam(m, o, dir);
+            CHECKF(vp_dist3(o, B) < 0.02, "pass %d: at %g %g %g", pass, o[0], o[1], o[2]);
+            if (pass == 0)
+                CHECKF(vp_dot3(dir, mv.dir) > cos(0.05 * M_PI / 180) && m->st.moves_turning == 2, "beam %g %g %g", dir[0], dir[1], dir[2]);
+            a0 = m->st.aim_ns;
+            cmd_probe(&c, B, b.interior, 400);
+            CHECK(vp_machine_exec(m, &c, &res) == VP_OK && res.hit == 1);
+            if (pass == 0) { aim_on = 1e-9 * (double)(m->st.aim_ns - a0); hit_on = res.dist; }
+            else { aim_off = 1e-9 * (double)(m->st.aim_ns - a0); hit_off = res.dist; }
+            vp_dryrun_close(d);
+        }
+        CHECKF(aim_on < 0.01 && aim_off > 0.1, "the PROBE's aim: %g s after turning on the way, %g s after a straight MOVE", aim_on, aim_off);
+        CHECKF(fabs(hit_on - hit_off) < 0.5, "the same probe reads %g and %g", hit_on, hit_off);
+        printf("MOVEs turning towards their PROBE (sim-enclosed): the origin at most %.3f mm off the line, the PROBE's aim %.3f s (%.3f s after a straight MOVE)\n",
+               worst, aim_on, aim_off);
+    }
+
     /* calibration on the dry run: a flat target at x = 300, 20 stations from 200 to 15 mm */
     {
         vp_dryrun_options_t opt;
