@@ -598,9 +598,6 @@ static int vp_board_check_range(vp_bctx_t *c, char *err, size_t el)
         if (b->confirm_spot)
             return vp_bad(c, S_RANGE, "confirm_spot", err, el, "a line laser has no spot to confirm (its detector refuses "
                           "columns lit with the laser off)");
-        if (vp_seen(c, S_RANGE, "backdrop"))
-            return vp_bad(c, S_RANGE, "backdrop", err, el, "is read for a dot laser only: a line laser's columns without a "
-                          "point are not checked against it");
         if (fabs(b->line_normal[0]) > 1e-3 * nl)
             return vp_bad(c, S_RANGE, "line_normal", err, el, "must be at right angles to the beam (+x): the fan holds the beam");
         if (!b->laser.chip[0])

@@ -265,18 +265,23 @@ static void vp_camsim_fan_ray(const vp_camsim_fan_ctx_t *f, double a, vp_camsim_
     memset(r, 0, sizeof *r);
     for (i = 0; i < 3; i++) dt[i] = cos(a) * f->ax[i] + sin(a) * f->bx[i];
     vp_mul(f->rot, dt, d);
+    double wall_n[3];
+    int wall = 0;
     if (sc->surf) hit = vp_surface_ray(sc->surf, f->o, d, f->maxr, &t);
     else {
         double den = vp_dot3(sc->plane_n, d), num = sc->plane_d - vp_dot3(sc->plane_n, f->o);
         if (fabs(den) > 1e-12) { t = num / den; hit = t > 0 && t <= f->maxr; }
     }
+    /* no object on this ray of the fan: the line on the backdrop, if there is one */
+    if (!hit && sc->backdrop) hit = wall = vp_camsim_backdrop(sc, f->o, d, f->maxr, &t, wall_n);
     if (!hit) return;
     for (i = 0; i < 3; i++) {
         wp[i] = f->o[i] + t * d[i];
         r->tp[i] = c->laser_offset[i] + t * dt[i];
     }
     r->dist = t;
-    if (sc->surf) vp_surface_normal(sc->surf, wp, n);
+    if (wall) memcpy(n, wall_n, sizeof n);
+    else if (sc->surf) vp_surface_normal(sc->surf, wp, n);
     else for (i = 0; i < 3; i++) n[i] = sc->plane_n[i];
     cos_i = vp_dot3(n, d);
     if (cos_i > 0) for (i = 0; i < 3; i++) n[i] = -n[i];   /* the lit side */
@@ -293,7 +298,7 @@ static void vp_camsim_fan_ray(const vp_camsim_fan_ctx_t *f, double a, vp_camsim_
         if (vp_surface_ray(sc->surf, f->cpos, u, lc * (1 - 1e-6) - 1e-6, &th)) return;
     }
     r->vis = 1;
-    r->albedo = c->dark_albedo > 0 && wp[2] >= c->dark_z[0] && wp[2] <= c->dark_z[1] ? c->dark_albedo : 1;
+    r->albedo = !wall && c->dark_albedo > 0 && wp[2] >= c->dark_z[0] && wp[2] <= c->dark_z[1] ? c->dark_albedo : 1;
     r->e = f->energy * r->albedo * cos_e * (300.0 / lc) * (300.0 / lc);
     /* the sheet's thickness on the surface: along the surface's direction that leaves the plane
      * fastest, sheet / |its rate|; through the camera's local projection */

@@ -759,9 +759,10 @@ vp_reading_t vp_machine_reading(const vp_machine_t *m, const vp_cmd_t *cmd, int 
          * no wall's, a reflection */
         if (!beyond || (m->cfg.backdrop && s >= sfar)) unreadable = 1;
     } else if (r != VP_SPOT_FOUND && r != VP_SPOT_NONE) unreadable = 1;
-    else if (r == VP_SPOT_NONE && !res->hit && m->cfg.backdrop && !m->cfg.line) {
-        /* every beam ends on the backdrop within the range: no spot means the camera did not see
-         * where it ended (hidden behind the object, or a surface returning too little light) */
+    else if (r == VP_SPOT_NONE && !res->hit && m->cfg.backdrop) {
+        /* every beam ends on the backdrop within the range: no spot (for a line laser, no point
+         * of the line on either side of the beam) means the camera did not see where it ended
+         * (hidden behind the object, or a surface returning too little light) */
         unreadable = 1;
     }
     if (unreadable) {
