@@ -767,7 +767,9 @@ int vp_scan_return(vp_scan_dev_t *d, const vp_sessionlog_t *L, uint32_t n, const
     if (!P) { snprintf(err, errlen, "out of memory"); return VP_ENOMEM; }
     memcpy(P[0], start, sizeof P[0]);
     memcpy(pos, m->step.pos, sizeof pos);
-    /* the joints the session had after each logged command, as the step generator rounds them */
+    /* the joints the session had after each logged command, as the step generator rounds them
+     * (a MOVE that turned the head on its way, port/vp_machine.c, is taken as made straight: the
+     * laser origin is where it was, the orientation the PROBE after it aims from again) */
     for (i = 0; i < n && i < L->n; i++) {
         vp_logfmt_record_t rec;
         if (vp_sessionlog_record(L, i, &rec) != VP_OK) { st = VP_ECORRUPT; break; }

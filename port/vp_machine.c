@@ -165,6 +165,7 @@ static int vp_machine_move_turning(vp_machine_t *m, const vp_cmd_t *cmd)
     mid[VP_J_PAN] = m->j[VP_J_PAN] + f * (tgt[VP_J_PAN] - m->j[VP_J_PAN]);
     mid[VP_J_TILT] = m->j[VP_J_TILT] + f * (tgt[VP_J_TILT] - m->j[VP_J_TILT]);
     if (f >= 1.0) memcpy(mid, tgt, sizeof mid);
+    if (mid[VP_J_PAN] == m->j[VP_J_PAN] && mid[VP_J_TILT] == m->j[VP_J_TILT]) return 0; /* nothing to turn */
     if (vp_kin_move(&m->kin, mid, cmd->to, end) != VP_OK) return 0;
     n = vp_kin_aim_path(&m->kin, m->j, end, m->way, VP_MACHINE_MAX_WAY);
     if (n < 1) return 0;

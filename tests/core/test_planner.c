@@ -8,6 +8,8 @@
 #include <string.h>
 #include "vp_planner.h"
 #include "vp_sim_setup.h"
+#include "vp_session.h"
+#include "vp_vec3.h"
 #include "vp_test.h"
 
 static int quick;
@@ -171,6 +173,76 @@ static void test_min_range(void)
     printf("torus with a 0.02 minimum range: %llu probes too close, %zu boundary edges, collisions %lu\n",
            (unsigned long long)st.too_close, s.check.boundary_edges, ds.collisions);
     vp_sim_close(&s);
+}
+
+/* Body mode: a MOVE that leads to a PROBE names it (cmd dir: the PROBE's direction; range: the
+ * length of the MOVEs left after it), so that a machine may turn the head on the way. Checked
+ * against the commands that follow: each MOVE's hint against the next PROBE, its range against
+ * the MOVEs actually issued before that PROBE, the last one ending at the PROBE's origin. */
+typedef struct hint_check {
+    vp_cmd_t moves[256];
+    unsigned n, overflow;
+    unsigned long hinted, probes_after, bad_dir, bad_range, bad_end, plain;
+    double worst_range;
+} hint_check_t;
+
+static int hint_after(void *ctx, const vp_cmd_t *cmd, const vp_probe_result_t *res)
+{
+    hint_check_t *h = ctx;
+    unsigned i;
+    (void)res;
+    if (cmd->kind == VP_CMD_MOVE) {
+        if (h->n < 256) h->moves[h->n++] = *cmd;
+        else h->overflow++;
+        return 0;
+    }
+    if (cmd->kind == VP_CMD_PROBE && h->n > 0) {
+        double left = 0.0;
+        int any = 0;
+        for (i = h->n; i-- > 0;) {
+            const vp_cmd_t *m = &h->moves[i];
+            int hinted = m->dir[0] != 0.0 || m->dir[1] != 0.0 || m->dir[2] != 0.0;
+            if (!hinted) { h->plain++; left += vp_dist3(m->from, m->to); continue; }
+            any = 1;
+            h->hinted++;
+            if (!(vp_dot3(m->dir, cmd->dir) > 1.0 - 1e-12)) h->bad_dir++;
+            if (fabs(m->range - left) > 1e-9 * (1.0 + left)) h->bad_range++;
+            if (fabs(m->range - left) > h->worst_range) h->worst_range = fabs(m->range - left);
+            if (i == h->n - 1 && vp_dist3(m->to, cmd->from) > 1e-12) h->bad_end++;
+            left += vp_dist3(m->from, m->to);
+        }
+        h->probes_after += any;
+    }
+    h->n = 0;
+    return 0;
+}
+
+static void test_move_hints(void)
+{
+    const char *objs[2] = { "torus", "blobby" };
+    int i;
+    for (i = 0; i < 2; i++) {
+        vp_sim_options_t o;
+        vp_sim_t s;
+        vp_session_hooks_t hk;
+        static hint_check_t h;
+        char err[512];
+        memset(&h, 0, sizeof h);
+        quiet_options(&o, objs[i], 0.04);
+        o.clearance = 0.05;
+        CHECK(vp_sim_open(&s, &o, err, sizeof err) == VP_OK);
+        hk.ctx = &h;
+        hk.after = hint_after;
+        s.hooks = &hk;
+        CHECK(vp_sim_run(&s, NULL) == VP_OK);
+        CHECKF(h.hinted > 100 && h.probes_after > 50 && h.overflow == 0, "%s: %lu hinted MOVEs before %lu PROBEs",
+               objs[i], h.hinted, h.probes_after);
+        CHECKF(h.bad_dir == 0 && h.bad_range == 0 && h.bad_end == 0, "%s: %lu directions, %lu ranges (worst %g), %lu ends wrong",
+               objs[i], h.bad_dir, h.bad_range, h.worst_range, h.bad_end);
+        printf("%s with a 0.05 clearance: %lu MOVEs named the PROBE they lead to (%lu PROBEs), every direction,"
+               " way left and end right\n", objs[i], h.hinted, h.probes_after);
+        vp_sim_close(&s);
+    }
 }
 
 /* A device with a body (clearance radius): it stays outside Omega and probes along the Voronoi
@@ -420,5 +492,6 @@ int main(void)
     test_min_range();
     test_max_range();
     test_clearance();
+    test_move_hints();
     return vp_test_done("test_planner");
 }

@@ -150,6 +150,9 @@ static void scan(const char *board, long cap, scan_out_t *o)
         CHECK(t->move_ns * 1e-9 >= sd.move_floor && sd.move_floor > 0);
         CHECK(t->aim_ns > 0 && t->read_ns >= 0);
         CHECK(t->settle_ns == (int64_t)llround(b.settle_ms * 1e6) * (int64_t)t->probes);
+        /* neither board turns the head on the way: rpi4 has a contact switch, sim.ini's camera
+         * reaches beyond its clearance ball */
+        CHECK(m->cfg.turn_on_move == 0 && t->moves_turning == 0);
     }
     o->done = run.done;
     n = (long)run.commands;
@@ -204,6 +207,7 @@ int main(void)
     CHECKF(rc == VP_OK, "%s", err);
     CHECK(vp_dryrun_open(&b, NULL, &d, err, sizeof err) == VP_OK);
     m = vp_dryrun_machine(d);
+    CHECK(m->cfg.turn_on_move == 0); /* its camera reaches beyond the clearance ball: MOVEs straight */
     /* nothing moves before homing */
     cmd_move(&c, b.start, (double[3]){ 0, 0, 190 });
     CHECK(vp_machine_exec(m, &c, &res) == VP_ESTATE);
