@@ -17,10 +17,10 @@
  * constructed points (Voronoi vertices, hits), far below any physical size */
 #define PROOF_TOL_REL 1e-10
 #define DEG_TO_RAD 0.017453292519943295
-/* body mode: the newest tasks looked at for the one whose probe starts nearest the head; with
- * tubes fewer (all of them ended the mug open, its tubes unproven). The window bounds the work
- * of a pick: looking at every task made the planner's time grow with the square of the scan */
-#define NEAR_WINDOW 1024u
+/* body mode with tubes: the newest tasks looked at for the one whose probe starts nearest the
+ * head (without tubes all of them are: the 1,024 newest left the torus at eps 3 open where all
+ * close it, at twice the machine time; with tubes all ended the mug open, its tubes unproven).
+ * Looking at all costs the planner time that grows with the square of the scan (README) */
 #define NEAR_WINDOW_TUBES 32u
 
 /* ---------- arena ---------- */
@@ -312,10 +312,11 @@ static int phase_step(vp_planner_t *pl, int *done)
 #ifndef VP_CORE_MCU /* a microcontroller core keeps the newest-first order (its flash budget) */
             if (pl->cfg.clearance > 0.0 && pl->pool.ntask > 1) {
                 /* body mode: every probe starts on dOmega and the head travels round Omega to it:
-                 * of the newest tasks, the one whose probe starts nearest the head goes first */
-                uint32_t i, win = pl->cfg.min_feature > 0.0 ? NEAR_WINDOW_TUBES : NEAR_WINDOW;
-                uint32_t lo = pl->pool.ntask > win ? pl->pool.ntask - win : 0, best = pl->pool.ntask - 1;
+                 * of the waiting tasks (with tubes, of the newest), the one whose probe starts
+                 * nearest the head goes first */
+                uint32_t i, lo = 0, best = pl->pool.ntask - 1;
                 double bd = VP_PL_HUGE, o[3];
+                if (pl->cfg.min_feature > 0.0 && pl->pool.ntask > NEAR_WINDOW_TUBES) lo = pl->pool.ntask - NEAR_WINDOW_TUBES;
                 for (i = pl->pool.ntask; i-- > lo;)
                     if (vp_pl_task_origin(pl, &pl->pool.task[i], o)) {
                         double d = vp_dist3(o, pl->dev.pos);
