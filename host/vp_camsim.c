@@ -260,13 +260,11 @@ static void vp_camsim_fan_ray(const vp_camsim_fan_ctx_t *f, double a, vp_camsim_
 {
     const vp_camsim_config_t *c = f->c;
     const vp_camsim_scene_t *sc = f->sc;
-    double dt[3], d[3], t = 0, n[3], wp[3], vc[3], lc, cos_i, cos_e, tv[3], tl, sg, q[3], uv1[2], j[2];
-    int i, hit = 0;
+    double dt[3], d[3], t = 0, n[3], wp[3], vc[3], lc, cos_i, cos_e, tv[3], tl, sg, q[3], uv1[2], j[2], wall_n[3];
+    int i, hit = 0, wall = 0;
     memset(r, 0, sizeof *r);
     for (i = 0; i < 3; i++) dt[i] = cos(a) * f->ax[i] + sin(a) * f->bx[i];
     vp_mul(f->rot, dt, d);
-    double wall_n[3];
-    int wall = 0;
     if (sc->surf) hit = vp_surface_ray(sc->surf, f->o, d, f->maxr, &t);
     else {
         double den = vp_dot3(sc->plane_n, d), num = sc->plane_d - vp_dot3(sc->plane_n, f->o);

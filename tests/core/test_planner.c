@@ -182,7 +182,7 @@ static void test_min_range(void)
 typedef struct hint_check {
     vp_cmd_t moves[256];
     unsigned n, overflow;
-    unsigned long hinted, probes_after, bad_dir, bad_range, bad_end, plain;
+    unsigned long hinted, probes_after, bad_dir, bad_range, bad_end;
     double worst_range;
 } hint_check_t;
 
@@ -202,7 +202,7 @@ static int hint_after(void *ctx, const vp_cmd_t *cmd, const vp_probe_result_t *r
         for (i = h->n; i-- > 0;) {
             const vp_cmd_t *m = &h->moves[i];
             int hinted = m->dir[0] != 0.0 || m->dir[1] != 0.0 || m->dir[2] != 0.0;
-            if (!hinted) { h->plain++; left += vp_dist3(m->from, m->to); continue; }
+            if (!hinted) { left += vp_dist3(m->from, m->to); continue; }
             any = 1;
             h->hinted++;
             if (!(vp_dot3(m->dir, cmd->dir) > 1.0 - 1e-12)) h->bad_dir++;
