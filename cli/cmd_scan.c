@@ -76,10 +76,11 @@ static void scan_usage(FILE *f)
         "                   interior point; a SPEC with '*' or '@' is taken as written, in mm\n"
         "                   (default: the board's [sim] surface, else an ellipsoid sized to Omega)\n"
         "  --seed N         seed of the frames' noise (default: the board's [sim] seed)\n"
-        "Stopping: Ctrl-C stops after the current command (PAUSE event); a second Ctrl-C ends at\n"
-        "once. The e-stop stops the pulses at once (FAULT event). Both leave the log resumable.\n"
-        "Tests: --stop-after N (Ctrl-C after N commands), --estop-at N (dry run: e-stop during\n"
-        "command N of this run).\n"
+        "Stopping: Ctrl-C stops after the current command (PAUSE event; MOVEs made as one path:\n"
+        "after the path, each logged); a second Ctrl-C ends at once. The e-stop stops the pulses\n"
+        "at once (FAULT event). Both leave the log resumable.\n"
+        "Tests: --stop-after N (Ctrl-C after N commands, or at the end of the path command N is in),\n"
+        "--estop-at N (dry run: e-stop during command N of this run; MOVEs then made one by one).\n"
         "Exit status: 0 DONE (closed mesh), 1 failed or stopped by a fault, 2 usage, 3 paused, 4 DONE but\n"
         "the mesh is not closed (or misses a component), 5 a dry run moved through the object (the laser\n"
         "origin's path, or any part of the head's body swept along a move or an aim: board [head]), 6 a\n"
@@ -878,6 +879,9 @@ static int scan_report(scan_job_t *j)
             if (m->st.moves_turning)
                 printf("machine: %lu MOVEs turned the head towards their PROBE on the way (the laser origin on the "
                        "line: the ball rule)\n", m->st.moves_turning);
+            if (m->st.paths)
+                printf("machine: %lu paths of %lu MOVEs in all, each made at once (the waypoints between passed "
+                       "without stopping where the axes' jerk allows)\n", m->st.paths, m->st.path_moves);
             if (m->st.turns)
                 printf("machine: %lu MOVEs turned the head about the laser origin first (its orientation put the "
                        "carriage outside its travel at the MOVE's end)\n", m->st.turns);
@@ -999,7 +1003,8 @@ static int scan_report(scan_job_t *j)
             printf(",\"machine_s_moves\":%.1f,\"machine_s_aims\":%.1f,\"machine_s_settle\":%.1f,\"machine_s_read\":%.1f",
                    1e-9 * (double)m->st.move_ns, 1e-9 * (double)m->st.aim_ns, 1e-9 * (double)m->st.settle_ns,
                    1e-9 * (double)m->st.read_ns);
-            printf(",\"turns\":%lu,\"moves_turning\":%lu", m->st.turns, m->st.moves_turning);
+            printf(",\"turns\":%lu,\"moves_turning\":%lu,\"paths\":%lu,\"path_moves\":%lu", m->st.turns,
+                   m->st.moves_turning, m->st.paths, m->st.path_moves);
             printf(",\"unreadable\":%lu,\"unreadable_no_spot\":%lu", j->dev.unreadable, j->dev.unread_why[5]);
             if (j->o.rescan || j->rescans > 0)
                 printf(",\"rescan\":{\"probes\":%llu,\"old_probes\":%llu,\"kept\":%llu,\"skipped\":%llu,\"dropped\":%llu,"

@@ -5,11 +5,19 @@
 #define VP_DEVICE_H
 #include "vp_planner.h"
 
+#define VP_DEV_PATH 16   /* MOVEs the scan loop gives a device's move_path at once */
+
 typedef struct vp_device_ops {
     void *ctx;
     /* executes a straight move; *collided (may be ignored) reports a collision seen by a
      * simulator. Returns VP_OK or an error (the scan stops). */
     int (*move)(void *ctx, const vp_cmd_t *cmd, int *collided);
+    /* executes consecutive MOVEs (cmds[0 .. n), n <= VP_DEV_PATH) as one path: the same lines,
+     * the waypoints between them passed without stopping where the machine can; collided[i] as
+     * move's; *done the MOVEs made whole, from the first (fewer than n with VP_OK: the rest are
+     * given again). NULL: each MOVE alone. Never used with touched (a contact stop is taken
+     * from rest). */
+    int (*move_path)(void *ctx, const vp_cmd_t *cmds, int n, int *collided, int *done);
     /* executes a probe; fills res. */
     int (*probe)(void *ctx, const vp_cmd_t *cmd, vp_probe_result_t *res);
     /* after a MOVE: 1 when the head's contact switch stopped it, *at the distance from the

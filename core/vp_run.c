@@ -7,18 +7,80 @@ static double vp_run_clock(const vp_run_hooks_t *h)
     return h && h->clock ? h->clock(h->ctx) : 0.0;
 }
 
+#ifndef VP_CORE_MCU
+/* A MOVE and the MOVEs the planner gives after it, up to VP_DEV_PATH and never past
+ * max_commands, made as one path (dev->move_path): the planner needs nothing back from a MOVE
+ * made whole, so it can say the route ahead before the head moves. The command that ends the
+ * run of MOVEs is kept in *next (*held 1) for the loop. Each MOVE made is logged (hooks->after)
+ * and counted as when made alone; one the hook would stop after is followed by the others the
+ * path made, logged too (the head went there). */
+static int vp_run_path(vp_planner_t *pl, const vp_device_ops_t *dev, const vp_run_hooks_t *hooks,
+                       unsigned long max_commands, vp_run_result_t *out, const vp_cmd_t *first,
+                       vp_cmd_t *next, int *held)
+{
+    vp_cmd_t path[VP_DEV_PATH];
+    int collided[VP_DEV_PATH], n = 1, off = 0, done, i, st = VP_OK, pst = VP_OK, hst = VP_OK;
+    path[0] = *first;
+    while (n < VP_DEV_PATH && !(max_commands && out->commands + (unsigned long)n >= max_commands)) {
+        double c0 = vp_run_clock(hooks);
+        pst = vp_planner_next(pl, &path[n]);
+        out->planner_seconds += vp_run_clock(hooks) - c0;
+        if (pst != VP_OK) break;
+        if (path[n].kind != VP_CMD_MOVE) {
+            *next = path[n];
+            *held = 1;
+            break;
+        }
+        n++;
+    }
+    while (off < n && st == VP_OK) {
+        memset(collided + off, 0, (size_t)(n - off) * sizeof collided[0]);
+        done = 0;
+        st = dev->move_path(dev->ctx, path + off, n - off, collided + off, &done);
+        if (done < 0 || done > n - off) done = 0;
+        if (st == VP_OK && done == 0) st = VP_ESTATE;   /* a device that makes no progress */
+        for (i = off; i < off + done; i++) {
+            int h = VP_OK;
+            out->collisions += collided[i] != 0;
+            if (hooks && hooks->after) h = hooks->after(hooks->ctx, &path[i], NULL);
+            if (hst != VP_OK) continue;        /* logged, not counted: the run stops */
+            hst = h;
+            if (hst != VP_OK) continue;
+            out->commands++;
+            if (hooks && hooks->progress) hooks->progress(hooks->ctx, pl, out->commands);
+        }
+        off += done;
+        if (hst != VP_OK && st == VP_OK) break;
+    }
+    if (st != VP_OK) return st;
+    if (hst != VP_OK) return hst;
+    if (off < n) return VP_ESTATE;
+    return pst;
+}
+#endif
+
 int vp_run(vp_planner_t *pl, const vp_device_ops_t *dev, const vp_run_hooks_t *hooks,
            unsigned long max_commands, vp_run_result_t *out)
 {
     int (*after)(void *, const vp_cmd_t *, const vp_probe_result_t *) = hooks ? hooks->after : 0;
     void *hctx = hooks ? hooks->ctx : 0;
     int st = VP_OK;
+#ifndef VP_CORE_MCU
+    vp_cmd_t next;
+    int held = 0;
+#endif
     memset(out, 0, sizeof *out);
     for (;;) {
         vp_cmd_t cmd;
         vp_probe_result_t res;
         double c0 = vp_run_clock(hooks);
         int collided = 0;
+#ifndef VP_CORE_MCU
+        if (held) {
+            cmd = next;      /* the command that ended a path */
+            held = 0;
+        } else
+#endif
         st = vp_planner_next(pl, &cmd);
         out->planner_seconds += vp_run_clock(hooks) - c0;
         if (st != VP_OK) break;
@@ -31,6 +93,11 @@ int vp_run(vp_planner_t *pl, const vp_device_ops_t *dev, const vp_run_hooks_t *h
 #ifndef VP_CORE_MCU
             double at = 0.0;
             int touched;
+            if (dev->move_path && !dev->touched) {
+                st = vp_run_path(pl, dev, hooks, max_commands, out, &cmd, &next, &held);
+                if (st != VP_OK || (max_commands && out->commands >= max_commands)) break;
+                continue;
+            }
             st = dev->move(dev->ctx, &cmd, &collided);
             out->collisions += collided != 0;
             touched = st == VP_OK && dev->touched && dev->touched(dev->ctx, &at) == 1;

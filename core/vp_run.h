@@ -6,6 +6,11 @@
  *                     -> PROBE: dev->probe -> hooks->after(cmd, res) -> vp_planner_feed
  *                     -> DONE:  hooks->after(cmd, NULL), stop
  *
+ * A device with move_path (and no contact switch) gets a MOVE and the MOVEs the planner gives
+ * after it (up to VP_DEV_PATH, never past max_commands) at once, to pass the waypoints between
+ * them without stopping; each MOVE is then logged and counted as when made alone. The planner
+ * needs nothing back from a MOVE made whole, so the commands and the log are the same.
+ *
  * A probe's result goes to the hooks (the session log) before the planner judges it: nothing
  * measured is lost when the planner then stops (a replay stops at the same record). Timing
  * and progress come from optional hooks the host supplies (host/vp_session.c); the Cortex-M4

@@ -383,6 +383,36 @@ static void vp_scan_trip(vp_scan_dev_t *d)
     }
 }
 
+/* A dry run's check of a MOVE made: the laser origin's segment against the object. A move the
+ * contact switch stopped went into the surface by the switch's lag and the overtravel: within
+ * contact_stop that is the touch the switch is for, deeper a collision; the way back starts
+ * inside by the lag (that stretch is the way in, retraced) */
+static void vp_scan_move_check(vp_scan_dev_t *d, const vp_cmd_t *cmd, int *collided)
+{
+    double a[3], u[3], at, ts, len = vp_dist3(cmd->from, cmd->to), s0 = 0.0;
+    int k, touched = vp_machine_contact(d->m, &at);
+    for (k = 0; k < 3; k++) u[k] = len > 0.0 ? (cmd->to[k] - cmd->from[k]) / len : 0.0;
+    if (d->touching && len > 0.0) s0 = d->touch_lag + 1e-9 * (1.0 + len);
+    if (s0 > len) s0 = len;
+    for (k = 0; k < 3; k++) a[k] = cmd->from[k] + s0 * u[k];
+    d->touching = 0;
+    if (touched) {
+        double depth = 0.0;
+        d->contacts++;
+        d->touch_lag = 0.0;
+        if (vp_surface_ray(d->dr->surf, a, u, len - s0, &ts)) {
+            depth = s0 + at - (s0 + ts) + d->m->last.overtravel;
+            d->touch_lag = at - ts > 0.0 ? at - ts : 0.0;
+        }
+        if (depth > d->touch_depth_max) d->touch_depth_max = depth;
+        if (depth > d->board.contact_stop + 1e-6) { d->through++; *collided = 1; }
+        d->touching = 1;
+    } else if (len > s0 && vp_surface_segment_collides(d->dr->surf, a, cmd->to, 0)) {
+        d->through++;
+        *collided = 1;
+    }
+}
+
 static int vp_scan_dev_move_do(void *ctx, const vp_cmd_t *cmd, int *collided)
 {
     vp_scan_dev_t *d = ctx;
@@ -394,34 +424,7 @@ static int vp_scan_dev_move_do(void *ctx, const vp_cmd_t *cmd, int *collided)
     st = vp_machine_exec(d->m, cmd, NULL);
     *collided = 0;
     if (st != VP_OK) { d->fault = st; d->fault_cmd = *cmd; return st; }
-    if (d->dry) {
-        /* the laser origin's segment against the object. A move the contact switch stopped went
-         * into the surface by the switch's lag and the overtravel: within contact_stop that is
-         * the touch the switch is for, deeper a collision; the way back starts inside by the lag
-         * (that stretch is the way in, retraced) */
-        double a[3], u[3], at, ts, len = vp_dist3(cmd->from, cmd->to), s0 = 0.0;
-        int k, touched = vp_machine_contact(d->m, &at);
-        for (k = 0; k < 3; k++) u[k] = len > 0.0 ? (cmd->to[k] - cmd->from[k]) / len : 0.0;
-        if (d->touching && len > 0.0) s0 = d->touch_lag + 1e-9 * (1.0 + len);
-        if (s0 > len) s0 = len;
-        for (k = 0; k < 3; k++) a[k] = cmd->from[k] + s0 * u[k];
-        d->touching = 0;
-        if (touched) {
-            double depth = 0.0;
-            d->contacts++;
-            d->touch_lag = 0.0;
-            if (vp_surface_ray(d->dr->surf, a, u, len - s0, &ts)) {
-                depth = s0 + at - (s0 + ts) + d->m->last.overtravel;
-                d->touch_lag = at - ts > 0.0 ? at - ts : 0.0;
-            }
-            if (depth > d->touch_depth_max) d->touch_depth_max = depth;
-            if (depth > d->board.contact_stop + 1e-6) { d->through++; *collided = 1; }
-            d->touching = 1;
-        } else if (len > s0 && vp_surface_segment_collides(d->dr->surf, a, cmd->to, 0)) {
-            d->through++;
-            *collided = 1;
-        }
-    }
+    if (d->dry) vp_scan_move_check(d, cmd, collided);
     if (d->dry) {
         /* a MOVE is one straight line of all five joints: the whole head along it, after the
          * turn about the laser origin the machine made first, if any (vp_machine_move) */
@@ -527,6 +530,36 @@ static int vp_scan_dev_move(void *ctx, const vp_cmd_t *cmd, int *collided)
     return st;
 }
 
+/* MOVEs as one path (vp_machine_move_path), each checked in a dry run as when made alone: the
+ * laser origin's segment, the head along the pieces it took. With --estop-at the MOVEs go one
+ * by one, so the e-stop falls in the command it names. */
+static int vp_scan_dev_move_path(void *ctx, const vp_cmd_t *cmds, int n, int *collided, int *done)
+{
+    vp_scan_dev_t *d = ctx;
+    double t0 = vp_scan_seconds(d);
+    int st, i, s = d->pl ? (int)vp_planner_stage(d->pl) : (int)VP_STAGE_REFINE;
+    if (d->estop_at) {
+        st = vp_scan_dev_move(ctx, cmds, collided);
+        *done = st == VP_OK;
+        return st;
+    }
+    st = vp_machine_move_path(d->m, cmds, n, done);
+    d->stage_s[s] += vp_scan_seconds(d) - t0;
+    d->stage_cmds[s] += (unsigned long)*done;
+    for (i = 0; i < *done; i++) {
+        const vp_machine_path_move_t *pm = &d->m->path[i];
+        unsigned long before = d->head_hits;
+        vp_scan_trip(d);
+        collided[i] = 0;
+        if (!d->dry) continue;
+        vp_scan_move_check(d, &cmds[i], &collided[i]);
+        vp_scan_head_path(d, pm->j0, (const double (*)[VP_KIN_JOINTS])d->m->path_way + pm->first, pm->n);
+        if (d->head_hits != before) collided[i] = 1;
+    }
+    if (st != VP_OK) { d->fault = st; d->fault_cmd = cmds[*done < n ? *done : n - 1]; }
+    return st;
+}
+
 static int vp_scan_dev_probe(void *ctx, const vp_cmd_t *cmd, vp_probe_result_t *res)
 {
     vp_scan_dev_t *d = ctx;
@@ -575,6 +608,7 @@ vp_device_ops_t vp_scan_ops(vp_scan_dev_t *d)
     ops.move = vp_scan_dev_move;
     ops.probe = vp_scan_dev_probe;
     ops.touched = vp_board_has_contact(&d->board) ? vp_scan_dev_touched : NULL;
+    ops.move_path = ops.touched ? NULL : vp_scan_dev_move_path;
     ops.rays = d->board.line_laser ? vp_scan_dev_rays : NULL;
     return ops;
 }

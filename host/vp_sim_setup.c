@@ -366,6 +366,7 @@ int vp_sim_run(vp_sim_t *s, FILE *progress)
     ops.probe = dev_probe;
     ops.touched = s->contact ? dev_touched : NULL;
     ops.rays = s->cfg.line_rays ? dev_rays : NULL;
+    ops.move_path = NULL;
     return vp_session_run(s->pl, &ops, s->hooks, 0, progress, &s->run);
 }
 

@@ -149,28 +149,40 @@ static int vp_machine_turn_for(vp_machine_t *m, const double to[3])
  * orientation the PROBE will aim from (vp_kin_aim at the route's end: the PROBE's origin is the
  * last MOVE's target). The path is vp_kin_aim_path's: the laser origin along the line, pan and
  * tilt in step, pieces short enough that the origin stays within origin_tol of the line, every
- * piece's end within travel (the travel is a box: the pieces between are too). 1 when it moved
- * so, 0 when the MOVE is to be made straight (no such PROBE named, or the turn does not fit). */
-static int vp_machine_move_turning(vp_machine_t *m, const vp_cmd_t *cmd)
+ * piece's end within travel (the travel is a box: the pieces between are too). Plans it from
+ * joints j0 into way (VP_MACHINE_MAX_WAY): the pieces, or 0 when the MOVE is to be made straight
+ * (no such PROBE named, or the turn does not fit). */
+static int vp_machine_turning_plan(const vp_machine_t *m, const double *j0, const vp_cmd_t *cmd,
+                                   double (*way)[VP_KIN_JOINTS])
 {
-    double tgt[VP_KIN_JOINTS], mid[VP_KIN_JOINTS], end[VP_KIN_JOINTS], o0[3], o1[3], d[3], len, f;
-    int n, w, rc;
+    double tgt[VP_KIN_JOINTS], mid[VP_KIN_JOINTS], end[VP_KIN_JOINTS], len, f;
+    int n, w;
     if (!m->cfg.turn_on_move || m->cfg.contact || m->touched || !isfinite(cmd->range) || !(cmd->range >= 0) ||
         !(fabs(vp_norm3(cmd->dir) - 1) <= 1e-9))
         return 0;
-    if (vp_kin_aim(&m->kin, m->j, cmd->to, cmd->dir, tgt) != VP_OK) return 0;
+    if (vp_kin_aim(&m->kin, j0, cmd->to, cmd->dir, tgt) != VP_OK) return 0;
     len = vp_dist3(cmd->from, cmd->to);
     f = len + cmd->range > 0 ? len / (len + cmd->range) : 1.0;
-    memcpy(mid, m->j, sizeof mid);
-    mid[VP_J_PAN] = m->j[VP_J_PAN] + f * (tgt[VP_J_PAN] - m->j[VP_J_PAN]);
-    mid[VP_J_TILT] = m->j[VP_J_TILT] + f * (tgt[VP_J_TILT] - m->j[VP_J_TILT]);
+    memcpy(mid, j0, sizeof mid);
+    mid[VP_J_PAN] = j0[VP_J_PAN] + f * (tgt[VP_J_PAN] - j0[VP_J_PAN]);
+    mid[VP_J_TILT] = j0[VP_J_TILT] + f * (tgt[VP_J_TILT] - j0[VP_J_TILT]);
     if (f >= 1.0) memcpy(mid, tgt, sizeof mid);
-    if (mid[VP_J_PAN] == m->j[VP_J_PAN] && mid[VP_J_TILT] == m->j[VP_J_TILT]) return 0; /* nothing to turn */
+    if (mid[VP_J_PAN] == j0[VP_J_PAN] && mid[VP_J_TILT] == j0[VP_J_TILT]) return 0; /* nothing to turn */
     if (vp_kin_move(&m->kin, mid, cmd->to, end) != VP_OK) return 0;
-    n = vp_kin_aim_path(&m->kin, m->j, end, m->way, VP_MACHINE_MAX_WAY);
+    n = vp_kin_aim_path(&m->kin, j0, end, way, VP_MACHINE_MAX_WAY);
     if (n < 1) return 0;
     for (w = 0; w < n; w++)
-        if (!vp_kin_in_travel(&m->kin, m->way[w])) return 0;
+        if (!vp_kin_in_travel(&m->kin, way[w])) return 0;
+    return n;
+}
+
+/* The MOVE turning on its way (vp_machine_turning_plan): 1 when it moved so, 0 when it is to be
+ * made straight. */
+static int vp_machine_move_turning(vp_machine_t *m, const vp_cmd_t *cmd)
+{
+    double o0[3], o1[3], d[3];
+    int n = vp_machine_turning_plan(m, m->j, cmd, m->way), rc;
+    if (n < 1) return 0;
     m->st.moves++;
     vp_machine_beam(m, o0, d);
     rc = vp_step_move_path(&m->step, &m->way[0][0], n);
@@ -180,6 +192,102 @@ static int vp_machine_move_turning(vp_machine_t *m, const vp_cmd_t *cmd)
     m->move_n = n;
     if (rc >= 0) m->st.moves_turning++;
     return rc < 0 ? rc : 1;
+}
+
+/* Joints j as the step generator will have them (rounded to its steps, as vp_machine_sync). */
+static void vp_machine_as_stepped(const vp_machine_t *m, const double *j, double *q)
+{
+    int k;
+    for (k = 0; k < VP_KIN_JOINTS; k++) q[k] = vp_step_to_steps(&m->step, k, j[k]) / m->step.cfg.axis[k].steps_per_unit;
+}
+
+/* A MOVE made alone at the start of a path (it needs the head turned first): its record. */
+static int vp_machine_path_alone(vp_machine_t *m, const vp_cmd_t *cmd)
+{
+    vp_machine_path_move_t *pm = &m->path[0];
+    unsigned long turns = m->st.turns;
+    int rc;
+    memcpy(pm->j0, m->j, sizeof pm->j0);
+    rc = vp_machine_move(m, cmd);
+    if (rc < 0) return rc;
+    pm->first = 0;
+    pm->n = 0;
+    pm->turning = m->move_n > 0;
+    if (m->move_n > 0) {
+        memcpy(m->path_way, m->way, (size_t)m->move_n * sizeof m->way[0]);
+        pm->n = m->move_n;
+    } else {
+        if (m->st.turns != turns && m->turn_n > 0) {
+            memcpy(m->path_way, m->way, (size_t)m->turn_n * sizeof m->way[0]);
+            pm->n = m->turn_n;
+        }
+        memcpy(m->path_way[pm->n++], m->j, sizeof m->j);
+    }
+    memcpy(pm->j1, m->j, sizeof pm->j1);
+    return VP_OK;
+}
+
+int vp_machine_move_path(vp_machine_t *m, const vp_cmd_t *cmds, int n, int *done)
+{
+    double jc[VP_KIN_JOINTS], o0[3], o1[3], d[3];
+    int i, k, q, count, nw = 0, rc;
+    int64_t t0;
+    if (done) *done = 0;
+    if (!m || !cmds || !done || n < 1 || n > VP_MACHINE_PATH_MOVES || m->cfg.contact) return VP_EINVAL;
+    for (i = 0; i < n; i++) {
+        if (cmds[i].kind != VP_CMD_MOVE) return VP_EINVAL;
+        for (q = 0; q < 3; q++) if (!isfinite(cmds[i].from[q]) || !isfinite(cmds[i].to[q])) return VP_EINVAL;
+    }
+    m->last.contact = 0;
+    m->last.contact_at = m->last.overtravel = 0;
+    m->move_n = 0;
+    t0 = m->io.now(m->io.ctx);
+    memcpy(jc, m->j, sizeof jc);
+    for (i = 0; i < n; i++) {
+        vp_machine_path_move_t *pm = &m->path[i];
+        int turning = 0;
+        /* the pieces vp_machine_move would take from where the MOVE before ends */
+        k = vp_machine_turning_plan(m, jc, &cmds[i], m->way);
+        if (k >= 1) turning = 1;
+        else k = vp_kin_move(&m->kin, jc, cmds[i].to, m->way[0]) == VP_OK;
+        if (k == 0 && i == 0) {
+            rc = vp_machine_path_alone(m, &cmds[0]);
+            m->st.move_ns += m->io.now(m->io.ctx) - t0;
+            if (rc < 0) return rc;
+            *done = 1;
+            return VP_OK;
+        }
+        if (k == 0 || nw + k > VP_MACHINE_PATH_WAY) break;    /* the rest given again */
+        memcpy(pm->j0, jc, sizeof pm->j0);
+        memcpy(m->path_way[nw], m->way, (size_t)k * sizeof m->way[0]);
+        if (!turning) vp_machine_as_stepped(m, m->path_way[nw], m->path_way[nw]);
+        vp_machine_as_stepped(m, m->path_way[nw + k - 1], jc);
+        memcpy(pm->j1, jc, sizeof pm->j1);
+        pm->first = nw;
+        pm->n = k;
+        pm->turning = turning;
+        nw += k;
+    }
+    count = i;
+    rc = vp_step_move_path(&m->step, &m->path_way[0][0], nw);
+    vp_machine_sync(m);
+    m->st.move_ns += m->io.now(m->io.ctx) - t0;
+    for (i = 0; i < count; i++) {
+        const vp_machine_path_move_t *pm = &m->path[i];
+        if (rc < 0 && pm->first + pm->n > m->step.path_done) break;
+        m->st.moves++;
+        if (pm->turning) m->st.moves_turning++;
+        vp_kin_forward(&m->kin, pm->j0, o0, d);
+        vp_kin_forward(&m->kin, pm->j1, o1, d);
+        m->st.travel += vp_dist3(o0, o1);
+    }
+    *done = i;
+    if (rc < 0) return rc;
+    if (count > 1) {
+        m->st.paths++;
+        m->st.path_moves += (unsigned long)count;
+    }
+    return VP_OK;
 }
 
 int vp_machine_move(vp_machine_t *m, const vp_cmd_t *cmd)

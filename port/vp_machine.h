@@ -37,6 +37,8 @@
 #include "vp_step.h"
 
 #define VP_MACHINE_MAX_WAY 128
+#define VP_MACHINE_PATH_MOVES 16      /* MOVEs one path takes at most (vp_machine_move_path) */
+#define VP_MACHINE_PATH_WAY 256       /* and their pieces */
 #define VP_MACHINE_MAX_CALIB 256
 #define VP_MACHINE_MAX_LINE 1024      /* a line laser's points per frame (columns looked at) */
 
@@ -57,6 +59,8 @@ typedef struct vp_machine_stats {
                                          carriage outside its travel at the MOVE's end) */
     unsigned long moves_turning;      /* MOVEs that turned the head towards their PROBE on the way
                                          (turn_on_move) */
+    unsigned long paths, path_moves;  /* paths of two MOVEs or more (vp_machine_move_path), and
+                                         their MOVEs */
     int64_t move_ns, aim_ns, settle_ns, read_ns; /* machine time by motion (the io clock): MOVEs;
                                          a PROBE's aim, its settle, its frames and their reading */
 } vp_machine_stats_t;
@@ -136,6 +140,14 @@ typedef struct vp_machine_config {
                                          plainly empty, and the line must end farther (0: 3) */
 } vp_machine_config_t;
 
+/* One MOVE of a path: joints straight from j0 through its pieces (vp_machine_move_path). */
+typedef struct vp_machine_path_move {
+    double j0[VP_KIN_JOINTS];         /* the joints at its start, as stepped */
+    double j1[VP_KIN_JOINTS];         /* at its end, as stepped */
+    int first, n;                     /* its pieces: path_way[first .. first + n) */
+    int turning;                      /* it turned the head towards its PROBE (turn_on_move) */
+} vp_machine_path_move_t;
+
 typedef struct vp_machine {
     vp_kin_t kin;
     vp_step_t step;
@@ -148,6 +160,8 @@ typedef struct vp_machine {
     int turn_n;                       /* the last turn before a MOVE: its path, way[0 .. turn_n) */
     int move_n;                       /* the last MOVE turned on its way: its path, way[0 .. move_n)
                                          (0: one straight line of the joints) */
+    double path_way[VP_MACHINE_PATH_WAY][VP_KIN_JOINTS];
+    vp_machine_path_move_t path[VP_MACHINE_PATH_MOVES]; /* the last path's MOVEs made */
     vp_machine_stats_t st;
     vp_machine_last_t last;
     vp_spot_ws_t ws;
@@ -176,6 +190,16 @@ int vp_machine_home(vp_machine_t *m);
 int vp_machine_goto(vp_machine_t *m, const double p[3]);
 /* The two halves of exec, for loops that keep them apart. */
 int vp_machine_move(vp_machine_t *m, const vp_cmd_t *cmd);
+/* Consecutive MOVEs (n of them, 1..VP_MACHINE_PATH_MOVES) as one path of the step generator:
+ * each takes the pieces vp_machine_move would (the same joints, each MOVE starting where the one
+ * before ends as stepped), and the waypoints between MOVEs are passed without stopping where
+ * every axis moving on either side has a jerk (vp_step_move_path's junctions and look-ahead),
+ * so the head stops only at the path's end. *done: the MOVEs made whole, from the first, and
+ * path[0 .. *done) where each went. Fewer than n with VP_OK when the next one needs the head
+ * turned first (vp_machine_turn_for: such a MOVE is made alone, first in a path) or its pieces
+ * would not fit path_way: give the rest again. An error as vp_machine_move's, *done the MOVEs
+ * reached before it. VP_EINVAL for a head with a contact switch (its stop is taken from rest). */
+int vp_machine_move_path(vp_machine_t *m, const vp_cmd_t *cmds, int n, int *done);
 /* 1 and *at (the trigger's distance along that MOVE, planner units) when the last MOVE stopped
  * on the contact switch; 0 otherwise (at may be NULL). */
 int vp_machine_contact(const vp_machine_t *m, double *at);

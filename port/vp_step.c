@@ -660,6 +660,7 @@ int vp_step_move_watch(vp_step_t *s, const double *way, int n, int watch, vp_ste
     if (!s || !way || n < 0 || watch < VP_STEP_WATCH_NONE || watch > VP_STEP_WATCH_RELEASE || (watch && !c)) return VP_EINVAL;
     if (!c) c = &unused;
     memset(c, 0, sizeof *c);
+    s->path_done = 0;
     if (s->fault || (!s->homed && !s->cfg.allow_unhomed)) return VP_ESTATE;
     na = s->cfg.naxes;
     /* every waypoint first: refuse before anything moves */
@@ -719,6 +720,7 @@ int vp_step_move_watch(vp_step_t *s, const double *way, int n, int watch, vp_ste
             vp_step_emit(s, VP_STEP_EV_CONTACT, -1, "contact: stopped");
             break;
         }
+        s->path_done = w + 1;
     }
     if (watch == VP_STEP_WATCH_RELEASE && !r.armed) {
         /* backed off and still closed: the switch cannot be trusted */

@@ -160,6 +160,8 @@ typedef struct vp_step {
     uint8_t deb_n[VP_IO_NIN];                /* consecutive samples differing from deb */
     int32_t deb_at[VP_IO_NIN];               /* limit bits: axis position at the first of them */
     int32_t contact_at[VP_STEP_MAX_AXES];    /* the contact bit: every axis at the first of them */
+    int path_done;                           /* waypoints the last path reached (a fault stops
+                                                it short: the ones before it were reached) */
     vp_step_stats_t st;
 } vp_step_t;
 

@@ -179,6 +179,7 @@ void mcu_main(void)
             dev.probe = dev_probe;
             dev.touched = 0;
             dev.rays = 0;
+            dev.move_path = 0;
             memset(&hooks, 0, sizeof hooks);
             hooks.after = after;
             st = vp_run(&pl, &dev, &hooks, 0, &run);

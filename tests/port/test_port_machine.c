@@ -136,6 +136,7 @@ static void scan(const char *board, long cap, scan_out_t *o)
     ops.probe = scan_probe;
     ops.touched = NULL;
     ops.rays = NULL;
+    ops.move_path = NULL;
     run0 = d->rec.now;
     rc = vp_run(pl, &ops, NULL, (unsigned long)cap, &run);
     CHECKF(rc == VP_OK, "scan: %s", vp_strerror(rc));
@@ -393,6 +394,107 @@ int main(void)
         CHECKF(fabs(hit_on - hit_off) < 0.5, "the same probe reads %g and %g", hit_on, hit_off);
         printf("MOVEs turning towards their PROBE (sim-enclosed): the origin at most %.3f mm off the line, the PROBE's aim %.3f s (%.3f s after a straight MOVE)\n",
                worst, aim_on, aim_off);
+    }
+
+    /* MOVEs as one path (vp_machine_move_path, boards/sim-enclosed.ini): a route of 12 chords
+     * round a circle (bends of 15 degrees), the head turning on the way towards the PROBE that
+     * follows. Made one by one on one machine and as one path on another: the same joints after
+     * every MOVE bit for bit, the same travel; the laser origin, by the forward map sampled along
+     * every piece, within origin_tol of each MOVE's line; the path takes less time (it passes
+     * the bends without stopping). An e-stop half way: the MOVEs before it made whole, counted,
+     * the rest not. A head with a contact switch (rpi4) is refused, nothing moved. */
+    {
+        enum { NW = 12 };
+        vp_cmd_t mv[NW];
+        double P[NW + 1][3], jone[NW][VP_KIN_JOINTS], travel[2], tol, worst = 0, secs[2], left;
+        int i, k, w, q, done = -1, pass, same = 1;
+        unsigned long moves[2], turning[2];
+        rc = vp_board_load("boards/sim-enclosed.ini", &b, err, sizeof err);
+        CHECKF(rc == VP_OK, "%s", err);
+        for (i = 0; i <= NW; i++) {
+            double a = (double)i * 15.0 * M_PI / 180.0;
+            P[i][0] = 170.0 * cos(a); P[i][1] = 170.0 * sin(a); P[i][2] = 100.0 + 2.0 * i;
+        }
+        left = 0;
+        for (i = NW; i-- > 0;) {
+            cmd_move(&mv[i], P[i], P[i + 1]);
+            for (k = 0; k < 3; k++) mv[i].dir[k] = b.interior[k] - P[NW][k];
+            vp_normalize3(mv[i].dir);
+            mv[i].range = left;
+            left += vp_dist3(P[i], P[i + 1]);
+        }
+        for (pass = 0; pass < 2; pass++) {
+            int64_t t0;
+            CHECK(vp_dryrun_open(&b, NULL, &d, err, sizeof err) == VP_OK);
+            m = vp_dryrun_machine(d);
+            tol = m->kin.cfg.origin_tol > 0 ? m->kin.cfg.origin_tol : 0.1;
+            CHECK(vp_machine_home(m) == VP_OK && vp_machine_goto(m, P[0]) == VP_OK);
+            t0 = m->st.move_ns;
+            if (pass == 0) {
+                for (i = 0; i < NW; i++) {
+                    CHECK(vp_machine_exec(m, &mv[i], &res) == VP_OK);
+                    memcpy(jone[i], m->j, sizeof jone[i]);
+                }
+            } else {
+                CHECK(vp_machine_move_path(m, mv, NW, &done) == VP_OK && done == NW);
+                CHECK(m->st.paths == 1 && m->st.path_moves == NW);
+                for (i = 0; i < NW; i++) {
+                    const vp_machine_path_move_t *pm = &m->path[i];
+                    if (memcmp(pm->j1, jone[i], sizeof jone[i]) != 0) same = 0;
+                    for (w = 0; w < pm->n; w++) {
+                        const double *pa = w ? m->path_way[pm->first + w - 1] : pm->j0, *pb = m->path_way[pm->first + w];
+                        for (q = 0; q <= 20; q++) {
+                            double jj[VP_KIN_JOINTS], oo[3], dd[3], ab[3], s = 0, l2 = 0, foot[3];
+                            for (k = 0; k < VP_KIN_JOINTS; k++) jj[k] = pa[k] + q / 20.0 * (pb[k] - pa[k]);
+                            vp_kin_forward(&m->kin, jj, oo, dd);
+                            for (k = 0; k < 3; k++) { ab[k] = P[i + 1][k] - P[i][k]; s += (oo[k] - P[i][k]) * ab[k]; l2 += ab[k] * ab[k]; }
+                            s = s < 0 ? 0 : s > l2 ? 1 : s / l2;
+                            for (k = 0; k < 3; k++) foot[k] = P[i][k] + s * ab[k];
+                            if (vp_dist3(oo, foot) > worst) worst = vp_dist3(oo, foot);
+                        }
+                    }
+                }
+                CHECK(memcmp(m->j, jone[NW - 1], sizeof m->j) == 0);
+            }
+            secs[pass] = 1e-9 * (double)(m->st.move_ns - t0);
+            travel[pass] = m->st.travel;
+            moves[pass] = m->st.moves;
+            turning[pass] = m->st.moves_turning;
+            vp_dryrun_close(d);
+        }
+        CHECK(same);
+        CHECK(travel[0] == travel[1] && moves[0] == moves[1] && turning[0] == turning[1] && turning[1] == NW);
+        CHECKF(worst <= tol + 0.02, "the origin %g mm off a MOVE's line (origin_tol %g)", worst, tol);
+        CHECKF(secs[1] < 0.9 * secs[0], "the path %g s, one by one %g s", secs[1], secs[0]);
+        printf("12 MOVEs round a bend as one path (sim-enclosed): %.3f s against %.3f s one by one, the same joints; the origin at most %.3f mm off the lines\n",
+               secs[1], secs[0], worst);
+
+        /* an e-stop half way through the path */
+        CHECK(vp_dryrun_open(&b, NULL, &d, err, sizeof err) == VP_OK);
+        m = vp_dryrun_machine(d);
+        CHECK(vp_machine_home(m) == VP_OK && vp_machine_goto(m, P[0]) == VP_OK);
+        d->rec.cfg.estop_at = d->rec.now + (int64_t)(0.5e9 * secs[1]);
+        d->rec.cfg.estop_until = INT64_MAX;
+        CHECK(vp_machine_move_path(m, mv, NW, &done) == VP_EABORT);
+        CHECKF(done > 0 && done < NW && m->st.moves == (unsigned long)done, "%d made, %lu counted", done, m->st.moves);
+        CHECK(done > 0 && memcmp(m->path[done - 1].j1, jone[done - 1], sizeof jone[0]) == 0);
+        vp_dryrun_close(d);
+
+        /* refused: no MOVE, a PROBE among them, a head with a contact switch */
+        CHECK(vp_dryrun_open(&b, NULL, &d, err, sizeof err) == VP_OK);
+        m = vp_dryrun_machine(d);
+        CHECK(vp_machine_home(m) == VP_OK && vp_machine_goto(m, P[0]) == VP_OK);
+        cmd_probe(&c, P[0], b.interior, 400);
+        CHECK(vp_machine_move_path(m, mv, 0, &done) == VP_EINVAL && done == 0);
+        CHECK(vp_machine_move_path(m, &c, 1, &done) == VP_EINVAL && m->st.moves == 0);
+        vp_dryrun_close(d);
+        rc = vp_board_load("boards/rpi4-gantry.ini", &b, err, sizeof err);
+        CHECKF(rc == VP_OK, "%s", err);
+        CHECK(vp_dryrun_open(&b, NULL, &d, err, sizeof err) == VP_OK);
+        m = vp_dryrun_machine(d);
+        CHECK(m->cfg.contact == 1 && vp_machine_home(m) == VP_OK);
+        CHECK(vp_machine_move_path(m, mv, 1, &done) == VP_EINVAL && done == 0 && m->st.moves == 0);
+        vp_dryrun_close(d);
     }
 
     /* calibration on the dry run: a flat target at x = 300, 20 stations from 200 to 15 mm */

@@ -1,0 +1,187 @@
+/* The scan loop's paths (vp_run with a device's move_path): consecutive MOVEs handed to the
+ * device at once. Against the loop with each MOVE made alone, on a device written here from the
+ * sphere's formula: the same commands in the same order reach the log (the after hook), every
+ * path is a chain of MOVEs starting where the head stands, max_commands is kept exactly, a
+ * device that makes part of a path is given the rest again, and when the hook stops the scan
+ * or the device fails in a path, every MOVE the head made is logged and none it did not make. */
+#include <math.h>
+#include <string.h>
+#include "vp_planner.h"
+#include "vp_run.h"
+#include "vp_test.h"
+
+#define ARENA (16u << 20)
+
+typedef struct path_dev {
+    double pos[3];
+    unsigned long executed;        /* MOVEs and PROBEs the head made */
+    unsigned long logged;          /* commands the after hook saw */
+    unsigned long paths, path_moves, longest;
+    unsigned long breaks;          /* a path's MOVE not starting where the head stands */
+    unsigned long non_moves;       /* a path holding something else than a MOVE */
+    int per_call;                  /* at most this many MOVEs made per move_path call (0: all) */
+    unsigned long fail_at;         /* the device fails at the first MOVE from this command on
+                                      (1-based; 0: never) */
+    unsigned long stop_at;         /* the hook stops the scan after this command (0: never) */
+    uint64_t hash;                 /* of the logged commands and results, in order */
+} path_dev_t;
+
+static void mix(uint64_t *h, const void *p, size_t n)
+{
+    const unsigned char *b = p;
+    size_t i;
+    for (i = 0; i < n; i++) { *h ^= b[i]; *h *= 1099511628211ull; }
+}
+
+static int move_one(path_dev_t *d, const vp_cmd_t *cmd)
+{
+    if (d->fail_at && d->executed + 1 >= d->fail_at) return VP_EIO;
+    memcpy(d->pos, cmd->to, sizeof d->pos);
+    d->executed++;
+    return VP_OK;
+}
+
+static int dev_move(void *ctx, const vp_cmd_t *cmd, int *collided)
+{
+    *collided = 0;
+    return move_one(ctx, cmd);
+}
+
+static int dev_move_path(void *ctx, const vp_cmd_t *cmds, int n, int *collided, int *done)
+{
+    path_dev_t *d = ctx;
+    int i, st = VP_OK;
+    if (n > 1) { d->paths++; d->path_moves += (unsigned long)n; }
+    if ((unsigned long)n > d->longest) d->longest = (unsigned long)n;
+    *done = 0;
+    for (i = 0; i < n; i++) {
+        if (cmds[i].kind != VP_CMD_MOVE) d->non_moves++;
+        if (memcmp(cmds[i].from, i == 0 ? d->pos : cmds[i - 1].to, sizeof d->pos) != 0) d->breaks++;
+    }
+    for (i = 0; i < n && (!d->per_call || i < d->per_call); i++) {
+        collided[i] = 0;
+        st = move_one(d, &cmds[i]);
+        if (st != VP_OK) break;
+        (*done)++;
+    }
+    return st;
+}
+
+/* the unit sphere: first hit along the ray */
+static int dev_probe(void *ctx, const vp_cmd_t *cmd, vp_probe_result_t *res)
+{
+    path_dev_t *d = ctx;
+    const double *p = d->pos, *u = cmd->dir;
+    double b = p[0] * u[0] + p[1] * u[1] + p[2] * u[2];
+    double c = p[0] * p[0] + p[1] * p[1] + p[2] * p[2] - 1.0, disc = b * b - c, s;
+    d->executed++;
+    res->hit = 0;
+    res->dist = 0.0;
+    if (disc > 0.0 && (s = -b - sqrt(disc)) > 0.0 && s <= cmd->range) {
+        res->hit = 1;
+        res->dist = s;
+    }
+    return VP_OK;
+}
+
+static int after(void *ctx, const vp_cmd_t *cmd, const vp_probe_result_t *res)
+{
+    path_dev_t *d = ctx;
+    d->logged++;
+    mix(&d->hash, &cmd->kind, sizeof cmd->kind);
+    mix(&d->hash, cmd->from, sizeof cmd->from);
+    mix(&d->hash, cmd->to, sizeof cmd->to);
+    if (res) { mix(&d->hash, &res->hit, sizeof res->hit); mix(&d->hash, &res->dist, sizeof res->dist); }
+    if (d->stop_at && d->logged >= d->stop_at && cmd->kind != VP_CMD_DONE) return VP_EABORT;
+    return VP_OK;
+}
+
+/* One scan of the unit sphere in Omega [-1.5, 1.5]^3; paths: the device takes them. */
+static int scan(path_dev_t *d, int paths, unsigned long max_commands, vp_run_result_t *run, vp_planner_stats_t *st)
+{
+    static unsigned char arena[ARENA];
+    static vp_planner_t pl;
+    vp_planner_config_t cfg;
+    vp_device_ops_t ops;
+    vp_run_hooks_t hooks;
+    int k, per = d->per_call;
+    unsigned long fail = d->fail_at, stop = d->stop_at;
+    memset(&cfg, 0, sizeof cfg);
+    cfg.omega_kind = VP_OMEGA_BOX;
+    for (k = 0; k < 3; k++) { cfg.omega_lo[k] = -1.5; cfg.omega_hi[k] = 1.5; }
+    cfg.ninterior = 1;
+    cfg.eps = 0.3;
+    cfg.start[2] = 2.0;
+    memset(d, 0, sizeof *d);
+    d->per_call = per;
+    d->fail_at = fail;
+    d->stop_at = stop;
+    d->hash = 1469598103934665603ull;
+    memcpy(d->pos, cfg.start, sizeof d->pos);
+    CHECK(vp_planner_init(&pl, arena, sizeof arena, &cfg) == VP_OK);
+    memset(&ops, 0, sizeof ops);
+    ops.ctx = d;
+    ops.move = dev_move;
+    ops.probe = dev_probe;
+    ops.move_path = paths ? dev_move_path : NULL;
+    memset(&hooks, 0, sizeof hooks);
+    hooks.ctx = d;
+    hooks.after = after;
+    vp_run(&pl, &ops, &hooks, max_commands, run);
+    if (st) vp_planner_get_stats(&pl, st);
+    return run->status;
+}
+
+int main(void)
+{
+    path_dev_t a, b;
+    vp_run_result_t ra, rb;
+    vp_planner_stats_t sa, sb;
+    unsigned long k, cuts[] = { 1, 2, 3, 7, 40, 41, 42, 97, 500 };
+    size_t i;
+
+    /* the whole scan: the same log, made in paths */
+    memset(&a, 0, sizeof a);
+    memset(&b, 0, sizeof b);
+    CHECK(scan(&a, 0, 0, &ra, &sa) == VP_OK && ra.done);
+    CHECK(scan(&b, 1, 0, &rb, &sb) == VP_OK && rb.done);
+    CHECK(a.hash == b.hash);
+    CHECK(a.logged == b.logged && ra.commands == rb.commands);
+    CHECK(b.executed == a.executed && b.executed + 1 == b.logged);   /* + DONE */
+    CHECK(sa.probes == sb.probes && sa.insertions == sb.insertions);
+    CHECK(b.paths > 50 && b.longest >= 3 && b.longest <= VP_DEV_PATH);
+    CHECK(b.breaks == 0 && b.non_moves == 0);
+    printf("  %lu commands, %lu paths of %lu MOVEs (the longest %lu), same log\n", b.logged, b.paths, b.path_moves, b.longest);
+
+    /* a device that makes at most two MOVEs a call: given the rest again */
+    memset(&b, 0, sizeof b);
+    b.per_call = 2;
+    CHECK(scan(&b, 1, 0, &rb, NULL) == VP_OK && rb.done);
+    CHECK(b.hash == a.hash && b.logged == a.logged && b.breaks == 0);
+
+    /* max_commands kept exactly: no command asked of the planner past it */
+    for (i = 0; i < sizeof cuts / sizeof cuts[0]; i++) {
+        memset(&b, 0, sizeof b);
+        CHECK(scan(&b, 1, cuts[i], &rb, NULL) == VP_OK);
+        CHECK(rb.commands == cuts[i] && b.executed == cuts[i] && b.logged == cuts[i]);
+    }
+
+    /* the hook stops the scan: every MOVE made is logged, none is made unlogged; the loop
+     * stops at the end of the path the stop fell in */
+    for (k = 1; k < 300; k += 13) {
+        memset(&b, 0, sizeof b);
+        b.stop_at = k;
+        CHECK(scan(&b, 1, 0, &rb, NULL) == VP_EABORT);
+        CHECK(b.logged == b.executed && b.logged >= k && b.logged < k + VP_DEV_PATH);
+        CHECK(rb.commands == k - 1);
+    }
+
+    /* the device fails in a path: the MOVEs before it logged, the error returned */
+    for (k = 5; k < 300; k += 17) {
+        memset(&b, 0, sizeof b);
+        b.fail_at = k;
+        CHECK(scan(&b, 1, 0, &rb, NULL) == VP_EIO);
+        CHECK(b.executed >= k - 1 && b.logged == b.executed);
+    }
+    return vp_test_done("test_run_path");
+}
