@@ -553,7 +553,13 @@ static int vp_scan_dev_move_path(void *ctx, const vp_cmd_t *cmds, int n, int *co
         collided[i] = 0;
         if (!d->dry) continue;
         vp_scan_move_check(d, &cmds[i], &collided[i]);
-        vp_scan_head_path(d, pm->j0, (const double (*)[VP_KIN_JOINTS])d->m->path_way + pm->first, pm->n);
+        if (pm->turn_n > 0) {
+            /* the turn it needed first, then the MOVE: two motions, as when made alone */
+            vp_scan_head_path(d, pm->j0, (const double (*)[VP_KIN_JOINTS])d->m->path_way + pm->first, pm->turn_n);
+            vp_scan_head_path(d, d->m->path_way[pm->first + pm->turn_n - 1],
+                              (const double (*)[VP_KIN_JOINTS])d->m->path_way + pm->first + pm->turn_n, pm->n - pm->turn_n);
+        } else
+            vp_scan_head_path(d, pm->j0, (const double (*)[VP_KIN_JOINTS])d->m->path_way + pm->first, pm->n);
         if (d->head_hits != before) collided[i] = 1;
     }
     if (st != VP_OK) { d->fault = st; d->fault_cmd = cmds[*done < n ? *done : n - 1]; }

@@ -362,6 +362,9 @@ int vp_sessionlog_after(void *ctx, const vp_cmd_t *cmd, const vp_probe_result_t 
     vp_sessionlog_writer_t *w = ctx;
     vp_logfmt_record_t rec;
     int st;
+    /* a record lost to a failed write is never followed by the next one: the log would skip a
+     * sequence number (a path's MOVEs are logged one after the other after it) */
+    if (w->failed) return VP_EIO;
     if (cmd->kind == VP_CMD_DONE) {
         vp_logfmt_record_event(&rec, 0, VP_LOGFMT_EV_DONE, 0, "the planner says DONE");
     } else if (cmd->kind == VP_CMD_MOVE) {

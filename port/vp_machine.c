@@ -2,6 +2,7 @@
 #include <math.h>
 #include <string.h>
 #include "vp_machine.h"
+#include "vp_device.h"
 #include "vp_status.h"
 #include "vp_vec3.h"
 
@@ -211,7 +212,7 @@ static int vp_machine_path_alone(vp_machine_t *m, const vp_cmd_t *cmd)
     rc = vp_machine_move(m, cmd);
     if (rc < 0) return rc;
     pm->first = 0;
-    pm->n = 0;
+    pm->n = pm->turn_n = 0;
     pm->turning = m->move_n > 0;
     if (m->move_n > 0) {
         memcpy(m->path_way, m->way, (size_t)m->move_n * sizeof m->way[0]);
@@ -219,13 +220,17 @@ static int vp_machine_path_alone(vp_machine_t *m, const vp_cmd_t *cmd)
     } else {
         if (m->st.turns != turns && m->turn_n > 0) {
             memcpy(m->path_way, m->way, (size_t)m->turn_n * sizeof m->way[0]);
-            pm->n = m->turn_n;
+            pm->n = pm->turn_n = m->turn_n;
         }
         memcpy(m->path_way[pm->n++], m->j, sizeof m->j);
     }
     memcpy(pm->j1, m->j, sizeof pm->j1);
     return VP_OK;
 }
+
+/* a path holds what the scan loop gives at once, and a MOVE made alone its turn and itself */
+typedef char vp_machine_path_fits_loop[VP_MACHINE_PATH_MOVES >= VP_DEV_PATH ? 1 : -1];
+typedef char vp_machine_path_fits_move[VP_MACHINE_PATH_WAY >= VP_MACHINE_MAX_WAY + 1 ? 1 : -1];
 
 int vp_machine_move_path(vp_machine_t *m, const vp_cmd_t *cmds, int n, int *done)
 {
@@ -265,6 +270,7 @@ int vp_machine_move_path(vp_machine_t *m, const vp_cmd_t *cmds, int n, int *done
         memcpy(pm->j1, jc, sizeof pm->j1);
         pm->first = nw;
         pm->n = k;
+        pm->turn_n = 0;
         pm->turning = turning;
         nw += k;
     }

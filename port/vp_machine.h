@@ -145,6 +145,8 @@ typedef struct vp_machine_path_move {
     double j0[VP_KIN_JOINTS];         /* the joints at its start, as stepped */
     double j1[VP_KIN_JOINTS];         /* at its end, as stepped */
     int first, n;                     /* its pieces: path_way[first .. first + n) */
+    int turn_n;                       /* of them the first turn_n: a turn about the laser origin made
+                                         before it (vp_machine_turn_for), a motion of its own */
     int turning;                      /* it turned the head towards its PROBE (turn_on_move) */
 } vp_machine_path_move_t;
 

@@ -18,6 +18,7 @@ typedef struct path_dev {
     unsigned long logged;          /* commands the after hook saw */
     unsigned long paths, path_moves, longest;
     unsigned long breaks;          /* a path's MOVE not starting where the head stands */
+    unsigned long collided;        /* MOVEs the device reported collided (every 7th) */
     unsigned long non_moves;       /* a path holding something else than a MOVE */
     int per_call;                  /* at most this many MOVEs made per move_path call (0: all) */
     unsigned long fail_at;         /* the device fails at the first MOVE from this command on
@@ -33,18 +34,19 @@ static void mix(uint64_t *h, const void *p, size_t n)
     for (i = 0; i < n; i++) { *h ^= b[i]; *h *= 1099511628211ull; }
 }
 
-static int move_one(path_dev_t *d, const vp_cmd_t *cmd)
+static int move_one(path_dev_t *d, const vp_cmd_t *cmd, int *collided)
 {
     if (d->fail_at && d->executed + 1 >= d->fail_at) return VP_EIO;
     memcpy(d->pos, cmd->to, sizeof d->pos);
     d->executed++;
+    *collided = d->executed % 7 == 0;
+    d->collided += (unsigned long)*collided;
     return VP_OK;
 }
 
 static int dev_move(void *ctx, const vp_cmd_t *cmd, int *collided)
 {
-    *collided = 0;
-    return move_one(ctx, cmd);
+    return move_one(ctx, cmd, collided);
 }
 
 static int dev_move_path(void *ctx, const vp_cmd_t *cmds, int n, int *collided, int *done)
@@ -59,8 +61,7 @@ static int dev_move_path(void *ctx, const vp_cmd_t *cmds, int n, int *collided, 
         if (memcmp(cmds[i].from, i == 0 ? d->pos : cmds[i - 1].to, sizeof d->pos) != 0) d->breaks++;
     }
     for (i = 0; i < n && (!d->per_call || i < d->per_call); i++) {
-        collided[i] = 0;
-        st = move_one(d, &cmds[i]);
+        st = move_one(d, &cmds[i], &collided[i]);
         if (st != VP_OK) break;
         (*done)++;
     }
@@ -151,6 +152,7 @@ int main(void)
     CHECK(sa.probes == sb.probes && sa.insertions == sb.insertions);
     CHECK(b.paths > 50 && b.longest >= 3 && b.longest <= VP_DEV_PATH);
     CHECK(b.breaks == 0 && b.non_moves == 0);
+    CHECK(a.collided > 0 && rb.collisions == b.collided && ra.collisions == a.collided && a.collided == b.collided);
     printf("  %lu commands, %lu paths of %lu MOVEs (the longest %lu), same log\n", b.logged, b.paths, b.path_moves, b.longest);
 
     /* a device that makes at most two MOVEs a call: given the rest again */

@@ -521,6 +521,19 @@ static void test_simdev_restore(void)
     vp_surface_close(s);
 }
 
+/* A writer whose write failed takes no further record (the scan loop logs a path's MOVEs one
+ * after the other): the next would follow a lost sequence number. */
+static void test_after_failed(void)
+{
+    vp_sessionlog_writer_t w;
+    vp_cmd_t c;
+    memset(&w, 0, sizeof w);
+    memset(&c, 0, sizeof c);
+    c.kind = VP_CMD_MOVE;
+    w.failed = 1;
+    CHECK(vp_sessionlog_after(&w, &c, NULL) == VP_EIO && w.commands == 0);
+}
+
 int main(void)
 {
     const char *q = getenv("VP_TEST_QUICK");
@@ -528,6 +541,7 @@ int main(void)
     quick = q && *q && strcmp(q, "0") != 0;
     snprintf(dir, sizeof dir, "%s/vp_sessionlog_XXXXXX", tmp && *tmp ? tmp : "/tmp");
     if (!mkdtemp(dir)) { perror("mkdtemp"); return 1; }
+    test_after_failed();
     test_session();
     test_replay();
     test_resume();

@@ -406,7 +406,7 @@ int main(void)
     {
         enum { NW = 12 };
         vp_cmd_t mv[NW];
-        double P[NW + 1][3], jone[NW][VP_KIN_JOINTS], travel[2], tol, worst = 0, secs[2], left;
+        double P[NW + 1][3], jone[NW][VP_KIN_JOINTS], jstr[NW][VP_KIN_JOINTS], travel[2], tol, worst = 0, secs[2], left;
         int i, k, w, q, done = -1, pass, same = 1;
         unsigned long moves[2], turning[2];
         rc = vp_board_load("boards/sim-enclosed.ini", &b, err, sizeof err);
@@ -423,18 +423,33 @@ int main(void)
             mv[i].range = left;
             left += vp_dist3(P[i], P[i + 1]);
         }
-        for (pass = 0; pass < 2; pass++) {
+        for (pass = 0; pass < 4; pass++) {
             int64_t t0;
             CHECK(vp_dryrun_open(&b, NULL, &d, err, sizeof err) == VP_OK);
             m = vp_dryrun_machine(d);
+            if (pass >= 2) {
+                /* the same MOVEs straight (the head told not to turn): each piece ends where the
+                 * joints will be as stepped */
+                m->cfg.turn_on_move = 0;
+                if (pass == 3) {
+                    CHECK(vp_machine_home(m) == VP_OK && vp_machine_goto(m, P[0]) == VP_OK);
+                    CHECK(vp_machine_move_path(m, mv, NW, &done) == VP_OK && done == NW && m->st.moves_turning == 0);
+                    for (i = 0; i < NW; i++)
+                        CHECK(m->path[i].n == 1 && memcmp(m->path_way[m->path[i].first], jstr[i], sizeof jstr[i]) == 0 &&
+                              memcmp(m->path[i].j1, jstr[i], sizeof jstr[i]) == 0);
+                    vp_dryrun_close(d);
+                    continue;
+                }
+            }
             tol = m->kin.cfg.origin_tol > 0 ? m->kin.cfg.origin_tol : 0.1;
             CHECK(vp_machine_home(m) == VP_OK && vp_machine_goto(m, P[0]) == VP_OK);
             t0 = m->st.move_ns;
-            if (pass == 0) {
+            if (pass == 0 || pass == 2) {
                 for (i = 0; i < NW; i++) {
                     CHECK(vp_machine_exec(m, &mv[i], &res) == VP_OK);
-                    memcpy(jone[i], m->j, sizeof jone[i]);
+                    memcpy(pass == 0 ? jone[i] : jstr[i], m->j, sizeof jone[i]);
                 }
+                if (pass == 2) { vp_dryrun_close(d); continue; }
             } else {
                 CHECK(vp_machine_move_path(m, mv, NW, &done) == VP_OK && done == NW);
                 CHECK(m->st.paths == 1 && m->st.path_moves == NW);
@@ -479,6 +494,82 @@ int main(void)
         CHECKF(done > 0 && done < NW && m->st.moves == (unsigned long)done, "%d made, %lu counted", done, m->st.moves);
         CHECK(done > 0 && memcmp(m->path[done - 1].j1, jone[done - 1], sizeof jone[0]) == 0);
         vp_dryrun_close(d);
+
+        /* a MOVE that needs the head turned first (vp_machine_turn_for: its orientation would put
+         * the carriage outside travel at the end): on rpi4's gantry less its contact switch, found
+         * by search from Omega's sphere. In a path of four it is made alone, the path resumed after
+         * it; the joints after every MOVE and the turn's pieces are those of the MOVEs made one
+         * by one, bit for bit, and the turn is recorded as a motion of its own. */
+        {
+            double from[3] = { 0, 0, 0 }, to[3] = { 0, 0, 0 }, mid[3], u[3] = { 0, 0, 0 }, jt[VP_KIN_JOINTS], jx[VP_KIN_JOINTS];
+            double jref[4][VP_KIN_JOINTS], tref[VP_MACHINE_MAX_WAY][VP_KIN_JOINTS];
+            vp_cmd_t tm[4];
+            int found = 0, s, e, a, tn = 0, calls = 0, same_j = 1, same_turn = 0, off;
+            vp_board_t r;
+            rc = vp_board_load("boards/rpi4-gantry.ini", &r, err, sizeof err);
+            CHECKF(rc == VP_OK, "%s", err);
+            r.contact.chip[0] = 0;
+            r.contact_sim = 0;
+            CHECK(vp_dryrun_open(&r, NULL, &d, err, sizeof err) == VP_OK);
+            m = vp_dryrun_machine(d);
+            CHECK(m->cfg.contact == 0 && vp_machine_home(m) == VP_OK);
+            for (s = 0; s < 27 && !found; s++)
+                for (a = 0; a < 27 && !found; a++)
+                    for (e = 0; e < 27 && !found; e++) {
+                        double ps[3] = { s % 3 - 1.0, (s / 3) % 3 - 1.0, s / 9 - 1.0 };
+                        double pa[3] = { a % 3 - 1.0, (a / 3) % 3 - 1.0, a / 9 - 1.0 };
+                        double pe[3] = { e % 3 - 1.0, (e / 3) % 3 - 1.0, e / 9 - 1.0 };
+                        if (s == 13 || a == 13 || e == 13) continue;
+                        vp_normalize3(ps); vp_normalize3(pa); vp_normalize3(pe);
+                        for (k = 0; k < 3; k++) {
+                            from[k] = r.omega_center[k] + r.omega_radius * ps[k];
+                            to[k] = from[k] + 10.0 * pe[k];
+                            u[k] = pa[k];
+                        }
+                        found = vp_kin_aim(&m->kin, m->j, from, u, jt) == VP_OK && vp_kin_move(&m->kin, jt, from, jx) == VP_OK &&
+                                vp_kin_move(&m->kin, jt, to, jx) == VP_ERANGE;
+                    }
+            vp_dryrun_close(d);
+            CHECK(found);
+            for (k = 0; k < 3; k++) mid[k] = 0.5 * (from[k] + to[k]);
+            cmd_move(&tm[0], from, from);
+            cmd_move(&tm[1], from, to);      /* the turn first */
+            cmd_move(&tm[2], to, mid);
+            cmd_move(&tm[3], mid, to);
+            for (pass = 0; found && pass < 2; pass++) {
+                double aim_to[3];
+                CHECK(vp_dryrun_open(&r, NULL, &d, err, sizeof err) == VP_OK);
+                m = vp_dryrun_machine(d);
+                CHECK(vp_machine_home(m) == VP_OK && vp_machine_goto(m, from) == VP_OK);
+                for (k = 0; k < 3; k++) aim_to[k] = from[k] + 50.0 * u[k];
+                cmd_probe(&c, from, aim_to, 10);     /* the head aimed along u */
+                CHECK(vp_machine_exec(m, &c, &res) == VP_OK);
+                if (pass == 0) {
+                    for (i = 0; i < 4; i++) {
+                        unsigned long turns = m->st.turns;
+                        CHECK(vp_machine_exec(m, &tm[i], &res) == VP_OK);
+                        memcpy(jref[i], m->j, sizeof jref[i]);
+                        if (m->st.turns != turns) { tn = m->turn_n; memcpy(tref, m->way, (size_t)tn * sizeof tref[0]); }
+                    }
+                } else {
+                    for (off = 0; off < 4; off += done) {
+                        CHECK(vp_machine_move_path(m, tm + off, 4 - off, &done) == VP_OK && done > 0);
+                        if (done <= 0) break;
+                        calls++;
+                        for (i = 0; i < done; i++) {
+                            const vp_machine_path_move_t *pm = &m->path[i];
+                            if (memcmp(pm->j1, jref[off + i], sizeof pm->j1) != 0) same_j = 0;
+                            if (pm->turn_n > 0)
+                                same_turn = off + i == 1 && pm->turn_n == tn && pm->n == tn + 1 &&
+                                            memcmp(m->path_way[pm->first], tref, (size_t)tn * sizeof tref[0]) == 0;
+                        }
+                    }
+                    CHECK(memcmp(m->j, jref[3], sizeof m->j) == 0);
+                }
+                vp_dryrun_close(d);
+            }
+            CHECKF(tn > 0 && same_turn && same_j && calls == 3, "turn %d pieces, same turn %d, same joints %d, %d calls", tn, same_turn, same_j, calls);
+        }
 
         /* refused: no MOVE, a PROBE among them, a head with a contact switch */
         CHECK(vp_dryrun_open(&b, NULL, &d, err, sizeof err) == VP_OK);
