@@ -41,6 +41,11 @@ mt=$(field "$tmp/t.out" moves_turning)
 [ "${mt:-0}" -gt 1000 ] || bad "torus: ${mt:-no} MOVEs turned the head on the way"
 awk -v a="$(field "$tmp/t.out" machine_s_aims)" -v t="$(field "$tmp/t.out" machine_s)" 'BEGIN { exit !(t > 0 && a < 0.01 * t) }' ||
   bad "torus: aims $(field "$tmp/t.out" machine_s_aims) s of $(field "$tmp/t.out" machine_s) s"
+# each probe's route made as one path (the waypoints between MOVEs passed without stopping); the
+# log's proof of every MOVE (log verify, below) is the same as for MOVEs made one by one
+np=$(field "$tmp/t.out" paths)
+pm=$(field "$tmp/t.out" path_moves)
+[ "${np:-0}" -gt 500 ] && [ "${pm:-0}" -ge $((2 * ${np:-0})) ] || bad "torus: ${np:-no} paths of ${pm:-no} MOVEs"
 ns=$(field "$tmp/t.out" unreadable_no_spot)
 [ "${ns:-0}" -gt 0 ] || bad "torus: no frame without a spot (the hidden spots were not met)"
 "$CO" topology "$tmp/t.off" | grep -q '"manifold":true,"closed":true,"components":1,"genus":1}' ||
