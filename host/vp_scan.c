@@ -424,11 +424,12 @@ static int vp_scan_dev_move_do(void *ctx, const vp_cmd_t *cmd, int *collided)
     st = vp_machine_exec(d->m, cmd, NULL);
     *collided = 0;
     if (st != VP_OK) { d->fault = st; d->fault_cmd = *cmd; return st; }
-    if (d->dry) vp_scan_move_check(d, cmd, collided);
     if (d->dry) {
-        /* a MOVE is one straight line of all five joints: the whole head along it, after the
-         * turn about the laser origin the machine made first, if any (vp_machine_move) */
+        /* the laser origin's segment; then a MOVE is one straight line of all five joints: the
+         * whole head along it, after the turn about the laser origin the machine made first, if
+         * any (vp_machine_move) */
         unsigned long before = d->head_hits;
+        vp_scan_move_check(d, cmd, collided);
         if (d->m->st.turns != turns && d->m->turn_n > 0) {
             vp_scan_head_path(d, j0, (const double (*)[VP_KIN_JOINTS])d->m->way, d->m->turn_n);
             memcpy(j0, d->m->way[d->m->turn_n - 1], sizeof j0);

@@ -31,6 +31,25 @@ static void cmd_probe(vp_cmd_t *c, const double o[3], const double to[3], double
     c->range = range;
 }
 
+/* The farthest the laser origin gets from segment [a, b] while the joints go straight from pa
+ * to pb: the kinematics' forward map at samples + 1 even points of the piece. */
+static double piece_off_segment(const vp_kin_t *kin, const double *pa, const double *pb, const double *a,
+                                const double *b, int samples)
+{
+    double worst = 0;
+    int q, k;
+    for (q = 0; q <= samples; q++) {
+        double jj[VP_KIN_JOINTS], oo[3], dd[3], ab[3], s = 0, l2 = 0, foot[3];
+        for (k = 0; k < VP_KIN_JOINTS; k++) jj[k] = pa[k] + q / (double)samples * (pb[k] - pa[k]);
+        vp_kin_forward(kin, jj, oo, dd);
+        for (k = 0; k < 3; k++) { ab[k] = b[k] - a[k]; s += (oo[k] - a[k]) * ab[k]; l2 += ab[k] * ab[k]; }
+        s = s < 0 ? 0 : s > l2 ? 1 : s / l2;
+        for (k = 0; k < 3; k++) foot[k] = a[k] + s * ab[k];
+        if (vp_dist3(oo, foot) > worst) worst = vp_dist3(oo, foot);
+    }
+    return worst;
+}
+
 static void cmd_move(vp_cmd_t *c, const double from[3], const double to[3])
 {
     memset(c, 0, sizeof *c);
@@ -328,7 +347,7 @@ int main(void)
     {
         double A[3] = { 90, 60, 120 }, B[3] = { 100, -40, 110 }, dirA[3], j0[VP_KIN_JOINTS], jh[VP_KIN_JOINTS];
         double tol, worst = 0, aim_on = 0, aim_off = 0, hit_on = 0, hit_off = 0;
-        int pass, w, q, k;
+        int pass, w, k;
         rc = vp_board_load("boards/sim-enclosed.ini", &b, err, sizeof err);
         CHECKF(rc == VP_OK, "%s", err);
         for (pass = 0; pass < 2; pass++) {
@@ -357,16 +376,8 @@ int main(void)
                        fabs(m->j[VP_J_TILT] - 0.5 * (j0[VP_J_TILT] + jh[VP_J_TILT])) < 0.05,
                        "pan %g tilt %g, half of %g %g", m->j[VP_J_PAN], m->j[VP_J_TILT], jh[VP_J_PAN], jh[VP_J_TILT]);
                 for (w = 0; w < m->move_n; w++) {
-                    const double *pa = w ? m->way[w - 1] : j0, *pb = m->way[w];
-                    for (q = 0; q <= 40; q++) {
-                        double jj[VP_KIN_JOINTS], oo[3], dd[3], t = q / 40.0, ab[3], s = 0, l2 = 0, foot[3];
-                        for (k = 0; k < VP_KIN_JOINTS; k++) jj[k] = pa[k] + t * (pb[k] - pa[k]);
-                        vp_kin_forward(&m->kin, jj, oo, dd);
-                        for (k = 0; k < 3; k++) { ab[k] = A[k] - b.start[k]; s += (oo[k] - b.start[k]) * ab[k]; l2 += ab[k] * ab[k]; }
-                        s = s < 0 ? 0 : s > l2 ? 1 : s / l2;
-                        for (k = 0; k < 3; k++) foot[k] = b.start[k] + s * ab[k];
-                        if (vp_dist3(oo, foot) > worst) worst = vp_dist3(oo, foot);
-                    }
+                    double off = piece_off_segment(&m->kin, w ? m->way[w - 1] : j0, m->way[w], b.start, A, 40);
+                    if (off > worst) worst = off;
                 }
                 CHECKF(worst <= tol + 0.02, "the origin %g mm off the line (origin_tol %g)", worst, tol);
             } else {
@@ -407,7 +418,7 @@ int main(void)
         enum { NW = 12 };
         vp_cmd_t mv[NW];
         double P[NW + 1][3], jone[NW][VP_KIN_JOINTS], jstr[NW][VP_KIN_JOINTS], travel[2], tol, worst = 0, secs[2], left;
-        int i, k, w, q, done = -1, pass, same = 1;
+        int i, k, w, done = -1, pass, same = 1;
         unsigned long moves[2], turning[2];
         rc = vp_board_load("boards/sim-enclosed.ini", &b, err, sizeof err);
         CHECKF(rc == VP_OK, "%s", err);
@@ -457,16 +468,9 @@ int main(void)
                     const vp_machine_path_move_t *pm = &m->path[i];
                     if (memcmp(pm->j1, jone[i], sizeof jone[i]) != 0) same = 0;
                     for (w = 0; w < pm->n; w++) {
-                        const double *pa = w ? m->path_way[pm->first + w - 1] : pm->j0, *pb = m->path_way[pm->first + w];
-                        for (q = 0; q <= 20; q++) {
-                            double jj[VP_KIN_JOINTS], oo[3], dd[3], ab[3], s = 0, l2 = 0, foot[3];
-                            for (k = 0; k < VP_KIN_JOINTS; k++) jj[k] = pa[k] + q / 20.0 * (pb[k] - pa[k]);
-                            vp_kin_forward(&m->kin, jj, oo, dd);
-                            for (k = 0; k < 3; k++) { ab[k] = P[i + 1][k] - P[i][k]; s += (oo[k] - P[i][k]) * ab[k]; l2 += ab[k] * ab[k]; }
-                            s = s < 0 ? 0 : s > l2 ? 1 : s / l2;
-                            for (k = 0; k < 3; k++) foot[k] = P[i][k] + s * ab[k];
-                            if (vp_dist3(oo, foot) > worst) worst = vp_dist3(oo, foot);
-                        }
+                        double off = piece_off_segment(&m->kin, w ? m->path_way[pm->first + w - 1] : pm->j0,
+                                                       m->path_way[pm->first + w], P[i], P[i + 1], 20);
+                        if (off > worst) worst = off;
                     }
                 }
                 CHECK(memcmp(m->j, jone[NW - 1], sizeof m->j) == 0);
