@@ -122,6 +122,8 @@ typedef struct vp_planner_stats {
     uint64_t aims;             /* body mode: probes aimed from aside at a hidden facet's edge */
     uint64_t aim_balls;        /* hidden facets whose surface Delaunay ball those found */
     uint64_t aim_reached;      /* hidden facets whose far vertex those saw free (reached) */
+    uint64_t far_line_sides;   /* sides aimed at once more with lines through the far vertex alone
+                                  (the last resort of closing, close.c) */
     uint64_t reseeds;          /* samples added on components the seeds had missed */
     uint64_t noise_drops;      /* hits that a full miss from the edge's other end contradicted
                                   (S within the noise of that end): the facet dropped */
@@ -259,6 +261,8 @@ typedef struct vp_pl_close {
     uint64_t size_mark;      /* insertions + 1 at the last pass of the sizing field */
     uint32_t size_epoch;     /* the size passes so far, plus 1 (facets.c: what changed since) */
     int exhaustive;          /* detect_access in full until the next insertion */
+    int far_lines;           /* aims also pass the far vertex alone (aim.c): set the first time
+                                closing finds nothing left to probe at a hole (close.c) */
     uint32_t h2_done;        /* bit i: o_i is enclosed by the mesh */
     uint8_t h2_tries[VP_PLANNER_MAX_SEEDS];
 } vp_pl_close_t;
@@ -341,12 +345,14 @@ typedef struct vp_pl_tube {
  * crosses it: q(lo) was seen free, the line through q(hi) met S just before it. */
 typedef struct vp_pl_aim {
     int on;                    /* 1: the probe prepared or issued is an aimed one */
-    uint32_t dir_i, steps;     /* the direction tried (of AIM_DIRS), the lines along it so far */
+    uint32_t dir_i, steps;     /* the direction tried (aim.c), the lines along it so far */
     int to_vertex;             /* the edge ends at its far vertex in Omega (else at dOmega) */
     double a[3], e[3], len;    /* the edge */
     double out[3];             /* a point on the edge's line outside S: the facet's outer side */
     double d[3], t, lo, hi;    /* this direction; the point q(t) the issued line passes through */
     double sq;                 /* the line's origin to q(t) */
+    uint64_t past_share;       /* aims up to this count start past AIM_SHARE: those closing's last
+                                  resort queued (close.c, vp_pl_aim_last_resort) */
 } vp_pl_aim_t;
 #endif
 

@@ -19,6 +19,11 @@
  * centre's distance to S is tol instead of the noise. The head never enters Omega: each line
  * starts on dOmega, reached round Omega like every probe in body mode.
  *
+ * Lines for b alone (the last resort of closing, close.far_lines): b seen free needs no crossing
+ * of S read near the edge, so any direction serves, and the tilts above all come from behind the
+ * facet, through the object when the edge runs away from S into a hole (the torus's inner
+ * side): square to e, then from beyond b (135 degrees from e), each one line through b.
+ *
  * Used for the sides left unseen at a hole while closing (SIDE_RETRIED: once per side), while
  * aims are at most a quarter of all probes (AIM_SHARE). */
 #include "vp_planner_priv.h"
@@ -26,30 +31,33 @@
 #if VP_PL_CONTACTS
 
 #define AIM_DIRS 8u       /* directions tried per hidden side: two tilts, four turns each */
+#define AIM_VERTEX_DIRS 8u /* then, with close.far_lines and b in Omega, lines through b alone */
 #define AIM_STEPS 24u     /* lines along one direction at most (halvings of the edge) */
 #define AIM_TOL_REL 0.01  /* of eps: a line meeting S this near q(t) has found the ball */
 #define AIM_MID_T 0.5     /* halving starts at the edge's midpoint */
 #define AIM_SHARE 3u      /* aims start while they are at most 1 in AIM_SHARE + 1 of all probes */
 
-/* direction i of AIM_DIRS: tilted 30 degrees from e (four turns a quarter apart), then 45
- * degrees (four turns between those); u, v span the plane normal to e. The line meets S about
- * as obliquely as it is tilted from e (a Voronoi edge of a good facet runs near S's normal): a
- * steeper tilt reads the spot at a grazing angle, where a triangulating rangefinder errs most */
+/* direction i: tilted 30 degrees from e (four turns a quarter apart), then 45 degrees (four
+ * turns between those); u, v span the plane normal to e. The line meets S about as obliquely as
+ * it is tilted from e (a Voronoi edge of a good facet runs near S's normal): a steeper tilt reads
+ * the spot at a grazing angle, where a triangulating rangefinder errs most. Past AIM_DIRS, for b
+ * alone: square to e (the first four turns), then 135 degrees from it (coming from beyond b) */
 static void aim_dir(uint32_t i, const double *e, double *d)
 {
-    static const double tilt_cos[2] = {0.86602540378443865, 0.70710678118654752}, tilt_sin[2] = {0.5, 0.70710678118654752};
+    static const double tilt_cos[4] = {0.86602540378443865, 0.70710678118654752, 0.0, -0.70710678118654752},
+                        tilt_sin[4] = {0.5, 0.70710678118654752, 1.0, 0.70710678118654752};
     static const double turn[8][2] = {{1.0, 0.0}, {0.0, 1.0}, {-1.0, 0.0}, {0.0, -1.0},
                                       {0.70710678118654752, 0.70710678118654752}, {-0.70710678118654752, 0.70710678118654752},
                                       {-0.70710678118654752, -0.70710678118654752}, {0.70710678118654752, -0.70710678118654752}};
     double u[3], v[3], ax[3] = {0.0, 0.0, 0.0};
-    int q, k = 0, tl = i < 4u ? 0 : 1;
+    int q, k = 0, tl = (int)(i / 4u);
     /* the axis least along e, crossed with e */
     for (q = 1; q < 3; q++)
         if (fabs(e[q]) < fabs(e[k])) k = q;
     ax[k] = 1.0;
     vp_normal_frame3(e, ax, u, v);
     for (q = 0; q < 3; q++)
-        d[q] = tilt_cos[tl] * e[q] + tilt_sin[tl] * (turn[i][0] * u[q] + turn[i][1] * v[q]);
+        d[q] = tilt_cos[tl] * e[q] + tilt_sin[tl] * (turn[i % 8u][0] * u[q] + turn[i % 8u][1] * v[q]);
 }
 
 static double aim_tol(const vp_planner_t *pl)
@@ -58,11 +66,19 @@ static double aim_tol(const vp_planner_t *pl)
     return pl->cfg.noise_tol > tol ? pl->cfg.noise_tol : tol;
 }
 
+/* 1 while the direction tried is one for the far vertex b alone */
+static int aim_vertex_only(const vp_pl_aim_t *A)
+{
+    return A->dir_i >= AIM_DIRS;
+}
+
 /* how far before q(t) a line along this direction may meet S and still be taken as the edge's
- * own crossing: the edge's length over the cosine of the tilt, plus the tolerance */
+ * own crossing: the edge's length over the cosine of the tilt, plus the tolerance (a line for b
+ * alone reads nothing before it) */
 static double aim_near(const vp_planner_t *pl)
 {
     const vp_pl_aim_t *A = &pl->aim;
+    if (aim_vertex_only(A)) return aim_tol(pl);
     return A->len / vp_dot3(A->d, A->e) + aim_tol(pl);
 }
 
@@ -84,13 +100,15 @@ static int aim_issue(vp_planner_t *pl)
 {
     vp_pl_aim_t *A = &pl->aim;
     vp_pl_probe_t *P = &pl->probe;
-    for (; A->dir_i < AIM_DIRS; A->dir_i++, A->steps = 0, A->lo = 0.0, A->hi = 1.0) {
+    uint32_t ndirs = AIM_DIRS + (A->to_vertex && pl->close.far_lines ? AIM_VERTEX_DIRS : 0u);
+    for (; A->dir_i < ndirs; A->dir_i++, A->steps = 0, A->lo = 0.0, A->hi = 1.0) {
         double q[3], back[3], t0, t1, o[3], range;
         int k, st;
         if (A->steps == 0) aim_dir(A->dir_i, A->e, A->d);
         /* this direction is done after AIM_STEPS lines, or once the stretch left is below what
-         * a line can tell apart (the tolerance along the edge) */
-        if (A->steps >= AIM_STEPS || (A->steps > 0 && (A->hi - A->lo) * A->len * vp_dot3(A->d, A->e) < aim_tol(pl)))
+         * a line can tell apart (the tolerance along the edge); one line for b alone */
+        if (A->steps >= AIM_STEPS || (A->steps > 0 && aim_vertex_only(A)) ||
+            (A->steps > 0 && (A->hi - A->lo) * A->len * vp_dot3(A->d, A->e) < aim_tol(pl)))
             continue;
         /* the first line of a direction passes the far vertex, when it lies in Omega */
         A->t = A->steps == 0 ? (A->to_vertex ? 1.0 : AIM_MID_T) : 0.5 * (A->lo + A->hi);
@@ -132,7 +150,8 @@ VP_PL_API int vp_pl_aim_start(vp_planner_t *pl, const vp_task_t *k, const double
     if (k != &pl->probe.task) pl->probe.task = *k;
     /* a budget: where most hidden facets cannot be seen from aside either (a cavity deeper than
      * the tilts reach), the lines would cost more than the rest of the scan */
-    if ((pl->cfg.flags & VP_PLAN_NO_AIM) || AIM_SHARE * pl->st.aims > pl->st.probes - pl->st.aims)
+    if ((pl->cfg.flags & VP_PLAN_NO_AIM) ||
+        (AIM_SHARE * pl->st.aims > pl->st.probes - pl->st.aims && pl->st.aims >= pl->aim.past_share))
         return aim_give_up(pl);
     if (vp_pl_edge_geom(pl, k->tet, k->facet, &g) != VP_OK || !g.a_inside || !(g.t1 > 0.0)) return aim_give_up(pl);
     memcpy(A->a, g.a, sizeof A->a);
@@ -151,6 +170,15 @@ VP_PL_API int vp_pl_aim_start(vp_planner_t *pl, const vp_task_t *k, const double
     }
     side_set(pl, k->tet, k->facet, side_get(pl, k->tet, k->facet) | SIDE_QUEUED);
     return 1;
+}
+
+/* Closing's last resort (close.c) has queued `sides` sides: from now on aims pass far vertices
+ * alone too, and the lines those sides need start past the budget (each side once, so they are
+ * bounded: what the budget guards against is aims on every new side of a deep cavity). */
+VP_PL_API void vp_pl_aim_last_resort(vp_planner_t *pl, uint32_t sides)
+{
+    pl->close.far_lines = 1;
+    pl->aim.past_share = pl->st.aims + (uint64_t)sides * (AIM_DIRS + AIM_VERTEX_DIRS);
 }
 
 /* The answer to an aimed line. */
@@ -182,6 +210,8 @@ VP_PL_API int vp_pl_aim_feed(vp_planner_t *pl, const vp_probe_result_t *res)
             return vp_pl_tet_reached(pl, w[4 + k->facet] >> 2, pf);
         }
         A->lo = A->t; /* q(t) seen free: S crosses the edge further on */
+    } else if (aim_vertex_only(A)) {
+        A->steps = AIM_STEPS; /* b not seen free along this direction */
     } else if (res->dist >= A->sq - tol) {
         /* S met within tol of q(t): the ball's centre, on the edge */
         double h[3], c[3], s, inset = 1e-9 * A->len;

@@ -377,6 +377,54 @@ static void mark_outside_pairs(vp_planner_t *pl)
     }
 }
 
+#if VP_PL_TUBES
+/* The last resort before detect_access in full: with nothing left to probe at the holes, the
+ * sides round the odd edges that aims from aside left unseen are aimed at once more, now with
+ * lines through their far vertex alone too (close.far_lines, aim.c): a torus's hole at its
+ * inner equator, whose Voronoi edges run from the inner side into the hole and whose tilted
+ * lines all come through the tube. Set once; every aim after it has those lines. Returns the
+ * number of sides queued, or a negative status. */
+static int aim_far_vertices(vp_planner_t *pl, const uint32_t *tab, uint32_t slots)
+{
+    uint32_t i, pushed = 0;
+    if (pl->close.far_lines || !(pl->cfg.clearance > 0.0) || pl->tube.on || (pl->cfg.flags & VP_PLAN_NO_AIM))
+        return 0;
+    for (i = 0; i < slots; i++) {
+        uint32_t a = tab[3 * i], b = tab[3 * i + 1], t;
+        ring_t r;
+        int fi, broken = 0;
+        if (a == NONE || tab[3 * i + 2] == 2) continue;
+        t = edge_facet(pl, a, b, 0);
+        if (t == NONE) continue;
+        t = vp_pl_find_facet(pl, pl->pool.frec[t].v, &fi, 3u * slots);
+        if (t == NONE || !ring_start(pl, &r, t, a, b)) continue;
+        do {
+            int f;
+            if (!tet_active(pl, r.cur)) continue;
+            for (f = 0; f < 4; f++) {
+                unsigned s = side_get(pl, r.cur, f);
+                edgegeom_t g;
+                if ((s & (SIDE_BLOCKED | SIDE_DEGEN | SIDE_RETRIED | SIDE_QUEUED)) != (SIDE_BLOCKED | SIDE_RETRIED) ||
+                    (s & SIDE_MASK) != SIDE_UNKNOWN || vp_pl_facet_has_ghost(pl, r.cur, f))
+                    continue;
+                /* only a side whose edge ends at its far vertex in Omega gets such lines */
+                if (vp_pl_edge_geom(pl, r.cur, f, &g) != VP_OK || !g.a_inside || !(g.t1 > 0.0) || g.t1 < g.len)
+                    continue;
+                side_set(pl, r.cur, f, s & ~SIDE_BLOCKED);
+                VP_TRY(vp_pl_task_push(pl, r.cur, f, 1));
+                pushed++;
+            }
+        } while (ring_step(pl, &r, &broken));
+    }
+    vp_pl_aim_last_resort(pl, pushed);
+    pl->st.far_line_sides += pushed;
+    /* the next pass is a full one even if these resolve without a probe: detect_access in full
+     * stays what follows them */
+    if (pushed > 0) pl->close.mark = 0;
+    return (int)pushed;
+}
+#endif
+
 VP_PL_API int vp_pl_close_holes(vp_planner_t *pl, int refine_only)
 {
     /* edge counts in a scratch hash: 3 words per slot (a, b, count) */
@@ -437,6 +485,12 @@ VP_PL_API int vp_pl_close_holes(vp_planner_t *pl, int refine_only)
             return r;
         }
     }
+#if VP_PL_TUBES
+    if (holes > 0 && pushed == 0) {
+        int r = aim_far_vertices(pl, tab, slots);
+        if (r != 0) return r;
+    }
+#endif
     if (holes > 0 && pushed == 0 && !pl->close.exhaustive) {
         /* no active vertex next to the holes: detect_access in full from every active vertex
          * until the next insertion */

@@ -408,6 +408,7 @@ VP_PL_API int vp_pl_vantage_unseen(vp_planner_t *pl);
 #if VP_PL_CONTACTS
 VP_PL_API int vp_pl_aim_start(vp_planner_t *pl, const vp_task_t *k, const double *out);
 VP_PL_API int vp_pl_aim_feed(vp_planner_t *pl, const vp_probe_result_t *res);
+VP_PL_API void vp_pl_aim_last_resort(vp_planner_t *pl, uint32_t sides);
 #endif
 
 /* planner.c */

@@ -1,7 +1,8 @@
 /* Parts of the planner alone, through its private header (core/planner/vp_planner_priv.h):
  * the proof check (proof.c), the route outside Omega (route.c), the bad-ball heap and the facet
  * hash (facets.c), the topology rule of cuts (close.c, against Betti numbers computed here),
- * tubes inside Omega (tube.c, against a brute force written here).
+ * tubes inside Omega (tube.c, against a brute force written here), lines aimed from aside
+ * (aim.c, against a world answered exactly here).
  * Each check comes with a case it must refuse, so that none passes vacuously. */
 #include <math.h>
 #include <stdio.h>
@@ -619,6 +620,169 @@ static void test_tubes(void *arena)
     CHECK(vp_planner_init(&pl, arena, ARENA, &c) == VP_EINVAL);
 }
 
+/* ---- lines aimed from aside (aim.c) at a side whose Voronoi edge's own line is occluded: the
+ * object a solid half-space behind the edge's near end a (as a torus's tube lies behind an edge
+ * that runs from its inner side into the hole), answered exactly here. Every line tilted 30 or
+ * 45 degrees from the edge comes through the solid. After closing's last resort (close.far_lines)
+ * and with the far end b in Omega, a line square to the edge sees b free (the tet beyond is
+ * reached); with b inside a ball of the object, or on S, no line may take anything for b's side
+ * (no ball, no reach). With b outside Omega, or before the last resort, there are no lines for
+ * b alone. */
+typedef struct aim_world {
+    double a[3], e[3], off; /* the solid half-space (x - a).e < -off */
+    double b[3], rb;        /* and a ball of radius rb round b (rb 0: none) */
+} aim_world_t;
+
+static double aim_world_ray(const aim_world_t *w, const double *o, const double *d)
+{
+    double oa[3], s0, sd, best = 1e300, ob[3], bb, cc, disc;
+    vp_sub3(oa, o, w->a);
+    s0 = vp_dot3(oa, w->e) + w->off;
+    sd = vp_dot3(d, w->e);
+    if (s0 <= 0.0) best = 0.0;
+    else if (sd < 0.0) best = s0 / -sd;
+    if (w->rb > 0.0) {
+        vp_sub3(ob, o, w->b);
+        bb = vp_dot3(ob, d);
+        cc = vp_dot3(ob, ob) - w->rb * w->rb;
+        disc = bb * bb - cc;
+        if (disc >= 0.0 && -bb - sqrt(disc) >= 0.0 && -bb - sqrt(disc) < best) best = -bb - sqrt(disc);
+    }
+    return best;
+}
+
+/* a side of Del(E) whose edge starts inside Omega and runs at least `minlen`, its far end inside
+ * Omega (want_vertex) or beyond it; 1 when found */
+static int aim_side(vp_planner_t *pl, int want_vertex, double minlen, vp_task_t *k, edgegeom_t *g)
+{
+    uint32_t t;
+    int f;
+    for (t = 0; t < pl->dt.ntet_slots; t++) {
+        if (!vp_dt_alive(&pl->dt, t) || vp_dt_is_ghost(&pl->dt, t)) continue;
+        for (f = 0; f < 4; f++) {
+            int to_vertex;
+            if (vp_pl_edge_geom(pl, t, f, g) != VP_OK || !g->a_inside || !(g->t1 > minlen)) continue;
+            to_vertex = !(g->t1 < g->len);
+            if (to_vertex != want_vertex || vp_dot3(g->a, g->a) > 0.25 || (to_vertex && g->len > 0.5)) continue;
+            memset(k, 0, sizeof *k);
+            k->tet = t;
+            k->facet = (uint8_t)f;
+            return 1;
+        }
+    }
+    return 0;
+}
+
+/* aims at side k in world w until the planner stops; counts the lines (and those for b alone,
+ * each checked to pass through b from dOmega, square to e or 135 degrees from it) */
+static void aim_drive(vp_planner_t *pl, const vp_task_t *k, const edgegeom_t *g, const aim_world_t *w,
+                      int *lines, int *vertex_lines, int *bad_lines)
+{
+    double out[3];
+    int i, st;
+    *lines = *vertex_lines = *bad_lines = 0;
+    for (i = 0; i < 3; i++) out[i] = g->a[i] - 0.01 * g->dir[i];
+    st = vp_pl_aim_start(pl, k, out);
+    while (st >= 0 && pl->aim.on && *lines < 400) {
+        vp_pl_probe_t *P = &pl->probe;
+        vp_probe_result_t res;
+        double dist = aim_world_ray(w, P->origin, P->dir);
+        uint32_t r;
+        (*lines)++;
+        /* the head at the line's origin on dOmega, as its route would leave it, and the line
+         * issued (planner.c's issue_probe) */
+        CHECK(vp_pl_rec_new(pl, P->origin, NONE, REC_OUT, &r) == VP_OK);
+        pl->dev.at = P->origin_rec = r;
+        memcpy(pl->dev.iss_o, P->origin, sizeof pl->dev.iss_o);
+        memcpy(pl->dev.iss_d, P->dir, sizeof pl->dev.iss_d);
+        pl->dev.iss_range = P->range;
+        pl->probe.cur_proof = PROOF_NONE;
+        pl->st.probes++;
+        if (pl->aim.dir_i >= 8u) {
+            double ob[3], along, c = vp_dot3(P->dir, g->dir), off2;
+            (*vertex_lines)++;
+            vp_sub3(ob, w->b, P->origin);
+            along = vp_dot3(ob, P->dir);
+            off2 = vp_dot3(ob, ob) - along * along;
+            if (off2 > 1e-18 || fabs(sqrt(vp_dot3(P->origin, P->origin)) - 1.0) > 1e-9 ||
+                !(fabs(c) < 1e-9 || fabs(c + 0.70710678118654752) < 1e-9))
+                (*bad_lines)++;
+        }
+        res.hit = dist <= P->range ? 1 : 0;
+        res.dist = res.hit ? dist : 0.0;
+        st = vp_pl_aim_feed(pl, &res);
+    }
+    CHECKF(st >= 0, "aim: status %d", st);
+}
+
+static void test_aim(void *arena)
+{
+    int round;
+    for (round = 0; round < 5; round++) {
+        vp_planner_t pl;
+        vp_task_t k;
+        edgegeom_t g;
+        aim_world_t w;
+        uint32_t i, r, u;
+        double p[3] = { 1.0, 0.0, 0.0 };
+        int lines, vlines, badl, q;
+        rng_state = 777;
+        CHECK(init(&pl, arena, VP_OMEGA_BALL) == VP_OK);
+        pl.cfg.clearance = 0.01; /* a body: each line starts on dOmega, reached round it */
+        for (i = 0; i < 40; i++) {
+            uint32_t v;
+            for (q = 0; q < 3; q++) p[q] = 0.3 * (urand() - 0.5);
+            (void)vp_dt_insert(&pl.dt, p, VP_DT_NONE, &v);
+        }
+        /* the tets' sides unknown, the ends outside Omega reached (as seed.c leaves them) */
+        for (i = 0; i < pl.dt.ntet_slots; i++) {
+            double c[3];
+            if (!vp_dt_alive(&pl.dt, i)) continue;
+            pay(&pl, i)[1] = 0;
+            pay(&pl, i)[0] = (vp_dt_is_ghost(&pl.dt, i) || vp_pl_tet_point(&pl, i, c) != VP_OK ||
+                              !vp_pl_omega_inside(&pl.cfg, c)) ? VREC_OUT : NONE;
+        }
+        p[0] = 1.0; p[1] = p[2] = 0.0;
+        CHECK(vp_pl_rec_new(&pl, p, NONE, REC_OUT, &r) == VP_OK);
+        pl.dev.at = r;
+        if (!aim_side(&pl, round != 3, 0.02, &k, &g)) {
+            CHECKF(0, "aim: no side of the kind wanted (round %d)", round);
+            continue;
+        }
+        memcpy(w.a, g.a, sizeof w.a);
+        memcpy(w.e, g.dir, sizeof w.e);
+        w.off = 0.05;
+        for (q = 0; q < 3; q++) w.b[q] = g.a[q] + g.len * g.dir[q];
+        /* round 1: b inside a ball of the object; round 2: b on S (within the lines' tolerance,
+         * where a line along the edge would have found the ball) */
+        w.rb = round == 1 ? 0.3 * g.len : round == 2 ? 0.5 * 0.01 * pl.cfg.eps : 0.0;
+        u = vp_dt_tet(&pl.dt, k.tet)[4 + k.facet] >> 2;
+        if (round != 3) CHECKF(!tet_active(&pl, u), "aim: the tet beyond b active before (round %d)", round);
+        /* lines for b alone are closing's last resort (close.c); round 4 is before it */
+        pl.close.far_lines = round != 4;
+        aim_drive(&pl, &k, &g, &w, &lines, &vlines, &badl);
+        CHECK(!pl.aim.on);
+        CHECKF(badl == 0, "aim: %d of %d lines for b alone miss b, start off dOmega or tilt wrong", badl, vlines);
+        CHECK(pl.st.aim_balls == 0); /* nothing on the edge was met */
+        CHECK(side_get(&pl, k.tet, k.facet) & SIDE_BLOCKED);
+        if (round == 0) {
+            /* the tilts all come through the solid; the first line square to e sees b free */
+            CHECKF(lines == 9 && vlines == 1, "aim, b free: %d lines, %d for b alone", lines, vlines);
+            CHECKF(pl.st.aim_reached == 1 && tet_active(&pl, u), "aim, b free: reached %llu, active %d", (unsigned long long)pl.st.aim_reached, tet_active(&pl, u));
+        } else if (round < 3) {
+            /* b inside the object or on S: every line fails, none is taken for b's side */
+            CHECKF(lines == 16 && vlines == 8, "aim, b inside (round %d): %d lines, %d for b alone", round, lines, vlines);
+            CHECKF(pl.st.aim_reached == 0 && !tet_active(&pl, u), "aim, b inside: reached %llu, active %d", (unsigned long long)pl.st.aim_reached, tet_active(&pl, u));
+        } else {
+            /* b beyond dOmega, or before the last resort: the eight tilts only, and b stays
+             * unreached although it is free */
+            CHECKF(lines == 8 && vlines == 0, "aim, round %d: %d lines, %d for b alone", round, lines, vlines);
+            CHECK(pl.st.aim_reached == 0);
+            if (round == 4) CHECK(!tet_active(&pl, u));
+        }
+    }
+}
+
 int main(void)
 {
     void *arena = malloc(ARENA);
@@ -630,6 +794,7 @@ int main(void)
     test_cut_topology(arena);
     test_size_pass(arena);
     test_tubes(arena);
+    test_aim(arena);
     free(arena);
     return vp_test_done("test_planner_parts");
 }
