@@ -20,9 +20,12 @@
  * starts on dOmega, reached round Omega like every probe in body mode.
  *
  * Lines for b alone (the last resort of closing, close.far_lines): b seen free needs no crossing
- * of S read near the edge, so any direction serves, and the tilts above all come from behind the
- * facet, through the object when the edge runs away from S into a hole (the torus's inner
- * side): square to e, then from beyond b (135 degrees from e), each one line through b.
+ * of S read near the edge, and the tilts above all come from behind the facet, through the
+ * object when the edge runs away from S into a hole (the torus's inner side). These come from
+ * beyond b, 135 degrees from e, each one line through b: where such a line meets S near the facet
+ * it does so about as obliquely as the 45-degree tilts (lines square to e read a line laser's
+ * frame at a grazing angle: one ray 2.02 mm off on the rpi4 board, beyond what hits are trusted
+ * to).
  *
  * Used for the sides left unseen at a hole while closing (SIDE_RETRIED: once per side), while
  * aims are at most a quarter of all probes (AIM_SHARE). */
@@ -41,11 +44,11 @@
  * turns between those); u, v span the plane normal to e. The line meets S about as obliquely as
  * it is tilted from e (a Voronoi edge of a good facet runs near S's normal): a steeper tilt reads
  * the spot at a grazing angle, where a triangulating rangefinder errs most. Past AIM_DIRS, for b
- * alone: square to e (the first four turns), then 135 degrees from it (coming from beyond b) */
+ * alone: 135 degrees from e (coming from beyond b), in the eight turns */
 static void aim_dir(uint32_t i, const double *e, double *d)
 {
-    static const double tilt_cos[4] = {0.86602540378443865, 0.70710678118654752, 0.0, -0.70710678118654752},
-                        tilt_sin[4] = {0.5, 0.70710678118654752, 1.0, 0.70710678118654752};
+    static const double tilt_cos[4] = {0.86602540378443865, 0.70710678118654752, -0.70710678118654752, -0.70710678118654752},
+                        tilt_sin[4] = {0.5, 0.70710678118654752, 0.70710678118654752, 0.70710678118654752};
     static const double turn[8][2] = {{1.0, 0.0}, {0.0, 1.0}, {-1.0, 0.0}, {0.0, -1.0},
                                       {0.70710678118654752, 0.70710678118654752}, {-0.70710678118654752, 0.70710678118654752},
                                       {-0.70710678118654752, -0.70710678118654752}, {0.70710678118654752, -0.70710678118654752}};

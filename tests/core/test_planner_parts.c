@@ -624,8 +624,8 @@ static void test_tubes(void *arena)
  * object a solid half-space behind the edge's near end a (as a torus's tube lies behind an edge
  * that runs from its inner side into the hole), answered exactly here. Every line tilted 30 or
  * 45 degrees from the edge comes through the solid. After closing's last resort (close.far_lines)
- * and with the far end b in Omega, a line square to the edge sees b free (the tet beyond is
- * reached); with b inside a ball of the object, or on S, no line may take anything for b's side
+ * and with the far end b in Omega, a line through b from beyond it sees b free (the tet beyond
+ * is reached); with b inside a ball of the object, or on S, no line may take anything for b's side
  * (no ball, no reach). With b outside Omega, or before the last resort, there are no lines for
  * b alone. */
 typedef struct aim_world {
@@ -674,7 +674,7 @@ static int aim_side(vp_planner_t *pl, int want_vertex, double minlen, vp_task_t 
 }
 
 /* aims at side k in world w until the planner stops; counts the lines (and those for b alone,
- * each checked to pass through b from dOmega, square to e or 135 degrees from it) */
+ * each checked to pass through b from dOmega, 135 degrees from e) */
 static void aim_drive(vp_planner_t *pl, const vp_task_t *k, const edgegeom_t *g, const aim_world_t *w,
                       int *lines, int *vertex_lines, int *bad_lines)
 {
@@ -705,7 +705,7 @@ static void aim_drive(vp_planner_t *pl, const vp_task_t *k, const edgegeom_t *g,
             along = vp_dot3(ob, P->dir);
             off2 = vp_dot3(ob, ob) - along * along;
             if (off2 > 1e-18 || fabs(sqrt(vp_dot3(P->origin, P->origin)) - 1.0) > 1e-9 ||
-                !(fabs(c) < 1e-9 || fabs(c + 0.70710678118654752) < 1e-9))
+                !(fabs(c + 0.70710678118654752) < 1e-9))
                 (*bad_lines)++;
         }
         res.hit = dist <= P->range ? 1 : 0;
@@ -766,7 +766,7 @@ static void test_aim(void *arena)
         CHECK(pl.st.aim_balls == 0); /* nothing on the edge was met */
         CHECK(side_get(&pl, k.tet, k.facet) & SIDE_BLOCKED);
         if (round == 0) {
-            /* the tilts all come through the solid; the first line square to e sees b free */
+            /* the tilts all come through the solid; the first line from beyond b sees b free */
             CHECKF(lines == 9 && vlines == 1, "aim, b free: %d lines, %d for b alone", lines, vlines);
             CHECKF(pl.st.aim_reached == 1 && tet_active(&pl, u), "aim, b free: reached %llu, active %d", (unsigned long long)pl.st.aim_reached, tet_active(&pl, u));
         } else if (round < 3) {
