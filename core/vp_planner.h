@@ -346,13 +346,15 @@ typedef struct vp_pl_tube {
 typedef struct vp_pl_aim {
     int on;                    /* 1: the probe prepared or issued is an aimed one */
     uint32_t dir_i, steps;     /* the direction tried (aim.c), the lines along it so far */
+    uint32_t tries;            /* re-probes of the issued line after a miss (a dropout?) */
     int to_vertex;             /* the edge ends at its far vertex in Omega (else at dOmega) */
     double a[3], e[3], len;    /* the edge */
     double out[3];             /* a point on the edge's line outside S: the facet's outer side */
     double d[3], t, lo, hi;    /* this direction; the point q(t) the issued line passes through */
     double sq;                 /* the line's origin to q(t) */
     uint64_t past_share;       /* aims up to this count start past AIM_SHARE: those closing's last
-                                  resort queued (close.c, vp_pl_aim_last_resort) */
+                                  resort queued (close.c, vp_pl_aim_last_resort); 0 again on a
+                                  re-scan */
 } vp_pl_aim_t;
 #endif
 

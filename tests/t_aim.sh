@@ -5,6 +5,9 @@
 # the torus and genus2 stayed open in body mode (their inner sides face each other across the
 # holes). genus5 at 0.04 closes only by closing's last resort (core/planner/close.c): the sides
 # still unseen at its last holes are aimed at again, with lines through their far vertex alone.
+# With dropouts (a real hit read as a miss, 5%) an aimed line's miss is trusted only once
+# confirmed, as a task's is: trusted at once, such misses took far vertices inside genus5 for
+# outside (311-359 of some 850 per scan) and the scan ended open.
 # Checked, none of it by voroprobe's own code:
 #   - CGAL (tests/cgal_object.cpp topology) says each mesh is a closed 2-manifold of the
 #     object's genus (torus 1, genus2 2) and measures it against the object's own mesh (the
@@ -22,10 +25,10 @@ field() { tail -n 1 "$1" | sed -n "s/.*\"$2\":\([^,}]*\).*/\1/p" | tr -d '"'; }
 . tests/cgal_object.sh
 cgal_object_build "$BUILD" || { echo "FAIL: $CG_WHY"; exit 1; }
 out=""
-for c in "torus 0.03 1" "torus 0.02 1" "genus2 0.03 2" "genus5 0.04 5"; do
+for c in "torus 0.03 1" "torus 0.02 1" "genus2 0.03 2" "genus5 0.04 5" "genus5 0.04 5 0.05"; do
   set -- $c
-  n="$1-$2"
-  "$VP" sim --surface "$1" --clearance 0.05 --eps-rel "$2" --out "$tmp/$n" --json >"$tmp/$n.json" 2>"$tmp/$n.err"
+  n="$1-$2${4:+-dropout$4}"
+  "$VP" sim --surface "$1" --clearance 0.05 --eps-rel "$2" ${4:+--dropout $4} --out "$tmp/$n" --json >"$tmp/$n.json" 2>"$tmp/$n.err"
   rc=$?
   [ $rc -eq 0 ] || bad "$n: exit $rc ($(tail -n 1 "$tmp/$n.err"))"
   [ "$(field "$tmp/$n.json" collisions)" = 0 ] || bad "$n: $(field "$tmp/$n.json" collisions) moves through the object"
@@ -33,7 +36,7 @@ for c in "torus 0.03 1" "torus 0.02 1" "genus2 0.03 2" "genus5 0.04 5"; do
   a=$(field "$tmp/$n.json" aims)
   [ "${a:-0}" -gt 0 ] || bad "$n: no line aimed from aside"
   fl=$(field "$tmp/$n.json" far_line_sides)
-  if [ "$1" = genus5 ]; then [ "${fl:-0}" -gt 0 ] || bad "$n: closing's last resort not taken"; fi
+  if [ "$1" = genus5 ] && [ -z "${4:-}" ]; then [ "${fl:-0}" -gt 0 ] || bad "$n: closing's last resort not taken"; fi
   "$CO" topology "$tmp/$n.off" | grep -q "\"manifold\":true,\"closed\":true,\"components\":1,\"genus\":$3}" ||
     bad "$n: CGAL topology: $("$CO" topology "$tmp/$n.off")"
   "$VP" log verify "$tmp/$n.vplog" >"$tmp/$n.verify" 2>&1 || bad "$n: log verify: $(tail -n 1 "$tmp/$n.verify")"

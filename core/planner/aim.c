@@ -128,6 +128,7 @@ static int aim_issue(vp_planner_t *pl)
         if (st != VP_OK) return st < 0 ? st : 0;
         A->sq = t1;
         A->steps++;
+        A->tries = 0;
         memcpy(P->origin, o, sizeof o);
         memcpy(P->dir, A->d, sizeof P->dir);
         P->range = P->full = range;
@@ -191,12 +192,21 @@ VP_PL_API int vp_pl_aim_feed(vp_planner_t *pl, const vp_probe_result_t *res)
     vp_task_t *k = &pl->probe.task;
     double tol = aim_tol(pl);
     uint32_t pf = PROOF_NONE;
-    int st;
+    int st, redo;
     if (res->hit == 1) pl->st.hits++;
     else if (res->hit == 0) pl->st.misses++;
     else pl->st.too_close++;
-    if (res->hit != VP_PROBE_TOO_CLOSE) VP_TRY(vp_pl_probe_proof(pl, res, &pf)); /* its free part */
+    /* a dropout must not show b or q(t) free: a miss is trusted after confirm_misses more
+     * misses on the same line, as along an edge (tasks.c); its free part is recorded then */
+    redo = res->hit == 0 && A->tries < pl->cfg.confirm_misses;
+    if (res->hit != VP_PROBE_TOO_CLOSE && !redo) VP_TRY(vp_pl_probe_proof(pl, res, &pf)); /* its free part */
     if (!vp_dt_alive(&pl->dt, k->tet)) { A->on = 0; return VP_OK; } /* the facet has gone */
+    if (redo) {
+        A->tries++;
+        pl->st.reprobes++;
+        pl->probe.ready = 1;
+        return VP_OK; /* the side stays queued */
+    }
     side_set(pl, k->tet, k->facet, side_get(pl, k->tet, k->facet) & ~SIDE_QUEUED);
     if (res->hit == VP_PROBE_TOO_CLOSE) {
         A->steps = AIM_STEPS; /* nothing learnt along this direction */

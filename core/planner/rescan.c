@@ -701,6 +701,7 @@ static int rescan(vp_planner_t *pl, unsigned flags)
         pl->dev.at = r;
     }
     memset(&pl->close, 0, sizeof pl->close);
+    pl->aim.past_share = 0; /* closing's last resort is the previous scan's */
     pl->rescan.mark = pl->pool.nproof > 0 ? pl->pool.nproof : 1;
     pl->rescan.nvert = pl->dt.nvert;
     pl->rescan.next = 0;

@@ -674,20 +674,35 @@ static int aim_side(vp_planner_t *pl, int want_vertex, double minlen, vp_task_t 
 }
 
 /* aims at side k in world w until the planner stops; counts the lines (and those for b alone,
- * each checked to pass through b from dOmega, 135 degrees from e) */
+ * each checked to pass through b from dOmega, 135 degrees from e) and the probes. With `drop`,
+ * the first reading of each line is a dropout (a miss, whatever the line meets). */
 static void aim_drive(vp_planner_t *pl, const vp_task_t *k, const edgegeom_t *g, const aim_world_t *w,
-                      int *lines, int *vertex_lines, int *bad_lines)
+                      int drop, int *lines, int *vertex_lines, int *bad_lines, int *probes)
 {
-    double out[3];
+    double out[3], last_o[3] = {0.0, 0.0, 0.0}, last_d[3] = {0.0, 0.0, 0.0};
     int i, st;
-    *lines = *vertex_lines = *bad_lines = 0;
+    *lines = *vertex_lines = *bad_lines = *probes = 0;
     for (i = 0; i < 3; i++) out[i] = g->a[i] - 0.01 * g->dir[i];
     st = vp_pl_aim_start(pl, k, out);
-    while (st >= 0 && pl->aim.on && *lines < 400) {
+    while (st >= 0 && pl->aim.on && *probes < 800) {
         vp_pl_probe_t *P = &pl->probe;
         vp_probe_result_t res;
         double dist = aim_world_ray(w, P->origin, P->dir);
         uint32_t r;
+        int again = *probes > 0 && !memcmp(last_o, P->origin, sizeof last_o) && !memcmp(last_d, P->dir, sizeof last_d);
+        (*probes)++;
+        if (again) {
+            /* the same line again: the head stands at its origin */
+            CHECK(pl->probe.ready == 1);
+            pl->probe.ready = 0;
+            pl->st.probes++;
+            res.hit = dist <= P->range ? 1 : 0;
+            res.dist = res.hit ? dist : 0.0;
+            st = vp_pl_aim_feed(pl, &res);
+            continue;
+        }
+        memcpy(last_o, P->origin, sizeof last_o);
+        memcpy(last_d, P->dir, sizeof last_d);
         (*lines)++;
         /* the head at the line's origin on dOmega, as its route would leave it, and the line
          * issued (planner.c's issue_probe) */
@@ -708,7 +723,8 @@ static void aim_drive(vp_planner_t *pl, const vp_task_t *k, const edgegeom_t *g,
                 !(fabs(c + 0.70710678118654752) < 1e-9))
                 (*bad_lines)++;
         }
-        res.hit = dist <= P->range ? 1 : 0;
+        pl->probe.ready = 0;
+        res.hit = !drop && dist <= P->range ? 1 : 0;
         res.dist = res.hit ? dist : 0.0;
         st = vp_pl_aim_feed(pl, &res);
     }
@@ -718,17 +734,21 @@ static void aim_drive(vp_planner_t *pl, const vp_task_t *k, const edgegeom_t *g,
 static void test_aim(void *arena)
 {
     int round;
-    for (round = 0; round < 5; round++) {
+    /* rounds 0-4 as below; 5-7 with a dropout on each line's first reading: b inside a ball
+     * (5, misses confirmed twice; 6, not confirmed: the dropout must fool the planner there, or
+     * this world's dropouts test nothing), b free (7, confirmed) */
+    for (round = 0; round < 8; round++) {
         vp_planner_t pl;
         vp_task_t k;
         edgegeom_t g;
         aim_world_t w;
         uint32_t i, r, u;
         double p[3] = { 1.0, 0.0, 0.0 };
-        int lines, vlines, badl, q;
+        int lines, vlines, badl, probes, q, drop = round >= 5, kind = round < 5 ? round : round == 7 ? 0 : 1;
         rng_state = 777;
         CHECK(init(&pl, arena, VP_OMEGA_BALL) == VP_OK);
         pl.cfg.clearance = 0.01; /* a body: each line starts on dOmega, reached round it */
+        pl.cfg.confirm_misses = drop && round != 6 ? 2u : 0u;
         for (i = 0; i < 40; i++) {
             uint32_t v;
             for (q = 0; q < 3; q++) p[q] = 0.3 * (urand() - 0.5);
@@ -745,7 +765,7 @@ static void test_aim(void *arena)
         p[0] = 1.0; p[1] = p[2] = 0.0;
         CHECK(vp_pl_rec_new(&pl, p, NONE, REC_OUT, &r) == VP_OK);
         pl.dev.at = r;
-        if (!aim_side(&pl, round != 3, 0.02, &k, &g)) {
+        if (!aim_side(&pl, kind != 3, 0.02, &k, &g)) {
             CHECKF(0, "aim: no side of the kind wanted (round %d)", round);
             continue;
         }
@@ -753,25 +773,37 @@ static void test_aim(void *arena)
         memcpy(w.e, g.dir, sizeof w.e);
         w.off = 0.05;
         for (q = 0; q < 3; q++) w.b[q] = g.a[q] + g.len * g.dir[q];
-        /* round 1: b inside a ball of the object; round 2: b on S (within the lines' tolerance,
+        /* kind 1: b inside a ball of the object; kind 2: b on S (within the lines' tolerance,
          * where a line along the edge would have found the ball) */
-        w.rb = round == 1 ? 0.3 * g.len : round == 2 ? 0.5 * 0.01 * pl.cfg.eps : 0.0;
+        w.rb = kind == 1 ? 0.3 * g.len : kind == 2 ? 0.5 * 0.01 * pl.cfg.eps : 0.0;
         u = vp_dt_tet(&pl.dt, k.tet)[4 + k.facet] >> 2;
-        if (round != 3) CHECKF(!tet_active(&pl, u), "aim: the tet beyond b active before (round %d)", round);
+        if (kind != 3) CHECKF(!tet_active(&pl, u), "aim: the tet beyond b active before (round %d)", round);
         /* lines for b alone are closing's last resort (close.c); round 4 is before it */
-        pl.close.far_lines = round != 4;
-        aim_drive(&pl, &k, &g, &w, &lines, &vlines, &badl);
+        pl.close.far_lines = kind != 4;
+        aim_drive(&pl, &k, &g, &w, drop, &lines, &vlines, &badl, &probes);
         CHECK(!pl.aim.on);
         CHECKF(badl == 0, "aim: %d of %d lines for b alone miss b, start off dOmega or tilt wrong", badl, vlines);
-        CHECK(pl.st.aim_balls == 0); /* nothing on the edge was met */
         CHECK(side_get(&pl, k.tet, k.facet) & SIDE_BLOCKED);
-        if (round == 0) {
+        if (round == 6) {
+            /* unconfirmed, the dropout on the first line (through b) shows b free */
+            CHECKF(lines == 1 && probes == 1 && pl.st.aim_reached == 1 && tet_active(&pl, u),
+                   "aim, dropout unconfirmed: %d lines, reached %llu", lines, (unsigned long long)pl.st.aim_reached);
+            continue;
+        }
+        CHECK(pl.st.aim_balls == 0); /* nothing on the edge was met */
+        /* with dropouts each line is read until confirm_misses + 1 readings agree on a miss, or
+         * a hit shows the miss false */
+        CHECKF(pl.st.reprobes == (uint64_t)(probes - lines) && (!drop || pl.st.reprobes >= (uint64_t)lines),
+               "aim, round %d: %d probes, %d lines, %llu re-probes", round, probes, lines, (unsigned long long)pl.st.reprobes);
+        if (kind == 0) {
             /* the tilts all come through the solid; the first line from beyond b sees b free */
             CHECKF(lines == 9 && vlines == 1, "aim, b free: %d lines, %d for b alone", lines, vlines);
+            CHECKF(!drop || probes == 8 * 2 + 3, "aim, b free with dropouts: %d probes", probes);
             CHECKF(pl.st.aim_reached == 1 && tet_active(&pl, u), "aim, b free: reached %llu, active %d", (unsigned long long)pl.st.aim_reached, tet_active(&pl, u));
-        } else if (round < 3) {
+        } else if (kind < 3) {
             /* b inside the object or on S: every line fails, none is taken for b's side */
             CHECKF(lines == 16 && vlines == 8, "aim, b inside (round %d): %d lines, %d for b alone", round, lines, vlines);
+            CHECKF(!drop || probes == 16 * 2, "aim, b inside with dropouts: %d probes", probes);
             CHECKF(pl.st.aim_reached == 0 && !tet_active(&pl, u), "aim, b inside: reached %llu, active %d", (unsigned long long)pl.st.aim_reached, tet_active(&pl, u));
         } else {
             /* b beyond dOmega, or before the last resort: the eight tilts only, and b stays
