@@ -124,6 +124,7 @@ typedef struct vp_planner_stats {
     uint64_t aim_reached;      /* hidden facets whose far vertex those saw free (reached) */
     uint64_t far_line_sides;   /* sides aimed at once more with lines through the far vertex alone
                                   (the last resort of closing, close.c) */
+    uint64_t last_resorts;     /* closing's last resort taken (each time with fewer odd edges) */
     uint64_t reseeds;          /* samples added on components the seeds had missed */
     uint64_t noise_drops;      /* hits that a full miss from the edge's other end contradicted
                                   (S within the noise of that end): the facet dropped */
@@ -263,6 +264,8 @@ typedef struct vp_pl_close {
     int exhaustive;          /* detect_access in full until the next insertion */
     int far_lines;           /* aims also pass the far vertex alone (aim.c): set the first time
                                 closing finds nothing left to probe at a hole (close.c) */
+    uint32_t resort_odd;     /* the odd edges when closing's last resort was last taken: taken
+                                again only with at most half as many (close.c) */
     uint32_t h2_done;        /* bit i: o_i is enclosed by the mesh */
     uint8_t h2_tries[VP_PLANNER_MAX_SEEDS];
 } vp_pl_close_t;

@@ -47,13 +47,13 @@
  * alone: 135 degrees from e (coming from beyond b), in the eight turns */
 static void aim_dir(uint32_t i, const double *e, double *d)
 {
-    static const double tilt_cos[4] = {0.86602540378443865, 0.70710678118654752, -0.70710678118654752, -0.70710678118654752},
-                        tilt_sin[4] = {0.5, 0.70710678118654752, 0.70710678118654752, 0.70710678118654752};
+    static const double tilt_cos[3] = {0.86602540378443865, 0.70710678118654752, -0.70710678118654752},
+                        tilt_sin[3] = {0.5, 0.70710678118654752, 0.70710678118654752};
     static const double turn[8][2] = {{1.0, 0.0}, {0.0, 1.0}, {-1.0, 0.0}, {0.0, -1.0},
                                       {0.70710678118654752, 0.70710678118654752}, {-0.70710678118654752, 0.70710678118654752},
                                       {-0.70710678118654752, -0.70710678118654752}, {0.70710678118654752, -0.70710678118654752}};
     double u[3], v[3], ax[3] = {0.0, 0.0, 0.0};
-    int q, k = 0, tl = (int)(i / 4u);
+    int q, k = 0, tl = i < AIM_DIRS ? (int)(i / 4u) : 2;
     /* the axis least along e, crossed with e */
     for (q = 1; q < 3; q++)
         if (fabs(e[q]) < fabs(e[k])) k = q;
@@ -110,8 +110,8 @@ static int aim_issue(vp_planner_t *pl)
         if (A->steps == 0) aim_dir(A->dir_i, A->e, A->d);
         /* this direction is done after AIM_STEPS lines, or once the stretch left is below what
          * a line can tell apart (the tolerance along the edge); one line for b alone */
-        if (A->steps >= AIM_STEPS || (A->steps > 0 && aim_vertex_only(A)) ||
-            (A->steps > 0 && (A->hi - A->lo) * A->len * vp_dot3(A->d, A->e) < aim_tol(pl)))
+        if (A->steps >= AIM_STEPS || (A->steps > 0 && (aim_vertex_only(A) ||
+            (A->hi - A->lo) * A->len * vp_dot3(A->d, A->e) < aim_tol(pl))))
             continue;
         /* the first line of a direction passes the far vertex, when it lies in Omega */
         A->t = A->steps == 0 ? (A->to_vertex ? 1.0 : AIM_MID_T) : 0.5 * (A->lo + A->hi);
@@ -178,11 +178,14 @@ VP_PL_API int vp_pl_aim_start(vp_planner_t *pl, const vp_task_t *k, const double
 
 /* Closing's last resort (close.c) has queued `sides` sides: from now on aims pass far vertices
  * alone too, and the lines those sides need start past the budget (each side once, so they are
- * bounded: what the budget guards against is aims on every new side of a deep cavity). */
+ * bounded: what the budget guards against is aims on every new side of a deep cavity), at most
+ * a quarter of the probes so far (the mug's cavity on the enclosed board took all of them and
+ * more, and stayed open). */
 VP_PL_API void vp_pl_aim_last_resort(vp_planner_t *pl, uint32_t sides)
 {
+    uint64_t lines = (uint64_t)sides * (AIM_DIRS + AIM_VERTEX_DIRS), cap = pl->st.probes / (AIM_SHARE + 1u);
     pl->close.far_lines = 1;
-    pl->aim.past_share = pl->st.aims + (uint64_t)sides * (AIM_DIRS + AIM_VERTEX_DIRS);
+    pl->aim.past_share = pl->st.aims + (lines < cap ? lines : cap);
 }
 
 /* The answer to an aimed line. */

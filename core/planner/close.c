@@ -79,6 +79,15 @@ static uint32_t edge_facet(const vp_planner_t *pl, uint32_t a, uint32_t b, int l
     return best;
 }
 
+/* A tet to turn around edge (a, b) of the mesh from: one holding a facet record with that edge.
+ * The search's scratch past the edge table (3 slots words) is left alone. NONE when none. */
+static uint32_t edge_tet(vp_planner_t *pl, uint32_t a, uint32_t b, uint32_t slots)
+{
+    int fi;
+    uint32_t k = edge_facet(pl, a, b, 0);
+    return k == NONE ? NONE : vp_pl_find_facet(pl, pl->pool.frec[k].v, &fi, 3u * slots);
+}
+
 /* The smallest ball the manifold criterion refines. With a distance bound the features found
  * can be finer than eps / 100: the floor follows the bound's own floor. */
 static double manifold_floor(const vp_planner_t *pl)
@@ -230,12 +239,10 @@ static int cut_fins(vp_planner_t *pl, const uint32_t *tab, uint32_t slots)
     uint32_t i, cut = 0;
     for (i = 0; i < slots; i++) {
         uint32_t a = tab[3 * i], b = tab[3 * i + 1], t;
-        int fi, broken = 0, st = 0;
+        int broken = 0, st = 0;
         ring_t r;
         if (a == NONE || tab[3 * i + 2] < 4) continue;
-        t = edge_facet(pl, a, b, 0);
-        if (t == NONE) continue;
-        t = vp_pl_find_facet(pl, pl->pool.frec[t].v, &fi, 3u * slots);
+        t = edge_tet(pl, a, b, slots);
         if (t == NONE || !ring_start(pl, &r, t, a, b)) continue;
         do {
             if (!tet_outside(pl, r.cur) && (st = cut_tet(pl, r.cur)) != 0) break;
@@ -379,24 +386,28 @@ static void mark_outside_pairs(vp_planner_t *pl)
 
 #if VP_PL_TUBES
 /* The last resort before detect_access in full: with nothing left to probe at the holes, the
- * sides round the odd edges that aims from aside left unseen are aimed at once more, now with
- * lines through their far vertex alone too (close.far_lines, aim.c): a torus's hole at its
- * inner equator, whose Voronoi edges run from the inner side into the hole and whose tilted
- * lines all come through the tube. Set once; every aim after it has those lines. Returns the
- * number of sides queued, or a negative status. */
+ * sides round the odd edges that aims from aside left unseen (or gave up on: the aims' budget)
+ * are aimed at once more, now with lines through their far vertex alone too (close.far_lines,
+ * aim.c): a torus's hole at its inner equator, whose Voronoi edges run from the inner side into
+ * the hole and whose tilted lines all come through the tube. far_lines is set the first time;
+ * every aim after it has those lines. Taken again only when at most half as many edges are odd
+ * as the last time (close.resort_odd): a deep cavity, where each costs thousands of probes and
+ * closes a few edges, is not taken through it again and again. Returns the number of sides
+ * queued, or a negative status. */
 static int aim_far_vertices(vp_planner_t *pl, const uint32_t *tab, uint32_t slots)
 {
-    uint32_t i, pushed = 0;
-    if (pl->close.far_lines || !(pl->cfg.clearance > 0.0) || pl->tube.on || (pl->cfg.flags & VP_PLAN_NO_AIM))
-        return 0;
+    uint32_t i, pushed = 0, odd = 0;
+    if (!(pl->cfg.clearance > 0.0) || pl->tube.on || (pl->cfg.flags & VP_PLAN_NO_AIM)) return 0;
+    for (i = 0; i < slots; i++) odd += tab[3 * i] != NONE && tab[3 * i + 2] != 2;
+    if (pl->close.far_lines && 2u * odd > pl->close.resort_odd) return 0;
+    pl->close.resort_odd = odd;
+    pl->st.last_resorts++;
     for (i = 0; i < slots; i++) {
         uint32_t a = tab[3 * i], b = tab[3 * i + 1], t;
         ring_t r;
-        int fi, broken = 0;
+        int broken = 0;
         if (a == NONE || tab[3 * i + 2] == 2) continue;
-        t = edge_facet(pl, a, b, 0);
-        if (t == NONE) continue;
-        t = vp_pl_find_facet(pl, pl->pool.frec[t].v, &fi, 3u * slots);
+        t = edge_tet(pl, a, b, slots);
         if (t == NONE || !ring_start(pl, &r, t, a, b)) continue;
         do {
             int f;
@@ -424,6 +435,52 @@ static int aim_far_vertices(vp_planner_t *pl, const uint32_t *tab, uint32_t slot
     return (int)pushed;
 }
 #endif
+
+/* Body mode: detect_access in full from every active vertex found nothing at a hole in any scan
+ * measured (the enclosed torus at eps 2: 7,596 probes; the bear at eps 2: 9,516; the rpi4's 36 mm
+ * torus at eps 2: 5,872; genus5 in host-sim): away from the holes a line probed from dOmega
+ * changes nothing there, and the rings round the odd edges have been probed already
+ * (probe_around_edge). Only the tets with a vertex of an odd edge are explored then. The odd
+ * edges' vertices, sorted, go past the edge table in the scratch; their number, or NONE when
+ * they do not fit (then every active tet). */
+#if VP_PL_TUBES
+#define HOLE_VERTICES_MAX 4096u
+static uint32_t hole_vertices(const vp_planner_t *pl, const uint32_t *tab, uint32_t slots)
+{
+    uint32_t *vs = pl->pool.astar + 3u * slots, cap = pl->pool.cap_astar - 3u * slots, i, n = 0, k, j;
+    if (cap > HOLE_VERTICES_MAX) cap = HOLE_VERTICES_MAX;
+    for (i = 0; i < slots; i++) {
+        if (tab[3 * i] == NONE || tab[3 * i + 2] == 2) continue;
+        for (k = 0; k < 2; k++) {
+            uint32_t v = tab[3 * i + k];
+            /* insertion into the sorted list, once */
+            for (j = n; j > 0 && vs[j - 1] > v; j--) {}
+            if (j > 0 && vs[j - 1] == v) continue;
+            if (n >= cap) return NONE;
+            memmove(vs + j + 1, vs + j, (size_t)(n - j) * sizeof *vs);
+            vs[j] = v;
+            n++;
+        }
+    }
+    return n;
+}
+#endif
+
+static int has_vertex_in(const vp_planner_t *pl, uint32_t t, const uint32_t *vs, uint32_t n)
+{
+    const uint32_t *w = vp_dt_tet(&pl->dt, t);
+    int k;
+    for (k = 0; k < 4; k++) {
+        uint32_t lo = 0, hi = n;
+        while (lo < hi) {
+            uint32_t mid = lo + (hi - lo) / 2;
+            if (vs[mid] < w[k]) lo = mid + 1;
+            else hi = mid;
+        }
+        if (lo < n && vs[lo] == w[k]) return 1;
+    }
+    return 0;
+}
 
 VP_PL_API int vp_pl_close_holes(vp_planner_t *pl, int refine_only)
 {
@@ -457,16 +514,18 @@ VP_PL_API int vp_pl_close_holes(vp_planner_t *pl, int refine_only)
         if (r != 0) return r;
         for (i = 0; i < slots; i++) odd += tab[3 * i] != NONE && tab[3 * i + 2] != 2;
         if (odd <= LAST_HOLES && (r = cut_fins(pl, tab, slots)) > 0) pl->close.mark = 0;
+#if VP_PL_TUBES
+        /* nothing to probe at the holes either way: closing's last resort, as after a full
+         * pass that pushed nothing */
+        if (r == 0 && odd > 0) r = aim_far_vertices(pl, tab, slots);
+#endif
         return r;
     }
     for (i = 0; i < slots; i++) {
         uint32_t a = tab[3 * i], b = tab[3 * i + 1], t;
-        int fi, n;
+        int n;
         if (a == NONE || tab[3 * i + 2] == 2) continue;
-        /* a facet record with this edge gives a tet to turn around it from */
-        t = edge_facet(pl, a, b, 0);
-        if (t == NONE) continue;
-        t = vp_pl_find_facet(pl, pl->pool.frec[t].v, &fi, 3u * slots); /* the table stays whole */
+        t = edge_tet(pl, a, b, slots);
         if (t == NONE) continue;
         n = probe_around_edge(pl, t, a, b);
         if (n < 0) return n;
@@ -493,12 +552,16 @@ VP_PL_API int vp_pl_close_holes(vp_planner_t *pl, int refine_only)
 #endif
     if (holes > 0 && pushed == 0 && !pl->close.exhaustive) {
         /* no active vertex next to the holes: detect_access in full from every active vertex
-         * until the next insertion */
-        uint32_t tt;
+         * until the next insertion (in body mode from the holes' stars alone) */
+        uint32_t tt, nv = NONE;
+#if VP_PL_TUBES
+        if (pl->cfg.clearance > 0.0 && !pl->tube.on) nv = hole_vertices(pl, tab, slots);
+#endif
         pl->close.exhaustive = 1;
         pl->st.escalations++;
         for (tt = 0; tt < pl->dt.ntet_slots; tt++)
-            if (vp_dt_alive(&pl->dt, tt) && tet_active(pl, tt)) {
+            if (vp_dt_alive(&pl->dt, tt) && tet_active(pl, tt) &&
+                (nv == NONE || has_vertex_in(pl, tt, tab + 3u * slots, nv))) {
                 VP_TRY(vp_pl_explore(pl, tt));
             }
         return (int)pl->pool.ntask;
