@@ -355,6 +355,7 @@ typedef struct vp_pl_aim {
     double out[3];             /* a point on the edge's line outside S: the facet's outer side */
     double d[3], t, lo, hi;    /* this direction; the point q(t) the issued line passes through */
     double sq;                 /* the line's origin to q(t) */
+    double next_t;             /* where the last hit puts S's crossing of the edge, or -1 */
     uint64_t past_share;       /* aims up to this count start past AIM_SHARE: those closing's last
                                   resort queued (close.c, vp_pl_aim_last_resort); 0 again on a
                                   re-scan */
