@@ -631,11 +631,27 @@ static void test_tubes(void *arena)
 typedef struct aim_world {
     double a[3], e[3], off; /* the solid half-space (x - a).e < -off */
     double b[3], rb;        /* and a ball of radius rb round b (rb 0: none) */
+    /* or (rread > 0) S the plane square to e through c, the solid beyond it, and a camera that
+     * reads only the spots within rread of c (farther ones are hidden: unreadable) */
+    double c[3], rread;
 } aim_world_t;
 
-static double aim_world_ray(const aim_world_t *w, const double *o, const double *d)
+/* the first hit along the line (1e300: none); *unreadable when its spot is hidden */
+static double aim_world_ray(const aim_world_t *w, const double *o, const double *d, int *unreadable)
 {
     double oa[3], s0, sd, best = 1e300, ob[3], bb, cc, disc;
+    *unreadable = 0;
+    if (w->rread > 0.0) {
+        double oc[3], h[3], t;
+        int q;
+        vp_sub3(oc, w->c, o);
+        sd = vp_dot3(d, w->e);
+        if (!(sd > 0.0)) return best;
+        t = vp_dot3(oc, w->e) / sd;
+        for (q = 0; q < 3; q++) h[q] = o[q] + t * d[q] - w->c[q];
+        *unreadable = vp_dot3(h, h) > w->rread * w->rread;
+        return t;
+    }
     vp_sub3(oa, o, w->a);
     s0 = vp_dot3(oa, w->e) + w->off;
     sd = vp_dot3(d, w->e);
@@ -687,7 +703,8 @@ static void aim_drive(vp_planner_t *pl, const vp_task_t *k, const edgegeom_t *g,
     while (st >= 0 && pl->aim.on && *probes < 800) {
         vp_pl_probe_t *P = &pl->probe;
         vp_probe_result_t res;
-        double dist = aim_world_ray(w, P->origin, P->dir);
+        int unreadable;
+        double dist = aim_world_ray(w, P->origin, P->dir, &unreadable);
         uint32_t r;
         int again = *probes > 0 && !memcmp(last_o, P->origin, sizeof last_o) && !memcmp(last_d, P->dir, sizeof last_d);
         (*probes)++;
@@ -696,8 +713,8 @@ static void aim_drive(vp_planner_t *pl, const vp_task_t *k, const edgegeom_t *g,
             CHECK(pl->probe.ready == 1);
             pl->probe.ready = 0;
             pl->st.probes++;
-            res.hit = dist <= P->range ? 1 : 0;
-            res.dist = res.hit ? dist : 0.0;
+            res.hit = dist <= P->range ? (unreadable ? VP_PROBE_TOO_CLOSE : 1) : 0;
+            res.dist = res.hit == 1 ? dist : 0.0;
             st = vp_pl_aim_feed(pl, &res);
             continue;
         }
@@ -724,8 +741,8 @@ static void aim_drive(vp_planner_t *pl, const vp_task_t *k, const edgegeom_t *g,
                 (*bad_lines)++;
         }
         pl->probe.ready = 0;
-        res.hit = !drop && dist <= P->range ? 1 : 0;
-        res.dist = res.hit ? dist : 0.0;
+        res.hit = !drop && dist <= P->range ? (unreadable ? VP_PROBE_TOO_CLOSE : 1) : 0;
+        res.dist = res.hit == 1 ? dist : 0.0;
         st = vp_pl_aim_feed(pl, &res);
     }
     CHECKF(st >= 0, "aim: status %d", st);
@@ -736,15 +753,19 @@ static void test_aim(void *arena)
     int round;
     /* rounds 0-4 as below; 5-7 with a dropout on each line's first reading: b inside a ball
      * (5, misses confirmed twice; 6, not confirmed: the dropout must fool the planner there, or
-     * this world's dropouts test nothing), b free (7, confirmed) */
-    for (round = 0; round < 8; round++) {
+     * this world's dropouts test nothing), b free (7, confirmed); 8: S a plane crossing the edge
+     * at 0.8 of it, whose spots the camera reads only near the crossing (the bear's hidden facet
+     * on the enclosed board): the line through b meets S readably before b, the one through the
+     * edge's middle would not be read, and the line where that hit puts the crossing finds the
+     * ball there */
+    for (round = 0; round < 9; round++) {
         vp_planner_t pl;
         vp_task_t k;
         edgegeom_t g;
         aim_world_t w;
         uint32_t i, r, u;
         double p[3] = { 1.0, 0.0, 0.0 };
-        int lines, vlines, badl, probes, q, drop = round >= 5, kind = round < 5 ? round : round == 7 ? 0 : 1;
+        int lines, vlines, badl, probes, q, drop = round >= 5 && round < 8, kind = round < 5 ? round : round == 7 ? 0 : 1;
         rng_state = 777;
         CHECK(init(&pl, arena, VP_OMEGA_BALL) == VP_OK);
         pl.cfg.clearance = 0.01; /* a body: each line starts on dOmega, reached round it */
@@ -776,6 +797,13 @@ static void test_aim(void *arena)
         /* kind 1: b inside a ball of the object; kind 2: b on S (within the lines' tolerance,
          * where a line along the edge would have found the ball) */
         w.rb = kind == 1 ? 0.3 * g.len : kind == 2 ? 0.5 * 0.01 * pl.cfg.eps : 0.0;
+        w.rread = 0.0;
+        if (round == 8) {
+            /* the spots of the 30-degree lines through b lie 0.2 len tan 30 = 0.115 len from c,
+             * those of the lines through the middle 0.173 len; the 45-degree ones' 0.2 len */
+            for (q = 0; q < 3; q++) w.c[q] = g.a[q] + 0.8 * g.len * g.dir[q];
+            w.rread = 0.14 * g.len;
+        }
         u = vp_dt_tet(&pl.dt, k.tet)[4 + k.facet] >> 2;
         if (kind != 3) CHECKF(!tet_active(&pl, u), "aim: the tet beyond b active before (round %d)", round);
         /* lines for b alone are closing's last resort (close.c); round 4 is before it */
@@ -783,6 +811,21 @@ static void test_aim(void *arena)
         aim_drive(&pl, &k, &g, &w, drop, &lines, &vlines, &badl, &probes);
         CHECK(!pl.aim.on);
         CHECKF(badl == 0, "aim: %d of %d lines for b alone miss b, start off dOmega or tilt wrong", badl, vlines);
+        if (round == 8) {
+            uint32_t fv[3], fr;
+            double dc[3];
+            vp_dt_facet(&pl.dt, k.tet, k.facet, fv);
+            fr = vp_pl_frec_lookup(&pl, fv);
+            CHECKF(pl.st.aim_balls == 1 && fr != NONE, "aim, a plane read near the crossing only: %llu balls in %d lines",
+                   (unsigned long long)pl.st.aim_balls, lines);
+            if (fr != NONE) {
+                vp_sub3(dc, pl.pool.frec[fr].c, w.c);
+                CHECKF(sqrt(vp_dot3(dc, dc)) <= 0.01 * pl.cfg.eps + 1e-12, "aim: the ball's centre %g from the crossing",
+                       sqrt(vp_dot3(dc, dc)));
+            }
+            CHECKF(lines == 2, "aim, a plane: %d lines (the one through b, then the crossing)", lines);
+            continue;
+        }
         CHECK(side_get(&pl, k.tet, k.facet) & SIDE_BLOCKED);
         if (round == 6) {
             /* unconfirmed, the dropout on the first line (through b) shows b free */
