@@ -124,7 +124,8 @@ typedef struct vp_planner_stats {
     uint64_t aim_reached;      /* hidden facets whose far vertex those saw free (reached) */
     uint64_t far_line_sides;   /* sides aimed at once more with lines through the far vertex alone
                                   (the last resort of closing, close.c) */
-    uint64_t last_resorts;     /* closing's last resort taken (each time with fewer odd edges) */
+    uint64_t last_resorts;     /* closing's last resort taken (again only with at most half as
+                                  many odd edges) */
     uint64_t reseeds;          /* samples added on components the seeds had missed */
     uint64_t noise_drops;      /* hits that a full miss from the edge's other end contradicted
                                   (S within the noise of that end): the facet dropped */

@@ -91,6 +91,14 @@ static double aim_near(const vp_planner_t *pl)
     return A->len / vp_dot3(A->d, A->e) + aim_tol(pl);
 }
 
+/* Where a hit `dist` along the issued line puts S's crossing of the edge (as t): S taken as a
+ * plane square to e, a hit before or after q(t) along the line is that times cos(tilt) along
+ * the edge */
+static double aim_crossing(const vp_pl_aim_t *A, double dist)
+{
+    return A->t + (dist - A->sq) * vp_dot3(A->d, A->e) / A->len;
+}
+
 /* The side is left unseen: no aimed line found its ball. */
 static int aim_give_up(vp_planner_t *pl)
 {
@@ -239,7 +247,7 @@ VP_PL_API int vp_pl_aim_feed(vp_planner_t *pl, const vp_probe_result_t *res)
             return vp_pl_tet_reached(pl, w[4 + k->facet] >> 2, pf);
         }
         A->lo = A->t; /* q(t) seen free: S crosses the edge further on */
-        if (res->hit == 1) A->next_t = A->t + (res->dist - A->sq) * vp_dot3(A->d, A->e) / A->len;
+        if (res->hit == 1) A->next_t = aim_crossing(A, res->dist);
     } else if (aim_vertex_only(A)) {
         A->steps = AIM_STEPS; /* b not seen free along this direction */
     } else if (res->dist >= A->sq - tol) {
@@ -258,7 +266,7 @@ VP_PL_API int vp_pl_aim_feed(vp_planner_t *pl, const vp_probe_result_t *res)
         return st;
     } else if (res->dist >= A->sq - aim_near(pl)) {
         A->hi = A->t; /* met just before q(t): S crosses the edge before it */
-        A->next_t = A->t - (A->sq - res->dist) * vp_dot3(A->d, A->e) / A->len;
+        A->next_t = aim_crossing(A, res->dist);
     } else {
         A->steps = AIM_STEPS; /* occluded along this direction too */
     }

@@ -79,6 +79,14 @@ static uint32_t edge_facet(const vp_planner_t *pl, uint32_t a, uint32_t b, int l
     return best;
 }
 
+/* The edges of the edge table (3 words per slot: a, b, facets) without exactly two facets */
+static uint32_t odd_edges(const uint32_t *tab, uint32_t slots)
+{
+    uint32_t i, odd = 0;
+    for (i = 0; i < slots; i++) odd += tab[3 * i] != NONE && tab[3 * i + 2] != 2;
+    return odd;
+}
+
 /* A tet to turn around edge (a, b) of the mesh from: one holding a facet record with that edge.
  * The search's scratch past the edge table (3 slots words) is left alone. NONE when none. */
 static uint32_t edge_tet(vp_planner_t *pl, uint32_t a, uint32_t b, uint32_t slots)
@@ -396,9 +404,9 @@ static void mark_outside_pairs(vp_planner_t *pl)
  * queued, or a negative status. */
 static int aim_far_vertices(vp_planner_t *pl, const uint32_t *tab, uint32_t slots)
 {
-    uint32_t i, pushed = 0, odd = 0;
+    uint32_t i, pushed = 0, odd;
     if (!(pl->cfg.clearance > 0.0) || pl->tube.on || (pl->cfg.flags & VP_PLAN_NO_AIM)) return 0;
-    for (i = 0; i < slots; i++) odd += tab[3 * i] != NONE && tab[3 * i + 2] != 2;
+    odd = odd_edges(tab, slots);
     if (pl->close.far_lines && 2u * odd > pl->close.resort_odd) return 0;
     pl->close.resort_odd = odd;
     pl->st.last_resorts++;
@@ -510,9 +518,9 @@ VP_PL_API int vp_pl_close_holes(vp_planner_t *pl, int refine_only)
          * that pushed none would (with many left, cutting and refining feed each other on a
          * knife edge sharper than the floor resolves: measured at 20 degrees) */
         int r = refine_at_edges(pl, tab, slots);
-        uint32_t odd = 0;
+        uint32_t odd;
         if (r != 0) return r;
-        for (i = 0; i < slots; i++) odd += tab[3 * i] != NONE && tab[3 * i + 2] != 2;
+        odd = odd_edges(tab, slots);
         if (odd <= LAST_HOLES && (r = cut_fins(pl, tab, slots)) > 0) pl->close.mark = 0;
 #if VP_PL_TUBES
         /* nothing to probe at the holes either way: closing's last resort, as after a full

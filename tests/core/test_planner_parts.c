@@ -708,40 +708,36 @@ static void aim_drive(vp_planner_t *pl, const vp_task_t *k, const edgegeom_t *g,
         uint32_t r;
         int again = *probes > 0 && !memcmp(last_o, P->origin, sizeof last_o) && !memcmp(last_d, P->dir, sizeof last_d);
         (*probes)++;
+        pl->st.probes++;
         if (again) {
             /* the same line again: the head stands at its origin */
             CHECK(pl->probe.ready == 1);
-            pl->probe.ready = 0;
-            pl->st.probes++;
-            res.hit = dist <= P->range ? (unreadable ? VP_PROBE_TOO_CLOSE : 1) : 0;
-            res.dist = res.hit == 1 ? dist : 0.0;
-            st = vp_pl_aim_feed(pl, &res);
-            continue;
-        }
-        memcpy(last_o, P->origin, sizeof last_o);
-        memcpy(last_d, P->dir, sizeof last_d);
-        (*lines)++;
-        /* the head at the line's origin on dOmega, as its route would leave it, and the line
-         * issued (planner.c's issue_probe) */
-        CHECK(vp_pl_rec_new(pl, P->origin, NONE, REC_OUT, &r) == VP_OK);
-        pl->dev.at = P->origin_rec = r;
-        memcpy(pl->dev.iss_o, P->origin, sizeof pl->dev.iss_o);
-        memcpy(pl->dev.iss_d, P->dir, sizeof pl->dev.iss_d);
-        pl->dev.iss_range = P->range;
-        pl->probe.cur_proof = PROOF_NONE;
-        pl->st.probes++;
-        if (pl->aim.dir_i >= 8u) {
-            double ob[3], along, c = vp_dot3(P->dir, g->dir), off2;
-            (*vertex_lines)++;
-            vp_sub3(ob, w->b, P->origin);
-            along = vp_dot3(ob, P->dir);
-            off2 = vp_dot3(ob, ob) - along * along;
-            if (off2 > 1e-18 || fabs(sqrt(vp_dot3(P->origin, P->origin)) - 1.0) > 1e-9 ||
-                !(fabs(c + 0.70710678118654752) < 1e-9))
-                (*bad_lines)++;
+        } else {
+            memcpy(last_o, P->origin, sizeof last_o);
+            memcpy(last_d, P->dir, sizeof last_d);
+            (*lines)++;
+            /* the head at the line's origin on dOmega, as its route would leave it, and the line
+             * issued (planner.c's issue_probe) */
+            CHECK(vp_pl_rec_new(pl, P->origin, NONE, REC_OUT, &r) == VP_OK);
+            pl->dev.at = P->origin_rec = r;
+            memcpy(pl->dev.iss_o, P->origin, sizeof pl->dev.iss_o);
+            memcpy(pl->dev.iss_d, P->dir, sizeof pl->dev.iss_d);
+            pl->dev.iss_range = P->range;
+            pl->probe.cur_proof = PROOF_NONE;
+            if (pl->aim.dir_i >= 8u) {
+                double ob[3], along, c = vp_dot3(P->dir, g->dir), off2;
+                (*vertex_lines)++;
+                vp_sub3(ob, w->b, P->origin);
+                along = vp_dot3(ob, P->dir);
+                off2 = vp_dot3(ob, ob) - along * along;
+                if (off2 > 1e-18 || fabs(sqrt(vp_dot3(P->origin, P->origin)) - 1.0) > 1e-9 ||
+                    !(fabs(c + 0.70710678118654752) < 1e-9))
+                    (*bad_lines)++;
+            }
         }
         pl->probe.ready = 0;
-        res.hit = !drop && dist <= P->range ? (unreadable ? VP_PROBE_TOO_CLOSE : 1) : 0;
+        /* with drop, a line's first reading is a miss */
+        res.hit = !(drop && !again) && dist <= P->range ? (unreadable ? VP_PROBE_TOO_CLOSE : 1) : 0;
         res.dist = res.hit == 1 ? dist : 0.0;
         st = vp_pl_aim_feed(pl, &res);
     }
