@@ -15,8 +15,8 @@ typedef struct vp_device_ops {
     /* executes consecutive MOVEs (cmds[0 .. n), n <= VP_DEV_PATH) as one path: the same lines,
      * the waypoints between them passed without stopping where the machine can; collided[i] as
      * move's; *done the MOVEs made whole, from the first (fewer than n with VP_OK: the rest are
-     * given again). NULL: each MOVE alone. Never used with touched (a contact stop is taken
-     * from rest). */
+     * given again). NULL: each MOVE alone. With touched: a contact stops the path, the MOVE
+     * it stopped is the last of *done, and touched says where along it. */
     int (*move_path)(void *ctx, const vp_cmd_t *cmds, int n, int *collided, int *done);
     /* executes a probe; fills res. */
     int (*probe)(void *ctx, const vp_cmd_t *cmd, vp_probe_result_t *res);

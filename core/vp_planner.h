@@ -417,6 +417,12 @@ int vp_planner_feed(vp_planner_t *pl, const vp_probe_result_t *res);
  * VP_ERANGE when the contact lies outside Omega (Omega must hold the object: assumption A2). */
 #ifndef VP_CORE_MCU /* a microcontroller core leaves the contact safety net out (vp_status.h) */
 int vp_planner_touch(vp_planner_t *pl, double at);
+/* The same for `move`, a MOVE of a path the device made as one (vp_run): the MOVEs given after it,
+ * and the PROBE that may follow them, were not made. The last command given: vp_planner_touch.
+ * Else the planner has gone past it: VP_ERANGE when the contact lies outside Omega (as
+ * vp_planner_touch: a head kept outside Omega met the object there, and the scan stops),
+ * otherwise VP_ESTATE (a device must not run such a path inside Omega). */
+int vp_planner_touch_path(vp_planner_t *pl, const vp_cmd_t *move, double at);
 
 /* A line laser: one more ray of the last PROBE's frame, from that PROBE's origin along unit `dir`,
  * and what it saw (as for vp_planner_feed). Call after vp_planner_feed, up to cfg.line_rays

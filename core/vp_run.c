@@ -34,15 +34,21 @@ static int vp_run_path(vp_planner_t *pl, const vp_device_ops_t *dev, const vp_ru
         n++;
     }
     while (off < n && st == VP_OK) {
+        vp_probe_result_t touch;
+        int touched = 0;
         memset(collided + off, 0, (size_t)(n - off) * sizeof collided[0]);
         done = 0;
         st = dev->move_path(dev->ctx, path + off, n - off, collided + off, &done);
         if (done < 0 || done > n - off) done = 0;
         if (st == VP_OK && done == 0) st = VP_ESTATE;   /* a device that makes no progress */
+        /* the head's contact switch stopped the last MOVE made: the path ends there */
+        memset(&touch, 0, sizeof touch);
+        touch.hit = 1;
+        if (st == VP_OK && dev->touched) touched = dev->touched(dev->ctx, &touch.dist) == 1;
         for (i = off; i < off + done; i++) {
             int h = VP_OK;
             out->collisions += collided[i] != 0;
-            if (hooks && hooks->after) h = hooks->after(hooks->ctx, &path[i], NULL);
+            if (hooks && hooks->after) h = hooks->after(hooks->ctx, &path[i], touched && i + 1 == off + done ? &touch : NULL);
             if (hst != VP_OK) continue;        /* logged, not counted: the run stops */
             hst = h;
             if (hst != VP_OK) continue;
@@ -50,6 +56,14 @@ static int vp_run_path(vp_planner_t *pl, const vp_device_ops_t *dev, const vp_ru
             if (hooks && hooks->progress) hooks->progress(hooks->ctx, pl, out->commands);
         }
         off += done;
+        if (touched) {
+            double c0 = vp_run_clock(hooks);
+            out->contacts++;
+            if (hst == VP_OK) st = vp_planner_touch_path(pl, &path[off - 1], touch.dist);
+            out->planner_seconds += vp_run_clock(hooks) - c0;
+            *held = 0;
+            return st != VP_OK ? st : hst;
+        }
         if (hst != VP_OK && st == VP_OK) break;
     }
     if (st != VP_OK) return st;
@@ -93,7 +107,7 @@ int vp_run(vp_planner_t *pl, const vp_device_ops_t *dev, const vp_run_hooks_t *h
 #ifndef VP_CORE_MCU
             double at = 0.0;
             int touched;
-            if (dev->move_path && !dev->touched) {
+            if (dev->move_path) {
                 st = vp_run_path(pl, dev, hooks, max_commands, out, &cmd, &next, &held);
                 if (st != VP_OK || (max_commands && out->commands >= max_commands)) break;
                 continue;

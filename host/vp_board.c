@@ -1345,9 +1345,12 @@ void vp_board_machine_config(const vp_board_t *b, vp_machine_config_t *m)
     m->contact = vp_board_has_contact(b);
     m->confirm = b->confirm_spot;
     m->backdrop = b->have_backdrop;
-    /* the head turns on the way to a probe only where every pose is safe (the ball rule), and
-     * not with a contact switch (its stop is bounded for a carriage moving straight) */
-    m->turn_on_move = b->clearance > 0 && !(b->head_reach + b->head_margin > b->clearance) && !m->contact;
+    /* the head turns on the way to a probe only where every pose is safe (the ball rule); with a
+     * contact switch its MOVEs are watched along their pieces and paths, each waypoint passed
+     * where a touch stops within the stylus's overtravel (contact_stop, or the stop of the worst
+     * straight MOVE) */
+    m->turn_on_move = b->clearance > 0 && !(b->head_reach + b->head_margin > b->clearance);
+    if (m->contact && m->turn_on_move) m->contact_stop = b->contact_stop > 0 ? b->contact_stop : b->contact_reach;
     m->use_rf = b->have_rf;
     if (b->have_rf) m->rf = b->rf;
     if (b->line_laser) {

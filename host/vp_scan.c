@@ -387,10 +387,10 @@ static void vp_scan_trip(vp_scan_dev_t *d)
  * contact switch stopped went into the surface by the switch's lag and the overtravel: within
  * contact_stop that is the touch the switch is for, deeper a collision; the way back starts
  * inside by the lag (that stretch is the way in, retraced) */
-static void vp_scan_move_check(vp_scan_dev_t *d, const vp_cmd_t *cmd, int *collided)
+static void vp_scan_move_check(vp_scan_dev_t *d, const vp_cmd_t *cmd, int last, int *collided)
 {
     double a[3], u[3], at, ts, len = vp_dist3(cmd->from, cmd->to), s0 = 0.0;
-    int k, touched = vp_machine_contact(d->m, &at);
+    int k, touched = last && vp_machine_contact(d->m, &at);
     for (k = 0; k < 3; k++) u[k] = len > 0.0 ? (cmd->to[k] - cmd->from[k]) / len : 0.0;
     if (d->touching && len > 0.0) s0 = d->touch_lag + 1e-9 * (1.0 + len);
     if (s0 > len) s0 = len;
@@ -429,7 +429,7 @@ static int vp_scan_dev_move_do(void *ctx, const vp_cmd_t *cmd, int *collided)
          * whole head along it, after the turn about the laser origin the machine made first, if
          * any (vp_machine_move) */
         unsigned long before = d->head_hits;
-        vp_scan_move_check(d, cmd, collided);
+        vp_scan_move_check(d, cmd, 1, collided);
         if (d->m->st.turns != turns && d->m->turn_n > 0) {
             vp_scan_head_path(d, j0, (const double (*)[VP_KIN_JOINTS])d->m->way, d->m->turn_n);
             memcpy(j0, d->m->way[d->m->turn_n - 1], sizeof j0);
@@ -553,7 +553,7 @@ static int vp_scan_dev_move_path(void *ctx, const vp_cmd_t *cmds, int n, int *co
         vp_scan_trip(d);
         collided[i] = 0;
         if (!d->dry) continue;
-        vp_scan_move_check(d, &cmds[i], &collided[i]);
+        vp_scan_move_check(d, &cmds[i], i + 1 == *done, &collided[i]);
         if (pm->turn_n > 0) {
             /* the turn it needed first, then the MOVE: two motions, as when made alone */
             vp_scan_head_path(d, pm->j0, (const double (*)[VP_KIN_JOINTS])d->m->path_way + pm->first, pm->turn_n);
@@ -615,7 +615,7 @@ vp_device_ops_t vp_scan_ops(vp_scan_dev_t *d)
     ops.move = vp_scan_dev_move;
     ops.probe = vp_scan_dev_probe;
     ops.touched = vp_board_has_contact(&d->board) ? vp_scan_dev_touched : NULL;
-    ops.move_path = ops.touched ? NULL : vp_scan_dev_move_path;
+    ops.move_path = ops.touched && !(d->m->cfg.contact_stop > 0) ? NULL : vp_scan_dev_move_path;
     ops.rays = d->board.line_laser ? vp_scan_dev_rays : NULL;
     return ops;
 }

@@ -68,39 +68,27 @@ int vp_machine_goto(vp_machine_t *m, const double p[3])
     return rc;
 }
 
-/* A MOVE watching the contact switch (see vp_machine.h). */
-static int vp_machine_touch_move(vp_machine_t *m, const vp_cmd_t *cmd)
+/* Joints j as the step generator will have them (rounded to its steps, as vp_machine_sync). */
+static void vp_machine_as_stepped(const vp_machine_t *m, const double *j, double *q)
 {
-    double way[2][VP_KIN_JOINTS], jl[VP_KIN_JOINTS], o0[3], o1[3], d[3], seg[3], len, at;
-    vp_step_contact_t c;
-    int k, n = 1, watch = VP_STEP_WATCH_STOP, rc;
-    for (k = 0; k < 3; k++) if (!isfinite(cmd->from[k]) || !isfinite(cmd->to[k])) return VP_EINVAL;
-    if (m->touched) {
-        /* backing off a contact: never further along the touching move's direction */
-        double adv = 0;
-        for (k = 0; k < 3; k++) adv += (cmd->to[k] - m->touch_point[k]) * m->touch_dir[k];
-        if (adv > 1e-6) return VP_ESTATE;
-        VP_TRY(vp_kin_move(&m->kin, m->j, m->touch_point, way[0]));
-        n = 2;
-        watch = VP_STEP_WATCH_RELEASE;
-    }
-    VP_TRY(vp_kin_move(&m->kin, n == 2 ? way[0] : m->j, cmd->to, way[n - 1]));
-    m->st.moves++;
-    vp_machine_beam(m, o0, d);
-    rc = vp_step_move_watch(&m->step, &way[0][0], n, watch, &c);
-    vp_machine_sync(m);
-    vp_machine_beam(m, o1, d);
-    m->st.travel += vp_dist3(o0, o1);
-    if (rc < 0) return rc;
-    m->touched = 0;
-    if (!c.hit) return VP_OK;
-    /* the trigger: the latched joints through the forward kinematics, along the commanded line */
-    for (k = 0; k < VP_KIN_JOINTS; k++) jl[k] = c.latch[k] / m->step.cfg.axis[k].steps_per_unit;
+    int k;
+    for (k = 0; k < VP_KIN_JOINTS; k++) q[k] = vp_step_to_steps(&m->step, k, j[k]) / m->step.cfg.axis[k].steps_per_unit;
+}
+
+/* The touch that stopped cmd (c), the head now at rest with its laser origin at o1: the
+ * trigger is the latched joints through the forward kinematics, along the commanded line. A
+ * watched path's (`way`, its pieces; NULL for a MOVE alone) way back retraces the pieces to the
+ * latch: the waypoint the stop passed, if any, then the latched joints. */
+static void vp_machine_take_touch(vp_machine_t *m, const vp_cmd_t *cmd, const vp_step_contact_t *c, const double *o1,
+                                  const double (*way)[VP_KIN_JOINTS])
+{
+    double jl[VP_KIN_JOINTS], d[3], seg[3], len, at = 0;
+    int k;
+    for (k = 0; k < VP_KIN_JOINTS; k++) jl[k] = c->latch[k] / m->step.cfg.axis[k].steps_per_unit;
     vp_kin_forward(&m->kin, jl, m->last.contact_point, d);
     for (k = 0; k < 3; k++) seg[k] = cmd->to[k] - cmd->from[k];
     len = vp_norm3(seg);
-    at = 0;
-    if (len > 0 && !c.at_start) {
+    if (len > 0 && !c->at_start) {
         for (k = 0; k < 3; k++) at += (m->last.contact_point[k] - cmd->from[k]) * seg[k] / len;
         if (at < 0) at = 0;
         if (at > len) at = len;
@@ -109,9 +97,98 @@ static int vp_machine_touch_move(vp_machine_t *m, const vp_cmd_t *cmd)
     m->last.contact_at = at;
     m->last.overtravel = vp_dist3(m->last.contact_point, o1);
     m->touched = 1;
+    m->back_n = 0;
+    if (way) {
+        if (c->rest_way > c->way) memcpy(m->back_way[m->back_n++], way[c->way], sizeof m->back_way[0]);
+        memcpy(m->back_way[m->back_n++], jl, sizeof jl);
+    }
     memcpy(m->touch_point, m->last.contact_point, sizeof m->touch_point);
     for (k = 0; k < 3; k++) m->touch_dir[k] = len > 0 ? seg[k] / len : 0;
     m->contacts++;
+}
+
+/* How far the laser origin (where the contact switch is) can travel along a straight piece of
+ * the joints from ja to jb, as stepped. Along it the origin O = gantry + arm(pan, tilt) moves at
+ * O' = (O(jb) - O(ja)) + the change of the arm's derivative, which is at most its second
+ * derivative's bound times the turn: the arm turns about the pan axis within |tilt_offset| +
+ * |laser_offset| (rp) and about the tilt axis within |laser_offset| (rl), so |O'| <= |O(jb) -
+ * O(ja)| + (rp |dpan| + rl |dtilt|) (|dpan| + |dtilt|), in radians. Exact for a MOVE (pan and
+ * tilt stay put); a MOVE turning on the way keeps the origin near its line, and the bound sees
+ * that. */
+static double vp_machine_piece_len(const vp_machine_t *m, const double *ja, const double *jb)
+{
+    const double deg = 0.017453292519943295;
+    double qa[VP_KIN_JOINTS], qb[VP_KIN_JOINTS], oa[3], ob[3], d[3], dp, dt;
+    double rl = vp_norm3(m->kin.cfg.laser_offset), rp = vp_norm3(m->kin.cfg.tilt_offset) + rl;
+    vp_machine_as_stepped(m, ja, qa);
+    vp_machine_as_stepped(m, jb, qb);
+    vp_kin_forward(&m->kin, qa, oa, d);
+    vp_kin_forward(&m->kin, qb, ob, d);
+    dp = fabs(qb[VP_J_PAN] - qa[VP_J_PAN]) * deg;
+    dt = fabs(qb[VP_J_TILT] - qa[VP_J_TILT]) * deg;
+    return vp_dist3(oa, ob) + (rp * dp + rl * dt) * (dp + dt);
+}
+
+/* The pieces' lengths (vp_machine_piece_len) of a path from joints j0 through way[0 .. n) */
+static void vp_machine_piece_lens(const vp_machine_t *m, const double *j0, const double (*way)[VP_KIN_JOINTS], int n,
+                                  double *lens)
+{
+    int w;
+    for (w = 0; w < n; w++) lens[w] = vp_machine_piece_len(m, w ? way[w - 1] : j0, way[w]);
+}
+
+/* Pieces from the joints where the head stands, watched for a touch that passes their
+ * waypoints where its stop stays within cfg.contact_stop (vp_step_move_touch). */
+static int vp_machine_touch_pieces(vp_machine_t *m, const double (*way)[VP_KIN_JOINTS], int n, vp_step_contact_t *c)
+{
+    double lens[VP_MACHINE_PATH_WAY];
+    if (n > VP_MACHINE_PATH_WAY) return VP_EINVAL;
+    vp_machine_piece_lens(m, m->j, way, n, lens);
+    return vp_step_move_touch(&m->step, &way[0][0], n, VP_STEP_WATCH_STOP, lens, m->cfg.contact_stop, c);
+}
+
+/* 1 when a touch's stop on every piece from j0 stays within cfg.contact_stop */
+static int vp_machine_touch_fits(const vp_machine_t *m, const double *j0, const double (*way)[VP_KIN_JOINTS], int n)
+{
+    double lens[VP_MACHINE_PATH_WAY];
+    if (n > VP_MACHINE_PATH_WAY) return 0;
+    vp_machine_piece_lens(m, j0, way, n, lens);
+    return vp_step_touch_fits(&m->step, j0, &way[0][0], n, lens, m->cfg.contact_stop);
+}
+
+/* A MOVE watching the contact switch (see vp_machine.h). */
+static int vp_machine_touch_move(vp_machine_t *m, const vp_cmd_t *cmd)
+{
+    double way[VP_MACHINE_BACK + 1][VP_KIN_JOINTS], o0[3], o1[3], d[3];
+    vp_step_contact_t c;
+    int k, n = 1, watch = VP_STEP_WATCH_STOP, rc;
+    for (k = 0; k < 3; k++) if (!isfinite(cmd->from[k]) || !isfinite(cmd->to[k])) return VP_EINVAL;
+    if (m->touched) {
+        /* backing off a contact: never further along the touching move's direction; after a
+         * watched path's touch, back along its pieces */
+        double adv = 0;
+        for (k = 0; k < 3; k++) adv += (cmd->to[k] - m->touch_point[k]) * m->touch_dir[k];
+        if (adv > 1e-6) return VP_ESTATE;
+        if (m->back_n > 0) {
+            memcpy(way, m->back_way, (size_t)m->back_n * sizeof way[0]);
+            n = m->back_n + 1;
+        } else {
+            VP_TRY(vp_kin_move(&m->kin, m->j, m->touch_point, way[0]));
+            n = 2;
+        }
+        watch = VP_STEP_WATCH_RELEASE;
+    }
+    VP_TRY(vp_kin_move(&m->kin, n >= 2 ? way[n - 2] : m->j, cmd->to, way[n - 1]));
+    m->st.moves++;
+    vp_machine_beam(m, o0, d);
+    rc = vp_step_move_watch(&m->step, &way[0][0], n, watch, &c);
+    vp_machine_sync(m);
+    vp_machine_beam(m, o1, d);
+    m->st.travel += vp_dist3(o0, o1);
+    if (rc < 0) return rc;
+    m->touched = 0;
+    m->back_n = 0;
+    if (c.hit) vp_machine_take_touch(m, cmd, &c, o1, NULL);
     return VP_OK;
 }
 
@@ -158,8 +235,8 @@ static int vp_machine_turning_plan(const vp_machine_t *m, const double *j0, cons
 {
     double tgt[VP_KIN_JOINTS], mid[VP_KIN_JOINTS], end[VP_KIN_JOINTS], len, f;
     int n, w;
-    if (!m->cfg.turn_on_move || m->cfg.contact || m->touched || !isfinite(cmd->range) || !(cmd->range >= 0) ||
-        !(fabs(vp_norm3(cmd->dir) - 1) <= 1e-9))
+    if (!m->cfg.turn_on_move || (m->cfg.contact && !(m->cfg.contact_stop > 0)) || m->touched || !isfinite(cmd->range) ||
+        !(cmd->range >= 0) || !(fabs(vp_norm3(cmd->dir) - 1) <= 1e-9))
         return 0;
     if (vp_kin_aim(&m->kin, j0, cmd->to, cmd->dir, tgt) != VP_OK) return 0;
     len = vp_dist3(cmd->from, cmd->to);
@@ -174,6 +251,8 @@ static int vp_machine_turning_plan(const vp_machine_t *m, const double *j0, cons
     if (n < 1) return 0;
     for (w = 0; w < n; w++)
         if (!vp_kin_in_travel(&m->kin, way[w])) return 0;
+    /* a contact switch: only where a touch on every piece stops within its overtravel */
+    if (m->cfg.contact && !vp_machine_touch_fits(m, j0, (const double (*)[VP_KIN_JOINTS])way, n)) return 0;
     return n;
 }
 
@@ -182,24 +261,21 @@ static int vp_machine_turning_plan(const vp_machine_t *m, const double *j0, cons
 static int vp_machine_move_turning(vp_machine_t *m, const vp_cmd_t *cmd)
 {
     double o0[3], o1[3], d[3];
+    vp_step_contact_t c;
     int n = vp_machine_turning_plan(m, m->j, cmd, m->way), rc;
     if (n < 1) return 0;
     m->st.moves++;
     vp_machine_beam(m, o0, d);
-    rc = vp_step_move_path(&m->step, &m->way[0][0], n);
+    c.hit = 0;
+    rc = m->cfg.contact ? vp_machine_touch_pieces(m, (const double (*)[VP_KIN_JOINTS])m->way, n, &c)
+                        : vp_step_move_path(&m->step, &m->way[0][0], n);
     vp_machine_sync(m);
     vp_machine_beam(m, o1, d);
     m->st.travel += vp_dist3(o0, o1);
     m->move_n = n;
     if (rc >= 0) m->st.moves_turning++;
+    if (rc >= 0 && c.hit) vp_machine_take_touch(m, cmd, &c, o1, (const double (*)[VP_KIN_JOINTS])m->way);
     return rc < 0 ? rc : 1;
-}
-
-/* Joints j as the step generator will have them (rounded to its steps, as vp_machine_sync). */
-static void vp_machine_as_stepped(const vp_machine_t *m, const double *j, double *q)
-{
-    int k;
-    for (k = 0; k < VP_KIN_JOINTS; k++) q[k] = vp_step_to_steps(&m->step, k, j[k]) / m->step.cfg.axis[k].steps_per_unit;
 }
 
 /* A MOVE made alone at the start of a path (it needs the head turned first): its record. */
@@ -237,8 +313,10 @@ int vp_machine_move_path(vp_machine_t *m, const vp_cmd_t *cmds, int n, int *done
     double jc[VP_KIN_JOINTS], o0[3], o1[3], d[3];
     int i, k, q, count, nw = 0, rc;
     int64_t t0;
+    vp_step_contact_t c;
     if (done) *done = 0;
-    if (!m || !cmds || !done || n < 1 || n > VP_MACHINE_PATH_MOVES || m->cfg.contact) return VP_EINVAL;
+    if (!m || !cmds || !done || n < 1 || n > VP_MACHINE_PATH_MOVES || (m->cfg.contact && !(m->cfg.contact_stop > 0)))
+        return VP_EINVAL;
     for (i = 0; i < n; i++) {
         if (cmds[i].kind != VP_CMD_MOVE) return VP_EINVAL;
         for (q = 0; q < 3; q++) if (!isfinite(cmds[i].from[q]) || !isfinite(cmds[i].to[q])) return VP_EINVAL;
@@ -255,6 +333,7 @@ int vp_machine_move_path(vp_machine_t *m, const vp_cmd_t *cmds, int n, int *done
         k = vp_machine_turning_plan(m, jc, &cmds[i], m->way);
         if (k >= 1) turning = 1;
         else k = vp_kin_move(&m->kin, jc, cmds[i].to, m->way[0]) == VP_OK;
+        if (k >= 1 && i == 0 && m->touched) k = 0;          /* backing off a touch: alone */
         if (k == 0 && i == 0) {
             rc = vp_machine_path_alone(m, &cmds[0]);
             m->st.move_ns += m->io.now(m->io.ctx) - t0;
@@ -275,9 +354,31 @@ int vp_machine_move_path(vp_machine_t *m, const vp_cmd_t *cmds, int n, int *done
         nw += k;
     }
     count = i;
-    rc = vp_step_move_path(&m->step, &m->path_way[0][0], nw);
+    c.hit = 0;
+    if (m->cfg.contact) {
+        /* watched: a touch ends the path in the MOVE whose pieces it fell in; a piece whose own
+         * stop would go too far (fast, with the arm's turn) makes the first MOVE go alone */
+        double lens[VP_MACHINE_PATH_WAY];
+        vp_machine_piece_lens(m, m->j, (const double (*)[VP_KIN_JOINTS])m->path_way, nw, lens);
+        if (!vp_step_touch_fits(&m->step, NULL, &m->path_way[0][0], nw, lens, m->cfg.contact_stop)) {
+            rc = vp_machine_path_alone(m, &cmds[0]);
+            m->st.move_ns += m->io.now(m->io.ctx) - t0;
+            if (rc < 0) return rc;
+            *done = 1;
+            return VP_OK;
+        }
+        rc = vp_step_move_touch(&m->step, &m->path_way[0][0], nw, VP_STEP_WATCH_STOP, lens, m->cfg.contact_stop, &c);
+    } else
+        rc = vp_step_move_path(&m->step, &m->path_way[0][0], nw);
     vp_machine_sync(m);
     m->st.move_ns += m->io.now(m->io.ctx) - t0;
+    if (rc >= 0 && c.hit) {
+        for (i = 0; i + 1 < count && m->path[i].first + m->path[i].n <= c.way; i++) {}
+        count = i + 1;
+        memcpy(m->path[i].j1, m->j, sizeof m->j);   /* it ended where the stop did */
+        vp_kin_forward(&m->kin, m->j, o1, d);
+        vp_machine_take_touch(m, &cmds[i], &c, o1, (const double (*)[VP_KIN_JOINTS])m->path_way);
+    }
     for (i = 0; i < count; i++) {
         const vp_machine_path_move_t *pm = &m->path[i];
         if (rc < 0 && pm->first + pm->n > m->step.path_done) break;

@@ -39,6 +39,7 @@
 #define VP_MACHINE_MAX_WAY 128
 #define VP_MACHINE_PATH_MOVES 16      /* MOVEs one path takes at most (vp_machine_move_path) */
 #define VP_MACHINE_PATH_WAY 256       /* and their pieces */
+#define VP_MACHINE_BACK 2             /* a touch's way back: a waypoint its stop passed, the latch */
 #define VP_MACHINE_MAX_CALIB 256
 #define VP_MACHINE_MAX_LINE 1024      /* a line laser's points per frame (columns looked at) */
 
@@ -106,6 +107,11 @@ typedef struct vp_machine_config {
     int single_frame;                 /* tests only: no laser-off frame, no differencing */
     int contact;                      /* 1: the head has a contact switch (VP_IO_CONTACT); MOVEs
                                          watch it */
+    double contact_stop;              /* mm the laser origin may travel past a touch (the stylus's
+                                         overtravel): with contact, > 0 lets MOVEs turn on the way
+                                         and run as paths, watched, their waypoints passed where
+                                         the stop stays within it (vp_step_move_touch); 0: each
+                                         MOVE alone and straight, its stop taken from rest */
     int turn_on_move;                 /* 1: a MOVE that names the PROBE it leads to (cmd dir, and
                                          in range the way left after it) turns the head towards
                                          that probe's direction on the way, its share of the turn
@@ -172,6 +178,9 @@ typedef struct vp_machine {
     int touched;                      /* a MOVE stopped on the contact: the next one backs off */
     double touch_point[3], touch_dir[3];  /* the trigger point and that MOVE's unit direction
                                              (0 for a contact at rest on a null MOVE) */
+    double back_way[VP_MACHINE_BACK][VP_KIN_JOINTS]; /* a watched path's touch: the way back, the
+                                             pieces retraced to the latched joints */
+    int back_n;                       /* (0: straight back to touch_point) */
     unsigned long contacts;           /* MOVEs stopped on the contact */
     /* a line laser: the last probe's frame (world points, from the PROBE's origin) */
     vp_line_ws_t lws;
@@ -200,7 +209,9 @@ int vp_machine_move(vp_machine_t *m, const vp_cmd_t *cmd);
  * path[0 .. *done) where each went. Fewer than n with VP_OK when the next one needs the head
  * turned first (vp_machine_turn_for: such a MOVE is made alone, first in a path) or its pieces
  * would not fit path_way: give the rest again. An error as vp_machine_move's, *done the MOVEs
- * reached before it. VP_EINVAL for a head with a contact switch (its stop is taken from rest). */
+ * reached before it. A head with a contact switch watches it along the path (cfg.contact_stop >
+ * 0, else VP_EINVAL): a touch stops the path, the MOVE it fell in is the last made (*done
+ * counts it) and vp_machine_contact() says where along it. */
 int vp_machine_move_path(vp_machine_t *m, const vp_cmd_t *cmds, int n, int *done);
 /* 1 and *at (the trigger's distance along that MOVE, planner units) when the last MOVE stopped
  * on the contact switch; 0 otherwise (at may be NULL). */

@@ -168,6 +168,7 @@ typedef struct vp_run {
      * (steps/s of its dominant axis), its last tick due at t_last, woken at prev, the motor's
      * interval hmot (0: none yet) */
     int join, retimed;   /* retimed: the last tick was a retime (the motor slower than planned) */
+    int carry;           /* a touch's stop goes on along the path's next piece */
     int64_t t_last, prev, hmot;
     double vlast;
 } vp_run_t;
@@ -329,7 +330,7 @@ static int vp_step_run_block(vp_step_t *s, vp_step_block_t *b, vp_run_t *r)
     }
     /* read before anything moves */
     VP_TRY(vp_step_poll_n(s, b, r, s->cfg.debounce));
-    if (r->contact && r->triggered) return VP_OK;
+    if (r->contact && r->triggered && !r->carry) return VP_OK;
     if ((s->out & dmask) != dval) {
         if (vp_step_write(s, dmask, dval) < 0) return vp_step_trip(s, VP_STEP_FAULT_IO, VP_STEP_EV_ESTOP, -1, "write failed");
         wake = s->cfg.dir_setup_ns;
@@ -434,12 +435,16 @@ run:
     }
     s->st.move_time += vp_step_block_time(b, b->end);
     if (nretime) vp_step_emit_late(s, VP_STEP_EV_RETIME, -1, "late steps: profile re-entered", worst, nretime);
-    if (r->mode == VP_RUN_MOVE && b->ends && b->vo > 0 && !b->stopping && b->end == b->n && prev >= 0) {
-        r->join = 1;
-        r->t_last = start + shift + (int64_t)llround(b->T * 1e9);
-        r->prev = prev;
-        r->hmot = hmot;
-        r->vlast = b->vo;
+    if (r->mode == VP_RUN_MOVE && b->ends && b->end == b->n && prev >= 0) {
+        /* through the waypoint at speed: planned (vo), or a stop the block could not finish */
+        double ve = b->stopping ? vp_step_block_rate(b) : b->vo;
+        if (ve > 0) {
+            r->join = 1;
+            r->t_last = start + shift + (int64_t)llround((b->stopping ? vp_step_block_time(b, b->n) : b->T) * 1e9);
+            r->prev = prev;
+            r->hmot = hmot;
+            r->vlast = ve;
+        }
     }
     return VP_OK;
 }
@@ -482,6 +487,47 @@ static int vp_step_exec(vp_step_t *s, const int32_t *delta, const double *rate, 
     return vp_step_run_block(s, &b, r);
 }
 
+/* A junction's rho: the entry rate of block d1 (steps/s of its dominant axis, n1 steps) over the
+ * exit rate of block d0 (n0) that best matches the axes' velocities, weighted by their jerk J. */
+static double vp_step_rho(int na, const int32_t *d0, const int32_t *d1, double n0, double n1, const double *J)
+{
+    double num = 0, den = 0;
+    int i;
+    for (i = 0; i < na; i++) {
+        double ai = d0[i] / n0, bi = d1[i] / n1;
+        if (!d0[i] && !d1[i]) continue;
+        num += ai * bi / (J[i] * J[i]);
+        den += bi * bi / (J[i] * J[i]);
+    }
+    return den > 0 && num > 0 ? num / den : 0;
+}
+
+static void vp_step_jerks(const vp_step_t *s, double *J)
+{
+    int i;
+    for (i = 0; i < s->cfg.naxes; i++) J[i] = s->cfg.axis[i].jerk * s->cfg.axis[i].steps_per_unit;
+}
+
+/* How far a touch's stop carries the touching point within a block of n dominant steps whose
+ * piece is len long (the caller's bound of the point's travel along it): from its top rate v at
+ * acceleration a, or to the block's end (the rest is the next block's); plus the confirming
+ * samples (debounce), a step each, at the path's longest step lmax (they can fall on either side
+ * of a waypoint). */
+static double vp_step_touch_stop(const vp_step_t *s, double len, double n, double v, double a, double lmax)
+{
+    double run = v * v / (2 * a);
+    return (n > 0 ? len / n * (run < n ? run : n) : 0) + 2.0 * s->cfg.debounce * lmax;
+}
+
+/* The longest step (len / dominant steps) of the blocks d[0 .. nb) */
+static double vp_step_touch_lmax(const double *len, const double *n, int nb)
+{
+    double lm = 0;
+    int w;
+    for (w = 0; w < nb; w++) if (n[w] > 0 && len[w] / n[w] > lm) lm = len[w] / n[w];
+    return lm;
+}
+
 /* The junction rates of a path's blocks d[0..nb-1] (steps; lastdir: each axis's direction before
  * the first; v0: the first block's entry rate, as the plan before gave it): vin[w], vout[w] in
  * steps/s of block w's dominant axis, the last block ending at rest. A junction is passed at a
@@ -492,14 +538,15 @@ static int vp_step_exec(vp_step_t *s, const int32_t *delta, const double *rate, 
  * jerk, rho the least-squares match of the two velocities. Then grbl's two passes: backward
  * from rest (each block can slow down to its exit), forward from rest (each can speed up). */
 static void vp_step_plan(const vp_step_t *s, const int32_t (*d)[VP_STEP_MAX_AXES], int nb, const int8_t *lastdir,
-                         const double *rate, const double *acc, double v0, double *vin, double *vout)
+                         const double *rate, const double *acc, double v0, const double *len, double stop_max,
+                         double *vin, double *vout)
 {
-    double n[VP_STEP_PLAN], a[VP_STEP_PLAN], v[VP_STEP_PLAN], rho[VP_STEP_PLAN], xmax[VP_STEP_PLAN];
+    double n[VP_STEP_PLAN], a[VP_STEP_PLAN], v[VP_STEP_PLAN], rho[VP_STEP_PLAN], xmax[VP_STEP_PLAN], lmax = 0;
     double J[VP_STEP_MAX_AXES];   /* jerk in steps/s */
     int8_t dir[VP_STEP_MAX_AXES];
     int w, i, na = s->cfg.naxes;
     memcpy(dir, lastdir, sizeof dir);
-    for (i = 0; i < na; i++) J[i] = s->cfg.axis[i].jerk * s->cfg.axis[i].steps_per_unit;
+    vp_step_jerks(s, J);
     for (w = 0; w < nb; w++) {
         vp_step_block_t b;
         n[w] = a[w] = v[w] = 0;
@@ -508,23 +555,30 @@ static void vp_step_plan(const vp_step_t *s, const int32_t (*d)[VP_STEP_MAX_AXES
         }
         vin[w] = vout[w] = rho[w] = xmax[w] = 0;
     }
+    if (len) lmax = vp_step_touch_lmax(len, n, nb);
     for (w = 0; w + 1 < nb; w++) {
-        double num = 0, den = 0, x;
+        double x;
         int ok = n[w] > 0 && n[w + 1] > 0;
         for (i = 0; i < na; i++) if (d[w][i]) dir[i] = (int8_t)(d[w][i] > 0 ? 1 : -1);
         for (i = 0; ok && i < na; i++) {
-            double ai = d[w][i] / n[w], bi = d[w + 1][i] / n[w + 1];
             if (!d[w][i] && !d[w + 1][i]) continue;
             if (!(J[i] > 0)) ok = 0;
             else if (d[w + 1][i] && dir[i] && (d[w + 1][i] > 0 ? 1 : -1) != dir[i] && s->backlash[i]) ok = 0;
-            else { num += ai * bi / (J[i] * J[i]); den += bi * bi / (J[i] * J[i]); }
         }
-        if (!ok || !(den > 0) || !(num > 0)) continue;
-        rho[w] = num / den;
+        if (!ok || !((rho[w] = vp_step_rho(na, d[w], d[w + 1], n[w], n[w + 1], J)) > 0)) continue;
         x = v[w] < v[w + 1] / rho[w] ? v[w] : v[w + 1] / rho[w];
         for (i = 0; i < na; i++) {
             double jump = fabs(d[w][i] / n[w] - rho[w] * d[w + 1][i] / n[w + 1]);
             if (jump > 0 && J[i] / jump < x) x = J[i] / jump;
+        }
+        if (len) {
+            /* watched for a touch: the stop from the entry into block w + 1 ends within that
+             * block, and with block w's own stop within stop_max */
+            double room = stop_max - vp_step_touch_stop(s, len[w], n[w], v[w], a[w], lmax);
+            double l1 = len[w + 1] / n[w + 1], reach = room > 0 ? (l1 > 0 ? room / l1 : n[w + 1]) : 0, vmax;
+            if (reach > n[w + 1]) reach = n[w + 1];
+            vmax = sqrt(2 * a[w + 1] * reach) / rho[w];
+            if (vmax < x) x = vmax;
         }
         xmax[w] = x;
     }
@@ -648,7 +702,84 @@ int vp_step_move_path(vp_step_t *s, const double *way, int n)
     return vp_step_move_watch(s, way, n, VP_STEP_WATCH_NONE, NULL);
 }
 
+/* The steps of block w of a path that starts at p0. */
+static void vp_step_piece(const vp_step_t *s, const double *way, int w, const int32_t *p0, int32_t *d)
+{
+    int32_t from[VP_STEP_MAX_AXES];
+    int i, na = s->cfg.naxes;
+    for (i = 0; i < na; i++) from[i] = w > 0 ? vp_step_to_steps(s, i, way[(size_t)(w - 1) * na + i]) : p0[i];
+    for (i = 0; i < na; i++) d[i] = vp_step_to_steps(s, i, way[(size_t)w * na + i]) - from[i];
+}
+
+int vp_step_touch_fits(const vp_step_t *s, const double *from, const double *way, int n, const double *len,
+                       double stop_max)
+{
+    double rate[VP_STEP_MAX_AXES], acc[VP_STEP_MAX_AXES], lmax = 0;
+    int32_t p0[VP_STEP_MAX_AXES];
+    int w, i;
+    if (!s || !way || !len || n < 0 || !(stop_max >= 0)) return 0;
+    for (i = 0; i < s->cfg.naxes; i++) p0[i] = from ? vp_step_to_steps(s, i, from[i]) : s->pos[i];
+    vp_step_limits(s, rate, acc);
+    /* twice: the longest step, then each block's own stop */
+    for (i = 0; i < 2; i++)
+        for (w = 0; w < n; w++) {
+            int32_t d[VP_STEP_MAX_AXES];
+            vp_step_block_t b;
+            vp_step_piece(s, way, w, p0, d);
+            if (!(len[w] >= 0) || vp_step_block_init(&b, s->cfg.naxes, d, rate, acc, s->cfg.max_step_rate) != VP_OK) return 0;
+            if (!b.n) continue;
+            if (i == 0 && len[w] / b.n > lmax) lmax = len[w] / b.n;
+            if (i == 1 && vp_step_touch_stop(s, len[w], b.n, b.v, b.a, lmax) > stop_max) return 0;
+        }
+    return 1;
+}
+
+/* A touch's stop that block w could not finish: the head still moving at r->vlast when it
+ * reached its waypoint (or as it was about to start: the touch seen before its first step) goes
+ * on along the next piece, entered at the junction's rate (rho) and decelerating from its first
+ * step. The plan's watched junctions let it end there; c->rest_way says where it did. */
+static int vp_step_stop_on(vp_step_t *s, const double *way, int n, int w, const int32_t *p0, const double *rate,
+                           const double *acc, vp_run_t *r, vp_step_contact_t *c)
+{
+    double J[VP_STEP_MAX_AXES];
+    int na = s->cfg.naxes;
+    vp_step_jerks(s, J);
+    while (r->join && !s->cfg.contact_halt) {
+        int32_t d0[VP_STEP_MAX_AXES], d1[VP_STEP_MAX_AXES], left[VP_STEP_MAX_AXES];
+        vp_step_block_t b0, b1;
+        double rho;
+        int i, reached = 1, j;
+        vp_step_piece(s, way, w, p0, d0);
+        for (i = 0; i < na; i++) {
+            left[i] = vp_step_to_steps(s, i, way[(size_t)w * na + i]) - s->pos[i];
+            if (left[i]) reached = 0;
+        }
+        j = reached ? w + 1 : w;
+        if (j >= n || j == 0) break;
+        if (reached) vp_step_piece(s, way, j, p0, d1);
+        else { memcpy(d1, d0, sizeof d1); vp_step_piece(s, way, j - 1, p0, d0); }
+        if (vp_step_block_init(&b0, na, d0, rate, acc, s->cfg.max_step_rate) != VP_OK || !b0.n ||
+            vp_step_block_init(&b1, na, d1, rate, acc, s->cfg.max_step_rate) != VP_OK || !b1.n)
+            break;
+        rho = vp_step_rho(na, d0, d1, b0.n, b1.n, J);
+        if (!(rho > 0)) break;
+        VP_TRY(vp_step_block_ends(&b1, rho * r->vlast, 0));
+        vp_step_block_stop(&b1);
+        r->carry = 1;
+        VP_TRY(vp_step_run_block(s, &b1, r));
+        r->carry = 0;
+        c->rest_way = w = j;
+    }
+    return VP_OK;
+}
+
 int vp_step_move_watch(vp_step_t *s, const double *way, int n, int watch, vp_step_contact_t *c)
+{
+    return vp_step_move_touch(s, way, n, watch, NULL, 0, c);
+}
+
+int vp_step_move_touch(vp_step_t *s, const double *way, int n, int watch, const double *len, double stop_max,
+                       vp_step_contact_t *c)
 {
     int32_t delta[VP_STEP_MAX_AXES], at[VP_STEP_MAX_AXES];
     double rate[VP_STEP_MAX_AXES], acc[VP_STEP_MAX_AXES];
@@ -657,7 +788,9 @@ int vp_step_move_watch(vp_step_t *s, const double *way, int n, int watch, vp_ste
     uint32_t in = 0;
     double vin[VP_STEP_PLAN], vout[VP_STEP_PLAN];
     int w, rc, na, i, base = 0, nplan = 0;
-    if (!s || !way || n < 0 || watch < VP_STEP_WATCH_NONE || watch > VP_STEP_WATCH_RELEASE || (watch && !c)) return VP_EINVAL;
+    if (!s || !way || n < 0 || watch < VP_STEP_WATCH_NONE || watch > VP_STEP_WATCH_RELEASE || (watch && !c) ||
+        (len && watch != VP_STEP_WATCH_STOP))
+        return VP_EINVAL;
     if (!c) c = &unused;
     memset(c, 0, sizeof *c);
     s->path_done = 0;
@@ -669,6 +802,7 @@ int vp_step_move_watch(vp_step_t *s, const double *way, int n, int watch, vp_ste
         rc = vp_step_target(s, way + (size_t)w * na, at, delta);
         if (rc < 0) { s->st.refused++; return rc; }
     }
+    if (len && !vp_step_touch_fits(s, NULL, way, n, len, stop_max)) { s->st.refused++; return VP_ERANGE; }
     vp_step_limits(s, rate, acc);
     memset(&r, 0, sizeof r);
     r.mode = VP_RUN_MOVE;
@@ -692,8 +826,9 @@ int vp_step_move_watch(vp_step_t *s, const double *way, int n, int watch, vp_ste
         int q = w - base;
         if (w == 0 || (q >= VP_STEP_PLAN / 2 && base + nplan < n)) {
             /* the junctions of the next VP_STEP_PLAN blocks, re-planned halfway through so the
-             * path ends at rest only at its end (none when a contact is watched: a stop there is
-             * taken from rest); the first block enters at the rate the last plan gave it */
+             * path ends at rest only at its end (none when a contact is watched without the
+             * pieces' lengths: a stop there is taken from rest); the first block enters at the
+             * rate the last plan gave it */
             int32_t d[VP_STEP_PLAN][VP_STEP_MAX_AXES], p[VP_STEP_MAX_AXES];
             int nb = n - w < VP_STEP_PLAN ? n - w : VP_STEP_PLAN, k;
             double v0 = w > 0 && r.join ? vin[q] : 0;
@@ -702,22 +837,25 @@ int vp_step_move_watch(vp_step_t *s, const double *way, int n, int watch, vp_ste
             base = w;
             nplan = nb;
             q = 0;
-            if (!watch && nb > 1) {
+            if ((!watch || len) && nb > 1) {
                 memcpy(p, s->pos, sizeof p);
                 for (k = 0; k < nb; k++) {
                     vp_step_target(s, way + (size_t)(w + k) * na, p, d[k]);
                     for (i = 0; i < na; i++) p[i] += d[k][i];
                 }
-                vp_step_plan(s, (const int32_t (*)[VP_STEP_MAX_AXES])d, nb, s->last_dir, rate, acc, v0, vin, vout);
+                vp_step_plan(s, (const int32_t (*)[VP_STEP_MAX_AXES])d, nb, s->last_dir, rate, acc, v0,
+                             len ? len + w : NULL, stop_max, vin, vout);
             }
         }
         vp_step_target(s, way + (size_t)w * na, s->pos, delta);
         VP_TRY(vp_step_exec(s, delta, rate, acc, vin[q], vout[q], &r));
         if (r.contact && r.triggered) {
             c->hit = 1;
-            c->way = w;
+            c->way = c->rest_way = w;
             s->st.contacts++;
             vp_step_emit(s, VP_STEP_EV_CONTACT, -1, "contact: stopped");
+            if (len) VP_TRY(vp_step_stop_on(s, way, n, w, at, rate, acc, &r, c));
+            s->path_done = c->rest_way;
             break;
         }
         s->path_done = w + 1;

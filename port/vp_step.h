@@ -195,11 +195,26 @@ typedef struct vp_step_contact {
     int hit;                                 /* the move stopped on the contact */
     int at_start;                            /* it was closed before the first step (no step made) */
     int way;                                 /* the waypoint being travelled to when it closed */
+    int rest_way;                            /* ... and when the head came to rest (vp_step_move_touch:
+                                                way or way + 1, the stop carried past a waypoint) */
     int32_t latch[VP_STEP_MAX_AXES];         /* steps of every axis at the first confirming sample */
 } vp_step_contact_t;
 /* vp_step_move_path watching the contact (watch VP_STEP_WATCH_*); *c filled (may be NULL with
  * VP_STEP_WATCH_NONE). Returns as vp_step_move_path. */
 int  vp_step_move_watch(vp_step_t *s, const double *way, int n, int watch, vp_step_contact_t *c);
+/* vp_step_move_watch that also passes the waypoints of a path watched for a touch (STOP) without
+ * stopping: len[w] bounds how far the touching point travels along piece w (any unit, e.g. mm of
+ * the laser origin), stop_max how far it may go past the trigger. A piece whose own stop (its
+ * top rate, 2 * debounce steps) goes farther refuses the path (VP_ERANGE, nothing moved:
+ * vp_step_touch_fits); a junction is passed at a rate from which the stop carries the point no
+ * farther than stop_max with the piece before's worst and ends within the next piece, where the
+ * touched path's stop decelerates on (c->rest_way). len NULL: vp_step_move_watch. */
+int  vp_step_move_touch(vp_step_t *s, const double *way, int n, int watch, const double *len, double stop_max,
+                        vp_step_contact_t *c);
+/* 1 when every piece of the path from `from` (units; NULL: the current position) keeps its own
+ * touch's stop within stop_max (as vp_step_move_touch checks) */
+int  vp_step_touch_fits(const vp_step_t *s, const double *from, const double *way, int n, const double *len,
+                        double stop_max);
 /* The most a coordinated move of the listed axes travels (units along its path) between the
  * first sample that sees a contact and rest: the deceleration from the fastest coordinated speed
  * plus `debounce` steps (the confirming samples, and the step the trigger falls within).

@@ -54,7 +54,9 @@ same() { # $1: log prefix, $2: what
 for n in 300 600; do
   "$VP" scan --board $BOARD --dry-run --log "$tmp/p$n.vplog" $S --stop-after $n >"$tmp/p.txt" 2>"$tmp/p.err"; rc=$?
   [ $rc -eq 3 ] || bad "--stop-after $n: exit $rc, not 3 (paused)"
-  "$VP" log dump "$tmp/p$n.vplog" | grep -q "EVENT pause code 0 'paused after $n commands (Ctrl-C)'" || bad "--stop-after $n: no PAUSE event"
+  # a Ctrl-C in a path (the MOVEs of a route made as one) pauses at the path's end: within 16 commands
+  pn=$("$VP" log dump "$tmp/p$n.vplog" | sed -n "s/.*EVENT pause code 0 'paused after \([0-9]*\) commands (Ctrl-C)'.*/\1/p")
+  [ -n "$pn" ] && [ "$pn" -ge $n ] && [ "$pn" -lt $((n + 16)) ] || bad "--stop-after $n: no PAUSE event within 16 commands (${pn:-none})"
   "$VP" log check "$tmp/p$n.vplog" | grep -q "scan --log $tmp/p$n.vplog --resume" || bad "log check does not say how to resume"
   "$VP" scan --log "$tmp/p$n.vplog" --resume $S >"$tmp/r.txt" 2>"$tmp/r.err" || { bad "resume after $n: exit $?"; tail -3 "$tmp/r.err"; }
   grep -q "moves, .* mm (the session had travelled" "$tmp/r.err" || bad "resume after $n: no route back"

@@ -286,3 +286,23 @@ int vp_planner_touch(vp_planner_t *pl, double at)
     if (st < 0) pl->error = st;
     return st;
 }
+
+int vp_planner_touch_path(vp_planner_t *pl, const vp_cmd_t *move, double at)
+{
+    double u[3], c[3], len;
+    int k, last = pl && pl->contact.moved && !pl->dev.awaiting;
+    if (!pl || !move || move->kind != VP_CMD_MOVE) return VP_EINVAL;
+    if (pl->error) return pl->error;
+    for (k = 0; k < 3; k++)
+        if (move->to[k] != pl->dev.pos[k] || move->from[k] != pl->contact.move_from[k]) last = 0;
+    if (last) return vp_planner_touch(pl, at);   /* the last command given */
+    vp_sub3(u, move->to, move->from);
+    len = sqrt(vp_dot3(u, u));
+    if (!(at >= 0.0) || !(at <= len + pl->ptol)) return VP_EINVAL;
+    if (at > len) at = len;
+    for (k = 0; k < 3; k++) c[k] = move->from[k] + (len > 0.0 ? at / len * u[k] : 0.0);
+    /* Omega holds the object (A2): a contact outside it breaks the assumption every proof
+     * outside Omega rests on */
+    pl->error = vp_pl_omega_inside(&pl->cfg, c) ? VP_ESTATE : VP_ERANGE;
+    return pl->error;
+}

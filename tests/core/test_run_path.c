@@ -3,7 +3,10 @@
  * sphere's formula: the same commands in the same order reach the log (the after hook), every
  * path is a chain of MOVEs starting where the head stands, max_commands is kept exactly, a
  * device that makes part of a path is given the rest again, and when the hook stops the scan
- * or the device fails in a path, every MOVE the head made is logged and none it did not make. */
+ * or the device fails in a path, every MOVE the head made is logged and none it did not make.
+ * A contact switch that stops a path's MOVE: the path ends there, that MOVE is logged with its
+ * touch, and the planner, which has gone past it, stops the scan as a MOVE alone would (the
+ * contact outside Omega: VP_ERANGE) or refuses the path (inside Omega: VP_ESTATE). */
 #include <math.h>
 #include <string.h>
 #include "vp_planner.h"
@@ -24,6 +27,13 @@ typedef struct path_dev {
     unsigned long fail_at;         /* the device fails at the first MOVE from this command on
                                       (1-based; 0: never) */
     unsigned long stop_at;         /* the hook stops the scan after this command (0: never) */
+    unsigned long touch_at;        /* the contact stops the first MOVE from this command on,
+                                      half way (1-based; 0: never) */
+    int touched;                   /* the last MOVE stopped on the contact */
+    double touch_dist, touch_point[3];
+    unsigned long touch_logged;    /* MOVEs the hook saw with a touch, and their distance */
+    double logged_dist;
+    int touch_in_path;             /* the touched MOVE was one of a path, and not its last */
     uint64_t hash;                 /* of the logged commands and results, in order */
 } path_dev_t;
 
@@ -36,7 +46,20 @@ static void mix(uint64_t *h, const void *p, size_t n)
 
 static int move_one(path_dev_t *d, const vp_cmd_t *cmd, int *collided)
 {
+    int k;
     if (d->fail_at && d->executed + 1 >= d->fail_at) return VP_EIO;
+    d->touched = 0;
+    if (d->touch_at && d->executed + 1 >= d->touch_at && !d->touch_dist) {
+        /* half way along: the head backs off to there */
+        d->touched = 1;
+        d->touch_dist = 0.5 * sqrt((cmd->to[0] - cmd->from[0]) * (cmd->to[0] - cmd->from[0]) +
+                                   (cmd->to[1] - cmd->from[1]) * (cmd->to[1] - cmd->from[1]) +
+                                   (cmd->to[2] - cmd->from[2]) * (cmd->to[2] - cmd->from[2]));
+        for (k = 0; k < 3; k++) d->touch_point[k] = d->pos[k] = 0.5 * (cmd->from[k] + cmd->to[k]);
+        d->executed++;
+        *collided = 0;
+        return VP_OK;
+    }
     memcpy(d->pos, cmd->to, sizeof d->pos);
     d->executed++;
     *collided = d->executed % 7 == 0;
@@ -64,8 +87,16 @@ static int dev_move_path(void *ctx, const vp_cmd_t *cmds, int n, int *collided, 
         st = move_one(d, &cmds[i], &collided[i]);
         if (st != VP_OK) break;
         (*done)++;
+        if (d->touched) { d->touch_in_path = i + 1 < n; break; }   /* the path ends at a touch */
     }
     return st;
+}
+
+static int dev_touched(void *ctx, double *at)
+{
+    path_dev_t *d = ctx;
+    if (d->touched) *at = d->touch_dist;
+    return d->touched;
 }
 
 /* the unit sphere: first hit along the ray */
@@ -89,6 +120,7 @@ static int after(void *ctx, const vp_cmd_t *cmd, const vp_probe_result_t *res)
 {
     path_dev_t *d = ctx;
     d->logged++;
+    if (cmd->kind == VP_CMD_MOVE && res) { d->touch_logged++; d->logged_dist = res->dist; }
     mix(&d->hash, &cmd->kind, sizeof cmd->kind);
     mix(&d->hash, cmd->from, sizeof cmd->from);
     mix(&d->hash, cmd->to, sizeof cmd->to);
@@ -106,7 +138,7 @@ static int scan(path_dev_t *d, int paths, unsigned long max_commands, vp_run_res
     vp_device_ops_t ops;
     vp_run_hooks_t hooks;
     int k, per = d->per_call;
-    unsigned long fail = d->fail_at, stop = d->stop_at;
+    unsigned long fail = d->fail_at, stop = d->stop_at, touch = d->touch_at;
     memset(&cfg, 0, sizeof cfg);
     cfg.omega_kind = VP_OMEGA_BOX;
     for (k = 0; k < 3; k++) { cfg.omega_lo[k] = -1.5; cfg.omega_hi[k] = 1.5; }
@@ -117,6 +149,7 @@ static int scan(path_dev_t *d, int paths, unsigned long max_commands, vp_run_res
     d->per_call = per;
     d->fail_at = fail;
     d->stop_at = stop;
+    d->touch_at = touch;
     d->hash = 1469598103934665603ull;
     memcpy(d->pos, cfg.start, sizeof d->pos);
     CHECK(vp_planner_init(&pl, arena, sizeof arena, &cfg) == VP_OK);
@@ -125,6 +158,7 @@ static int scan(path_dev_t *d, int paths, unsigned long max_commands, vp_run_res
     ops.move = dev_move;
     ops.probe = dev_probe;
     ops.move_path = paths ? dev_move_path : NULL;
+    ops.touched = touch ? dev_touched : NULL;
     memset(&hooks, 0, sizeof hooks);
     hooks.ctx = d;
     hooks.after = after;
@@ -184,6 +218,37 @@ int main(void)
         b.fail_at = k;
         CHECK(scan(&b, 1, 0, &rb, NULL) == VP_EIO);
         CHECK(b.executed >= k - 1 && b.logged == b.executed);
+    }
+    /* the contact switch stops a MOVE: in a path, the path ends there; the MOVE is logged with
+     * its touch and nothing after it is made; outside Omega the scan stops as with that MOVE
+     * made alone (VP_ERANGE), inside it the planner refuses a path it has gone past */
+    {
+        unsigned long in_path = 0, outside = 0, inside = 0;
+        for (k = 2; k < 400; k += 11) {
+            int sa_st, sb_st, out;
+            memset(&a, 0, sizeof a);
+            memset(&b, 0, sizeof b);
+            a.touch_at = b.touch_at = k;
+            sa_st = scan(&a, 0, 0, &ra, NULL);
+            sb_st = scan(&b, 1, 0, &rb, NULL);
+            if (!b.touched) continue;                      /* k fell on the last PROBEs */
+            out = fabs(b.touch_point[0]) > 1.5 || fabs(b.touch_point[1]) > 1.5 || fabs(b.touch_point[2]) > 1.5;
+            CHECK(b.touch_logged == 1 && b.logged_dist == b.touch_dist && rb.contacts == 1);
+            CHECK(b.logged == b.executed);                 /* the touched MOVE is the last made */
+            if (!b.touch_in_path) continue;
+            in_path++;
+            CHECK(a.touched && a.touch_logged == 1 && a.executed >= b.executed);
+            if (out) {
+                outside++;
+                CHECKF(sa_st == VP_ERANGE && sb_st == VP_ERANGE, "touch at %lu outside Omega: alone %d, path %d", k, sa_st, sb_st);
+                CHECK(a.hash == b.hash && a.logged == b.logged);   /* the same log either way */
+            } else {
+                inside++;
+                CHECKF(sb_st == VP_ESTATE, "touch at %lu inside Omega in a path: %d", k, sb_st);
+            }
+        }
+        CHECK(in_path > 5 && outside > 0);
+        printf("  touches in a path: %lu (%lu outside Omega, %lu inside)\n", in_path, outside, inside);
     }
     return vp_test_done("test_run_path");
 }

@@ -16,7 +16,15 @@
  *     rule (|V| max(V_i/A_i)/2 over x, y, z) is checked against the worst of 2091 directions'
  *     own block profiles (vp_step_block_init) and by hand on boards/rpi4-gantry.ini, whose probe
  *     pin may not be another input's;
- *   - the dry run's switch closes on host-sim's object: `at` against the true ray distance. */
+ *   - the dry run's switch closes on host-sim's object: `at` against the true ray distance;
+ *   - a watched path (contact_stop given, the axes with a jerk): three MOVEs run as one, a wall
+ *     just before the first waypoint: the stop carries on past the waypoint along the next piece
+ *     (the y steps start only at the waypoint's x; x's intervals only grow from the confirming
+ *     step to rest, through the waypoint: no jump), ends within contact_stop and within the
+ *     junction's bound, the touch is the first MOVE's (*done 1), and the way back retraces the
+ *     pieces (y home before x leaves the waypoint) to the start exactly; with a stop too short
+ *     for any piece the step generator refuses the path, nothing moved, and the machine makes
+ *     the first MOVE alone; a MOVE turning on its way is watched along its pieces. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -514,6 +522,198 @@ static void dry_object(void)
     vp_dryrun_close(r.d);
 }
 
+/* Step intervals of the x edges from index i0: x's position at each rising edge into xs, time
+ * into ts; y's rising edges counted up to each x edge into ys. Returns the count of x edges. */
+static long x_edges(const vp_iorec_t *rec, size_t i0, uint32_t out0, int32_t x0, int32_t y0, int32_t *xs, int32_t *ys,
+                    int64_t *ts, long cap)
+{
+    uint32_t out = out0;
+    int32_t x = x0, y = y0;
+    size_t i;
+    long n = 0;
+    for (i = i0; i < rec->n; i++) {
+        const vp_iorec_edge_t *e = &rec->cfg.buf[i];
+        uint32_t bit = 1u << e->line;
+        out = e->value ? out | bit : out & ~bit;
+        if (e->line > 1 || !e->value || !(out & VP_IO_EN(e->line))) continue;
+        if (e->line == 1) { y += ((out & VP_IO_DIR(1)) != 0) != (rec->cfg.invert_dir[1] != 0) ? 1 : -1; continue; }
+        x += ((out & VP_IO_DIR(0)) != 0) != (rec->cfg.invert_dir[0] != 0) ? 1 : -1;
+        if (n < cap) { xs[n] = x; ys[n] = y; ts[n] = e->t_ns; n++; }
+    }
+    return n;
+}
+
+static int32_t pxs[200000], pys[200000];
+
+static void touch_path(void)
+{
+    rig_t r;
+    vp_cmd_t c[3];
+    double p0[3], p1[3], p2[3], p3[3], at, way[2][VP_KIN_JOINTS], lens[2];
+    int32_t x0, y0, W, xw;
+    long n, j, trig = -1, grow = 1, yfirst = -1;
+    size_t i0;
+    uint32_t out0;
+    int done = -1, a;
+    if (rig_open(&r, "contact_stop = 21.5", 1) != VP_OK) return;
+    for (a = 0; a < 3; a++) r.m->step.cfg.axis[a].jerk = 20;   /* mm/s: waypoints passed at speed */
+    r.m->cfg.contact_stop = 21.5;
+    x0 = r.m->step.pos[0];
+    y0 = r.m->step.pos[1];
+    /* the route: 40 mm along x, then 40 x and 5 y, then 40 y; the wall 0.2 mm before the first
+     * waypoint */
+    memcpy(p0, r.b.start, sizeof p0);
+    memcpy(p1, p0, sizeof p1);
+    p1[0] += 40;
+    memcpy(p2, p1, sizeof p2);
+    p2[0] += 40;
+    p2[1] += 5;
+    memcpy(p3, p2, sizeof p3);
+    p3[1] += 40;
+    move_cmd(&c[0], p0, p1);
+    move_cmd(&c[1], p1, p2);
+    move_cmd(&c[2], p2, p3);
+    xw = x0 + 40 * 80;
+    W = xw - 16;
+    r.wall.at = W;
+    i0 = r.d->rec.n;
+    out0 = r.d->rec.out;
+    CHECK(vp_machine_move_path(r.m, c, 3, &done) == VP_OK);
+    CHECKF(done == 1 && vp_machine_contact(r.m, &at) == 1, "done %d", done);
+    CHECKF(fabs(at - 39.8) <= 1 / 80.0 + 1e-9, "at %.4f", at);
+    n = x_edges(&r.d->rec, i0, out0, x0, y0, pxs, pys, times, 200000);
+    CHECK(n > 0 && pxs[n - 1] == r.m->step.pos[0] && r.m->step.pos[0] == r.d->rec.carriage[0]);
+    /* past the waypoint, on the next piece: y moved, and only once x had reached the waypoint */
+    CHECKF(r.m->step.pos[0] > xw && r.m->step.pos[1] > y0, "rest at x %d y %d, the waypoint at x %d", r.m->step.pos[0],
+           r.m->step.pos[1], xw);
+    for (j = 0; j < n; j++) {
+        if (trig < 0 && pxs[j] >= W) trig = j;
+        if (yfirst < 0 && pys[j] != y0) yfirst = j;
+    }
+    CHECKF(yfirst >= 0 && pxs[yfirst] >= xw - 1, "y moved first at x %d (waypoint %d)", yfirst >= 0 ? pxs[yfirst] : 0, xw);
+    /* the stop decelerates through the waypoint: x's intervals only grow from the confirming
+     * step to rest (1 us of rounding), and the last one is slow */
+    for (j = trig + (long)r.b.debounce + 1; j < n; j++)
+        if (times[j] - times[j - 1] < times[j - 1] - times[j - 2] - 1000) grow = 0;
+    CHECKF(grow, "an interval shrank after the trigger");
+    CHECKF(n > 3 && 1e9 / (double)(times[n - 1] - times[n - 2]) < 1000, "last x step at %.0f steps/s",
+           1e9 / (double)(times[n - 1] - times[n - 2]));
+    /* within contact_stop, and within the bound the junction was planned for: block 0's worst
+     * stop and the next block's from its entry rate */
+    CHECKF(r.m->last.overtravel <= 21.5 && r.m->last.overtravel > 0.2, "overtravel %.4f mm", r.m->last.overtravel);
+    printf("a path of 3 MOVEs, the wall 0.2 mm before the first waypoint: touched at %.4f mm, stopped %.3f mm past it on "
+           "the next piece (x %+d, y %+d steps past the waypoint), contact_stop 21.5\n", at, r.m->last.overtravel,
+           r.m->step.pos[0] - xw, r.m->step.pos[1] - y0);
+    /* the way back retraces: y home before x leaves the waypoint, then along x to the start */
+    {
+        double trig_pt[3];
+        memcpy(trig_pt, p0, sizeof trig_pt);
+        trig_pt[0] += at;
+        move_cmd(&c[0], trig_pt, p0);
+        i0 = r.d->rec.n;
+        out0 = r.d->rec.out;
+        {
+            int32_t xr = r.m->step.pos[0], yr = r.m->step.pos[1];
+            long back, yhome = -1;
+            CHECK(vp_machine_move(r.m, &c[0]) == VP_OK && !vp_machine_contact(r.m, NULL) && r.m->step.fault == 0);
+            back = x_edges(&r.d->rec, i0, out0, xr, yr, pxs, pys, times, 200000);
+            for (j = 0; j < back; j++) if (yhome < 0 && pys[j] == y0) yhome = j;
+            CHECKF(yr == y0 || (yhome >= 0 && pxs[yhome] >= xw - 1), "y home at x %d", yhome >= 0 ? pxs[yhome] : 0);
+            CHECKF(r.m->step.pos[0] == x0 && r.m->step.pos[1] == y0, "back at %d %d", r.m->step.pos[0], r.m->step.pos[1]);
+        }
+    }
+    /* a stop too long for any piece: the step generator refuses before a step, the machine makes
+     * the first MOVE alone */
+    r.wall.at = INT32_MAX;
+    r.wall.seen = 0;
+    memcpy(way[0], r.m->j, sizeof way[0]);
+    way[0][0] += 40;
+    memcpy(way[1], way[0], sizeof way[1]);
+    way[1][0] += 40;
+    lens[0] = lens[1] = 40;
+    i0 = r.d->rec.n;
+    CHECK(!vp_step_touch_fits(&r.m->step, NULL, &way[0][0], 2, lens, 1.0));
+    CHECK(vp_step_touch_fits(&r.m->step, NULL, &way[0][0], 2, lens, 21.5));
+    {
+        vp_step_contact_t sc;
+        CHECK(vp_step_move_touch(&r.m->step, &way[0][0], 2, VP_STEP_WATCH_STOP, lens, 1.0, &sc) == VP_ERANGE &&
+              r.d->rec.n == i0);
+    }
+    r.m->cfg.contact_stop = 1.0;
+    move_cmd(&c[0], p0, p1);
+    move_cmd(&c[1], p1, p2);
+    CHECK(vp_machine_move_path(r.m, c, 2, &done) == VP_OK && done == 1 && r.m->step.pos[0] == xw);
+    r.m->cfg.contact_stop = 21.5;
+    /* a MOVE turning on its way towards its PROBE, watched along its pieces: the wall stops it */
+    r.m->cfg.turn_on_move = 1;
+    move_cmd(&c[0], p1, p0);
+    CHECK(vp_machine_move(r.m, &c[0]) == VP_OK && !vp_machine_contact(r.m, NULL));   /* back to the start, alone */
+    move_cmd(&c[0], p0, p1);
+    c[0].dir[1] = 1;
+    c[0].range = 40;
+    r.wall.at = x0 + 20 * 80;
+    CHECK(vp_machine_move(r.m, &c[0]) == VP_OK && r.m->move_n > 1 && vp_machine_contact(r.m, &at) == 1);
+    /* the wall is the carriage's x; the trigger is the laser origin there, on the MOVE's line (the
+     * origin kept within origin_tol while the head turns), `at` along it */
+    CHECK(r.wall.first[0] == x0 + 20 * 80);
+    CHECKF(fabs(r.m->last.contact_point[0] - (p0[0] + at)) < 1e-9 &&
+           fabs(r.m->last.contact_point[1] - p0[1]) <= r.m->kin.cfg.origin_tol + 0.02 &&
+           fabs(r.m->last.contact_point[2] - p0[2]) <= r.m->kin.cfg.origin_tol + 0.02 && r.m->last.overtravel <= 21.5,
+           "turning: at %.4f, trigger %.4f %.4f %.4f, overtravel %.4f", at, r.m->last.contact_point[0],
+           r.m->last.contact_point[1], r.m->last.contact_point[2], r.m->last.overtravel);
+    printf("a MOVE turning on its way (%d pieces) into the wall: touched at %.3f mm, stopped %.3f mm past it\n", r.m->move_n,
+           at, r.m->last.overtravel);
+    vp_dryrun_close(r.d);
+}
+
+/* A short piece along x, then a long one mostly down z (its own acceleration 6 times lower),
+ * every axis with a high jerk so that the junction would be passed fast, contact_stop 4 mm: the
+ * wall swept along the first piece, every stop within contact_stop (the junction planned for the
+ * stop carried into the slow piece). Returns the worst overtravel. */
+static double touch_sweep(void)
+{
+    rig_t r;
+    vp_cmd_t c[2];
+    double p0[3], p1[3], p2[3], worst = 0, at;
+    int32_t x0, k;
+    int done, a, carried = 0;
+    if (rig_open(&r, "contact_stop = 21.5", 1) != VP_OK) return -1;
+    for (a = 0; a < 3; a++) r.m->step.cfg.axis[a].jerk = 1000;
+    r.m->cfg.contact_stop = 4;
+    x0 = r.m->step.pos[0];
+    memcpy(p0, r.b.start, sizeof p0);
+    memcpy(p1, p0, sizeof p1);
+    p1[0] += 3;
+    memcpy(p2, p1, sizeof p2);
+    p2[0] += 4;
+    p2[2] -= 12;
+    move_cmd(&c[0], p0, p1);
+    move_cmd(&c[1], p1, p2);
+    for (k = 40; k < 240; k += 4) {
+        r.wall.at = x0 + k;
+        r.wall.seen = 0;
+        CHECK(vp_machine_move_path(r.m, c, 2, &done) == VP_OK && done == 1 && vp_machine_contact(r.m, &at) == 1);
+        if (r.m->last.overtravel > worst) worst = r.m->last.overtravel;
+        if (r.m->step.pos[2] != vp_step_to_steps(&r.m->step, 2, p0[2] - 40)) carried++;
+        CHECKF(r.m->last.overtravel <= 4, "wall at %d steps: overtravel %.4f mm", k, r.m->last.overtravel);
+        /* back to the start, along the pieces */
+        r.wall.at = INT32_MAX;
+        {
+            vp_cmd_t b;
+            double trig[3];
+            memcpy(trig, p0, sizeof trig);
+            trig[0] += at;
+            move_cmd(&b, trig, p0);
+            CHECK(vp_machine_move(r.m, &b) == VP_OK && !vp_machine_contact(r.m, NULL) && r.m->step.pos[0] == x0);
+        }
+    }
+    CHECK(carried > 0);
+    printf("a 3 mm piece then a slow one down z, contact_stop 4: the wall at 50 places along the first, every stop within "
+           "it (worst %.3f mm; %d carried into the slow piece)\n", worst, carried);
+    vp_dryrun_close(r.d);
+    return worst;
+}
+
 int main(void)
 {
     long cruise, accel, halt;
@@ -533,6 +733,8 @@ int main(void)
     stuck_input();
     board_rule();
     dry_object();
+    touch_path();
+    touch_sweep();
     printf("glitches of 1 and 2 reads ignored, 3 a touch; a contact at rest is a contact at 0; a stuck contact faults "
            "after backing off\n");
     return vp_test_done("test_port_contact");

@@ -170,9 +170,13 @@ static void scan(const char *board, long cap, scan_out_t *o)
         CHECK(t->move_ns * 1e-9 >= sd.move_floor && sd.move_floor > 0);
         CHECK(t->aim_ns > 0 && t->read_ns >= 0);
         CHECK(t->settle_ns == (int64_t)llround(b.settle_ms * 1e6) * (int64_t)t->probes);
-        /* neither board turns the head on the way: rpi4 has a contact switch, sim.ini's camera
-         * reaches beyond its clearance ball */
-        CHECK(m->cfg.turn_on_move == 0 && t->moves_turning == 0);
+        /* sim.ini's camera reaches beyond its clearance ball: it never turns the head on the way;
+         * rpi4's head stays in its ball and turns on the way, its contact switch watched along the
+         * pieces (its overtravel, contact_stop 10 mm, bounds each touch's stop) */
+        if (m->cfg.contact)
+            CHECK(m->cfg.turn_on_move == 1 && m->cfg.contact_stop == 10 && t->moves_turning > 0);
+        else
+            CHECK(m->cfg.turn_on_move == 0 && t->moves_turning == 0);
     }
     o->done = run.done;
     n = (long)run.commands;
@@ -575,7 +579,8 @@ int main(void)
             CHECKF(tn > 0 && same_turn && same_j && calls == 3, "turn %d pieces, same turn %d, same joints %d, %d calls", tn, same_turn, same_j, calls);
         }
 
-        /* refused: no MOVE, a PROBE among them, a head with a contact switch */
+        /* refused: no MOVE, a PROBE among them, a head with a contact switch but no overtravel to
+         * plan its stops for (contact_stop 0); with it, the path is made */
         CHECK(vp_dryrun_open(&b, NULL, &d, err, sizeof err) == VP_OK);
         m = vp_dryrun_machine(d);
         CHECK(vp_machine_home(m) == VP_OK && vp_machine_goto(m, P[0]) == VP_OK);
@@ -588,7 +593,10 @@ int main(void)
         CHECK(vp_dryrun_open(&b, NULL, &d, err, sizeof err) == VP_OK);
         m = vp_dryrun_machine(d);
         CHECK(m->cfg.contact == 1 && vp_machine_home(m) == VP_OK);
+        m->cfg.contact_stop = 0;
         CHECK(vp_machine_move_path(m, mv, 1, &done) == VP_EINVAL && done == 0 && m->st.moves == 0);
+        m->cfg.contact_stop = 10;
+        CHECK(vp_machine_move_path(m, mv, 1, &done) == VP_OK && done == 1 && m->st.moves == 1 && !vp_machine_contact(m, NULL));
         vp_dryrun_close(d);
     }
 
