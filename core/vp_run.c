@@ -46,23 +46,30 @@ static int vp_run_path(vp_planner_t *pl, const vp_device_ops_t *dev, const vp_ru
         touch.hit = 1;
         if (st == VP_OK && dev->touched) touched = dev->touched(dev->ctx, &touch.dist) == 1;
         for (i = off; i < off + done; i++) {
-            int h = VP_OK;
+            int h = VP_OK, last = touched && i + 1 == off + done;
             out->collisions += collided[i] != 0;
-            if (hooks && hooks->after) h = hooks->after(hooks->ctx, &path[i], touched && i + 1 == off + done ? &touch : NULL);
+            if (hooks && hooks->after) h = hooks->after(hooks->ctx, &path[i], last ? &touch : NULL);
             if (hst != VP_OK) continue;        /* logged, not counted: the run stops */
             hst = h;
-            if (hst != VP_OK) continue;
+            if (hst != VP_OK || last) continue; /* a touched MOVE counts once the planner took it */
             out->commands++;
             if (hooks && hooks->progress) hooks->progress(hooks->ctx, pl, out->commands);
         }
         off += done;
         if (touched) {
-            double c0 = vp_run_clock(hooks);
-            out->contacts++;
-            if (hst == VP_OK) st = vp_planner_touch_path(pl, &path[off - 1], touch.dist);
-            out->planner_seconds += vp_run_clock(hooks) - c0;
+            /* as a MOVE made alone: logged first, then the planner learns where the head touched */
             *held = 0;
-            return st != VP_OK ? st : hst;
+            if (hst != VP_OK) return hst;
+            {
+                double c0 = vp_run_clock(hooks);
+                out->contacts++;
+                st = vp_planner_touch_path(pl, &path[off - 1], touch.dist);
+                out->planner_seconds += vp_run_clock(hooks) - c0;
+            }
+            if (st != VP_OK) return st;
+            out->commands++;
+            if (hooks && hooks->progress) hooks->progress(hooks->ctx, pl, out->commands);
+            return VP_OK;
         }
         if (hst != VP_OK && st == VP_OK) break;
     }

@@ -77,10 +77,11 @@ static void vp_machine_as_stepped(const vp_machine_t *m, const double *j, double
 
 /* The touch that stopped cmd (c), the head now at rest with its laser origin at o1: the
  * trigger is the latched joints through the forward kinematics, along the commanded line. A
- * watched path's (`way`, its pieces; NULL for a MOVE alone) way back retraces the pieces to the
- * latch: the waypoint the stop passed, if any, then the latched joints. */
+ * watched path's (`way`, its pieces, the touched MOVE's from `first` on, from joints j0; NULL for
+ * a MOVE alone) way back retraces what the head travelled: the waypoints its stop passed, the
+ * latched joints, the touched MOVE's own waypoints before them, back to j0. */
 static void vp_machine_take_touch(vp_machine_t *m, const vp_cmd_t *cmd, const vp_step_contact_t *c, const double *o1,
-                                  const double (*way)[VP_KIN_JOINTS])
+                                  const double (*way)[VP_KIN_JOINTS], int first, const double *j0)
 {
     double jl[VP_KIN_JOINTS], d[3], seg[3], len, at = 0;
     int k;
@@ -98,9 +99,14 @@ static void vp_machine_take_touch(vp_machine_t *m, const vp_cmd_t *cmd, const vp
     m->last.overtravel = vp_dist3(m->last.contact_point, o1);
     m->touched = 1;
     m->back_n = 0;
-    if (way) {
-        if (c->rest_way > c->way) memcpy(m->back_way[m->back_n++], way[c->way], sizeof m->back_way[0]);
+    memcpy(m->touch_from, cmd->from, sizeof m->touch_from);
+    if (way && c->rest_way - first < VP_MACHINE_BACK - 2) {
+        int w;
+        for (w = c->rest_way - 1; w >= c->way; w--) memcpy(m->back_way[m->back_n++], way[w], sizeof m->back_way[0]);
+        m->back_latch = m->back_n;
         memcpy(m->back_way[m->back_n++], jl, sizeof jl);
+        for (w = c->way - 1; w >= first; w--) memcpy(m->back_way[m->back_n++], way[w], sizeof m->back_way[0]);
+        memcpy(m->back_way[m->back_n++], j0, sizeof m->back_way[0]);
     }
     memcpy(m->touch_point, m->last.contact_point, sizeof m->touch_point);
     for (k = 0; k < 3; k++) m->touch_dir[k] = len > 0 ? seg[k] / len : 0;
@@ -169,16 +175,22 @@ static int vp_machine_touch_move(vp_machine_t *m, const vp_cmd_t *cmd)
         double adv = 0;
         for (k = 0; k < 3; k++) adv += (cmd->to[k] - m->touch_point[k]) * m->touch_dir[k];
         if (adv > 1e-6) return VP_ESTATE;
+        watch = VP_STEP_WATCH_RELEASE;
         if (m->back_n > 0) {
-            memcpy(way, m->back_way, (size_t)m->back_n * sizeof way[0]);
-            n = m->back_n + 1;
+            /* the pieces retraced to where the touched MOVE started: all of them when that is
+             * where this MOVE goes (the planner's way back), else to the latch, then on */
+            int to_start = 1;
+            for (k = 0; k < 3; k++) if (fabs(cmd->to[k] - m->touch_from[k]) > 1e-9) to_start = 0;
+            n = to_start ? m->back_n : m->back_latch + 2;
+            memcpy(way, m->back_way, (size_t)(to_start ? n : n - 1) * sizeof way[0]);
+            if (to_start) goto run;
         } else {
             VP_TRY(vp_kin_move(&m->kin, m->j, m->touch_point, way[0]));
             n = 2;
         }
-        watch = VP_STEP_WATCH_RELEASE;
     }
     VP_TRY(vp_kin_move(&m->kin, n >= 2 ? way[n - 2] : m->j, cmd->to, way[n - 1]));
+run:
     m->st.moves++;
     vp_machine_beam(m, o0, d);
     rc = vp_step_move_watch(&m->step, &way[0][0], n, watch, &c);
@@ -188,7 +200,7 @@ static int vp_machine_touch_move(vp_machine_t *m, const vp_cmd_t *cmd)
     if (rc < 0) return rc;
     m->touched = 0;
     m->back_n = 0;
-    if (c.hit) vp_machine_take_touch(m, cmd, &c, o1, NULL);
+    if (c.hit) vp_machine_take_touch(m, cmd, &c, o1, NULL, 0, NULL);
     return VP_OK;
 }
 
@@ -260,10 +272,11 @@ static int vp_machine_turning_plan(const vp_machine_t *m, const double *j0, cons
  * made straight. */
 static int vp_machine_move_turning(vp_machine_t *m, const vp_cmd_t *cmd)
 {
-    double o0[3], o1[3], d[3];
+    double o0[3], o1[3], d[3], j0[VP_KIN_JOINTS];
     vp_step_contact_t c;
     int n = vp_machine_turning_plan(m, m->j, cmd, m->way), rc;
     if (n < 1) return 0;
+    memcpy(j0, m->j, sizeof j0);
     m->st.moves++;
     vp_machine_beam(m, o0, d);
     c.hit = 0;
@@ -274,7 +287,12 @@ static int vp_machine_move_turning(vp_machine_t *m, const vp_cmd_t *cmd)
     m->st.travel += vp_dist3(o0, o1);
     m->move_n = n;
     if (rc >= 0) m->st.moves_turning++;
-    if (rc >= 0 && c.hit) vp_machine_take_touch(m, cmd, &c, o1, (const double (*)[VP_KIN_JOINTS])m->way);
+    if (rc >= 0 && c.hit) {
+        vp_machine_take_touch(m, cmd, &c, o1, (const double (*)[VP_KIN_JOINTS])m->way, 0, j0);
+        /* the pieces it took: up to where the stop ended */
+        memcpy(m->way[c.rest_way], m->j, sizeof m->j);
+        m->move_n = c.rest_way + 1;
+    }
     return rc < 0 ? rc : 1;
 }
 
@@ -375,9 +393,13 @@ int vp_machine_move_path(vp_machine_t *m, const vp_cmd_t *cmds, int n, int *done
     if (rc >= 0 && c.hit) {
         for (i = 0; i + 1 < count && m->path[i].first + m->path[i].n <= c.way; i++) {}
         count = i + 1;
-        memcpy(m->path[i].j1, m->j, sizeof m->j);   /* it ended where the stop did */
         vp_kin_forward(&m->kin, m->j, o1, d);
-        vp_machine_take_touch(m, &cmds[i], &c, o1, (const double (*)[VP_KIN_JOINTS])m->path_way);
+        vp_machine_take_touch(m, &cmds[i], &c, o1, (const double (*)[VP_KIN_JOINTS])m->path_way, m->path[i].first,
+                              m->path[i].j0);
+        /* it ended where the stop did: its pieces up to there */
+        memcpy(m->path[i].j1, m->j, sizeof m->j);
+        memcpy(m->path_way[c.rest_way], m->j, sizeof m->j);
+        m->path[i].n = c.rest_way - m->path[i].first + 1;
     }
     for (i = 0; i < count; i++) {
         const vp_machine_path_move_t *pm = &m->path[i];

@@ -39,7 +39,7 @@
 #define VP_MACHINE_MAX_WAY 128
 #define VP_MACHINE_PATH_MOVES 16      /* MOVEs one path takes at most (vp_machine_move_path) */
 #define VP_MACHINE_PATH_WAY 256       /* and their pieces */
-#define VP_MACHINE_BACK 2             /* a touch's way back: a waypoint its stop passed, the latch */
+#define VP_MACHINE_BACK (VP_MACHINE_MAX_WAY + 2) /* a touch's way back: the pieces retraced */
 #define VP_MACHINE_MAX_CALIB 256
 #define VP_MACHINE_MAX_LINE 1024      /* a line laser's points per frame (columns looked at) */
 
@@ -178,9 +178,11 @@ typedef struct vp_machine {
     int touched;                      /* a MOVE stopped on the contact: the next one backs off */
     double touch_point[3], touch_dir[3];  /* the trigger point and that MOVE's unit direction
                                              (0 for a contact at rest on a null MOVE) */
-    double back_way[VP_MACHINE_BACK][VP_KIN_JOINTS]; /* a watched path's touch: the way back, the
-                                             pieces retraced to the latched joints */
-    int back_n;                       /* (0: straight back to touch_point) */
+    double back_way[VP_MACHINE_BACK][VP_KIN_JOINTS]; /* a watched path's touch: the way back, its
+                                             pieces retraced through the latched joints to
+                                             where the touched MOVE started */
+    int back_n, back_latch;           /* (0: straight back to touch_point); the latch's index */
+    double touch_from[3];             /* the touched MOVE's start (cmd->from) */
     unsigned long contacts;           /* MOVEs stopped on the contact */
     /* a line laser: the last probe's frame (world points, from the PROBE's origin) */
     vp_line_ws_t lws;

@@ -519,15 +519,6 @@ static double vp_step_touch_stop(const vp_step_t *s, double len, double n, doubl
     return (n > 0 ? len / n * (run < n ? run : n) : 0) + 2.0 * s->cfg.debounce * lmax;
 }
 
-/* The longest step (len / dominant steps) of the blocks d[0 .. nb) */
-static double vp_step_touch_lmax(const double *len, const double *n, int nb)
-{
-    double lm = 0;
-    int w;
-    for (w = 0; w < nb; w++) if (n[w] > 0 && len[w] / n[w] > lm) lm = len[w] / n[w];
-    return lm;
-}
-
 /* The junction rates of a path's blocks d[0..nb-1] (steps; lastdir: each axis's direction before
  * the first; v0: the first block's entry rate, as the plan before gave it): vin[w], vout[w] in
  * steps/s of block w's dominant axis, the last block ending at rest. A junction is passed at a
@@ -538,10 +529,10 @@ static double vp_step_touch_lmax(const double *len, const double *n, int nb)
  * jerk, rho the least-squares match of the two velocities. Then grbl's two passes: backward
  * from rest (each block can slow down to its exit), forward from rest (each can speed up). */
 static void vp_step_plan(const vp_step_t *s, const int32_t (*d)[VP_STEP_MAX_AXES], int nb, const int8_t *lastdir,
-                         const double *rate, const double *acc, double v0, const double *len, double stop_max,
-                         double *vin, double *vout)
+                         const double *rate, const double *acc, double v0, const double *len, double lmax,
+                         double stop_max, double *vin, double *vout)
 {
-    double n[VP_STEP_PLAN], a[VP_STEP_PLAN], v[VP_STEP_PLAN], rho[VP_STEP_PLAN], xmax[VP_STEP_PLAN], lmax = 0;
+    double n[VP_STEP_PLAN], a[VP_STEP_PLAN], v[VP_STEP_PLAN], rho[VP_STEP_PLAN], xmax[VP_STEP_PLAN];
     double J[VP_STEP_MAX_AXES];   /* jerk in steps/s */
     int8_t dir[VP_STEP_MAX_AXES];
     int w, i, na = s->cfg.naxes;
@@ -555,7 +546,6 @@ static void vp_step_plan(const vp_step_t *s, const int32_t (*d)[VP_STEP_MAX_AXES
         }
         vin[w] = vout[w] = rho[w] = xmax[w] = 0;
     }
-    if (len) lmax = vp_step_touch_lmax(len, n, nb);
     for (w = 0; w + 1 < nb; w++) {
         double x;
         int ok = n[w] > 0 && n[w + 1] > 0;
@@ -711,27 +701,55 @@ static void vp_step_piece(const vp_step_t *s, const double *way, int w, const in
     for (i = 0; i < na; i++) d[i] = vp_step_to_steps(s, i, way[(size_t)w * na + i]) - from[i];
 }
 
-int vp_step_touch_fits(const vp_step_t *s, const double *from, const double *way, int n, const double *len,
-                       double stop_max)
+/* The path's longest step (len over the dominant steps of its piece) from p0, in *lmax; and 1
+ * when every piece's own touch stop (vp_step_touch_stop) is within stop_max. */
+static int vp_step_touch_check(const vp_step_t *s, const int32_t *p0, const double *way, int n, const double *len,
+                               double stop_max, double *lmax)
 {
-    double rate[VP_STEP_MAX_AXES], acc[VP_STEP_MAX_AXES], lmax = 0;
-    int32_t p0[VP_STEP_MAX_AXES];
-    int w, i;
-    if (!s || !way || !len || n < 0 || !(stop_max >= 0)) return 0;
-    for (i = 0; i < s->cfg.naxes; i++) p0[i] = from ? vp_step_to_steps(s, i, from[i]) : s->pos[i];
+    double rate[VP_STEP_MAX_AXES], acc[VP_STEP_MAX_AXES];
+    int w, pass;
+    *lmax = 0;
     vp_step_limits(s, rate, acc);
-    /* twice: the longest step, then each block's own stop */
-    for (i = 0; i < 2; i++)
+    for (pass = 0; pass < 2; pass++)
         for (w = 0; w < n; w++) {
             int32_t d[VP_STEP_MAX_AXES];
             vp_step_block_t b;
             vp_step_piece(s, way, w, p0, d);
             if (!(len[w] >= 0) || vp_step_block_init(&b, s->cfg.naxes, d, rate, acc, s->cfg.max_step_rate) != VP_OK) return 0;
             if (!b.n) continue;
-            if (i == 0 && len[w] / b.n > lmax) lmax = len[w] / b.n;
-            if (i == 1 && vp_step_touch_stop(s, len[w], b.n, b.v, b.a, lmax) > stop_max) return 0;
+            if (pass == 0 && len[w] / b.n > *lmax) *lmax = len[w] / b.n;
+            if (pass == 1 && vp_step_touch_stop(s, len[w], b.n, b.v, b.a, *lmax) > stop_max) return 0;
         }
     return 1;
+}
+
+int vp_step_touch_fits(const vp_step_t *s, const double *from, const double *way, int n, const double *len,
+                       double stop_max)
+{
+    int32_t p0[VP_STEP_MAX_AXES];
+    double lmax;
+    int i;
+    if (!s || !way || !len || n < 0 || !(stop_max >= 0)) return 0;
+    for (i = 0; i < s->cfg.naxes; i++) p0[i] = from ? vp_step_to_steps(s, i, from[i]) : s->pos[i];
+    return vp_step_touch_check(s, p0, way, n, len, stop_max, &lmax);
+}
+
+/* The piece the latched position lies on: the touch was confirmed in block w, `debounce`
+ * samples (a step each) after the first that saw it, which may lie on a piece before. */
+static int vp_step_latch_piece(const vp_step_t *s, const double *way, int w, const int32_t *p0, const int32_t *latch)
+{
+    int na = s->cfg.naxes;
+    while (w > 0) {
+        int32_t d[VP_STEP_MAX_AXES], from;
+        int i, k = 0;
+        vp_step_piece(s, way, w, p0, d);
+        for (i = 1; i < na; i++) if ((d[i] < 0 ? -(int64_t)d[i] : d[i]) > (d[k] < 0 ? -(int64_t)d[k] : d[k])) k = i;
+        from = vp_step_to_steps(s, k, way[(size_t)(w - 1) * na + k]);
+        /* progress along the piece's dominant axis: none yet, an earlier piece's */
+        if (d[k] != 0 && (latch[k] - from) * (d[k] > 0 ? 1 : -1) > 0) break;
+        w--;
+    }
+    return w;
 }
 
 /* A touch's stop that block w could not finish: the head still moving at r->vlast when it
@@ -788,6 +806,7 @@ int vp_step_move_touch(vp_step_t *s, const double *way, int n, int watch, const 
     uint32_t in = 0;
     double vin[VP_STEP_PLAN], vout[VP_STEP_PLAN];
     int w, rc, na, i, base = 0, nplan = 0;
+    double lmax = 0;
     if (!s || !way || n < 0 || watch < VP_STEP_WATCH_NONE || watch > VP_STEP_WATCH_RELEASE || (watch && !c) ||
         (len && watch != VP_STEP_WATCH_STOP))
         return VP_EINVAL;
@@ -802,7 +821,7 @@ int vp_step_move_touch(vp_step_t *s, const double *way, int n, int watch, const 
         rc = vp_step_target(s, way + (size_t)w * na, at, delta);
         if (rc < 0) { s->st.refused++; return rc; }
     }
-    if (len && !vp_step_touch_fits(s, NULL, way, n, len, stop_max)) { s->st.refused++; return VP_ERANGE; }
+    if (len && !vp_step_touch_check(s, at, way, n, len, stop_max, &lmax)) { s->st.refused++; return VP_ERANGE; }
     vp_step_limits(s, rate, acc);
     memset(&r, 0, sizeof r);
     r.mode = VP_RUN_MOVE;
@@ -844,7 +863,7 @@ int vp_step_move_touch(vp_step_t *s, const double *way, int n, int watch, const 
                     for (i = 0; i < na; i++) p[i] += d[k][i];
                 }
                 vp_step_plan(s, (const int32_t (*)[VP_STEP_MAX_AXES])d, nb, s->last_dir, rate, acc, v0,
-                             len ? len + w : NULL, stop_max, vin, vout);
+                             len ? len + w : NULL, lmax, stop_max, vin, vout);
             }
         }
         vp_step_target(s, way + (size_t)w * na, s->pos, delta);
@@ -854,7 +873,10 @@ int vp_step_move_touch(vp_step_t *s, const double *way, int n, int watch, const 
             c->way = c->rest_way = w;
             s->st.contacts++;
             vp_step_emit(s, VP_STEP_EV_CONTACT, -1, "contact: stopped");
-            if (len) VP_TRY(vp_step_stop_on(s, way, n, w, at, rate, acc, &r, c));
+            if (len) {
+                VP_TRY(vp_step_stop_on(s, way, n, w, at, rate, acc, &r, c));
+                c->way = vp_step_latch_piece(s, way, w, at, c->latch);
+            }
             s->path_done = c->rest_way;
             break;
         }

@@ -194,9 +194,10 @@ enum { VP_STEP_WATCH_NONE = 0, VP_STEP_WATCH_STOP = 1, VP_STEP_WATCH_RELEASE = 2
 typedef struct vp_step_contact {
     int hit;                                 /* the move stopped on the contact */
     int at_start;                            /* it was closed before the first step (no step made) */
-    int way;                                 /* the waypoint being travelled to when it closed */
+    int way;                                 /* the waypoint being travelled to when it closed
+                                                (vp_step_move_touch: at the latched position) */
     int rest_way;                            /* ... and when the head came to rest (vp_step_move_touch:
-                                                way or way + 1, the stop carried past a waypoint) */
+                                                the stop may carry on past waypoints) */
     int32_t latch[VP_STEP_MAX_AXES];         /* steps of every axis at the first confirming sample */
 } vp_step_contact_t;
 /* vp_step_move_path watching the contact (watch VP_STEP_WATCH_*); *c filled (may be NULL with

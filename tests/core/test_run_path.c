@@ -129,6 +129,18 @@ static int after(void *ctx, const vp_cmd_t *cmd, const vp_probe_result_t *res)
     return VP_OK;
 }
 
+/* The unit sphere's scan: Omega [-1.5, 1.5]^3, eps 0.3, from (0, 0, 2). */
+static void sphere_config(vp_planner_config_t *cfg)
+{
+    int k;
+    memset(cfg, 0, sizeof *cfg);
+    cfg->omega_kind = VP_OMEGA_BOX;
+    for (k = 0; k < 3; k++) { cfg->omega_lo[k] = -1.5; cfg->omega_hi[k] = 1.5; }
+    cfg->ninterior = 1;
+    cfg->eps = 0.3;
+    cfg->start[2] = 2.0;
+}
+
 /* One scan of the unit sphere in Omega [-1.5, 1.5]^3; paths: the device takes them. */
 static int scan(path_dev_t *d, int paths, unsigned long max_commands, vp_run_result_t *run, vp_planner_stats_t *st)
 {
@@ -137,14 +149,9 @@ static int scan(path_dev_t *d, int paths, unsigned long max_commands, vp_run_res
     vp_planner_config_t cfg;
     vp_device_ops_t ops;
     vp_run_hooks_t hooks;
-    int k, per = d->per_call;
+    int per = d->per_call;
     unsigned long fail = d->fail_at, stop = d->stop_at, touch = d->touch_at;
-    memset(&cfg, 0, sizeof cfg);
-    cfg.omega_kind = VP_OMEGA_BOX;
-    for (k = 0; k < 3; k++) { cfg.omega_lo[k] = -1.5; cfg.omega_hi[k] = 1.5; }
-    cfg.ninterior = 1;
-    cfg.eps = 0.3;
-    cfg.start[2] = 2.0;
+    sphere_config(&cfg);
     memset(d, 0, sizeof *d);
     d->per_call = per;
     d->fail_at = fail;
@@ -165,6 +172,65 @@ static int scan(path_dev_t *d, int paths, unsigned long max_commands, vp_run_res
     vp_run(&pl, &ops, &hooks, max_commands, run);
     if (st) vp_planner_get_stats(&pl, st);
     return run->status;
+}
+
+/* vp_planner_touch_path itself: after the planner's first MOVE, a touch on that MOVE is its
+ * ordinary touch (as vp_planner_touch); on a MOVE it has gone past, VP_ERANGE outside Omega and
+ * VP_ESTATE inside (and the planner keeps that error). */
+static int first_move(vp_planner_t *pl, path_dev_t *d, vp_cmd_t *cmd)
+{
+    static unsigned char arena[ARENA];
+    vp_planner_config_t cfg;
+    int i;
+    sphere_config(&cfg);
+    memset(d, 0, sizeof *d);
+    memcpy(d->pos, cfg.start, sizeof d->pos);
+    if (vp_planner_init(pl, arena, sizeof arena, &cfg) != VP_OK) return 0;
+    for (i = 0; i < 10000; i++) {
+        vp_probe_result_t res;
+        if (vp_planner_next(pl, cmd) != VP_OK) return 0;
+        if (cmd->kind == VP_CMD_MOVE) return 1;
+        if (cmd->kind != VP_CMD_PROBE) return 0;
+        dev_probe(d, cmd, &res);
+        if (vp_planner_feed(pl, &res) != VP_OK) return 0;
+    }
+    return 0;
+}
+
+static void touch_path_api(void)
+{
+    static vp_planner_t pl, ref;
+    path_dev_t d;
+    vp_cmd_t mv, other;
+    double half;
+    CHECK(first_move(&pl, &d, &mv));
+    memset(&other, 0, sizeof other);
+    other.kind = VP_CMD_MOVE;
+    other.from[0] = 0.5; other.to[0] = 0.7;            /* inside Omega */
+    CHECK(vp_planner_touch_path(&pl, &other, 0.1) == VP_ESTATE);
+    CHECK(vp_planner_touch_path(&pl, &mv, 0.0) == VP_ESTATE);   /* the error is kept */
+    CHECK(first_move(&pl, &d, &mv));
+    other.from[0] = other.to[0] = 0.0;
+    other.from[2] = 2.4; other.to[2] = 2.2;             /* outside Omega */
+    CHECK(vp_planner_touch_path(&pl, &other, 0.1) == VP_ERANGE);
+    CHECK(vp_planner_touch_path(&pl, &other, 0.5) == VP_ERANGE);   /* kept, before `at` is looked at */
+    CHECK(first_move(&pl, &d, &mv));
+    CHECK(vp_planner_touch_path(&pl, &other, 0.5) == VP_EINVAL);   /* beyond that MOVE */
+    /* the last MOVE given: vp_planner_touch's answer */
+    half = 0.5 * sqrt((mv.to[0] - mv.from[0]) * (mv.to[0] - mv.from[0]) + (mv.to[1] - mv.from[1]) * (mv.to[1] - mv.from[1]) +
+                      (mv.to[2] - mv.from[2]) * (mv.to[2] - mv.from[2]));
+    CHECK(first_move(&ref, &d, &mv));
+    {
+        int a = vp_planner_touch_path(&pl, &mv, half), b = vp_planner_touch(&ref, half);
+        vp_cmd_t na, nb;
+        CHECKF(a == b, "the last MOVE: touch_path %d, touch %d", a, b);
+        if (a == VP_OK) {
+            CHECK(vp_planner_next(&pl, &na) == VP_OK && vp_planner_next(&ref, &nb) == VP_OK);
+            CHECK(na.kind == nb.kind && memcmp(na.from, nb.from, sizeof na.from) == 0 && memcmp(na.to, nb.to, sizeof na.to) == 0);
+        }
+        printf("  vp_planner_touch_path: gone past inside Omega %d, outside %d, the last MOVE %d (vp_planner_touch %d)\n",
+               VP_ESTATE, VP_ERANGE, a, b);
+    }
 }
 
 int main(void)
@@ -224,7 +290,7 @@ int main(void)
      * made alone (VP_ERANGE), inside it the planner refuses a path it has gone past */
     {
         unsigned long in_path = 0, outside = 0, inside = 0;
-        for (k = 2; k < 400; k += 11) {
+        for (k = 2; k < 1000; k += 7) {
             int sa_st, sb_st, out;
             memset(&a, 0, sizeof a);
             memset(&b, 0, sizeof b);
@@ -235,7 +301,11 @@ int main(void)
             out = fabs(b.touch_point[0]) > 1.5 || fabs(b.touch_point[1]) > 1.5 || fabs(b.touch_point[2]) > 1.5;
             CHECK(b.touch_logged == 1 && b.logged_dist == b.touch_dist && rb.contacts == 1);
             CHECK(b.logged == b.executed);                 /* the touched MOVE is the last made */
-            if (!b.touch_in_path) continue;
+            if (!b.touch_in_path) {
+                /* the path's last MOVE (the run of MOVEs cut at VP_DEV_PATH): as alone */
+                CHECKF(sa_st == sb_st, "touch at %lu on a path's last MOVE: alone %d, path %d", k, sa_st, sb_st);
+                continue;
+            }
             in_path++;
             CHECK(a.touched && a.touch_logged == 1 && a.executed >= b.executed);
             if (out) {
@@ -250,5 +320,6 @@ int main(void)
         CHECK(in_path > 5 && outside > 0);
         printf("  touches in a path: %lu (%lu outside Omega, %lu inside)\n", in_path, outside, inside);
     }
+    touch_path_api();
     return vp_test_done("test_run_path");
 }

@@ -545,6 +545,18 @@ static long x_edges(const vp_iorec_t *rec, size_t i0, uint32_t out0, int32_t x0,
 
 static int32_t pxs[200000], pys[200000];
 
+/* The rig with a jerk on x, y, z (waypoints passed at speed) and its paths watched with
+ * contact_stop `stop`; the start in p0 */
+static int watched_rig(rig_t *r, double jerk, double stop, double p0[3])
+{
+    int a;
+    if (rig_open(r, "contact_stop = 21.5", 1) != VP_OK) return 0;
+    for (a = 0; a < 3; a++) r->m->step.cfg.axis[a].jerk = jerk;
+    r->m->cfg.contact_stop = stop;
+    memcpy(p0, r->b.start, 3 * sizeof p0[0]);
+    return 1;
+}
+
 static void touch_path(void)
 {
     rig_t r;
@@ -554,15 +566,12 @@ static void touch_path(void)
     long n, j, trig = -1, grow = 1, yfirst = -1;
     size_t i0;
     uint32_t out0;
-    int done = -1, a;
-    if (rig_open(&r, "contact_stop = 21.5", 1) != VP_OK) return;
-    for (a = 0; a < 3; a++) r.m->step.cfg.axis[a].jerk = 20;   /* mm/s: waypoints passed at speed */
-    r.m->cfg.contact_stop = 21.5;
+    int done = -1;
+    if (!watched_rig(&r, 20, 21.5, p0)) return;
     x0 = r.m->step.pos[0];
     y0 = r.m->step.pos[1];
     /* the route: 40 mm along x, then 40 x and 5 y, then 40 y; the wall 0.2 mm before the first
      * waypoint */
-    memcpy(p0, r.b.start, sizeof p0);
     memcpy(p1, p0, sizeof p1);
     p1[0] += 40;
     memcpy(p2, p1, sizeof p2);
@@ -622,6 +631,29 @@ static void touch_path(void)
             CHECKF(r.m->step.pos[0] == x0 && r.m->step.pos[1] == y0, "back at %d %d", r.m->step.pos[0], r.m->step.pos[1]);
         }
     }
+    /* the wall a step before the waypoint: seen on the first piece, confirmed (debounce reads, a
+     * step each) on the second: the touch is still the first MOVE's, at its end */
+    {
+        vp_cmd_t b;
+        memcpy(p0, r.b.start, sizeof p0);
+        move_cmd(&c[0], p0, p1);
+        move_cmd(&c[1], p1, p2);
+        move_cmd(&c[2], p2, p3);
+        r.wall.at = xw - 1;
+        r.wall.seen = 0;
+        CHECK(vp_machine_move_path(r.m, c, 3, &done) == VP_OK);
+        CHECKF(done == 1 && vp_machine_contact(r.m, &at) == 1 && fabs(at - (40 - 1 / 80.0)) <= 1e-9,
+               "a step before the waypoint: done %d, at %.5f", done, at);
+        CHECK(r.wall.first[0] == xw - 1 && r.m->step.pos[0] > xw);
+        {
+            double trig_pt[3];
+            memcpy(trig_pt, p0, sizeof trig_pt);
+            trig_pt[0] += at;
+            move_cmd(&b, trig_pt, p0);
+        }
+        r.wall.at = INT32_MAX;
+        CHECK(vp_machine_move(r.m, &b) == VP_OK && r.m->step.pos[0] == x0 && r.m->step.pos[1] == y0);
+    }
     /* a stop too long for any piece: the step generator refuses before a step, the machine makes
      * the first MOVE alone */
     r.wall.at = INT32_MAX;
@@ -653,6 +685,8 @@ static void touch_path(void)
     c[0].range = 40;
     r.wall.at = x0 + 20 * 80;
     CHECK(vp_machine_move(r.m, &c[0]) == VP_OK && r.m->move_n > 1 && vp_machine_contact(r.m, &at) == 1);
+    /* the pieces it took (the dry run sweeps the head along them) end where it stopped */
+    CHECK(memcmp(r.m->way[r.m->move_n - 1], r.m->j, sizeof r.m->j) == 0);
     /* the wall is the carriage's x; the trigger is the laser origin there, on the MOVE's line (the
      * origin kept within origin_tol while the head turns), `at` along it */
     CHECK(r.wall.first[0] == x0 + 20 * 80);
@@ -676,12 +710,9 @@ static double touch_sweep(void)
     vp_cmd_t c[2];
     double p0[3], p1[3], p2[3], worst = 0, at;
     int32_t x0, k;
-    int done, a, carried = 0;
-    if (rig_open(&r, "contact_stop = 21.5", 1) != VP_OK) return -1;
-    for (a = 0; a < 3; a++) r.m->step.cfg.axis[a].jerk = 1000;
-    r.m->cfg.contact_stop = 4;
+    int done, carried = 0;
+    if (!watched_rig(&r, 1000, 4, p0)) return -1;
     x0 = r.m->step.pos[0];
-    memcpy(p0, r.b.start, sizeof p0);
     memcpy(p1, p0, sizeof p1);
     p1[0] += 3;
     memcpy(p2, p1, sizeof p2);
