@@ -452,8 +452,7 @@ static int aim_far_vertices(vp_planner_t *pl, const uint32_t *tab, uint32_t slot
  * edges' vertices, sorted, go past the edge table in the scratch; their number, or NONE when
  * they do not fit (then every active tet). */
 #if VP_PL_TUBES
-#define HOLE_VERTICES_MAX 4096u
-static uint32_t hole_vertices(const vp_planner_t *pl, const uint32_t *tab, uint32_t slots)
+VP_PL_API uint32_t vp_pl_hole_vertices(const vp_planner_t *pl, const uint32_t *tab, uint32_t slots)
 {
     uint32_t *vs = pl->pool.astar + 3u * slots, cap = pl->pool.cap_astar - 3u * slots, i, n = 0, k, j;
     if (cap > HOLE_VERTICES_MAX) cap = HOLE_VERTICES_MAX;
@@ -474,7 +473,7 @@ static uint32_t hole_vertices(const vp_planner_t *pl, const uint32_t *tab, uint3
 }
 #endif
 
-static int has_vertex_in(const vp_planner_t *pl, uint32_t t, const uint32_t *vs, uint32_t n)
+VP_PL_API int vp_pl_has_vertex_in(const vp_planner_t *pl, uint32_t t, const uint32_t *vs, uint32_t n)
 {
     const uint32_t *w = vp_dt_tet(&pl->dt, t);
     int k;
@@ -563,13 +562,13 @@ VP_PL_API int vp_pl_close_holes(vp_planner_t *pl, int refine_only)
          * until the next insertion (in body mode from the holes' stars alone) */
         uint32_t tt, nv = NONE;
 #if VP_PL_TUBES
-        if (pl->cfg.clearance > 0.0 && !pl->tube.on) nv = hole_vertices(pl, tab, slots);
+        if (pl->cfg.clearance > 0.0 && !pl->tube.on) nv = vp_pl_hole_vertices(pl, tab, slots);
 #endif
         pl->close.exhaustive = 1;
         pl->st.escalations++;
         for (tt = 0; tt < pl->dt.ntet_slots; tt++)
             if (vp_dt_alive(&pl->dt, tt) && tet_active(pl, tt) &&
-                (nv == NONE || has_vertex_in(pl, tt, tab + 3u * slots, nv))) {
+                (nv == NONE || vp_pl_has_vertex_in(pl, tt, tab + 3u * slots, nv))) {
                 VP_TRY(vp_pl_explore(pl, tt));
             }
         return (int)pl->pool.ntask;

@@ -380,6 +380,15 @@ VP_PL_API void vp_pl_reseed_dir(uint32_t attempt, double *d);
 VP_PL_API int vp_pl_close_holes(vp_planner_t *pl, int refine_only);
 VP_PL_API int vp_pl_reseed_feed(vp_planner_t *pl, const vp_probe_result_t *res);
 VP_PL_API int vp_pl_cut_keeps_topology(const vp_planner_t *pl, uint32_t t);
+/* 1 when tet t has a vertex in the sorted list vs[0 .. n) */
+VP_PL_API int vp_pl_has_vertex_in(const vp_planner_t *pl, uint32_t t, const uint32_t *vs, uint32_t n);
+#if VP_PL_TUBES
+/* Body mode's detect_access from the holes alone: the vertices of the edge table's odd edges
+ * (3 words per slot: a, b, facets; NONE empty), sorted, once each, into the scratch past the
+ * table (pool.astar + 3 slots); their number, or NONE past HOLE_VERTICES_MAX or the scratch */
+#define HOLE_VERTICES_MAX 4096u
+VP_PL_API uint32_t vp_pl_hole_vertices(const vp_planner_t *pl, const uint32_t *tab, uint32_t slots);
+#endif
 
 /* seed.c */
 VP_PL_API double vp_pl_omega_exit(const vp_planner_config_t *c, const double *p, const double *u);

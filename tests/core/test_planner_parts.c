@@ -854,6 +854,74 @@ static void test_aim(void *arena)
     }
 }
 
+/* ---- detect_access from the holes alone (close.c): the odd edges' vertices, and the tets with
+ * one of them, against a brute force written here */
+static int cmp_u32(const void *a, const void *b)
+{
+    uint32_t x = *(const uint32_t *)a, y = *(const uint32_t *)b;
+    return x < y ? -1 : x > y;
+}
+
+static void test_hole_vertices(void *arena)
+{
+    static vp_planner_t pl;
+    static uint32_t want[1 << 16];
+    int round, tets = 0, with = 0;
+    uint32_t i, v;
+    CHECK(init(&pl, arena, VP_OMEGA_BOX) == VP_OK);
+    for (round = 0; round < 40; round++) {
+        uint32_t slots = 16u << (round % 7), *tab = pl.pool.astar, n, nw = 0, range = round < 20 ? 50u : 3000u;
+        if (3u * slots + HOLE_VERTICES_MAX > pl.pool.cap_astar) continue;
+        for (i = 0; i < slots; i++) {
+            uint32_t a = (uint32_t)(urand() * range), b = a + 1u + (uint32_t)(urand() * range), c = 1u + (uint32_t)(urand() * 4);
+            if (urand() < 0.3) { tab[3 * i] = tab[3 * i + 1] = tab[3 * i + 2] = NONE; continue; }
+            tab[3 * i] = a; tab[3 * i + 1] = b; tab[3 * i + 2] = c;
+            if (c != 2) { want[nw++] = a; want[nw++] = b; }
+        }
+        qsort(want, nw, sizeof want[0], cmp_u32);
+        for (i = 0, n = 0; i < nw; i++) if (i == 0 || want[i] != want[i - 1]) want[n++] = want[i];
+        nw = n;
+        n = vp_pl_hole_vertices(&pl, tab, slots);
+        if (nw > HOLE_VERTICES_MAX) { CHECKF(n == NONE, "round %d: %u vertices, not refused", round, nw); continue; }
+        CHECKF(n == nw && memcmp(tab + 3u * slots, want, nw * sizeof want[0]) == 0, "round %d: %u of %u vertices", round, n, nw);
+    }
+    /* more than HOLE_VERTICES_MAX: every active tet instead (NONE) */
+    {
+        uint32_t slots = 4096, *tab = pl.pool.astar;
+        for (i = 0; i < slots; i++) { tab[3 * i] = 2 * i; tab[3 * i + 1] = 2 * i + 1; tab[3 * i + 2] = 1; }
+        CHECK(vp_pl_hole_vertices(&pl, tab, slots) == NONE);
+        tab[3 * 4095 + 2] = 2;                      /* 4095 odd edges: 8190 vertices, still too many */
+        CHECK(vp_pl_hole_vertices(&pl, tab, slots) == NONE);
+        for (i = 2048; i < slots; i++) tab[3 * i + 2] = 2;   /* 2048 odd edges: 4096 vertices, taken */
+        CHECK(vp_pl_hole_vertices(&pl, tab, slots) == 4096u && tab[3 * slots + 4095] == 4095u);
+    }
+    /* a tet has a vertex in the list: against a scan of its four */
+    CHECK(init(&pl, arena, VP_OMEGA_BOX) == VP_OK);
+    for (i = 0; i < 60; i++) {
+        double p[3];
+        p[0] = urand() - 0.5; p[1] = urand() - 0.5; p[2] = urand() - 0.5;
+        vp_dt_insert(&pl.dt, p, VP_DT_NONE, &v);
+    }
+    for (round = 0; round < 30; round++) {
+        uint32_t n = 0, t;
+        for (v = 0; v < 70; v++) if (urand() < 0.1 * (1 + round % 4)) want[n++] = v;
+        for (t = 0; t < pl.dt.ntet_slots; t++) {
+            const uint32_t *w;
+            int k, brute = 0, got;
+            if (!vp_dt_alive(&pl.dt, t)) continue;
+            w = vp_dt_tet(&pl.dt, t);
+            for (k = 0; k < 4; k++) for (i = 0; i < n; i++) if (want[i] == w[k]) brute = 1;
+            got = vp_pl_has_vertex_in(&pl, t, want, n);
+            CHECKF(got == brute, "tet %u: %d, by a scan %d", t, got, brute);
+            tets++;
+            with += got;
+        }
+    }
+    printf("hole_vertices: 40 edge tables as a sort and unique of their odd edges' ends; past %u, every tet; "
+           "has_vertex_in: %d tets as a scan of their four (%d with one)\n", HOLE_VERTICES_MAX, tets, with);
+    CHECK(with > 100 && tets - with > 100);
+}
+
 int main(void)
 {
     void *arena = malloc(ARENA);
@@ -866,6 +934,7 @@ int main(void)
     test_size_pass(arena);
     test_tubes(arena);
     test_aim(arena);
+    test_hole_vertices(arena);
     free(arena);
     return vp_test_done("test_planner_parts");
 }
