@@ -561,7 +561,7 @@ static void touch_path(void)
 {
     rig_t r;
     vp_cmd_t c[3];
-    double p0[3], p1[3], p2[3], p3[3], at, way[2][VP_KIN_JOINTS], lens[2];
+    double p0[3], p1[3], p2[3], p3[3], at = 0, way[2][VP_KIN_JOINTS], lens[2];
     int32_t x0, y0, W, xw;
     long n, j, trig = -1, grow = 1, yfirst = -1;
     size_t i0;
@@ -708,7 +708,7 @@ static double touch_sweep(void)
 {
     rig_t r;
     vp_cmd_t c[2];
-    double p0[3], p1[3], p2[3], worst = 0, at;
+    double p0[3], p1[3], p2[3], worst = 0, at = 0;
     int32_t x0, k;
     int done, carried = 0;
     if (!watched_rig(&r, 1000, 4, p0)) return -1;
