@@ -8,6 +8,19 @@ static double vp_run_clock(const vp_run_hooks_t *h)
 }
 
 #ifndef VP_CORE_MCU
+/* The head's contact switch stopped MOVE `move` at `at` (logged already): the planner learns
+ * where (vp_planner_touch_path: an ordinary touch when it is the last command given). */
+static int vp_run_touch(vp_planner_t *pl, const vp_run_hooks_t *hooks, vp_run_result_t *out, const vp_cmd_t *move,
+                        double at)
+{
+    double c0 = vp_run_clock(hooks);
+    int st;
+    out->contacts++;
+    st = vp_planner_touch_path(pl, move, at);
+    out->planner_seconds += vp_run_clock(hooks) - c0;
+    return st;
+}
+
 /* A MOVE and the MOVEs the planner gives after it, up to VP_DEV_PATH and never past
  * max_commands, made as one path (dev->move_path): the planner needs nothing back from a MOVE
  * made whole, so it can say the route ahead before the head moves. The command that ends the
@@ -60,13 +73,7 @@ static int vp_run_path(vp_planner_t *pl, const vp_device_ops_t *dev, const vp_ru
             /* as a MOVE made alone: logged first, then the planner learns where the head touched */
             *held = 0;
             if (hst != VP_OK) return hst;
-            {
-                double c0 = vp_run_clock(hooks);
-                out->contacts++;
-                st = vp_planner_touch_path(pl, &path[off - 1], touch.dist);
-                out->planner_seconds += vp_run_clock(hooks) - c0;
-            }
-            if (st != VP_OK) return st;
+            if ((st = vp_run_touch(pl, hooks, out, &path[off - 1], touch.dist)) != VP_OK) return st;
             out->commands++;
             if (hooks && hooks->progress) hooks->progress(hooks->ctx, pl, out->commands);
             return VP_OK;
@@ -125,13 +132,7 @@ int vp_run(vp_planner_t *pl, const vp_device_ops_t *dev, const vp_run_hooks_t *h
             res.hit = 1;
             res.dist = at;
             if (st == VP_OK && after) st = after(hctx, &cmd, touched ? &res : NULL);
-            if (st == VP_OK && touched) {
-                /* logged first; the planner learns where the head touched */
-                out->contacts++;
-                c0 = vp_run_clock(hooks);
-                st = vp_planner_touch(pl, at);
-                out->planner_seconds += vp_run_clock(hooks) - c0;
-            }
+            if (st == VP_OK && touched) st = vp_run_touch(pl, hooks, out, &cmd, at);   /* logged first */
 #else /* a microcontroller core has no contact safety net (VP_PL_CONTACTS) */
             st = dev->move(dev->ctx, &cmd, &collided);
             out->collisions += collided != 0;

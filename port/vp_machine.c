@@ -376,16 +376,14 @@ int vp_machine_move_path(vp_machine_t *m, const vp_cmd_t *cmds, int n, int *done
     if (m->cfg.contact) {
         /* watched: a touch ends the path in the MOVE whose pieces it fell in; a piece whose own
          * stop would go too far (fast, with the arm's turn) makes the first MOVE go alone */
-        double lens[VP_MACHINE_PATH_WAY];
-        vp_machine_piece_lens(m, m->j, (const double (*)[VP_KIN_JOINTS])m->path_way, nw, lens);
-        if (!vp_step_touch_fits(&m->step, NULL, &m->path_way[0][0], nw, lens, m->cfg.contact_stop)) {
+        if (!vp_machine_touch_fits(m, m->j, (const double (*)[VP_KIN_JOINTS])m->path_way, nw)) {
             rc = vp_machine_path_alone(m, &cmds[0]);
             m->st.move_ns += m->io.now(m->io.ctx) - t0;
             if (rc < 0) return rc;
             *done = 1;
             return VP_OK;
         }
-        rc = vp_step_move_touch(&m->step, &m->path_way[0][0], nw, VP_STEP_WATCH_STOP, lens, m->cfg.contact_stop, &c);
+        rc = vp_machine_touch_pieces(m, (const double (*)[VP_KIN_JOINTS])m->path_way, nw, &c);
     } else
         rc = vp_step_move_path(&m->step, &m->path_way[0][0], nw);
     vp_machine_sync(m);

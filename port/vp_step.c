@@ -763,19 +763,16 @@ static int vp_step_stop_on(vp_step_t *s, const double *way, int n, int w, const 
     int na = s->cfg.naxes;
     vp_step_jerks(s, J);
     while (r->join && !s->cfg.contact_halt) {
-        int32_t d0[VP_STEP_MAX_AXES], d1[VP_STEP_MAX_AXES], left[VP_STEP_MAX_AXES];
+        int32_t d0[VP_STEP_MAX_AXES], d1[VP_STEP_MAX_AXES];
         vp_step_block_t b0, b1;
         double rho;
-        int i, reached = 1, j;
-        vp_step_piece(s, way, w, p0, d0);
-        for (i = 0; i < na; i++) {
-            left[i] = vp_step_to_steps(s, i, way[(size_t)w * na + i]) - s->pos[i];
-            if (left[i]) reached = 0;
-        }
-        j = reached ? w + 1 : w;
+        int i, j = w + 1;
+        /* block w at its waypoint: the stop goes on from w + 1; not yet started: from w */
+        for (i = 0; i < na; i++)
+            if (vp_step_to_steps(s, i, way[(size_t)w * na + i]) != s->pos[i]) j = w;
         if (j >= n || j == 0) break;
-        if (reached) vp_step_piece(s, way, j, p0, d1);
-        else { memcpy(d1, d0, sizeof d1); vp_step_piece(s, way, j - 1, p0, d0); }
+        vp_step_piece(s, way, j - 1, p0, d0);
+        vp_step_piece(s, way, j, p0, d1);
         if (vp_step_block_init(&b0, na, d0, rate, acc, s->cfg.max_step_rate) != VP_OK || !b0.n ||
             vp_step_block_init(&b1, na, d1, rate, acc, s->cfg.max_step_rate) != VP_OK || !b1.n)
             break;

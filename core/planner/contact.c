@@ -214,18 +214,28 @@ static int insert_point(vp_planner_t *pl, const double *c)
     return st;
 }
 
-static int touch_at(vp_planner_t *pl, double at)
+/* The point `*at` along the MOVE from -> to: *at checked (VP_EINVAL beyond the MOVE by more than
+ * the planner's tolerance) and clamped to it, u its unit direction (0 for a null MOVE), c the
+ * point. */
+static int point_along(const vp_planner_t *pl, const double *from, const double *to, double *at, double *u, double *c)
 {
-    double u[3], len, c[3], back[3];
-    uint32_t from_rec, touch = PROOF_NONE;
+    double len;
     int k;
-    vp_sub3(u, pl->dev.pos, pl->contact.move_from);
+    vp_sub3(u, to, from);
     len = sqrt(vp_dot3(u, u));
-    if (!(at >= 0.0) || !(at <= len + pl->ptol)) return VP_EINVAL;
-    if (at > len) at = len;
+    if (!(*at >= 0.0) || !(*at <= len + pl->ptol)) return VP_EINVAL;
+    if (*at > len) *at = len;
     if (len > 0.0)
         for (k = 0; k < 3; k++) u[k] /= len;
-    for (k = 0; k < 3; k++) c[k] = pl->contact.move_from[k] + at * u[k];
+    for (k = 0; k < 3; k++) c[k] = from[k] + *at * u[k];
+    return VP_OK;
+}
+
+static int touch_at(vp_planner_t *pl, double at)
+{
+    double u[3], c[3], back[3];
+    uint32_t from_rec, touch = PROOF_NONE;
+    VP_TRY(point_along(pl, pl->contact.move_from, pl->dev.pos, &at, u, c));
     /* Omega holds the object (A2): a contact outside it breaks the assumption every proof
      * outside Omega rests on */
     if (!vp_pl_omega_inside(&pl->cfg, c)) return VP_ERANGE;
@@ -277,10 +287,9 @@ int vp_planner_touch(vp_planner_t *pl, double at)
     if (pl->error) return pl->error;
     if (!pl->contact.moved || pl->dev.awaiting) return VP_ESTATE;
     {
-        double d[3], len;
-        vp_sub3(d, pl->dev.pos, pl->contact.move_from);
-        len = sqrt(vp_dot3(d, d));
-        if (!(at >= 0.0) || !(at <= len + pl->ptol)) return VP_EINVAL;
+        /* a bad `at` changes nothing (not even pl->error) */
+        double a = at, u[3], c[3];
+        VP_TRY(point_along(pl, pl->contact.move_from, pl->dev.pos, &a, u, c));
     }
     st = touch_at(pl, at);
     if (st < 0) pl->error = st;
@@ -289,18 +298,14 @@ int vp_planner_touch(vp_planner_t *pl, double at)
 
 int vp_planner_touch_path(vp_planner_t *pl, const vp_cmd_t *move, double at)
 {
-    double u[3], c[3], len;
+    double u[3], c[3];
     int k, last = pl && pl->contact.moved && !pl->dev.awaiting;
     if (!pl || !move || move->kind != VP_CMD_MOVE) return VP_EINVAL;
     if (pl->error) return pl->error;
     for (k = 0; k < 3; k++)
         if (move->to[k] != pl->dev.pos[k] || move->from[k] != pl->contact.move_from[k]) last = 0;
     if (last) return vp_planner_touch(pl, at);   /* the last command given */
-    vp_sub3(u, move->to, move->from);
-    len = sqrt(vp_dot3(u, u));
-    if (!(at >= 0.0) || !(at <= len + pl->ptol)) return VP_EINVAL;
-    if (at > len) at = len;
-    for (k = 0; k < 3; k++) c[k] = move->from[k] + (len > 0.0 ? at / len * u[k] : 0.0);
+    VP_TRY(point_along(pl, move->from, move->to, &at, u, c));
     /* Omega holds the object (A2): a contact outside it breaks the assumption every proof
      * outside Omega rests on */
     pl->error = vp_pl_omega_inside(&pl->cfg, c) ? VP_ESTATE : VP_ERANGE;
