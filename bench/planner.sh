@@ -58,3 +58,29 @@ echo "ratio = CGAL mesher seconds / voroprobe scan seconds (above 1: the whole s
 echo "than CGAL's mesher); p/v = probes per output vertex (ours, and the published rule's); tr_x = travel"
 echo "of the published rule (prev chains) / ours; B/vert = arena peak per output vertex; cm+g = closed"
 echo "manifold / genus. * = table figure (CGAL not installed)."
+
+# Body mode (the head kept outside Omega, every probe started on dOmega): the planner takes, of
+# all waiting tasks, the one whose probe starts nearest the head. Its planner seconds against
+# CGAL's mesher on the same surface and radius, both measured here.
+BODY=${VP_BENCH_BODY:-"torus:0.05 torus:0.03 torus:0.02"}
+echo
+echo "Body mode (voroprobe sim --clearance 0.05) vs CGAL surface mesher (radius only), median of $RUNS"
+printf '%-12s %7s %8s %8s %8s %7s %7s %9s\n' case verts probes plan_s cgal_s ratio p/v travel
+for c in $BODY; do
+  s=${c%%:*}; e=${c#*:}
+  : >"$D/body.txt"
+  i=0; while [ $i -lt "$RUNS" ]; do
+    "$VP" sim --surface "$s" --eps "$e" --clearance 0.05 --quiet --json --hausdorff 0 --no-log --out "$D/body-$s-$e" | tail -1 >>"$D/body.txt"; i=$((i+1)); done
+  line=$(head -1 "$D/body.txt")
+  ps=$(field planner_seconds <"$D/body.txt" | median)
+  v=$(echo "$line" | field vertices); p=$(echo "$line" | field probes); tr=$(echo "$line" | field travel)
+  cs="-"
+  if [ -n "$cgal" ]; then
+    : >"$D/cgal.txt"
+    i=0; while [ $i -lt "$RUNS" ]; do "$cgal" "$s" "$e" >>"$D/cgal.txt"; i=$((i+1)); done
+    cs=$(field seconds <"$D/cgal.txt" | median)
+  fi
+  awk -v c="$c" -v v="$v" -v p="$p" -v ps="$ps" -v cs="$cs" -v tr="$tr" 'BEGIN {
+    printf "%-12s %7d %8d %8.3f %8s %6s %7.2f %9.0f\n", c, v, p, ps, cs, (cs=="-" ? "-" : sprintf("%.2fx", ps/cs)), p/v, tr }'
+done
+echo "plan_s = the planner's own seconds (no simulated probes); ratio = plan_s / CGAL mesher seconds."

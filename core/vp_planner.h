@@ -172,6 +172,15 @@ typedef struct vp_task {
     double off;        /* already proven free from the origin (a range-limited probe) */
 } vp_task_t;
 
+/* Body mode, per task slot: where the task's probe would start (o; ok 0 where it cannot), kept
+ * with the Voronoi edge it was worked out for: facet and the two tets' vertices as stored, which
+ * name the edge to the last bit (vertex records are never reused). tasks.c */
+typedef struct vp_task_near {
+    uint32_t tv[4], uv[4];
+    double o[3];
+    uint8_t facet, ok;
+} vp_task_near_t;
+
 /* A proof of free space: the free part of one probe, [o, o + len * d] (d unit), and the proof
  * of the piece before it on the same ray (a range-limited probe walked on), or none. */
 typedef struct vp_proof {
@@ -194,6 +203,8 @@ typedef struct vp_pl_pools {
     int fhash_dirty;                                  /* facets.c: rebuild before a lookup */
     uint32_t *heap; uint32_t nheap, cap_heap;         /* bad balls, max-heap on radius: facets.c */
     vp_task_t *task; uint32_t ntask, cap_task;        /* pending probes (a stack): tasks.c */
+    vp_task_near_t *near;                             /* per task slot in body mode, else NULL:
+                                                         tasks.c (the nearest task) */
     vp_proof_t *proof; uint32_t nproof, cap_proof;    /* free parts of probes: proof.c */
     uint32_t *astar; uint32_t cap_astar;              /* scratch, see VP_PL_SCRATCH in the
                                                          private header for who owns it when */

@@ -17,12 +17,6 @@
  * constructed points (Voronoi vertices, hits), far below any physical size */
 #define PROOF_TOL_REL 1e-10
 #define DEG_TO_RAD 0.017453292519943295
-/* body mode with tubes: the newest tasks looked at for the one whose probe starts nearest the
- * head (without tubes all of them are: the 1,024 newest left the torus at eps 3 open where all
- * close it, at twice the machine time; with tubes all ended the mug open, its tubes unproven).
- * Looking at all costs the planner time that grows with the square of the scan (README) */
-#define NEAR_WINDOW_TUBES 32u
-
 /* ---------- arena ---------- */
 
 /* Shares of the arena per 100 units (vp_planner_init): records, facets, free edges, scratch,
@@ -49,7 +43,7 @@ VP_PL_API void vp_pl_note_peak(vp_planner_t *pl)
     while (hash_need < 2u * pl->pool.nfacets + 16u) hash_need <<= 1;
     used = vp_dt_bytes_used(&pl->dt) + (size_t)pl->pool.nvrec * sizeof(vp_vrec_t) +
            (size_t)pl->pool.nfedge * 4u * FEDGE_WORDS + (size_t)pl->pool.nproof * sizeof(vp_proof_t) + (size_t)pl->pool.nfrec * sizeof(vp_frec_t) + (size_t)hash_need * 4u +
-           (size_t)pl->peak.heap * 4u + (size_t)pl->peak.task * sizeof(vp_task_t) +
+           (size_t)pl->peak.heap * 4u + (size_t)pl->peak.task * (sizeof(vp_task_t) + (pl->pool.near ? sizeof(vp_task_near_t) : 0u)) +
            (size_t)pl->peak.route * 24u + (size_t)pl->peak.astar * 4u + (size_t)pl->peak.path * 4u;
     if (used > pl->st.arena_peak) pl->st.arena_peak = used;
 }
@@ -62,7 +56,7 @@ int vp_planner_init(vp_planner_t *pl, void *arena, size_t bytes, const vp_planne
     size_t dtb, unit;
     const unsigned char *sh;
     uint32_t i, hwords;
-    int k, st;
+    int k, st, body = 0;
     if (!pl || !arena || !cfg) return VP_EINVAL;
     if (cfg->omega_kind == VP_OMEGA_BALL) {
         if (!vp_finite3(cfg->omega_center) || !(cfg->omega_radius > 0.0) || !(cfg->omega_radius < CFG_MAX))
@@ -123,7 +117,11 @@ int vp_planner_init(vp_planner_t *pl, void *arena, size_t bytes, const vp_planne
     for (hwords = 1; (size_t)hwords * 2 * 4 <= 4 * unit; hwords <<= 1) {}
     pl->pool.cap_astar = (uint32_t)(sh[3] * unit / 4);
     pl->route.cap_path = (uint32_t)(unit / 4);
-    pl->pool.cap_task = (uint32_t)(sh[4] * unit / sizeof(vp_task_t));
+    /* body mode: each task slot has its start kept beside it (the nearest task, tasks.c) */
+#ifndef VP_CORE_MCU /* a microcontroller core keeps the newest-first order (its flash budget) */
+    body = cfg->clearance > 0.0;
+#endif
+    pl->pool.cap_task = (uint32_t)(sh[4] * unit / (sizeof(vp_task_t) + (body ? sizeof(vp_task_near_t) : 0u)));
     pl->pool.cap_heap = (uint32_t)(unit / 4);
     pl->route.cap = (uint32_t)(sh[5] * unit / 24);
     if (pl->route.cap > ROUTE_CAP_MAX) pl->route.cap = ROUTE_CAP_MAX;
@@ -134,6 +132,11 @@ int vp_planner_init(vp_planner_t *pl, void *arena, size_t bytes, const vp_planne
     pl->pool.astar = carve(&cur, end, (size_t)pl->pool.cap_astar * 4);
     pl->route.path = carve(&cur, end, (size_t)pl->route.cap_path * 4);
     pl->pool.task = carve(&cur, end, (size_t)pl->pool.cap_task * sizeof(vp_task_t));
+    if (body) {
+        pl->pool.near = carve(&cur, end, (size_t)pl->pool.cap_task * sizeof(vp_task_near_t));
+        if (!pl->pool.near) return VP_ENOMEM;
+        memset(pl->pool.near, 0, (size_t)pl->pool.cap_task * sizeof(vp_task_near_t)); /* no key is all 0 */
+    }
     pl->pool.heap = carve(&cur, end, (size_t)pl->pool.cap_heap * 4);
     pl->route.pts = carve(&cur, end, (size_t)pl->route.cap * 24);
     pl->route.proof = carve(&cur, end, (size_t)pl->route.cap * 4);
@@ -309,25 +312,10 @@ static int phase_step(vp_planner_t *pl, int *done)
         }
         if (pl->pool.ntask > 0) {
             vp_task_t k;
-#ifndef VP_CORE_MCU /* a microcontroller core keeps the newest-first order (its flash budget) */
-            if (pl->cfg.clearance > 0.0 && pl->pool.ntask > 1) {
-                /* body mode: every probe starts on dOmega and the head travels round Omega to it:
-                 * of the waiting tasks (with tubes, of the newest), the one whose probe starts
-                 * nearest the head goes first */
-                uint32_t i, lo = 0, best = pl->pool.ntask - 1;
-                double bd = VP_PL_HUGE, o[3];
-                if (pl->cfg.min_feature > 0.0 && pl->pool.ntask > NEAR_WINDOW_TUBES) lo = pl->pool.ntask - NEAR_WINDOW_TUBES;
-                for (i = pl->pool.ntask; i-- > lo;)
-                    if (vp_pl_task_origin(pl, &pl->pool.task[i], o)) {
-                        double d = vp_dist3(o, pl->dev.pos);
-                        if (d < bd) { bd = d; best = i; }
-                    }
-                if (best != pl->pool.ntask - 1) {
-                    vp_task_t t = pl->pool.task[best];
-                    pl->pool.task[best] = pl->pool.task[pl->pool.ntask - 1];
-                    pl->pool.task[pl->pool.ntask - 1] = t;
-                }
-            }
+#ifndef VP_CORE_MCU
+            /* body mode: the task whose probe starts nearest the head goes first */
+            if (pl->pool.near && pl->pool.ntask > 1) vp_pl_task_nearest_on_top(pl);
+            if (pl->pool.ntask == 0) return pl->error; /* every task had gone */
 #endif
             k = pl->pool.task[--pl->pool.ntask];
             if (vp_pl_task_start(pl, &k)) pl->probe.ready = 1;

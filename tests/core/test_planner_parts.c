@@ -2,7 +2,8 @@
  * the proof check (proof.c), the route outside Omega (route.c), the bad-ball heap and the facet
  * hash (facets.c), the topology rule of cuts (close.c, against Betti numbers computed here),
  * tubes inside Omega (tube.c, against a brute force written here), lines aimed from aside
- * (aim.c, against a world answered exactly here).
+ * (aim.c, against a world answered exactly here), the nearest waiting task in body mode (tasks.c,
+ * against a brute force).
  * Each check comes with a case it must refuse, so that none passes vacuously. */
 #include <math.h>
 #include <stdio.h>
@@ -922,6 +923,147 @@ static void test_hole_vertices(void *arena)
     CHECK(with > 100 && tets - with > 100);
 }
 
+/* ---- the nearest waiting task in body mode (tasks.c, vp_pl_task_nearest_on_top): at every step
+ * of a scan, against a brute force over every task slot, each start worked out afresh
+ * (vp_pl_task_origin) and checked here to lie on dOmega and on the line of its facet's Voronoi
+ * edge. The pick must keep the live tasks in their order but for the swap that puts the nearest
+ * on top (ties: the higher slot), drop only the dead, and keep starts equal to fresh ones to the
+ * last bit. A wrong top (the nearest swapped away) must be seen. */
+typedef struct near_snap { uint32_t tet; uint8_t facet; double off; } near_snap_t;
+
+/* slot order of the live tasks with the brute force's nearest swapped to the top; returns the
+ * count, *best its index there (NONE: none has a start), *bd its distance */
+static uint32_t near_brute(const vp_planner_t *pl, near_snap_t *out, uint32_t *best, double *bd, long *bad_start)
+{
+    uint32_t i, n = 0;
+    *best = NONE;
+    *bd = 0.0;
+    for (i = 0; i < pl->pool.ntask; i++) {
+        const vp_task_t *k = &pl->pool.task[i];
+        double o[3];
+        if (!vp_dt_alive(&pl->dt, k->tet) || !(side_get(pl, k->tet, k->facet) & SIDE_QUEUED)) continue;
+        if (vp_pl_task_origin(pl, k, o)) {
+            double d = vp_dist3(o, pl->dev.pos), m[3], n3[3], ab[3], ac[3], w[3], x[3], lim = 0.0;
+            const double *a, *b, *c;
+            uint32_t fv[3];
+            int q;
+            /* on dOmega (the box [-1, 1]^3) */
+            for (q = 0; q < 3; q++) lim = fabs(o[q]) > lim ? fabs(o[q]) : lim;
+            /* on the facet's axis: the line square to it through its circumcentre */
+            vp_dt_facet(&pl->dt, k->tet, k->facet, fv);
+            a = vp_dt_point(&pl->dt, fv[0]); b = vp_dt_point(&pl->dt, fv[1]); c = vp_dt_point(&pl->dt, fv[2]);
+            vp_sub3(ab, b, a); vp_sub3(ac, c, a); vp_cross3(n3, ab, ac);
+            if (vp_normalize3(n3) && vp_pl_facet_circumcenter(pl, fv, m)) {
+                vp_sub3(w, o, m);
+                vp_cross3(x, w, n3);
+                if (sqrt(vp_dot3(x, x)) > 1e-6 * (1.0 + vp_dist3(o, m))) (*bad_start)++;
+            }
+            if (fabs(lim - 1.0) > 1e-9) (*bad_start)++;
+            if (*best == NONE || d <= *bd) { *bd = d; *best = n; }
+        }
+        out[n].tet = k->tet;
+        out[n].facet = k->facet;
+        out[n].off = k->off;
+        n++;
+    }
+    if (*best != NONE && *best != n - 1) {
+        near_snap_t t = out[*best];
+        out[*best] = out[n - 1];
+        out[n - 1] = t;
+    }
+    return n;
+}
+
+/* 1 when the stack is the expected one; counts starts kept unlike fresh ones */
+static int near_same(const vp_planner_t *pl, const near_snap_t *e, uint32_t n, long *bad_kept)
+{
+    uint32_t i;
+    if (pl->pool.ntask != n) return 0;
+    for (i = 0; i < n; i++) {
+        const vp_task_t *k = &pl->pool.task[i];
+        double o[3];
+        if (k->tet != e[i].tet || k->facet != e[i].facet || k->off != e[i].off) return 0;
+        if (vp_pl_task_origin(pl, k, o)) {
+            const vp_task_near_t *c = &pl->pool.near[i];
+            const uint32_t *w = vp_dt_tet(&pl->dt, k->tet);
+            if (c->facet == k->facet && memcmp(c->tv, w, sizeof c->tv) == 0 &&
+                memcmp(c->uv, vp_dt_tet(&pl->dt, w[4 + k->facet] >> 2), sizeof c->uv) == 0 &&
+                (!c->ok || memcmp(c->o, o, sizeof o) != 0))
+                (*bad_kept)++;
+        }
+    }
+    return 1;
+}
+
+static void test_nearest(void *arena)
+{
+    vp_planner_config_t c;
+    vp_planner_t pl;
+    vp_test_ell_t e;
+    vp_cmd_t cmd;
+    near_snap_t *snap;
+    uint32_t best, n;
+    double bd;
+    long steps = 0, picks = 0, wrong = 0, bad_start = 0, bad_kept = 0, dropped = 0, mutant_seen = 0, mutants = 0;
+    int k;
+    memset(&c, 0, sizeof c);
+    e.ax[0] = 0.5; e.ax[1] = 0.35; e.ax[2] = 0.25;
+    for (k = 0; k < 3; k++) { e.c[k] = 0.0; c.omega_lo[k] = -1.0; c.omega_hi[k] = 1.0; }
+    c.omega_kind = VP_OMEGA_BOX;
+    c.ninterior = 1;
+    c.start[2] = 1.5;
+    c.eps = 0.03;
+    c.clearance = 0.05;
+    CHECK(vp_planner_init(&pl, arena, ARENA, &c) == VP_OK && pl.pool.near != NULL);
+    snap = malloc((size_t)pl.pool.cap_task * sizeof *snap);
+    CHECK(snap != NULL);
+    if (!snap) return;
+    for (;;) {
+        if (pl.pool.ntask > 1 && !pl.dev.awaiting) {
+            uint32_t before = pl.pool.ntask;
+            n = near_brute(&pl, snap, &best, &bd, &bad_start);
+            vp_pl_task_nearest_on_top(&pl);
+            picks++;
+            dropped += before - pl.pool.ntask;
+            if (!near_same(&pl, snap, n, &bad_kept)) wrong++;
+            if (best != NONE && n > 2 && (picks % 7) == 0) {
+                /* the checker itself: the nearest swapped away from the top must be seen */
+                uint32_t j;
+                double o[3];
+                for (j = 0; j < n - 1; j++)
+                    if (vp_pl_task_origin(&pl, &pl.pool.task[j], o) && vp_dist3(o, pl.dev.pos) > bd) break;
+                if (j < n - 1) {
+                    vp_task_t t = pl.pool.task[j];
+                    long ignored = 0;
+                    pl.pool.task[j] = pl.pool.task[n - 1];
+                    pl.pool.task[n - 1] = t;
+                    mutants++;
+                    mutant_seen += !near_same(&pl, snap, n, &ignored);
+                    pl.pool.task[n - 1] = pl.pool.task[j];
+                    pl.pool.task[j] = t;
+                }
+            }
+        }
+        if (vp_planner_next(&pl, &cmd) != VP_OK || cmd.kind == VP_CMD_DONE || ++steps > 2000000) break;
+        if (cmd.kind == VP_CMD_PROBE) {
+            vp_probe_result_t res;
+            double t;
+            memset(&res, 0, sizeof res);
+            res.hit = vp_test_ell_first(&e, cmd.from, cmd.dir, cmd.range, &t);
+            res.dist = res.hit ? t : 0.0;
+            if (vp_planner_feed(&pl, &res) != VP_OK) break;
+        }
+    }
+    printf("nearest task: %ld picks against the brute force, %ld differ; %ld dead tasks dropped; starts off dOmega or "
+           "their facet's axis: %ld, kept unlike fresh: %ld; %ld of %ld wrong tops seen\n",
+           picks, wrong, dropped, bad_start, bad_kept, mutant_seen, mutants);
+    CHECK(cmd.kind == VP_CMD_DONE);
+    CHECK(picks > 500 && dropped > 50);
+    CHECK(wrong == 0 && bad_start == 0 && bad_kept == 0);
+    CHECK(mutants > 50 && mutant_seen == mutants);
+    free(snap);
+}
+
 int main(void)
 {
     void *arena = malloc(ARENA);
@@ -935,6 +1077,7 @@ int main(void)
     test_tubes(arena);
     test_aim(arena);
     test_hole_vertices(arena);
+    test_nearest(arena);
     free(arena);
     return vp_test_done("test_planner_parts");
 }
