@@ -615,7 +615,7 @@ vp_device_ops_t vp_scan_ops(vp_scan_dev_t *d)
     ops.move = vp_scan_dev_move;
     ops.probe = vp_scan_dev_probe;
     ops.touched = vp_board_has_contact(&d->board) ? vp_scan_dev_touched : NULL;
-    ops.move_path = ops.touched && !(d->m->cfg.contact_stop > 0) ? NULL : vp_scan_dev_move_path;
+    ops.move_path = vp_machine_paths_allowed(d->m) ? vp_scan_dev_move_path : NULL;
     ops.rays = d->board.line_laser ? vp_scan_dev_rays : NULL;
     return ops;
 }

@@ -247,7 +247,7 @@ static int vp_machine_turning_plan(const vp_machine_t *m, const double *j0, cons
 {
     double tgt[VP_KIN_JOINTS], mid[VP_KIN_JOINTS], end[VP_KIN_JOINTS], len, f;
     int n, w;
-    if (!m->cfg.turn_on_move || (m->cfg.contact && !(m->cfg.contact_stop > 0)) || m->touched || !isfinite(cmd->range) ||
+    if (!m->cfg.turn_on_move || !vp_machine_paths_allowed(m) || m->touched || !isfinite(cmd->range) ||
         !(cmd->range >= 0) || !(fabs(vp_norm3(cmd->dir) - 1) <= 1e-9))
         return 0;
     if (vp_kin_aim(&m->kin, j0, cmd->to, cmd->dir, tgt) != VP_OK) return 0;
@@ -326,6 +326,11 @@ static int vp_machine_path_alone(vp_machine_t *m, const vp_cmd_t *cmd)
 typedef char vp_machine_path_fits_loop[VP_MACHINE_PATH_MOVES >= VP_DEV_PATH ? 1 : -1];
 typedef char vp_machine_path_fits_move[VP_MACHINE_PATH_WAY >= VP_MACHINE_MAX_WAY + 1 ? 1 : -1];
 
+int vp_machine_paths_allowed(const vp_machine_t *m)
+{
+    return !m->cfg.contact || m->cfg.contact_stop > 0;
+}
+
 int vp_machine_move_path(vp_machine_t *m, const vp_cmd_t *cmds, int n, int *done)
 {
     double jc[VP_KIN_JOINTS], o0[3], o1[3], d[3];
@@ -333,7 +338,7 @@ int vp_machine_move_path(vp_machine_t *m, const vp_cmd_t *cmds, int n, int *done
     int64_t t0;
     vp_step_contact_t c;
     if (done) *done = 0;
-    if (!m || !cmds || !done || n < 1 || n > VP_MACHINE_PATH_MOVES || (m->cfg.contact && !(m->cfg.contact_stop > 0)))
+    if (!m || !cmds || !done || n < 1 || n > VP_MACHINE_PATH_MOVES || !vp_machine_paths_allowed(m))
         return VP_EINVAL;
     for (i = 0; i < n; i++) {
         if (cmds[i].kind != VP_CMD_MOVE) return VP_EINVAL;

@@ -215,6 +215,9 @@ int vp_machine_move(vp_machine_t *m, const vp_cmd_t *cmd);
  * 0, else VP_EINVAL): a touch stops the path, the MOVE it fell in is the last made (*done
  * counts it) and vp_machine_contact() says where along it. */
 int vp_machine_move_path(vp_machine_t *m, const vp_cmd_t *cmds, int n, int *done);
+/* 1 when the machine may run a route as one path and turn the head on the way: a head without a
+ * contact switch, or one whose stop past a touch is bounded (cfg.contact_stop > 0) */
+int vp_machine_paths_allowed(const vp_machine_t *m);
 /* 1 and *at (the trigger's distance along that MOVE, planner units) when the last MOVE stopped
  * on the contact switch; 0 otherwise (at may be NULL). */
 int vp_machine_contact(const vp_machine_t *m, double *at);

@@ -583,6 +583,7 @@ int main(void)
          * plan its stops for (contact_stop 0); with it, the path is made */
         CHECK(vp_dryrun_open(&b, NULL, &d, err, sizeof err) == VP_OK);
         m = vp_dryrun_machine(d);
+        CHECK(m->cfg.contact == 0 && vp_machine_paths_allowed(m)); /* no switch: paths, whatever contact_stop */
         CHECK(vp_machine_home(m) == VP_OK && vp_machine_goto(m, P[0]) == VP_OK);
         cmd_probe(&c, P[0], b.interior, 400);
         CHECK(vp_machine_move_path(m, mv, 0, &done) == VP_EINVAL && done == 0);
@@ -594,8 +595,10 @@ int main(void)
         m = vp_dryrun_machine(d);
         CHECK(m->cfg.contact == 1 && vp_machine_home(m) == VP_OK);
         m->cfg.contact_stop = 0;
+        CHECK(!vp_machine_paths_allowed(m));
         CHECK(vp_machine_move_path(m, mv, 1, &done) == VP_EINVAL && done == 0 && m->st.moves == 0);
         m->cfg.contact_stop = 10;
+        CHECK(vp_machine_paths_allowed(m));
         CHECK(vp_machine_move_path(m, mv, 1, &done) == VP_OK && done == 1 && m->st.moves == 1 && !vp_machine_contact(m, NULL));
         vp_dryrun_close(d);
     }
