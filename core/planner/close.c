@@ -402,7 +402,7 @@ static void mark_outside_pairs(vp_planner_t *pl)
  * as the last time (close.resort_odd): a deep cavity, where each costs thousands of probes and
  * closes a few edges, is not taken through it again and again. Returns the number of sides
  * queued, or a negative status. */
-static int aim_far_vertices(vp_planner_t *pl, const uint32_t *tab, uint32_t slots)
+VP_PL_API int vp_pl_aim_far_vertices(vp_planner_t *pl, const uint32_t *tab, uint32_t slots)
 {
     uint32_t i, pushed = 0, odd;
     if (!(pl->cfg.clearance > 0.0) || pl->tube.on || (pl->cfg.flags & VP_PLAN_NO_AIM)) return 0;
@@ -524,7 +524,7 @@ VP_PL_API int vp_pl_close_holes(vp_planner_t *pl, int refine_only)
 #if VP_PL_TUBES
         /* nothing to probe at the holes either way: closing's last resort, as after a full
          * pass that pushed nothing */
-        if (r == 0 && odd > 0) r = aim_far_vertices(pl, tab, slots);
+        if (r == 0 && odd > 0) r = vp_pl_aim_far_vertices(pl, tab, slots);
 #endif
         return r;
     }
@@ -553,7 +553,7 @@ VP_PL_API int vp_pl_close_holes(vp_planner_t *pl, int refine_only)
     }
 #if VP_PL_TUBES
     if (holes > 0 && pushed == 0) {
-        int r = aim_far_vertices(pl, tab, slots);
+        int r = vp_pl_aim_far_vertices(pl, tab, slots);
         if (r != 0) return r;
     }
 #endif

@@ -389,6 +389,10 @@ VP_PL_API int vp_pl_has_vertex_in(const vp_planner_t *pl, uint32_t t, const uint
  * table (pool.astar + 3 slots); their number, or NONE past HOLE_VERTICES_MAX or the scratch */
 #define HOLE_VERTICES_MAX 4096u
 VP_PL_API uint32_t vp_pl_hole_vertices(const vp_planner_t *pl, const uint32_t *tab, uint32_t slots);
+/* Closing's last resort: the sides round the table's odd edges left unseen after one more try
+ * (BLOCKED and RETRIED), whose edge ends at its far vertex in Omega, queued again with lines
+ * through that vertex too; the number queued, or a negative status */
+VP_PL_API int vp_pl_aim_far_vertices(vp_planner_t *pl, const uint32_t *tab, uint32_t slots);
 #endif
 
 /* seed.c */

@@ -3,7 +3,7 @@
  * hash (facets.c), the topology rule of cuts (close.c, against Betti numbers computed here),
  * tubes inside Omega (tube.c, against a brute force written here), lines aimed from aside
  * (aim.c, against a world answered exactly here), the nearest waiting task in body mode (tasks.c,
- * against a brute force).
+ * against a brute force), closing's last resort (close.c, against a brute force).
  * Each check comes with a case it must refuse, so that none passes vacuously. */
 #include <math.h>
 #include <stdio.h>
@@ -1064,6 +1064,178 @@ static void test_nearest(void *arena)
     free(snap);
 }
 
+/* ---- closing's last resort (close.c, vp_pl_aim_far_vertices) on a triangulation of random
+ * points, its sides in every state, against a brute force over every tet: the sides queued are
+ * exactly those of an active finite tet holding both ends of an odd edge of the table, left
+ * unseen after one more try (BLOCKED and RETRIED, neither DEGEN nor QUEUED, still UNKNOWN), whose
+ * two Voronoi vertices lie in Omega (circumcentres worked out here); nothing else changes. Taken
+ * again only with at most half as many odd edges as the last time; never without a body, with
+ * tubes, or with aims turned off. ---- */
+#define FAR_TETS (1u << 15)
+static const unsigned far_states[6] = {
+    SIDE_BLOCKED | SIDE_RETRIED,                /* the one queued */
+    SIDE_BLOCKED,                               /* not tried once more */
+    SIDE_BLOCKED | SIDE_RETRIED | SIDE_DEGEN,   /* degenerate, not unseen */
+    SIDE_BLOCKED | SIDE_RETRIED | SIDE_QUEUED,  /* already queued */
+    SIDE_BLOCKED | SIDE_RETRIED | SIDE_HIT,     /* known */
+    0u };
+
+static int far_in_box(const double *c)
+{
+    return fabs(c[0]) <= 1.0 && fabs(c[1]) <= 1.0 && fabs(c[2]) <= 1.0;
+}
+
+/* want[t] bit f: side f of t to be queued; kinds[s]: the sides round odd edges in state s of an
+ * active tet whose Voronoi vertices lie in Omega (each must be there for the others to count) */
+static uint32_t far_brute(const vp_planner_t *pl, const uint32_t *tab, uint32_t slots, unsigned char *want,
+                          uint32_t *kinds)
+{
+    uint32_t i, t, n = 0;
+    memset(want, 0, FAR_TETS);
+    for (i = 0; i < slots; i++) {
+        uint32_t a = tab[3 * i], b = tab[3 * i + 1];
+        if (a == NONE || tab[3 * i + 2] == 2) continue;
+        for (t = 0; t < pl->dt.ntet_slots; t++) {
+            const uint32_t *w;
+            double ct[3], cu[3];
+            int f, ha = 0, hb = 0, q;
+            if (!vp_dt_alive(&pl->dt, t) || vp_dt_is_ghost(&pl->dt, t) || !tet_active(pl, t)) continue;
+            w = vp_dt_tet(&pl->dt, t);
+            for (q = 0; q < 4; q++) { ha |= w[q] == a; hb |= w[q] == b; }
+            if (!ha || !hb || vp_dt_circumcenter(&pl->dt, t, ct) != VP_OK || !far_in_box(ct)) continue;
+            for (f = 0; f < 4; f++) {
+                uint32_t u = w[4 + f] >> 2;
+                unsigned s = side_get(pl, t, f), k;
+                if (vp_dt_is_ghost(&pl->dt, u) || vp_dt_circumcenter(&pl->dt, u, cu) != VP_OK || !far_in_box(cu)) continue;
+                for (k = 0; k < 6; k++) if (s == far_states[k]) kinds[k]++;
+                if (s == far_states[0] && !(want[t] & (1u << f))) { want[t] |= (unsigned char)(1u << f); n++; }
+            }
+        }
+    }
+    return n;
+}
+
+/* 1 when every side is as before but the wanted, which are queued, forced and no longer blocked */
+static int far_sides_ok(const vp_planner_t *pl, const uint32_t *before, const unsigned char *want)
+{
+    uint32_t t;
+    int f;
+    for (t = 0; t < pl->dt.ntet_slots; t++) {
+        if (!vp_dt_alive(&pl->dt, t)) continue;
+        for (f = 0; f < 4; f++) {
+            unsigned old = (before[t] >> (8 * f)) & 0xFFu, now = side_get(pl, t, f);
+            unsigned exp = (want[t] & (1u << f)) ? ((old & ~SIDE_BLOCKED) | SIDE_QUEUED | SIDE_FORCED) : old;
+            if (now != exp) return 0;
+        }
+    }
+    return 1;
+}
+
+static int far_tasks_ok(const vp_planner_t *pl, const unsigned char *want, uint32_t n)
+{
+    static unsigned char seen[FAR_TETS];
+    uint32_t i;
+    memset(seen, 0, sizeof seen);
+    if (pl->pool.ntask != n) return 0;
+    for (i = 0; i < n; i++) {
+        const vp_task_t *k = &pl->pool.task[i];
+        if (!(want[k->tet] & (1u << k->facet)) || (seen[k->tet] & (1u << k->facet))) return 0;
+        seen[k->tet] |= (unsigned char)(1u << k->facet);
+    }
+    return 1;
+}
+
+static void test_far_vertices(void *arena)
+{
+    static vp_planner_t pl;
+    static uint32_t before[FAR_TETS];
+    static unsigned char want[FAR_TETS];
+    uint32_t i, t, slots = 64, *tab, nodd = 0, nwant, kinds[6] = { 0, 0, 0, 0, 0, 0 }, edges = 0;
+    int r;
+    CHECK(init(&pl, arena, VP_OMEGA_BOX) == VP_OK);
+    pl.cfg.clearance = 0.05;
+    rng_state = 4242;
+    for (i = 0; i < 80; i++) {
+        double p[3];
+        uint32_t v;
+        p[0] = 1.2 * (urand() - 0.5); p[1] = 1.2 * (urand() - 0.5); p[2] = 1.2 * (urand() - 0.5);
+        (void)vp_dt_insert(&pl.dt, p, VP_DT_NONE, &v);
+    }
+    CHECK(pl.dt.ntet_slots < FAR_TETS);
+    for (t = 0; t < pl.dt.ntet_slots; t++) {
+        int f;
+        if (!vp_dt_alive(&pl.dt, t)) continue;
+        pay(&pl, t)[0] = !vp_dt_is_ghost(&pl.dt, t) && urand() < 0.8 ? 0u : NONE;
+        pay(&pl, t)[1] = 0;
+        for (f = 0; f < 4; f++) side_set(&pl, t, f, far_states[urand() < 0.5 ? 0 : 1 + (int)(urand() * 5)]);
+    }
+    /* the edge table: 40 edges of random finite tets, each with a facet record that has it */
+    tab = pl.pool.astar;
+    for (i = 0; i < 3 * slots; i++) tab[i] = NONE;
+    while (edges < 40) {
+        uint32_t tt = (uint32_t)(urand() * pl.dt.ntet_slots), a, b, fv[3], k, h;
+        const uint32_t *w;
+        int ia = (int)(urand() * 4), ib = (ia + 1 + (int)(urand() * 3)) % 4, op = 0, q;
+        if (!vp_dt_alive(&pl.dt, tt) || vp_dt_is_ghost(&pl.dt, tt)) continue;
+        w = vp_dt_tet(&pl.dt, tt);
+        a = w[ia] < w[ib] ? w[ia] : w[ib];
+        b = w[ia] < w[ib] ? w[ib] : w[ia];
+        for (h = 0; h < slots && !(tab[3 * h] == a && tab[3 * h + 1] == b); h++) {}
+        if (h < slots) continue;
+        while (op == ia || op == ib) op++;
+        for (q = 0, k = 0; q < 4; q++) if (q != op) fv[k++] = w[q];
+        CHECK(vp_pl_frec_add_cut(&pl, fv, vp_dt_point(&pl.dt, w[op]), tt, &k) == VP_OK);
+        for (h = (a * 31u + b) & (slots - 1); tab[3 * h] != NONE; h = (h + 1) & (slots - 1)) {}
+        tab[3 * h] = a;
+        tab[3 * h + 1] = b;
+        tab[3 * h + 2] = edges % 3 == 2 ? 2u : 1u + 2u * (edges % 2);
+        nodd += tab[3 * h + 2] != 2;
+        edges++;
+    }
+    for (t = 0; t < pl.dt.ntet_slots; t++) before[t] = vp_dt_alive(&pl.dt, t) ? pay(&pl, t)[1] : 0;
+    nwant = far_brute(&pl, tab, slots, want, kinds);
+    /* the checker: round the odd edges, sides in every state that must not be queued */
+    CHECKF(nwant > 10 && kinds[1] > 5 && kinds[2] > 5 && kinds[3] > 5 && kinds[4] > 5 && kinds[5] > 5,
+           "%u wanted; states %u %u %u %u %u", nwant, kinds[1], kinds[2], kinds[3], kinds[4], kinds[5]);
+    r = vp_pl_aim_far_vertices(&pl, tab, slots);
+    CHECKF(r == (int)nwant, "%d queued, the brute force %u", r, nwant);
+    CHECK(far_sides_ok(&pl, before, want) && far_tasks_ok(&pl, want, nwant));
+    CHECK(pl.close.far_lines == 1 && pl.close.resort_odd == nodd && pl.st.last_resorts == 1 && pl.st.far_line_sides == nwant);
+    /* again, the sides as before: not with as many odd edges; with half of them, taken */
+    for (t = 0; t < pl.dt.ntet_slots; t++) if (vp_dt_alive(&pl.dt, t)) pay(&pl, t)[1] = before[t];
+    pl.pool.ntask = 0;
+    memset(want, 0, sizeof want);
+    CHECK(vp_pl_aim_far_vertices(&pl, tab, slots) == 0 && far_sides_ok(&pl, before, want) && pl.st.last_resorts == 1);
+    {
+        uint32_t keep = nodd / 2, odd = 0, h, n, k2[6] = { 0, 0, 0, 0, 0, 0 };
+        for (h = 0; h < slots; h++)
+            if (tab[3 * h] != NONE && tab[3 * h + 2] != 2 && ++odd > keep) tab[3 * h + 2] = 2;
+        n = far_brute(&pl, tab, slots, want, k2);
+        r = vp_pl_aim_far_vertices(&pl, tab, slots);
+        CHECKF(r == (int)n && n > 0 && n < nwant, "half the edges: %d queued, the brute force %u of %u", r, n, nwant);
+        CHECK(far_sides_ok(&pl, before, want) && far_tasks_ok(&pl, want, n) && pl.st.last_resorts == 2 && pl.close.resort_odd == keep);
+        printf("far vertices: %u sides round %u odd edges queued as the brute force says (%u round half of them), "
+               "none in the other states (%u %u %u %u %u round those edges); refused again with as many edges odd\n",
+               nwant, nodd, n, kinds[1], kinds[2], kinds[3], kinds[4], kinds[5]);
+    }
+    /* never without a body, with tubes, or with aims off (the sides as before, far_lines unset) */
+    for (i = 0; i < 3; i++) {
+        for (t = 0; t < pl.dt.ntet_slots; t++) if (vp_dt_alive(&pl.dt, t)) pay(&pl, t)[1] = before[t];
+        pl.pool.ntask = 0;
+        pl.close.far_lines = 0;
+        memset(want, 0, sizeof want);
+        if (i == 0) pl.cfg.clearance = 0.0;
+        if (i == 1) pl.tube.on = 1;
+        if (i == 2) pl.cfg.flags |= VP_PLAN_NO_AIM;
+        CHECKF(vp_pl_aim_far_vertices(&pl, tab, slots) == 0 && far_sides_ok(&pl, before, want) && pl.pool.ntask == 0,
+               "refusal %u", i);
+        pl.cfg.clearance = 0.05;
+        pl.tube.on = 0;
+        pl.cfg.flags &= ~VP_PLAN_NO_AIM;
+    }
+    CHECK(vp_pl_aim_far_vertices(&pl, tab, slots) > 0); /* and with all three back, taken */
+}
+
 int main(void)
 {
     void *arena = malloc(ARENA);
@@ -1078,6 +1250,7 @@ int main(void)
     test_aim(arena);
     test_hole_vertices(arena);
     test_nearest(arena);
+    test_far_vertices(arena);
     free(arena);
     return vp_test_done("test_planner_parts");
 }
