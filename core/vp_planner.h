@@ -203,8 +203,9 @@ typedef struct vp_pl_pools {
     int fhash_dirty;                                  /* facets.c: rebuild before a lookup */
     uint32_t *heap; uint32_t nheap, cap_heap;         /* bad balls, max-heap on radius: facets.c */
     vp_task_t *task; uint32_t ntask, cap_task;        /* pending probes (a stack): tasks.c */
-    vp_task_near_t *near;                             /* per task slot in body mode, else NULL:
-                                                         tasks.c (the nearest task) */
+    vp_task_near_t *near;                             /* per task slot in body mode (an arena
+                                                         of some 2.6 MB up), else NULL: tasks.c
+                                                         (the nearest task) */
     vp_proof_t *proof; uint32_t nproof, cap_proof;    /* free parts of probes: proof.c */
     uint32_t *astar; uint32_t cap_astar;              /* scratch, see VP_PL_SCRATCH in the
                                                          private header for who owns it when */

@@ -17,6 +17,9 @@
  * constructed points (Voronoi vertices, hits), far below any physical size */
 #define PROOF_TOL_REL 1e-10
 #define DEG_TO_RAD 0.017453292519943295
+/* body mode: the task slots keep their starts only where the task share holds this many times
+ * an update's headroom with them (vp_pl_pools_have_room) */
+#define NEAR_ROOM 8u
 /* ---------- arena ---------- */
 
 /* Shares of the arena per 100 units (vp_planner_init): records, facets, free edges, scratch,
@@ -117,11 +120,16 @@ int vp_planner_init(vp_planner_t *pl, void *arena, size_t bytes, const vp_planne
     for (hwords = 1; (size_t)hwords * 2 * 4 <= 4 * unit; hwords <<= 1) {}
     pl->pool.cap_astar = (uint32_t)(sh[3] * unit / 4);
     pl->route.cap_path = (uint32_t)(unit / 4);
-    /* body mode: each task slot has its start kept beside it (the nearest task, tasks.c) */
+    /* body mode: each task slot has its start kept beside it (the nearest task, tasks.c), where
+     * the task share then still holds NEAR_ROOM times an update's headroom (from about 2.6 MB):
+     * in a smaller arena the starts are worked out at each pick */
+    pl->pool.cap_task = (uint32_t)(sh[4] * unit / sizeof(vp_task_t));
 #ifndef VP_CORE_MCU /* a microcontroller core keeps the newest-first order (its flash budget) */
-    body = cfg->clearance > 0.0;
+    if (cfg->clearance > 0.0) {
+        uint32_t cap_near = (uint32_t)(sh[4] * unit / (sizeof(vp_task_t) + sizeof(vp_task_near_t)));
+        if (cap_near >= NEAR_ROOM * pl->pool.room) { body = 1; pl->pool.cap_task = cap_near; }
+    }
 #endif
-    pl->pool.cap_task = (uint32_t)(sh[4] * unit / (sizeof(vp_task_t) + (body ? sizeof(vp_task_near_t) : 0u)));
     pl->pool.cap_heap = (uint32_t)(unit / 4);
     pl->route.cap = (uint32_t)(sh[5] * unit / 24);
     if (pl->route.cap > ROUTE_CAP_MAX) pl->route.cap = ROUTE_CAP_MAX;
@@ -314,7 +322,7 @@ static int phase_step(vp_planner_t *pl, int *done)
             vp_task_t k;
 #ifndef VP_CORE_MCU
             /* body mode: the task whose probe starts nearest the head goes first */
-            if (pl->pool.near && pl->pool.ntask > 1) vp_pl_task_nearest_on_top(pl);
+            if (pl->cfg.clearance > 0.0 && pl->pool.ntask > 1) vp_pl_task_nearest_on_top(pl);
             if (pl->pool.ntask == 0) return pl->error; /* every task had gone */
 #endif
             k = pl->pool.task[--pl->pool.ntask];

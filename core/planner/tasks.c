@@ -329,13 +329,15 @@ VP_PL_API int vp_pl_task_origin(const vp_planner_t *pl, const vp_task_t *k, doub
 }
 
 /* vp_pl_task_origin of task slot i, worked out again only when its edge is not the one kept in
- * the slot's vp_task_near_t (an insertion replaced a tet of it, or the slot holds another task) */
+ * the slot's vp_task_near_t (an insertion replaced a tet of it, or the slot holds another task;
+ * every time in an arena too small to keep them) */
 static int task_origin_kept(vp_planner_t *pl, uint32_t i, double *o)
 {
     const vp_task_t *k = &pl->pool.task[i];
-    vp_task_near_t *c = &pl->pool.near[i];
+    vp_task_near_t *c = pl->pool.near ? &pl->pool.near[i] : NULL;
     const uint32_t *w, *x;
     if (!task_live(pl, k) || !tet_active(pl, k->tet) || k->off > 0.0) return 0;
+    if (!c) return edge_origin(pl, k->tet, k->facet, o); /* a small arena keeps no starts */
     w = vp_dt_tet(&pl->dt, k->tet);
     x = vp_dt_tet(&pl->dt, w[4 + k->facet] >> 2);
     if (c->facet != k->facet || memcmp(c->tv, w, sizeof c->tv) != 0 || memcmp(c->uv, x, sizeof c->uv) != 0) {
@@ -358,13 +360,13 @@ VP_PL_API void vp_pl_task_nearest_on_top(vp_planner_t *pl)
 {
     uint32_t i, n, top, best = NONE;
     double bd = VP_PL_HUGE, o[3];
-    int window = pl->cfg.min_feature > 0.0 && pl->pool.ntask > NEAR_WINDOW_TUBES;
-    for (i = n = window ? pl->pool.ntask - NEAR_WINDOW_TUBES : 0; i < pl->pool.ntask; i++) {
-        if (!window) {
+    int tubes = pl->cfg.min_feature > 0.0;
+    for (i = n = tubes && pl->pool.ntask > NEAR_WINDOW_TUBES ? pl->pool.ntask - NEAR_WINDOW_TUBES : 0; i < pl->pool.ntask; i++) {
+        if (!tubes) {
             if (!task_live(pl, &pl->pool.task[i])) continue;
             if (n != i) {
                 pl->pool.task[n] = pl->pool.task[i];
-                pl->pool.near[n] = pl->pool.near[i];
+                if (pl->pool.near) pl->pool.near[n] = pl->pool.near[i];
             }
         }
         if (task_origin_kept(pl, n, o)) {
@@ -377,11 +379,13 @@ VP_PL_API void vp_pl_task_nearest_on_top(vp_planner_t *pl)
     top = n - 1;
     if (best != NONE && best != top) {
         vp_task_t t = pl->pool.task[best];
-        vp_task_near_t c = pl->pool.near[best];
         pl->pool.task[best] = pl->pool.task[top];
         pl->pool.task[top] = t;
-        pl->pool.near[best] = pl->pool.near[top];
-        pl->pool.near[top] = c;
+        if (pl->pool.near) {
+            vp_task_near_t c = pl->pool.near[best];
+            pl->pool.near[best] = pl->pool.near[top];
+            pl->pool.near[top] = c;
+        }
     }
 }
 #endif

@@ -197,7 +197,7 @@ struct vp_frec {
  * blobs, cube, tetra, fandisk, knot, with noise and dropouts) up to 26 tasks, 15 records and 20
  * free edges (cavities of at most 56 tets): at 100 KiB pool.room is nearly twice the largest. */
 #define ROOM_SMALL 256u
-#define SMALL_ARENA (256u * 1024u)
+#define SMALL_ARENA (512u * 1024u)
 #define ROOM_BYTES 2048u
 /* The manifold criterion's floor with a distance bound (close.c), and how far a facet whose
  * Voronoi edge crosses S twice is refined (facets.c): this share of the bound's floor min_size,

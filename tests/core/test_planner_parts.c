@@ -983,19 +983,17 @@ static int near_same(const vp_planner_t *pl, const near_snap_t *e, uint32_t n, l
         const vp_task_t *k = &pl->pool.task[i];
         double o[3];
         if (k->tet != e[i].tet || k->facet != e[i].facet || k->off != e[i].off) return 0;
-        if (vp_pl_task_origin(pl, k, o)) {
+        /* the pick has just read every live task: each one's kept start is a fresh one */
+        if (pl->pool.near && k->off == 0.0 && pay(pl, k->tet)[0] != NONE) {
             const vp_task_near_t *c = &pl->pool.near[i];
-            const uint32_t *w = vp_dt_tet(&pl->dt, k->tet);
-            if (c->facet == k->facet && memcmp(c->tv, w, sizeof c->tv) == 0 &&
-                memcmp(c->uv, vp_dt_tet(&pl->dt, w[4 + k->facet] >> 2), sizeof c->uv) == 0 &&
-                (!c->ok || memcmp(c->o, o, sizeof o) != 0))
-                (*bad_kept)++;
+            int fresh = vp_pl_task_origin(pl, k, o);
+            if (c->ok != fresh || (fresh && memcmp(c->o, o, sizeof o) != 0)) (*bad_kept)++;
         }
     }
     return 1;
 }
 
-static void test_nearest(void *arena)
+static void test_nearest(void *arena, size_t bytes, double eps)
 {
     vp_planner_config_t c;
     vp_planner_t pl;
@@ -1012,9 +1010,10 @@ static void test_nearest(void *arena)
     c.omega_kind = VP_OMEGA_BOX;
     c.ninterior = 1;
     c.start[2] = 1.5;
-    c.eps = 0.03;
+    c.eps = eps;
     c.clearance = 0.05;
-    CHECK(vp_planner_init(&pl, arena, ARENA, &c) == VP_OK && pl.pool.near != NULL);
+    /* a small arena keeps no starts: each is worked out at each pick */
+    CHECK(vp_planner_init(&pl, arena, bytes, &c) == VP_OK && (pl.pool.near != NULL) == (bytes >= (4u << 20)));
     snap = malloc((size_t)pl.pool.cap_task * sizeof *snap);
     CHECK(snap != NULL);
     if (!snap) return;
@@ -1054,13 +1053,13 @@ static void test_nearest(void *arena)
             if (vp_planner_feed(&pl, &res) != VP_OK) break;
         }
     }
-    printf("nearest task: %ld picks against the brute force, %ld differ; %ld dead tasks dropped; starts off dOmega or "
-           "their facet's axis: %ld, kept unlike fresh: %ld; %ld of %ld wrong tops seen\n",
-           picks, wrong, dropped, bad_start, bad_kept, mutant_seen, mutants);
+    printf("nearest task (%zu-byte arena, eps %g): %ld picks against the brute force, %ld differ; %ld dead tasks "
+           "dropped; starts off dOmega or their facet's axis: %ld, kept unlike fresh: %ld; %ld of %ld wrong tops seen\n",
+           bytes, eps, picks, wrong, dropped, bad_start, bad_kept, mutant_seen, mutants);
     CHECK(cmd.kind == VP_CMD_DONE);
-    CHECK(picks > 500 && dropped > 50);
+    CHECK(picks > 100 && dropped > 10);
     CHECK(wrong == 0 && bad_start == 0 && bad_kept == 0);
-    CHECK(mutants > 50 && mutant_seen == mutants);
+    CHECK(mutants > 10 && mutant_seen == mutants);
     free(snap);
 }
 
@@ -1236,6 +1235,59 @@ static void test_far_vertices(void *arena)
     CHECK(vp_pl_aim_far_vertices(&pl, tab, slots) > 0); /* and with all three back, taken */
 }
 
+/* ---- the arena's split at every size: an ellipsoid at eps 0.1 (some 60 samples) closes in
+ * every arena from 200 KiB to 1 MiB, with and without a body. Between 256 and some 370 KiB the
+ * large arenas' split and headroom (ROOM_SMALL) once left too little room: "the arena is full"
+ * at 30 samples. ---- */
+static int ell_scan_status(void *arena, size_t bytes, double clearance, uint32_t *samples)
+{
+    vp_planner_config_t c;
+    vp_planner_t pl;
+    vp_test_ell_t e;
+    vp_cmd_t cmd;
+    long steps = 0;
+    int k, st;
+    memset(&c, 0, sizeof c);
+    e.ax[0] = 0.5; e.ax[1] = 0.35; e.ax[2] = 0.25;
+    for (k = 0; k < 3; k++) { e.c[k] = 0.0; c.omega_lo[k] = -1.0; c.omega_hi[k] = 1.0; }
+    c.omega_kind = VP_OMEGA_BOX;
+    c.ninterior = 1;
+    c.start[2] = 1.5;
+    c.eps = 0.1;
+    c.clearance = clearance;
+    if ((st = vp_planner_init(&pl, arena, bytes, &c)) != VP_OK) return st;
+    for (;;) {
+        if ((st = vp_planner_next(&pl, &cmd)) != VP_OK || cmd.kind == VP_CMD_DONE || ++steps > 1000000) break;
+        if (cmd.kind == VP_CMD_PROBE) {
+            vp_probe_result_t res;
+            double t;
+            memset(&res, 0, sizeof res);
+            res.hit = vp_test_ell_first(&e, cmd.from, cmd.dir, cmd.range, &t);
+            res.dist = res.hit ? t : 0.0;
+            if ((st = vp_planner_feed(&pl, &res)) != VP_OK) break;
+        }
+    }
+    *samples = (uint32_t)pl.dt.ninserted;
+    return st != VP_OK ? st : cmd.kind == VP_CMD_DONE ? VP_OK : VP_ESTALL;
+}
+
+static void test_small_arenas(void *arena)
+{
+    size_t kb;
+    int body, runs = 0;
+    uint32_t most = 0;
+    for (kb = 200; kb <= 1024; kb += 24)
+        for (body = 0; body < 2; body++) {
+            uint32_t n = 0;
+            int st = ell_scan_status(arena, kb * 1024u, body ? 0.05 : 0.0, &n);
+            CHECKF(st == VP_OK && n > 20, "%zu KiB, %s: %s after %u samples", kb, body ? "body" : "point", vp_strerror(st), n);
+            if (n > most) most = n;
+            runs++;
+        }
+    printf("arenas: %d scans of the ellipsoid at eps 0.1 in 200 KiB to 1 MiB, with and without a body: all closed "
+           "(up to %u samples)\n", runs, most);
+}
+
 int main(void)
 {
     void *arena = malloc(ARENA);
@@ -1249,8 +1301,10 @@ int main(void)
     test_tubes(arena);
     test_aim(arena);
     test_hole_vertices(arena);
-    test_nearest(arena);
+    test_nearest(arena, ARENA, 0.03);
+    test_nearest(arena, 200u * 1024u, 0.1);
     test_far_vertices(arena);
+    test_small_arenas(arena);
     free(arena);
     return vp_test_done("test_planner_parts");
 }
