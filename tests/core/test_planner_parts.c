@@ -923,6 +923,32 @@ static void test_hole_vertices(void *arena)
     CHECK(with > 100 && tets - with > 100);
 }
 
+/* The ellipsoid (0.5, 0.35, 0.25) in the box [-1, 1]^3 of test_nearest and test_small_arenas:
+ * its configuration, and its answer to a command (a PROBE's; VP_OK for the rest). */
+static void ell_setup(vp_planner_config_t *c, vp_test_ell_t *e, double eps, double clearance)
+{
+    int k;
+    memset(c, 0, sizeof *c);
+    e->ax[0] = 0.5; e->ax[1] = 0.35; e->ax[2] = 0.25;
+    for (k = 0; k < 3; k++) { e->c[k] = 0.0; c->omega_lo[k] = -1.0; c->omega_hi[k] = 1.0; }
+    c->omega_kind = VP_OMEGA_BOX;
+    c->ninterior = 1;
+    c->start[2] = 1.5;
+    c->eps = eps;
+    c->clearance = clearance;
+}
+
+static int ell_answer(vp_planner_t *pl, const vp_test_ell_t *e, const vp_cmd_t *cmd)
+{
+    vp_probe_result_t res;
+    double t;
+    if (cmd->kind != VP_CMD_PROBE) return VP_OK;
+    memset(&res, 0, sizeof res);
+    res.hit = vp_test_ell_first(e, cmd->from, cmd->dir, cmd->range, &t);
+    res.dist = res.hit ? t : 0.0;
+    return vp_planner_feed(pl, &res);
+}
+
 /* ---- the nearest waiting task in body mode (tasks.c, vp_pl_task_nearest_on_top): at every step
  * of a scan, against a brute force over every task slot, each start worked out afresh
  * (vp_pl_task_origin) and checked here to lie on dOmega and on the line of its facet's Voronoi
@@ -1003,15 +1029,7 @@ static void test_nearest(void *arena, size_t bytes, double eps)
     uint32_t best, n;
     double bd;
     long steps = 0, picks = 0, wrong = 0, bad_start = 0, bad_kept = 0, dropped = 0, mutant_seen = 0, mutants = 0;
-    int k;
-    memset(&c, 0, sizeof c);
-    e.ax[0] = 0.5; e.ax[1] = 0.35; e.ax[2] = 0.25;
-    for (k = 0; k < 3; k++) { e.c[k] = 0.0; c.omega_lo[k] = -1.0; c.omega_hi[k] = 1.0; }
-    c.omega_kind = VP_OMEGA_BOX;
-    c.ninterior = 1;
-    c.start[2] = 1.5;
-    c.eps = eps;
-    c.clearance = 0.05;
+    ell_setup(&c, &e, eps, 0.05);
     /* a small arena keeps no starts: each is worked out at each pick */
     CHECK(vp_planner_init(&pl, arena, bytes, &c) == VP_OK && (pl.pool.near != NULL) == (bytes >= (4u << 20)));
     snap = malloc((size_t)pl.pool.cap_task * sizeof *snap);
@@ -1044,14 +1062,7 @@ static void test_nearest(void *arena, size_t bytes, double eps)
             }
         }
         if (vp_planner_next(&pl, &cmd) != VP_OK || cmd.kind == VP_CMD_DONE || ++steps > 2000000) break;
-        if (cmd.kind == VP_CMD_PROBE) {
-            vp_probe_result_t res;
-            double t;
-            memset(&res, 0, sizeof res);
-            res.hit = vp_test_ell_first(&e, cmd.from, cmd.dir, cmd.range, &t);
-            res.dist = res.hit ? t : 0.0;
-            if (vp_planner_feed(&pl, &res) != VP_OK) break;
-        }
+        if (ell_answer(&pl, &e, &cmd) != VP_OK) break;
     }
     printf("nearest task (%zu-byte arena, eps %g): %ld picks against the brute force, %ld differ; %ld dead tasks "
            "dropped; starts off dOmega or their facet's axis: %ld, kept unlike fresh: %ld; %ld of %ld wrong tops seen\n",
@@ -1246,26 +1257,12 @@ static int ell_scan_status(void *arena, size_t bytes, double clearance, uint32_t
     vp_test_ell_t e;
     vp_cmd_t cmd;
     long steps = 0;
-    int k, st;
-    memset(&c, 0, sizeof c);
-    e.ax[0] = 0.5; e.ax[1] = 0.35; e.ax[2] = 0.25;
-    for (k = 0; k < 3; k++) { e.c[k] = 0.0; c.omega_lo[k] = -1.0; c.omega_hi[k] = 1.0; }
-    c.omega_kind = VP_OMEGA_BOX;
-    c.ninterior = 1;
-    c.start[2] = 1.5;
-    c.eps = 0.1;
-    c.clearance = clearance;
+    int st;
+    ell_setup(&c, &e, 0.1, clearance);
     if ((st = vp_planner_init(&pl, arena, bytes, &c)) != VP_OK) return st;
     for (;;) {
         if ((st = vp_planner_next(&pl, &cmd)) != VP_OK || cmd.kind == VP_CMD_DONE || ++steps > 1000000) break;
-        if (cmd.kind == VP_CMD_PROBE) {
-            vp_probe_result_t res;
-            double t;
-            memset(&res, 0, sizeof res);
-            res.hit = vp_test_ell_first(&e, cmd.from, cmd.dir, cmd.range, &t);
-            res.dist = res.hit ? t : 0.0;
-            if ((st = vp_planner_feed(&pl, &res)) != VP_OK) break;
-        }
+        if ((st = ell_answer(&pl, &e, &cmd)) != VP_OK) break;
     }
     *samples = (uint32_t)pl.dt.ninserted;
     return st != VP_OK ? st : cmd.kind == VP_CMD_DONE ? VP_OK : VP_ESTALL;
