@@ -173,12 +173,12 @@ typedef struct vp_task {
 } vp_task_t;
 
 /* Body mode, per task slot: where the task's probe would start (o; ok 0 where it cannot), kept
- * with the Voronoi edge it was worked out for: facet and the two tets' vertices as stored, which
- * name the edge to the last bit (vertex records are never reused). tasks.c */
+ * with the Voronoi edge it was worked out for: the two tets' vertices as stored, which name the
+ * facet between them and the edge to the last bit (vertex records are never reused). tasks.c */
 typedef struct vp_task_near {
     uint32_t tv[4], uv[4];
     double o[3];
-    uint8_t facet, ok;
+    uint8_t ok;
 } vp_task_near_t;
 
 /* A proof of free space: the free part of one probe, [o, o + len * d] (d unit), and the proof

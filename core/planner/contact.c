@@ -231,11 +231,11 @@ static int point_along(const vp_planner_t *pl, const double *from, const double 
     return VP_OK;
 }
 
-static int touch_at(vp_planner_t *pl, double at)
+/* The contact at c, `at` along the last MOVE (unit direction u), as point_along gives them. */
+static int touch_at(vp_planner_t *pl, double at, const double *u, const double *c)
 {
-    double u[3], c[3], back[3];
+    double back[3];
     uint32_t from_rec, touch = PROOF_NONE;
-    VP_TRY(point_along(pl, pl->contact.move_from, pl->dev.pos, &at, u, c));
     /* Omega holds the object (A2): a contact outside it breaks the assumption every proof
      * outside Omega rests on */
     if (!vp_pl_omega_inside(&pl->cfg, c)) return VP_ERANGE;
@@ -252,7 +252,7 @@ static int touch_at(vp_planner_t *pl, double at)
     VP_TRY(abandon_plan(pl));
     /* the device stands at the contact; it backs off to the move's start */
     VP_TRY(rec_here(pl, back, &from_rec));
-    memcpy(pl->dev.pos, c, sizeof c);
+    memcpy(pl->dev.pos, c, sizeof pl->dev.pos);
     pl->dev.at = from_rec;
     if (at > 0.0) VP_TRY(vp_pl_route_push(pl, back, touch));
     /* the contact point is a sample of S */
@@ -282,16 +282,14 @@ VP_PL_API int vp_pl_withdraw_at(vp_planner_t *pl, const double *h, uint32_t old)
 
 int vp_planner_touch(vp_planner_t *pl, double at)
 {
+    double u[3], c[3];
     int st;
     if (!pl) return VP_EINVAL;
     if (pl->error) return pl->error;
     if (!pl->contact.moved || pl->dev.awaiting) return VP_ESTATE;
-    {
-        /* a bad `at` changes nothing (not even pl->error) */
-        double a = at, u[3], c[3];
-        VP_TRY(point_along(pl, pl->contact.move_from, pl->dev.pos, &a, u, c));
-    }
-    st = touch_at(pl, at);
+    /* a bad `at` changes nothing (not even pl->error) */
+    VP_TRY(point_along(pl, pl->contact.move_from, pl->dev.pos, &at, u, c));
+    st = touch_at(pl, at, u, c);
     if (st < 0) pl->error = st;
     return st;
 }

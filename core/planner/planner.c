@@ -59,7 +59,7 @@ int vp_planner_init(vp_planner_t *pl, void *arena, size_t bytes, const vp_planne
     size_t dtb, unit;
     const unsigned char *sh;
     uint32_t i, hwords;
-    int k, st, body = 0;
+    int k, st, keep_starts = 0;
     if (!pl || !arena || !cfg) return VP_EINVAL;
     if (cfg->omega_kind == VP_OMEGA_BALL) {
         if (!vp_finite3(cfg->omega_center) || !(cfg->omega_radius > 0.0) || !(cfg->omega_radius < CFG_MAX))
@@ -127,7 +127,7 @@ int vp_planner_init(vp_planner_t *pl, void *arena, size_t bytes, const vp_planne
 #ifndef VP_CORE_MCU /* a microcontroller core keeps the newest-first order (its flash budget) */
     if (cfg->clearance > 0.0) {
         uint32_t cap_near = (uint32_t)(sh[4] * unit / (sizeof(vp_task_t) + sizeof(vp_task_near_t)));
-        if (cap_near >= NEAR_ROOM * pl->pool.room) { body = 1; pl->pool.cap_task = cap_near; }
+        if (cap_near >= NEAR_ROOM * pl->pool.room) { keep_starts = 1; pl->pool.cap_task = cap_near; }
     }
 #endif
     pl->pool.cap_heap = (uint32_t)(unit / 4);
@@ -140,7 +140,7 @@ int vp_planner_init(vp_planner_t *pl, void *arena, size_t bytes, const vp_planne
     pl->pool.astar = carve(&cur, end, (size_t)pl->pool.cap_astar * 4);
     pl->route.path = carve(&cur, end, (size_t)pl->route.cap_path * 4);
     pl->pool.task = carve(&cur, end, (size_t)pl->pool.cap_task * sizeof(vp_task_t));
-    if (body) {
+    if (keep_starts) {
         pl->pool.near = carve(&cur, end, (size_t)pl->pool.cap_task * sizeof(vp_task_near_t));
         if (!pl->pool.near) return VP_ENOMEM;
         memset(pl->pool.near, 0, (size_t)pl->pool.cap_task * sizeof(vp_task_near_t)); /* no key is all 0 */

@@ -320,29 +320,33 @@ static int edge_origin(const vp_planner_t *pl, uint32_t t, int f, double *o)
     return body_origin(pl, &g, o, &standoff);
 }
 
+/* A live task may be preferred for its start: its tet active, not a ray walked on */
+static int task_startable(const vp_planner_t *pl, const vp_task_t *k)
+{
+    return tet_active(pl, k->tet) && !(k->off > 0.0);
+}
+
 /* Where task k's probe would start; 0 when it cannot be said cheaply (the task is then not
  * preferred). */
 VP_PL_API int vp_pl_task_origin(const vp_planner_t *pl, const vp_task_t *k, double *o)
 {
-    if (!task_live(pl, k) || !tet_active(pl, k->tet) || k->off > 0.0) return 0;
+    if (!task_live(pl, k) || !task_startable(pl, k)) return 0;
     return edge_origin(pl, k->tet, k->facet, o);
 }
 
-/* vp_pl_task_origin of task slot i, worked out again only when its edge is not the one kept in
- * the slot's vp_task_near_t (an insertion replaced a tet of it, or the slot holds another task;
- * every time in an arena too small to keep them) */
+/* vp_pl_task_origin of the live, startable task in slot i, worked out again only when its edge
+ * is not the one kept in the slot's vp_task_near_t (an insertion replaced a tet of it, or the
+ * slot holds another task; every time in an arena too small to keep them) */
 static int task_origin_kept(vp_planner_t *pl, uint32_t i, double *o)
 {
     const vp_task_t *k = &pl->pool.task[i];
     vp_task_near_t *c = pl->pool.near ? &pl->pool.near[i] : NULL;
     const uint32_t *w, *x;
-    if (!task_live(pl, k) || !tet_active(pl, k->tet) || k->off > 0.0) return 0;
     if (!c) return edge_origin(pl, k->tet, k->facet, o); /* a small arena keeps no starts */
     w = vp_dt_tet(&pl->dt, k->tet);
     x = vp_dt_tet(&pl->dt, w[4 + k->facet] >> 2);
-    if (c->facet != k->facet || memcmp(c->tv, w, sizeof c->tv) != 0 || memcmp(c->uv, x, sizeof c->uv) != 0) {
+    if (memcmp(c->tv, w, sizeof c->tv) != 0 || memcmp(c->uv, x, sizeof c->uv) != 0) {
         c->ok = (uint8_t)edge_origin(pl, k->tet, k->facet, c->o);
-        c->facet = k->facet;
         memcpy(c->tv, w, sizeof c->tv);
         memcpy(c->uv, x, sizeof c->uv);
     }
@@ -362,14 +366,15 @@ VP_PL_API void vp_pl_task_nearest_on_top(vp_planner_t *pl)
     double bd = VP_PL_HUGE, o[3];
     int tubes = pl->cfg.min_feature > 0.0;
     for (i = n = tubes && pl->pool.ntask > NEAR_WINDOW_TUBES ? pl->pool.ntask - NEAR_WINDOW_TUBES : 0; i < pl->pool.ntask; i++) {
+        int live = task_live(pl, &pl->pool.task[i]);
         if (!tubes) {
-            if (!task_live(pl, &pl->pool.task[i])) continue;
+            if (!live) continue;
             if (n != i) {
                 pl->pool.task[n] = pl->pool.task[i];
                 if (pl->pool.near) pl->pool.near[n] = pl->pool.near[i];
             }
         }
-        if (task_origin_kept(pl, n, o)) {
+        if (live && task_startable(pl, &pl->pool.task[n]) && task_origin_kept(pl, n, o)) {
             double d = vp_dist3(o, pl->dev.pos);
             if (d <= bd) { bd = d; best = n; }
         }
