@@ -76,6 +76,12 @@ static void scan_usage(FILE *f)
         "                   interior point; a SPEC with '*' or '@' is taken as written, in mm\n"
         "                   (default: the board's [sim] surface, else an ellipsoid sized to Omega)\n"
         "  --seed N         seed of the frames' noise (default: the board's [sim] seed)\n"
+        "  --reach-out      keep an object that reaches out of Omega (refused otherwise), to rehearse\n"
+        "                   a misplaced part: the head's contact switch must stop it where it meets\n"
+        "                   the part; the clearance ball in the object is then reported by part but\n"
+        "                   not as a head collision (every other part is)\n"
+        );
+    fprintf(f,
         "Stopping: Ctrl-C stops after the current command (PAUSE event; MOVEs made as one path:\n"
         "after the path, each logged); a second Ctrl-C ends at once. The e-stop stops the pulses\n"
         "at once (FAULT event). Both leave the log resumable.\n"
@@ -101,6 +107,7 @@ typedef struct scan_opts {
     double accuracy;              /* --accuracy H (mm): the distance bound and its floor */
     int confirm, dry, resume, quiet, have_sync, json;
     int sparse;                   /* --rescan-sparse (VP_RESCAN_SPARSE) */
+    int reach_out;                /* --reach-out: a dry run's object may reach out of Omega */
     size_t arena;
     unsigned long long seed;
     unsigned long stop_after, estop_at;
@@ -131,6 +138,7 @@ static int scan_option(scan_opts_t *o, int argc, char **argv, int *i, int from_n
     const char *a = argv[*i], *val = *i + 1 < argc ? argv[*i + 1] : NULL;
     double v;
     if (!strcmp(a, "--dry-run")) { o->dry = 1; return 0; }
+    if (!strcmp(a, "--reach-out")) { o->reach_out = 1; return 0; }
     if (!strcmp(a, "--resume") && !from_note) { o->resume = 1; return 0; }
     if (!strcmp(a, "--quiet") && !from_note) { o->quiet = 1; return 0; }
     if (!strcmp(a, "--json") && !from_note) { o->json = 1; return 0; }
@@ -213,6 +221,7 @@ static void scan_note(const scan_opts_t *o, const char *board, double eps, const
         vp_note_put(buf, n, &len, "--dry-run");
         vp_note_put_str(buf, n, &len, "--surface", surface);
         vp_note_put_opt(buf, n, &len, "--seed", "%llu", o->seed);
+        if (o->reach_out) vp_note_put(buf, n, &len, "--reach-out");
     }
     vp_note_put_opt(buf, n, &len, "--board-crc", "%08lx", o->board_crc);
 }
@@ -435,6 +444,7 @@ static int scan_options(scan_job_t *j)
         j->o.sync = j->cl.sync;
         j->o.have_sync = j->cl.have_sync;
     }
+    if (j->o.reach_out && !j->o.dry) { fprintf(stderr, "scan: --reach-out rehearses a misplaced object: dry runs only\n"); return j->rc; }
     if (j->o.estop_at && !j->o.dry) { fprintf(stderr, "scan: --estop-at simulates the e-stop: dry runs only\n"); return j->rc; }
     if (j->have_L) j->rescans = count_rescans(&j->L, j->surface, sizeof j->surface);
     return -1;
@@ -537,6 +547,7 @@ static int scan_prepare(scan_job_t *j)
     if (j->o.accuracy > 0) vp_accuracy_config(&j->cfg, j->o.accuracy);
     j->cfg.noise_tol = j->o.noise_tol;
     j->dev.noise_tol = j->o.noise_tol;
+    j->dev.reach_out = j->o.reach_out;
     j->cfg.confirm_misses = (uint32_t)j->o.confirm;
     {
         /* eps within what the planner can resolve in double precision (as sim says it) */
@@ -570,9 +581,16 @@ static int scan_prepare(scan_job_t *j)
                 free(xyz);
             }
         }
-        if (!inside) {
+        if (j->o.reach_out && (vp_surface_inside(s, j->b.start) || vp_surface_distance(s, j->b.start) < 1.0)) {
+            fprintf(stderr, "scan: the simulated object %s holds the laser origin's start %g %g %g (or comes within 1 mm "
+                    "of it; [omega] start in %s): the head would stand in it at power-on\n", j->surface, j->b.start[0],
+                    j->b.start[1], j->b.start[2], j->b.path);
+            return j->rc;
+        }
+        if (!inside && !j->o.reach_out) {
             fprintf(stderr, "scan: the simulated object %s (box %.4g %.4g %.4g .. %.4g %.4g %.4g) is not inside the "
-                    "board's Omega%s ([omega] in %s)\n", j->surface, lo[0], lo[1], lo[2], hi[0], hi[1], hi[2],
+                    "board's Omega%s ([omega] in %s; --reach-out rehearses such a misplaced object)\n", j->surface,
+                    lo[0], lo[1], lo[2], hi[0], hi[1], hi[2],
                     gap > 0 ? " by the clearance (the head stays outside Omega)" : "", j->b.path);
             return j->rc;
         }
@@ -610,7 +628,10 @@ static int scan_prepare(scan_job_t *j)
                     "hits are trusted only to %g mm (--noise-tol): that is the bound used, and the target may not be met; "
                     "lower --noise-tol to what the rangefinder shows (a dry run prints the probe error)\n",
                     j->o.accuracy, j->cfg.max_distance, j->cfg.noise_tol);
-        if (j->o.dry && (vp_surface_components(j->dev.dr->surf) > 1 || !vp_surface_inside(j->dev.dr->surf, j->b.interior)))
+        if (j->o.dry && vp_surface_components(j->dev.dr->surf) > 1)
+            fprintf(stderr, "scan: note: the simulated object has %u components: a point inside each is used\n",
+                    j->cfg.ninterior);
+        else if (j->o.dry && !vp_surface_inside(j->dev.dr->surf, j->b.interior))
             fprintf(stderr, "scan: note: the board's interior point is not inside the simulated object: its own %u "
                     "interior point(s) are used\n", j->cfg.ninterior);
     }
@@ -1033,6 +1054,9 @@ static int scan_report(scan_job_t *j)
                 for (i = 0; i < j->dev.board.head.nparts; i++)
                     printf("%s\"%s\":%lu", i ? "," : "", j->dev.board.head.part[i].name, j->dev.head_part[i]);
                 printf("}");
+                if (vp_board_has_contact(&j->b))
+                    printf(",\"contacts\":%lu,\"touch_depth_max\":%.4f", j->dev.contacts, j->dev.touch_depth_max);
+                if (j->o.reach_out) printf(",\"reach_out\":true");
                 printf(",\"false_hits\":%lu,\"hidden_spots\":%lu", j->dev.false_hits, j->dev.false_misses);
                 if (hausdorff >= 0) printf(",\"hausdorff\":%.4f", hausdorff);
                 if (j->o.accuracy > 0) printf(",\"accuracy_target\":%g", j->o.accuracy);

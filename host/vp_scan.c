@@ -354,9 +354,38 @@ static void vp_scan_head_path(vp_scan_dev_t *d, const double j0[VP_KIN_JOINTS], 
     d->head_motions++;
     for (i = 0; i < VP_HEAD_MAX_PARTS; i++) {
         d->head_part[i] += (unsigned long)any[i];
-        nany += any[i];
+        if (!(d->reach_out && i < d->board.head.nparts && !strcmp(d->board.head.part[i].name, "clearance ball")))
+            nany += any[i];
     }
     if (nany) d->head_hits++;
+}
+
+/* A MOVE's joint path j0 -> way[0..n-1] (vp_scan_move_check has judged the laser origin's). One
+ * the contact switch stopped is swept only while the origin, moving along cmd's line, is less than
+ * d->touch_cut along it (the joints interpolated within the piece where it gets there): before
+ * that a part within head_tol of the object met it before the stylus did, a crash the switch
+ * could not stop. */
+static void vp_scan_head_move(vp_scan_dev_t *d, const vp_cmd_t *cmd, const double j0[VP_KIN_JOINTS],
+                              const double (*way)[VP_KIN_JOINTS], int n)
+{
+    double cut[VP_MACHINE_MAX_WAY][VP_KIN_JOINTS], u[3], o[3], dir[3], s0 = 0.0, s1, len = vp_dist3(cmd->from, cmd->to);
+    int w, k, a, m = 0;
+    if (!d->touching || n < 1 || n > VP_MACHINE_MAX_WAY || !(len > 0.0)) { vp_scan_head_path(d, j0, way, n); return; }
+    for (k = 0; k < 3; k++) u[k] = (cmd->to[k] - cmd->from[k]) / len;
+    for (w = 0; w < n; w++) {
+        vp_kin_forward(&d->m->kin, way[w], o, dir);
+        s1 = 0.0;
+        for (k = 0; k < 3; k++) s1 += (o[k] - cmd->from[k]) * u[k];
+        if (s1 < d->touch_cut) { memcpy(cut[m++], way[w], sizeof cut[0]); s0 = s1; continue; }
+        if (s1 > s0) {
+            const double *p = w ? way[w - 1] : j0;
+            double f = (d->touch_cut - s0) / (s1 - s0);
+            for (a = 0; a < VP_KIN_JOINTS; a++) cut[m][a] = p[a] + f * (way[w][a] - p[a]);
+            m++;
+        }
+        break;
+    }
+    if (m > 0) vp_scan_head_path(d, j0, (const double (*)[VP_KIN_JOINTS])cut, m);
 }
 
 void vp_scan_head_text(const vp_scan_dev_t *d, char *buf, size_t n)
@@ -400,9 +429,11 @@ static void vp_scan_move_check(vp_scan_dev_t *d, const vp_cmd_t *cmd, int last, 
         double depth = 0.0;
         d->contacts++;
         d->touch_lag = 0.0;
+        d->touch_cut = at - 2.0 * d->head_tol;
         if (vp_surface_ray(d->dr->surf, a, u, len - s0, &ts)) {
             depth = s0 + at - (s0 + ts) + d->m->last.overtravel;
             d->touch_lag = at - ts > 0.0 ? at - ts : 0.0;
+            d->touch_cut = s0 + ts - 2.0 * d->head_tol;
         }
         if (depth > d->touch_depth_max) d->touch_depth_max = depth;
         if (depth > d->board.contact_stop + 1e-6) { d->through++; *collided = 1; }
@@ -435,9 +466,9 @@ static int vp_scan_dev_move_do(void *ctx, const vp_cmd_t *cmd, int *collided)
             memcpy(j0, d->m->way[d->m->turn_n - 1], sizeof j0);
         }
         if (d->m->move_n > 0)   /* it turned on the way: the pieces it took */
-            vp_scan_head_path(d, j0, (const double (*)[VP_KIN_JOINTS])d->m->way, d->m->move_n);
+            vp_scan_head_move(d, cmd, j0, (const double (*)[VP_KIN_JOINTS])d->m->way, d->m->move_n);
         else
-            vp_scan_head_path(d, j0, (const double (*)[VP_KIN_JOINTS])d->m->j, 1);
+            vp_scan_head_move(d, cmd, j0, (const double (*)[VP_KIN_JOINTS])d->m->j, 1);
         if (d->head_hits != before) *collided = 1;
     }
     return VP_OK;
@@ -557,10 +588,10 @@ static int vp_scan_dev_move_path(void *ctx, const vp_cmd_t *cmds, int n, int *co
         if (pm->turn_n > 0) {
             /* the turn it needed first, then the MOVE: two motions, as when made alone */
             vp_scan_head_path(d, pm->j0, (const double (*)[VP_KIN_JOINTS])d->m->path_way + pm->first, pm->turn_n);
-            vp_scan_head_path(d, d->m->path_way[pm->first + pm->turn_n - 1],
+            vp_scan_head_move(d, &cmds[i], d->m->path_way[pm->first + pm->turn_n - 1],
                               (const double (*)[VP_KIN_JOINTS])d->m->path_way + pm->first + pm->turn_n, pm->n - pm->turn_n);
         } else
-            vp_scan_head_path(d, pm->j0, (const double (*)[VP_KIN_JOINTS])d->m->path_way + pm->first, pm->n);
+            vp_scan_head_move(d, &cmds[i], pm->j0, (const double (*)[VP_KIN_JOINTS])d->m->path_way + pm->first, pm->n);
         if (d->head_hits != before) collided[i] = 1;
     }
     if (st != VP_OK) { d->fault = st; d->fault_cmd = cmds[*done < n ? *done : n - 1]; }

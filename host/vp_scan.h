@@ -48,6 +48,12 @@ typedef struct vp_scan_dev {
     int touching;                 /* the last one did: the head stands on the surface */
     double touch_lag;             /* dry run: how far past the surface the switch closed (mm) */
     double touch_depth_max;       /* dry run: deepest a stopped move went past the surface (mm) */
+    double touch_cut;             /* dry run, a move the switch stopped: how far along it the head's
+                                     body is swept (to 2 head_tol before the laser origin meets the
+                                     surface; the rest is the stylus's, within contact_stop) */
+    int reach_out;                /* dry run (scan --reach-out): the object may reach out of Omega;
+                                     the clearance ball in it is the assumption broken on purpose,
+                                     counted by part but not as a head collision */
     vp_cmd_t fault_cmd;
     /* dry run: probes against the true object */
     unsigned long true_n, false_hits, false_misses;

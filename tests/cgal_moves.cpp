@@ -1,7 +1,7 @@
 // An independent, exact check of a session's moves against the true object (issue 12): it
 // shares no code with voroprobe (its own OFF reader, CGAL's exact predicates).
 //
-// usage: cgal_moves MESH.off MOVES [--start X,Y,Z] [--list N]
+// usage: cgal_moves MESH.off MOVES [--start X,Y,Z] [--list N] [--lag MM]
 //
 // MESH.off: a plain OFF file (no scale or position: the object as `sim --surface off:MESH.off`
 //   sees it). '#' starts a comment; polygons are fanned from their first corner, as voroprobe's
@@ -25,6 +25,11 @@
 // A zero-area triangle (collinear corners) has no plane for the triangle tests; its point set
 // is the union of its edges, tested exactly as segments (and left out of the ray parity, where
 // it has no area to cross).
+// A move the contact switch stopped ends at the touch (a `contact` line or event after it): its
+// last 1e-9 is left out, and the next move's first 1e-9 (the way back from the touch). A machine
+// logs where its switch read closed, which lies past the surface by the switch's lag and the
+// carriages' backlash: --lag MM leaves out the last MM of such a move (and the first MM of the
+// next) instead, at most all but 1e-9 of it.
 // Prints "moves N, through M, inside K, first R (record S)" as its last line (R: the 1-based
 // number of the first offending move, "none" if there is none). Exit status: 0 no offending
 // move, 1 some, 2 bad input.
@@ -254,6 +259,7 @@ int main(int argc, char **argv)
     bool have_start = false;
     Point start(0, 0, 0);
     long list = 0;
+    double lag = 0.0;
     for (int i = 1; i < argc; i++) {
         std::string a = argv[i];
         if (a == "--start" && i + 1 < argc) {
@@ -264,13 +270,18 @@ int main(int argc, char **argv)
             if (!(is >> x >> y >> z) || (is >> extra) || !parse_point(x, y, z, &start)) die("bad --start (X,Y,Z)");
             have_start = true;
         } else if (a == "--list" && i + 1 < argc) list = std::atol(argv[++i]);
+        else if (a == "--lag" && i + 1 < argc) {
+            char *e;
+            lag = std::strtod(argv[++i], &e);
+            if (*e || !(lag >= 0.0) || !std::isfinite(lag)) die("bad --lag (MM >= 0)");
+        }
         else if (a[0] == '-' && a.size() > 1) die("unknown option " + a);
         else if (!mesh_path) mesh_path = argv[i];
         else if (!moves_path) moves_path = argv[i];
         else die("too many arguments");
     }
     if (!mesh_path || !moves_path) {
-        std::fprintf(stderr, "usage: cgal_moves MESH.off MOVES [--start X,Y,Z] [--list N]\n");
+        std::fprintf(stderr, "usage: cgal_moves MESH.off MOVES [--start X,Y,Z] [--list N] [--lag MM]\n");
         return 2;
     }
     std::vector<Point> pts;
@@ -337,8 +348,10 @@ int main(int argc, char **argv)
         // a move the contact switch stopped touches the surface at its end, and the next one
         // leaves from there: those touches (the last or first 1e-9 of the move) are allowed
         Point p = from, q = m.to;
-        if (on_contact && from != m.to) p = from + CONTACT_SHARE * (m.to - from);
-        if (m.contact && from != m.to) { q = from + (1.0 - CONTACT_SHARE) * (m.to - from); contacts++; }
+        double len = std::sqrt(CGAL::to_double(CGAL::squared_distance(from, m.to)));
+        double share = len > 0.0 ? std::min(1.0 - CONTACT_SHARE, std::max(CONTACT_SHARE, lag / len)) : 0.0;
+        if (on_contact && from != m.to) p = from + share * (m.to - from);
+        if (m.contact && from != m.to) { q = from + (1.0 - share) * (m.to - from); contacts++; }
         if (touches(p, q)) { through++; what = "through"; }
         else {
             CGAL::Bounded_side s0 = side(p), s1 = side(q);
