@@ -983,8 +983,10 @@ static int scan_report(scan_job_t *j)
                        j->dev.rays ? sqrt(j->dev.ray_err2 / (double)j->dev.rays) : 0.0, j->dev.ray_err_max,
                        j->dev.ray_false, j->dev.noise_tol, m->st.line_gaps);
             if (j->dev.contacts)
-                printf("dry run: the contact switch stopped %lu move(s), the laser origin at most %.3f mm past the "
-                       "surface (contact_stop %g mm)\n", j->dev.contacts, j->dev.touch_depth_max, j->dev.board.contact_stop);
+                printf("dry run: the contact switch stopped %lu move(s), %s at most %.3f mm past %s (contact_stop %g mm)\n",
+                       j->dev.contacts, j->dev.board.contact_mount ? "the head (a bound over the parts its mount senses)" :
+                       "the laser origin", j->dev.touch_depth_max, j->dev.board.contact_mount ? "where the switch closed, "
+                       "within 0.25 mm of the object" : "the surface", j->dev.board.contact_stop);
             {
                 char parts[400];
                 vp_scan_head_text(&j->dev, parts, sizeof parts);

@@ -80,6 +80,7 @@ static const vp_bkey_t k_head[] = {
     { "contact", K_PIN, B(contact), 0, ANY, R_NO },
     { "contact_stop", K_NUM, B(contact_stop), 1, POS, 1000, R_NO },
     { "contact_halt", K_BOOL, B(contact_halt), 0, ANY, R_NO },
+    { "contact_by", K_STR, B(contact_by), 8, ANY, R_NO },
     { "laser_body", K_STR, B(body_laser), 96, ANY, R_NO },
     { "camera_body", K_STR, B(body_camera), 96, ANY, R_NO },
     { "bracket", K_STR, B(body_bracket), 96, ANY, R_NO },
@@ -405,6 +406,13 @@ static int vp_board_key(void *user, const char *section, const char *key, const 
                 return VP_EINVAL;
             }
             c->b->clear_swept = !strcmp(val, "swept");
+        }
+        if (!strcmp(key, "contact_by")) {
+            if (strcmp(val, "stylus") && strcmp(val, "mount")) {
+                snprintf(msg, ml, "expected stylus or mount, got '%s'", val);
+                return VP_EINVAL;
+            }
+            c->b->contact_mount = !strcmp(val, "mount");
         }
         if (!strcmp(key, "laser")) {
             if (strcmp(val, "dot") && strcmp(val, "line")) {
@@ -784,11 +792,17 @@ static int vp_board_check_contact(vp_bctx_t *c, char *err, size_t el)
     if (b->contact_sim && b->io != VP_BOARD_IO_SIM)
         return vp_bad(c, S_HEAD, "contact", err, el, "'sim' is the dry run's switch: a board with io = gpiod needs a pin");
     if (!vp_board_has_contact(b)) {
-        if (vp_seen(c, S_HEAD, "contact_stop") || vp_seen(c, S_HEAD, "contact_halt"))
-            return vp_bad(c, S_HEAD, vp_seen(c, S_HEAD, "contact_stop") ? "contact_stop" : "contact_halt", err, el,
-                          "needs a contact switch ([head] contact = PIN)");
+        const char *k = vp_seen(c, S_HEAD, "contact_stop") ? "contact_stop" : vp_seen(c, S_HEAD, "contact_halt") ?
+                        "contact_halt" : vp_seen(c, S_HEAD, "contact_by") ? "contact_by" : NULL;
+        if (k) return vp_bad(c, S_HEAD, k, err, el, "needs a contact switch ([head] contact = PIN)");
         return VP_OK;
     }
+    /* a mount's switch says that some part touched, not where: only a head kept outside Omega,
+     * where any touch stops the scan, can take it (the planner reads a stylus's touch as a point
+     * of the surface at the laser origin) */
+    if (b->contact_mount && !(b->clearance > 0))
+        return vp_bad(c, S_HEAD, "contact_by", err, el, "a mount's switch does not tell where the head touched: it needs "
+                      "the head kept outside Omega ([omega] clearance > 0), where a touch stops the scan");
     vp_board_step_config(b, &sc);
     b->contact_reach = vp_step_contact_reach(&sc, xyz, 3, &speed);
     if (b->contact_stop > 0 && b->contact_stop < b->contact_reach)

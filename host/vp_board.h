@@ -58,6 +58,9 @@ typedef struct vp_board {
     int contact_sim;                     /* contact = sim: the dry run's switch only (io = sim) */
     double contact_stop;                 /* mm the stylus can travel past its trigger (0: not given) */
     int contact_halt;                    /* no pulse after a touch is confirmed (no deceleration) */
+    char contact_by[8];                  /* "stylus" (default): a touch probe at the laser origin;
+                                            "mount": the head's breakaway mount, any part pushed */
+    int contact_mount;                   /* contact_by = mount */
     double contact_reach;                /* the most a move travels from a touch to rest (mm, at load) */
     char body_laser[96], body_camera[96], body_bracket[96], body_hub[96];  /* parts as written */
     char clear_by[16];                   /* "ball" (default) or "swept" (io = sim only) */

@@ -44,6 +44,56 @@ static int vp_dryrun_io_write(void *ctx, uint32_t mask, uint32_t values)
     return rc;
 }
 
+static double vp_dryrun_obj_distance(void *ctx, const double p[3]) { return vp_surface_distance(ctx, p); }
+static int vp_dryrun_obj_inside(void *ctx, const double p[3]) { return vp_surface_inside(ctx, p); }
+
+vp_head_object_t vp_dryrun_object(const vp_dryrun_t *d)
+{
+    vp_head_object_t obj;
+    obj.distance = vp_dryrun_obj_distance;
+    obj.inside = vp_dryrun_obj_inside;
+    obj.ctx = d->surf;
+    return obj;
+}
+
+/* the most any sensed part moved between two poses */
+static double vp_dryrun_mount_moved(const vp_dryrun_t *d, const double ja[VP_KIN_JOINTS], const double jb[VP_KIN_JOINTS])
+{
+    double m = 0.0, v;
+    int i;
+    for (i = 0; i < d->board.head.nparts; i++)
+        if ((d->mount_mask >> i & 1u) && (v = vp_head_moved(&d->board.head, i, ja, jb)) > m) m = v;
+    return m;
+}
+
+/* contact_by = mount: a part of the head within VP_DRYRUN_MOUNT_NEED of the object at pose j. The
+ * parts are looked at again only when they may have moved by more than their last gap less that
+ * distance; while the switch is closed, at every pose. */
+static int vp_dryrun_mount(vp_dryrun_t *d, const double j[VP_KIN_JOINTS])
+{
+    vp_head_object_t obj = vp_dryrun_object(d);
+    double gap = 0.0;
+    int in;
+    if (d->touch_known && !d->touch_in && vp_dryrun_mount_moved(d, d->mount_j, j) < d->mount_gap - VP_DRYRUN_MOUNT_NEED)
+        return 0;
+    in = vp_head_near(&d->board.head, &obj, d->mount_mask, j, VP_DRYRUN_MOUNT_NEED, &gap, &d->touch_evals);
+    if (in != 0) in = 1;        /* cannot tell: closed, as a switch that closes early */
+    if (in && !(d->touch_known && d->touch_in)) memcpy(d->mount_first, j, sizeof d->mount_first);
+    memcpy(d->mount_j, j, sizeof d->mount_j);
+    d->mount_gap = gap;
+    d->touch_in = in;
+    d->touch_known = 1;
+    return in;
+}
+
+double vp_dryrun_mount_past(const vp_dryrun_t *d)
+{
+    double j[VP_KIN_JOINTS];
+    if (!d->touch_known || !d->board.contact_mount) return 0.0;
+    vp_dryrun_joints(d, j);
+    return vp_dryrun_mount_moved(d, d->mount_first, j);
+}
+
 /* The contact input: the true laser origin inside the object. The surface is asked again only
  * when the origin leaves the ball (radius: its distance to the surface) around the point it was
  * last asked at. */
@@ -54,8 +104,9 @@ static int vp_dryrun_contact(void *ctx, const int32_t *carriage)
     int a;
     if (d->touch_known && !memcmp(carriage, d->touch_carriage, sizeof d->touch_carriage)) return d->touch_in;
     for (a = 0; a < VP_KIN_JOINTS; a++) j[a] = carriage[a] / d->board.axis[a].ax.steps_per_unit;
-    vp_kin_forward(&d->touch_kin, j, o, dir);
     memcpy(d->touch_carriage, carriage, sizeof d->touch_carriage);
+    if (d->board.contact_mount && !d->flat_target) return vp_dryrun_mount(d, j);
+    vp_kin_forward(&d->touch_kin, j, o, dir);
     if (d->touch_known && vp_dist3(o, d->touch_origin) < d->touch_clear) return d->touch_in;
     if (d->flat_target) {
         d->touch_in = o[0] >= d->target_x;
@@ -161,6 +212,8 @@ int vp_dryrun_open(const vp_board_t *b, const vp_dryrun_options_t *o, vp_dryrun_
         d->target_x = opt.target_x;
         rc.contact = vp_dryrun_contact;
         rc.contact_ctx = d;
+        for (a = 0; a < b->head.nparts; a++)
+            if (strcmp(b->head.part[a].name, "clearance ball")) d->mount_mask |= 1u << a;
     }
     vp_iorec_init(&d->rec, &rc);
     io.ctx = d;

@@ -9,6 +9,7 @@
 #include <stddef.h>
 #include "vp_board.h"
 #include "vp_camsim.h"
+#include "vp_head.h"
 #include "vp_iorec.h"
 #include "vp_machine.h"
 #include "vp_surface.h"
@@ -30,6 +31,12 @@ typedef struct vp_dryrun {
                                                 surface) */
     int touch_known, touch_in;
     unsigned long touch_evals;               /* surface queries made */
+    /* contact_by = mount: the switch closes while a part of the head (the clearance ball left
+     * out) is within VP_DRYRUN_MOUNT_NEED of the object, at the carriages' true pose */
+    unsigned mount_mask;                     /* the parts it senses (bit i: board.head.part[i]) */
+    double mount_j[VP_KIN_JOINTS], mount_gap;  /* the pose last evaluated, and a lower bound of the
+                                                  parts' distance to the object there */
+    double mount_first[VP_KIN_JOINTS];       /* the pose where it last closed */
     double fan_origin[3], fan_normal[3];     /* a line laser: its plane as mounted (tilt frame) */
 } vp_dryrun_t;
 
@@ -42,6 +49,10 @@ typedef struct vp_dryrun_options {
     double target_x;
 } vp_dryrun_options_t;
 
+/* contact_by = mount: how near the object a part comes before the switch closes (mm): the dry
+ * run's stand-in for its first touch. */
+#define VP_DRYRUN_MOUNT_NEED 0.25
+
 /* The carriages start where the laser origin is at the board's start with pan = tilt = 0
  * (home_pos for axes without a switch). VP_EINVAL (bad surface spec; err says why). */
 int  vp_dryrun_open(const vp_board_t *b, const vp_dryrun_options_t *o, vp_dryrun_t **out, char *err, size_t errlen);
@@ -51,6 +62,11 @@ void vp_dryrun_true_beam(const vp_dryrun_t *d, double origin[3], double dir[3]);
 /* A line laser: the plane the renderer draws the fan in (tilt frame; origin on it, unit normal),
  * the board's nominal plane turned with the mounted beam. 0 without a line laser. */
 int  vp_dryrun_true_plane(const vp_dryrun_t *d, double origin[3], double normal[3]);
+/* The simulated object as the head's body check takes it (vp_head.h). */
+vp_head_object_t vp_dryrun_object(const vp_dryrun_t *d);
+/* contact_by = mount: a bound on how far any part the switch senses has gone since the pose where
+ * the switch last closed (mm; 0 if it never did). */
+double vp_dryrun_mount_past(const vp_dryrun_t *d);
 void vp_dryrun_close(vp_dryrun_t *d);
 
 #endif

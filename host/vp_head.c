@@ -165,29 +165,57 @@ static double vp_head_gap(const vp_head_object_t *obj, const double c0[3], const
     return best;
 }
 
+double vp_head_moved(const vp_head_t *h, int i, const double ja[VP_KIN_JOINTS], const double jb[VP_KIN_JOINTS])
+{
+    const vp_head_part_t *p = &h->part[i];
+    double dj[VP_KIN_JOINTS], cl[3], el[3][3], dg, dp, dt, rho;
+    int k;
+    for (k = 0; k < VP_KIN_JOINTS; k++) dj[k] = jb[k] - ja[k];
+    dg = vp_norm3(dj);
+    dp = fabs(dj[VP_J_PAN]) * VP_HEAD_DEG;
+    dt = fabs(dj[VP_J_TILT]) * VP_HEAD_DEG;
+    vp_head_core(p, cl, el);
+    /* every core point lies within rho of the frame's origin (the tilt axis centre, or the pan
+     * pivot), and a turn by a moves a point at r by at most a r */
+    rho = vp_norm3(cl) + sqrt(vp_dot3(el[0], el[0]) + vp_dot3(el[1], el[1]) + vp_dot3(el[2], el[2]));
+    return p->frame == VP_HEAD_TILT ? dg + dp * (vp_norm3(h->tilt_offset) + rho) + dt * rho : dg + dp * rho;
+}
+
+int vp_head_near(const vp_head_t *h, const vp_head_object_t *obj, unsigned mask, const double j[VP_KIN_JOINTS],
+                 double need, double *gap, unsigned long *evals)
+{
+    double best = HUGE_VAL;
+    int i;
+    if (!h || !obj || !obj->distance || !obj->inside || !j || !gap || !(need > 0) || !isfinite(need) ||
+        !vp_head_finite(j, VP_KIN_JOINTS))
+        return VP_EINVAL;
+    for (i = 0; i < h->nparts; i++) {
+        double c[3], e[3][3], g;
+        if (!(mask >> i & 1u)) continue;
+        vp_head_pose(h, i, j, c, e);
+        if (obj->inside(obj->ctx, c)) return 1;
+        g = vp_head_gap(obj, c, (const double (*)[3])e, h->part[i].r, need, evals);
+        if (g < 0) return 1;
+        if (g < best) best = g;
+    }
+    *gap = best;
+    return 0;
+}
+
 int vp_head_sweep(const vp_head_t *h, const vp_head_object_t *obj, const double ja[VP_KIN_JOINTS],
                   const double jb[VP_KIN_JOINTS], double tol, int hit[VP_HEAD_MAX_PARTS], unsigned long *evals)
 {
-    double dj[VP_KIN_JOINTS], dg, dp, dt, to;
+    double dj[VP_KIN_JOINTS];
     int i, k, nhit = 0;
     if (!h || !obj || !obj->distance || !obj->inside || !ja || !jb || !hit || !(tol > 0) || !isfinite(tol) ||
         !vp_head_finite(ja, VP_KIN_JOINTS) || !vp_head_finite(jb, VP_KIN_JOINTS))
         return VP_EINVAL;
     for (k = 0; k < VP_KIN_JOINTS; k++) dj[k] = jb[k] - ja[k];
-    dg = vp_norm3(dj);
-    dp = fabs(dj[VP_J_PAN]) * VP_HEAD_DEG;
-    dt = fabs(dj[VP_J_TILT]) * VP_HEAD_DEG;
-    to = vp_norm3(h->tilt_offset);
     for (i = 0; i < VP_HEAD_MAX_PARTS; i++) hit[i] = 0;
     for (i = 0; i < h->nparts; i++) {
         const vp_head_part_t *p = &h->part[i];
-        double cl[3], el[3][3], rho, speed, s = 0;
+        double speed = vp_head_moved(h, i, ja, jb), s = 0;   /* the fastest a point moves per unit of s */
         long steps = 0;
-        vp_head_core(p, cl, el);
-        /* every core point lies within rho of the frame's origin (the tilt axis centre, or the
-         * pan pivot): the fastest a point moves per unit of s */
-        rho = vp_norm3(cl) + sqrt(vp_dot3(el[0], el[0]) + vp_dot3(el[1], el[1]) + vp_dot3(el[2], el[2]));
-        speed = p->frame == VP_HEAD_TILT ? dg + dp * (to + rho) + dt * rho : dg + dp * rho;
         for (;;) {
             double j[VP_KIN_JOINTS], c[3], e[3][3], gap;
             for (k = 0; k < VP_KIN_JOINTS; k++) j[k] = s >= 1 ? jb[k] : ja[k] + s * dj[k];

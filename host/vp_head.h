@@ -59,6 +59,18 @@ double vp_head_reach(const vp_head_t *h, int i, double tilt_lo, double tilt_hi);
 /* The world core of part i in pose j: centre c and half-axes e[3][3] (a capsule: one axis). */
 void vp_head_pose(const vp_head_t *h, int i, const double j[VP_KIN_JOINTS], double c[3], double e[3][3]);
 
+/* A bound on how far any point of part i is from where it was when the joints go from ja to jb,
+ * whatever the way between: |dG| + |dpan| (|tilt_offset| + rho) + |dtilt| rho (rho: the core's
+ * reach from its frame's origin; angles in radians). */
+double vp_head_moved(const vp_head_t *h, int i, const double ja[VP_KIN_JOINTS], const double jb[VP_KIN_JOINTS]);
+
+/* Pose j against the object, for the parts whose bit is set in mask (bit i: part i): 1 when a
+ * point of one lies within need (> 0) of the surface or inside the object (or the bisection
+ * cannot tell: a switch that closes early); else 0, and *gap a lower bound (>= 0.75 need) on
+ * their distance to the object. VP_EINVAL for bad arguments. */
+int vp_head_near(const vp_head_t *h, const vp_head_object_t *obj, unsigned mask, const double j[VP_KIN_JOINTS],
+                 double need, double *gap, unsigned long *evals);
+
 /* The linear joint motion ja -> jb against the object: for each part, 1 in hit[i] when a point
  * of it comes within tol (> 0) of the surface or lies inside the object, else 0 (proven clear).
  * Returns the number of parts hit (>= 0), or VP_EINVAL. evals (may be NULL) grows by the

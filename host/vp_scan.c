@@ -331,9 +331,6 @@ void vp_scan_close(vp_scan_dev_t *d)
 
 /* ---------- the head's body along a motion (dry run) ---------- */
 
-static double vp_scan_obj_distance(void *ctx, const double p[3]) { return vp_surface_distance(ctx, p); }
-static int vp_scan_obj_inside(void *ctx, const double p[3]) { return vp_surface_inside(ctx, p); }
-
 /* The joint path j0 -> way[0] -> ... -> way[n-1] (linear joint pieces) against the object:
  * one motion, counted once for each part that came within head_tol of it. The joints are the
  * commanded ones: the true pose differs by at most the board's head_margin <= head_tol. */
@@ -342,9 +339,7 @@ static void vp_scan_head_path(vp_scan_dev_t *d, const double j0[VP_KIN_JOINTS], 
     vp_head_object_t obj;
     int any[VP_HEAD_MAX_PARTS], hit[VP_HEAD_MAX_PARTS], w, i, nany = 0;
     if (!d->dry || n < 1) return;
-    obj.distance = vp_scan_obj_distance;
-    obj.inside = vp_scan_obj_inside;
-    obj.ctx = d->dr->surf;
+    obj = vp_dryrun_object(d->dr);
     memset(any, 0, sizeof any);
     for (w = 0; w < n; w++) {
         if (vp_head_sweep(&d->board.head, &obj, w ? way[w - 1] : j0, way[w], d->head_tol, hit, &d->head_evals) < 0)
@@ -370,6 +365,12 @@ static void vp_scan_head_move(vp_scan_dev_t *d, const vp_cmd_t *cmd, const doubl
 {
     double cut[VP_MACHINE_MAX_WAY][VP_KIN_JOINTS], u[3], o[3], dir[3], s0 = 0.0, s1, len = vp_dist3(cmd->from, cmd->to);
     int w, k, a, m = 0;
+    if (d->touching && d->board.contact_mount) {
+        /* the mount's switch looked at every part at every step up to the touch (vp_dryrun), and
+         * vp_scan_move_check bounds how far they went on */
+        d->head_motions++;
+        return;
+    }
     if (!d->touching || n < 1 || n > VP_MACHINE_MAX_WAY || !(len > 0.0)) { vp_scan_head_path(d, j0, way, n); return; }
     for (k = 0; k < 3; k++) u[k] = (cmd->to[k] - cmd->from[k]) / len;
     for (w = 0; w < n; w++) {
@@ -435,6 +436,7 @@ static void vp_scan_move_check(vp_scan_dev_t *d, const vp_cmd_t *cmd, int last, 
             d->touch_lag = at - ts > 0.0 ? at - ts : 0.0;
             d->touch_cut = s0 + ts - 2.0 * d->head_tol;
         }
+        if (d->board.contact_mount && vp_dryrun_mount_past(d->dr) > depth) depth = vp_dryrun_mount_past(d->dr);
         if (depth > d->touch_depth_max) d->touch_depth_max = depth;
         if (depth > d->board.contact_stop + 1e-6) { d->through++; *collided = 1; }
         d->touching = 1;

@@ -16,6 +16,8 @@
 #     centre, and the laser module's side meets it before the origin does: the switch cannot
 #     stop that; the dry run must say so (exit 5, the laser part counted) while CGAL on the
 #     origin's path alone sees nothing wrong;
+#   - the same sideways knob with the switch in the head's mount (contact_by = mount): stopped
+#     (exit 1), no part within 0.5 mm before the switch closed, the parts at most contact_stop past;
 #   - the checkers' failing case: the same run without the switch drives through the knob
 #     (the dry run counts moves through, exit 5; CGAL counts them too).
 set -u
@@ -76,7 +78,7 @@ run() {
   start=$("$VP" log dump "$o.vplog" | sed -n '/^# start /{s/^# start \([^ ]*\) \([^ ]*\) \([^ ,]*\),.*/\1,\2,\3/p;q;}')
   "$CG" "$o.off" "$o.csv" --start "$start" --lag 0.5 >"$o.cgal" 2>&1
   cg=$(tail -n 1 "$o.cgal")
-  printf '%-10s exit %s, contacts %s (origin %s mm past the surface), moves through %s, head collisions %s (laser %s, camera %s, tilt hub %s, clearance ball %s); CGAL: %s\n' \
+  printf '%-10s exit %s, contacts %s (%s mm past the touch), moves through %s, head collisions %s (laser %s, camera %s, tilt hub %s, clearance ball %s); CGAL: %s\n' \
     "$name" "$rc" "$(field "$o.json" contacts)" "$(field "$o.json" touch_depth_max)" "$(field "$o.json" through)" \
     "$(field "$o.json" head_collisions)" "$(part "$o.json" laser)" "$(part "$o.json" camera)" "$(part "$o.json" 'tilt hub')" \
     "$(part "$o.json" 'clearance ball')" "$cg"
@@ -112,6 +114,23 @@ o="$D/side"
 grep -q "^SAFETY: .*laser 1" "$o.json" || bad "side: no SAFETY line naming the laser"
 case "$cg" in "moves "*", through 0, inside 0, first none") ;; *) bad "side: CGAL on the origin's path: $cg";; esac
 
+# ---- the same knob with the switch in the head's mount (contact_by = mount): any part pushed
+# opens it, so the laser module's side stops the head too: exit 1, no collision, the parts at
+# most contact_stop past where the switch closed
+sed -e 's/^contact_stop = 10 /contact_by = mount\ncontact_stop = 10 /' "$B" >"$D/mount.ini"
+grep -q "^contact_by = mount" "$D/mount.ini" || bad "mount: the board copy has no contact_by"
+run mount 280,150,150 "$D/mount.ini"
+o="$D/mount"
+[ $rc = 1 ] || bad "mount: exit $rc (expected 1: stopped by the touch)"
+grep -q "contact switch closed outside Omega: the object reaches out" "$o.err" || bad "mount: the reason is not given"
+[ "$(field "$o.json" contacts)" = 1 ] || bad "mount: contacts $(field "$o.json" contacts)"
+[ "$(field "$o.json" head_collisions)" = 0 ] || bad "mount: head collisions $(field "$o.json" head_collisions)"
+depth=$(field "$o.json" touch_depth_max)
+awk -v d="$depth" 'BEGIN { exit !(d > 0 && d <= 10) }' || bad "mount: the head went $depth mm past the touch (contact_stop 10)"
+case "$cg" in "moves "*", through 0, inside 0, first none") ;; *) bad "mount: CGAL: $cg";; esac
+grep -q "the head (a bound over the parts its mount senses) at most" "$o.json" || bad "mount: the summary does not say what was bounded"
+"$VP" log verify "$o.vplog" >"$o.verify" 2>&1 || bad "mount: log verify: $(tail -n 1 "$o.verify")"
+
 # ---- without the switch: through the knob, and both checkers see it
 sed -e '/^contact/d' "$B" >"$D/noswitch.ini"
 run noswitch 143.431,150,93.431 "$D/noswitch.ini"
@@ -121,5 +140,5 @@ t=$(field "$o.json" through)
 [ -n "$t" ] && [ "$t" -gt 0 ] || bad "noswitch: the dry run counts no move through the knob ($t)"
 case "$cg" in "moves "*", through 0, inside 0, first none") bad "noswitch: CGAL sees no move through: $cg";; esac
 
-[ $fail = 0 ] && echo "reach-out: touched on a path and stopped (exit 1); sideways crash named (exit 5); without the switch through (exit 5)"
+[ $fail = 0 ] && echo "reach-out: touched on a path and stopped (exit 1); sideways crash named (exit 5), stopped by a mount's switch (exit 1); without the switch through (exit 5)"
 exit $fail

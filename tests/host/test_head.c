@@ -1,4 +1,8 @@
 /* The head's body swept along joint motions (vp_head):
+ *  - a mount's switch (vp_head_near) at random poses near a sphere: closed only where the brute
+ *    force puts a sensed part within the distance, open with a gap no larger than the true one;
+ *    the clearance ball left out of the mask; every point of every part moves no farther than
+ *    vp_head_moved between two random poses;
  *  - a MOVE whose laser origin passes 23.6 mm clear of a sphere while the camera box goes
  *    through it is caught, naming the camera (and the bracket's end at it); the old check (the origin's segment, radius 0, and
  *    radius 12) misses it;
@@ -265,6 +269,81 @@ int main(void)
             double j5[5] = { 0, 0, 0, 0, 0 };
             CHECK(vp_head_sweep(&h, &obj, j5, j5, 0, hit, NULL) == VP_EINVAL);
         }
+    }
+    /* 6. a mount's switch (vp_head_near) and the parts' travel (vp_head_moved) against the
+     * brute force: random poses near a sphere, the clearance ball left out of the mask */
+    {
+        vp_rng_t r;
+        const double need = 0.25;
+        const unsigned mask = 0x1eu;           /* laser, camera, bracket, tilt hub */
+        int m, closed = 0, open = 0, k, pi;
+        double worst_lb = 0, moved_ratio = 0;
+        vp_rng_seed(&r, 20261205);
+        for (m = 0; m < 400; m++) {
+            double c[3], R = 3 + 15 * vp_rng_uniform(&r), j[5], jb[5], g = -1, bf = HUGE_VAL;
+            vp_surface_t *s;
+            int in;
+            for (k = 0; k < 3; k++) j[k] = 60 * (vp_rng_uniform(&r) - 0.5);
+            j[3] = 360 * (vp_rng_uniform(&r) - 0.5);
+            j[4] = 180 * (vp_rng_uniform(&r) - 0.5);
+            {
+                /* the sphere's surface near a random point of the head: from 1 mm inside to 7 mm out */
+                double p[3] = { 30 * vp_rng_uniform(&r) - 10, 60 * vp_rng_uniform(&r) - 30, 20 * vp_rng_uniform(&r) - 10 }, w[3], u[3], l = 0;
+                bf_point(j, VP_HEAD_TILT, p, w);
+                for (k = 0; k < 3; k++) { u[k] = vp_rng_uniform(&r) - 0.5; l += u[k] * u[k]; }
+                l = sqrt(l);
+                for (k = 0; k < 3; k++) c[k] = w[k] + (R + 8 * vp_rng_uniform(&r) - 1) * u[k] / l;
+            }
+            s = sphere(R, c);
+            obj.ctx = s;
+            for (pi = 1; pi < h.nparts; pi++) { double q = bf_gap(&h.part[pi], j, c, R); if (q < bf) bf = q; }
+            in = vp_head_near(&h, &obj, mask, j, need, &g, NULL);
+            CHECK(in == 0 || in == 1);
+            if (in) {
+                closed++;
+                CHECKF(bf < need + 1e-9, "closed with the parts %.6f mm from the sphere (need %g)", bf, need);
+            } else {
+                open++;
+                CHECKF(g <= bf + 1e-9 && g >= 0.75 * need - 1e-12, "open: gap %.6f, brute force %.6f", g, bf);
+                if (g / bf > worst_lb) worst_lb = g / bf;
+            }
+            /* every point of every part moves no farther than vp_head_moved says, whatever the way */
+            for (k = 0; k < 5; k++) jb[k] = j[k] + (k < 3 ? 20 : 40) * (vp_rng_uniform(&r) - 0.5);
+            for (pi = 0; pi < h.nparts; pi++) {
+                const vp_head_part_t *pt = &h.part[pi];
+                double bound = vp_head_moved(&h, pi, j, jb), far = 0;
+                int q;
+                for (q = 0; q < 64; q++) {
+                    double loc[3], wa[3], wb[3], d = 0, t = vp_rng_uniform(&r);
+                    for (k = 0; k < 3; k++)
+                        loc[k] = pt->kind == VP_HEAD_CAPSULE ? pt->a[k] + t * (pt->b[k] - pt->a[k]) + pt->r * (2 * vp_rng_uniform(&r) - 1) / sqrt(3.0)
+                                                             : pt->a[k] + pt->b[k] * (2 * vp_rng_uniform(&r) - 1);
+                    bf_point(j, pt->frame, loc, wa);
+                    bf_point(jb, pt->frame, loc, wb);
+                    for (k = 0; k < 3; k++) d += (wb[k] - wa[k]) * (wb[k] - wa[k]);
+                    if (sqrt(d) > far) far = sqrt(d);
+                }
+                CHECKF(far <= bound + 1e-9, "part %d moved %.6f mm, bound %.6f", pi, far, bound);
+                if (far / bound > moved_ratio) moved_ratio = far / bound;
+            }
+            vp_surface_close(s);
+        }
+        CHECKF(closed > 50 && open > 50, "closed %d, open %d: too few of a kind", closed, open);
+        /* the checker: with the ball in the mask, a pose where only the ball meets the sphere closes */
+        {
+            double c[3], j5[5] = { 0, 0, 0, 0, 0 }, g;
+            vp_surface_t *s;
+            origin(j5, c);
+            c[0] += 2.5;                  /* a 1 mm sphere 1.5 mm ahead of the laser's exit, in the 2 mm ball */
+            s = sphere(1, c);
+            obj.ctx = s;
+            CHECK(vp_head_near(&h, &obj, mask, j5, need, &g, NULL) == 0);
+            CHECK(vp_head_near(&h, &obj, mask | 1u, j5, need, &g, NULL) == 1);
+            vp_surface_close(s);
+        }
+        printf("mount switch: %d poses closed, %d open, every one as the brute force says (the clearance ball left out: "
+               "a sphere in it alone leaves the switch open); gap bound up to %.2f of the true gap; parts moved up to %.2f "
+               "of vp_head_moved\n", closed, open, worst_lb, moved_ratio);
     }
     return vp_test_done("test_head");
 }
