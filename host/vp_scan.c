@@ -355,11 +355,27 @@ static void vp_scan_head_path(vp_scan_dev_t *d, const double j0[VP_KIN_JOINTS], 
     if (nany) d->head_hits++;
 }
 
+/* Backing off a touch: 1 while the switch's zone is not yet clear at pose j: the laser origin
+ * inside the object or within 2 head_tol of it (a stylus), a sensed part within 2 head_tol (a
+ * mount's switch). */
+static int vp_scan_in_touch(vp_scan_dev_t *d, const double j[VP_KIN_JOINTS])
+{
+    double o[3], dir[3], gap;
+    if (d->board.contact_mount) {
+        vp_head_object_t obj = vp_dryrun_object(d->dr);
+        return vp_head_near(&d->board.head, &obj, d->dr->mount_mask, j, 2.0 * d->head_tol, &gap, &d->head_evals) != 0;
+    }
+    vp_kin_forward(&d->m->kin, j, o, dir);
+    return vp_surface_inside(d->dr->surf, o) || vp_surface_distance(d->dr->surf, o) < 2.0 * d->head_tol;
+}
+
 /* A MOVE's joint path j0 -> way[0..n-1] (vp_scan_move_check has judged the laser origin's). One
  * the contact switch stopped is swept only while the origin, moving along cmd's line, is less than
  * d->touch_cut along it (the joints interpolated within the piece where it gets there): before
  * that a part within head_tol of the object met it before the stylus did, a crash the switch
- * could not stop. */
+ * could not stop; past it the head moves on by the stylus's give, checked against contact_stop.
+ * The MOVE that backs off such a touch is swept from where the switch's zone is clear again
+ * (vp_scan_in_touch, in steps of head_tol / 4 of the origin's way): the same give, retraced. */
 static void vp_scan_head_move(vp_scan_dev_t *d, const vp_cmd_t *cmd, const double j0[VP_KIN_JOINTS],
                               const double (*way)[VP_KIN_JOINTS], int n)
 {
@@ -369,6 +385,31 @@ static void vp_scan_head_move(vp_scan_dev_t *d, const vp_cmd_t *cmd, const doubl
         /* the mount's switch looked at every part at every step up to the touch (vp_dryrun), and
          * vp_scan_move_check bounds how far they went on */
         d->head_motions++;
+        return;
+    }
+    if (d->backing && n >= 1 && n <= VP_MACHINE_MAX_WAY) {
+        double from[VP_KIN_JOINTS];
+        memcpy(from, j0, sizeof from);
+        for (w = 0; w < n; w++) {
+            double oa[3], ob[3], j[VP_KIN_JOINTS];
+            long q, nq;
+            vp_kin_forward(&d->m->kin, from, oa, dir);
+            vp_kin_forward(&d->m->kin, way[w], ob, dir);
+            nq = 1 + (long)(vp_dist3(oa, ob) / (0.25 * d->head_tol));
+            for (q = 0; q <= nq; q++) {
+                for (a = 0; a < VP_KIN_JOINTS; a++) j[a] = from[a] + (way[w][a] - from[a]) * (double)q / (double)nq;
+                if (!vp_scan_in_touch(d, j)) break;
+            }
+            if (q <= nq) {
+                /* clear from j on: the rest of this piece and the pieces after it */
+                memcpy(cut[m++], way[w], sizeof cut[0]);
+                for (k = w + 1; k < n; k++) memcpy(cut[m++], way[k], sizeof cut[0]);
+                vp_scan_head_path(d, j, (const double (*)[VP_KIN_JOINTS])cut, m);
+                return;
+            }
+            memcpy(from, way[w], sizeof from);
+        }
+        d->head_motions++;   /* never clear of the touch: the way back alone */
         return;
     }
     if (!d->touching || n < 1 || n > VP_MACHINE_MAX_WAY || !(len > 0.0)) { vp_scan_head_path(d, j0, way, n); return; }
@@ -425,6 +466,7 @@ static void vp_scan_move_check(vp_scan_dev_t *d, const vp_cmd_t *cmd, int last, 
     if (d->touching && len > 0.0) s0 = d->touch_lag + 1e-9 * (1.0 + len);
     if (s0 > len) s0 = len;
     for (k = 0; k < 3; k++) a[k] = cmd->from[k] + s0 * u[k];
+    d->backing = d->touching;
     d->touching = 0;
     if (touched) {
         double depth = 0.0;

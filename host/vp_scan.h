@@ -46,6 +46,7 @@ typedef struct vp_scan_dev {
     unsigned long stage_cmds[4];
     double noise_tol;             /* dry run: hits are judged against the object within this (mm) */
     int touching;                 /* the last one did: the head stands on the surface */
+    int backing;                  /* dry run: this MOVE backs off that touch */
     double touch_lag;             /* dry run: how far past the surface the switch closed (mm) */
     double touch_depth_max;       /* dry run: deepest a stopped move went past the surface (mm) */
     double touch_cut;             /* dry run, a move the switch stopped: how far along it the head's

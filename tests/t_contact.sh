@@ -121,7 +121,13 @@ md=$(sed -n 's/^dry run: the contact switch stopped .* at most \([0-9.]*\) mm pa
 "$VP" scan --board "$o-off.ini" --dry-run --stop-after 3000 --log "$o-off.vplog" >"$o-off.out" 2>&1
 mt=$(sed -n 's/^dry run: .* \([0-9]*\) moves through the object$/\1/p' "$o-off.out")
 [ -n "$mt" ] && [ "$mt" -gt 0 ] || bad "machine dry run without the switch: '$mt' moves through (expected > 0)"
-echo "machine dry run (sim.ini, clearance 0, a dark band): $mc contact(s), the laser origin at most $md mm past the surface (contact_stop 25), 0 moves through; without the switch $mt moves through in 3000 commands"
+# the head's body: the stylus's give past a touch (within contact_stop) and the way back over it
+# are the touch, not collisions; without the switch the body goes into the object
+hc=$(sed -n 's/^dry run: head: \([0-9]*\) head collisions.*/\1/p' "$o.out")
+hoff=$(sed -n 's/^dry run: head: \([0-9]*\) head collisions.*/\1/p' "$o-off.out")
+[ "$hc" = 0 ] || bad "machine dry run with the switch: $hc head collisions"
+[ -n "$hoff" ] && [ "$hoff" -gt 0 ] || bad "machine dry run without the switch: '$hoff' head collisions (expected > 0)"
+echo "machine dry run (sim.ini, clearance 0, a dark band): $mc contact(s), the laser origin at most $md mm past the surface (contact_stop 25), 0 moves through, $hc head collisions; without the switch $mt moves through and $hoff head collisions in 3000 commands"
 
 [ $fail = 0 ] || exit 1
 echo "contact safety net: $nrun object(s) with dark patches, 0 collisions, every move outside the object by CGAL up to its contact, logs verified; without the switch $coll collisions; machine dry run $mc contacts, 0 moves through ($mt without the switch)"
