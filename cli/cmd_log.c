@@ -5,6 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "vp_cli.h"
+#include "vp_json.h"
 #include "vp_logverify.h"
 #include "vp_meshcheck.h"
 #include "vp_meshio.h"
@@ -396,18 +397,6 @@ static void log_usage(FILE *f)
         "       (no file, not a session log, damaged header, newer version).\n");
 }
 
-static void json_str(FILE *f, const char *s)
-{
-    fputc('"', f);
-    for (; *s; s++) {
-        unsigned char c = (unsigned char)*s;
-        if (c == '"' || c == '\\') fprintf(f, "\\%c", c);
-        else if (c < 0x20) fprintf(f, "\\u%04x", c);
-        else fputc(c, f);
-    }
-    fputc('"', f);
-}
-
 static void json_num(FILE *f, double v)
 {
     if (isfinite(v)) fprintf(f, "%.17g", v);
@@ -461,9 +450,9 @@ static void dump_header_json(const vp_logfmt_header_t *h, FILE *f)
     const vp_planner_config_t *c = &h->cfg;
     uint32_t i;
     fprintf(f, "{\"header\":{\"version\":%u,\"units\":\"%s\",\"board\":", h->version, units_name(h->units));
-    json_str(f, h->board);
+    vp_json_str(f, h->board, 0);
     fprintf(f, ",\"note\":");
-    json_str(f, h->note);
+    vp_json_str(f, h->note, 0);
     fprintf(f, ",\"eps\":"); json_num(f, c->eps);
     fprintf(f, ",\"omega\":\"%s\"", c->omega_kind == VP_OMEGA_BALL ? "ball" : "box");
     fprintf(f, ",\"omega_lo\":"); json_vec(f, c->omega_lo);
@@ -536,7 +525,7 @@ static int log_dump(const char *path, int mode)
                 printf(",\"event\":\"%s\",\"event_code\":%u,\"code\":%d,\"values\":[", vp_sessionlog_event_name(r.event),
                        r.event, (int)r.code);
                 for (k = 0; k < 4; k++) { if (k) putchar(','); json_num(stdout, r.value[k]); }
-                printf("],\"text\":"); json_str(stdout, r.text);
+                printf("],\"text\":"); vp_json_str(stdout, r.text, 0);
             }
             printf("}\n");
         } else {

@@ -18,6 +18,7 @@
 #include "vp_outcome.h"
 #include "vp_progress.h"
 #include "vp_audit.h"
+#include "vp_json.h"
 #include "vp_rtclock.h"
 #include "vp_scan.h"
 #include "vp_session.h"
@@ -65,8 +66,9 @@ static void scan_usage(FILE *f)
         "                   gets VP_PROBE_TOO_CLOSE: never free, never sampled) or measure (a hit\n"
         "                   at the model's extrapolated distance); default: the board's near_spots\n"
         "  --quiet          no progress line\n"
-        "  --json           end with one JSON object (status, probes, mesh, moves; dry run: moves\n"
-        "                   through the object, head collisions by part, Hausdorff distance)\n"
+        "  --json           end with one JSON object (status, probes, mesh, moves, stop_reason when it\n"
+        "                   stopped short; dry run: moves through the object, head collisions by\n"
+        "                   part, contacts, Hausdorff distance)\n"
         VP_LIVE_CLI_HELP
         "Dry run (nothing moves, nothing sleeps):\n"
         "  --dry-run        the board's kinematics, step generator (recording GPIO backend on a\n"
@@ -337,6 +339,7 @@ typedef struct scan_job {
     uint32_t replayed;
     double wall0;
     vp_live_cli_t live;             /* --serve: the live view */
+    char stop_text[VP_LOGFMT_TEXT_MAX + 1];  /* why the scan stopped short of DONE ("": it did not) */
 } scan_job_t;
 
 /* The command line into j->cl.
@@ -807,6 +810,7 @@ static int scan_go(scan_job_t *j)
         scan_log_stepping(&j->run);
         vp_logwriter_event(&j->run.w.file, VP_LOGFMT_EV_PAUSE, 0, text);
         fprintf(stderr, "scan: %s; resume with: voroprobe scan --log %s --resume\n", text, j->o.log);
+        snprintf(j->stop_text, sizeof j->stop_text, "%s", text);
         j->rc = VP_EXIT_STOPPED;
     } else if (st == VP_OK) {
         j->rc = 0;
@@ -821,6 +825,7 @@ static int scan_go(scan_job_t *j)
                      c->from[0], c->from[1], c->from[2], c->dir[0], c->dir[1], c->dir[2], why);
         scan_log_stepping(&j->run);
         vp_logwriter_event(&j->run.w.file, VP_LOGFMT_EV_FAULT, j->dev.fault, text);
+        snprintf(j->stop_text, sizeof j->stop_text, "%s", text);
         fprintf(stderr, "scan: stopped at %s\nscan: the log %s is resumable: voroprobe scan --log %s --resume%s\n", text,
                 j->o.log, j->o.log, j->dev.m->step.fault == VP_STEP_FAULT_ESTOP ? " (after releasing the e-stop)" : "");
     } else {
@@ -832,6 +837,7 @@ static int scan_go(scan_job_t *j)
                      "surface: is [omega] interior inside the object?" : vp_strerror(st));
         scan_log_stepping(&j->run);
         vp_logwriter_event(&j->run.w.file, VP_LOGFMT_EV_FAULT, st, text);
+        snprintf(j->stop_text, sizeof j->stop_text, "%s", text);
         fprintf(stderr, "scan: the scan stopped: %s%s\n", text, st == VP_ENOMEM ? " (the arena is full: --arena)" : "");
         if (j->dev.unreadable) {
             char why[420];
@@ -1022,6 +1028,10 @@ static int scan_report(scan_job_t *j)
                    "\"moves\":%lu,\"machine_s\":%.1f", vp_outcome_name(j->rc), j->rc,
                    j->dev.hits + j->dev.misses + j->dev.too_close, (unsigned)j->mesh.nv, (unsigned)j->mesh.nt,
                    have_mc && mc.closed_manifold ? "true" : "false", m->st.moves, mt);
+            if (j->stop_text[0]) {
+                printf(",\"stop_reason\":");
+                vp_json_str(stdout, j->stop_text, 0);
+            }
             printf(",\"machine_s_seed\":%.1f,\"machine_s_refine\":%.1f,\"machine_s_close\":%.1f,\"machine_s_per_vertex\":%.2f",
                    j->dev.stage_s[VP_STAGE_SEED], j->dev.stage_s[VP_STAGE_REFINE], j->dev.stage_s[VP_STAGE_CLOSE],
                    j->mesh.nv ? mt / (double)j->mesh.nv : 0.0);

@@ -4,6 +4,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
+#include "vp_json.h"
 #include "vp_outcome.h"
 #include "vp_report.h"
 #include "vp_session.h"
@@ -238,18 +239,6 @@ void vp_report_free(vp_report_t *r)
 /* ---------- JSON ---------- */
 
 /* A JSON string that is also safe inside a <script> element (no '<', '>', '&'). */
-static void json_str(FILE *f, const char *s)
-{
-    fputc('"', f);
-    for (; *s; s++) {
-        unsigned char c = (unsigned char)*s;
-        if (c == '"' || c == '\\') fprintf(f, "\\%c", c);
-        else if (c < 0x20 || c == '<' || c == '>' || c == '&') fprintf(f, "\\u%04x", c);
-        else fputc(c, f);
-    }
-    fputc('"', f);
-}
-
 static void json_num(FILE *f, double v)
 {
     if (isfinite(v)) fprintf(f, "%.9g", v);
@@ -291,7 +280,7 @@ void vp_report_summary_json(const vp_report_t *r, FILE *f)
     fprintf(f, ",\"min_angle_deg\":");
     json_num(f, r->have_check ? r->check.min_angle_deg : NAN);
     fprintf(f, ",\"arena_bytes_peak\":%zu,\"log\":", r->st.arena_peak);
-    json_str(f, r->stop_text);
+    vp_json_str(f, r->stop_text, 1);
     if (r->have_cert) {
         fprintf(f, ",\"h1\":\"%s\",\"h2\":\"%s\",\"h3\":\"%s\",\"big_balls\":%zu,\"open_balls\":%zu,\"eps_prime\":",
                 verdict_word(r->cert.h1), verdict_word(r->cert.h2), verdict_word(r->cert.h3), r->cert.big_balls,
@@ -484,13 +473,13 @@ static void write_data(const vp_report_t *r, FILE *f, size_t max_rays)
     if (max_rays == 0) max_rays = 200000;
 
     fprintf(f, "{\"title\":");
-    json_str(f, r->log_path);
+    vp_json_str(f, r->log_path, 1);
     fprintf(f, ",\"note\":");
-    json_str(f, r->L.header.note);
+    vp_json_str(f, r->L.header.note, 1);
     fprintf(f, ",\"board\":");
-    json_str(f, r->L.header.board);
+    vp_json_str(f, r->L.header.board, 1);
     fprintf(f, ",\"mesh_source\":");
-    json_str(f, r->mesh_path ? r->mesh_path : "the session");
+    vp_json_str(f, r->mesh_path ? r->mesh_path : "the session", 1);
     fprintf(f, ",\"summary\":");
     vp_report_summary_json(r, f);
     fprintf(f, ",\"box\":[%.17g,%.17g,%.17g,%.17g,%.17g,%.17g]", q.lo[0], q.lo[1], q.lo[2], q.hi[0], q.hi[1], q.hi[2]);

@@ -89,6 +89,9 @@ run first 143.431,150,93.431 "$B"
 o="$D/first"
 [ $rc = 1 ] || bad "first: exit $rc (expected 1: stopped by the touch)"
 grep -q "contact switch closed outside Omega: the object reaches out" "$o.err" || bad "first: the reason is not given"
+# --json says why it stopped (read by Python's json, not by a pattern)
+tail -n 1 "$o.json" | /usr/bin/python3 -c 'import json, sys; j = json.load(sys.stdin); sys.exit(0 if "reaches out of [omega]" in j.get("stop_reason", "") and j["exit"] == 1 else 1)' ||
+  bad "first: --json has no stop_reason naming the touch"
 [ "$(field "$o.json" contacts)" = 1 ] || bad "first: contacts $(field "$o.json" contacts)"
 [ "$(field "$o.json" head_collisions)" = 0 ] || bad "first: head collisions $(field "$o.json" head_collisions)"
 for p in laser camera bracket 'tilt hub'; do [ "$(part "$o.json" "$p")" = 0 ] || bad "first: $p $(part "$o.json" "$p")"; done
