@@ -800,9 +800,10 @@ static int vp_board_check_contact(vp_bctx_t *c, char *err, size_t el)
     /* a mount's switch says that some part touched, not where: only a head kept outside Omega,
      * where any touch stops the scan, can take it (the planner reads a stylus's touch as a point
      * of the surface at the laser origin) */
-    if (b->contact_mount && !(b->clearance > 0))
+    if (b->contact_mount && (!(b->clearance > 0) || b->min_feature > 0))
         return vp_bad(c, S_HEAD, "contact_by", err, el, "a mount's switch does not tell where the head touched: it needs "
-                      "the head kept outside Omega ([omega] clearance > 0), where a touch stops the scan");
+                      "the head kept outside Omega ([omega] clearance > 0%s), where a touch stops the scan",
+                      b->min_feature > 0 ? " and no tubes inside it: min_feature = 0" : "");
     vp_board_step_config(b, &sc);
     b->contact_reach = vp_step_contact_reach(&sc, xyz, 3, &speed);
     if (b->contact_stop > 0 && b->contact_stop < b->contact_reach)

@@ -169,6 +169,8 @@ static void test_broken_boards(void)
         memcpy(text, two, sizeof text);
         t = edit("clearance = 58", "clearance = 0 ");
         bad(t, LOC("contact_by"), "[head] contact_by: a mount's switch does not tell where the head touched");
+        t = edit("clearance = 58", "clearance = 58\nmin_feature = 10");
+        bad(t, LOC("contact_by"), "and no tubes inside it: min_feature = 0");
         memcpy(text, edit("contact_stop = 10 ", "# "), sizeof text);
         t = edit("contact = gpiochip0:7 pull-up", "#");
         bad(t, LOC("contact_by"), "[head] contact_by: needs a contact switch");
