@@ -26,6 +26,13 @@
  * tasks, route (in 24-byte points), proofs, the triangulation's least; [1] below SMALL_ARENA. */
 static const unsigned char split[2][8] = {{20, 7, 6, 8, 7, 1, PROOF_SHARE, 28}, {23, 14, 6, 4, 5, 2, 15, 24}};
 
+/* the bytes a task slot's kept start takes (none on a microcontroller core: it keeps none) */
+#ifndef VP_CORE_MCU
+#define TASK_NEAR_BYTES(pl) ((pl)->pool.near ? sizeof(vp_task_near_t) : 0u)
+#else
+#define TASK_NEAR_BYTES(pl) 0u
+#endif
+
 static void *carve(unsigned char **cur, unsigned char *end, size_t bytes)
 {
     uintptr_t p = ((uintptr_t)*cur + 7u) & ~(uintptr_t)7u;
@@ -46,7 +53,7 @@ VP_PL_API void vp_pl_note_peak(vp_planner_t *pl)
     while (hash_need < 2u * pl->pool.nfacets + 16u) hash_need <<= 1;
     used = vp_dt_bytes_used(&pl->dt) + (size_t)pl->pool.nvrec * sizeof(vp_vrec_t) +
            (size_t)pl->pool.nfedge * 4u * FEDGE_WORDS + (size_t)pl->pool.nproof * sizeof(vp_proof_t) + (size_t)pl->pool.nfrec * sizeof(vp_frec_t) + (size_t)hash_need * 4u +
-           (size_t)pl->peak.heap * 4u + (size_t)pl->peak.task * (sizeof(vp_task_t) + (pl->pool.near ? sizeof(vp_task_near_t) : 0u)) +
+           (size_t)pl->peak.heap * 4u + (size_t)pl->peak.task * (sizeof(vp_task_t) + TASK_NEAR_BYTES(pl)) +
            (size_t)pl->peak.route * 24u + (size_t)pl->peak.astar * 4u + (size_t)pl->peak.path * 4u;
     if (used > pl->st.arena_peak) pl->st.arena_peak = used;
 }
