@@ -988,11 +988,14 @@ static int scan_report(scan_job_t *j)
                        "beam in a gap of the line\n", j->dev.rays,
                        j->dev.rays ? sqrt(j->dev.ray_err2 / (double)j->dev.rays) : 0.0, j->dev.ray_err_max,
                        j->dev.ray_false, j->dev.noise_tol, m->st.line_gaps);
-            if (j->dev.contacts)
+            if (j->dev.contacts) {
+                char past[80];
+                snprintf(past, sizeof past, "where the switch closed, within %g mm of the object", VP_DRYRUN_MOUNT_NEED);
                 printf("dry run: the contact switch stopped %lu move(s), %s at most %.3f mm past %s (contact_stop %g mm)\n",
                        j->dev.contacts, j->dev.board.contact_mount ? "the head (a bound over the parts its mount senses)" :
-                       "the laser origin", j->dev.touch_depth_max, j->dev.board.contact_mount ? "where the switch closed, "
-                       "within 0.25 mm of the object" : "the surface", j->dev.board.contact_stop);
+                       "the laser origin", j->dev.touch_depth_max, j->dev.board.contact_mount ? past : "the surface",
+                       j->dev.board.contact_stop);
+            }
             {
                 char parts[400];
                 vp_scan_head_text(&j->dev, parts, sizeof parts);
