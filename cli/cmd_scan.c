@@ -340,6 +340,7 @@ typedef struct scan_job {
     double wall0;
     vp_live_cli_t live;             /* --serve: the live view */
     char stop_text[VP_LOGFMT_TEXT_MAX + 1];  /* why the scan stopped short of DONE ("": it did not) */
+    int home_failed;                /* homing or the way to the start (or back) stopped: no scan */
 } scan_job_t;
 
 /* The command line into j->cl.
@@ -765,7 +766,10 @@ static int scan_home(scan_job_t *j)
         vp_logwriter_event(&j->run.w.file, VP_LOGFMT_EV_FAULT, st, text);
         fprintf(stderr, "scan: stopped before the scan went on; the log %s is resumable: voroprobe scan --log %s --resume\n",
                 j->o.log, j->o.log);
-        return j->rc;
+        /* the summary (and --json) still follow: what the machine did, the mesh as the log has it */
+        snprintf(j->stop_text, sizeof j->stop_text, "%s", text);
+        j->home_failed = 1;
+        return -1;
     }
     j->st_home = st;
     return -1;
@@ -779,6 +783,7 @@ static int scan_go(scan_job_t *j)
     int st = j->st_home;
     vp_session_result_t res;
 
+    if (j->home_failed) return -1;   /* said and logged by scan_home; the summary follows */
     if (st == VP_OK) {
         vp_device_ops_t ops = vp_scan_ops(&j->dev);
         vp_session_hooks_t hooks;

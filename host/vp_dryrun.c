@@ -86,11 +86,11 @@ static int vp_dryrun_mount(vp_dryrun_t *d, const double j[VP_KIN_JOINTS])
     return in;
 }
 
-double vp_dryrun_mount_past(const vp_dryrun_t *d)
+double vp_dryrun_mount_past(const vp_dryrun_t *d, const double *j)
 {
-    double j[VP_KIN_JOINTS];
+    double now[VP_KIN_JOINTS];
     if (!d->touch_known || !d->board.contact_mount) return 0.0;
-    vp_dryrun_joints(d, j);
+    if (!j) { vp_dryrun_joints(d, now); j = now; }
     return vp_dryrun_mount_moved(d, d->mount_first, j);
 }
 

@@ -64,9 +64,9 @@ void vp_dryrun_true_beam(const vp_dryrun_t *d, double origin[3], double dir[3]);
 int  vp_dryrun_true_plane(const vp_dryrun_t *d, double origin[3], double normal[3]);
 /* The simulated object as the head's body check takes it (vp_head.h). */
 vp_head_object_t vp_dryrun_object(const vp_dryrun_t *d);
-/* contact_by = mount: a bound on how far any part the switch senses has gone since the pose where
- * the switch last closed (mm; 0 if it never did). */
-double vp_dryrun_mount_past(const vp_dryrun_t *d);
+/* contact_by = mount: a bound on how far any part the switch senses has gone from the pose where
+ * the switch last closed to joints j (NULL: the carriages now) (mm; 0 if it never closed). */
+double vp_dryrun_mount_past(const vp_dryrun_t *d, const double *j);
 void vp_dryrun_close(vp_dryrun_t *d);
 
 #endif

@@ -249,7 +249,10 @@ void vp_scan_fault_text(const vp_scan_dev_t *d, char *buf, size_t n)
         return;
     default: break;
     }
-    if (st == VP_ESTATE && d->m && d->m->touched)
+    if (st == VP_EABORT && d->m && d->m->host_touched)
+        snprintf(buf, n, "the contact switch closed %.1f mm into the move: something stands where free space was "
+                 "assumed; the head backed off to where the move began (clear it, then resume)", d->m->host_touch_at);
+    else if (st == VP_ESTATE && d->m && d->m->touched)
         snprintf(buf, n, "after a touch the next move must back off it, not go further in (refused, nothing moved)");
     else if (st == VP_ERANGE) snprintf(buf, n, "the command is outside the machine's travel (refused, nothing moved)");
     else if (st == VP_ETIMEOUT) snprintf(buf, n, "camera: no frame in time");
@@ -299,16 +302,6 @@ int vp_scan_home(vp_scan_dev_t *d, char *err, size_t errlen)
     return VP_OK;
 }
 
-int vp_scan_goto(vp_scan_dev_t *d, const double p[3], char *err, size_t errlen)
-{
-    int st = vp_machine_goto(d->m, p);
-    if (st != VP_OK) {
-        char what[100];
-        snprintf(what, sizeof what, "moving to %.6g %.6g %.6g", p[0], p[1], p[2]);
-        return vp_scan_failed(d, st, what, err, errlen);
-    }
-    return st;
-}
 
 double vp_scan_seconds(const vp_scan_dev_t *d)
 {
@@ -430,6 +423,61 @@ static void vp_scan_head_move(vp_scan_dev_t *d, const vp_cmd_t *cmd, const doubl
     if (m > 0) vp_scan_head_path(d, j0, (const double (*)[VP_KIN_JOINTS])cut, m);
 }
 
+/* A dry run's check of the host's own move from joints j0 (laser origin o0) towards p: the
+ * origin's segment and the head along the joints' line, as for a MOVE; one the contact switch
+ * stopped (vp_machine_goto backed off at once) only up to the touch, the head swept up to 1 mm
+ * before the origin met the surface as for a touched MOVE (the way back retraces that). */
+static void vp_scan_goto_check(vp_scan_dev_t *d, const double o0[3], const double j0[VP_KIN_JOINTS], const double p[3])
+{
+    vp_machine_t *m = d->m;
+    vp_cmd_t cmd;
+    double jt[VP_KIN_JOINTS], u[3], len = vp_dist3(o0, p), ts, end[3], depth = 0.0;
+    int k;
+    if (vp_kin_move(&m->kin, j0, p, jt) != VP_OK) return;
+    memset(&cmd, 0, sizeof cmd);
+    cmd.kind = VP_CMD_MOVE;
+    memcpy(cmd.from, o0, sizeof cmd.from);
+    memcpy(cmd.to, p, sizeof cmd.to);
+    if (!m->host_touched) {
+        if (vp_surface_segment_collides(d->dr->surf, o0, p, 0)) d->through++;
+        vp_scan_head_path(d, j0, (const double (*)[VP_KIN_JOINTS])&jt, 1);
+        return;
+    }
+    d->contacts++;
+    for (k = 0; k < 3; k++) u[k] = len > 0.0 ? (p[k] - o0[k]) / len : 0.0;
+    d->touch_cut = m->host_touch_at - 2.0 * d->head_tol;
+    if (len > 0.0 && vp_surface_ray(d->dr->surf, o0, u, len, &ts) && ts < m->host_touch_at + d->head_tol) {
+        d->touch_cut = ts - 2.0 * d->head_tol;
+        depth = m->host_touch_at - ts + m->host_overtravel;
+    }
+    if (d->board.contact_mount && vp_dryrun_mount_past(d->dr, m->host_rest) > depth)
+        depth = vp_dryrun_mount_past(d->dr, m->host_rest);
+    if (depth > d->touch_depth_max) d->touch_depth_max = depth;
+    if (depth > d->board.contact_stop + 1e-6) d->through++;
+    for (k = 0; k < 3; k++) end[k] = o0[k] + (d->touch_cut > 0.0 ? d->touch_cut : 0.0) * u[k];
+    if (d->touch_cut > 0.0 && vp_surface_segment_collides(d->dr->surf, o0, end, 0)) d->through++;
+    d->touching = 1;
+    d->backing = 0;
+    vp_scan_head_move(d, &cmd, j0, (const double (*)[VP_KIN_JOINTS])&jt, 1);
+    d->touching = 0;
+}
+
+int vp_scan_goto(vp_scan_dev_t *d, const double p[3], char *err, size_t errlen)
+{
+    double o0[3], dir[3], j0[VP_KIN_JOINTS];
+    int st;
+    vp_machine_beam(d->m, o0, dir);
+    memcpy(j0, d->m->j, sizeof j0);
+    st = vp_machine_goto(d->m, p);
+    if (d->dry) vp_scan_goto_check(d, o0, j0, p);
+    if (st != VP_OK) {
+        char what[100];
+        snprintf(what, sizeof what, "moving to %.6g %.6g %.6g", p[0], p[1], p[2]);
+        return vp_scan_failed(d, st, what, err, errlen);
+    }
+    return st;
+}
+
 void vp_scan_head_text(const vp_scan_dev_t *d, char *buf, size_t n)
 {
     int i;
@@ -478,7 +526,7 @@ static void vp_scan_move_check(vp_scan_dev_t *d, const vp_cmd_t *cmd, int last, 
             d->touch_lag = at - ts > 0.0 ? at - ts : 0.0;
             d->touch_cut = s0 + ts - 2.0 * d->head_tol;
         }
-        if (d->board.contact_mount && vp_dryrun_mount_past(d->dr) > depth) depth = vp_dryrun_mount_past(d->dr);
+        if (d->board.contact_mount && vp_dryrun_mount_past(d->dr, NULL) > depth) depth = vp_dryrun_mount_past(d->dr, NULL);
         if (depth > d->touch_depth_max) d->touch_depth_max = depth;
         if (depth > d->board.contact_stop + 1e-6) { d->through++; *collided = 1; }
         d->touching = 1;
@@ -928,13 +976,8 @@ int vp_scan_return(vp_scan_dev_t *d, const vp_sessionlog_t *L, uint32_t n, const
     if (msg) fprintf(msg, "resume: back to %.6g %.6g %.6g: %ld moves, %.0f mm (the session had travelled %.0f mm)\n",
                      P[np - 1][0], P[np - 1][1], P[np - 1][2], nr, route_len, travel);
     for (w = 0; w < nr && st == VP_OK; w++) {
-        double o0[3], dir[3], j0[VP_KIN_JOINTS];
         if (vp_scan_stop) { st = VP_EABORT; snprintf(err, errlen, "stopped (Ctrl-C) on the way back"); break; }
-        vp_machine_beam(m, o0, dir);
-        memcpy(j0, m->j, sizeof j0);
-        st = vp_scan_goto(d, W[w], err, errlen);
-        if (d->dry && vp_surface_segment_collides(d->dr->surf, o0, W[w], 0)) d->through++;
-        if (st == VP_OK) vp_scan_head_path(d, j0, (const double (*)[VP_KIN_JOINTS])m->j, 1);
+        st = vp_scan_goto(d, W[w], err, errlen);   /* a dry run checks each leg there */
     }
     if (msg && d->dry) fprintf(msg, "resume: dry run: %lu of those moves went through the object, %lu brought the head "
                                "within %g mm of it\n", d->through, d->head_hits, d->head_tol);

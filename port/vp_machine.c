@@ -56,16 +56,42 @@ void vp_machine_beam(const vp_machine_t *m, double origin[3], double dir[3])
 
 int vp_machine_goto(vp_machine_t *m, const double p[3])
 {
-    double t[VP_KIN_JOINTS], o0[3], o1[3], d[3];
-    int rc;
+    double t[VP_KIN_JOINTS], j0[VP_KIN_JOINTS], o0[3], o1[3], d[3];
+    vp_step_contact_t c;
+    int rc, k;
     VP_TRY(vp_kin_move(&m->kin, m->j, p, t));
     vp_machine_beam(m, o0, d);
+    memcpy(j0, m->j, sizeof j0);
     m->touched = 0;                  /* the host's own move: the next MOVE starts from here */
-    rc = vp_step_move(&m->step, t);
+    m->host_touched = 0;
+    if (!m->cfg.contact) {
+        rc = vp_step_move(&m->step, t);
+        vp_machine_sync(m);
+        vp_machine_beam(m, o1, d);
+        m->st.travel += vp_dist3(o0, o1);
+        return rc;
+    }
+    rc = vp_step_move_watch(&m->step, t, 1, VP_STEP_WATCH_STOP, &c);
     vp_machine_sync(m);
     vp_machine_beam(m, o1, d);
     m->st.travel += vp_dist3(o0, o1);
-    return rc;
+    if (rc != VP_OK || !c.hit) return rc;
+    /* something where the host assumed free space: where the switch closed (latched joints), then
+     * straight back to where the move began, the switch opening on the way */
+    {
+        double jl[VP_KIN_JOINTS], ol[3];
+        for (k = 0; k < VP_KIN_JOINTS; k++) jl[k] = c.latch[k] / m->step.cfg.axis[k].steps_per_unit;
+        vp_kin_forward(&m->kin, jl, ol, d);
+        m->host_touched = 1;
+        m->host_touch_at = c.at_start ? 0.0 : vp_dist3(o0, ol);
+        m->host_overtravel = vp_dist3(ol, o1);
+        memcpy(m->host_rest, m->j, sizeof m->host_rest);
+    }
+    rc = vp_step_move_watch(&m->step, j0, 1, VP_STEP_WATCH_RELEASE, &c);
+    vp_machine_sync(m);
+    vp_machine_beam(m, o0, d);
+    m->st.travel += vp_dist3(o1, o0);
+    return rc != VP_OK ? rc : VP_EABORT;
 }
 
 /* Joints j as the step generator will have them (rounded to its steps, as vp_machine_sync). */

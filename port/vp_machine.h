@@ -184,6 +184,10 @@ typedef struct vp_machine {
     int back_n, back_latch;           /* (0: straight back to touch_point); the latch's index */
     double touch_from[3];             /* the touched MOVE's start (cmd->from) */
     unsigned long contacts;           /* MOVEs stopped on the contact */
+    int host_touched;                 /* the last vp_machine_goto stopped on the contact */
+    double host_touch_at;             /* its trigger: the laser origin's distance along it */
+    double host_overtravel;           /* how far the origin went on past the trigger */
+    double host_rest[VP_KIN_JOINTS];  /* the joints where it came to rest, before backing off */
     /* a line laser: the last probe's frame (world points, from the PROBE's origin) */
     vp_line_ws_t lws;
     vp_line_point_t lpts[VP_MACHINE_MAX_LINE];
@@ -198,8 +202,12 @@ int vp_machine_init(vp_machine_t *m, const vp_kin_config_t *kc, const vp_step_co
                     const vp_cam_t *cam, const vp_tri_model_t *tri, const vp_machine_config_t *mc);
 /* Homing cycle (vp_step_home), then the joints are known. */
 int vp_machine_home(vp_machine_t *m);
-/* Laser origin to p with pan/tilt unchanged (e.g. to the planner's start after homing); the
- * contact is not watched, and a pending back-off from a touch is dropped. */
+/* Laser origin to p with pan/tilt unchanged (e.g. to the planner's start after homing, a
+ * resume's way back); a pending back-off from a touch is dropped. A head with a contact switch
+ * watches it: a touch stops the move (host_touched = 1, host_touch_at: the trigger's distance
+ * from where the move began), the head backs off to there (the switch must open on the way, else
+ * VP_STEP_FAULT_CONTACT) and the move returns VP_EABORT: something stands where only free space
+ * was assumed, and the session stays resumable once it is cleared. */
 int vp_machine_goto(vp_machine_t *m, const double p[3]);
 /* The two halves of exec, for loops that keep them apart. */
 int vp_machine_move(vp_machine_t *m, const vp_cmd_t *cmd);

@@ -18,6 +18,9 @@
 #     origin's path alone sees nothing wrong;
 #   - the same sideways knob with the switch in the head's mount (contact_by = mount): stopped
 #     (exit 1), no part within 0.5 mm before the switch closed, the parts at most contact_stop past;
+#   - a knob in the way from homing to the start: the switch stops the host's own move too (the
+#     head backs off, --json says why); with the mount exit 1 and no collision, with the stylus
+#     the laser module meets it first (exit 5);
 #   - the checkers' failing case: the same run without the switch drives through the knob
 #     (the dry run counts moves through, exit 5; CGAL counts them too).
 set -u
@@ -133,6 +136,27 @@ awk -v d="$depth" 'BEGIN { exit !(d > 0 && d <= 10) }' || bad "mount: the head w
 case "$cg" in "moves "*", through 0, inside 0, first none") ;; *) bad "mount: CGAL: $cg";; esac
 grep -q "the head (a bound over the parts its mount senses) at most" "$o.json" || bad "mount: the summary does not say what was bounded"
 "$VP" log verify "$o.vplog" >"$o.verify" 2>&1 || bad "mount: log verify: $(tail -n 1 "$o.verify")"
+
+# ---- a knob in the way from homing to the start (the host's own move, not the planner's): the
+# switch stops that move too and the head backs off; with the mount: exit 1, no collision, the
+# reason in --json; with the stylus the laser module and the tilt hub meet the knob first (exit 5)
+for kind in mount stylus; do
+  bd="$D/mount.ini"; [ $kind = stylus ] && bd="$B"
+  o="$D/start-$kind"
+  "$VP" scan --board "$bd" --dry-run --reach-out --eps 16 --surface "sphere*24@200,150,150+sphere*20@180,137,228" \
+    --log "$o.vplog" --json --quiet >"$o.json" 2>"$o.err"
+  rc=$?
+  reason=$(tail -n 1 "$o.json" | /usr/bin/python3 -c 'import json, sys; print(json.load(sys.stdin).get("stop_reason", ""))')
+  case "$reason" in "moving to 200 150 234: the contact switch closed "*" into the move"*) ;;
+    *) bad "start-$kind: the way to the start not stopped by the switch: '$reason'";; esac
+  [ "$(field "$o.json" contacts)" = 1 ] || bad "start-$kind: contacts $(field "$o.json" contacts)"
+  if [ $kind = mount ]; then
+    [ $rc = 1 ] && [ "$(field "$o.json" head_collisions)" = 0 ] || bad "start-mount: exit $rc, head collisions $(field "$o.json" head_collisions)"
+  else
+    [ $rc = 5 ] && [ "$(part "$o.json" laser)" -gt 0 ] || bad "start-stylus: exit $rc, laser $(part "$o.json" laser)"
+  fi
+  printf 'start-%-6s exit %s, %s; head collisions %s\n' "$kind" "$rc" "$reason" "$(field "$o.json" head_collisions)"
+done
 
 # ---- without the switch: through the knob, and both checkers see it
 sed -e '/^contact/d' "$B" >"$D/noswitch.ini"

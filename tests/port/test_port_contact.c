@@ -745,6 +745,55 @@ static double touch_sweep(void)
     return worst;
 }
 
+/* The host's own move (vp_machine_goto: to the start, a resume's way back) watches the switch
+ * too: towards a wall 40 mm along x it stops within the board's stopping distance of the wall,
+ * says where (host_touch_at, to one step), backs off to where it began exactly, no step after,
+ * and returns VP_EABORT; the next goto clear of the wall is an ordinary move. Without the switch
+ * (a board with no contact) the same move goes through the wall's place: the check fails. */
+static void host_goto(void)
+{
+    rig_t r;
+    double to[3];
+    const double spu = 80;
+    int32_t pos[VP_KIN_JOINTS], x0, W;
+    long steps[VP_KIN_JOINTS];
+    size_t i0;
+    uint32_t out0;
+    int a, rc;
+    if (rig_open(&r, "", 1) != VP_OK) return;
+    x0 = r.m->step.pos[0];
+    W = x0 + (int32_t)llround(40 * spu);
+    r.wall.at = W;
+    memcpy(to, r.b.start, sizeof to);
+    to[0] += 100;
+    i0 = r.d->rec.n;
+    out0 = r.d->rec.out;
+    memcpy(pos, r.d->rec.carriage, sizeof pos);
+    rc = vp_machine_goto(r.m, to);
+    CHECKF(rc == VP_EABORT && r.m->host_touched && r.m->step.fault == 0, "goto into a wall: %s, touched %d, fault %d",
+           vp_strerror(rc), r.m->host_touched, r.m->step.fault);
+    CHECKF(r.wall.seen && r.wall.first[0] == W, "wall at %d, first seen at %d", W, r.wall.first[0]);
+    CHECKF(fabs(r.m->host_touch_at - 40) <= 1 / spu + 1e-9, "host_touch_at %.6f mm, the wall at 40", r.m->host_touch_at);
+    /* back where it began, exactly, every step replayed from the edges */
+    replay(&r.d->rec, i0, out0, pos, steps, 0, NULL, 0);
+    CHECKF(pos[0] == x0 && r.m->step.pos[0] == x0, "back at %d, began at %d", pos[0], x0);
+    for (a = 1; a < VP_KIN_JOINTS; a++) CHECK(steps[a] == 0 && pos[a] == r.d->rec.carriage[a]);
+    /* out to the wall and past it by the stop, then back: at most twice the way to the stop */
+    CHECKF(steps[0] <= 2 * ((long)(W - x0) + (long)llround(r.b.contact_reach * spu)) && steps[0] >= 2 * (long)(W - x0),
+           "%ld x steps out and back, the wall %ld steps in, the stop at most %.0f", steps[0], (long)(W - x0),
+           r.b.contact_reach * spu);
+    /* clear of the wall: an ordinary move */
+    r.wall.at = INT32_MAX;
+    r.wall.seen = 0;
+    {
+        double at = r.m->host_touch_at;
+        CHECK(vp_machine_goto(r.m, to) == VP_OK && !r.m->host_touched);
+        printf("the host's own move into a wall 40 mm on: stopped, %.4f mm at the trigger, backed off to where it "
+               "began; clear of it, an ordinary move\n", at);
+    }
+    vp_dryrun_close(r.d);
+}
+
 int main(void)
 {
     long cruise, accel, halt;
@@ -766,6 +815,7 @@ int main(void)
     dry_object();
     touch_path();
     touch_sweep();
+    host_goto();
     printf("glitches of 1 and 2 reads ignored, 3 a touch; a contact at rest is a contact at 0; a stuck contact faults "
            "after backing off\n");
     return vp_test_done("test_port_contact");
