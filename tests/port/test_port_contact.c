@@ -24,7 +24,9 @@
  *     junction's bound, the touch is the first MOVE's (*done 1), and the way back retraces the
  *     pieces (y home before x leaves the waypoint) to the start exactly; with a stop too short
  *     for any piece the step generator refuses the path, nothing moved, and the machine makes
- *     the first MOVE alone; a MOVE turning on its way is watched along its pieces. */
+ *     the first MOVE alone; a MOVE turning on its way is watched along its pieces;
+ *   - the host's own move (vp_machine_goto) into a wall: stopped, the trigger to one step, backed
+ *     off to where it began, VP_EABORT; clear of the wall an ordinary move. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
