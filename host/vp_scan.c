@@ -439,8 +439,11 @@ static void vp_scan_goto_check(vp_scan_dev_t *d, const double o0[3], const doubl
     memcpy(cmd.from, o0, sizeof cmd.from);
     memcpy(cmd.to, p, sizeof cmd.to);
     if (!m->host_touched) {
-        if (vp_surface_segment_collides(d->dr->surf, o0, p, 0)) d->through++;
-        vp_scan_head_path(d, j0, (const double (*)[VP_KIN_JOINTS])&jt, 1);
+        /* as far as it went (all the way, unless a fault stopped it) */
+        double o1[3], dir[3];
+        vp_machine_beam(m, o1, dir);
+        if (vp_surface_segment_collides(d->dr->surf, o0, o1, 0)) d->through++;
+        vp_scan_head_path(d, j0, (const double (*)[VP_KIN_JOINTS])m->j, 1);
         return;
     }
     d->contacts++;
