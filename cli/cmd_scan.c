@@ -672,6 +672,7 @@ static int scan_log_open(scan_job_t *j)
         vp_replay_init_state(&R, j->pl, &j->L);
         st = vp_replay_run(&R, &j->L, j->L.n, why, sizeof why);
         if (st != VP_OK) { fprintf(stderr, "scan: %s: replay failed: %s\n", j->o.log, why); return j->rc; }
+        if (R.touched_outside) { fprintf(stderr, "scan: %s: %s\n", j->o.log, VP_REPLAY_TOUCHED_OUTSIDE_TEXT); return j->rc; }
         j->replayed = R.applied;
         fprintf(stderr, "resume: %u records replayed (%llu probes, %llu moves)%s\n", R.applied,
                 (unsigned long long)R.probes, (unsigned long long)R.moves, j->L.done ? "; the session is already complete" : "");
@@ -701,6 +702,7 @@ static int scan_log_open(scan_job_t *j)
         vp_replay_init_state(&R, j->pl, &j->L);
         st = vp_replay_run(&R, &j->L, j->L.n, why, sizeof why);
         if (st != VP_OK) { fprintf(stderr, "scan: %s: replay failed: %s\n", j->o.rescan, why); return j->rc; }
+        if (R.touched_outside) { fprintf(stderr, "scan: %s: %s\n", j->o.rescan, VP_REPLAY_TOUCHED_OUTSIDE_TEXT); return j->rc; }
         j->replayed = R.applied;
         st = vp_planner_rescan_with(j->pl, j->cl.sparse ? VP_RESCAN_SPARSE : 0u);
         if (st != VP_OK) { fprintf(stderr, "scan: %s: the planner cannot re-scan this session: %s\n", j->o.rescan, vp_strerror(st)); return j->rc; }

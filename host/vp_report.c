@@ -210,8 +210,9 @@ int vp_report_build(vp_report_t *r, const char *log_path, const char *mesh_path,
     }
     r->verdict = calloc(r->shown->nt + 1, 1);
     if (!r->verdict) { free(centers); snprintf(err, errlen, "out of memory"); return VP_ENOMEM; }
-    st = certify_mesh(r, &r->mesh, centers, !mesh_path, &r->cert);
-    if (st == VP_OK) r->have_cert = 1;
+    /* a session stopped before its first facet has nothing to certify: the page says so */
+    st = r->mesh.nt > 0 ? certify_mesh(r, &r->mesh, centers, !mesh_path, &r->cert) : VP_OK;
+    if (st == VP_OK && r->mesh.nt > 0) r->have_cert = 1;
     if (st == VP_OK && mesh_path) {
         vp_cert_t bare;
         st = certify_mesh(r, &r->other, NULL, 1, &bare);

@@ -249,6 +249,14 @@ int vp_replay_run(vp_replay_t *R, const vp_sessionlog_t *L, uint32_t upto, char 
                 double d[3], len;
                 int k;
                 st = vp_planner_touch(R->pl, rec.value[0]);
+                if (st == VP_ERANGE && !R->touched_outside) {
+                    /* outside Omega: the session stopped there (the object reaches out of it), as
+                     * the planner does again; only events may follow */
+                    R->touched_outside = 1;
+                    R->contacts++;
+                    R->applied++;
+                    continue;
+                }
                 if (st != VP_OK) {
                     snprintf(err, errlen, "record %u (byte offset %zu): the planner refused the logged contact: %s",
                              i, L->off[i], vp_strerror(st));

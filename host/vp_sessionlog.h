@@ -59,7 +59,15 @@ typedef struct vp_replay {
     uint64_t probes_since_rescan; /* PROBE records after the last RESCAN of code 0 */
     vp_planner_stats_t at_rescan; /* the planner's counters when that re-scan began */
     int done;                  /* the planner said DONE after the last record */
+    int touched_outside;       /* the session stopped at a contact outside Omega (the object
+                                  reaches out of it): the planner stays in that error, and no scan
+                                  goes on from the log (a replay, a mesh, a report still do) */
 } vp_replay_t;
+
+/* Why no scan goes on from a log whose replay ended with touched_outside. */
+#define VP_REPLAY_TOUCHED_OUTSIDE_TEXT "the session stopped where the head touched outside Omega (the object " \
+    "reaches out of [omega]); no scan goes on from this log: move the part back inside Omega (or enlarge " \
+    "[omega]) and start a new scan"
 
 /* Creates the planner from the header (arena: the header's size unless arena != 0). */
 int  vp_replay_open(vp_replay_t *R, const vp_sessionlog_t *L, size_t arena, char *err, size_t errlen);

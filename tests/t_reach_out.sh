@@ -11,7 +11,8 @@
 #     object reaches out of [omega]), no part of the head's body within 0.5 mm of the object
 #     before the touch, the origin at most contact_stop past the surface; every move up to the
 #     touch outside the object by CGAL (tests/cgal_moves.cpp, the switch's lag and backlash
-#     within 0.5 mm), the log proven free (`log verify`);
+#     within 0.5 mm), the log proven free (`log verify`); no scan goes on from that log (--resume
+#     and --rescan say why), but it replays and makes a report;
 #   - knob on the +x side: the head comes at it sideways with the laser pointing at Omega's
 #     centre, and the laser module's side meets it before the origin does: the switch cannot
 #     stop that; the dry run must say so (exit 5, the laser part counted) while CGAL on the
@@ -111,6 +112,21 @@ paths=$(field "$o.json" paths)
 [ -n "$paths" ] && [ "$paths" -gt 0 ] || bad "first: no MOVEs made as one path ($paths)"
 "$VP" log verify "$o.vplog" >"$o.verify" 2>&1 || bad "first: log verify: $(tail -n 1 "$o.verify")"
 grep -q "1 contact(s)" "$o.verify" || bad "first: log verify did not take the contact: $(tail -n 1 "$o.verify")"
+# the log afterwards: no scan goes on from it (--resume, --rescan refuse and say why), but it
+# replays to the mesh it had and makes a report (they used to stop at the contact)
+"$VP" scan --log "$o.vplog" --resume --quiet >"$o.resume" 2>&1
+rc=$?
+[ $rc = 1 ] && grep -q "touched outside Omega (the object reaches out of \[omega\]); no scan goes on" "$o.resume" ||
+  bad "first: --resume after the touch: exit $rc, $(tail -n 1 "$o.resume")"
+"$VP" scan --rescan "$o.vplog" --log "$o-re.vplog" --surface "off:$ICO*24@200,150,150" --quiet >"$o.rescan" 2>&1
+rc=$?
+[ $rc = 1 ] && grep -q "no scan goes on from this log" "$o.rescan" || bad "first: --rescan after the touch: exit $rc"
+"$VP" replay "$o.vplog" --out "$o-replay" >"$o.replay" 2>&1 || bad "first: replay: $(tail -n 1 "$o.replay")"
+grep -q "every command equal to the logged one" "$o.replay" || bad "first: replay: $(head -n 1 "$o.replay")"
+"$VP" report "$o.vplog" --out "$o.html" --json >"$o.report" 2>&1 || bad "first: report: $(tail -n 1 "$o.report")"
+tail -n 1 "$o.report" | /usr/bin/python3 -c 'import json, sys; j = json.load(sys.stdin); sys.exit(0 if j.get("status") == "error" else 1)' ||
+  bad "first: the report's summary: $(tail -n 1 "$o.report" | cut -c1-200)"
+[ -s "$o.html" ] || bad "first: no report page"
 
 # ---- sideways: the laser module meets the knob before the origin: exit 5, the part named
 run side 280,150,150 "$B"
