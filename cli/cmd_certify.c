@@ -263,9 +263,15 @@ int vp_cli_certify(int argc, char **argv)
                fromlog ? (in.complete ? "session log, complete (DONE)" : "session log, INCOMPLETE session") : "bare mesh",
                in.m.nt, in.m.nv, o.eps, fromlog ? "" : "");
         fflush(stdout);
-        st = vp_certify(&in.m, &cfg, &c, stdout);
-        if (st != VP_OK) { fprintf(stderr, "certify: %s\n", vp_strerror(st)); rc = 1; }
-        else rc = certify_report(&o, &in, &cfg, &c, fromlog);
+        if (in.m.nt == 0) {
+            /* a session stopped before its first facet (or an empty mesh file) */
+            printf("certify: nothing to certify: %s\n", fromlog ? "the session has no facet yet" : "the mesh has no facet");
+            rc = 1;
+        } else {
+            st = vp_certify(&in.m, &cfg, &c, stdout);
+            if (st != VP_OK) { fprintf(stderr, "certify: %s\n", vp_strerror(st)); rc = 1; }
+            else rc = certify_report(&o, &in, &cfg, &c, fromlog);
+        }
     }
     free(in.centers);
     free(in.samples);

@@ -127,6 +127,9 @@ grep -q "every command equal to the logged one" "$o.replay" || bad "first: repla
 tail -n 1 "$o.report" | /usr/bin/python3 -c 'import json, sys; j = json.load(sys.stdin); sys.exit(0 if j.get("status") == "error" else 1)' ||
   bad "first: the report's summary: $(tail -n 1 "$o.report" | cut -c1-200)"
 [ -s "$o.html" ] || bad "first: no report page"
+"$VP" certify "$o.vplog" >"$o.certify" 2>&1
+rc=$?
+[ $rc = 1 ] && grep -q "nothing to certify: the session has no facet yet" "$o.certify" || bad "first: certify: exit $rc, $(tail -n 1 "$o.certify")"
 
 # ---- sideways: the laser module meets the knob before the origin: exit 5, the part named
 run side 280,150,150 "$B"
