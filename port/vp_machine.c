@@ -64,18 +64,12 @@ int vp_machine_goto(vp_machine_t *m, const double p[3])
     memcpy(j0, m->j, sizeof j0);
     m->touched = 0;                  /* the host's own move: the next MOVE starts from here */
     m->host_touched = 0;
-    if (!m->cfg.contact) {
-        rc = vp_step_move(&m->step, t);
-        vp_machine_sync(m);
-        vp_machine_beam(m, o1, d);
-        m->st.travel += vp_dist3(o0, o1);
-        return rc;
-    }
-    rc = vp_step_move_watch(&m->step, t, 1, VP_STEP_WATCH_STOP, &c);
+    memset(&c, 0, sizeof c);
+    rc = m->cfg.contact ? vp_step_move_watch(&m->step, t, 1, VP_STEP_WATCH_STOP, &c) : vp_step_move(&m->step, t);
     vp_machine_sync(m);
     vp_machine_beam(m, o1, d);
     m->st.travel += vp_dist3(o0, o1);
-    if (rc != VP_OK || !c.hit) return rc;
+    if (rc != VP_OK || !m->cfg.contact || !c.hit) return rc;
     /* something where the host assumed free space: where the switch closed (latched joints), then
      * straight back to where the move began, the switch opening on the way */
     {
