@@ -423,6 +423,31 @@ static void vp_scan_head_move(vp_scan_dev_t *d, const vp_cmd_t *cmd, const doubl
     if (m > 0) vp_scan_head_path(d, j0, (const double (*)[VP_KIN_JOINTS])cut, m);
 }
 
+/* A move the contact switch stopped `at` along it (unit direction u, length len; the laser
+ * origin judged from a, s0 along it; a crossing of the surface counts up to ts_max from a): where
+ * the head's sweep stops (touch_cut: 2 head_tol before the origin met the surface), how far past
+ * it the switch closed (touch_lag), and how far the head went on: the origin past the surface with
+ * its overtravel, or for a mount's switch the most a sensed part went on from where it closed to
+ * joints rest (NULL: the carriages now). Counted as through, and 1 returned, when that is deeper
+ * than contact_stop. */
+static int vp_scan_touch_depth(vp_scan_dev_t *d, const double a[3], const double u[3], double s0, double len, double at,
+                               double overtravel, double ts_max, const double *rest)
+{
+    double ts, depth = 0.0, past;
+    d->contacts++;
+    d->touch_lag = 0.0;
+    d->touch_cut = at - 2.0 * d->head_tol;
+    if (vp_surface_ray(d->dr->surf, a, u, len - s0, &ts) && ts < ts_max) {
+        depth = s0 + at - (s0 + ts) + overtravel;
+        d->touch_lag = at - ts > 0.0 ? at - ts : 0.0;
+        d->touch_cut = s0 + ts - 2.0 * d->head_tol;
+    }
+    if (d->board.contact_mount && (past = vp_dryrun_mount_past(d->dr, rest)) > depth) depth = past;
+    if (depth > d->touch_depth_max) d->touch_depth_max = depth;
+    if (depth > d->board.contact_stop + 1e-6) { d->through++; return 1; }
+    return 0;
+}
+
 /* A dry run's check of the host's own move from joints j0 (laser origin o0) towards p: the
  * origin's segment and the head along the joints' line, as for a MOVE; one the contact switch
  * stopped (vp_machine_goto backed off at once) only up to the touch, the head swept up to 1 mm
@@ -431,7 +456,7 @@ static void vp_scan_goto_check(vp_scan_dev_t *d, const double o0[3], const doubl
 {
     vp_machine_t *m = d->m;
     vp_cmd_t cmd;
-    double jt[VP_KIN_JOINTS], u[3], len = vp_dist3(o0, p), ts, end[3], depth = 0.0;
+    double jt[VP_KIN_JOINTS], u[3], len = vp_dist3(o0, p), end[3];
     int k;
     if (vp_kin_move(&m->kin, j0, p, jt) != VP_OK) return;
     memset(&cmd, 0, sizeof cmd);
@@ -446,17 +471,10 @@ static void vp_scan_goto_check(vp_scan_dev_t *d, const double o0[3], const doubl
         vp_scan_head_path(d, j0, (const double (*)[VP_KIN_JOINTS])m->j, 1);
         return;
     }
-    d->contacts++;
     for (k = 0; k < 3; k++) u[k] = len > 0.0 ? (p[k] - o0[k]) / len : 0.0;
-    d->touch_cut = m->host_touch_at - 2.0 * d->head_tol;
-    if (len > 0.0 && vp_surface_ray(d->dr->surf, o0, u, len, &ts) && ts < m->host_touch_at + d->head_tol) {
-        d->touch_cut = ts - 2.0 * d->head_tol;
-        depth = m->host_touch_at - ts + m->host_overtravel;
-    }
-    if (d->board.contact_mount && vp_dryrun_mount_past(d->dr, m->host_rest) > depth)
-        depth = vp_dryrun_mount_past(d->dr, m->host_rest);
-    if (depth > d->touch_depth_max) d->touch_depth_max = depth;
-    if (depth > d->board.contact_stop + 1e-6) d->through++;
+    vp_scan_touch_depth(d, o0, u, 0.0, len, m->host_touch_at, m->host_overtravel, m->host_touch_at + d->head_tol,
+                        m->host_rest);
+    d->touch_lag = 0.0;   /* it backed off already */
     for (k = 0; k < 3; k++) end[k] = o0[k] + (d->touch_cut > 0.0 ? d->touch_cut : 0.0) * u[k];
     if (d->touch_cut > 0.0 && vp_surface_segment_collides(d->dr->surf, o0, end, 0)) d->through++;
     d->touching = 1;
@@ -511,7 +529,7 @@ static void vp_scan_trip(vp_scan_dev_t *d)
  * inside by the lag (that stretch is the way in, retraced) */
 static void vp_scan_move_check(vp_scan_dev_t *d, const vp_cmd_t *cmd, int last, int *collided)
 {
-    double a[3], u[3], at, ts, len = vp_dist3(cmd->from, cmd->to), s0 = 0.0;
+    double a[3], u[3], at, len = vp_dist3(cmd->from, cmd->to), s0 = 0.0;
     int k, touched = last && vp_machine_contact(d->m, &at);
     for (k = 0; k < 3; k++) u[k] = len > 0.0 ? (cmd->to[k] - cmd->from[k]) / len : 0.0;
     if (d->touching && len > 0.0) s0 = d->touch_lag + 1e-9 * (1.0 + len);
@@ -520,18 +538,7 @@ static void vp_scan_move_check(vp_scan_dev_t *d, const vp_cmd_t *cmd, int last, 
     d->backing = d->touching;
     d->touching = 0;
     if (touched) {
-        double depth = 0.0;
-        d->contacts++;
-        d->touch_lag = 0.0;
-        d->touch_cut = at - 2.0 * d->head_tol;
-        if (vp_surface_ray(d->dr->surf, a, u, len - s0, &ts)) {
-            depth = s0 + at - (s0 + ts) + d->m->last.overtravel;
-            d->touch_lag = at - ts > 0.0 ? at - ts : 0.0;
-            d->touch_cut = s0 + ts - 2.0 * d->head_tol;
-        }
-        if (d->board.contact_mount && vp_dryrun_mount_past(d->dr, NULL) > depth) depth = vp_dryrun_mount_past(d->dr, NULL);
-        if (depth > d->touch_depth_max) d->touch_depth_max = depth;
-        if (depth > d->board.contact_stop + 1e-6) { d->through++; *collided = 1; }
+        if (vp_scan_touch_depth(d, a, u, s0, len, at, d->m->last.overtravel, HUGE_VAL, NULL)) *collided = 1;
         d->touching = 1;
     } else if (len > s0 && vp_surface_segment_collides(d->dr->surf, a, cmd->to, 0)) {
         d->through++;
