@@ -779,6 +779,12 @@ static int vp_board_check_backdrop(vp_bctx_t *c, char *err, size_t el)
 
 int vp_board_has_contact(const vp_board_t *b) { return b && (b->contact.chip[0] || b->contact_sim); }
 
+#define VP_BOARD_BALL_PART "clearance ball"
+int vp_board_part_is_ball(const vp_board_t *b, int i)
+{
+    return b && i >= 0 && i < b->head.nparts && !strcmp(b->head.part[i].name, VP_BOARD_BALL_PART);
+}
+
 /* The contact switch: the head must stop within the stylus's overtravel (contact_stop). A MOVE
  * translates x, y, z together; its stop from a touch is at most vp_step_contact_reach over them
  * (the deceleration from the fastest coordinated speed, |V| max_i(V_i / A_i) / 2, plus the
@@ -870,7 +876,7 @@ static int vp_board_check_head(vp_bctx_t *c, char *err, size_t el)
     def[2][6] = 4;
     if (vp_head_init(&b->head, b->tilt_offset, b->laser_offset) != VP_OK) return vp_bad(c, S_HEAD, NULL, err, el, "bad head geometry");
     if (b->clearance > 0)
-        vp_head_add(&b->head, "clearance ball", VP_HEAD_TILT, VP_HEAD_CAPSULE, b->laser_offset, b->laser_offset, b->clearance);
+        vp_head_add(&b->head, VP_BOARD_BALL_PART, VP_HEAD_TILT, VP_HEAD_CAPSULE, b->laser_offset, b->laser_offset, b->clearance);
     for (i = 0; i < 4; i++) {
         int kind = i == 1 ? VP_HEAD_BOX : VP_HEAD_CAPSULE;
         VP_TRY(vp_board_part(c, key[i], val[i], kind, i < 3 ? def[i] : NULL, &have, v, err, el));
@@ -890,7 +896,7 @@ static int vp_board_check_head(vp_bctx_t *c, char *err, size_t el)
     b->head_reach = 0;
     worst = -1;
     for (i = 0; i < b->head.nparts; i++) {
-        if (!strcmp(b->head.part[i].name, "clearance ball")) continue;
+        if (vp_board_part_is_ball(b, i)) continue;
         far[i] = vp_head_reach(&b->head, i, b->axis[4].ax.travel_min, b->axis[4].ax.travel_max);
         if (far[i] > b->head_reach) { b->head_reach = far[i]; worst = i; }
     }
@@ -899,7 +905,7 @@ static int vp_board_check_head(vp_bctx_t *c, char *err, size_t el)
         char also[200] = "";
         for (i = 0; i < b->head.nparts; i++) {
             size_t len = strlen(also);
-            if (i == worst || strcmp(b->head.part[i].name, "clearance ball") == 0 || far[i] + b->head_margin <= b->clearance)
+            if (i == worst || vp_board_part_is_ball(b, i) || far[i] + b->head_margin <= b->clearance)
                 continue;
             snprintf(also + len, sizeof also - len, "%s%s %.1f", len ? ", " : "; also beyond it: ", b->head.part[i].name,
                      far[i] + b->head_margin);

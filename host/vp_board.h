@@ -167,6 +167,9 @@ int  vp_board_load(const char *path, vp_board_t *b, char *err, size_t errlen);
 int  vp_board_parse(const char *text, const char *name, vp_board_t *b, char *err, size_t errlen);
 /* 1 if the board has a contact switch on its head ([head] contact). */
 int  vp_board_has_contact(const vp_board_t *b);
+/* 1 if head part i is the clearance ball about the laser origin ([omega] clearance), the
+ * planner's assumption rather than a part of the machine. */
+int  vp_board_part_is_ball(const vp_board_t *b, int i);
 
 /* A calibration file (INI: [calibration] about the fit, [rangefinder] line and model) replaces
  * the board's rangefinder model (b->calibrated = 2, b->calib_path = path; the board's

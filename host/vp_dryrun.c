@@ -213,7 +213,7 @@ int vp_dryrun_open(const vp_board_t *b, const vp_dryrun_options_t *o, vp_dryrun_
         rc.contact = vp_dryrun_contact;
         rc.contact_ctx = d;
         for (a = 0; a < b->head.nparts; a++)
-            if (strcmp(b->head.part[a].name, "clearance ball")) d->mount_mask |= 1u << a;
+            if (!vp_board_part_is_ball(b, a)) d->mount_mask |= 1u << a;
     }
     vp_iorec_init(&d->rec, &rc);
     io.ctx = d;

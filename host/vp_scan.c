@@ -342,7 +342,7 @@ static void vp_scan_head_path(vp_scan_dev_t *d, const double j0[VP_KIN_JOINTS], 
     d->head_motions++;
     for (i = 0; i < VP_HEAD_MAX_PARTS; i++) {
         d->head_part[i] += (unsigned long)any[i];
-        if (!(d->reach_out && i < d->board.head.nparts && !strcmp(d->board.head.part[i].name, "clearance ball")))
+        if (!(d->reach_out && vp_board_part_is_ball(&d->board, i)))
             nany += any[i];
     }
     if (nany) d->head_hits++;
