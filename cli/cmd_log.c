@@ -443,6 +443,10 @@ static void dump_header_text(const vp_logfmt_header_t *h, FILE *f)
     if (c->min_feature > 0)
         fprintf(f, "# tubes: min feature %.17g, feature margin %.17g (the device with a body may move inside Omega)\n",
                 c->min_feature, c->feature_margin);
+    if (h->version >= 6u)
+        fprintf(f, "# moves weighed by machine time: s per unit x %.17g y %.17g z %.17g, per radian pan %.17g tilt "
+                   "%.17g; pan travel %.17g..%.17g rad\n", c->axis_time[0], c->axis_time[1], c->axis_time[2],
+                c->axis_time[3], c->axis_time[4], c->pan_travel[0], c->pan_travel[1]);
 }
 
 static void dump_header_json(const vp_logfmt_header_t *h, FILE *f)
@@ -471,6 +475,13 @@ static void dump_header_json(const vp_logfmt_header_t *h, FILE *f)
     if (c->min_feature > 0) {
         fprintf(f, ",\"min_feature\":"); json_num(f, c->min_feature);
         fprintf(f, ",\"feature_margin\":"); json_num(f, c->feature_margin);
+    }
+    if (h->version >= 6u) {
+        fprintf(f, ",\"axis_time\":[");
+        for (i = 0; i < VP_PLANNER_AXES; i++) { if (i) fputc(',', f); json_num(f, c->axis_time[i]); }
+        fprintf(f, "],\"pan_travel\":["); json_num(f, c->pan_travel[0]);
+        fputc(',', f); json_num(f, c->pan_travel[1]);
+        fputc(']', f);
     }
     fprintf(f, ",\"confirm_misses\":%u,\"flags\":%u,\"arena_bytes\":%llu}}\n", c->confirm_misses, c->flags,
             (unsigned long long)h->arena_bytes);

@@ -611,6 +611,11 @@ static int scan_prepare(scan_job_t *j)
         memcpy(j->cfg.interior, j->L.header.cfg.interior, sizeof j->cfg.interior);
         j->cfg.ninterior = j->L.header.cfg.ninterior;
     }
+    if (j->have_L && (j->o.resume || j->o.rescan) && j->L.header.version < 6u) {
+        /* a session logged before its moves were weighed by the axes' speeds goes on as begun */
+        memset(j->cfg.axis_time, 0, sizeof j->cfg.axis_time);
+        memset(j->cfg.pan_travel, 0, sizeof j->cfg.pan_travel);
+    }
     j->pl = malloc(sizeof *j->pl);
     j->arena = malloc(j->o.arena);
     if (!j->pl || !j->arena) { fprintf(stderr, "scan: cannot allocate the %zu-byte arena\n", j->o.arena); return j->rc; }

@@ -69,15 +69,23 @@ static size_t bounded_len(const char *s, size_t max)
 static int sizing(const vp_planner_config_t *c) { return c->size_rel != 0.0 || c->min_size != 0.0; }
 #ifndef VP_CORE_MCU
 /* version 4: those three, a line laser's rays per frame and the proofs' life (two uint32);
- * version 5: those and the tubes' feature size and margin (two doubles) */
+ * version 5: those and the tubes' feature size and margin (two doubles); version 6: those, the
+ * axes' times per unit (five doubles) and the pan's travel (two) */
+static int timed(const vp_planner_config_t *c)
+{
+    int k;
+    for (k = 0; k < VP_PLANNER_AXES; k++)
+        if (c->axis_time[k] != 0.0) return 1;
+    return c->pan_travel[0] != 0.0 || c->pan_travel[1] != 0.0;
+}
 static uint32_t header_version(const vp_planner_config_t *c)
 {
-    return c->min_feature != 0.0 || c->feature_margin != 0.0 ? 5u
+    return timed(c) ? 6u : c->min_feature != 0.0 || c->feature_margin != 0.0 ? 5u
            : c->line_rays != 0u || c->proof_life != 0u ? 4u : c->max_distance != 0.0 ? 3u : sizing(c) ? 2u : 1u;
 }
 static uint32_t ext_bytes(uint32_t version)
 {
-    return version >= 5u ? 48u : version == 4u ? 32u : version == 3u ? 24u : version == 2u ? 16u : 0u;
+    return version >= 6u ? 104u : version == 5u ? 48u : version == 4u ? 32u : version == 3u ? 24u : version == 2u ? 16u : 0u;
 }
 #define PROBE_LIKE(t) ((t) == VP_LOGFMT_PROBE || (t) == VP_LOGFMT_RAY)
 #else
@@ -171,6 +179,11 @@ int vp_logfmt_header_encode(const vp_logfmt_header_t *h, void *buf, size_t cap)
             putd(q + 32, c->min_feature);
             putd(q + 40, c->feature_margin);
         }
+        if (header_version(c) >= 6u) {
+            for (i = 0; i < VP_PLANNER_AXES; i++) putd(q + 48 + 8 * i, c->axis_time[i]);
+            putd(q + 88, c->pan_travel[0]);
+            putd(q + 96, c->pan_travel[1]);
+        }
 #endif
         q += ext_bytes(header_version(c));
     }
@@ -234,6 +247,13 @@ static int header_decode(const unsigned char *p, uint32_t n, vp_logfmt_header_t 
             c->min_feature = getd(q + nl + 32);
             c->feature_margin = getd(q + nl + 40);
             if (!vp_finite(c->min_feature) || !vp_finite(c->feature_margin)) return 0;
+        }
+        if (h->version >= 6u) {
+            for (i = 0; i < VP_PLANNER_AXES; i++)
+                if (!vp_finite(c->axis_time[i] = getd(q + nl + 48 + 8 * i))) return 0;
+            c->pan_travel[0] = getd(q + nl + 88);
+            c->pan_travel[1] = getd(q + nl + 96);
+            if (!vp_finite(c->pan_travel[0]) || !vp_finite(c->pan_travel[1])) return 0;
         }
 #endif
         if (!vp_finite(c->size_rel) || !vp_finite(c->min_size) || !vp_finite(c->max_distance) ||

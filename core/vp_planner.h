@@ -27,6 +27,7 @@
 #define VP_PLANNER_MAX_SEEDS 16
 #define VP_PLANNER_MAX_CONTACTS 16 /* contacts kept apart; more widen the nearest one's reach */
 #define VP_PLANNER_MAX_LINE_RAYS 4096 /* a line laser's rays per frame (image columns) */
+#define VP_PLANNER_AXES 5          /* x, y, z, pan, tilt (axis_time) */
 #define VP_PLANNER_RAY_QUEUE 64    /* line-laser points waiting to become samples */
 /* the tubes' feature margin when none is given, per unit of min_feature: a right-angled corner
  * of a box reaches (sqrt 3 - 1) = 0.732 of it beyond its inner balls, an edge of 60 degrees 1 */
@@ -84,6 +85,14 @@ typedef struct vp_planner_config {
                                     min_feature (sharp convex edges and corners: a dihedral angle
                                     theta needs min_feature (1/sin(theta/2) - 1), a cube's corner
                                     0.74 min_feature) */
+    double axis_time[VP_PLANNER_AXES]; /* with a clearance (body mode): the time one unit of
+                                    travel takes at each axis's top speed (1/max_speed): x, y, z
+                                    per unit of length, the head's pan (about z: the azimuth of
+                                    the probe's direction) and tilt (its elevation) per radian.
+                                    The ways round Omega and the order of the probes are then
+                                    chosen for machine time, not length. All 0: length */
+    double pan_travel[2];        /* the pan's travel in radians (lo < hi): a turn across its ends
+                                    goes the long way round. Both 0: the pan turns freely */
 } vp_planner_config_t;
 
 /* VP_CMD_RAY is never issued by vp_planner_next: it names one more ray of the last PROBE's frame
@@ -116,6 +125,8 @@ typedef struct vp_planner_stats {
     uint64_t too_close;        /* probes that saw a surface nearer than the minimum range */
     uint64_t occluded;         /* body mode: the line met S before the edge */
     uint64_t tube_moves;       /* body mode: moves inside Omega along tubes proven free */
+    uint64_t level_routes;     /* body mode: ways round a ball Omega taken level (route.c): the
+                                  slowest axis moved least */
     uint64_t tube_starts;      /* body mode: probes started inside Omega (nearer their edge) */
     uint64_t vantages;         /* body mode: lines probed again from past what occluded them */
     uint64_t surveys, survey_probes, surveys_failed; /* tubes surveyed by parallel rays first */
@@ -206,6 +217,9 @@ typedef struct vp_pl_pools {
     vp_task_near_t *near;                             /* per task slot in body mode (an arena
                                                          of some 2.6 MB up), else NULL: tasks.c
                                                          (the nearest task) */
+    double *near_dir;                                 /* timed body mode: beside each kept
+                                                         start, its probe's direction (3 per
+                                                         slot: the head's turn, route.c) */
     vp_proof_t *proof; uint32_t nproof, cap_proof;    /* free parts of probes: proof.c */
     uint32_t *astar; uint32_t cap_astar;              /* scratch, see VP_PL_SCRATCH in the
                                                          private header for who owns it when */
@@ -232,6 +246,8 @@ typedef struct vp_pl_device {
     uint32_t at;                           /* record it stands at (VP_DT_NONE between) */
     int awaiting;                          /* 1: a PROBE was issued, feed() expected */
     double iss_o[3], iss_d[3], iss_range;  /* the PROBE issued last */
+    double pan;                            /* the pan it was aimed with (radians, within
+                                              pan_travel; timed body mode: route.c) */
 } vp_pl_device_t;
 
 /* The probe being carried out: prepared by task_start (tasks.c) or the seed/reseed steps

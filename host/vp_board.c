@@ -1394,6 +1394,7 @@ void vp_board_machine_config(const vp_board_t *b, vp_machine_config_t *m)
 
 void vp_board_planner_config(const vp_board_t *b, vp_planner_config_t *c)
 {
+    int a;
     memset(c, 0, sizeof *c);
     c->omega_kind = b->omega_kind;
     memcpy(c->omega_lo, b->omega_lo, sizeof c->omega_lo);
@@ -1411,6 +1412,13 @@ void vp_board_planner_config(const vp_board_t *b, vp_planner_config_t *c)
     if (b->clearance > 0 && b->head_reach + b->head_margin > b->clearance) c->flags |= VP_PLAN_NO_AIM;
     c->min_feature = b->min_feature;
     c->feature_margin = b->feature_margin;
+    if (b->clearance > 0) {
+        /* body mode: moves weighed by the axes' top speeds (pan and tilt per radian) */
+        for (a = 0; a < VP_PLANNER_AXES; a++)
+            c->axis_time[a] = (a < 3 ? 1.0 : 180.0 / M_PI) / b->axis[a].ax.max_speed;
+        c->pan_travel[0] = b->axis[VP_J_PAN].ax.travel_min * (M_PI / 180.0);
+        c->pan_travel[1] = b->axis[VP_J_PAN].ax.travel_max * (M_PI / 180.0);
+    }
     if (b->line_laser) {
         /* the rays a frame can give: one per column looked at */
         int step = b->line_step > 0 ? b->line_step : (b->cam_model.width + VP_MACHINE_MAX_LINE - 1) / VP_MACHINE_MAX_LINE;

@@ -356,6 +356,8 @@ int vp_sessionlog_same_config(const vp_planner_config_t *a, uint64_t arena_a,
     else if (a->proof_life != b->proof_life) f = "proof life (--proof-life)";
     else if (!bits_eq(&a->min_feature, &b->min_feature, 1)) f = "tubes' feature size (--min-feature)";
     else if (!bits_eq(&a->feature_margin, &b->feature_margin, 1)) f = "tubes' feature margin (--feature-margin)";
+    else if (!bits_eq(a->axis_time, b->axis_time, VP_PLANNER_AXES)) f = "axes' times per unit (the board's max_speed)";
+    else if (!bits_eq(a->pan_travel, b->pan_travel, 2)) f = "pan's travel";
     else if (arena_a != arena_b) f = "arena size";
     for (i = 0; !f && i < a->ninterior && i < VP_PLANNER_MAX_SEEDS; i++)
         if (!bits_eq(a->interior[i], b->interior[i], 3)) f = "interior points";

@@ -28,7 +28,7 @@ static const unsigned char split[2][8] = {{20, 7, 6, 8, 7, 1, PROOF_SHARE, 28}, 
 
 /* the bytes a task slot's kept start takes (none on a microcontroller core: it keeps none) */
 #ifndef VP_CORE_MCU
-#define TASK_NEAR_BYTES(pl) ((pl)->pool.near ? sizeof(vp_task_near_t) : 0u)
+#define TASK_NEAR_BYTES(pl) ((pl)->pool.near ? sizeof(vp_task_near_t) + ((pl)->pool.near_dir ? 3 * sizeof(double) : 0u) : 0u)
 #else
 #define TASK_NEAR_BYTES(pl) 0u
 #endif
@@ -104,6 +104,14 @@ int vp_planner_init(vp_planner_t *pl, void *arena, size_t bytes, const vp_planne
                                     cfg->min_feature > vp_pl_omega_circumradius(cfg))))
         return VP_EINVAL;
 #endif
+#if VP_PL_TIMED
+    for (k = 0; k < VP_PLANNER_AXES; k++)
+        if (!(cfg->axis_time[k] >= 0.0) || cfg->axis_time[k] > CFG_MAX) return VP_EINVAL;
+    if (!vp_finite(cfg->pan_travel[0]) || !vp_finite(cfg->pan_travel[1]) ||
+        (cfg->pan_travel[0] != 0.0 || cfg->pan_travel[1] != 0.0 ? !(cfg->pan_travel[0] < cfg->pan_travel[1]) ||
+         cfg->pan_travel[1] - cfg->pan_travel[0] > 1e3 : 0))
+        return VP_EINVAL;
+#endif
     memset(pl, 0, sizeof *pl);
     pl->cfg = *cfg;
     /* the slack of a proof: rounding of constructed points, far below any physical size */
@@ -133,7 +141,8 @@ int vp_planner_init(vp_planner_t *pl, void *arena, size_t bytes, const vp_planne
     pl->pool.cap_task = (uint32_t)(sh[4] * unit / sizeof(vp_task_t));
 #ifndef VP_CORE_MCU /* a microcontroller core keeps the newest-first order (its flash budget) */
     if (cfg->clearance > 0.0) {
-        uint32_t cap_near = (uint32_t)(sh[4] * unit / (sizeof(vp_task_t) + sizeof(vp_task_near_t)));
+        size_t slot = sizeof(vp_task_t) + sizeof(vp_task_near_t) + (vp_pl_timed_cfg(cfg) ? 3 * sizeof(double) : 0u);
+        uint32_t cap_near = (uint32_t)(sh[4] * unit / slot);
         if (cap_near >= NEAR_ROOM * pl->pool.room) { keep_starts = 1; pl->pool.cap_task = cap_near; }
     }
 #endif
@@ -151,6 +160,12 @@ int vp_planner_init(vp_planner_t *pl, void *arena, size_t bytes, const vp_planne
         pl->pool.near = carve(&cur, end, (size_t)pl->pool.cap_task * sizeof(vp_task_near_t));
         if (!pl->pool.near) return VP_ENOMEM;
         memset(pl->pool.near, 0, (size_t)pl->pool.cap_task * sizeof(vp_task_near_t)); /* no key is all 0 */
+#if VP_PL_TIMED
+        if (vp_pl_timed_cfg(cfg)) {
+            pl->pool.near_dir = carve(&cur, end, (size_t)pl->pool.cap_task * 3 * sizeof(double));
+            if (!pl->pool.near_dir) return VP_ENOMEM;
+        }
+#endif
     }
     pl->pool.heap = carve(&cur, end, (size_t)pl->pool.cap_heap * 4);
     pl->route.pts = carve(&cur, end, (size_t)pl->route.cap * 24);
@@ -226,6 +241,9 @@ static void issue_probe(vp_planner_t *pl, vp_cmd_t *cmd, const double *from, con
     memcpy(pl->dev.iss_o, cmd->from, sizeof pl->dev.iss_o);
     memcpy(pl->dev.iss_d, cmd->dir, sizeof pl->dev.iss_d);
     pl->dev.iss_range = cmd->range;
+#if VP_PL_TIMED
+    if (vp_pl_timed(pl)) pl->dev.pan = vp_pl_pan_for(pl, dir);
+#endif
     pl->probe.cur_proof = PROOF_NONE;
 #if VP_PL_CONTACTS
     pl->contact.moved = 0;

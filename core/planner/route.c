@@ -332,6 +332,220 @@ static int outside_route(vp_planner_t *pl, const double *a, const double *b, int
     return VP_OK;
 }
 
+#if VP_PL_TIMED
+/* 1 when body mode weighs moves by the axes' speeds */
+VP_PL_API int vp_pl_timed_cfg(const vp_planner_config_t *c)
+{
+    int k;
+    if (!(c->clearance > 0.0)) return 0;
+    for (k = 0; k < VP_PLANNER_AXES; k++)
+        if (c->axis_time[k] > 0.0) return 1;
+    return 0;
+}
+
+VP_PL_API int vp_pl_timed(const vp_planner_t *pl) { return vp_pl_timed_cfg(&pl->cfg); }
+
+/* The time of the straight move from a to b at the axes' top speeds: the slowest axis's. */
+VP_PL_API double vp_pl_move_time(const vp_planner_t *pl, const double *a, const double *b)
+{
+    double t = 0.0, u;
+    int k;
+    for (k = 0; k < 3; k++) {
+        u = pl->cfg.axis_time[k] * fabs(b[k] - a[k]);
+        if (u > t) t = u;
+    }
+    return t;
+}
+
+#define TURN_PI 3.14159265358979324
+/* atan2(y, x) to within 2e-6 radians, by + - * / alone (the same bits on every machine): an
+ * odd polynomial for atan on [0, 1] (Abramowitz and Stegun 4.4.49's kind), the octant folded
+ * in. A cost is all it is used for. */
+static double turn_angle(double y, double x)
+{
+    double ax = fabs(x), ay = fabs(y), t, t2, a;
+    if (!(ax > 0.0) && !(ay > 0.0)) return 0.0;
+    t = ax >= ay ? ay / ax : ax / ay;
+    t2 = t * t;
+    a = t * (0.99997726 + t2 * (-0.33262347 + t2 * (0.19354346 + t2 * (-0.11643287 + t2 * (0.05265332 - 0.01172120 * t2)))));
+    if (ay > ax) a = 0.5 * TURN_PI - a;
+    if (x < 0.0) a = TURN_PI - a;
+    return y < 0.0 ? -a : a;
+}
+
+/* The pan that aims along dir from where the head is aimed now (dev.pan): the direction's
+ * azimuth turned by whole turns to the nearest within the pan's travel (a machine's aim does
+ * the same), or, a pan that turns freely, the one at most half a turn away. */
+VP_PL_API double vp_pl_pan_for(const vp_planner_t *pl, const double *dir)
+{
+    double p = turn_angle(dir[1], dir[0]), cur = pl->dev.pan, lo = pl->cfg.pan_travel[0], hi = pl->cfg.pan_travel[1];
+    double best = p, bd = VP_PL_HUGE, q;
+    int free = lo == 0.0 && hi == 0.0, k;
+    while (p - cur > TURN_PI) p -= 2.0 * TURN_PI;
+    while (cur - p > TURN_PI) p += 2.0 * TURN_PI;
+    if (free) return p;
+    for (k = -2; k <= 2; k++) {
+        q = p + k * 2.0 * TURN_PI;
+        if (q >= lo && q <= hi && fabs(q - cur) < bd) {
+            bd = fabs(q - cur);
+            best = q;
+        }
+    }
+    return bd < VP_PL_HUGE ? best : (p < lo ? lo : p > hi ? hi : p);
+}
+
+/* The least machine time of the way to a probe from o along dir: the straight move's, or
+ * the head's turn (pan and tilt), whichever is longer (the axes move together). */
+VP_PL_API double vp_pl_way_time(const vp_planner_t *pl, const double *o, const double *dir)
+{
+    const double *d0 = pl->dev.iss_d;
+    double t = vp_pl_move_time(pl, pl->dev.pos, o), u;
+    u = pl->cfg.axis_time[3] * fabs(vp_pl_pan_for(pl, dir) - pl->dev.pan);
+    if (u > t) t = u;
+    u = pl->cfg.axis_time[4] * fabs(turn_angle(dir[2], sqrt(dir[0] * dir[0] + dir[1] * dir[1])) -
+                                    turn_angle(d0[2], sqrt(d0[0] * d0[0] + d0[1] * d0[1])));
+    return u > t ? u : t;
+}
+
+/* The level way round a ball Omega: about the axis through the centre along the slowest of
+ * x, y, z (k), the head's coordinate h on that axis and its distance r from the centre go
+ * linearly from a's to b's, its direction about the axis turns from a's to b's (in two halves
+ * of under a half turn each), on or beyond the route sphere. The slowest axis thus travels
+ * |h_b - h_a| only, where the great circle may climb over the ball and back down (two starts
+ * at one height on either side: over the top). */
+typedef struct level {
+    double c[3], ha, hb, ra, rb, ea[2], em[2], eb[2];
+    int k, i, j;
+} level_t;
+
+#define LEVEL_CHORDS_MIN 4
+#define LEVEL_CHORDS_MAX 1024
+/* consecutive points at most 10 degrees apart seen from the centre: a chord between points at
+ * 1.01 R dips to 1.01 cos(5 deg) R = 1.006 R, outside Omega */
+#define LEVEL_CHORD_COS 0.98480775301220796
+
+static void level_point(const level_t *L, double s, double *w)
+{
+    double h = L->ha + s * (L->hb - L->ha), r = L->ra + s * (L->rb - L->ra), rho2 = r * r - h * h;
+    double rho = rho2 > 0.0 ? sqrt(rho2) : 0.0, u = s < 0.5 ? 2.0 * s : 2.0 * s - 1.0, e[2], n;
+    const double *e0 = s < 0.5 ? L->ea : L->em, *e1 = s < 0.5 ? L->em : L->eb;
+    e[0] = (1.0 - u) * e0[0] + u * e1[0];
+    e[1] = (1.0 - u) * e0[1] + u * e1[1];
+    n = sqrt(e[0] * e[0] + e[1] * e[1]);
+    w[L->k] = L->c[L->k] + h;
+    w[L->i] = L->c[L->i] + rho * e[0] / n;
+    w[L->j] = L->c[L->j] + rho * e[1] / n;
+}
+
+/* Sets up the level way from a to b and the number of its chords; 0 when there is none (both
+ * ends on the axis, or no number of chords keeps it outside Omega). */
+static int level_setup(const vp_planner_t *pl, const double *a, const double *b, level_t *L, int *nch)
+{
+    double ua[3], ub[3], la, lb, rs = SPHERE_ROUTE_GROW * pl->cfg.omega_radius, rhoa, rhob, tiny, n;
+    int q, k = 2;
+    for (q = 0; q < 2; q++)
+        if (pl->cfg.axis_time[q] > pl->cfg.axis_time[k]) k = q;
+    L->k = k;
+    L->i = (k + 1) % 3;
+    L->j = (k + 2) % 3;
+    memcpy(L->c, pl->cfg.omega_center, sizeof L->c);
+    vp_sub3(ua, a, L->c);
+    vp_sub3(ub, b, L->c);
+    la = sqrt(vp_dot3(ua, ua));
+    lb = sqrt(vp_dot3(ub, ub));
+    if (!(la > 0.0) || !(lb > 0.0)) return 0;
+    /* each end as seen from the centre, on the route sphere where it lies inside it */
+    L->ra = la < rs ? rs : la;
+    L->rb = lb < rs ? rs : lb;
+    L->ha = ua[k] * (L->ra / la);
+    L->hb = ub[k] * (L->rb / lb);
+    rhoa = sqrt(ua[L->i] * ua[L->i] + ua[L->j] * ua[L->j]);
+    rhob = sqrt(ub[L->i] * ub[L->i] + ub[L->j] * ub[L->j]);
+    tiny = LEN_REL_EPS * (la + lb);
+    if (!(rhoa > tiny) && !(rhob > tiny)) return 0; /* both on the axis: the great circle */
+    if (!(rhoa > tiny)) { ua[L->i] = ub[L->i]; ua[L->j] = ub[L->j]; rhoa = rhob; }
+    if (!(rhob > tiny)) { ub[L->i] = ua[L->i]; ub[L->j] = ua[L->j]; rhob = rhoa; }
+    L->ea[0] = ua[L->i] / rhoa; L->ea[1] = ua[L->j] / rhoa;
+    L->eb[0] = ub[L->i] / rhob; L->eb[1] = ub[L->j] / rhob;
+    L->em[0] = L->ea[0] + L->eb[0];
+    L->em[1] = L->ea[1] + L->eb[1];
+    n = sqrt(L->em[0] * L->em[0] + L->em[1] * L->em[1]);
+    if (n > 1e-6) {
+        L->em[0] /= n;
+        L->em[1] /= n;
+    } else {
+        /* half a turn: round by the left of a */
+        L->em[0] = -L->ea[1];
+        L->em[1] = L->ea[0];
+    }
+    for (q = LEVEL_CHORDS_MIN; q <= LEVEL_CHORDS_MAX; q *= 2) {
+        double p[3], w[3], dp[3], dw[3];
+        int ok = 1, x;
+        level_point(L, 0.0, p);
+        for (x = 1; x <= q && ok; x++) {
+            level_point(L, x / (double)q, w);
+            vp_sub3(dp, p, L->c);
+            vp_sub3(dw, w, L->c);
+            ok = vp_dot3(dp, dw) >= LEVEL_CHORD_COS * sqrt(vp_dot3(dp, dp) * vp_dot3(dw, dw));
+            memcpy(p, w, sizeof p);
+        }
+        if (ok) {
+            *nch = q;
+            return 1;
+        }
+    }
+    return 0;
+}
+
+/* Measures (route == 0) or appends the level way from a to b; its machine time in *t. Returns
+ * 0 when there is none or a piece of it would enter Omega. */
+static int level_route(vp_planner_t *pl, const double *a, const double *b, int route, double *t)
+{
+    level_t L;
+    double prev[3], w[3];
+    int n, q;
+    if (!level_setup(pl, a, b, &L, &n)) return 0;
+    memcpy(prev, a, sizeof prev);
+    *t = 0.0;
+    for (q = 0; q <= n + 1; q++) {
+        if (q <= n) level_point(&L, q / (double)n, w);
+        else memcpy(w, b, sizeof w);
+        if (vp_pl_seg_enters_omega(&pl->cfg, prev, w)) return 0;
+        *t += vp_pl_move_time(pl, prev, w);
+        if (route && vp_pl_route_push(pl, w, PROOF_OUTSIDE) != VP_OK) return 0;
+        memcpy(prev, w, sizeof prev);
+    }
+    return 1;
+}
+
+/* Body mode: the way round Omega outside it from a to b. Timed, of outside_route's (along
+ * dOmega) and, for a ball, the level way, the one of less machine time (the level way on a
+ * tie: it moves the slowest axis least). */
+static int body_route(vp_planner_t *pl, const double *a, const double *b, double *len)
+{
+    uint32_t n0 = pl->route.n, q;
+    double t = 0.0, tl;
+    const double *p = a;
+    VP_TRY(outside_route(pl, a, b, 0, len));
+    if (!vp_pl_timed(pl) || pl->cfg.omega_kind != VP_OMEGA_BALL) return VP_OK;
+    for (q = n0; q < pl->route.n; q++) {
+        t += vp_pl_move_time(pl, p, pl->route.pts + 3 * (size_t)q);
+        p = pl->route.pts + 3 * (size_t)q;
+    }
+    if (!level_route(pl, a, b, 0, &tl) || tl > t) return VP_OK;
+    pl->route.n = n0;
+    if (!level_route(pl, a, b, 1, &tl)) return VP_ENOMEM; /* the way measured just now */
+    pl->st.level_routes++;
+    for (*len = 0.0, p = a, q = n0; q < pl->route.n; q++) {
+        *len += vp_dist3(p, pl->route.pts + 3 * (size_t)q);
+        p = pl->route.pts + 3 * (size_t)q;
+    }
+    return VP_OK;
+}
+#else
+#define body_route(pl, a, b, len) outside_route(pl, a, b, 0, len)
+#endif
+
 #if VP_PL_CONTACTS
 /* The device goes round Omega, outside it, to q on or outside dOmega (a re-scan's measuring
  * points, rescan.c): the route, and a record at q (pl->dev.at). The device stands on or outside
@@ -643,7 +857,7 @@ static int tube_route(vp_planner_t *pl, const double *from, const double *to, do
             *len += vp_dist3(cur, T->exit);
             memcpy(cur, T->exit, sizeof cur);
         }
-        VP_TRY(outside_route(pl, cur, to_in ? T->goal_exit : to, 0, &ol));
+        VP_TRY(body_route(pl, cur, to_in ? T->goal_exit : to, &ol));
         *len += ol;
         if (to_in) {
             VP_TRY(vp_pl_route_push(pl, to, PROOF_TUBE));
@@ -682,7 +896,7 @@ VP_PL_API int vp_pl_plan_route(vp_planner_t *pl, uint32_t b, const double *gp)
             return VP_OK;
         }
 #endif
-        st = outside_route(pl, pl->pool.vrec[pl->dev.at].p, b != NONE ? pl->pool.vrec[b].p : gp, 0, &tl);
+        st = body_route(pl, pl->pool.vrec[pl->dev.at].p, b != NONE ? pl->pool.vrec[b].p : gp, &tl);
         if (st != VP_OK) return st;
         if (b == NONE && (st = vp_pl_rec_new(pl, gp, NONE, REC_OUT, &b)) != VP_OK) return st;
         pl->dev.at = b;

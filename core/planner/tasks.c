@@ -307,12 +307,13 @@ static double tube_start(vp_planner_t *pl, const double *o, const double *dir, d
 /* Body mode: where the probe along the Voronoi edge dual to facet f of t would start (the
  * edge's line leaving Omega behind t's vertex); 0 when that cannot be said cheaply. A function
  * of the two tets' vertices alone. */
-static int edge_origin(const vp_planner_t *pl, uint32_t t, int f, double *o)
+static int edge_origin(const vp_planner_t *pl, uint32_t t, int f, double *o, double *dir)
 {
     edgegeom_t g;
     double standoff;
     int q;
     if (vp_pl_edge_geom(pl, t, f, &g) != VP_OK || !(g.t0 < g.t1)) return 0;
+    if (dir) memcpy(dir, g.dir, sizeof g.dir);
     if (!g.a_inside) {
         for (q = 0; q < 3; q++) o[q] = g.a[q] + g.t0 * g.dir[q];
         return 1;
@@ -331,26 +332,27 @@ static int task_startable(const vp_planner_t *pl, const vp_task_t *k)
 VP_PL_API int vp_pl_task_origin(const vp_planner_t *pl, const vp_task_t *k, double *o)
 {
     if (!task_live(pl, k) || !task_startable(pl, k)) return 0;
-    return edge_origin(pl, k->tet, k->facet, o);
+    return edge_origin(pl, k->tet, k->facet, o, NULL);
 }
 
 /* vp_pl_task_origin of the live, startable task in slot i, worked out again only when its edge
  * is not the one kept in the slot's vp_task_near_t (an insertion replaced a tet of it, or the
  * slot holds another task; every time in an arena too small to keep them) */
-static int task_origin_kept(vp_planner_t *pl, uint32_t i, double *o)
+static int task_origin_kept(vp_planner_t *pl, uint32_t i, double *o, double *dir)
 {
     const vp_task_t *k = &pl->pool.task[i];
     vp_task_near_t *c = pl->pool.near ? &pl->pool.near[i] : NULL;
     const uint32_t *w, *x;
-    if (!c) return edge_origin(pl, k->tet, k->facet, o); /* a small arena keeps no starts */
+    if (!c) return edge_origin(pl, k->tet, k->facet, o, dir); /* a small arena keeps no starts */
     w = vp_dt_tet(&pl->dt, k->tet);
     x = vp_dt_tet(&pl->dt, w[4 + k->facet] >> 2);
     if (memcmp(c->tv, w, sizeof c->tv) != 0 || memcmp(c->uv, x, sizeof c->uv) != 0) {
-        c->ok = (uint8_t)edge_origin(pl, k->tet, k->facet, c->o);
+        c->ok = (uint8_t)edge_origin(pl, k->tet, k->facet, c->o, pl->pool.near_dir ? pl->pool.near_dir + 3 * (size_t)i : NULL);
         memcpy(c->tv, w, sizeof c->tv);
         memcpy(c->uv, x, sizeof c->uv);
     }
     if (c->ok) memcpy(o, c->o, sizeof c->o);
+    if (c->ok && dir) memcpy(dir, pl->pool.near_dir + 3 * (size_t)i, 3 * sizeof(double));
     return c->ok;
 }
 
@@ -363,8 +365,8 @@ static int task_origin_kept(vp_planner_t *pl, uint32_t i, double *o)
 VP_PL_API void vp_pl_task_nearest_on_top(vp_planner_t *pl)
 {
     uint32_t i, n, top, best = NONE;
-    double bd = VP_PL_HUGE, o[3];
-    int tubes = pl->cfg.min_feature > 0.0;
+    double bd = VP_PL_HUGE, o[3], dir[3];
+    int tubes = pl->cfg.min_feature > 0.0, timed = VP_PL_TIMED && vp_pl_timed(pl);
     for (i = n = tubes && pl->pool.ntask > NEAR_WINDOW_TUBES ? pl->pool.ntask - NEAR_WINDOW_TUBES : 0; i < pl->pool.ntask; i++) {
         int live = task_live(pl, &pl->pool.task[i]);
         if (!tubes) {
@@ -372,10 +374,16 @@ VP_PL_API void vp_pl_task_nearest_on_top(vp_planner_t *pl)
             if (n != i) {
                 pl->pool.task[n] = pl->pool.task[i];
                 if (pl->pool.near) pl->pool.near[n] = pl->pool.near[i];
+                if (pl->pool.near_dir) memcpy(pl->pool.near_dir + 3 * (size_t)n, pl->pool.near_dir + 3 * (size_t)i, 3 * sizeof(double));
             }
         }
-        if (live && task_startable(pl, &pl->pool.task[n]) && task_origin_kept(pl, n, o)) {
+        if (live && task_startable(pl, &pl->pool.task[n]) && task_origin_kept(pl, n, o, timed ? dir : NULL)) {
+#if VP_PL_TIMED
+            double d = timed ? vp_pl_way_time(pl, o, dir)
+                                       : vp_dist3(o, pl->dev.pos);
+#else
             double d = vp_dist3(o, pl->dev.pos);
+#endif
             if (d <= bd) { bd = d; best = n; }
         }
         n++;
@@ -390,6 +398,12 @@ VP_PL_API void vp_pl_task_nearest_on_top(vp_planner_t *pl)
             vp_task_near_t c = pl->pool.near[best];
             pl->pool.near[best] = pl->pool.near[top];
             pl->pool.near[top] = c;
+        }
+        if (pl->pool.near_dir) {
+            double *a = pl->pool.near_dir + 3 * (size_t)best, *b = pl->pool.near_dir + 3 * (size_t)top, x[3];
+            memcpy(x, a, sizeof x);
+            memcpy(a, b, sizeof x);
+            memcpy(b, x, sizeof x);
         }
     }
 }

@@ -180,6 +180,10 @@ struct vp_frec {
  * microcontroller core leaves it out (its RAM: the grid of marks). */
 #define VP_PL_TUBES VP_PL_CONTACTS
 
+/* VP_PL_TIMED: body mode weighs the head's moves by the axes' speeds (axis_time: route.c's way
+ * round Omega, the nearest task); a microcontroller core leaves it out (its flash budget). */
+#define VP_PL_TIMED VP_PL_CONTACTS
+
 /* plan_route: no way known to the goal (a contact withdrew the proofs of every way there) */
 #define PL_UNREACHABLE 1
 #define PROOF_NONE      0xFFFFFFFFu
@@ -316,6 +320,13 @@ VP_PL_API int vp_pl_rec_link(vp_planner_t *pl, const double *p, uint32_t prev, u
 VP_PL_API int vp_pl_rec_new(vp_planner_t *pl, const double *p, uint32_t prev, uint32_t flags, uint32_t *out);
 VP_PL_API int vp_pl_route_full(vp_planner_t *pl, uint32_t a, uint32_t b);
 VP_PL_API int vp_pl_route_push(vp_planner_t *pl, const double *p, uint32_t proof);
+#if VP_PL_TIMED
+VP_PL_API int vp_pl_timed_cfg(const vp_planner_config_t *c);
+VP_PL_API int vp_pl_timed(const vp_planner_t *pl);
+VP_PL_API double vp_pl_move_time(const vp_planner_t *pl, const double *a, const double *b);
+VP_PL_API double vp_pl_pan_for(const vp_planner_t *pl, const double *dir);
+VP_PL_API double vp_pl_way_time(const vp_planner_t *pl, const double *o, const double *dir);
+#endif
 #if VP_PL_CONTACTS
 VP_PL_API int vp_pl_route_outside(vp_planner_t *pl, const double *q);
 #endif

@@ -55,6 +55,8 @@ static int header_equal(const vp_logfmt_header_t *a, const vp_logfmt_header_t *b
                 same(x->size_rel, y->size_rel) && same(x->min_size, y->min_size) &&
                 same(x->max_distance, y->max_distance) && same(x->min_feature, y->min_feature) &&
                 same(x->feature_margin, y->feature_margin);
+    for (k = 0; k < VP_PLANNER_AXES; k++) ok = ok && same(x->axis_time[k], y->axis_time[k]);
+    ok = ok && same(x->pan_travel[0], y->pan_travel[0]) && same(x->pan_travel[1], y->pan_travel[1]);
     for (k = 0; k < 3; k++)
         ok = ok && same(x->omega_lo[k], y->omega_lo[k]) && same(x->omega_hi[k], y->omega_hi[k]) &&
              same(x->omega_center[k], y->omega_center[k]) && same(x->start[k], y->start[k]);
@@ -185,7 +187,7 @@ static void test_roundtrip(void)
         }
     }
     /* the planner configuration the format covers: a new field needs a new format version */
-    CHECKF(sizeof(vp_planner_config_t) == 608,
+    CHECKF(sizeof(vp_planner_config_t) == 664,
            "vp_planner_config_t changed (%zu bytes): update core/vp_logfmt.c, doc/session-log.md, VP_LOGFMT_VERSION",
            sizeof(vp_planner_config_t));
 }
@@ -419,6 +421,39 @@ static void test_sizing_header(void)
     vp_logfmt_reader_init(&r);
     CHECK(nb == na + 48 && vp_logfmt_reader_push(&r, b, (size_t)nb, &used, &rec) == VP_ECORRUPT);
     h.cfg.min_feature = h.cfg.feature_margin = 0.0;
+    /* moves weighed by machine time: version 6, 104 bytes, every axis's time and the pan's travel
+     * read back bit for bit; any one of them alone makes it version 6; a NaN is damage */
+    {
+        static const double at[VP_PLANNER_AXES] = { 1.0 / 150, 1.0 / 120, 1.0 / 15, 0.63661977236758138, 0.95492965855137202 };
+        int q;
+        for (q = 0; q < VP_PLANNER_AXES + 1; q++) {
+            memset(h.cfg.axis_time, 0, sizeof h.cfg.axis_time);
+            h.cfg.pan_travel[0] = q == VP_PLANNER_AXES ? -3.3161255787892263 : 0.0;
+            h.cfg.pan_travel[1] = q == VP_PLANNER_AXES ? 3.3161255787892263 : 0.0;
+            if (q < VP_PLANNER_AXES) h.cfg.axis_time[q] = at[q];
+            nb = vp_logfmt_header_encode(&h, b, sizeof b);
+            vp_logfmt_reader_init(&r);
+            CHECK(nb == na + 104 && b[8] == 6 &&
+                  vp_logfmt_reader_push(&r, b, (size_t)nb, &used, &rec) == VP_LOGFMT_GOT_HEADER);
+            h.version = 6;
+            CHECK(header_equal(&r.header, &h));
+        }
+        memcpy(h.cfg.axis_time, at, sizeof at);
+        nb = vp_logfmt_header_encode(&h, b, sizeof b);
+        vp_logfmt_reader_init(&r);
+        CHECK(vp_logfmt_reader_push(&r, b, (size_t)nb, &used, &rec) == VP_LOGFMT_GOT_HEADER && header_equal(&r.header, &h));
+        h.cfg.axis_time[2] = bits_double(0x7FF8000000000000ull);
+        nb = vp_logfmt_header_encode(&h, b, sizeof b);
+        vp_logfmt_reader_init(&r);
+        CHECK(nb == na + 104 && vp_logfmt_reader_push(&r, b, (size_t)nb, &used, &rec) == VP_ECORRUPT);
+        h.cfg.axis_time[2] = at[2];
+        h.cfg.pan_travel[1] = bits_double(0xFFF0000000000000ull);
+        nb = vp_logfmt_header_encode(&h, b, sizeof b);
+        vp_logfmt_reader_init(&r);
+        CHECK(vp_logfmt_reader_push(&r, b, (size_t)nb, &used, &rec) == VP_ECORRUPT);
+        memset(h.cfg.axis_time, 0, sizeof h.cfg.axis_time);
+        memset(h.cfg.pan_travel, 0, sizeof h.cfg.pan_travel);
+    }
 }
 
 int main(void)

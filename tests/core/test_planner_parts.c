@@ -1074,6 +1074,216 @@ static void test_nearest(void *arena, size_t bytes, double eps)
     free(snap);
 }
 
+/* ---- timed body mode (route.c): moves weighed by the axes' speeds. The way round a ball Omega
+ * stays outside it (the checker above) and never takes longer at top speed than the untimed
+ * way; two starts at one height on either side go round level, not over the top; the pan and
+ * tilt estimates against libm's atan2 and asin; the pan's seam; the pick of the nearest task
+ * against a brute force of its own (libm's angles: within the estimate's 2e-6 rad). ---- */
+static const double timed_axes[VP_PLANNER_AXES] = { 1.0 / 150, 1.0 / 120, 1.0 / 15, 1.0 / 1.5707963267948966,
+                                                    1.0 / 1.0471975511965976 };
+
+static double top_speed_time(const double *w, const double *a, const double *b)
+{
+    double t = 0.0;
+    int k;
+    for (k = 0; k < 3; k++) t = fabs(b[k] - a[k]) * w[k] > t ? fabs(b[k] - a[k]) * w[k] : t;
+    return t;
+}
+
+/* the route just planned from p: its time at top speed, its highest z; counts pieces in Omega */
+static double route_time(const vp_planner_t *pl, const double *p, double *zmax, int *bad)
+{
+    double t = 0.0;
+    uint32_t k;
+    *zmax = p[2];
+    for (k = 0; k < pl->route.n; k++) {
+        const double *q = pl->route.pts + 3 * (size_t)k;
+        t += top_speed_time(timed_axes, p, q);
+        *bad += seg_inside(&pl->cfg, p, q, 1e-9);
+        if (q[2] > *zmax) *zmax = q[2];
+        p = q;
+    }
+    return t;
+}
+
+static void test_timed_route(void *arena)
+{
+    vp_planner_t pl;
+    double a[3], b[3], tt, tu, zt, zu, sum_t = 0.0, sum_u = 0.0;
+    int i, bad = 0, longer = 0, level = 0, k;
+    uint32_t r;
+    for (i = 0; i < 400; i++) {
+        CHECK(init(&pl, arena, VP_OMEGA_BALL) == VP_OK);
+        pl.cfg.clearance = 0.01;
+        on_boundary(&pl.cfg, a);
+        on_boundary(&pl.cfg, b);
+        if (i == 0) { /* one height on either side: level, where the great circle climbs over */
+            a[0] = 0.8; a[1] = 0.0; a[2] = 0.6;
+            b[0] = -0.8; b[1] = 0.0; b[2] = 0.6;
+        }
+        CHECK(vp_pl_rec_new(&pl, a, NONE, REC_OUT, &r) == VP_OK);
+        pl.dev.at = r;
+        CHECK(vp_pl_plan_route(&pl, NONE, b) == VP_OK);
+        tu = route_time(&pl, a, &zu, &bad);
+        CHECK(vp_dist3(pl.route.pts + 3 * (size_t)(pl.route.n - 1), b) == 0.0);
+        memcpy(pl.cfg.axis_time, timed_axes, sizeof timed_axes);
+        pl.dev.at = r;
+        CHECK(vp_pl_plan_route(&pl, NONE, b) == VP_OK);
+        tt = route_time(&pl, a, &zt, &bad);
+        CHECK(vp_dist3(pl.route.pts + 3 * (size_t)(pl.route.n - 1), b) == 0.0);
+        longer += tt > tu * (1.0 + 1e-12);
+        level += pl.st.level_routes > 0;
+        sum_t += tt;
+        sum_u += tu;
+        if (i == 0) {
+            CHECKF(zt <= 0.6 * 1.01 + 1e-9 && zu > 0.95, "level way up to z %g, great circle %g", zt, zu);
+            CHECKF(tt < 0.5 * tu, "level way %g s, great circle %g s", tt, tu);
+        }
+    }
+    printf("timed ways round a ball: %d of 400 level, %.1f%% of the untimed time at top speed; %d longer, %d pieces "
+           "in Omega\n", level, 100.0 * sum_t / sum_u, longer, bad);
+    CHECK(bad == 0 && longer == 0 && level > 100 && sum_t < 0.9 * sum_u);
+    /* the checker itself: the straight chord between the level case's ends enters Omega */
+    a[0] = 0.8; a[1] = 0.0; a[2] = 0.6;
+    b[0] = -0.8; b[1] = 0.0; b[2] = 0.6;
+    CHECK(seg_inside(&pl.cfg, a, b, 1e-9));
+    /* the turn's estimates, and the pan's seam: travel -190..190 degrees */
+    {
+        double worst = 0.0, d[3], p, cur;
+        int seam = 0;
+        rng_state = 99;
+        for (i = 0; i < 20000; i++) {
+            for (k = 0; k < 3; k++) d[k] = 2.0 * urand() - 1.0;
+            if (!vp_normalize3(d)) continue;
+            pl.cfg.pan_travel[0] = pl.cfg.pan_travel[1] = 0.0;
+            pl.dev.pan = 0.0;
+            p = vp_pl_pan_for(&pl, d);
+            if (fabs(p - atan2(d[1], d[0])) > worst) worst = fabs(p - atan2(d[1], d[0]));
+        }
+        CHECKF(worst < 2e-6, "pan estimate off libm's atan2 by %g rad", worst);
+        pl.cfg.pan_travel[0] = -190.0 * 3.14159265358979324 / 180.0;
+        pl.cfg.pan_travel[1] = 190.0 * 3.14159265358979324 / 180.0;
+        for (i = 0; i < 360; i++) {
+            double az = (i - 180) * 3.14159265358979324 / 180.0, want;
+            d[0] = cos(az); d[1] = sin(az); d[2] = 0.0;
+            for (cur = -3.2; cur <= 3.21; cur += 0.4) {
+                double c2, best = 1e9;
+                pl.dev.pan = cur;
+                p = vp_pl_pan_for(&pl, d);
+                /* the brute force: every whole turn of the azimuth within travel, nearest to cur */
+                for (k = -2, want = 0.0; k <= 2; k++) {
+                    c2 = az + k * 2.0 * 3.14159265358979324;
+                    if (c2 >= pl.cfg.pan_travel[0] && c2 <= pl.cfg.pan_travel[1] && fabs(c2 - cur) < best) {
+                        best = fabs(c2 - cur);
+                        want = c2;
+                    }
+                }
+                if (fabs(p - want) > 2e-6 && fabs(fabs(p - cur) - fabs(want - cur)) > 4e-6) {
+                    if (seam++ < 3) printf("seam: az %g cur %g: pan %g, brute force %g\n", az, cur, p, want);
+                }
+            }
+        }
+        CHECKF(seam == 0, "%d pans off the brute force's at the seam", seam);
+        /* a turn across the seam goes the long way: from 175 to -175 degrees is 350 */
+        pl.dev.pan = 175.0 * 3.14159265358979324 / 180.0;
+        d[0] = cos(-175.0 * 3.14159265358979324 / 180.0); d[1] = sin(-175.0 * 3.14159265358979324 / 180.0); d[2] = 0.0;
+        p = vp_pl_pan_for(&pl, d);
+        CHECKF(fabs(p - 185.0 * 3.14159265358979324 / 180.0) < 2e-6, "pan %g", p * 180.0 / 3.14159265358979324);
+        pl.dev.pan = 0.0;
+        p = vp_pl_pan_for(&pl, d);
+        CHECKF(fabs(p + 175.0 * 3.14159265358979324 / 180.0) < 2e-6, "pan %g", p * 180.0 / 3.14159265358979324);
+    }
+}
+
+/* the brute force's way time: libm's angles, the seam as the planner's (checked above) */
+static double brute_way_time(const vp_planner_t *pl, const double *o, const double *dir)
+{
+    double t = top_speed_time(pl->cfg.axis_time, pl->dev.pos, o), u, az = atan2(dir[1], dir[0]), best = 1e300;
+    const double *d0 = pl->dev.iss_d;
+    int k;
+    for (k = -2; k <= 2; k++) {
+        double c = az + k * 2.0 * 3.14159265358979324;
+        if (c >= pl->cfg.pan_travel[0] && c <= pl->cfg.pan_travel[1] && fabs(c - pl->dev.pan) < best) best = fabs(c - pl->dev.pan);
+    }
+    u = pl->cfg.axis_time[3] * best;
+    t = u > t ? u : t;
+    u = pl->cfg.axis_time[4] * fabs(asin(dir[2] > 1.0 ? 1.0 : dir[2]) - asin(d0[2] > 1.0 ? 1.0 : d0[2] < -1.0 ? -1.0 : d0[2]));
+    return u > t ? u : t;
+}
+
+static void test_timed_nearest(void *arena)
+{
+    vp_planner_config_t c;
+    vp_planner_t pl;
+    vp_test_ell_t e;
+    vp_cmd_t cmd;
+    long steps = 0, picks = 0, worse = 0, lost = 0, unlike_untimed = 0;
+    double slack = 4e-6 * (timed_axes[3] > timed_axes[4] ? timed_axes[3] : timed_axes[4]) * 2.0;
+    ell_setup(&c, &e, 0.03, 0.05);
+    memcpy(c.axis_time, timed_axes, sizeof timed_axes);
+    c.pan_travel[0] = -190.0 * 3.14159265358979324 / 180.0;
+    c.pan_travel[1] = 190.0 * 3.14159265358979324 / 180.0;
+    CHECK(vp_planner_init(&pl, arena, ARENA, &c) == VP_OK && pl.pool.near_dir != NULL);
+    for (;;) {
+        if (pl.pool.ntask > 1 && !pl.dev.awaiting) {
+            uint32_t i, live = 0, after = 0;
+            double best = 1e300, top = 1e300, nearest = 1e300, topd = 0.0;
+            for (i = 0; i < pl.pool.ntask; i++) {
+                const vp_task_t *k = &pl.pool.task[i];
+                double o[3], m[3], n3[3], ab[3], ac[3], w[3];
+                const double *a, *b, *cc;
+                uint32_t fv[3];
+                if (!vp_dt_alive(&pl.dt, k->tet) || !(side_get(&pl, k->tet, k->facet) & SIDE_QUEUED)) continue;
+                live++;
+                if (!vp_pl_task_origin(&pl, k, o)) continue;
+                /* its direction worked out here: along the facet's axis, into Omega */
+                vp_dt_facet(&pl.dt, k->tet, k->facet, fv);
+                a = vp_dt_point(&pl.dt, fv[0]); b = vp_dt_point(&pl.dt, fv[1]); cc = vp_dt_point(&pl.dt, fv[2]);
+                vp_sub3(ab, b, a); vp_sub3(ac, cc, a); vp_cross3(n3, ab, ac);
+                if (!vp_normalize3(n3) || !vp_pl_facet_circumcenter(&pl, fv, m)) continue;
+                vp_sub3(w, m, o);
+                if (vp_dot3(w, n3) < 0.0) { n3[0] = -n3[0]; n3[1] = -n3[1]; n3[2] = -n3[2]; }
+                if (brute_way_time(&pl, o, n3) < best) best = brute_way_time(&pl, o, n3);
+                if (vp_dist3(o, pl.dev.pos) < nearest) nearest = vp_dist3(o, pl.dev.pos);
+            }
+            vp_pl_task_nearest_on_top(&pl);
+            picks++;
+            for (i = 0; i < pl.pool.ntask; i++) {
+                const vp_task_t *k = &pl.pool.task[i];
+                if (vp_dt_alive(&pl.dt, k->tet) && (side_get(&pl, k->tet, k->facet) & SIDE_QUEUED)) after++;
+            }
+            lost += after != live;
+            if (best < 1e300) {
+                const vp_task_t *k = &pl.pool.task[pl.pool.ntask - 1];
+                double o[3], m[3], n3[3], ab[3], ac[3], w[3];
+                const double *a, *b, *cc;
+                uint32_t fv[3];
+                if (vp_pl_task_origin(&pl, k, o)) {
+                    vp_dt_facet(&pl.dt, k->tet, k->facet, fv);
+                    a = vp_dt_point(&pl.dt, fv[0]); b = vp_dt_point(&pl.dt, fv[1]); cc = vp_dt_point(&pl.dt, fv[2]);
+                    vp_sub3(ab, b, a); vp_sub3(ac, cc, a); vp_cross3(n3, ab, ac);
+                    if (vp_normalize3(n3) && vp_pl_facet_circumcenter(&pl, fv, m)) {
+                        vp_sub3(w, m, o);
+                        if (vp_dot3(w, n3) < 0.0) { n3[0] = -n3[0]; n3[1] = -n3[1]; n3[2] = -n3[2]; }
+                        top = brute_way_time(&pl, o, n3);
+                        topd = vp_dist3(o, pl.dev.pos);
+                    }
+                }
+                worse += top > best + slack;
+                unlike_untimed += topd > nearest * (1.0 + 1e-9);
+            }
+        }
+        if (vp_planner_next(&pl, &cmd) != VP_OK || cmd.kind == VP_CMD_DONE || ++steps > 2000000) break;
+        if (ell_answer(&pl, &e, &cmd) != VP_OK) break;
+    }
+    printf("timed nearest task: %ld picks; %ld slower than the brute force's quickest (by more than its angles' "
+           "error), %ld lost a task; %ld not the nearest by length\n", picks, worse, lost, unlike_untimed);
+    CHECK(cmd.kind == VP_CMD_DONE);
+    CHECK(picks > 100 && worse == 0 && lost == 0);
+    /* the checker sees what the order changed: many picks are not the nearest by length */
+    CHECK(unlike_untimed > picks / 20);
+}
+
 /* ---- closing's last resort (close.c, vp_pl_aim_far_vertices) on a triangulation of random
  * points, its sides in every state, against a brute force over every tet: the sides queued are
  * exactly those of an active finite tet holding both ends of an odd edge of the table, left
@@ -1300,6 +1510,8 @@ int main(void)
     test_hole_vertices(arena);
     test_nearest(arena, ARENA, 0.03);
     test_nearest(arena, 200u * 1024u, 0.1);
+    test_timed_route(arena);
+    test_timed_nearest(arena);
     test_far_vertices(arena);
     test_small_arenas(arena);
     free(arena);
