@@ -938,6 +938,10 @@ static int scan_report(scan_job_t *j)
         }
         printf("planner: %llu probes in all, largest ball %.4g mm (eps %g), arena peak %zu bytes\n",
                (unsigned long long)ps.probes, ps.max_ball, j->o.eps, ps.arena_peak);
+        if (j->cfg.axis_time[2] > 0)
+            printf("planner: moves weighed by the axes' top speeds (body mode): the next probe the one the head reaches "
+                   "soonest; %llu of %llu ways round Omega taken level (the slowest axis moved least)\n",
+                   (unsigned long long)ps.level_routes, (unsigned long long)ps.routes);
         if (j->b.clearance > 0 && j->b.min_feature > 0)
             printf("tubes: min feature %g mm, margin %g mm ([omega]): %llu moves inside Omega, %llu probes started "
                    "inside it, %llu of them past what occluded their line; %llu tubes surveyed first (%llu probes, "
@@ -1064,6 +1068,9 @@ static int scan_report(scan_job_t *j)
                        (unsigned long long)ps.rescan_unseen,
                        (unsigned long long)ps.rescan_normal, (unsigned long long)ps.reproved,
                        (unsigned long long)ps.reprove_blocked);
+            if (j->cfg.axis_time[2] > 0)
+                printf(",\"level_routes\":%llu,\"routes\":%llu", (unsigned long long)ps.level_routes,
+                       (unsigned long long)ps.routes);
             if (j->b.clearance > 0)
                 printf(",\"aims\":%llu,\"aim_balls\":%llu,\"aim_reached\":%llu,\"far_line_sides\":%llu,\"last_resorts\":%llu",
                        (unsigned long long)ps.aims, (unsigned long long)ps.aim_balls,

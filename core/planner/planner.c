@@ -346,7 +346,7 @@ static int phase_step(vp_planner_t *pl, int *done)
         if (pl->pool.ntask > 0) {
             vp_task_t k;
 #ifndef VP_CORE_MCU
-            /* body mode: the task whose probe starts nearest the head goes first */
+            /* body mode: the task whose probe starts nearest the head (timed: soonest) goes first */
             if (pl->cfg.clearance > 0.0 && pl->pool.ntask > 1) vp_pl_task_nearest_on_top(pl);
             if (pl->pool.ntask == 0) return pl->error; /* every task had gone */
 #endif

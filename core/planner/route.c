@@ -4,7 +4,8 @@
  * the paper's paths back to R^3 \ Omega); the free graph joins records by proven-free
  * segments. Routes: around Omega outside it, along prev chains (VP_PLAN_PREV_CHAINS, the
  * paper), or by A* over the free graph with a straight shortcut probed when the search runs
- * long. */
+ * long. Body mode with the axes' speeds (timed): the way round a ball Omega that takes the
+ * least machine time, and the machine time of the way to a probe (the nearest task, tasks.c). */
 #include "vp_planner_priv.h"
 
 /* ---------- Omega ---------- */
