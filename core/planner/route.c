@@ -499,13 +499,15 @@ static int level_setup(const vp_planner_t *pl, const double *a, const double *b,
 }
 
 /* Measures (route == 0) or appends the level way from a to b; its machine time in *t. Returns
- * 0 when there is none or a piece of it would enter Omega. */
+ * 0 when there is none, a piece of it would enter Omega, or (route != 0) the route has no room
+ * for it (nothing appended then). */
 static int level_route(vp_planner_t *pl, const double *a, const double *b, int route, double *t)
 {
     level_t L;
     double prev[3], w[3];
     int n, q;
     if (!level_setup(pl, a, b, &L, &n)) return 0;
+    if (route && (uint64_t)pl->route.n + (uint64_t)n + 2u > pl->route.cap) return 0;
     memcpy(prev, a, sizeof prev);
     *t = 0.0;
     for (q = 0; q <= n + 1; q++) {
@@ -535,7 +537,11 @@ static int body_route(vp_planner_t *pl, const double *a, const double *b, double
     }
     if (!level_route(pl, a, b, 0, &tl) || tl > t) return VP_OK;
     pl->route.n = n0;
-    if (!level_route(pl, a, b, 1, &tl)) return VP_ENOMEM; /* the way measured just now */
+    if (!level_route(pl, a, b, 1, &tl)) {
+        /* no room for the level way's points: the great circle's again */
+        pl->route.n = n0;
+        return outside_route(pl, a, b, 0, len);
+    }
     pl->st.level_routes++;
     for (*len = 0.0, p = a, q = n0; q < pl->route.n; q++) {
         *len += vp_dist3(p, pl->route.pts + 3 * (size_t)q);

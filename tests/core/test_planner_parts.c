@@ -1140,6 +1140,35 @@ static void test_timed_route(void *arena)
             CHECKF(tt < 0.5 * tu, "level way %g s, great circle %g s", tt, tu);
         }
     }
+    /* a route with no room for the level way's points takes the great circle's (never half a way) */
+    {
+        uint32_t cap;
+        for (cap = 4; cap <= 64; cap *= 2) {
+            double z;
+            int inside = 0, rc;
+            CHECK(init(&pl, arena, VP_OMEGA_BALL) == VP_OK);
+            pl.cfg.clearance = 0.01;
+            memcpy(pl.cfg.axis_time, timed_axes, sizeof timed_axes);
+            a[0] = 0.8; a[1] = 0.0; a[2] = 0.6;
+            b[0] = -0.8; b[1] = 0.0; b[2] = 0.6;
+            CHECK(vp_pl_rec_new(&pl, a, NONE, REC_OUT, &r) == VP_OK);
+            pl.dev.at = r;
+            pl.route.cap = cap;
+            rc = vp_pl_plan_route(&pl, NONE, b);
+            if (rc == VP_OK) {
+                route_time(&pl, a, &z, &inside);
+                CHECKF(inside == 0 && vp_dist3(pl.route.pts + 3 * (size_t)(pl.route.n - 1), b) == 0.0,
+                       "cap %u: %d pieces in Omega", cap, inside);
+                CHECKF((pl.st.level_routes > 0) == (z < 0.7), "cap %u: level %llu, up to z %g", cap,
+                       (unsigned long long)pl.st.level_routes, z);
+            } else {
+                CHECKF(rc == VP_ENOMEM && pl.st.level_routes == 0, "cap %u: %d", cap, rc);
+            }
+            if (cap == 16) CHECKF(rc == VP_OK && pl.st.level_routes == 0, "cap 16: the great circle's way (%d)", rc);
+            if (cap == 64) CHECKF(rc == VP_OK && pl.st.level_routes == 1, "cap 64: the level way fits (%d)", rc);
+            if (cap == 4) CHECKF(rc == VP_ENOMEM, "cap 4: %d", rc);
+        }
+    }
     printf("timed ways round a ball: %d of 400 level, %.1f%% of the untimed time at top speed; %d longer, %d pieces "
            "in Omega\n", level, 100.0 * sum_t / sum_u, longer, bad);
     CHECK(bad == 0 && longer == 0 && level > 100 && sum_t < 0.9 * sum_u);
