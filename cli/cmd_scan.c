@@ -383,6 +383,13 @@ static int scan_parse(scan_job_t *j, int argc, char **argv)
 
 /* The RESCAN events of a loaded log; the last one's object (its text "--surface SPEC", a dry
  * run's) into surface when it names one. */
+/* body mode with the axes' times: the planner weighs its moves by machine time (as
+ * core/planner/route.c's vp_pl_timed_cfg) */
+static int timed_cfg(const vp_planner_config_t *c)
+{
+    return c->clearance > 0 && c->axis_time[0] > 0 && c->axis_time[1] > 0 && c->axis_time[2] > 0;
+}
+
 static int count_rescans(const vp_sessionlog_t *L, char *surface, size_t n)
 {
     uint32_t i;
@@ -938,9 +945,9 @@ static int scan_report(scan_job_t *j)
         }
         printf("planner: %llu probes in all, largest ball %.4g mm (eps %g), arena peak %zu bytes\n",
                (unsigned long long)ps.probes, ps.max_ball, j->o.eps, ps.arena_peak);
-        if (j->cfg.axis_time[2] > 0)
+        if (timed_cfg(&j->cfg))
             printf("planner: moves weighed by the axes' top speeds (body mode): the next probe the one the head reaches "
-                   "soonest; %llu of %llu ways round Omega taken level (the slowest axis moved least)\n",
+                   "soonest; %llu of %llu routes taken level round Omega (the slowest axis moved least)\n",
                    (unsigned long long)ps.level_routes, (unsigned long long)ps.routes);
         if (j->b.clearance > 0 && j->b.min_feature > 0)
             printf("tubes: min feature %g mm, margin %g mm ([omega]): %llu moves inside Omega, %llu probes started "
@@ -1068,7 +1075,7 @@ static int scan_report(scan_job_t *j)
                        (unsigned long long)ps.rescan_unseen,
                        (unsigned long long)ps.rescan_normal, (unsigned long long)ps.reproved,
                        (unsigned long long)ps.reprove_blocked);
-            if (j->cfg.axis_time[2] > 0)
+            if (timed_cfg(&j->cfg))
                 printf(",\"level_routes\":%llu,\"routes\":%llu", (unsigned long long)ps.level_routes,
                        (unsigned long long)ps.routes);
             if (j->b.clearance > 0)

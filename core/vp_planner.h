@@ -91,8 +91,10 @@ typedef struct vp_planner_config {
                                     the probe's direction) and tilt (its elevation) per radian.
                                     The ways round Omega and the order of the probes are then
                                     chosen for machine time, not length. All 0: length */
-    double pan_travel[2];        /* the pan's travel in radians (lo < hi): a turn across its ends
-                                    goes the long way round. Both 0: the pan turns freely */
+    double pan_travel[2];        /* the pan's travel in radians (lo < hi, each within 1000): a
+                                    turn across its ends goes the long way round. Both 0: the pan
+                                    turns freely. Timed needs the x, y and z times; pan and tilt
+                                    may be 0 (not weighed) */
 } vp_planner_config_t;
 
 /* VP_CMD_RAY is never issued by vp_planner_next: it names one more ray of the last PROBE's frame
@@ -215,11 +217,11 @@ typedef struct vp_pl_pools {
     uint32_t *heap; uint32_t nheap, cap_heap;         /* bad balls, max-heap on radius: facets.c */
     vp_task_t *task; uint32_t ntask, cap_task;        /* pending probes (a stack): tasks.c */
     vp_task_near_t *near;                             /* per task slot in body mode (an arena
-                                                         of some 2.6 MB up), else NULL: tasks.c
+                                                         of some 2.6 MB up, 3 MB timed), else NULL: tasks.c
                                                          (the nearest task) */
-    double *near_dir;                                 /* timed body mode: beside each kept
+    float *near_dir;                                  /* timed body mode: beside each kept
                                                          start, its probe's direction (3 per
-                                                         slot: the head's turn, route.c) */
+                                                         slot, a cost's estimate: route.c) */
     vp_proof_t *proof; uint32_t nproof, cap_proof;    /* free parts of probes: proof.c */
     uint32_t *astar; uint32_t cap_astar;              /* scratch, see VP_PL_SCRATCH in the
                                                          private header for who owns it when */
@@ -246,8 +248,9 @@ typedef struct vp_pl_device {
     uint32_t at;                           /* record it stands at (VP_DT_NONE between) */
     int awaiting;                          /* 1: a PROBE was issued, feed() expected */
     double iss_o[3], iss_d[3], iss_range;  /* the PROBE issued last */
-    double pan;                            /* the pan it was aimed with (radians, within
-                                              pan_travel; timed body mode: route.c) */
+    double pan;                            /* the pan it was aimed with last (radians; timed
+                                              body mode: route.c), before the first probe 0
+                                              or the nearest end of pan_travel */
 } vp_pl_device_t;
 
 /* The probe being carried out: prepared by task_start (tasks.c) or the seed/reseed steps

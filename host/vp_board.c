@@ -1418,6 +1418,9 @@ void vp_board_planner_config(const vp_board_t *b, vp_planner_config_t *c)
             c->axis_time[a] = (a < 3 ? 1.0 : 180.0 / M_PI) / b->axis[a].ax.max_speed;
         c->pan_travel[0] = b->axis[VP_J_PAN].ax.travel_min * (M_PI / 180.0);
         c->pan_travel[1] = b->axis[VP_J_PAN].ax.travel_max * (M_PI / 180.0);
+        if (c->pan_travel[1] - c->pan_travel[0] >= 4.0 * M_PI || fabs(c->pan_travel[0]) > 100.0 ||
+            fabs(c->pan_travel[1]) > 100.0)
+            c->pan_travel[0] = c->pan_travel[1] = 0.0; /* two turns and more: as if it turned freely */
     }
     if (b->line_laser) {
         /* the rays a frame can give: one per column looked at */

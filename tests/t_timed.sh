@@ -80,18 +80,23 @@ if sys.argv[1] == 'self':
     print(i1, s1, q1, i2, s2, q2, i3, s3, q3)
     sys.exit(0 if (i1 == 1 and i2 == 0 and q2 == 0 and i3 == 0 and s3 == 0 and q3 == 1) else 1)
 ways = []; cur = None
+every = [(200.0, 150.0, 232.0)]                 # the board's start, then every place in turn
 for line in sys.stdin:
     m = re.search(r'MOVE to (\S+) (\S+) (\S+)', line)
     if m:
         p = tuple(map(float, m.groups()))
+        every.append(p)
         if cur is not None: cur.append(p)
         continue
     m = re.search(r'PROBE from (\S+) (\S+) (\S+)', line)
     if m:
         p = tuple(map(float, m.groups()))
+        every.append(p)
         if cur is not None and len(cur) > 1: ways.append(cur)
         cur = [p]
 inside, slower, quicker = check(ways)
+# every move, the ones before the first probe and after the last too
+inside += sum(seg_min_dist(every[i], every[i + 1]) < R - 1e-6 for i in range(len(every) - 1))
 print(len(ways), inside, slower, quicker)
 EOF
 "$PY" "$tmp/ways.py" self >"$tmp/self.txt" || bad "the ways' checker passes a chord through Omega or misjudges its own cases: $(cat "$tmp/self.txt")"

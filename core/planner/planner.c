@@ -7,6 +7,7 @@
  * (SCRATCH_MIN words of scratch) no object can be scanned. A route holds ROUTE_CAP_MAX points
  * at most: a path search expands SEARCH_FULL records, so longer routes never occur. */
 #define CFG_MAX 1e150
+#define PAN_TRAVEL_MAX 1e3 /* radians: the ends of the pan's travel (a board's wider travel turns freely) */
 #define MIN_ANGLE_MAX 30.0 /* degrees: above it Delaunay refinement need not terminate */
 #define ARENA_MIN (64u * 1024u)
 #define POOL_MIN 64u
@@ -28,7 +29,7 @@ static const unsigned char split[2][8] = {{20, 7, 6, 8, 7, 1, PROOF_SHARE, 28}, 
 
 /* the bytes a task slot's kept start takes (none on a microcontroller core: it keeps none) */
 #ifndef VP_CORE_MCU
-#define TASK_NEAR_BYTES(pl) ((pl)->pool.near ? sizeof(vp_task_near_t) + ((pl)->pool.near_dir ? 3 * sizeof(double) : 0u) : 0u)
+#define TASK_NEAR_BYTES(pl) ((pl)->pool.near ? sizeof(vp_task_near_t) + ((pl)->pool.near_dir ? 3 * sizeof(float) : 0u) : 0u)
 #else
 #define TASK_NEAR_BYTES(pl) 0u
 #endif
@@ -107,9 +108,8 @@ int vp_planner_init(vp_planner_t *pl, void *arena, size_t bytes, const vp_planne
 #if VP_PL_TIMED
     for (k = 0; k < VP_PLANNER_AXES; k++)
         if (!(cfg->axis_time[k] >= 0.0) || cfg->axis_time[k] > CFG_MAX) return VP_EINVAL;
-    if (!vp_finite(cfg->pan_travel[0]) || !vp_finite(cfg->pan_travel[1]) ||
-        (cfg->pan_travel[0] != 0.0 || cfg->pan_travel[1] != 0.0 ? !(cfg->pan_travel[0] < cfg->pan_travel[1]) ||
-         cfg->pan_travel[1] - cfg->pan_travel[0] > 1e3 : 0))
+    if (!(fabs(cfg->pan_travel[0]) <= PAN_TRAVEL_MAX) || !(fabs(cfg->pan_travel[1]) <= PAN_TRAVEL_MAX) ||
+        ((cfg->pan_travel[0] != 0.0 || cfg->pan_travel[1] != 0.0) && !(cfg->pan_travel[0] < cfg->pan_travel[1])))
         return VP_EINVAL;
 #endif
     memset(pl, 0, sizeof *pl);
@@ -136,12 +136,13 @@ int vp_planner_init(vp_planner_t *pl, void *arena, size_t bytes, const vp_planne
     pl->pool.cap_astar = (uint32_t)(sh[3] * unit / 4);
     pl->route.cap_path = (uint32_t)(unit / 4);
     /* body mode: each task slot has its start kept beside it (the nearest task, tasks.c), where
-     * the task share then still holds NEAR_ROOM times an update's headroom (from about 2.6 MB):
-     * in a smaller arena the starts are worked out at each pick */
+     * the task share then still holds NEAR_ROOM times an update's headroom (from about 2.6 MB;
+     * timed, with each start's direction, 3 MB): in a smaller arena the starts are worked out
+     * at each pick */
     pl->pool.cap_task = (uint32_t)(sh[4] * unit / sizeof(vp_task_t));
 #ifndef VP_CORE_MCU /* a microcontroller core keeps the newest-first order (its flash budget) */
     if (cfg->clearance > 0.0) {
-        size_t slot = sizeof(vp_task_t) + sizeof(vp_task_near_t) + (vp_pl_timed_cfg(cfg) ? 3 * sizeof(double) : 0u);
+        size_t slot = sizeof(vp_task_t) + sizeof(vp_task_near_t) + (vp_pl_timed_cfg(cfg) ? 3 * sizeof(float) : 0u);
         uint32_t cap_near = (uint32_t)(sh[4] * unit / slot);
         if (cap_near >= NEAR_ROOM * pl->pool.room) { keep_starts = 1; pl->pool.cap_task = cap_near; }
     }
@@ -162,7 +163,7 @@ int vp_planner_init(vp_planner_t *pl, void *arena, size_t bytes, const vp_planne
         memset(pl->pool.near, 0, (size_t)pl->pool.cap_task * sizeof(vp_task_near_t)); /* no key is all 0 */
 #if VP_PL_TIMED
         if (vp_pl_timed_cfg(cfg)) {
-            pl->pool.near_dir = carve(&cur, end, (size_t)pl->pool.cap_task * 3 * sizeof(double));
+            pl->pool.near_dir = carve(&cur, end, (size_t)pl->pool.cap_task * 3 * sizeof(float));
             if (!pl->pool.near_dir) return VP_ENOMEM;
         }
 #endif
@@ -220,6 +221,11 @@ int vp_planner_init(vp_planner_t *pl, void *arena, size_t bytes, const vp_planne
         pl->sin_angle = x * (1.0 - x2 / 6.0 * (1.0 - x2 / 20.0 * (1.0 - x2 / 42.0 * (1.0 - x2 / 72.0))));
     }
     memcpy(pl->dev.pos, cfg->start, sizeof pl->dev.pos);
+#if VP_PL_TIMED
+    /* the pan before the first probe: 0, or the nearest end of its travel */
+    if (cfg->pan_travel[0] > 0.0) pl->dev.pan = cfg->pan_travel[0];
+    if (cfg->pan_travel[1] < 0.0) pl->dev.pan = cfg->pan_travel[1];
+#endif
 #if VP_PL_CONTACTS
     pl->rescan.drop = pl->rescan.cur = NONE; /* no re-scan yet */
 #endif
@@ -242,7 +248,7 @@ static void issue_probe(vp_planner_t *pl, vp_cmd_t *cmd, const double *from, con
     memcpy(pl->dev.iss_d, cmd->dir, sizeof pl->dev.iss_d);
     pl->dev.iss_range = cmd->range;
 #if VP_PL_TIMED
-    if (vp_pl_timed(pl)) pl->dev.pan = vp_pl_pan_for(pl, dir);
+    if (vp_pl_timed(pl)) vp_pl_pan_aim(pl, dir);
 #endif
     pl->probe.cur_proof = PROOF_NONE;
 #if VP_PL_CONTACTS

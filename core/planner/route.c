@@ -335,13 +335,10 @@ static int outside_route(vp_planner_t *pl, const double *a, const double *b, int
 
 #if VP_PL_TIMED
 /* 1 when body mode weighs moves by the axes' speeds */
+/* timed: a body, and the times of x, y and z (pan and tilt may be left out) */
 VP_PL_API int vp_pl_timed_cfg(const vp_planner_config_t *c)
 {
-    int k;
-    if (!(c->clearance > 0.0)) return 0;
-    for (k = 0; k < VP_PLANNER_AXES; k++)
-        if (c->axis_time[k] > 0.0) return 1;
-    return 0;
+    return c->clearance > 0.0 && c->axis_time[0] > 0.0 && c->axis_time[1] > 0.0 && c->axis_time[2] > 0.0;
 }
 
 VP_PL_API int vp_pl_timed(const vp_planner_t *pl) { return vp_pl_timed_cfg(&pl->cfg); }
@@ -374,25 +371,40 @@ static double turn_angle(double y, double x)
     return y < 0.0 ? -a : a;
 }
 
+/* q turned by whole turns to the nearest to cur (floor: exact) */
+static double turn_near(double q, double cur)
+{
+    return q + 2.0 * TURN_PI * floor((cur - q) / (2.0 * TURN_PI) + 0.5);
+}
+
 /* The pan that aims along dir from where the head is aimed now (dev.pan): the direction's
  * azimuth turned by whole turns to the nearest within the pan's travel (a machine's aim does
- * the same), or, a pan that turns freely, the one at most half a turn away. */
+ * the same), or, a pan that turns freely, the one at most half a turn away. Straight up or
+ * down any pan aims: the head keeps its own. */
 VP_PL_API double vp_pl_pan_for(const vp_planner_t *pl, const double *dir)
 {
-    double p = turn_angle(dir[1], dir[0]), cur = pl->dev.pan, lo = pl->cfg.pan_travel[0], hi = pl->cfg.pan_travel[1];
-    double best = p, bd = VP_PL_HUGE, q;
-    int free = lo == 0.0 && hi == 0.0, k;
-    while (p - cur > TURN_PI) p -= 2.0 * TURN_PI;
-    while (cur - p > TURN_PI) p += 2.0 * TURN_PI;
-    if (free) return p;
-    for (k = -2; k <= 2; k++) {
+    double cur = pl->dev.pan, lo = pl->cfg.pan_travel[0], hi = pl->cfg.pan_travel[1], p, q, best, bd = VP_PL_HUGE;
+    int k;
+    if (!(dir[0] * dir[0] + dir[1] * dir[1] > 1e-18)) return cur;
+    p = turn_near(turn_angle(dir[1], dir[0]), cur);
+    if (lo == 0.0 && hi == 0.0) return p;
+    best = p < lo ? lo : p > hi ? hi : p; /* none within travel: as near as it goes */
+    for (k = -1; k <= 1; k++) {
         q = p + k * 2.0 * TURN_PI;
         if (q >= lo && q <= hi && fabs(q - cur) < bd) {
             bd = fabs(q - cur);
             best = q;
         }
     }
-    return bd < VP_PL_HUGE ? best : (p < lo ? lo : p > hi ? hi : p);
+    return best;
+}
+
+/* A PROBE along dir goes out: the pan it is aimed with (a pan that turns freely kept within
+ * half a turn of 0: only its turns count) */
+VP_PL_API void vp_pl_pan_aim(vp_planner_t *pl, const double *dir)
+{
+    double p = vp_pl_pan_for(pl, dir);
+    pl->dev.pan = pl->cfg.pan_travel[0] == 0.0 && pl->cfg.pan_travel[1] == 0.0 ? turn_near(p, 0.0) : p;
 }
 
 /* The least machine time of the way to a probe from o along dir: the straight move's, or
@@ -566,7 +578,7 @@ VP_PL_API int vp_pl_route_outside(vp_planner_t *pl, const double *q)
     pl->route.from = pl->dev.at;
     pl->route.deferred = 0;
     pl->sc.to = NONE;
-    VP_TRY(outside_route(pl, pl->dev.pos, q, 0, &len));
+    VP_TRY(body_route(pl, pl->dev.pos, q, &len));
     VP_TRY(vp_pl_rec_new(pl, q, NONE, REC_OUT, &b));
     pl->dev.at = b;
     return VP_OK;

@@ -338,21 +338,39 @@ VP_PL_API int vp_pl_task_origin(const vp_planner_t *pl, const vp_task_t *k, doub
 /* vp_pl_task_origin of the live, startable task in slot i, worked out again only when its edge
  * is not the one kept in the slot's vp_task_near_t (an insertion replaced a tet of it, or the
  * slot holds another task; every time in an arena too small to keep them) */
+static void near_dir_put(vp_planner_t *pl, uint32_t i, const double *d)
+{
+    float *f = pl->pool.near_dir + 3 * (size_t)i;
+    f[0] = (float)d[0];
+    f[1] = (float)d[1];
+    f[2] = (float)d[2];
+}
+
 static int task_origin_kept(vp_planner_t *pl, uint32_t i, double *o, double *dir)
 {
     const vp_task_t *k = &pl->pool.task[i];
     vp_task_near_t *c = pl->pool.near ? &pl->pool.near[i] : NULL;
     const uint32_t *w, *x;
-    if (!c) return edge_origin(pl, k->tet, k->facet, o, dir); /* a small arena keeps no starts */
+    if (!c) {
+        /* a small arena keeps no starts; the direction as a kept one would be (a float) */
+        int ok = edge_origin(pl, k->tet, k->facet, o, dir), q;
+        for (q = 0; ok && dir && q < 3; q++) dir[q] = (double)(float)dir[q];
+        return ok;
+    }
     w = vp_dt_tet(&pl->dt, k->tet);
     x = vp_dt_tet(&pl->dt, w[4 + k->facet] >> 2);
     if (memcmp(c->tv, w, sizeof c->tv) != 0 || memcmp(c->uv, x, sizeof c->uv) != 0) {
-        c->ok = (uint8_t)edge_origin(pl, k->tet, k->facet, c->o, pl->pool.near_dir ? pl->pool.near_dir + 3 * (size_t)i : NULL);
+        double d[3] = { 0.0, 0.0, 0.0 };
+        c->ok = (uint8_t)edge_origin(pl, k->tet, k->facet, c->o, d);
         memcpy(c->tv, w, sizeof c->tv);
         memcpy(c->uv, x, sizeof c->uv);
+        if (pl->pool.near_dir) near_dir_put(pl, i, d);
     }
     if (c->ok) memcpy(o, c->o, sizeof c->o);
-    if (c->ok && dir) memcpy(dir, pl->pool.near_dir + 3 * (size_t)i, 3 * sizeof(double));
+    if (c->ok && dir) {
+        const float *f = pl->pool.near_dir + 3 * (size_t)i;
+        dir[0] = f[0]; dir[1] = f[1]; dir[2] = f[2];
+    }
     return c->ok;
 }
 
@@ -375,7 +393,7 @@ VP_PL_API void vp_pl_task_nearest_on_top(vp_planner_t *pl)
             if (n != i) {
                 pl->pool.task[n] = pl->pool.task[i];
                 if (pl->pool.near) pl->pool.near[n] = pl->pool.near[i];
-                if (pl->pool.near_dir) memcpy(pl->pool.near_dir + 3 * (size_t)n, pl->pool.near_dir + 3 * (size_t)i, 3 * sizeof(double));
+                if (pl->pool.near_dir) memcpy(pl->pool.near_dir + 3 * (size_t)n, pl->pool.near_dir + 3 * (size_t)i, 3 * sizeof(float));
             }
         }
         if (live && task_startable(pl, &pl->pool.task[n]) && task_origin_kept(pl, n, o, timed ? dir : NULL)) {
@@ -401,7 +419,7 @@ VP_PL_API void vp_pl_task_nearest_on_top(vp_planner_t *pl)
             pl->pool.near[top] = c;
         }
         if (pl->pool.near_dir) {
-            double *a = pl->pool.near_dir + 3 * (size_t)best, *b = pl->pool.near_dir + 3 * (size_t)top, x[3];
+            float *a = pl->pool.near_dir + 3 * (size_t)best, *b = pl->pool.near_dir + 3 * (size_t)top, x[3];
             memcpy(x, a, sizeof x);
             memcpy(a, b, sizeof x);
             memcpy(b, x, sizeof x);

@@ -325,6 +325,7 @@ VP_PL_API int vp_pl_timed_cfg(const vp_planner_config_t *c);
 VP_PL_API int vp_pl_timed(const vp_planner_t *pl);
 VP_PL_API double vp_pl_move_time(const vp_planner_t *pl, const double *a, const double *b);
 VP_PL_API double vp_pl_pan_for(const vp_planner_t *pl, const double *dir);
+VP_PL_API void vp_pl_pan_aim(vp_planner_t *pl, const double *dir);
 VP_PL_API double vp_pl_way_time(const vp_planner_t *pl, const double *o, const double *dir);
 #endif
 #if VP_PL_CONTACTS

@@ -1082,6 +1082,22 @@ static void test_nearest(void *arena, size_t bytes, double eps)
 static const double timed_axes[VP_PLANNER_AXES] = { 1.0 / 150, 1.0 / 120, 1.0 / 15, 1.0 / 1.5707963267948966,
                                                     1.0 / 1.0471975511965976 };
 
+#define DEG (3.14159265358979324 / 180.0)
+static void dir_at(double *d, double deg)
+{
+    d[0] = cos(deg * DEG);
+    d[1] = sin(deg * DEG);
+    d[2] = 0.0;
+}
+
+static double bits_nan(void)
+{
+    uint64_t u = 0x7FF8000000000000ull;
+    double x;
+    memcpy(&x, &u, sizeof x);
+    return x;
+}
+
 static double top_speed_time(const double *w, const double *a, const double *b)
 {
     double t = 0.0;
@@ -1213,14 +1229,83 @@ static void test_timed_route(void *arena)
             }
         }
         CHECKF(seam == 0, "%d pans off the brute force's at the seam", seam);
-        /* a turn across the seam goes the long way: from 175 to -175 degrees is 350 */
-        pl.dev.pan = 175.0 * 3.14159265358979324 / 180.0;
-        d[0] = cos(-175.0 * 3.14159265358979324 / 180.0); d[1] = sin(-175.0 * 3.14159265358979324 / 180.0); d[2] = 0.0;
+        /* at 175 degrees, aiming at -175 (= 185): within travel, 10 degrees on */
+        pl.dev.pan = 175.0 * DEG;
+        dir_at(d, -175.0);
         p = vp_pl_pan_for(&pl, d);
-        CHECKF(fabs(p - 185.0 * 3.14159265358979324 / 180.0) < 2e-6, "pan %g", p * 180.0 / 3.14159265358979324);
+        CHECKF(fabs(p - 185.0 * DEG) < 2e-6, "pan %g", p / DEG);
         pl.dev.pan = 0.0;
         p = vp_pl_pan_for(&pl, d);
-        CHECKF(fabs(p + 175.0 * 3.14159265358979324 / 180.0) < 2e-6, "pan %g", p * 180.0 / 3.14159265358979324);
+        CHECKF(fabs(p + 175.0 * DEG) < 2e-6, "pan %g", p / DEG);
+        /* the long way: at 185, aiming at 195 (beyond 190) turns back to -165, 350 degrees */
+        pl.dev.pan = 185.0 * DEG;
+        dir_at(d, 195.0);
+        p = vp_pl_pan_for(&pl, d);
+        CHECKF(fabs(p + 165.0 * DEG) < 2e-6, "pan %g", p / DEG);
+        /* a travel of less than a turn, -90..90: aiming at 170 from 80 goes as far as it can, 90 */
+        pl.cfg.pan_travel[0] = -90.0 * DEG;
+        pl.cfg.pan_travel[1] = 90.0 * DEG;
+        pl.dev.pan = 80.0 * DEG;
+        dir_at(d, 170.0);
+        p = vp_pl_pan_for(&pl, d);
+        CHECKF(fabs(p - 90.0 * DEG) < 2e-6, "pan %g", p / DEG);
+        dir_at(d, -100.0);
+        p = vp_pl_pan_for(&pl, d);
+        CHECKF(fabs(p + 90.0 * DEG) < 2e-6, "pan %g", p / DEG);
+        /* the head outside its travel (before the first probe): into it, the nearest way */
+        pl.dev.pan = 120.0 * DEG;
+        dir_at(d, 45.0);
+        p = vp_pl_pan_for(&pl, d);
+        CHECKF(fabs(p - 45.0 * DEG) < 2e-6, "pan %g", p / DEG);
+        /* straight down: any pan aims there, the head keeps its own */
+        d[0] = d[1] = 0.0; d[2] = -1.0;
+        p = vp_pl_pan_for(&pl, d);
+        CHECKF(p == pl.dev.pan, "pan %g for straight down from %g", p / DEG, pl.dev.pan / DEG);
+        /* a pan that turns freely, far round: the nearest whole turn, at once, kept near 0 */
+        pl.cfg.pan_travel[0] = pl.cfg.pan_travel[1] = 0.0;
+        pl.dev.pan = 1e6 * DEG;
+        dir_at(d, 10.0);
+        p = vp_pl_pan_for(&pl, d);
+        {
+            double rem = fmod(p / DEG - 10.0 + 3600.0 * 1e3, 360.0);
+            CHECKF(fabs(p - pl.dev.pan) < 180.0 * DEG + 1e-6 && (rem < 1e-3 || rem > 360.0 - 1e-3), "free pan %g from %g",
+                   p / DEG, pl.dev.pan / DEG);
+        }
+        vp_pl_pan_aim(&pl, d);
+        CHECKF(fabs(pl.dev.pan - 10.0 * DEG) < 2e-6, "free pan kept at %g", pl.dev.pan / DEG);
+    }
+    /* vp_planner_init refuses a pan's travel beyond 1000 radians, inverted or NaN, and a
+     * negative or NaN axis time; x, y, z times are needed for timed (pan and tilt alone: not) */
+    {
+        vp_planner_config_t c;
+        double bad_travel[4][2] = { { 1e17, 1e17 + 64 }, { 1.0, -1.0 }, { 0.5, 0.5 }, { -1.0, 0.0 } };
+        config(&c, VP_OMEGA_BALL);
+        c.clearance = 0.01;
+        memcpy(c.axis_time, timed_axes, sizeof timed_axes);
+        c.pan_travel[0] = -3.3;
+        c.pan_travel[1] = 3.3;
+        CHECK(vp_planner_init(&pl, arena, ARENA, &c) == VP_OK && vp_pl_timed(&pl));
+        for (i = 0; i < 4; i++) {
+            vp_planner_config_t x = c;
+            x.pan_travel[0] = bad_travel[i][0];
+            x.pan_travel[1] = bad_travel[i][1];
+            if (i == 3) x.pan_travel[1] = bits_nan();
+            CHECKF(vp_planner_init(&pl, arena, ARENA, &x) == VP_EINVAL, "pan travel %g %g taken", x.pan_travel[0], x.pan_travel[1]);
+        }
+        for (i = 0; i < VP_PLANNER_AXES; i++) {
+            vp_planner_config_t x = c;
+            x.axis_time[i] = -1.0;
+            CHECK(vp_planner_init(&pl, arena, ARENA, &x) == VP_EINVAL);
+            x.axis_time[i] = bits_nan();
+            CHECK(vp_planner_init(&pl, arena, ARENA, &x) == VP_EINVAL);
+        }
+        c.axis_time[0] = c.axis_time[1] = c.axis_time[2] = 0.0;
+        CHECK(vp_planner_init(&pl, arena, ARENA, &c) == VP_OK && !vp_pl_timed(&pl));
+        /* the first pan: the nearest end of a travel that leaves 0 out */
+        memcpy(c.axis_time, timed_axes, sizeof timed_axes);
+        c.pan_travel[0] = 0.5;
+        c.pan_travel[1] = 2.0;
+        CHECK(vp_planner_init(&pl, arena, ARENA, &c) == VP_OK && pl.dev.pan == 0.5);
     }
 }
 
