@@ -5,6 +5,8 @@ sh bench/delaunay.sh "$B"
 echo
 sh bench/planner.sh "$B"
 echo
+sh bench/machine.sh "$B"
+echo
 sh bench/accuracy.sh "$B"
 echo
 sh bench/sizing.sh "$B"

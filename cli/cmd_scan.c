@@ -65,6 +65,9 @@ static void scan_usage(FILE *f)
         "  --near-spots M   a spot nearer than the rangefinder's min_range: too-close (the planner\n"
         "                   gets VP_PROBE_TOO_CLOSE: never free, never sampled) or measure (a hit\n"
         "                   at the model's extrapolated distance); default: the board's near_spots\n"
+        "  --by-length      body mode: the head's moves ordered by length, as before they were weighed\n"
+        "                   by the axes' speeds (the next probe the nearest, the ways round Omega\n"
+        "                   along its surface): to compare machine times\n"
         "  --quiet          no progress line\n"
         "  --json           end with one JSON object (status, probes, mesh, moves, stop_reason when it\n"
         "                   stopped short; dry run: moves through the object, head collisions by\n"
@@ -110,6 +113,7 @@ typedef struct scan_opts {
     int confirm, dry, resume, quiet, have_sync, json;
     int sparse;                   /* --rescan-sparse (VP_RESCAN_SPARSE) */
     int reach_out;                /* --reach-out: a dry run's object may reach out of Omega */
+    int by_length;                /* --by-length: body mode's moves not weighed by machine time */
     size_t arena;
     unsigned long long seed;
     unsigned long stop_after, estop_at;
@@ -141,6 +145,7 @@ static int scan_option(scan_opts_t *o, int argc, char **argv, int *i, int from_n
     double v;
     if (!strcmp(a, "--dry-run")) { o->dry = 1; return 0; }
     if (!strcmp(a, "--reach-out")) { o->reach_out = 1; return 0; }
+    if (!strcmp(a, "--by-length")) { o->by_length = 1; return 0; }
     if (!strcmp(a, "--resume") && !from_note) { o->resume = 1; return 0; }
     if (!strcmp(a, "--quiet") && !from_note) { o->quiet = 1; return 0; }
     if (!strcmp(a, "--json") && !from_note) { o->json = 1; return 0; }
@@ -218,6 +223,7 @@ static void scan_note(const scan_opts_t *o, const char *board, double eps, const
     vp_note_put_num(buf, n, &len, "--noise-tol", o->noise_tol);
     vp_note_put_opt(buf, n, &len, "--confirm", "%d", o->confirm);
     vp_note_put_str(buf, n, &len, "--near-spots", o->near ? "measure" : "too-close");
+    if (o->by_length) vp_note_put(buf, n, &len, "--by-length");
     if (o->calib) vp_note_put_str(buf, n, &len, "--calib", o->calib);
     if (o->dry) {
         vp_note_put(buf, n, &len, "--dry-run");
@@ -558,6 +564,10 @@ static int scan_prepare(scan_job_t *j)
     if (j->o.accuracy > 0) vp_accuracy_config(&j->cfg, j->o.accuracy);
     j->cfg.noise_tol = j->o.noise_tol;
     j->dev.noise_tol = j->o.noise_tol;
+    if (j->o.by_length) {
+        memset(j->cfg.axis_time, 0, sizeof j->cfg.axis_time);
+        memset(j->cfg.pan_travel, 0, sizeof j->cfg.pan_travel);
+    }
     j->dev.reach_out = j->o.reach_out;
     j->cfg.confirm_misses = (uint32_t)j->o.confirm;
     {

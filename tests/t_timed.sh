@@ -11,6 +11,7 @@
 #     great circle round Omega between its ends (at 1.01 R, the planner's fallback); some ways
 #     are much quicker (the level ones). The checker must fail on a straight chord through the
 #     ball and on a way over the top where the level way was quicker (cases of its own);
+#   - ordered by length instead (--by-length): no axis times in the log, and more machine time;
 #   - cut after 400 commands and resumed: the same commands as the run in one go.
 set -u
 B=${BUILD:-build}
@@ -119,6 +120,19 @@ for e in 16 8; do
   [ $# -eq 4 ] && [ "$2" = 0 ] && [ "$3" = 0 ] && [ "$4" -gt 5 ] ||
     bad "eps $e: ways read back: $* (ways, pieces inside Omega, slower than the great circle, much quicker)"
   out="$out eps $e: $(field "$o.txt" vertices) vertices, $(field "$o.txt" machine_s) s of machine time, $lv of $ro ways level, ${4:-?} of ${1:-?} ways under 0.7 of the great circle's time, 0 slower;"
+done
+# ordered by length (--by-length, as before the axes' speeds were given): the log carries no
+# axis times, --json no level ways, and the machine takes longer (the simulated clock) at both eps
+for e in 16 8; do
+  o="$tmp/l$e"
+  "$VP" scan --board "$tmp/old.ini" --dry-run --eps $e --by-length --log "$o.vplog" --json --quiet >"$o.txt" 2>"$o.err"
+  rc=$?
+  [ $rc -eq 0 ] && [ "$(field "$o.txt" closed)" = true ] || bad "--by-length eps $e: exit $rc"
+  [ -z "$(field "$o.txt" level_routes)" ] || bad "--by-length eps $e: level ways counted"
+  "$VP" log dump "$o.vplog" | head -n 1 | grep -q "format version 6" && bad "--by-length eps $e: a version 6 header"
+  awk -v t="$(field "$tmp/e$e.txt" machine_s)" -v l="$(field "$o.txt" machine_s)" 'BEGIN { exit !(t > 0 && t < l) }' ||
+    bad "eps $e: weighed by machine time $(field "$tmp/e$e.txt" machine_s) s, by length $(field "$o.txt" machine_s) s"
+  out="$out by length at eps $e: $(field "$o.txt" machine_s) s;"
 done
 # cut and resumed: the same commands
 "$VP" scan --board "$tmp/old.ini" --dry-run --eps 16 --log "$tmp/cut.vplog" --stop-after 400 --quiet >/dev/null 2>&1
