@@ -90,14 +90,17 @@ else
   bad "SIGINT: exit $rc"; tail -3 "$tmp/sig.txt"
 fi
 
-# ---- the e-stop pressed during command N: FAULT event, resumable
-"$VP" scan --board $BOARD --dry-run --log "$tmp/es.vplog" $S --estop-at 577 >"$tmp/es.txt" 2>"$tmp/es.err"; rc=$?
+# ---- the e-stop pressed during command N (the first MOVE from command 577 on in the full run's
+# log, commands counted from 1): FAULT event, resumable
+N=$("$VP" log dump "$tmp/full.vplog" | awk '$3 == "MOVE" || $3 == "PROBE" { n++; if (n >= 577 && $3 == "MOVE") { print n; exit } }')
+[ -n "$N" ] || { bad "no MOVE from command 577 on in the full run"; N=577; }
+"$VP" scan --board $BOARD --dry-run --log "$tmp/es.vplog" $S --estop-at $N >"$tmp/es.txt" 2>"$tmp/es.err"; rc=$?
 [ $rc -eq 1 ] || bad "e-stop: exit $rc, not 1"
-grep -q "stopped at command 577 (.*): e-stop pressed: pulses stopped, drivers off" "$tmp/es.err" || { bad "e-stop not reported"; cat "$tmp/es.err"; }
-"$VP" log dump "$tmp/es.vplog" | grep -q "EVENT fault code -12 'command 577 " || bad "e-stop: no FAULT event"
+grep -q "stopped at command $N (move to .*): e-stop pressed: pulses stopped, drivers off" "$tmp/es.err" || { bad "e-stop not reported"; cat "$tmp/es.err"; }
+"$VP" log dump "$tmp/es.vplog" | grep -q "EVENT fault code -12 'command $N " || bad "e-stop: no FAULT event"
 "$VP" log check "$tmp/es.vplog" | grep -q "incomplete (last event: fault)" || bad "e-stop: log check"
 "$VP" scan --log "$tmp/es.vplog" --resume $S >/dev/null 2>&1 || bad "resume after the e-stop"
-same es "e-stop during command 577"
+same es "e-stop during command $N"
 
 # ---- without a clearance the head enters Omega and probes from Voronoi vertices, some nearer
 # than min_range: VP_PROBE_TOO_CLOSE, logged as too close, never as hits
