@@ -57,7 +57,7 @@ set -- $(inside "$tmp/r.vplog")
 awk -v m="$1" -v R="$2" 'BEGIN { exit !(m >= R - 1e-6) }' || bad "the laser origin entered Omega: $1 from its centre (radius $2)"
 premise="$1"
 # the check's own failing case: without a clearance the head enters Omega
-sed 's/^clearance = 58 /clearance = 0 /' $BOARD >"$tmp/nc.ini"
+sed 's/^clearance = 58 /clearance = 0 /; s/^contact_by = mount /contact_by = stylus /' $BOARD >"$tmp/nc.ini"
 "$VP" scan --board "$tmp/nc.ini" --dry-run --log "$tmp/nc.vplog" $S --eps 15 >/dev/null 2>&1
 set -- $(inside "$tmp/nc.vplog")
 awk -v m="$1" -v R="$2" 'BEGIN { exit !(m < R - 1) }' || bad "clearance 0: the premise check did not see the origin inside Omega ($1, radius $2)"
@@ -72,7 +72,7 @@ grep -q "^dry run: head: 0 head collisions" "$tmp/pr.txt" || bad "resumed run: h
 echo "$BOARD dry run: $(grep '^mesh' "$tmp/r.txt" | cut -d';' -f1 | sed 's/mesh: //'), $(field "$tmp/r.txt" probes) probes, 0 head collisions in $motions motions; paused and resumed: 0"
 
 # ---- 2. the same head on the former Omega (clearance 12, ellipsoid*50): the camera hits
-sed -e 's/^io = gpiod /io = sim /' -e 's/^clearance = 58 /clearance = 12 /' -e 's/^ball = 200, 150, 150, 83 /ball = 200, 150, 150, 80 /' \
+sed -e 's/^io = gpiod /io = sim /' -e 's/^contact_by = mount /contact_by = stylus /' -e 's/^clearance = 58 /clearance = 12 /' -e 's/^ball = 200, 150, 150, 83 /ball = 200, 150, 150, 80 /' \
     -e 's/^start = 200, 150, 234 /start = 200, 150, 232 /' -e 's/^surface = ellipsoid\*24@/surface = ellipsoid*50@/' \
     -e 's/^eps = 10 /eps = 16 /' -e 's/^origin_tol = 0.1 /clear_by = swept\norigin_tol = 0.1 /' $BOARD >"$tmp/old.ini"
 grep -q "^clear_by = swept" "$tmp/old.ini" && grep -q "^surface = ellipsoid\*50@" "$tmp/old.ini" || bad "could not edit the board"

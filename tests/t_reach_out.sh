@@ -1,6 +1,7 @@
 #!/bin/sh
 # A misplaced object on the real board: rpi4-gantry's dry run (the head kept outside Omega, its
-# routes round Omega made as watched paths, a contact switch at the laser origin) on an object
+# routes round Omega made as watched paths, its contact switch in the head's mount; a copy with
+# a stylus at the laser origin instead, contact_by = stylus, for the first cases) on an object
 # that reaches out of Omega (`scan --dry-run --reach-out`): a ball of 24 mm in the middle and a
 # knob of 6 mm reaching 3 mm out of Omega (both tests/meshes/icosphere2.off, so that the
 # independent checker reads the same object).
@@ -34,6 +35,10 @@ fail=0
 bad() { echo "FAIL: $*"; fail=1; }
 field() { tail -n 1 "$1" | sed -n "s/.*\"$2\":\([^,}]*\).*/\1/p" | tr -d '"'; }
 part() { tail -n 1 "$1" | sed -n "s/.*\"head_parts\":{[^}]*\"$2\":\([0-9]*\).*/\1/p"; }
+
+# the board's switch sits in the head's mount; the stylus at the laser origin is this copy's
+sed -e 's/^contact_by = mount /contact_by = stylus /' "$B" >"$D/stylus.ini"
+grep -q "^contact_by = stylus" "$D/stylus.ini" || { echo "FAIL: the stylus copy of $B has no contact_by = stylus"; exit 1; }
 
 . tests/cgal_moves.sh
 cgal_moves_build "$BUILD" || { echo "FAIL: $CG_WHY"; exit 1; }
@@ -89,7 +94,7 @@ run() {
 }
 
 # ---- the origin meets the knob first: stopped on the path, exit 1
-run first 143.431,150,93.431 "$B"
+run first 143.431,150,93.431 "$D/stylus.ini"
 o="$D/first"
 [ $rc = 1 ] || bad "first: exit $rc (expected 1: stopped by the touch)"
 grep -q "contact switch closed outside Omega: the object reaches out" "$o.err" || bad "first: the reason is not given"
@@ -132,7 +137,7 @@ rc=$?
 [ $rc = 1 ] && grep -q "nothing to certify: the session has no facet yet" "$o.certify" || bad "first: certify: exit $rc, $(tail -n 1 "$o.certify")"
 
 # ---- sideways: the laser module meets the knob before the origin: exit 5, the part named
-run side 280,150,150 "$B"
+run side 280,150,150 "$D/stylus.ini"
 o="$D/side"
 [ $rc = 5 ] || bad "side: exit $rc (expected 5: the laser module hit the knob)"
 [ "$(part "$o.json" laser)" -gt 0 ] || bad "side: the laser part not counted"
@@ -142,8 +147,8 @@ case "$cg" in "moves "*", through 0, inside 0, first none") ;; *) bad "side: CGA
 # ---- the same knob with the switch in the head's mount (contact_by = mount): any part pushed
 # opens it, so the laser module's side stops the head too: exit 1, no collision, the parts at
 # most contact_stop past where the switch closed
-sed -e 's/^contact_stop = 10 /contact_by = mount\ncontact_stop = 10 /' "$B" >"$D/mount.ini"
-grep -q "^contact_by = mount" "$D/mount.ini" || bad "mount: the board copy has no contact_by"
+cp "$B" "$D/mount.ini"
+grep -q "^contact_by = mount" "$D/mount.ini" || bad "mount: the board has no contact_by = mount"
 run mount 280,150,150 "$D/mount.ini"
 o="$D/mount"
 [ $rc = 1 ] || bad "mount: exit $rc (expected 1: stopped by the touch)"
@@ -160,7 +165,7 @@ grep -q "the head (a bound over the parts its mount senses) at most" "$o.json" |
 # switch stops that move too and the head backs off; with the mount: exit 1, no collision, the
 # reason in --json; with the stylus the laser module and the tilt hub meet the knob first (exit 5)
 for kind in mount stylus; do
-  bd="$D/mount.ini"; [ $kind = stylus ] && bd="$B"
+  bd="$D/mount.ini"; [ $kind = stylus ] && bd="$D/stylus.ini"
   o="$D/start-$kind"
   "$VP" scan --board "$bd" --dry-run --reach-out --eps 16 --surface "sphere*24@200,150,150+sphere*20@180,137,228" \
     --log "$o.vplog" --json --quiet >"$o.json" 2>"$o.err"

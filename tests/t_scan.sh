@@ -104,7 +104,7 @@ same es "e-stop during command $N"
 
 # ---- without a clearance the head enters Omega and probes from Voronoi vertices, some nearer
 # than min_range: VP_PROBE_TOO_CLOSE, logged as too close, never as hits
-sed 's/^clearance = 58 /clearance = 0 /' $BOARD >"$tmp/noclear.ini"
+sed 's/^clearance = 58 /clearance = 0 /; s/^contact_by = mount /contact_by = stylus /' $BOARD >"$tmp/noclear.ini"
 "$VP" scan --board "$tmp/noclear.ini" --dry-run --log "$tmp/tc.vplog" $S --eps 15 --near-spots too-close >"$tmp/tc.txt" 2>&1; rc=$?
 # (exit 5 when the head's body, swept along the motions, touches the object: inside Omega the
 # laser's own segment stays free but the camera and the tilt hub need not)

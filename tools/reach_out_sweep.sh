@@ -6,7 +6,8 @@
 # switch stopped the head, 5: the head's body met the knob), the moves of the laser origin
 # through the object, how far past the touch the head went, the head parts counted.
 #   sh tools/reach_out_sweep.sh [BUILD] [BOARD] [EPS]
-# With a board whose [head] has contact_by = mount the switch senses every part.
+# rpi4-gantry.ini has contact_by = mount: the switch senses every part. A copy with
+# contact_by = stylus shows what a stylus at the laser origin guards.
 BUILD=${1:-build}
 BOARD=${2:-boards/rpi4-gantry.ini}
 EPS=${3:-16}

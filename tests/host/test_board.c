@@ -157,26 +157,26 @@ static void test_broken_boards(void)
     bad(t, LOC("[axis.y]"), "[axis.y] missing key 'accel'");
     t = cut_section("[axis.tilt]");
     bad(t, "rpi4.ini: ", "missing section [axis.tilt]");
-    /* the contact switch's kind: a stylus (default) or the head's mount; a mount needs the head
-     * kept outside Omega, and either needs a switch */
-    t = edit("contact_stop = 10 ", "contact_by = tip\ncontact_stop = 10 ");
+    /* the contact switch's kind: a stylus (the default) or the head's mount (this board's); a
+     * mount needs the head kept outside Omega, and either needs a switch */
+    t = edit("contact_by = mount ", "contact_by = tip ");
     bad(t, LOC("contact_by"), "[head] contact_by: expected stylus or mount, got 'tip'");
+    CHECK(vp_board_parse(text, "rpi4.ini", &b, err, sizeof err) == VP_OK && b.contact_mount == 1);
+    t = edit("clearance = 58", "clearance = 0 ");
+    bad(t, LOC("contact_by"), "[head] contact_by: a mount's switch does not tell where the head touched");
+    t = edit("clearance = 58", "clearance = 58\nmin_feature = 10");
+    bad(t, LOC("contact_by"), "and no tubes inside it: min_feature = 0");
     {
         static char two[65536];
-        t = edit("contact_stop = 10 ", "contact_by = mount\ncontact_stop = 10 ");
-        snprintf(two, sizeof two, "%s", t);
-        CHECK(vp_board_parse(two, "rpi4.ini", &b, err, sizeof err) == VP_OK && b.contact_mount == 1);
+        snprintf(two, sizeof two, "%s", edit("contact = gpiochip0:7 pull-up", "#"));
         memcpy(text, two, sizeof text);
-        t = edit("clearance = 58", "clearance = 0 ");
-        bad(t, LOC("contact_by"), "[head] contact_by: a mount's switch does not tell where the head touched");
-        t = edit("clearance = 58", "clearance = 58\nmin_feature = 10");
-        bad(t, LOC("contact_by"), "and no tubes inside it: min_feature = 0");
-        memcpy(text, edit("contact_stop = 10 ", "# "), sizeof text);
-        t = edit("contact = gpiochip0:7 pull-up", "#");
+        t = edit("contact_stop = 10 ", "# ");
         bad(t, LOC("contact_by"), "[head] contact_by: needs a contact switch");
         CHECK(load_text("boards/rpi4-gantry.ini"));
     }
-    CHECK(vp_board_parse(text, "rpi4.ini", &b, err, sizeof err) == VP_OK && b.contact_mount == 0);
+    /* without the key: a stylus */
+    t = edit("contact_by = mount ", "# contact_by = mount ");
+    CHECK(vp_board_parse(t, "rpi4.ini", &b, err, sizeof err) == VP_OK && b.contact_mount == 0);
     t = cut_section("[estop]");
     bad(t, "rpi4.ini: ", "missing section [estop]: a board that drives motors needs an e-stop input");
     t = edit("dir = gpiochip0:23", "dir = gpiochip0:27");
