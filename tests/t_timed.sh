@@ -12,7 +12,8 @@
 #     are much quicker (the level ones). The checker must fail on a straight chord through the
 #     ball and on a way over the top where the level way was quicker (cases of its own);
 #   - ordered by length instead (--by-length): no axis times in the log, and more machine time;
-#   - cut after 400 commands and resumed: the same commands as the run in one go.
+#   - cut after 400 commands and resumed: the same commands as the run in one go; a log without
+#     the axes' times (as an older build wrote it) resumed goes on by length, as it began.
 set -u
 B=${BUILD:-build}
 VP=${VP:-$B/voroprobe}
@@ -141,5 +142,25 @@ done
 "$VP" log dump "$tmp/cut.vplog" | grep -v EVENT | cut -d' ' -f3- >"$tmp/cut.cmds"
 grep -v EVENT "$tmp/e16.dump" | cut -d' ' -f3- >"$tmp/whole.cmds"
 cmp -s "$tmp/cut.cmds" "$tmp/whole.cmds" || bad "cut after 400 commands and resumed: not the commands of the run in one go"
+# a log without the axes' times, as an older build wrote them (a --by-length log whose note no
+# longer says so: the header's note and CRC rewritten here), goes on as it began when resumed:
+# the commands of --by-length in one go
+"$VP" scan --board "$tmp/old.ini" --dry-run --eps 16 --by-length --log "$tmp/lcut.vplog" --stop-after 400 --quiet >/dev/null 2>&1
+"$PY" - "$tmp/lcut.vplog" <<'EOF' || bad "could not rewrite the cut log's header"
+import sys, struct, zlib
+p = sys.argv[1]; b = bytearray(open(p, 'rb').read())
+n = struct.unpack_from('<I', b, 12)[0]
+i = b.find(b'--by-length ', 0, n)
+if i < 0: sys.exit(1)
+b[i:i + 12] = b' ' * 12
+struct.pack_into('<I', b, n - 4, zlib.crc32(bytes(b[:n - 4])) & 0xffffffff)
+open(p, 'wb').write(b)
+EOF
+"$VP" log dump "$tmp/lcut.vplog" | head -n 2 | grep -q -- "--by-length" && bad "the rewritten note still says --by-length"
+"$VP" scan --board "$tmp/old.ini" --dry-run --eps 16 --log "$tmp/lcut.vplog" --resume --quiet >"$tmp/lcut.txt" 2>&1 ||
+  bad "resume of a log without axis times: $(tail -n 2 "$tmp/lcut.txt")"
+"$VP" log dump "$tmp/lcut.vplog" | grep -v 'EVENT\|^#' | cut -d' ' -f3- >"$tmp/lcut.cmds"
+"$VP" log dump "$tmp/l16.vplog" | grep -v 'EVENT\|^#' | cut -d' ' -f3- >"$tmp/lwhole.cmds"
+cmp -s "$tmp/lcut.cmds" "$tmp/lwhole.cmds" || bad "a log without axis times, cut and resumed: not the commands of --by-length in one go"
 [ $fail = 0 ] || exit 1
 echo "t_timed: rpi4 old geometry, moves weighed by machine time:$out cut and resumed: the same commands"
