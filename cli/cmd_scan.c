@@ -387,8 +387,6 @@ static int scan_parse(scan_job_t *j, int argc, char **argv)
     return -1;
 }
 
-/* The RESCAN events of a loaded log; the last one's object (its text "--surface SPEC", a dry
- * run's) into surface when it names one. */
 /* body mode with the axes' times: the planner weighs its moves by machine time (as
  * core/planner/route.c's vp_pl_timed_cfg) */
 static int timed_cfg(const vp_planner_config_t *c)
@@ -396,6 +394,8 @@ static int timed_cfg(const vp_planner_config_t *c)
     return c->clearance > 0 && c->axis_time[0] > 0 && c->axis_time[1] > 0 && c->axis_time[2] > 0;
 }
 
+/* The RESCAN events of a loaded log; the last one's object (its text "--surface SPEC", a dry
+ * run's) into surface when it names one. */
 static int count_rescans(const vp_sessionlog_t *L, char *surface, size_t n)
 {
     uint32_t i;
