@@ -335,9 +335,7 @@ VP_PL_API int vp_pl_task_origin(const vp_planner_t *pl, const vp_task_t *k, doub
     return edge_origin(pl, k->tet, k->facet, o, NULL);
 }
 
-/* vp_pl_task_origin of the live, startable task in slot i, worked out again only when its edge
- * is not the one kept in the slot's vp_task_near_t (an insertion replaced a tet of it, or the
- * slot holds another task; every time in an arena too small to keep them) */
+/* timed: slot i's kept direction (a float each: an estimate's input) */
 static void near_dir_put(vp_planner_t *pl, uint32_t i, const double *d)
 {
     float *f = pl->pool.near_dir + 3 * (size_t)i;
@@ -346,6 +344,10 @@ static void near_dir_put(vp_planner_t *pl, uint32_t i, const double *d)
     f[2] = (float)d[2];
 }
 
+/* vp_pl_task_origin of the live, startable task in slot i, worked out again only when its edge
+ * is not the one kept in the slot's vp_task_near_t (an insertion replaced a tet of it, or the
+ * slot holds another task; every time in an arena too small to keep them); with dir (timed) its
+ * probe's direction too */
 static int task_origin_kept(vp_planner_t *pl, uint32_t i, double *o, double *dir)
 {
     const vp_task_t *k = &pl->pool.task[i];
@@ -398,8 +400,7 @@ VP_PL_API void vp_pl_task_nearest_on_top(vp_planner_t *pl)
         }
         if (live && task_startable(pl, &pl->pool.task[n]) && task_origin_kept(pl, n, o, timed ? dir : NULL)) {
 #if VP_PL_TIMED
-            double d = timed ? vp_pl_way_time(pl, o, dir)
-                                       : vp_dist3(o, pl->dev.pos);
+            double d = timed ? vp_pl_way_time(pl, o, dir) : vp_dist3(o, pl->dev.pos);
 #else
             double d = vp_dist3(o, pl->dev.pos);
 #endif
