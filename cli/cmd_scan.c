@@ -387,13 +387,6 @@ static int scan_parse(scan_job_t *j, int argc, char **argv)
     return -1;
 }
 
-/* body mode with the axes' times: the planner weighs its moves by machine time (as
- * core/planner/route.c's vp_pl_timed_cfg) */
-static int timed_cfg(const vp_planner_config_t *c)
-{
-    return c->clearance > 0 && c->axis_time[0] > 0 && c->axis_time[1] > 0 && c->axis_time[2] > 0;
-}
-
 /* The RESCAN events of a loaded log; the last one's object (its text "--surface SPEC", a dry
  * run's) into surface when it names one. */
 static int count_rescans(const vp_sessionlog_t *L, char *surface, size_t n)
@@ -564,10 +557,6 @@ static int scan_prepare(scan_job_t *j)
     if (j->o.accuracy > 0) vp_accuracy_config(&j->cfg, j->o.accuracy);
     j->cfg.noise_tol = j->o.noise_tol;
     j->dev.noise_tol = j->o.noise_tol;
-    if (j->o.by_length) {
-        memset(j->cfg.axis_time, 0, sizeof j->cfg.axis_time);
-        memset(j->cfg.pan_travel, 0, sizeof j->cfg.pan_travel);
-    }
     j->dev.reach_out = j->o.reach_out;
     j->cfg.confirm_misses = (uint32_t)j->o.confirm;
     {
@@ -628,8 +617,9 @@ static int scan_prepare(scan_job_t *j)
         memcpy(j->cfg.interior, j->L.header.cfg.interior, sizeof j->cfg.interior);
         j->cfg.ninterior = j->L.header.cfg.ninterior;
     }
-    if (j->have_L && (j->o.resume || j->o.rescan) && j->L.header.version < 6u) {
-        /* a session logged before its moves were weighed by the axes' speeds goes on as begun */
+    if (j->o.by_length || (j->have_L && (j->o.resume || j->o.rescan) && j->L.header.version < 6u)) {
+        /* moves by length: asked for, or a session logged before its moves were weighed by the
+         * axes' speeds (it goes on as begun) */
         memset(j->cfg.axis_time, 0, sizeof j->cfg.axis_time);
         memset(j->cfg.pan_travel, 0, sizeof j->cfg.pan_travel);
     }
@@ -955,7 +945,7 @@ static int scan_report(scan_job_t *j)
         }
         printf("planner: %llu probes in all, largest ball %.4g mm (eps %g), arena peak %zu bytes\n",
                (unsigned long long)ps.probes, ps.max_ball, j->o.eps, ps.arena_peak);
-        if (timed_cfg(&j->cfg))
+        if (vp_planner_timed(&j->cfg))
             printf("planner: moves weighed by the axes' top speeds (body mode): the next probe the one the head reaches "
                    "soonest; %llu of %llu routes taken level round Omega (the slowest axis moved least)\n",
                    (unsigned long long)ps.level_routes, (unsigned long long)ps.routes);
@@ -1085,7 +1075,7 @@ static int scan_report(scan_job_t *j)
                        (unsigned long long)ps.rescan_unseen,
                        (unsigned long long)ps.rescan_normal, (unsigned long long)ps.reproved,
                        (unsigned long long)ps.reprove_blocked);
-            if (timed_cfg(&j->cfg))
+            if (vp_planner_timed(&j->cfg))
                 printf(",\"level_routes\":%llu,\"routes\":%llu", (unsigned long long)ps.level_routes,
                        (unsigned long long)ps.routes);
             if (j->b.clearance > 0)

@@ -430,6 +430,12 @@ typedef struct vp_planner {
  * session. Nothing is probed before the first vp_planner_next(). */
 int vp_planner_init(vp_planner_t *pl, void *arena, size_t bytes, const vp_planner_config_t *cfg);
 
+#ifndef VP_CORE_MCU
+/* 1 when the configuration has the planner weigh its moves by machine time: a body (clearance)
+ * and the x, y and z axis times (axis_time) */
+int vp_planner_timed(const vp_planner_config_t *c);
+#endif
+
 /* The next command. VP_OK with cmd filled; VP_ESTATE if a PROBE result is still owed;
  * VP_ENOMEM when the arena is full (the mesh so far stays exportable); VP_ERANGE when an
  * interior point turned out not to be inside the object. */

@@ -142,7 +142,7 @@ int vp_planner_init(vp_planner_t *pl, void *arena, size_t bytes, const vp_planne
     pl->pool.cap_task = (uint32_t)(sh[4] * unit / sizeof(vp_task_t));
 #ifndef VP_CORE_MCU /* a microcontroller core keeps the newest-first order (its flash budget) */
     if (cfg->clearance > 0.0) {
-        size_t slot = sizeof(vp_task_t) + sizeof(vp_task_near_t) + (vp_pl_timed_cfg(cfg) ? 3 * sizeof(float) : 0u);
+        size_t slot = sizeof(vp_task_t) + sizeof(vp_task_near_t) + (vp_planner_timed(cfg) ? 3 * sizeof(float) : 0u);
         uint32_t cap_near = (uint32_t)(sh[4] * unit / slot);
         if (cap_near >= NEAR_ROOM * pl->pool.room) { keep_starts = 1; pl->pool.cap_task = cap_near; }
     }
@@ -162,7 +162,7 @@ int vp_planner_init(vp_planner_t *pl, void *arena, size_t bytes, const vp_planne
         if (!pl->pool.near) return VP_ENOMEM;
         memset(pl->pool.near, 0, (size_t)pl->pool.cap_task * sizeof(vp_task_near_t)); /* no key is all 0 */
 #if VP_PL_TIMED
-        if (vp_pl_timed_cfg(cfg)) {
+        if (vp_planner_timed(cfg)) {
             pl->pool.near_dir = carve(&cur, end, (size_t)pl->pool.cap_task * 3 * sizeof(float));
             if (!pl->pool.near_dir) return VP_ENOMEM;
         }

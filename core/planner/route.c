@@ -334,14 +334,16 @@ static int outside_route(vp_planner_t *pl, const double *a, const double *b, int
 }
 
 #if VP_PL_TIMED
-/* 1 when body mode weighs moves by the axes' speeds */
 /* timed: a body, and the times of x, y and z (pan and tilt may be left out) */
-VP_PL_API int vp_pl_timed_cfg(const vp_planner_config_t *c)
+int vp_planner_timed(const vp_planner_config_t *c)
 {
     return c->clearance > 0.0 && c->axis_time[0] > 0.0 && c->axis_time[1] > 0.0 && c->axis_time[2] > 0.0;
 }
 
-VP_PL_API int vp_pl_timed(const vp_planner_t *pl) { return vp_pl_timed_cfg(&pl->cfg); }
+VP_PL_API int vp_pl_timed(const vp_planner_t *pl) { return vp_planner_timed(&pl->cfg); }
+
+/* the pan has no travel given: it turns freely */
+static int pan_free(const vp_planner_t *pl) { return pl->cfg.pan_travel[0] == 0.0 && pl->cfg.pan_travel[1] == 0.0; }
 
 /* The time of the straight move from a to b at the axes' top speeds: the slowest axis's. */
 VP_PL_API double vp_pl_move_time(const vp_planner_t *pl, const double *a, const double *b)
@@ -387,7 +389,7 @@ VP_PL_API double vp_pl_pan_for(const vp_planner_t *pl, const double *dir)
     int k;
     if (!(dir[0] * dir[0] + dir[1] * dir[1] > 1e-18)) return cur;
     p = turn_near(turn_angle(dir[1], dir[0]), cur);
-    if (lo == 0.0 && hi == 0.0) return p;
+    if (pan_free(pl)) return p;
     best = p < lo ? lo : p > hi ? hi : p; /* none within travel: as near as it goes */
     for (k = -1; k <= 1; k++) {
         q = p + k * 2.0 * TURN_PI;
@@ -404,7 +406,7 @@ VP_PL_API double vp_pl_pan_for(const vp_planner_t *pl, const double *dir)
 VP_PL_API void vp_pl_pan_aim(vp_planner_t *pl, const double *dir)
 {
     double p = vp_pl_pan_for(pl, dir);
-    pl->dev.pan = pl->cfg.pan_travel[0] == 0.0 && pl->cfg.pan_travel[1] == 0.0 ? turn_near(p, 0.0) : p;
+    pl->dev.pan = pan_free(pl) ? turn_near(p, 0.0) : p;
 }
 
 /* The least machine time of the way to a probe from o along dir: the straight move's, or
@@ -533,21 +535,30 @@ static int level_route(vp_planner_t *pl, const double *a, const double *b, int r
     return 1;
 }
 
+/* The route's points from n0 on, after a: their machine time at top speed (timed != 0) or
+ * their length */
+static double route_sum(const vp_planner_t *pl, const double *a, uint32_t n0, int timed)
+{
+    double s = 0.0;
+    uint32_t q;
+    for (q = n0; q < pl->route.n; q++) {
+        const double *w = pl->route.pts + 3 * (size_t)q;
+        s += timed ? vp_pl_move_time(pl, a, w) : vp_dist3(a, w);
+        a = w;
+    }
+    return s;
+}
+
 /* Body mode: the way round Omega outside it from a to b. Timed, of outside_route's (along
  * dOmega) and, for a ball, the level way, the one of less machine time (the level way on a
  * tie: it moves the slowest axis least). */
 static int body_route(vp_planner_t *pl, const double *a, const double *b, double *len)
 {
-    uint32_t n0 = pl->route.n, q;
-    double t = 0.0, tl;
-    const double *p = a;
+    uint32_t n0 = pl->route.n;
+    double tl;
     VP_TRY(outside_route(pl, a, b, 0, len));
     if (!vp_pl_timed(pl) || pl->cfg.omega_kind != VP_OMEGA_BALL) return VP_OK;
-    for (q = n0; q < pl->route.n; q++) {
-        t += vp_pl_move_time(pl, p, pl->route.pts + 3 * (size_t)q);
-        p = pl->route.pts + 3 * (size_t)q;
-    }
-    if (!level_route(pl, a, b, 0, &tl) || tl > t) return VP_OK;
+    if (!level_route(pl, a, b, 0, &tl) || tl > route_sum(pl, a, n0, 1)) return VP_OK;
     pl->route.n = n0;
     if (!level_route(pl, a, b, 1, &tl)) {
         /* no room for the level way's points: the great circle's again */
@@ -555,10 +566,7 @@ static int body_route(vp_planner_t *pl, const double *a, const double *b, double
         return outside_route(pl, a, b, 0, len);
     }
     pl->st.level_routes++;
-    for (*len = 0.0, p = a, q = n0; q < pl->route.n; q++) {
-        *len += vp_dist3(p, pl->route.pts + 3 * (size_t)q);
-        p = pl->route.pts + 3 * (size_t)q;
-    }
+    *len = route_sum(pl, a, n0, 0);
     return VP_OK;
 }
 #else

@@ -387,7 +387,7 @@ VP_PL_API void vp_pl_task_nearest_on_top(vp_planner_t *pl)
 {
     uint32_t i, n, top, best = NONE;
     double bd = VP_PL_HUGE, o[3], dir[3];
-    int tubes = pl->cfg.min_feature > 0.0, timed = VP_PL_TIMED && vp_pl_timed(pl);
+    int tubes = pl->cfg.min_feature > 0.0, timed = vp_pl_timed(pl);
     for (i = n = tubes && pl->pool.ntask > NEAR_WINDOW_TUBES ? pl->pool.ntask - NEAR_WINDOW_TUBES : 0; i < pl->pool.ntask; i++) {
         int live = task_live(pl, &pl->pool.task[i]);
         if (!tubes) {
@@ -399,11 +399,7 @@ VP_PL_API void vp_pl_task_nearest_on_top(vp_planner_t *pl)
             }
         }
         if (live && task_startable(pl, &pl->pool.task[n]) && task_origin_kept(pl, n, o, timed ? dir : NULL)) {
-#if VP_PL_TIMED
             double d = timed ? vp_pl_way_time(pl, o, dir) : vp_dist3(o, pl->dev.pos);
-#else
-            double d = vp_dist3(o, pl->dev.pos);
-#endif
             if (d <= bd) { bd = d; best = n; }
         }
         n++;

@@ -321,7 +321,6 @@ VP_PL_API int vp_pl_rec_new(vp_planner_t *pl, const double *p, uint32_t prev, ui
 VP_PL_API int vp_pl_route_full(vp_planner_t *pl, uint32_t a, uint32_t b);
 VP_PL_API int vp_pl_route_push(vp_planner_t *pl, const double *p, uint32_t proof);
 #if VP_PL_TIMED
-VP_PL_API int vp_pl_timed_cfg(const vp_planner_config_t *c);
 VP_PL_API int vp_pl_timed(const vp_planner_t *pl);
 VP_PL_API double vp_pl_move_time(const vp_planner_t *pl, const double *a, const double *b);
 VP_PL_API double vp_pl_pan_for(const vp_planner_t *pl, const double *dir);
