@@ -11,9 +11,7 @@ VP="$B/voroprobe"
 D="$B/bench/machine"
 rm -rf "$D"; mkdir -p "$D"
 field() { tail -n 1 "$1" | sed -n "s/.*\"$2\":\([^,}]*\).*/\1/p" | tr -d '"'; }
-sed -e 's/^ball = .*/ball = 200, 150, 150, 80/' -e 's/^start = .*/start = 200, 150, 232/' \
-    -e 's/^clearance = .*/clearance = 12/' -e 's/^surface = .*/surface = ellipsoid*50@200,150,150/' \
-    -e 's/^\(laser_body\|camera_body\|bracket\|hub\) = .*/\1 = none/' boards/rpi4-gantry.ini >"$D/old.ini"
+sh tools/small_head_board.sh "$D/old.ini" || exit 1
 echo "Machine time per vertex, moves weighed by the axes' speeds against ordered by length (same run)"
 printf '%-34s %5s %-8s %9s %9s %9s %-8s %9s %9s %9s %7s\n' board eps closed vertices "machine s" "s/vertex" \
   "length:" vertices "machine s" "s/vertex" ratio

@@ -24,9 +24,7 @@ trap 'rm -rf "$tmp"' EXIT
 fail=0
 bad() { echo "FAIL: $*"; fail=1; }
 field() { tail -n 1 "$1" | sed -n "s/.*\"$2\":\([^,}]*\).*/\1/p"; }
-sed -e 's/^ball = .*/ball = 200, 150, 150, 80/' -e 's/^start = .*/start = 200, 150, 232/' \
-    -e 's/^clearance = .*/clearance = 12/' -e 's/^surface = .*/surface = ellipsoid*50@200,150,150/' \
-    -e 's/^\(laser_body\|camera_body\|bracket\|hub\) = .*/\1 = none/' boards/rpi4-gantry.ini >"$tmp/old.ini"
+sh tools/small_head_board.sh "$tmp/old.ini" || exit 1
 
 cat >"$tmp/ways.py" <<'EOF'
 # reads `log dump` on stdin: the ways between probes, checked against Omega (a ball) and timed
