@@ -17,6 +17,10 @@ static void vp_tri_vec(const vp_mesh_t *m, size_t f, const double **a, const dou
 }
 
 #define VP_HD_TOP 24
+/* Moves of the local maximisation at one step length before it halves anyway. A step that
+ * always gains a little (a ridge of the distance that longer steps overshoot) otherwise crept on
+ * for hours: the bear's mesh on the enclosed board, 1e-10 mm a move, 5e-15 mm gained each. */
+#define VP_HD_LEVEL_MOVES 1000
 
 typedef struct vp_hd_cand { double d; double p[3]; size_t face; double u, v; } vp_hd_cand_t;
 
@@ -116,6 +120,7 @@ int vp_hausdorff_object(const vp_mesh_t *m, const vp_hd_object_t *s, size_t n, u
     for (t = 0; t < ntop; t++) {
         vp_hd_cand_t c = top[t];
         double step = 0.25;
+        int moves = 0;
         static const double dirs[6][2] = { { 1, 0 }, { -1, 0 }, { 0, 1 }, { 0, -1 }, { 1, -1 }, { -1, 1 } };
         while (step > 1e-10) {
             int k, moved = 0;
@@ -130,7 +135,7 @@ int vp_hausdorff_object(const vp_mesh_t *m, const vp_hd_object_t *s, size_t n, u
                 e.d = s->closest(s->ctx, e.p, NULL);
                 if (e.d > c.d) { c = e; moved = 1; }
             }
-            if (!moved) step *= 0.5;
+            if (!moved || ++moves == VP_HD_LEVEL_MOVES) { step *= 0.5; moves = 0; }
         }
         if (c.d > out->mesh_to_surface) out->mesh_to_surface = c.d;
     }
@@ -151,6 +156,7 @@ int vp_hausdorff_object(const vp_mesh_t *m, const vp_hd_object_t *s, size_t n, u
     for (t = 0; t < ntop; t++) {
         vp_hd_cand_t c = top[t];
         double step = sqrt(s->area / (double)(n + 1));
+        int moves = 0;
         while (step > 1e-10) {
             double nrm[3], t1[3], t2[3], len;
             int k, moved = 0, j;
@@ -169,7 +175,7 @@ int vp_hausdorff_object(const vp_mesh_t *m, const vp_hd_object_t *s, size_t n, u
                 d = vp_bvh_closest(bvh, q, NULL, NULL);
                 if (d > c.d) { c.d = d; memcpy(c.p, q, sizeof q); moved = 1; }
             }
-            if (!moved) step *= 0.5;
+            if (!moved || ++moves == VP_HD_LEVEL_MOVES) { step *= 0.5; moves = 0; }
         }
         if (c.d > out->surface_to_mesh) out->surface_to_mesh = c.d;
     }

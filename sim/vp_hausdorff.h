@@ -16,7 +16,8 @@ typedef struct vp_hausdorff {
 } vp_hausdorff_t;
 
 /* Two-sided Hausdorff distance by dense sampling (n points on each side, roughly uniform by
- * area, plus every vertex of the mesh), then local maximisation around the worst samples.
+ * area, plus every vertex of the mesh), then local maximisation around the worst samples (a
+ * pattern search, its steps halving, a bounded number of moves at each length: it always ends).
  * The mesh side uses a BVH for closest points. */
 int vp_hausdorff(const vp_mesh_t *m, const vp_surface_t *s, size_t n, uint64_t seed, vp_hausdorff_t *out);
 
