@@ -769,7 +769,13 @@ static int vp_camsim_capture(void *ctx, int64_t not_before, int timeout_ms, vp_f
             /* waiting frames below the number asked for, and those stamped before not_before, go
              * back unseen; then wait for the one wanted */
             if (s < want && !cs->st.every_frame) { s = want; continue; }
-            if (at < not_before) { s++; continue; }
+            if (at < not_before) {
+                /* straight to the first frame stamped at or after not_before (one at a time from
+                 * a stamp far ahead took ~1e10 turns) */
+                int64_t j = (not_before - 1) / P + ((not_before - 1) % P != 0) - cs->st.latency; /* not_before > at >= 1 */
+                s = j > s ? j : s + 1;
+                continue;
+            }
             if (at > now) {
                 if (at > deadline || !cs->st.wait_until) return VP_ETIMEOUT;
                 VP_TRY(cs->st.wait_until(cs->ctx, at));

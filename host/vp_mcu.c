@@ -393,7 +393,7 @@ int vp_mcu_serve(vp_mcu_link_t *l, const vp_mcu_device_t *dev, const vp_mcu_opti
     unsigned last_seq = 0;
     size_t reply_len = 0;
     double t0 = now_s(), last_good = t0, next_progress = t0 + 1.0;
-    unsigned long timed_moves = 0, frame_no = 0;
+    unsigned long timed_moves = 0, frame_no = 0, damaged = 0; /* damaged: frames since the last good one */
     unsigned corrupt_left = o->corrupt;
     vp_logfmt_reader_t *reader = malloc(sizeof *reader);
     FILE *log = NULL;
@@ -409,15 +409,15 @@ int vp_mcu_serve(vp_mcu_link_t *l, const vp_mcu_device_t *dev, const vp_mcu_opti
             else flip_out = (long)(frame_no * 13 % 80);
         }
         r = recv_frame(l, 200, flip_in, &f);
-        if (r == 0) {
-            if (now_s() - last_good > o->silent_seconds) {
-                snprintf(err, errlen, "the board is silent: no valid frame for %.0f s%s", o->silent_seconds,
-                         started ? "" : " (no HELLO: is the image for this board, the link the right one?)");
-                st = VP_ETIMEOUT;
-                break;
-            }
-            continue;
+        /* nothing, or only damaged frames (a wrong baud rate, a noisy line): both are silence */
+        if (r != VP_EIO && r != VP_EVERSION && r <= 0 && now_s() - last_good > o->silent_seconds) {
+            snprintf(err, errlen, "the board is silent: no valid frame for %.0f s%s%s", o->silent_seconds,
+                     damaged ? " (damaged frames only: the link's speed, its wiring?)" : "",
+                     started ? "" : " (no HELLO: is the image for this board, the link the right one?)");
+            st = VP_ETIMEOUT;
+            break;
         }
+        if (r == 0) continue;
         if (r == VP_EIO) { snprintf(err, errlen, "the link closed (the board or qemu exited)"); st = VP_EIO; break; }
         frame_no++;
         if (flip_in >= 0) { res->injected_in++; corrupt_left--; }
@@ -428,11 +428,13 @@ int vp_mcu_serve(vp_mcu_link_t *l, const vp_mcu_device_t *dev, const vp_mcu_opti
         }
         if (r < 0) {                  /* damaged: never acted on, asked again */
             res->crc_errors++;
+            damaged++;
             send_frame(l, T_NAK, 0, NULL, 0, -1);
             continue;
         }
         res->frames_in++;
         last_good = now_s();
+        damaged = 0;
         if (have_last && f.seq == last_seq) {   /* our reply was lost: the same again */
             res->repeats++;
             if (flip_out >= 0) { res->injected_out++; corrupt_left--; }

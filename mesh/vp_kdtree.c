@@ -39,7 +39,13 @@ static void vp_kd_select(vp_kdtree_t *t, size_t lo, size_t hi, size_t k, int ax)
             if (t->p[3 * i + ax] < pivot) vp_kd_swap(t, i, store++);
         vp_kd_swap(t, store, hi - 1);
         if (store == k) return;
-        if (k < store) hi = store; else lo = store + 1;
+        if (k < store) { hi = store; continue; }
+        /* the pivot's equals next to it: many equal coordinates (a mesh's repeated vertices)
+         * otherwise take one element a pass */
+        lo = store + 1;
+        for (i = lo; i < hi; i++)
+            if (t->p[3 * i + ax] == pivot) vp_kd_swap(t, i, lo++);
+        if (k < lo) return;
     }
 }
 

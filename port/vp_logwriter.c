@@ -59,9 +59,9 @@ static int write_all(vp_logwriter_t *f, const unsigned char *p, size_t n)
     }
     while (allowed > 0) {
         ssize_t w = write(f->fd, p, allowed);
-        if (w < 0) {
-            if (errno == EINTR) continue;
-            return VP_EIO;
+        if (w <= 0) {
+            if (w < 0 && errno == EINTR) continue;
+            return VP_EIO; /* nothing written (a full or gone file system): never retried forever */
         }
         p += w;
         allowed -= (size_t)w;
@@ -147,8 +147,8 @@ int vp_logwriter_create_copy(vp_logwriter_t *f, const char *path, const void *da
     /* the copied records are not part of the simulated power cut's count: appends are */
     while (left > 0) {
         ssize_t w = write(f->fd, p, left > (1u << 30) ? (size_t)1 << 30 : (size_t)left);
-        if (w < 0) {
-            if (errno == EINTR) continue;
+        if (w <= 0) {
+            if (w < 0 && errno == EINTR) continue;
             return VP_EIO;
         }
         p += w;

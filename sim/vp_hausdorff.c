@@ -122,7 +122,7 @@ int vp_hausdorff_object(const vp_mesh_t *m, const vp_hd_object_t *s, size_t n, u
         double step = 0.25;
         int moves = 0;
         static const double dirs[6][2] = { { 1, 0 }, { -1, 0 }, { 0, 1 }, { 0, -1 }, { 1, -1 }, { -1, 1 } };
-        while (step > 1e-10) {
+        while (step > 1e-10 && step < HUGE_VAL) { /* an infinite area's step never halves */
             int k, moved = 0;
             for (k = 0; k < 6; k++) {
                 vp_hd_cand_t e = c;
@@ -157,7 +157,7 @@ int vp_hausdorff_object(const vp_mesh_t *m, const vp_hd_object_t *s, size_t n, u
         vp_hd_cand_t c = top[t];
         double step = sqrt(s->area / (double)(n + 1));
         int moves = 0;
-        while (step > 1e-10) {
+        while (step > 1e-10 && step < HUGE_VAL) { /* an infinite area's step never halves */
             double nrm[3], t1[3], t2[3], len;
             int k, moved = 0, j;
             s->normal(s->ctx, c.p, nrm);

@@ -1,4 +1,5 @@
 /* vp_motion — see vp_motion.h. */
+#include <float.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -17,6 +18,9 @@
 /* the marches stop refining below this fraction of the object's radius */
 #define MARCH_TOL_REL 1e-9
 #define MARCH_STEPS_MAX 4000000L
+/* a march's step is at least this many units in the last place of where it is: far from a shrunk
+ * body (its frame scaled by 1e-6 and less) the tolerance is finer than the doubles there */
+#define MARCH_ULPS 4.0
 
 enum { DEFORM_BEND, DEFORM_BUMP };
 
@@ -466,12 +470,15 @@ int vp_motion_ray(const vp_motion_t *m, double t, const double o[3], const doubl
         def_inv(m, &F, p, x);
         step = vp_surface_distance(m->body, x) / L;
         if (step < tol) step = tol;
+        if (step < MARCH_ULPS * DBL_EPSILON * fabs(u)) step = MARCH_ULPS * DBL_EPSILON * fabs(u); /* u + step != u */
         un = u + step < u1 ? u + step : u1;
         for (k = 0; k < 3; k++) p[k] = of[k] + un * df[k];
         if (def_side(m, &F, p) != side) {
             double a = u, b = un;
             while (b - a > 0.25 * tol) {
                 double mid = 0.5 * (a + b);
+                /* a and b adjacent doubles (a far ray in a shrunk body's frame): as fine as it gets */
+                if (!(mid > a && mid < b)) break;
                 for (k = 0; k < 3; k++) p[k] = of[k] + mid * df[k];
                 if (def_side(m, &F, p) == side) a = mid; else b = mid;
             }
@@ -554,7 +561,11 @@ int vp_motion_segment_collides(const vp_motion_t *m, double t, const double a[3]
          * up to L times larger) */
         if (lower <= clr) return 1;
         if (u >= u1) return 0;
-        u += lower - clr > tol ? lower - clr : tol;
+        {
+            double adv = lower - clr > tol ? lower - clr : tol;
+            if (adv < MARCH_ULPS * DBL_EPSILON * fabs(u)) adv = MARCH_ULPS * DBL_EPSILON * fabs(u); /* u + adv != u */
+            u += adv;
+        }
         if (u > u1) u = u1;
     }
     return 1;

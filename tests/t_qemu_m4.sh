@@ -68,9 +68,14 @@ done
 # clear errors: a board that never speaks, a qemu that is not there
 "$VP" mcu --exec /bin/cat $S --timeout 1 --out "$tmp/silent" >"$tmp/silent.txt" 2>&1
 [ $? -eq 1 ] && grep -q "the board is silent: no valid frame for 1 s" "$tmp/silent.txt" || { cat "$tmp/silent.txt"; fail "a silent board"; }
+# a link that delivers only damaged frames (a wrong baud rate): silent too, not waited on forever
+printf '#!/bin/sh\nwhile :; do printf "garbage\\000"; sleep 0.01; done\n' >"$tmp/noise.sh"; chmod +x "$tmp/noise.sh"
+timeout 60 "$VP" mcu --exec "$tmp/noise.sh" $S --timeout 1 --out "$tmp/noise" >"$tmp/noise.txt" 2>&1
+[ $? -eq 1 ] && grep -q "the board is silent: no valid frame for 1 s (damaged frames only" "$tmp/noise.txt" ||
+  { cat "$tmp/noise.txt"; fail "a link of damaged frames only"; }
 "$VP" mcu --qemu "$B/m4/voroprobe-an386.elf" --qemu-bin "$tmp/no-qemu" $S --out "$tmp/noq" >"$tmp/noq.txt" 2>&1
 [ $? -eq 1 ] && grep -q "is not installed" "$tmp/noq.txt" || { cat "$tmp/noq.txt"; fail "qemu missing"; }
 v=$(sed -n 's/.* \([0-9]*\) vertices, \([0-9]*\) facets.*/\1/p' "$tmp/qemu.txt" | head -n 1)
 p=$(sed -n 's/.*status ok, [0-9]* commands, \([0-9]*\) probes.*/\1/p' "$tmp/qemu.txt")
 lat=$(sed -n 's/.*last edge \([0-9.]*\) us after its time at most (mean \([0-9.]*\) us).*/\1 us max, \2 us mean/p' "$tmp/qemu.txt")
-echo "qemu mps2-an386: DONE in ${secs} s, $p probes, $v vertices, closed; log identical to x86-64 and with 40 damaged frames; step edges exact, last edge ${lat} late; a tampered report caught; e-stop: 2-sample glitch ignored, 3 samples stop"
+echo "qemu mps2-an386: DONE in ${secs} s, $p probes, $v vertices, closed; log identical to x86-64 and with 40 damaged frames; step edges exact, last edge ${lat} late; a tampered report caught; e-stop: 2-sample glitch ignored, 3 samples stop; a silent link and one of damaged frames only end with an error"

@@ -306,6 +306,30 @@ static void check_device(const vp_surface_t *sph)
     vp_motion_close(still);
 }
 
+/* A body shrunk far (inflate, with a bump of height 0 so the march is taken): in its frame the
+ * ray starts 1e6 radii away, where adjacent doubles lie farther apart than the march's tolerance.
+ * The bisection spun forever there; now the ray ends, hitting the sphere of radius exp(-t) where
+ * the formula says (to the doubles' resolution at 5), and a segment through it collides. */
+static void check_shrunk(const vp_surface_t *sph)
+{
+    vp_motion_t *m = NULL;
+    char err[256];
+    double o[3] = { 0, 0, 5 }, d[3] = { 0, 0, -1 }, b[3] = { 0, 0, -5 }, c[3] = { 3, 0, 5 }, e[3] = { 3, 0, -5 }, t;
+    int i;
+    CHECK(vp_motion_open("inflate:-1+bump:1,0,0,0.5,0", sph, &m, err, sizeof err) == VP_OK);
+    if (!m) return;
+    for (i = 12; i <= 17; i++) {
+        double th = -1, r = exp(-(double)i);
+        int hit = vp_motion_ray(m, (double)i, o, d, 100, &th);
+        CHECKF(hit && fabs(th - (5 - r)) < 1e-9, "t %d: hit %d at %.17g, the sphere at %.17g", i, hit, th, 5 - r);
+        CHECKF(vp_motion_segment_collides(m, (double)i, o, b, 0) == 1, "t %d: the segment through the centre", i);
+        CHECKF(vp_motion_segment_collides(m, (double)i, c, e, 0) == 0, "t %d: a segment 3 away", i);
+    }
+    t = 20;
+    CHECK(vp_motion_ray(m, t, c, d, 100, &t) == 0);
+    vp_motion_close(m);
+}
+
 int main(void)
 {
     vp_surface_t *sph;
@@ -314,6 +338,7 @@ int main(void)
     check_similarity(sph);
     check_bump(sph);
     check_combined(sph);
+    check_shrunk(sph);
     check_specs(sph);
     check_device(sph);
     vp_surface_close(sph);
