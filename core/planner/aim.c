@@ -164,8 +164,10 @@ static int aim_issue(vp_planner_t *pl)
 }
 
 /* Side k of the current probe (body mode) was unseen along its edge's line, whose origin was
- * `out` (on the facet's outer side). Aims at the edge from aside. Returns 1 when the first line
- * is under way, 0 when none could be (the side is left unseen), < 0 an error. */
+ * `out` (on the facet's outer side). Aims at the edge from aside: at its part in Omega, from its
+ * vertex a or, where a lies outside Omega, from where it enters (outside Omega is free, as a
+ * reached vertex is). Returns 1 when the first line is under way, 0 when none could be (the side
+ * is left unseen), < 0 an error. */
 VP_PL_API int vp_pl_aim_start(vp_planner_t *pl, const vp_task_t *k, const double *out)
 {
     vp_pl_aim_t *A = &pl->aim;
@@ -177,11 +179,18 @@ VP_PL_API int vp_pl_aim_start(vp_planner_t *pl, const vp_task_t *k, const double
     if ((pl->cfg.flags & VP_PLAN_NO_AIM) ||
         (AIM_SHARE * pl->st.aims > pl->st.probes - pl->st.aims && pl->st.aims >= pl->aim.past_share))
         return aim_give_up(pl);
-    if (vp_pl_edge_geom(pl, k->tet, k->facet, &g) != VP_OK || !g.a_inside || !(g.t1 > 0.0)) return aim_give_up(pl);
-    memcpy(A->a, g.a, sizeof A->a);
+    if (vp_pl_edge_geom(pl, k->tet, k->facet, &g) != VP_OK || !(g.t1 > 0.0) || (!g.a_inside && !(g.t0 < g.t1)))
+        return aim_give_up(pl);
+    if (g.a_inside) {
+        memcpy(A->a, g.a, sizeof A->a);
+        A->len = g.t1;
+    } else {
+        int q;
+        for (q = 0; q < 3; q++) A->a[q] = g.a[q] + g.t0 * g.dir[q];
+        A->len = g.t1 - g.t0;
+    }
     memcpy(A->e, g.dir, sizeof A->e);
     memcpy(A->out, out, sizeof A->out);
-    A->len = g.t1;
     A->to_vertex = !(g.t1 < g.len);
     A->dir_i = A->steps = 0;
     A->next_t = -1.0;
