@@ -764,6 +764,7 @@ static int vp_camsim_capture(void *ctx, int64_t not_before, int timeout_ms, vp_f
         q = cs->st.queue > 0 ? cs->st.queue : 4;
         s = cs->next;
         if (s < d - q + 1) s = d - q + 1;          /* the queue keeps the newest q */
+        if (not_before > deadline) return VP_ETIMEOUT; /* any frame it could take is later still */
         for (;;) {
             int64_t at = vp_camsim_at(cs, s);
             /* waiting frames below the number asked for, and those stamped before not_before, go

@@ -61,7 +61,8 @@ static int write_all(vp_logwriter_t *f, const unsigned char *p, size_t n)
         ssize_t w = write(f->fd, p, allowed);
         if (w <= 0) {
             if (w < 0 && errno == EINTR) continue;
-            return VP_EIO; /* nothing written (a full or gone file system): never retried forever */
+            if (w == 0) errno = EIO; /* nothing written and no reason given: never retried forever */
+            return VP_EIO;
         }
         p += w;
         allowed -= (size_t)w;
@@ -149,6 +150,7 @@ int vp_logwriter_create_copy(vp_logwriter_t *f, const char *path, const void *da
         ssize_t w = write(f->fd, p, left > (1u << 30) ? (size_t)1 << 30 : (size_t)left);
         if (w <= 0) {
             if (w < 0 && errno == EINTR) continue;
+            if (w == 0) errno = EIO;
             return VP_EIO;
         }
         p += w;

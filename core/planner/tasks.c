@@ -840,9 +840,9 @@ VP_PL_API int vp_pl_task_finish(vp_planner_t *pl, const vp_probe_result_t *res)
         side_set(pl, t, f, was | SIDE_BLOCKED);
         pl->st.too_close++;
 #if VP_PL_CONTACTS
-        if ((was & SIDE_RETRIED) && pl->cfg.clearance > 0.0 && !pl->tube.on) {
-            /* unseen at a hole, once more (its line enters Omega from a vertex outside, and its
-             * spot cannot be read): from aside (aim.c) */
+        if ((was & SIDE_RETRIED) && pl->cfg.clearance > 0.0 && !pl->tube.on && !(pl->probe.standoff > 0.0)) {
+            /* unseen at a hole, once more (its line enters Omega from a vertex outside: no
+             * standoff; and its spot cannot be read): from aside (aim.c) */
             int st2 = vp_pl_aim_start(pl, k, pl->probe.origin);
             return st2 < 0 ? st2 : VP_OK;
         }
