@@ -22,6 +22,13 @@
  * body (its frame scaled by 1e-6 and less) the tolerance is finer than the doubles there */
 #define MARCH_ULPS 4.0
 
+/* a march's step from u, at least MARCH_ULPS units in the last place of u (u + step != u) */
+static double march_step(double step, double u)
+{
+    double least = MARCH_ULPS * DBL_EPSILON * fabs(u);
+    return step < least ? least : step;
+}
+
 enum { DEFORM_BEND, DEFORM_BUMP };
 
 /* one deformation x + g(x) n of the body frame */
@@ -469,8 +476,7 @@ int vp_motion_ray(const vp_motion_t *m, double t, const double o[3], const doubl
         for (k = 0; k < 3; k++) p[k] = of[k] + u * df[k];
         def_inv(m, &F, p, x);
         step = vp_surface_distance(m->body, x) / L;
-        if (step < tol) step = tol;
-        if (step < MARCH_ULPS * DBL_EPSILON * fabs(u)) step = MARCH_ULPS * DBL_EPSILON * fabs(u); /* u + step != u */
+        step = march_step(step < tol ? tol : step, u);
         un = u + step < u1 ? u + step : u1;
         for (k = 0; k < 3; k++) p[k] = of[k] + un * df[k];
         if (def_side(m, &F, p) != side) {
@@ -561,11 +567,7 @@ int vp_motion_segment_collides(const vp_motion_t *m, double t, const double a[3]
          * up to L times larger) */
         if (lower <= clr) return 1;
         if (u >= u1) return 0;
-        {
-            double adv = lower - clr > tol ? lower - clr : tol;
-            if (adv < MARCH_ULPS * DBL_EPSILON * fabs(u)) adv = MARCH_ULPS * DBL_EPSILON * fabs(u); /* u + adv != u */
-            u += adv;
-        }
+        u += march_step(lower - clr > tol ? lower - clr : tol, u);
         if (u > u1) u = u1;
     }
     return 1;

@@ -172,23 +172,17 @@ VP_PL_API int vp_pl_aim_start(vp_planner_t *pl, const vp_task_t *k, const double
 {
     vp_pl_aim_t *A = &pl->aim;
     edgegeom_t g;
-    int st;
+    int st, q;
     if (k != &pl->probe.task) pl->probe.task = *k;
     /* a budget: where most hidden facets cannot be seen from aside either (a cavity deeper than
      * the tilts reach), the lines would cost more than the rest of the scan */
     if ((pl->cfg.flags & VP_PLAN_NO_AIM) ||
         (AIM_SHARE * pl->st.aims > pl->st.probes - pl->st.aims && pl->st.aims >= pl->aim.past_share))
         return aim_give_up(pl);
-    if (vp_pl_edge_geom(pl, k->tet, k->facet, &g) != VP_OK || !(g.t1 > 0.0) || (!g.a_inside && !(g.t0 < g.t1)))
-        return aim_give_up(pl);
-    if (g.a_inside) {
-        memcpy(A->a, g.a, sizeof A->a);
-        A->len = g.t1;
-    } else {
-        int q;
-        for (q = 0; q < 3; q++) A->a[q] = g.a[q] + g.t0 * g.dir[q];
-        A->len = g.t1 - g.t0;
-    }
+    if (vp_pl_edge_geom(pl, k->tet, k->facet, &g) != VP_OK || !(g.t0 < g.t1)) return aim_give_up(pl);
+    /* the edge's part in Omega, [t0, t1] (t0 is 0 when a lies inside) */
+    for (q = 0; q < 3; q++) A->a[q] = g.a[q] + g.t0 * g.dir[q];
+    A->len = g.t1 - g.t0;
     memcpy(A->e, g.dir, sizeof A->e);
     memcpy(A->out, out, sizeof A->out);
     A->to_vertex = !(g.t1 < g.len);
