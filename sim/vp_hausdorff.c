@@ -22,6 +22,16 @@ static void vp_tri_vec(const vp_mesh_t *m, size_t f, const double **a, const dou
  * for hours: the bear's mesh on the enclosed board, 1e-10 mm a move, 5e-15 mm gained each. */
 #define VP_HD_LEVEL_MOVES 1000
 
+/* The pattern searches' step: on while it is above 1e-10 and finite (an infinite area's step
+ * never halves); halved after a round that gained nothing, or after VP_HD_LEVEL_MOVES moves at
+ * one length. */
+static int vp_hd_stepping(double step) { return step > 1e-10 && step < HUGE_VAL; }
+
+static void vp_hd_next_step(double *step, int *moves, int moved)
+{
+    if (!moved || ++*moves == VP_HD_LEVEL_MOVES) { *step *= 0.5; *moves = 0; }
+}
+
 typedef struct vp_hd_cand { double d; double p[3]; size_t face; double u, v; } vp_hd_cand_t;
 
 static void vp_hd_keep(vp_hd_cand_t *top, int *ntop, const vp_hd_cand_t *c)
@@ -122,7 +132,7 @@ int vp_hausdorff_object(const vp_mesh_t *m, const vp_hd_object_t *s, size_t n, u
         double step = 0.25;
         int moves = 0;
         static const double dirs[6][2] = { { 1, 0 }, { -1, 0 }, { 0, 1 }, { 0, -1 }, { 1, -1 }, { -1, 1 } };
-        while (step > 1e-10 && step < HUGE_VAL) { /* an infinite area's step never halves */
+        while (vp_hd_stepping(step)) {
             int k, moved = 0;
             for (k = 0; k < 6; k++) {
                 vp_hd_cand_t e = c;
@@ -135,7 +145,7 @@ int vp_hausdorff_object(const vp_mesh_t *m, const vp_hd_object_t *s, size_t n, u
                 e.d = s->closest(s->ctx, e.p, NULL);
                 if (e.d > c.d) { c = e; moved = 1; }
             }
-            if (!moved || ++moves == VP_HD_LEVEL_MOVES) { step *= 0.5; moves = 0; }
+            vp_hd_next_step(&step, &moves, moved);
         }
         if (c.d > out->mesh_to_surface) out->mesh_to_surface = c.d;
     }
@@ -157,7 +167,7 @@ int vp_hausdorff_object(const vp_mesh_t *m, const vp_hd_object_t *s, size_t n, u
         vp_hd_cand_t c = top[t];
         double step = sqrt(s->area / (double)(n + 1));
         int moves = 0;
-        while (step > 1e-10 && step < HUGE_VAL) { /* an infinite area's step never halves */
+        while (vp_hd_stepping(step)) {
             double nrm[3], t1[3], t2[3], len;
             int k, moved = 0, j;
             s->normal(s->ctx, c.p, nrm);
@@ -175,7 +185,7 @@ int vp_hausdorff_object(const vp_mesh_t *m, const vp_hd_object_t *s, size_t n, u
                 d = vp_bvh_closest(bvh, q, NULL, NULL);
                 if (d > c.d) { c.d = d; memcpy(c.p, q, sizeof q); moved = 1; }
             }
-            if (!moved || ++moves == VP_HD_LEVEL_MOVES) { step *= 0.5; moves = 0; }
+            vp_hd_next_step(&step, &moves, moved);
         }
         if (c.d > out->surface_to_mesh) out->surface_to_mesh = c.d;
     }
