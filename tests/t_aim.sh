@@ -28,6 +28,15 @@ bad() { echo "FAIL: $*"; fail=1; }
 field() { tail -n 1 "$1" | sed -n "s/.*\"$2\":\([^,}]*\).*/\1/p" | tr -d '"'; }
 . tests/cgal_object.sh
 cgal_object_build "$BUILD" || { echo "FAIL: $CG_WHY"; exit 1; }
+# what every run must show: a line aimed from aside, CGAL's closed 2-manifold of the object's
+# genus ($2), every move proven free by `log verify`
+aimed_closed() {
+  a=$(field "$tmp/$1.json" aims)
+  [ "${a:-0}" -gt 0 ] || bad "$1: no line aimed from aside"
+  "$CO" topology "$tmp/$1.off" | grep -q "\"manifold\":true,\"closed\":true,\"components\":1,\"genus\":$2}" ||
+    bad "$1: CGAL topology: $("$CO" topology "$tmp/$1.off")"
+  "$VP" log verify "$tmp/$1.vplog" >"$tmp/$1.verify" 2>&1 || bad "$1: log verify: $(tail -n 1 "$tmp/$1.verify")"
+}
 out=""
 for c in "torus 0.03 1" "torus 0.02 1" "genus2 0.03 2" "genus5 0.04 5" "genus5 0.025 5" "genus5 0.022 5" "genus5 0.04 5 0.05"; do
   set -- $c
@@ -37,15 +46,11 @@ for c in "torus 0.03 1" "torus 0.02 1" "genus2 0.03 2" "genus5 0.04 5" "genus5 0
   [ $rc -eq 0 ] || bad "$n: exit $rc ($(tail -n 1 "$tmp/$n.err"))"
   [ "$(field "$tmp/$n.json" collisions)" = 0 ] || bad "$n: $(field "$tmp/$n.json" collisions) moves through the object"
   [ "$(field "$tmp/$n.json" tube_moves)" = 0 ] || bad "$n: the head entered Omega"
-  a=$(field "$tmp/$n.json" aims)
-  [ "${a:-0}" -gt 0 ] || bad "$n: no line aimed from aside"
+  aimed_closed "$n" "$3"
   fl=$(field "$tmp/$n.json" far_line_sides)
   lr=$(field "$tmp/$n.json" last_resorts)
   case $n in genus5-0.025|genus5-0.022) [ "${fl:-0}" -gt 0 ] || bad "$n: closing's last resort not taken";; esac
   if [ "$n" = genus5-0.022 ]; then [ "${lr:-0}" -ge 2 ] || bad "$n: closing's last resort taken ${lr:-0} times, not again"; fi
-  "$CO" topology "$tmp/$n.off" | grep -q "\"manifold\":true,\"closed\":true,\"components\":1,\"genus\":$3}" ||
-    bad "$n: CGAL topology: $("$CO" topology "$tmp/$n.off")"
-  "$VP" log verify "$tmp/$n.vplog" >"$tmp/$n.verify" 2>&1 || bad "$n: log verify: $(tail -n 1 "$tmp/$n.verify")"
   out="$out $n: $(field "$tmp/$n.json" vertices) vertices, $(field "$tmp/$n.json" probes) probes ($a aimed, $(field "$tmp/$n.json" aim_balls) balls, $(field "$tmp/$n.json" aim_reached) far vertices, ${fl:-0} sides again in ${lr:-0} last resorts);"
 done
 # a dry run on the enclosed board (a camera that cannot read every spot): fandisk at eps 6 kept one
@@ -60,11 +65,7 @@ if [ -r "$M" ]; then
   [ $rc -eq 0 ] && [ "$(field "$tmp/$n.json" closed)" = true ] || bad "$n: exit $rc, not closed ($(tail -n 1 "$tmp/$n.err"))"
   [ "$(field "$tmp/$n.json" through)" = 0 ] && [ "$(field "$tmp/$n.json" head_collisions)" = 0 ] ||
     bad "$n: $(field "$tmp/$n.json" through) moves through, $(field "$tmp/$n.json" head_collisions) head collisions"
-  a=$(field "$tmp/$n.json" aims)
-  [ "${a:-0}" -gt 0 ] || bad "$n: no line aimed from aside"
-  "$CO" topology "$tmp/$n.off" | grep -q '"manifold":true,"closed":true,"components":1,"genus":0}' ||
-    bad "$n: CGAL topology: $("$CO" topology "$tmp/$n.off")"
-  "$VP" log verify "$tmp/$n.vplog" >"$tmp/$n.verify" 2>&1 || bad "$n: log verify: $(tail -n 1 "$tmp/$n.verify")"
+  aimed_closed "$n" 0
   out="$out $n: $(field "$tmp/$n.json" vertices) vertices, $(field "$tmp/$n.json" probes) probes ($a aimed, $(field "$tmp/$n.json" aim_balls) balls);"
 else
   echo "t_aim: $M not found: the enclosed board's case skipped"
