@@ -189,6 +189,40 @@ int vp_scan_depth_beyond(const vp_surface_t *surf, const double o[3], const doub
     return 0;
 }
 
+/* the point dist along o + s dir within tol of the surface */
+static int vp_scan_near_surface(const vp_surface_t *surf, const double o[3], const double dir[3], double dist, double tol)
+{
+    double q[3];
+    int k;
+    for (k = 0; k < 3; k++) q[k] = o[k] + dist * dir[k];
+    return vp_surface_distance(surf, q) <= tol;
+}
+
+vp_hit_judged_t vp_scan_judge_hit(const vp_surface_t *surf, const double o[3], const double dir[3], double range,
+                                  double dist, double tol, double *err)
+{
+    double t;
+    *err = 0;
+    /* the crossing is looked for up to tol past the range: a hit at the range's end whose
+     * surface lies just beyond it is a measurement */
+    if (!vp_surface_ray(surf, o, dir, range + tol, &t))
+        /* no crossing along the ray: a beam grazing a limb reads it within tol (a measurement of
+         * the surface beside the ray), anything farther is a false hit */
+        return vp_scan_near_surface(surf, o, dir, dist, tol) ? VP_HIT_GRAZING : VP_HIT_FALSE;
+    if (dist - t > tol)
+        /* past the crossing: a thin edge the ray clips, its free part nowhere deeper inside than
+         * tol, is a beam that passed beside the edge within the machine's aim; otherwise the
+         * planner would take space inside the object for free */
+        return vp_scan_depth_beyond(surf, o, dir, t, dist, tol) ? (*err = dist - t, VP_HIT_PAST) : VP_HIT_GRAZING;
+    if (t - dist > tol)
+        /* before the crossing: the beam, as wide as its spot, met an edge or a limb beside the
+         * ray (its free part ends short of the crossing); a point within tol of the surface
+         * measures it, anything else is a sample off the surface */
+        return vp_scan_near_surface(surf, o, dir, dist, tol) ? VP_HIT_GRAZING : VP_HIT_FALSE;
+    *err = fabs(dist - t);
+    return VP_HIT_TRUE;
+}
+
 void vp_scan_unreadable_text(const vp_scan_dev_t *d, char *buf, size_t n)
 {
     snprintf(buf, n, "%lu off the laser line, %lu blobs too big for a spot, %lu with several spots, %lu below the "
@@ -613,30 +647,24 @@ static int vp_scan_dev_probe_do(void *ctx, const vp_cmd_t *cmd, vp_probe_result_
          * to: a hit at the end of the range whose surface lies just beyond it is a measurement,
          * not a false hit; so is a miss whose surface lies within that tolerance of the range's
          * end (its spot read at the range or just past it): a miss is false only before that */
-        double t;
-        int truth = vp_surface_ray(d->dr->surf, cmd->from, cmd->dir, cmd->range + (res->hit ? d->noise_tol : 0.0), &t);
-        if (res->hit && truth && res->dist - t > d->noise_tol &&
-            !vp_scan_depth_beyond(d->dr->surf, cmd->from, cmd->dir, t, res->dist, d->noise_tol)) {
-            /* read past a thin edge the ray clips, its free part nowhere deeper inside than the
-             * tolerance: the beam, within the machine's aim, passed beside the edge */
-            d->grazing++;
-        } else if (res->hit && truth) {
-            double e = fabs(res->dist - t);
-            /* past the surface by more than the noise tolerance: the planner would take space
-             * inside the object for free */
-            if (res->dist - t > d->noise_tol) d->past++;
-            d->true_n++;
-            d->err2 += e * e;
-            if (e > d->err_max) d->err_max = e;
-        } else if (res->hit) {
-            /* no crossing along the ray: a beam grazing a limb reads it within the noise tolerance
-             * (a measurement of the surface beside the ray), anything farther is a false hit */
-            double q[3];
-            int k;
-            for (k = 0; k < 3; k++) q[k] = cmd->from[k] + res->dist * cmd->dir[k];
-            if (vp_surface_distance(d->dr->surf, q) <= d->noise_tol) d->grazing++;
-            else d->false_hits++;
-        } else if (truth && t >= (m->cfg.line ? m->cfg.line_model.min_range : m->tri.min_range) &&
+        double t, e;
+        int truth;
+        if (res->hit) {
+            vp_hit_judged_t j = vp_scan_judge_hit(d->dr->surf, cmd->from, cmd->dir, cmd->range, res->dist, d->noise_tol, &e);
+            if (j == VP_HIT_GRAZING) d->grazing++;
+            else if (j == VP_HIT_FALSE) d->false_hits++;
+            else {
+                /* past the surface by more than the noise tolerance: the planner would take
+                 * space inside the object for free (and the ray's error all the same) */
+                if (j == VP_HIT_PAST) d->past++;
+                d->true_n++;
+                d->err2 += e * e;
+                if (e > d->err_max) d->err_max = e;
+            }
+            return VP_OK;
+        }
+        truth = vp_surface_ray(d->dr->surf, cmd->from, cmd->dir, cmd->range, &t);
+        if (truth && t >= (m->cfg.line ? m->cfg.line_model.min_range : m->tri.min_range) &&
                    t < cmd->range - d->noise_tol) {
             /* a surface on the ray: false unless the ray only clips a thin edge, nowhere deeper
              * inside than the tolerance (the beam passed beside it), as for a hit read past one */

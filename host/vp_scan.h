@@ -84,6 +84,16 @@ typedef struct vp_scan_dev {
 int vp_scan_depth_beyond(const vp_surface_t *surf, const double o[3], const double dir[3], double t0, double t1,
                          double tol);
 
+/* Dry runs: a hit read dist along the commanded ray o + s dir (probed to range) against the
+ * object, the planner trusting hits to tol. TRUE: within tol of the ray's first crossing (err
+ * its distance from it); PAST: farther than tol past it and deeper inside than tol somewhere
+ * on its free part (space inside the object taken for free: err how far past); GRAZING: a
+ * beam beside the ray, past a thin edge it clips or short of the crossing or with no crossing,
+ * its point within tol of the surface; FALSE: a point off the surface. */
+typedef enum { VP_HIT_TRUE, VP_HIT_PAST, VP_HIT_GRAZING, VP_HIT_FALSE } vp_hit_judged_t;
+vp_hit_judged_t vp_scan_judge_hit(const vp_surface_t *surf, const double o[3], const double dir[3], double range,
+                                  double dist, double tol, double *err);
+
 /* Dry runs: the smallest head_tol (mm). */
 #define VP_SCAN_HEAD_TOL 0.5
 

@@ -85,7 +85,32 @@ int main(void)
         vp_surface_close(s);
     }
     CHECK(deep > 500 && shallow > 500);
+    {
+        /* a hit judged (vp_scan_judge_hit): a sphere of 20 at the origin and one of 5 whose
+         * surface passes 0.5 beside the ray o + s (1, 0, 0), o = (-50, 0, 0), before the big
+         * one's crossing at 30 */
+        vp_surface_t *s = NULL;
+        double o[3] = { -50, 0, 0 }, d[3] = { 1, 0, 0 }, side[3] = { -50, 20.5, 0 }, e = -1;
+        CHECKF(vp_surface_open("sphere*20+sphere*5@-30,5.5,0", &s, err, sizeof err) == VP_OK, "%s", err);
+        if (s) {
+            CHECK(vp_scan_judge_hit(s, o, d, 100, 30.5, 2, &e) == VP_HIT_TRUE && fabs(e - 0.5) < 1e-9);
+            CHECK(vp_scan_judge_hit(s, o, d, 100, 28.5, 2, &e) == VP_HIT_TRUE && fabs(e - 1.5) < 1e-9);
+            /* 10 past, through the big sphere: space inside taken for free */
+            CHECK(vp_scan_judge_hit(s, o, d, 100, 40, 2, &e) == VP_HIT_PAST && fabs(e - 10) < 1e-9);
+            /* the crossing just beyond the range asked for: a measurement at its end */
+            CHECK(vp_scan_judge_hit(s, o, d, 29, 30, 2, &e) == VP_HIT_TRUE);
+            /* read 10 short, at the small sphere beside the ray (0.5 off it): the beam met it */
+            CHECK(vp_scan_judge_hit(s, o, d, 100, 20, 2, &e) == VP_HIT_GRAZING);
+            /* the same with hits trusted to 0.25, and a point in the air 10 before the crossing */
+            CHECK(vp_scan_judge_hit(s, o, d, 100, 20, 0.25, &e) == VP_HIT_FALSE);
+            CHECK(vp_scan_judge_hit(s, o, d, 100, 5, 2, &e) == VP_HIT_FALSE);
+            /* a ray 0.5 beside the big sphere, no crossing: read beside it, or in the air */
+            CHECK(vp_scan_judge_hit(s, side, d, 100, 50, 2, &e) == VP_HIT_GRAZING);
+            CHECK(vp_scan_judge_hit(s, side, d, 100, 30, 2, &e) == VP_HIT_FALSE);
+            vp_surface_close(s);
+        }
+    }
     printf("test_scanjudge: %lu stretches deeper than the tolerance all caught, %lu shallower than 7/8 of it none "
-           "(%lu between); a clipped edge is not deep\n", deep, shallow, between);
+           "(%lu between); a clipped edge is not deep; hits judged true, past, grazing (short of the crossing too) and false\n", deep, shallow, between);
     return vp_test_done("test_scanjudge");
 }
