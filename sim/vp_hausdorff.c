@@ -61,6 +61,11 @@ static size_t hd_surface_sample(const void *ctx, size_t n, uint64_t seed, double
     return vp_surface_sample(ctx, n, seed, xyz);
 }
 
+static size_t hd_surface_creases(const void *ctx, double step, double *xyz, size_t max)
+{
+    return vp_surface_creases(ctx, step, xyz, max);
+}
+
 int vp_hausdorff(const vp_mesh_t *m, const vp_surface_t *s, size_t n, uint64_t seed, vp_hausdorff_t *out)
 {
     vp_hd_object_t obj;
@@ -69,6 +74,7 @@ int vp_hausdorff(const vp_mesh_t *m, const vp_surface_t *s, size_t n, uint64_t s
     obj.closest = hd_surface_closest;
     obj.normal = hd_surface_normal;
     obj.sample = hd_surface_sample;
+    obj.creases = hd_surface_creases;
     obj.area = vp_surface_area(s);
     return vp_hausdorff_object(m, &obj, n, seed, out);
 }
@@ -163,6 +169,23 @@ int vp_hausdorff_object(const vp_mesh_t *m, const vp_hd_object_t *s, size_t n, u
         vp_hd_keep(top, &ntop, &c);
     }
     out->mean_surface_to_mesh = n ? sum / (double)n : 0;
+    if (s->creases) {
+        /* a part's sharp edges, which area samples reach only near: candidates too (not in the
+         * mean), as far apart as the area samples */
+        double step = sqrt(s->area / (double)(n + 1)), *cp;
+        size_t nc = s->creases(s->ctx, step, NULL, 0);
+        cp = nc ? malloc(nc * 3 * sizeof *cp) : NULL;
+        if (nc && !cp) { st = VP_ENOMEM; goto done; }
+        if (nc) nc = s->creases(s->ctx, step, cp, nc);
+        for (i = 0; i < nc; i++) {
+            vp_hd_cand_t c;
+            memcpy(c.p, cp + 3 * i, sizeof c.p);
+            c.d = vp_bvh_closest(bvh, c.p, NULL, NULL);
+            c.face = 0; c.u = c.v = 0;
+            vp_hd_keep(top, &ntop, &c);
+        }
+        free(cp);
+    }
     for (t = 0; t < ntop; t++) {
         vp_hd_cand_t c = top[t];
         double step = sqrt(s->area / (double)(n + 1));

@@ -16,7 +16,7 @@ typedef struct vp_hausdorff {
 } vp_hausdorff_t;
 
 /* Two-sided Hausdorff distance by dense sampling (n points on each side, roughly uniform by
- * area, plus every vertex of the mesh), then local maximisation around the worst samples (a
+ * area, plus every vertex of the mesh and points along the object's creases), then local maximisation around the worst samples (a
  * pattern search, its steps halving, a bounded number of moves at each length: it always ends).
  * The mesh side uses a BVH for closest points. */
 int vp_hausdorff(const vp_mesh_t *m, const vp_surface_t *s, size_t n, uint64_t seed, vp_hausdorff_t *out);
@@ -27,6 +27,9 @@ typedef struct vp_hd_object {
     double (*closest)(const void *ctx, const double p[3], double q[3]);  /* q may be NULL */
     void   (*normal)(const void *ctx, const double p[3], double n[3]);
     size_t (*sample)(const void *ctx, size_t n, uint64_t seed, double *xyz);
+    /* points along the object's creases at most step apart (vp_surface_creases), where it is
+     * farthest from a mesh that cuts its sharp edges; NULL: none */
+    size_t (*creases)(const void *ctx, double step, double *xyz, size_t max);
     double area;
 } vp_hd_object_t;
 int vp_hausdorff_object(const vp_mesh_t *m, const vp_hd_object_t *obj, size_t n, uint64_t seed, vp_hausdorff_t *out);

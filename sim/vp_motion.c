@@ -674,6 +674,7 @@ int vp_motion_hausdorff(const vp_mesh_t *mesh, const vp_motion_t *m, double t, s
     obj.closest = hd_closest;
     obj.normal = hd_normal;
     obj.sample = hd_sample;
+    obj.creases = NULL;   /* the moving body: area samples alone */
     obj.area = vp_surface_area(m->body) * s * s;
     return vp_hausdorff_object(mesh, &obj, n, seed, out);
 }

@@ -49,5 +49,11 @@ double vp_surface_distance(const vp_surface_t *s, const double p[3]);
 void   vp_surface_normal(const vp_surface_t *s, const double p[3], double n[3]);
 /* n points on the surface, roughly uniform by area, reproducible from seed; returns n. */
 size_t vp_surface_sample(const vp_surface_t *s, size_t n, uint64_t seed, double *xyz);
+/* Points along the creases of the mesh terms (edges whose two faces turn by more than 20
+ * degrees: a part's sharp edges and corners, where the surface is farthest from a mesh that cuts
+ * them), each crease's ends and points at most `step` apart between (world units). Writes at
+ * most max of them to xyz (which may be NULL to count) and returns how many there are; 0 for
+ * smooth (implicit) terms. */
+size_t vp_surface_creases(const vp_surface_t *s, double step, double *xyz, size_t max);
 
 #endif

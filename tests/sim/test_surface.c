@@ -444,6 +444,64 @@ static void check_hausdorff_ends(void)
     vp_surface_close(s);
 }
 
+/* A part's sharp edge cut off: the unit cube (tests/meshes/cube.off) against a mesh of it with
+ * the edge x = y = 1 chamfered (legs c): the surface is farthest from the mesh all along that
+ * edge, c / sqrt 2 from the chamfer's plane (CGAL's PMP measure samples a mesh's edges for the
+ * same reason). The mesh's bottom lies h = 0.0705 below the cube's, a plateau of samples just
+ * short of the edge's distance that takes every place among the candidates the local search
+ * starts from (as fandisk's curved faces did on a scan's mesh: 1.006 mm measured from area samples
+ * alone, 1.206 by CGAL and with the creases). The creases (edges whose faces turn by more than 20
+ * degrees) are the cube's 12 edges; from them the measure is c / sqrt 2 exactly, from area
+ * samples alone (the measure's object without creases) the plateau's h. */
+static double hd_cube_closest(const void *ctx, const double p[3], double q[3]) { return vp_surface_closest(ctx, p, q); }
+static void hd_cube_normal(const void *ctx, const double p[3], double n[3]) { vp_surface_normal(ctx, p, n); }
+static size_t hd_cube_sample(const void *ctx, size_t n, uint64_t seed, double *xyz) { return vp_surface_sample(ctx, n, seed, xyz); }
+
+static void check_hausdorff_creases(void)
+{
+    static const double c = 0.1, h = 0.0705;
+    const double v[10][3] = { { 0, 0, -h }, { 1, 0, -h }, { 1, 1 - c, -h }, { 1 - c, 1, -h }, { 0, 1, -h },
+                              { 0, 0, 1 }, { 1, 0, 1 }, { 1, 1 - c, 1 }, { 1 - c, 1, 1 }, { 0, 1, 1 } };
+    /* two pentagons (fans), five quads (two triangles each) */
+    static const uint32_t tri[16][3] = { { 0, 1, 2 }, { 0, 2, 3 }, { 0, 3, 4 }, { 5, 7, 6 }, { 5, 8, 7 }, { 5, 9, 8 },
+                                         { 0, 5, 6 }, { 0, 6, 1 }, { 1, 6, 7 }, { 1, 7, 2 }, { 2, 7, 8 }, { 2, 8, 3 },
+                                         { 3, 8, 9 }, { 3, 9, 4 }, { 4, 9, 5 }, { 4, 5, 0 } };
+    vp_surface_t *s = NULL;
+    vp_mesh_t m;
+    vp_hausdorff_t hd, area_only;
+    vp_hd_object_t obj;
+    char err[256];
+    double want = c / sqrt(2.0);
+    size_t i;
+    vp_mesh_init(&m);
+    if (vp_surface_open("off:tests/meshes/cube.off", &s, err, sizeof err) != VP_OK || vp_mesh_alloc(&m, 10, 16) != VP_OK) {
+        CHECKF(0, "chamfered cube: %s", err);
+        vp_surface_close(s);
+        return;
+    }
+    memcpy(m.xyz, v, sizeof v);
+    for (i = 0; i < 16; i++) memcpy(m.tri + 3 * i, tri[i], sizeof tri[i]);
+    /* 12 edges, each with both ends and 10 points apart 0.1: 12 x 11 */
+    CHECKF(vp_surface_creases(s, 0.1, NULL, 0) == 132, "cube creases: %lu", (unsigned long)vp_surface_creases(s, 0.1, NULL, 0));
+    CHECK(vp_hausdorff(&m, s, 2000, 7, &hd) == VP_OK);
+    CHECKF(fabs(hd.surface_to_mesh - want) < 1e-12 && fabs(hd.hausdorff - want) < 1e-12,
+           "chamfered cube: surface to mesh %.9f, want %.9f", hd.surface_to_mesh, want);
+    /* the mesh's farthest points from the cube: its bottom, h below */
+    CHECKF(fabs(hd.mesh_to_surface - h) < 1e-9, "chamfered cube: mesh to surface %.9f", hd.mesh_to_surface);
+    obj.ctx = s;
+    obj.closest = hd_cube_closest;
+    obj.normal = hd_cube_normal;
+    obj.sample = hd_cube_sample;
+    obj.creases = NULL;
+    obj.area = vp_surface_area(s);
+    CHECK(vp_hausdorff_object(&m, &obj, 2000, 7, &area_only) == VP_OK);
+    CHECKF(area_only.hausdorff < want - 1e-6, "area samples alone reached %.9f", area_only.hausdorff);
+    printf("test_surface: a chamfered cube's edge: %.9f from its creases (c / sqrt 2 = %.9f), %.9f from area "
+           "samples alone\n", hd.hausdorff, want, area_only.hausdorff);
+    vp_mesh_free(&m);
+    vp_surface_close(s);
+}
+
 int main(void)
 {
     check_uniform();
@@ -451,6 +509,7 @@ int main(void)
     check_specs();
     check_meshes();
     check_hausdorff_ends();
+    check_hausdorff_creases();
     check_object("sphere", 0, 4 * pi, 1e-12, 1);
     check_object("ellipsoid", 0, 6.6428, 0.01, 1);   /* Thomsen's formula, within ~1% */
     check_object("torus", 1, 4 * pi * pi * 0.3, 1e-12, 1);
