@@ -16,9 +16,9 @@ typedef struct vp_hausdorff {
 } vp_hausdorff_t;
 
 /* Two-sided Hausdorff distance by dense sampling (n points on each side, roughly uniform by
- * area, plus every vertex of the mesh and points along the object's creases), then local maximisation around the worst samples (a
- * pattern search, its steps halving, a bounded number of moves at each length: it always ends).
- * The mesh side uses a BVH for closest points. */
+ * area, plus every vertex of the mesh and points along the object's creases), then local
+ * maximisation around the worst samples (a pattern search, its steps halving, a bounded number
+ * of moves at each length: it always ends). The mesh side uses a BVH for closest points. */
 int vp_hausdorff(const vp_mesh_t *m, const vp_surface_t *s, size_t n, uint64_t seed, vp_hausdorff_t *out);
 
 /* The same measure against any object given by its queries (a moving object at one time). */
