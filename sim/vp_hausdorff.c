@@ -66,16 +66,21 @@ static size_t hd_surface_creases(const void *ctx, double step, double *xyz, size
     return vp_surface_creases(ctx, step, xyz, max);
 }
 
+void vp_hausdorff_surface_object(const vp_surface_t *s, vp_hd_object_t *obj)
+{
+    obj->ctx = s;
+    obj->closest = hd_surface_closest;
+    obj->normal = hd_surface_normal;
+    obj->sample = hd_surface_sample;
+    obj->creases = hd_surface_creases;
+    obj->area = vp_surface_area(s);
+}
+
 int vp_hausdorff(const vp_mesh_t *m, const vp_surface_t *s, size_t n, uint64_t seed, vp_hausdorff_t *out)
 {
     vp_hd_object_t obj;
     if (!s) return VP_EINVAL;
-    obj.ctx = s;
-    obj.closest = hd_surface_closest;
-    obj.normal = hd_surface_normal;
-    obj.sample = hd_surface_sample;
-    obj.creases = hd_surface_creases;
-    obj.area = vp_surface_area(s);
+    vp_hausdorff_surface_object(s, &obj);
     return vp_hausdorff_object(m, &obj, n, seed, out);
 }
 

@@ -33,5 +33,7 @@ typedef struct vp_hd_object {
     double area;
 } vp_hd_object_t;
 int vp_hausdorff_object(const vp_mesh_t *m, const vp_hd_object_t *obj, size_t n, uint64_t seed, vp_hausdorff_t *out);
+/* The queries of a simulated object, as vp_hausdorff takes them (creases included). */
+void vp_hausdorff_surface_object(const vp_surface_t *s, vp_hd_object_t *obj);
 
 #endif

@@ -453,10 +453,6 @@ static void check_hausdorff_ends(void)
  * alone, 1.206 by CGAL and with the creases). The creases (edges whose faces turn by more than 20
  * degrees) are the cube's 12 edges; from them the measure is c / sqrt 2 exactly, from area
  * samples alone (the measure's object without creases) the plateau's h. */
-static double hd_cube_closest(const void *ctx, const double p[3], double q[3]) { return vp_surface_closest(ctx, p, q); }
-static void hd_cube_normal(const void *ctx, const double p[3], double n[3]) { vp_surface_normal(ctx, p, n); }
-static size_t hd_cube_sample(const void *ctx, size_t n, uint64_t seed, double *xyz) { return vp_surface_sample(ctx, n, seed, xyz); }
-
 static void check_hausdorff_creases(void)
 {
     static const double c = 0.1, h = 0.0705;
@@ -488,12 +484,8 @@ static void check_hausdorff_creases(void)
            "chamfered cube: surface to mesh %.9f, want %.9f", hd.surface_to_mesh, want);
     /* the mesh's farthest points from the cube: its bottom, h below */
     CHECKF(fabs(hd.mesh_to_surface - h) < 1e-9, "chamfered cube: mesh to surface %.9f", hd.mesh_to_surface);
-    obj.ctx = s;
-    obj.closest = hd_cube_closest;
-    obj.normal = hd_cube_normal;
-    obj.sample = hd_cube_sample;
+    vp_hausdorff_surface_object(s, &obj);
     obj.creases = NULL;
-    obj.area = vp_surface_area(s);
     CHECK(vp_hausdorff_object(&m, &obj, 2000, 7, &area_only) == VP_OK);
     CHECKF(area_only.hausdorff < want - 1e-6, "area samples alone reached %.9f", area_only.hausdorff);
     printf("test_surface: a chamfered cube's edge: %.9f from its creases (c / sqrt 2 = %.9f), %.9f from area "
