@@ -61,9 +61,9 @@ static size_t hd_surface_sample(const void *ctx, size_t n, uint64_t seed, double
     return vp_surface_sample(ctx, n, seed, xyz);
 }
 
-static size_t hd_surface_creases(const void *ctx, double step, double *xyz, size_t max)
+static int hd_surface_creases(const void *ctx, double step, double **xyz, size_t *n)
 {
-    return vp_surface_creases(ctx, step, xyz, max);
+    return vp_surface_creases(ctx, step, xyz, n);
 }
 
 void vp_hausdorff_surface_object(const vp_surface_t *s, vp_hd_object_t *obj)
@@ -87,7 +87,7 @@ int vp_hausdorff(const vp_mesh_t *m, const vp_surface_t *s, size_t n, uint64_t s
 int vp_hausdorff_object(const vp_mesh_t *m, const vp_hd_object_t *s, size_t n, uint64_t seed, vp_hausdorff_t *out)
 {
     vp_bvh_t *bvh = NULL;
-    double *cdf = NULL, *pts = NULL, acc = 0, sum;
+    double *cdf = NULL, *pts = NULL, acc = 0, sum, spacing;
     size_t f, i, *vface = NULL;
     vp_hd_cand_t top[VP_HD_TOP];
     int ntop = 0, st, t;
@@ -174,14 +174,14 @@ int vp_hausdorff_object(const vp_mesh_t *m, const vp_hd_object_t *s, size_t n, u
         vp_hd_keep(top, &ntop, &c);
     }
     out->mean_surface_to_mesh = n ? sum / (double)n : 0;
-    if (s->creases) {
+    /* the area samples' spacing: the search's first step, and the creases' */
+    spacing = sqrt(s->area / (double)(n + 1));
+    if (s->creases && spacing > 0) {
         /* a part's sharp edges, which area samples reach only near: candidates too (not in the
          * mean), as far apart as the area samples */
-        double step = sqrt(s->area / (double)(n + 1)), *cp;
-        size_t nc = s->creases(s->ctx, step, NULL, 0);
-        cp = nc ? malloc(nc * 3 * sizeof *cp) : NULL;
-        if (nc && !cp) { st = VP_ENOMEM; goto done; }
-        if (nc) nc = s->creases(s->ctx, step, cp, nc);
+        double *cp;
+        size_t nc;
+        if ((st = s->creases(s->ctx, spacing, &cp, &nc)) != VP_OK) goto done;
         for (i = 0; i < nc; i++) {
             vp_hd_cand_t c;
             memcpy(c.p, cp + 3 * i, sizeof c.p);
@@ -193,7 +193,7 @@ int vp_hausdorff_object(const vp_mesh_t *m, const vp_hd_object_t *s, size_t n, u
     }
     for (t = 0; t < ntop; t++) {
         vp_hd_cand_t c = top[t];
-        double step = sqrt(s->area / (double)(n + 1));
+        double step = spacing;
         int moves = 0;
         while (vp_hd_stepping(step)) {
             double nrm[3], t1[3], t2[3], len;

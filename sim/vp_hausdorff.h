@@ -27,9 +27,9 @@ typedef struct vp_hd_object {
     double (*closest)(const void *ctx, const double p[3], double q[3]);  /* q may be NULL */
     void   (*normal)(const void *ctx, const double p[3], double n[3]);
     size_t (*sample)(const void *ctx, size_t n, uint64_t seed, double *xyz);
-    /* points along the object's creases at most step apart (vp_surface_creases), where it is
-     * farthest from a mesh that cuts its sharp edges; NULL: none */
-    size_t (*creases)(const void *ctx, double step, double *xyz, size_t max);
+    /* points along the object's creases at most step apart (vp_surface_creases: a malloc'ed
+     * array), where it is farthest from a mesh that cuts its sharp edges; NULL: none */
+    int (*creases)(const void *ctx, double step, double **xyz, size_t *n);
     double area;
 } vp_hd_object_t;
 int vp_hausdorff_object(const vp_mesh_t *m, const vp_hd_object_t *obj, size_t n, uint64_t seed, vp_hausdorff_t *out);

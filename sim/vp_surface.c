@@ -739,17 +739,6 @@ void vp_surface_normal(const vp_surface_t *s, const double p[3], double n[3])
     if (nn > 0) for (k = 0; k < 3; k++) n[k] /= nn;
 }
 
-/* an edge of a face: its ends (lower index first) and the face */
-typedef struct vp_fedge { uint32_t a, b; size_t f; } vp_fedge_t;
-
-static int vp_fedge_cmp(const void *x, const void *y)
-{
-    const vp_fedge_t *p = x, *q = y;
-    if (p->a != q->a) return p->a < q->a ? -1 : 1;
-    if (p->b != q->b) return p->b < q->b ? -1 : 1;
-    return p->f < q->f ? -1 : p->f > q->f;
-}
-
 static void vp_face_normal(const vp_mesh_t *m, size_t f, double n[3])
 {
     const double *a = m->xyz + 3 * (size_t)m->tri[3 * f], *b = m->xyz + 3 * (size_t)m->tri[3 * f + 1],
@@ -764,49 +753,75 @@ static void vp_face_normal(const vp_mesh_t *m, size_t f, double n[3])
 
 #define VP_CREASE_COS 0.93969262078590838   /* cos 20 degrees */
 
-size_t vp_surface_creases(const vp_surface_t *s, double step, double *xyz, size_t max)
+/* the points of the crease between pa and pb: both ends and points at most step apart between */
+static long vp_crease_points(const double pa[3], const double pb[3], double step)
 {
+    double len = 0;
+    long np;
+    int k;
+    for (k = 0; k < 3; k++) len += (pb[k] - pa[k]) * (pb[k] - pa[k]);
+    np = (long)ceil(sqrt(len) / step);
+    return np < 1 ? 1 : np;
+}
+
+int vp_surface_creases(const vp_surface_t *s, double step, double **xyz, size_t *n)
+{
+    double *out = NULL;
     size_t count = 0;
     int t;
-    if (!s || !(step > 0)) return 0;
+    if (!s || !xyz || !n) return VP_EINVAL;
+    *xyz = NULL;
+    *n = 0;
+    if (!(step > 0)) return VP_EINVAL;
     for (t = 0; t < s->nterm; t++) {
         const vp_term_t *T = &s->term[t];
         const vp_mesh_t *m = &T->mesh;
-        vp_fedge_t *e;
-        size_t f, i, j, ne = 3 * m->nt;
+        vp_edge_rec_t *e;
+        size_t f, i, j, ne = 3 * m->nt, more = 0;
+        int pass;
         if (T->kind != VP_TERM_MESH || m->nt == 0) continue;
         e = malloc(ne * sizeof *e);
-        if (!e) return count;
+        if (!e) { free(out); return VP_ENOMEM; }
         for (f = 0; f < m->nt; f++)
             for (j = 0; j < 3; j++) {
                 uint32_t a = m->tri[3 * f + j], b = m->tri[3 * f + (j + 1) % 3];
                 e[3 * f + j].a = a < b ? a : b;
                 e[3 * f + j].b = a < b ? b : a;
-                e[3 * f + j].f = f;
+                e[3 * f + j].f = (uint32_t)f;
             }
-        qsort(e, ne, sizeof *e, vp_fedge_cmp);
-        for (i = 0; i + 1 < ne; i = j) {
-            double n0[3], n1[3], pa[3], pb[3], len;
-            long np, q;
-            int k;
-            for (j = i + 1; j < ne && e[j].a == e[i].a && e[j].b == e[i].b; j++) {}
-            if (j - i < 2) continue;
-            vp_face_normal(m, e[i].f, n0);
-            vp_face_normal(m, e[i + 1].f, n1);
-            if (vp_dot3(n0, n1) > VP_CREASE_COS) continue;
-            vp_to_world(T, m->xyz + 3 * (size_t)e[i].a, pa);
-            vp_to_world(T, m->xyz + 3 * (size_t)e[i].b, pb);
-            len = 0;
-            for (k = 0; k < 3; k++) len += (pb[k] - pa[k]) * (pb[k] - pa[k]);
-            np = (long)ceil(sqrt(len) / step);
-            if (np < 1) np = 1;
-            for (q = 0; q <= np; q++, count++)
-                if (xyz && count < max)
-                    for (k = 0; k < 3; k++) xyz[3 * count + k] = pa[k] + (pb[k] - pa[k]) * (double)q / (double)np;
+        qsort(e, ne, sizeof *e, vp_edge_cmp);
+        /* the edges in two faces or more, those two turning by more than 20 degrees: counted,
+         * then written */
+        for (pass = 0; pass < 2; pass++) {
+            size_t at = count;
+            if (pass == 1) {
+                double *grown = more ? realloc(out, (count + more) * 3 * sizeof *out) : out;
+                if (more && !grown) { free(e); free(out); return VP_ENOMEM; }
+                out = grown;
+            }
+            for (i = 0; i + 1 < ne; i = j) {
+                double n0[3], n1[3], pa[3], pb[3];
+                long np, q;
+                int k;
+                for (j = i + 1; j < ne && e[j].a == e[i].a && e[j].b == e[i].b; j++) {}
+                if (j - i < 2) continue;
+                vp_face_normal(m, e[i].f, n0);
+                vp_face_normal(m, e[i + 1].f, n1);
+                if (vp_dot3(n0, n1) > VP_CREASE_COS) continue;
+                vp_to_world(T, m->xyz + 3 * (size_t)e[i].a, pa);
+                vp_to_world(T, m->xyz + 3 * (size_t)e[i].b, pb);
+                np = vp_crease_points(pa, pb, step);
+                if (pass == 0) { more += (size_t)np + 1; continue; }
+                for (q = 0; q <= np; q++, at++)
+                    for (k = 0; k < 3; k++) out[3 * at + k] = pa[k] + (pb[k] - pa[k]) * (double)q / (double)np;
+            }
         }
+        count += more;
         free(e);
     }
-    return count;
+    *xyz = out;
+    *n = count;
+    return VP_OK;
 }
 
 size_t vp_surface_sample(const vp_surface_t *s, size_t n, uint64_t seed, double *xyz)

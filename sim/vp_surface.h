@@ -51,9 +51,9 @@ void   vp_surface_normal(const vp_surface_t *s, const double p[3], double n[3]);
 size_t vp_surface_sample(const vp_surface_t *s, size_t n, uint64_t seed, double *xyz);
 /* Points along the creases of the mesh terms (edges whose two faces turn by more than 20
  * degrees: a part's sharp edges and corners, where the surface is farthest from a mesh that cuts
- * them), each crease's ends and points at most `step` apart between (world units). Writes at
- * most max of them to xyz (which may be NULL to count) and returns how many there are; 0 for
- * smooth (implicit) terms. */
-size_t vp_surface_creases(const vp_surface_t *s, double step, double *xyz, size_t max);
+ * them), each crease's ends and points at most `step` apart between (world units): *xyz a
+ * malloc'ed array of *n points (the caller frees it), NULL and 0 for smooth (implicit) terms.
+ * VP_EINVAL (step not > 0), VP_ENOMEM. */
+int vp_surface_creases(const vp_surface_t *s, double step, double **xyz, size_t *n);
 
 #endif

@@ -478,7 +478,13 @@ static void check_hausdorff_creases(void)
     memcpy(m.xyz, v, sizeof v);
     for (i = 0; i < 16; i++) memcpy(m.tri + 3 * i, tri[i], sizeof tri[i]);
     /* 12 edges, each with both ends and 10 points apart 0.1: 12 x 11 */
-    CHECKF(vp_surface_creases(s, 0.1, NULL, 0) == 132, "cube creases: %lu", (unsigned long)vp_surface_creases(s, 0.1, NULL, 0));
+    {
+        double *cp = NULL;
+        size_t nc = 0;
+        CHECKF(vp_surface_creases(s, 0.1, &cp, &nc) == VP_OK && nc == 132, "cube creases: %lu", (unsigned long)nc);
+        free(cp);
+        CHECK(vp_surface_creases(s, 0.0, &cp, &nc) == VP_EINVAL && !cp && nc == 0);
+    }
     CHECK(vp_hausdorff(&m, s, 2000, 7, &hd) == VP_OK);
     CHECKF(fabs(hd.surface_to_mesh - want) < 1e-12 && fabs(hd.hausdorff - want) < 1e-12,
            "chamfered cube: surface to mesh %.9f, want %.9f", hd.surface_to_mesh, want);
