@@ -957,10 +957,11 @@ static int scan_report(scan_job_t *j)
                    (unsigned long long)ps.vantages, (unsigned long long)ps.surveys,
                    (unsigned long long)ps.survey_probes, (unsigned long long)ps.surveys_failed);
         if (j->b.clearance > 0 && ps.aims > 0)
-            printf("body: hidden facets at holes aimed at from aside: %llu probes, %llu balls found, %llu far vertices "
-                   "seen free; %llu sides aimed at again through their far vertex alone (closing's last resort, "
-                   "taken %llu times)\n",
-                   (unsigned long long)ps.aims, (unsigned long long)ps.aim_balls, (unsigned long long)ps.aim_reached,
+            printf("body: hidden facets at holes aimed at from aside: %llu probes, %llu balls found (%llu by the hit "
+                   "nearest the edge), %llu far vertices seen free; %llu sides aimed at again through their far vertex "
+                   "alone (closing's last resort, taken %llu times)\n",
+                   (unsigned long long)ps.aims, (unsigned long long)ps.aim_balls, (unsigned long long)ps.aim_near,
+                   (unsigned long long)ps.aim_reached,
                    (unsigned long long)ps.far_line_sides, (unsigned long long)ps.last_resorts);
         if (j->rc == 0 && have_mc && !mc.closed_manifold) {
             printf("warning: the planner said DONE but the mesh is not closed (%zu boundary edges): the planner leaves open "
@@ -1079,8 +1080,8 @@ static int scan_report(scan_job_t *j)
                 printf(",\"level_routes\":%llu,\"routes\":%llu", (unsigned long long)ps.level_routes,
                        (unsigned long long)ps.routes);
             if (j->b.clearance > 0)
-                printf(",\"aims\":%llu,\"aim_balls\":%llu,\"aim_reached\":%llu,\"far_line_sides\":%llu,\"last_resorts\":%llu",
-                       (unsigned long long)ps.aims, (unsigned long long)ps.aim_balls,
+                printf(",\"aims\":%llu,\"aim_balls\":%llu,\"aim_near\":%llu,\"aim_reached\":%llu,\"far_line_sides\":%llu,\"last_resorts\":%llu",
+                       (unsigned long long)ps.aims, (unsigned long long)ps.aim_balls, (unsigned long long)ps.aim_near,
                        (unsigned long long)ps.aim_reached, (unsigned long long)ps.far_line_sides,
                        (unsigned long long)ps.last_resorts);
             if (j->b.clearance > 0 && j->b.min_feature > 0)

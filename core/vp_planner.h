@@ -134,6 +134,7 @@ typedef struct vp_planner_stats {
     uint64_t surveys, survey_probes, surveys_failed; /* tubes surveyed by parallel rays first */
     uint64_t aims;             /* body mode: probes aimed from aside at a hidden facet's edge */
     uint64_t aim_balls;        /* hidden facets whose surface Delaunay ball those found */
+    uint64_t aim_near;         /* ... of them by the hit nearest the edge of a narrowed stretch */
     uint64_t aim_reached;      /* hidden facets whose far vertex those saw free (reached) */
     uint64_t far_line_sides;   /* sides aimed at once more with lines through the far vertex alone
                                   (the last resort of closing, close.c) */
@@ -388,6 +389,8 @@ typedef struct vp_pl_aim {
     double d[3], t, lo, hi;    /* this direction; the point q(t) the issued line passes through */
     double sq;                 /* the line's origin to q(t) */
     double next_t;             /* where the last hit puts S's crossing of the edge, or -1 */
+    double near_c[3], near_d;  /* of this direction's hits, the one nearest the edge: taken onto
+                                  it, and its distance (near_d < 0: none within tol) */
     uint64_t past_share;       /* aims up to this count start past AIM_SHARE: those closing's last
                                   resort queued (close.c, vp_pl_aim_last_resort); 0 again on a
                                   re-scan */

@@ -610,9 +610,10 @@ void vp_sim_report(const vp_sim_t *s, const vp_sim_options_t *o, FILE *f)
         else if (s->cfg.clearance > 0)
             fprintf(f, "the device stays outside Omega\n");
         if (s->cfg.clearance > 0)
-            fprintf(f, "body: hidden facets at holes aimed at from aside: %llu probes, %llu balls found, %llu far "
-                    "vertices seen free; %llu sides aimed at again through their far vertex alone (closing's last "
-                    "resort, taken %llu times)\n", (unsigned long long)st.aims, (unsigned long long)st.aim_balls,
+            fprintf(f, "body: hidden facets at holes aimed at from aside: %llu probes, %llu balls found (%llu by the "
+                    "hit nearest the edge), %llu far vertices seen free; %llu sides aimed at again through their far "
+                    "vertex alone (closing's last resort, taken %llu times)\n", (unsigned long long)st.aims,
+                    (unsigned long long)st.aim_balls, (unsigned long long)st.aim_near,
                     (unsigned long long)st.aim_reached, (unsigned long long)st.far_line_sides,
                     (unsigned long long)st.last_resorts);
         if (s->cfg.line_rays)
@@ -688,13 +689,13 @@ void vp_sim_report(const vp_sim_t *s, const vp_sim_options_t *o, FILE *f)
             snprintf(touch + strlen(touch), sizeof touch - strlen(touch),
                      ",\"clearance\":%.6g,\"occluded\":%llu,\"min_feature\":%.6g,\"feature_margin\":%.6g,"
                      "\"tube_moves\":%llu,\"tube_starts\":%llu,\"vantages\":%llu,\"surveys\":%llu,"
-                     "\"survey_probes\":%llu,\"surveys_failed\":%llu,\"aims\":%llu,\"aim_balls\":%llu,\"aim_reached\":%llu,"
+                     "\"survey_probes\":%llu,\"surveys_failed\":%llu,\"aims\":%llu,\"aim_balls\":%llu,\"aim_near\":%llu,\"aim_reached\":%llu,"
                      "\"far_line_sides\":%llu,\"last_resorts\":%llu", s->cfg.clearance,
                      (unsigned long long)st.occluded, s->cfg.min_feature, s->cfg.feature_margin,
                      (unsigned long long)st.tube_moves, (unsigned long long)st.tube_starts,
                      (unsigned long long)st.vantages, (unsigned long long)st.surveys,
                      (unsigned long long)st.survey_probes, (unsigned long long)st.surveys_failed,
-                     (unsigned long long)st.aims, (unsigned long long)st.aim_balls,
+                     (unsigned long long)st.aims, (unsigned long long)st.aim_balls, (unsigned long long)st.aim_near,
                      (unsigned long long)st.aim_reached, (unsigned long long)st.far_line_sides,
                      (unsigned long long)st.last_resorts);
         fprintf(f, "{\"surface\":\"%s\",\"eps\":%.9g,\"status\":\"%s\",\"exit\":%d,\"planner_status\":\"%s\","

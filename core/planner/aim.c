@@ -11,7 +11,11 @@
  * further on), or meets S just before q(t) (within len / cos of the tilt, as a surface crossing
  * the edge before q(t) would be met), or meets something farther from q(t) (occluded: the next
  * direction). Narrowing [lo, hi] between a point seen free and one met just before, the line
- * meets S within `tol` of q(t). The next q(t) is where the last hit puts the crossing (S taken as
+ * meets S within `tol` of q(t). Where S runs slanted to the edge, the lines on either side of a
+ * narrowed stretch can each meet S more than tol before or after q(t) and still within tol of
+ * the edge (a line tilted by a from e, up to tol / sin a from q(t)): once the stretch left is
+ * below what a line tells apart, the hit of the direction nearest the edge, if within tol of
+ * it, is taken onto it as the crossing. The next q(t) is where the last hit puts the crossing (S taken as
  * a plane square to e there, as near a good facet: a hit d before or after q(t) along the line
  * is d cos(tilt) along the edge), else the middle: where the line through the middle of a long
  * edge meets S at a spot the camera cannot see (the bear's 10.7 mm edge on the enclosed board:
@@ -109,6 +113,39 @@ static int aim_give_up(vp_planner_t *pl)
     return VP_OK;
 }
 
+/* The stretch [lo, hi] left is below what a line can tell apart (the tolerance along the edge,
+ * as a line square to S would see it) */
+static int aim_narrowed(const vp_planner_t *pl, const vp_pl_aim_t *A)
+{
+    return (A->hi - A->lo) * A->len * vp_dot3(A->d, A->e) < aim_tol(pl);
+}
+
+/* The hit `dist` along the issued line from o, taken onto the edge (kept a hair inside its
+ * ends) into c; returns the hit's distance from c */
+static double aim_onto_edge(const vp_pl_aim_t *A, const double *o, double dist, double *c)
+{
+    double h[3], x[3], s, inset = 1e-9 * A->len;
+    int q;
+    for (q = 0; q < 3; q++) h[q] = o[q] + dist * A->d[q];
+    vp_sub3(x, h, A->a);
+    s = vp_dot3(x, A->e);
+    if (s > A->len - inset) s = A->len - inset;
+    if (s < inset) s = inset;
+    for (q = 0; q < 3; q++) c[q] = A->a[q] + s * A->e[q];
+    return vp_dist3(h, c);
+}
+
+/* The hit `dist` into near_c when, taken onto the edge, it lies within tol of it and nearer
+ * than the direction's hits before */
+static void aim_keep_near(vp_pl_aim_t *A, const double *o, double dist, double tol)
+{
+    double c[3], dd = aim_onto_edge(A, o, dist, c);
+    if (dd <= tol && (A->near_d < 0.0 || dd < A->near_d)) {
+        memcpy(A->near_c, c, sizeof A->near_c);
+        A->near_d = dd;
+    }
+}
+
 /* Prepares the line through q(t) along the current direction, trying the next directions
  * while one cannot be issued (its line leaves Omega too soon, or is out of the rangefinder's
  * reach, or no route to its origin). Returns 1 when a probe is ready, 0 when the side stays
@@ -118,14 +155,13 @@ static int aim_issue(vp_planner_t *pl)
     vp_pl_aim_t *A = &pl->aim;
     vp_pl_probe_t *P = &pl->probe;
     uint32_t ndirs = AIM_DIRS + (A->to_vertex && pl->close.far_lines ? AIM_VERTEX_DIRS : 0u);
-    for (; A->dir_i < ndirs; A->dir_i++, A->steps = 0, A->lo = 0.0, A->hi = 1.0) {
+    for (; A->dir_i < ndirs; A->dir_i++, A->steps = 0, A->lo = 0.0, A->hi = 1.0, A->near_d = -1.0) {
         double q[3], back[3], t0, t1, o[3], range;
         int k, st;
         if (A->steps == 0) aim_dir(A->dir_i, A->e, A->d);
         /* this direction is done after AIM_STEPS lines, or once the stretch left is below what
          * a line can tell apart (the tolerance along the edge); one line for b alone */
-        if (A->steps >= AIM_STEPS || (A->steps > 0 && (aim_vertex_only(A) ||
-            (A->hi - A->lo) * A->len * vp_dot3(A->d, A->e) < aim_tol(pl))))
+        if (A->steps >= AIM_STEPS || (A->steps > 0 && (aim_vertex_only(A) || aim_narrowed(pl, A))))
             continue;
         /* the first line of a direction passes the far vertex, when it lies in Omega */
         A->t = A->steps == 0 ? (A->to_vertex ? 1.0 : AIM_MID_T) : 0.5 * (A->lo + A->hi);
@@ -188,6 +224,7 @@ VP_PL_API int vp_pl_aim_start(vp_planner_t *pl, const vp_task_t *k, const double
     A->to_vertex = !(g.t1 < g.len);
     A->dir_i = A->steps = 0;
     A->next_t = -1.0;
+    A->near_d = -1.0;
     A->lo = 0.0;
     A->hi = 1.0;
     A->on = 1;
@@ -255,14 +292,8 @@ VP_PL_API int vp_pl_aim_feed(vp_planner_t *pl, const vp_probe_result_t *res)
         A->steps = AIM_STEPS; /* b not seen free along this direction */
     } else if (res->dist >= A->sq - tol) {
         /* S met within tol of q(t): the ball's centre, on the edge */
-        double h[3], c[3], s, inset = 1e-9 * A->len;
-        int q;
-        for (q = 0; q < 3; q++) h[q] = pl->probe.origin[q] + res->dist * A->d[q];
-        vp_sub3(c, h, A->a);
-        s = vp_dot3(c, A->e);
-        if (s > A->len - inset) s = A->len - inset;
-        if (s < inset) s = inset;
-        for (q = 0; q < 3; q++) c[q] = A->a[q] + s * A->e[q];
+        double c[3];
+        (void)aim_onto_edge(A, pl->probe.origin, res->dist, c);
         A->on = 0;
         pl->st.aim_balls++;
         st = vp_pl_side_hit(pl, k->tet, k->facet, c, A->out, PROOF_NONE);
@@ -272,6 +303,16 @@ VP_PL_API int vp_pl_aim_feed(vp_planner_t *pl, const vp_probe_result_t *res)
         A->next_t = aim_crossing(A, res->dist);
     } else {
         A->steps = AIM_STEPS; /* occluded along this direction too */
+    }
+    if (res->hit == 1 && A->steps < AIM_STEPS && !aim_vertex_only(A)) {
+        aim_keep_near(A, pl->probe.origin, res->dist, tol);
+        if (A->near_d >= 0.0 && aim_narrowed(pl, A)) {
+            /* narrowed with no line within tol of q(t): the hit nearest the edge */
+            A->on = 0;
+            pl->st.aim_balls++;
+            pl->st.aim_near++;
+            return vp_pl_side_hit(pl, k->tet, k->facet, A->near_c, A->out, PROOF_NONE);
+        }
     }
     st = aim_issue(pl);
     if (st > 0) {
