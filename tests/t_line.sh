@@ -126,21 +126,26 @@ echo "rpi4 dry run, eps 10: dot laser $(field "$o-dot.json" probes) probes, $td 
 # ---- two spheres 2 mm apart: the beam between two surfaces, at a limb, in a gap of the line is
 # unreadable, never a hit in the air (a hit beside a limb within the noise tolerance is a grazing
 # reading). The neck is 2 mm across at eps 12, far outside paper 000's range: lines aimed from
-# aside at its sides close the mesh across it, one part where the object has two, and host-sim
-# says so (wrong topology, exit 7, as for the stacked boxes below); before sides whose line enters
-# Omega from outside were aimed at, it ended open (exit 4). Either is an honest answer there.
+# aside at its sides closed the mesh across it, one part where the object has two, and host-sim
+# said so (wrong topology, exit 7, as for the stacked boxes below); before sides whose line enters
+# Omega from outside were aimed at, and again since an aimed direction takes its hit nearest the
+# edge (core/planner/aim.c), it ends open (exit 4, 2 edges). Either is an honest answer there.
 o="$D/rpi4-two"
 "$VP" scan --board "$D/rpi4-line.ini" --dry-run --eps 12 --surface "sphere*10@200,150,141+sphere*7@200,150,160" \
   --json --log "$o.vplog" --out "$o" >"$o.out" 2>&1
 rc=$?
 tail -n 1 "$o.out" >"$o.json"
 gaps=$(sed -n 's/.* \([0-9]*\) probes with the beam in a gap of the line$/\1/p' "$o.out")
-[ $rc = 7 ] && grep -q "wrong topology" "$o.out" || bad "two spheres, line laser: exit $rc (expected 7: closed across the neck, wrong topology)"
+case $rc in
+  7) grep -q "wrong topology" "$o.out" || bad "two spheres, line laser: exit 7 without 'wrong topology'";;
+  4) grep -q "the mesh is not closed" "$o.out" || bad "two spheres, line laser: exit 4 without 'the mesh is not closed'";;
+  *) bad "two spheres, line laser: exit $rc (expected 4, open, or 7, closed across the neck with the wrong topology)";;
+esac
 grep -q ' 0 false hits, [0-9]* hidden spots, 0 moves through the object' "$o.out" || bad "two spheres, line laser: $(grep 'dry run: probe error' "$o.out")"
 [ "$(field "$o.json" ray_false)" = 0 ] && [ "$(field "$o.json" head_collisions)" = 0 ] || bad "two spheres: ray_false $(field "$o.json" ray_false), head collisions $(field "$o.json" head_collisions)"
 [ -n "$gaps" ] && [ "$gaps" -gt 0 ] || bad "two spheres: no probe read as a gap of the line ('$gaps')"
 "$VP" log verify "$o.vplog" >/dev/null 2>&1 || bad "two spheres, line laser: log verify"
-echo "two spheres 2 mm apart, line laser: exit $rc (closed across the 2 mm neck at eps 12: wrong topology, said so), 0 false hits, $gaps probes unreadable (the beam in a gap of the line, at its end or between two surfaces), 0 false rays"
+echo "two spheres 2 mm apart, line laser: exit $rc (open, or closed across the 2 mm neck at eps 12 with the wrong topology: said so), 0 false hits, $gaps probes unreadable (the beam in a gap of the line, at its end or between two surfaces), 0 false rays"
 
 # ---- three stacked boxes: convex edges and concave steps; the beam at an edge is read on one face
 # or not at all, never past the surface (a SAFETY line in the dry run's report), never in the air
