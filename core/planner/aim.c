@@ -146,6 +146,15 @@ static void aim_keep_near(vp_pl_aim_t *A, const double *o, double dist, double t
     }
 }
 
+/* The aim ends with the facet's surface Delaunay ball centred at c, on the edge */
+static int aim_ball(vp_planner_t *pl, const double *c)
+{
+    const vp_task_t *k = &pl->probe.task;
+    pl->aim.on = 0;
+    pl->st.aim_balls++;
+    return vp_pl_side_hit(pl, k->tet, k->facet, c, pl->aim.out, PROOF_NONE);
+}
+
 /* Prepares the line through q(t) along the current direction, trying the next directions
  * while one cannot be issued (its line leaves Omega too soon, or is out of the rangefinder's
  * reach, or no route to its origin). Returns 1 when a probe is ready, 0 when the side stays
@@ -294,10 +303,7 @@ VP_PL_API int vp_pl_aim_feed(vp_planner_t *pl, const vp_probe_result_t *res)
         /* S met within tol of q(t): the ball's centre, on the edge */
         double c[3];
         (void)aim_onto_edge(A, pl->probe.origin, res->dist, c);
-        A->on = 0;
-        pl->st.aim_balls++;
-        st = vp_pl_side_hit(pl, k->tet, k->facet, c, A->out, PROOF_NONE);
-        return st;
+        return aim_ball(pl, c);
     } else if (res->dist >= A->sq - aim_near(pl)) {
         A->hi = A->t; /* met just before q(t): S crosses the edge before it */
         A->next_t = aim_crossing(A, res->dist);
@@ -308,10 +314,8 @@ VP_PL_API int vp_pl_aim_feed(vp_planner_t *pl, const vp_probe_result_t *res)
         aim_keep_near(A, pl->probe.origin, res->dist, tol);
         if (A->near_d >= 0.0 && aim_narrowed(pl, A)) {
             /* narrowed with no line within tol of q(t): the hit nearest the edge */
-            A->on = 0;
-            pl->st.aim_balls++;
             pl->st.aim_near++;
-            return vp_pl_side_hit(pl, k->tet, k->facet, A->near_c, A->out, PROOF_NONE);
+            return aim_ball(pl, A->near_c);
         }
     }
     st = aim_issue(pl);
