@@ -299,6 +299,8 @@ static int scan_after(void *ctx, const vp_cmd_t *cmd, const vp_probe_result_t *r
     st = vp_sessionlog_after(&r->w, cmd, res);
     if (st != VP_OK) return st;
     if (cmd->kind == VP_CMD_DONE || cmd->kind == VP_CMD_RAY) return VP_OK; /* a RAY: part of its PROBE's frame */
+    if (cmd->kind == VP_CMD_PROBE && res && res->hit == VP_PROBE_TOO_CLOSE && r->dev->last_false_miss)
+        r->dev->false_misses_unseen++; /* a hidden spot the sight rule caught (dry run) */
     r->n++;
     if (!r->quiet && (vp_progress_tick(&r->prog) || (r->hw && r->prog.tty))) scan_progress(r, 0);
     if (r->stop_after && r->n == r->stop_after) raise(SIGINT);   /* a Ctrl-C, on purpose */
@@ -347,6 +349,7 @@ typedef struct scan_job {
     vp_live_cli_t live;             /* --serve: the live view */
     char stop_text[VP_LOGFMT_TEXT_MAX + 1];  /* why the scan stopped short of DONE ("": it did not) */
     int home_failed;                /* homing or the way to the start (or back) stopped: no scan */
+    unsigned long unseen_misses;    /* misses of this run fed as unreadable (vp_run.h) */
 } scan_job_t;
 
 /* The command line into j->cl.
@@ -812,6 +815,7 @@ static int scan_go(scan_job_t *j)
         if (!j->o.quiet) fprintf(stderr, "scan: homed%s; scanning (Ctrl-C stops after the current command)\n", j->o.resume ? ", back where the log left off" : "");
         vp_session_run(j->pl, &ops, hp, 0, NULL, &res);
         st = res.status;
+        j->unseen_misses = res.unseen_misses;
         if (!j->o.quiet) scan_progress(&j->run, 1);
         if (j->live.lv) { /* the live view's last frame: the mesh as the scan left it */
             vp_mesh_t m;
@@ -936,6 +940,10 @@ static int scan_report(scan_job_t *j)
                 vp_scan_unreadable_text(&j->dev, why, sizeof why);
                 printf("unreadable frames: %s\n", why);
             }
+            if (j->unseen_misses)
+                printf("unseen misses: %lu frames with no spot where the mesh found so far may hide the spot from the "
+                       "camera (no walls round the machine show a miss for what it is: [rangefinder] backdrop); "
+                       "taken as unreadable, never free space\n", j->unseen_misses);
         }
         {
             char rep[VP_LOGFMT_TEXT_MAX + 1];
@@ -1003,6 +1011,9 @@ static int scan_report(scan_job_t *j)
                    "%lu hidden spots, %lu moves through the object\n",
                    j->dev.true_n ? sqrt(j->dev.err2 / (double)j->dev.true_n) : 0.0, j->dev.err_max, j->dev.true_n, j->dev.false_hits,
                    j->dev.false_misses, j->dev.through);
+            if (j->unseen_misses && j->dev.false_misses)
+                printf("dry run: %lu of the hidden spots taken for free space (%lu fed as unreadable by the sight rule)\n",
+                       j->dev.false_misses - j->dev.false_misses_unseen, j->dev.false_misses_unseen);
             if (j->dev.grazing)
                 printf("dry run: %lu hits where the beam grazes a limb or clips a thin edge (the point, and the ray's "
                        "free part, within %g mm of the surface)\n", j->dev.grazing, j->dev.noise_tol);
@@ -1067,7 +1078,8 @@ static int scan_report(scan_job_t *j)
                    1e-9 * (double)m->st.read_ns);
             printf(",\"turns\":%lu,\"moves_turning\":%lu,\"paths\":%lu,\"path_moves\":%lu", m->st.turns,
                    m->st.moves_turning, m->st.paths, m->st.path_moves);
-            printf(",\"unreadable\":%lu,\"unreadable_no_spot\":%lu", j->dev.unreadable, j->dev.unread_why[5]);
+            printf(",\"unreadable\":%lu,\"unreadable_no_spot\":%lu,\"unseen_misses\":%lu", j->dev.unreadable,
+                   j->dev.unread_why[5], j->unseen_misses);
             if (j->o.rescan || j->rescans > 0)
                 printf(",\"rescan\":{\"probes\":%llu,\"old_probes\":%llu,\"kept\":%llu,\"skipped\":%llu,\"dropped\":%llu,"
                        "\"moved\":%llu,\"unseen\":%llu,\"normal\":%llu,\"reproved\":%llu,\"blocked\":%llu}", (unsigned long long)(ps.probes - j->before.probes),
@@ -1099,7 +1111,8 @@ static int scan_report(scan_job_t *j)
                 if (vp_board_has_contact(&j->b))
                     printf(",\"contacts\":%lu,\"touch_depth_max\":%.4f", j->dev.contacts, j->dev.touch_depth_max);
                 if (j->o.reach_out) printf(",\"reach_out\":true");
-                printf(",\"false_hits\":%lu,\"hidden_spots\":%lu", j->dev.false_hits, j->dev.false_misses);
+                printf(",\"false_hits\":%lu,\"hidden_spots\":%lu,\"hidden_spots_free\":%lu", j->dev.false_hits,
+                       j->dev.false_misses, j->dev.false_misses - j->dev.false_misses_unseen);
                 if (hausdorff >= 0) printf(",\"hausdorff\":%.4f", hausdorff);
                 if (j->o.accuracy > 0) printf(",\"accuracy_target\":%g", j->o.accuracy);
                 if (j->dev.board.line_laser)

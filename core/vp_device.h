@@ -29,6 +29,11 @@ typedef struct vp_device_ops {
      * was read over, and its result; 0 when the frame has no more; < 0 an error (the scan stops).
      * NULL: a dot laser. */
     int (*rays)(void *ctx, const vp_cmd_t *probe, unsigned i, vp_cmd_t *ray, vp_probe_result_t *res);
+    /* after a PROBE (or a ray of its frame) the device read as a miss: 1 with *cam the camera's
+     * centre at that reading when a miss means only that the camera found no spot (a spot hidden
+     * from it reads the same); 0 when a miss is seen for what it is (walls round the machine show
+     * the spot past the range). NULL: misses are trusted. */
+    int (*sight)(void *ctx, const vp_cmd_t *probe, double cam[3]);
 } vp_device_ops_t;
 
 #endif

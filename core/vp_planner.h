@@ -447,6 +447,14 @@ int vp_planner_next(vp_planner_t *pl, vp_cmd_t *cmd);
 /* The result of the last PROBE. VP_EINVAL for NaN or a negative distance (nothing changes). */
 int vp_planner_feed(vp_planner_t *pl, const vp_probe_result_t *res);
 
+/* A miss must be seen: 1 when a facet of the mesh found so far crosses the triangle swept by the
+ * sight lines from the camera's centre `cam` to the beam from `origin` along unit `dir` up to
+ * `range` (a spot there may have been hidden from the camera, so a miss read there proves
+ * nothing: feed it as VP_PROBE_TOO_CLOSE); 0 when none does; VP_EINVAL for NaN or a negative
+ * range. Changes nothing. */
+int vp_planner_spot_hidden(const vp_planner_t *pl, const double origin[3], const double dir[3], double range,
+                           const double cam[3]);
+
 /* The last MOVE stopped at distance `at` from its start: the head's contact switch closed, so S
  * is there although the probes had shown the segment free (a surface the rangefinder cannot
  * see: black, shiny). Call it before the next vp_planner_next(). The planner withdraws every

@@ -7,6 +7,23 @@ static double vp_run_clock(const vp_run_hooks_t *h)
     return h && h->clock ? h->clock(h->ctx) : 0.0;
 }
 
+/* A miss must be seen: where the device's misses mean only that its camera found no spot, a miss
+ * whose spot the mesh found so far may hide from the camera (vp_planner_spot_hidden) proves
+ * nothing and is fed, and logged, as unreadable (VP_PROBE_TOO_CLOSE). */
+static void vp_run_sight(const vp_planner_t *pl, const vp_device_ops_t *dev, const vp_run_hooks_t *hooks,
+                         vp_run_result_t *out, const vp_cmd_t *cmd, vp_probe_result_t *res)
+{
+    double cam[3], c0;
+    if (res->hit != 0 || !dev->sight || dev->sight(dev->ctx, cmd, cam) != 1) return;
+    c0 = vp_run_clock(hooks);
+    if (vp_planner_spot_hidden(pl, cmd->from, cmd->dir, cmd->range, cam) == 1) {
+        res->hit = VP_PROBE_TOO_CLOSE;
+        res->dist = 0.0;
+        out->unseen_misses++;
+    }
+    out->planner_seconds += vp_run_clock(hooks) - c0;
+}
+
 #ifndef VP_CORE_MCU
 /* The head's contact switch stopped MOVE `move` at `at` (logged already): the planner learns
  * where (vp_planner_touch_path: an ordinary touch when it is the last command given). */
@@ -143,6 +160,7 @@ int vp_run(vp_planner_t *pl, const vp_device_ops_t *dev, const vp_run_hooks_t *h
             int hst = VP_OK;
             st = dev->probe(dev->ctx, &cmd, &res);
             if (st != VP_OK) break;
+            vp_run_sight(pl, dev, hooks, out, &cmd, &res);
             /* logged before the planner judges it */
             if (after) hst = after(hctx, &cmd, &res);
             c0 = vp_run_clock(hooks);
@@ -161,6 +179,7 @@ int vp_run(vp_planner_t *pl, const vp_device_ops_t *dev, const vp_run_hooks_t *h
                     got = dev->rays(dev->ctx, &cmd, i, &ray, &res);
                     if (got < 0) { st = got; break; }   /* the device failed */
                     if (got != 1) break;                 /* the frame has no more */
+                    vp_run_sight(pl, dev, hooks, out, &ray, &res);
                     if (after) st = after(hctx, &ray, &res);
                     if (st != VP_OK) break;
                     c0 = vp_run_clock(hooks);

@@ -619,6 +619,7 @@ static int vp_scan_dev_probe_do(void *ctx, const vp_cmd_t *cmd, vp_probe_result_
     double j0[VP_KIN_JOINTS], target[VP_KIN_JOINTS], way[VP_MACHINE_MAX_WAY][VP_KIN_JOINTS];
     int st, nway = 0;
     vp_scan_trip(d);
+    d->last_false_miss = 0;
     if (d->dry) {
         /* the aim path the machine is about to take (vp_machine_probe plans the same one) */
         vp_camsim_seed(d->dr->cs, vp_mix64(d->seed ^ vp_mix64(d->probes)));
@@ -668,7 +669,10 @@ static int vp_scan_dev_probe_do(void *ctx, const vp_cmd_t *cmd, vp_probe_result_
                    t < cmd->range - d->noise_tol) {
             /* a surface on the ray: false unless the ray only clips a thin edge, nowhere deeper
              * inside than the tolerance (the beam passed beside it), as for a hit read past one */
-            if (vp_scan_depth_beyond(d->dr->surf, cmd->from, cmd->dir, t, cmd->range, d->noise_tol)) d->false_misses++;
+            if (vp_scan_depth_beyond(d->dr->surf, cmd->from, cmd->dir, t, cmd->range, d->noise_tol)) {
+                d->false_misses++;
+                d->last_false_miss = 1;
+            }
             else d->grazing++;
         }
     }
@@ -769,6 +773,23 @@ static int vp_scan_dev_touched(void *ctx, double *at)
     return vp_machine_contact(d->m, at);
 }
 
+/* A miss must be seen: without walls round the machine a miss only says the camera found no spot,
+ * so its reading is judged against where the camera stood (its centre: the calibrated one when
+ * the board has the full model, else [camera] position, carried by the head's pan and tilt). */
+static int vp_scan_dev_sight(void *ctx, const vp_cmd_t *probe, double cam[3])
+{
+    vp_scan_dev_t *d = ctx;
+    double rot[9], pos[3], c[3];
+    const double *in = d->board.have_rf ? d->board.rf.cam.pos : d->board.cam_model.pos;
+    int k;
+    (void)probe;
+    if (d->board.have_backdrop) return 0;
+    vp_kin_head(&d->m->kin, d->m->j, rot, pos);
+    vp_kin_mul(rot, in, c);
+    for (k = 0; k < 3; k++) cam[k] = pos[k] + c[k];
+    return 1;
+}
+
 vp_device_ops_t vp_scan_ops(vp_scan_dev_t *d)
 {
     vp_device_ops_t ops;
@@ -778,6 +799,7 @@ vp_device_ops_t vp_scan_ops(vp_scan_dev_t *d)
     ops.touched = vp_board_has_contact(&d->board) ? vp_scan_dev_touched : NULL;
     ops.move_path = vp_machine_paths_allowed(d->m) ? vp_scan_dev_move_path : NULL;
     ops.rays = d->board.line_laser ? vp_scan_dev_rays : NULL;
+    ops.sight = d->board.have_backdrop ? NULL : vp_scan_dev_sight;
     return ops;
 }
 

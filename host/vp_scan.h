@@ -58,6 +58,8 @@ typedef struct vp_scan_dev {
     vp_cmd_t fault_cmd;
     /* dry run: probes against the true object */
     unsigned long true_n, false_hits, false_misses;
+    int last_false_miss;          /* the last probe was such a miss (a hidden spot) */
+    unsigned long false_misses_unseen; /* of them fed as unreadable (vp_device_ops_t.sight) */
     unsigned long past;           /* hits farther than the surface by more than noise_tol (space
                                      inside the object read as free) */
     unsigned long grazing;        /* hits whose ray meets no surface but whose point lies within

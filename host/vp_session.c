@@ -75,6 +75,7 @@ int vp_session_run(vp_planner_t *pl, const vp_device_ops_t *dev, const vp_sessio
     memset(out, 0, sizeof *out);
     out->status = r.status;
     out->collisions = r.collisions;
+    out->unseen_misses = r.unseen_misses;
     out->planner_seconds = r.planner_seconds;
     out->total_seconds = vp_rt_seconds() - w0;
     return r.status;

@@ -18,6 +18,7 @@ typedef struct vp_session_hooks {
 typedef struct vp_session_result {
     int status;              /* VP_OK when the planner said DONE */
     unsigned long collisions;
+    unsigned long unseen_misses; /* misses fed as unreadable: their spot maybe hidden (vp_run.h) */
     double planner_seconds;  /* CPU time inside vp_planner_next/feed */
     double total_seconds;    /* wall time of the loop */
 } vp_session_result_t;

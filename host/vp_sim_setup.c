@@ -367,6 +367,7 @@ int vp_sim_run(vp_sim_t *s, FILE *progress)
     ops.touched = s->contact ? dev_touched : NULL;
     ops.rays = s->cfg.line_rays ? dev_rays : NULL;
     ops.move_path = NULL;
+    ops.sight = NULL;
     return vp_session_run(s->pl, &ops, s->hooks, 0, progress, &s->run);
 }
 

@@ -80,6 +80,7 @@ int vp_m4_scan(void)
     dev.touched = 0;
     dev.rays = 0;
     dev.move_path = 0;
+    dev.sight = 0;
     rc = vp_planner_init(&pl, arena, sizeof arena, &cfg);
     if (rc == VP_OK) rc = vp_run(&pl, &dev, 0, VP_M4_MAX_COMMANDS, &run);
     vp_planner_get_stats(&pl, &st);

@@ -180,6 +180,7 @@ void mcu_main(void)
             dev.touched = 0;
             dev.rays = 0;
             dev.move_path = 0;
+            dev.sight = 0;
             memset(&hooks, 0, sizeof hooks);
             hooks.after = after;
             st = vp_run(&pl, &dev, &hooks, 0, &run);

@@ -114,3 +114,75 @@ VP_PL_API int vp_pl_probe_proof(vp_planner_t *pl, const vp_probe_result_t *res, 
     if (st == VP_OK) pl->probe.cur_proof = *out;
     return st;
 }
+
+/* ---------- a miss must be seen: the spot's sight line ----------
+ * A triangulating rangefinder reads a miss when its camera finds no spot; it reads the same when
+ * the spot is there but hidden from the camera (the far inner side of a torus lit through its
+ * hole). Every spot the beam could make lies in the triangle (camera, origin, end of the range),
+ * swept by its sight lines; where a facet of the mesh known so far crosses that triangle, a
+ * spot there may have been hidden, and the miss proves nothing. Decided with exact orient3d on
+ * the points given (touching counts as crossing; a facet in the triangle's plane too). */
+
+/* 1 when segment [s, t] meets triangle (a, b, c) that it does not lie in the plane of */
+static int segment_meets_tri(const double *s, const double *t, const double *a, const double *b, const double *c)
+{
+    int os = vp_orient3d(a, b, c, s), ot = vp_orient3d(a, b, c, t), u, v, w;
+    if ((os > 0 && ot > 0) || (os < 0 && ot < 0) || (os == 0 && ot == 0)) return 0;
+    u = vp_orient3d(s, t, a, b);
+    v = vp_orient3d(s, t, b, c);
+    w = vp_orient3d(s, t, c, a);
+    return (u >= 0 && v >= 0 && w >= 0) || (u <= 0 && v <= 0 && w <= 0);
+}
+
+/* 1 when triangles p and q meet (or lie in one plane: taken as meeting) */
+static int tri_meets_tri(const double (*p)[3], const double (*q)[3])
+{
+    int i, sp = 0, sq = 0, zp = 0, zq = 0;
+    for (i = 0; i < 3; i++) {
+        int o = vp_orient3d(p[0], p[1], p[2], q[i]);
+        sp += o;
+        zp += o == 0;
+        o = vp_orient3d(q[0], q[1], q[2], p[i]);
+        sq += o;
+        zq += o == 0;
+    }
+    if (sp == 3 || sp == -3 || sq == 3 || sq == -3) return 0; /* one wholly on one side of the other */
+    if (zp == 3 || zq == 3) return 1;
+    for (i = 0; i < 3; i++)
+        if (segment_meets_tri(p[i], p[(i + 1) % 3], q[0], q[1], q[2]) ||
+            segment_meets_tri(q[i], q[(i + 1) % 3], p[0], p[1], p[2]))
+            return 1;
+    return 0;
+}
+
+int vp_planner_spot_hidden(const vp_planner_t *pl, const double origin[3], const double dir[3], double range,
+                           const double cam[3])
+{
+    double sweep[3][3], lo[3], hi[3];
+    uint32_t k;
+    int q;
+    if (!pl || !origin || !dir || !cam || !vp_finite3(origin) || !vp_finite3(dir) || !vp_finite3(cam) ||
+        !vp_finite(range) || !(range >= 0.0))
+        return VP_EINVAL;
+    for (q = 0; q < 3; q++) {
+        sweep[0][q] = cam[q];
+        sweep[1][q] = origin[q];
+        sweep[2][q] = origin[q] + range * dir[q];
+        lo[q] = sweep[0][q] < sweep[1][q] ? sweep[0][q] : sweep[1][q];
+        hi[q] = sweep[0][q] < sweep[1][q] ? sweep[1][q] : sweep[0][q];
+        if (sweep[2][q] < lo[q]) lo[q] = sweep[2][q];
+        if (sweep[2][q] > hi[q]) hi[q] = sweep[2][q];
+    }
+    for (k = 0; k < pl->pool.nfrec; k++) {
+        const vp_frec_t *f = &pl->pool.frec[k];
+        double tri[3][3];
+        int i, out = 0;
+        if (!frec_in_mesh(f)) continue;
+        for (i = 0; i < 3; i++) memcpy(tri[i], vp_dt_point(&pl->dt, f->v[i]), sizeof tri[i]);
+        for (q = 0; q < 3 && !out; q++)
+            out = (tri[0][q] < lo[q] && tri[1][q] < lo[q] && tri[2][q] < lo[q]) ||
+                  (tri[0][q] > hi[q] && tri[1][q] > hi[q] && tri[2][q] > hi[q]);
+        if (!out && tri_meets_tri((const double (*)[3])sweep, (const double (*)[3])tri)) return 1;
+    }
+    return 0;
+}

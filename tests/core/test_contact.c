@@ -131,6 +131,7 @@ static void scan(int contact, double eps, sphere_dev_t *d, vp_planner_stats_t *s
     ops.touched = contact ? dev_touched : NULL;
     ops.rays = NULL;
     ops.move_path = NULL;
+    ops.sight = NULL;
     vp_run(&pl, &ops, NULL, 200000, run);
     vp_planner_get_stats(&pl, st);
 }

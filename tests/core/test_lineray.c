@@ -169,6 +169,7 @@ static void scan(double eps, unsigned nrays, ell_dev_t *d, vp_planner_stats_t *s
     ops.touched = NULL;
     ops.rays = nrays ? dev_rays : NULL;
     ops.move_path = NULL;
+    ops.sight = NULL;
     vp_run(&pl, &ops, NULL, 2000000, run);
     vp_planner_get_stats(&pl, st);
 }

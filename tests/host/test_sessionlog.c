@@ -147,7 +147,7 @@ static int run(vp_planner_t *pl, adev_t *d, vp_sessionlog_writer_t *w)
     vp_device_ops_t ops;
     vp_session_hooks_t hooks;
     vp_session_result_t res;
-    ops.ctx = d; ops.move = adev_move; ops.probe = adev_probe; ops.touched = NULL; ops.rays = NULL; ops.move_path = NULL;
+    ops.ctx = d; ops.move = adev_move; ops.probe = adev_probe; ops.touched = NULL; ops.rays = NULL; ops.move_path = NULL; ops.sight = NULL;
     hooks.ctx = w; hooks.after = vp_sessionlog_after;
     if (w) w->raw = &d->raw;
     return vp_session_run(pl, &ops, w ? &hooks : NULL, 0, NULL, &res);

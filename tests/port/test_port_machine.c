@@ -156,6 +156,7 @@ static void scan(const char *board, long cap, scan_out_t *o)
     ops.touched = NULL;
     ops.rays = NULL;
     ops.move_path = NULL;
+    ops.sight = NULL;
     run0 = d->rec.now;
     rc = vp_run(pl, &ops, NULL, (unsigned long)cap, &run);
     CHECKF(rc == VP_OK, "scan: %s", vp_strerror(rc));
