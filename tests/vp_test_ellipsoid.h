@@ -1,9 +1,12 @@
 /* vp_test_ellipsoid.h — an ellipsoid written from its formula alone, for the tests that check the
- * planner without host-sim (test_lineray, test_rescan): its implicit value, a ray's first entry
- * from outside, and whether a straight move enters it. */
+ * planner without host-sim (test_lineray, test_rescan, test_sight): its implicit value, a ray's
+ * first entry from outside, whether a straight move enters it; a device that probes and moves
+ * against it, and the planner configuration those tests share. */
 #ifndef VP_TEST_ELLIPSOID_H
 #define VP_TEST_ELLIPSOID_H
 #include <math.h>
+#include <string.h>
+#include "vp_device.h"
 
 typedef struct vp_test_ell {
     double ax[3], c[3]; /* semi-axes, centre */
@@ -42,6 +45,50 @@ static int vp_test_ell_move_enters(const vp_test_ell_t *e, const double *p, cons
     if (!(len > 0.0)) return 0;
     for (k = 0; k < 3; k++) u[k] /= len;
     return vp_test_ell_first(e, p, u, len, &t) || vp_test_ell_f(e, q) < 0.0;
+}
+
+/* A device at pos against ellipsoid e (a test's own device starts with one): its MOVEs count
+ * those that enter e, its PROBEs meet e exactly. */
+typedef struct vp_test_ell_dev {
+    vp_test_ell_t e;
+    double pos[3];
+    unsigned long probes, moves, into;
+} vp_test_ell_dev_t;
+
+static int vp_test_ell_dev_move(void *ctx, const vp_cmd_t *cmd, int *collided)
+{
+    vp_test_ell_dev_t *d = ctx;
+    d->moves++;
+    *collided = vp_test_ell_move_enters(&d->e, d->pos, cmd->to);
+    d->into += (unsigned long)*collided;
+    memcpy(d->pos, cmd->to, sizeof d->pos);
+    return VP_OK;
+}
+
+static int vp_test_ell_dev_probe(void *ctx, const vp_cmd_t *cmd, vp_probe_result_t *res)
+{
+    vp_test_ell_dev_t *d = ctx;
+    double t;
+    d->probes++;
+    res->hit = vp_test_ell_first(&d->e, d->pos, cmd->dir, cmd->range, &t);
+    res->dist = res->hit ? t : 0.0;
+    return VP_OK;
+}
+
+/* Omega: the box of semi-axes ax grown by 0.3, one interior point (the centre), the device
+ * starting 0.5 above the top */
+static void vp_test_ell_config(vp_planner_config_t *c, const double *ax, double eps)
+{
+    int k;
+    memset(c, 0, sizeof *c);
+    c->omega_kind = VP_OMEGA_BOX;
+    for (k = 0; k < 3; k++) {
+        c->omega_lo[k] = -ax[k] - 0.3;
+        c->omega_hi[k] = ax[k] + 0.3;
+    }
+    c->ninterior = 1;
+    c->eps = eps;
+    c->start[2] = ax[2] + 0.5;
 }
 
 #endif

@@ -19,34 +19,15 @@
 static const double AX[3] = { 1.0, 0.7, 0.5 }; /* semi-axes */
 
 typedef struct ell_dev {
-    double pos[3];
+    vp_test_ell_dev_t b;     /* the ellipsoid, the device's place, its counts */
     unsigned nrays;          /* more rays per frame */
     double half;             /* half fan angle, rad */
-    unsigned long probes, rays, ray_hits, into;
+    unsigned long rays, ray_hits;
 } ell_dev_t;
 
 static const vp_test_ell_t ELL = { { 1.0, 0.7, 0.5 }, { 0, 0, 0 } };
 static double ell_f(const double *x) { return vp_test_ell_f(&ELL, x); }
 static int ell_first(const double *p, const double *u, double len, double *t) { return vp_test_ell_first(&ELL, p, u, len, t); }
-
-static int dev_move(void *ctx, const vp_cmd_t *cmd, int *collided)
-{
-    ell_dev_t *d = ctx;
-    *collided = vp_test_ell_move_enters(&ELL, d->pos, cmd->to);
-    d->into += (unsigned long)*collided;
-    memcpy(d->pos, cmd->to, sizeof d->pos);
-    return VP_OK;
-}
-
-static int dev_probe(void *ctx, const vp_cmd_t *cmd, vp_probe_result_t *res)
-{
-    ell_dev_t *d = ctx;
-    double t;
-    d->probes++;
-    res->hit = ell_first(d->pos, cmd->dir, cmd->range, &t);
-    res->dist = res->hit ? t : 0.0;
-    return VP_OK;
-}
 
 /* ray i: the fan in the plane of the probe's ray and the axis least along it */
 static int dev_rays(void *ctx, const vp_cmd_t *probe, unsigned i, vp_cmd_t *ray, vp_probe_result_t *res)
@@ -77,16 +58,7 @@ static int dev_rays(void *ctx, const vp_cmd_t *probe, unsigned i, vp_cmd_t *ray,
 /* Omega: the ellipsoid's box grown by 0.3; the head starts above it, the interior point is its centre */
 static void config(vp_planner_config_t *c, double eps, unsigned nrays)
 {
-    int k;
-    memset(c, 0, sizeof *c);
-    c->omega_kind = VP_OMEGA_BOX;
-    for (k = 0; k < 3; k++) {
-        c->omega_lo[k] = -AX[k] - 0.3;
-        c->omega_hi[k] = AX[k] + 0.3;
-    }
-    c->ninterior = 1;
-    c->eps = eps;
-    c->start[2] = AX[2] + 0.5;
+    vp_test_ell_config(c, AX, eps);
     c->line_rays = nrays;
 }
 
@@ -159,13 +131,14 @@ static void scan(double eps, unsigned nrays, ell_dev_t *d, vp_planner_stats_t *s
     vp_device_ops_t ops;
     config(&cfg, eps, nrays);
     memset(d, 0, sizeof *d);
-    memcpy(d->pos, cfg.start, sizeof d->pos);
+    d->b.e = ELL;
+    memcpy(d->b.pos, cfg.start, sizeof d->b.pos);
     d->nrays = nrays;
     d->half = 15.0 * M_PI / 180.0;
     CHECK(vp_planner_init(&pl, arena, sizeof arena, &cfg) == VP_OK);
     ops.ctx = d;
-    ops.move = dev_move;
-    ops.probe = dev_probe;
+    ops.move = vp_test_ell_dev_move;
+    ops.probe = vp_test_ell_dev_probe;
     ops.touched = NULL;
     ops.rays = nrays ? dev_rays : NULL;
     ops.move_path = NULL;
@@ -185,19 +158,19 @@ static void test_scans(void)
         unsigned nv0, nv1;
         double sp;
         scan(epss[e], 0, &d0, &s0, &r0);
-        CHECK(r0.status == VP_OK && r0.done && d0.into == 0);
+        CHECK(r0.status == VP_OK && r0.done && d0.b.into == 0);
         judge("dot laser", epss[e], &nv0);
         scan(epss[e], 16, &d1, &s1, &r1);
-        CHECK(r1.status == VP_OK && r1.done && d1.into == 0);
+        CHECK(r1.status == VP_OK && r1.done && d1.b.into == 0);
         judge("line laser", epss[e], &nv1);
         /* every ray fed, its hits counted alike; some became samples */
         CHECK(s1.rays == d1.rays && s1.ray_hits == d1.ray_hits && s1.ray_samples > 0);
         /* the seeds are the first samples inserted; after them the spacing is eps */
         sp = min_spacing(pl.seed.npts);
         CHECKF(sp > epss[e] * (1 - 1e-9) || s1.ray_samples == 0, "samples %.9g apart at eps %g", sp, epss[e]);
-        CHECKF(d1.probes < d0.probes, "line laser %lu probes, dot laser %lu", d1.probes, d0.probes);
+        CHECKF(d1.b.probes < d0.b.probes, "line laser %lu probes, dot laser %lu", d1.b.probes, d0.b.probes);
         printf("ellipsoid eps %g: dot laser %lu probes, %u vertices; line laser (16 rays) %lu probes, %u vertices, "
-               "%llu samples from %lu ray hits; no moves into it\n", epss[e], d0.probes, nv0, d1.probes, nv1,
+               "%llu samples from %lu ray hits; no moves into it\n", epss[e], d0.b.probes, nv0, d1.b.probes, nv1,
                (unsigned long long)s1.ray_samples, d1.ray_hits);
     }
 }

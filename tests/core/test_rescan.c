@@ -14,46 +14,13 @@
 
 #define ARENA (32u << 20)
 
-typedef struct ell_dev {
-    vp_test_ell_t e;         /* the object now */
-    double pos[3];
-    unsigned long probes, moves, into;
-} ell_dev_t;
-
-static int dev_move(void *ctx, const vp_cmd_t *cmd, int *collided)
-{
-    ell_dev_t *d = ctx;
-    d->moves++;
-    *collided = vp_test_ell_move_enters(&d->e, d->pos, cmd->to);
-    d->into += (unsigned long)*collided;
-    memcpy(d->pos, cmd->to, sizeof d->pos);
-    return VP_OK;
-}
-
-static int dev_probe(void *ctx, const vp_cmd_t *cmd, vp_probe_result_t *res)
-{
-    ell_dev_t *d = ctx;
-    double t;
-    d->probes++;
-    res->hit = vp_test_ell_first(&d->e, d->pos, cmd->dir, cmd->range, &t);
-    res->dist = res->hit ? t : 0.0;
-    return VP_OK;
-}
+typedef vp_test_ell_dev_t ell_dev_t; /* e: the object now */
 
 /* Omega: the first ellipsoid's box grown by 0.3; the head starts above it */
 static void config(vp_planner_config_t *c, double eps)
 {
     static const double ax[3] = { 1.0, 0.7, 0.5 };
-    int k;
-    memset(c, 0, sizeof *c);
-    c->omega_kind = VP_OMEGA_BOX;
-    for (k = 0; k < 3; k++) {
-        c->omega_lo[k] = -ax[k] - 0.3;
-        c->omega_hi[k] = ax[k] + 0.3;
-    }
-    c->ninterior = 1;
-    c->eps = eps;
-    c->start[2] = ax[2] + 0.5;
+    vp_test_ell_config(c, ax, eps);
 }
 
 static unsigned char arena[ARENA];
@@ -64,8 +31,8 @@ static void run(ell_dev_t *d, vp_run_result_t *r)
     vp_device_ops_t ops;
     memset(&ops, 0, sizeof ops);
     ops.ctx = d;
-    ops.move = dev_move;
-    ops.probe = dev_probe;
+    ops.move = vp_test_ell_dev_move;
+    ops.probe = vp_test_ell_dev_probe;
     vp_run(&pl, &ops, NULL, 2000000, r);
 }
 

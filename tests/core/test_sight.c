@@ -22,34 +22,22 @@
 #define ARENA (32u << 20)
 
 typedef struct ell_dev {
-    vp_test_ell_t e;
-    double pos[3];
+    vp_test_ell_dev_t b;     /* the ellipsoid, the device's place, its counts */
     double cam_off[3];       /* the camera from the laser origin (sight): far below it */
     int last_miss;           /* the last probe was read as a miss */
-    unsigned long into, misses, unseen, unseen_checked;
+    unsigned long misses, unseen, unseen_checked;
 } ell_dev_t;
 
 static unsigned char arena[ARENA];
 static vp_planner_t pl;
 
-static int dev_move(void *ctx, const vp_cmd_t *cmd, int *collided)
-{
-    ell_dev_t *d = ctx;
-    *collided = vp_test_ell_move_enters(&d->e, d->pos, cmd->to);
-    d->into += (unsigned long)*collided;
-    memcpy(d->pos, cmd->to, sizeof d->pos);
-    return VP_OK;
-}
-
 static int dev_probe(void *ctx, const vp_cmd_t *cmd, vp_probe_result_t *res)
 {
     ell_dev_t *d = ctx;
-    double t;
-    res->hit = vp_test_ell_first(&d->e, d->pos, cmd->dir, cmd->range, &t);
-    res->dist = res->hit ? t : 0.0;
+    int st = vp_test_ell_dev_probe(&d->b, cmd, res);
     d->last_miss = !res->hit;
     d->misses += (unsigned long)d->last_miss;
-    return VP_OK;
+    return st;
 }
 
 static int dev_sight(void *ctx, const vp_cmd_t *cmd, double cam[3])
@@ -76,16 +64,7 @@ static int after(void *ctx, const vp_cmd_t *cmd, const vp_probe_result_t *res)
 static void config(vp_planner_config_t *c, double eps)
 {
     static const double ax[3] = { 1.0, 0.7, 0.5 };
-    int k;
-    memset(c, 0, sizeof *c);
-    c->omega_kind = VP_OMEGA_BOX;
-    for (k = 0; k < 3; k++) {
-        c->omega_lo[k] = -ax[k] - 0.3;
-        c->omega_hi[k] = ax[k] + 0.3;
-    }
-    c->ninterior = 1;
-    c->eps = eps;
-    c->start[2] = ax[2] + 0.5;
+    vp_test_ell_config(c, ax, eps);
 }
 
 static void scan(ell_dev_t *d, double eps, int sight, vp_run_result_t *r)
@@ -95,13 +74,13 @@ static void scan(ell_dev_t *d, double eps, int sight, vp_run_result_t *r)
     vp_run_hooks_t hooks;
     config(&cfg, eps);
     memset(d, 0, sizeof *d);
-    d->e.ax[0] = 1.0; d->e.ax[1] = 0.7; d->e.ax[2] = 0.5;
+    d->b.e.ax[0] = 1.0; d->b.e.ax[1] = 0.7; d->b.e.ax[2] = 0.5;
     d->cam_off[0] = 0.2; d->cam_off[1] = -0.3; d->cam_off[2] = -1.5;
-    memcpy(d->pos, cfg.start, sizeof d->pos);
+    memcpy(d->b.pos, cfg.start, sizeof d->b.pos);
     CHECK(vp_planner_init(&pl, arena, sizeof arena, &cfg) == VP_OK);
     memset(&ops, 0, sizeof ops);
     ops.ctx = d;
-    ops.move = dev_move;
+    ops.move = vp_test_ell_dev_move;
     ops.probe = dev_probe;
     ops.sight = sight ? dev_sight : NULL;
     memset(&hooks, 0, sizeof hooks);
@@ -210,7 +189,7 @@ int main(int argc, char **argv)
     CHECK(vp_planner_spot_hidden(&pl, o, dir, 2.0, cam) == 0);
 
     scan(&d, 0.2, 0, &r);
-    CHECK(r.status == VP_OK && r.done && d.into == 0 && r.unseen_misses == 0 && d.unseen == 0);
+    CHECK(r.status == VP_OK && r.done && d.b.into == 0 && r.unseen_misses == 0 && d.unseen == 0);
     if (argc == 3 && !strcmp(argv[1], "--cases")) {
         write_cases(argv[2]);
         return vp_test_done("test_sight --cases");
@@ -231,7 +210,7 @@ int main(int argc, char **argv)
 
     /* the run loop with the camera far below the laser */
     scan(&d, 0.2, 1, &r);
-    CHECKF(r.status == VP_OK && d.into == 0, "status %d, %lu moves into the ellipsoid", r.status, d.into);
+    CHECKF(r.status == VP_OK && d.b.into == 0, "status %d, %lu moves into the ellipsoid", r.status, d.b.into);
     CHECKF(d.unseen == r.unseen_misses && d.unseen_checked == d.unseen && d.unseen > 0,
            "%lu results fed as unreadable, %lu counted, %lu of them misses the call calls hidden", d.unseen,
            r.unseen_misses, d.unseen_checked);
