@@ -447,13 +447,18 @@ int vp_planner_next(vp_planner_t *pl, vp_cmd_t *cmd);
 /* The result of the last PROBE. VP_EINVAL for NaN or a negative distance (nothing changes). */
 int vp_planner_feed(vp_planner_t *pl, const vp_probe_result_t *res);
 
-/* A miss must be seen: 1 when a facet of the mesh found so far crosses the triangle swept by the
- * sight lines from the camera's centre `cam` to the beam from `origin` along unit `dir` up to
- * `range` (a spot there may have been hidden from the camera, so a miss read there proves
- * nothing: feed it as VP_PROBE_TOO_CLOSE); 0 when none does; VP_EINVAL for NaN or a negative
- * range. Changes nothing. */
+/* A miss must be seen: 1 when an occluder (below) crosses the triangle swept by the sight lines
+ * from the camera's centre `cam` to the beam from `origin` along unit `dir` up to `range` (a spot
+ * there may have been hidden from the camera, so a miss read there proves nothing: feed it as
+ * VP_PROBE_TOO_CLOSE); 0 when none does; VP_EINVAL for NaN or a negative range. Changes nothing.
+ * Exact (orient3d on the points given); touching counts, and so does an occluder lying in the
+ * triangle's plane. */
 int vp_planner_spot_hidden(const vp_planner_t *pl, const double origin[3], const double dir[3], double range,
                            const double cam[3]);
+/* The occluders, where S may stand: the facets of the mesh found so far, and the facets between a
+ * tet whose Voronoi vertex no probe has reached and one whose vertex was reached or lies outside
+ * Omega. Slot i: 1 with its corners in tri, 0 when slot i holds none, -1 past the last slot. */
+int vp_planner_sight_occluder(const vp_planner_t *pl, uint32_t i, double tri[3][3]);
 
 /* The last MOVE stopped at distance `at` from its start: the head's contact switch closed, so S
  * is there although the probes had shown the segment free (a surface the rangefinder cannot

@@ -3,7 +3,7 @@
 //
 // usage: cgal_sight CASES
 //
-// CASES (tests/core/test_sight --cases): a line `facets N`, N lines of a facet's three corners
+// CASES (tests/core/test_sight --cases): a line `facets N`, N lines of an occluder's three corners
 // (9 numbers), a line `queries`, then one line per sight triangle: its three corners (the camera,
 // the beam's origin, the beam's end: 9 numbers) and the planner's answer (0 or 1).
 // The answer must be 1 exactly when the sight triangle meets a facet (CGAL::do_intersect of two

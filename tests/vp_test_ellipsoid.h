@@ -55,7 +55,7 @@ typedef struct vp_test_ell_dev {
     unsigned long probes, moves, into;
 } vp_test_ell_dev_t;
 
-static int vp_test_ell_dev_move(void *ctx, const vp_cmd_t *cmd, int *collided)
+static inline int vp_test_ell_dev_move(void *ctx, const vp_cmd_t *cmd, int *collided)
 {
     vp_test_ell_dev_t *d = ctx;
     d->moves++;
@@ -65,7 +65,7 @@ static int vp_test_ell_dev_move(void *ctx, const vp_cmd_t *cmd, int *collided)
     return VP_OK;
 }
 
-static int vp_test_ell_dev_probe(void *ctx, const vp_cmd_t *cmd, vp_probe_result_t *res)
+static inline int vp_test_ell_dev_probe(void *ctx, const vp_cmd_t *cmd, vp_probe_result_t *res)
 {
     vp_test_ell_dev_t *d = ctx;
     double t;
@@ -77,7 +77,7 @@ static int vp_test_ell_dev_probe(void *ctx, const vp_cmd_t *cmd, vp_probe_result
 
 /* Omega: the box of semi-axes ax grown by 0.3, one interior point (the centre), the device
  * starting 0.5 above the top */
-static void vp_test_ell_config(vp_planner_config_t *c, const double *ax, double eps)
+static inline void vp_test_ell_config(vp_planner_config_t *c, const double *ax, double eps)
 {
     int k;
     memset(c, 0, sizeof *c);

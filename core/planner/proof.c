@@ -119,9 +119,12 @@ VP_PL_API int vp_pl_probe_proof(vp_planner_t *pl, const vp_probe_result_t *res, 
  * A triangulating rangefinder reads a miss when its camera finds no spot; it reads the same when
  * the spot is there but hidden from the camera (the far inner side of a torus lit through its
  * hole). Every spot the beam could make lies in the triangle (camera, origin, end of the range),
- * swept by its sight lines; where a facet of the mesh known so far crosses that triangle, a
- * spot there may have been hidden, and the miss proves nothing. Decided with exact orient3d on
- * the points given (touching counts as crossing; a facet in the triangle's plane too). */
+ * swept by its sight lines. Where S may stand in that triangle, a spot there may have been
+ * hidden, and the miss proves nothing. S may stand wherever no probe has shown space free: the
+ * occluders are the facets of the mesh found so far and the facets between a tet whose Voronoi
+ * vertex no probe has reached (a part of space still unknown, the object's inside among it) and
+ * one whose vertex was reached or lies outside Omega. Decided with exact orient3d on the points
+ * given (touching counts as crossing; an occluder in the triangle's plane too). */
 
 /* 1 when segment [s, t] meets triangle (a, b, c) that it does not lie in the plane of */
 static int segment_meets_tri(const double *s, const double *t, const double *a, const double *b, const double *c)
@@ -155,12 +158,36 @@ static int tri_meets_tri(const double (*p)[3], const double (*q)[3])
     return 0;
 }
 
+int vp_planner_sight_occluder(const vp_planner_t *pl, uint32_t i, double tri[3][3])
+{
+    int k;
+    if (i < pl->pool.nfrec) {
+        const vp_frec_t *f = &pl->pool.frec[i];
+        if (!frec_in_mesh(f)) return 0;
+        for (k = 0; k < 3; k++) memcpy(tri[k], vp_dt_point(&pl->dt, f->v[k]), sizeof tri[k]);
+        return 1;
+    }
+    i -= pl->pool.nfrec;
+    if (i / 4u >= pl->dt.ntet_slots) return -1;
+    {
+        uint32_t t = i / 4u, u;
+        const uint32_t *w;
+        int f = (int)(i % 4u);
+        if (!vp_dt_alive(&pl->dt, t) || vp_dt_is_ghost(&pl->dt, t) || tet_active(pl, t)) return 0;
+        w = vp_dt_tet(&pl->dt, t);
+        u = w[4 + f] >> 2;
+        if (!vp_dt_is_ghost(&pl->dt, u) && !tet_active(pl, u)) return 0;
+        for (k = 0; k < 3; k++) memcpy(tri[k], vp_dt_point(&pl->dt, w[(f + 1 + k) & 3]), sizeof tri[k]);
+        return 1;
+    }
+}
+
 int vp_planner_spot_hidden(const vp_planner_t *pl, const double origin[3], const double dir[3], double range,
                            const double cam[3])
 {
-    double sweep[3][3], lo[3], hi[3];
-    uint32_t k;
-    int q;
+    double sweep[3][3], lo[3], hi[3], tri[3][3];
+    uint32_t i;
+    int q, got;
     if (!pl || !origin || !dir || !cam || !vp_finite3(origin) || !vp_finite3(dir) || !vp_finite3(cam) ||
         !vp_finite(range) || !(range >= 0.0))
         return VP_EINVAL;
@@ -173,12 +200,9 @@ int vp_planner_spot_hidden(const vp_planner_t *pl, const double origin[3], const
         if (sweep[2][q] < lo[q]) lo[q] = sweep[2][q];
         if (sweep[2][q] > hi[q]) hi[q] = sweep[2][q];
     }
-    for (k = 0; k < pl->pool.nfrec; k++) {
-        const vp_frec_t *f = &pl->pool.frec[k];
-        double tri[3][3];
-        int i, out = 0;
-        if (!frec_in_mesh(f)) continue;
-        for (i = 0; i < 3; i++) memcpy(tri[i], vp_dt_point(&pl->dt, f->v[i]), sizeof tri[i]);
+    for (i = 0; (got = vp_planner_sight_occluder(pl, i, tri)) >= 0; i++) {
+        int out = 0;
+        if (!got) continue;
         for (q = 0; q < 3 && !out; q++)
             out = (tri[0][q] < lo[q] && tri[1][q] < lo[q] && tri[2][q] < lo[q]) ||
                   (tri[0][q] > hi[q] && tri[1][q] > hi[q] && tri[2][q] > hi[q]);

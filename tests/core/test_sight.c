@@ -7,9 +7,11 @@
  *   unreadable is a miss the device read and the call calls hidden,
  *   the count is vp_run_result_t.unseen_misses, and the scan still ends with no move into the
  *   ellipsoid;
- * - with --cases FILE: the mesh's facets and a set of sight triangles (random ones, ones like a
- *   scanner's, ones through a facet's vertex or along its edge, the facet itself) with the call's
- *   answer, for tests/t_sight.sh to check against CGAL's exact do_intersect. */
+ * - every facet of the mesh is an occluder (vp_planner_sight_occluder);
+ * - with --cases FILE: part way through the scan (much of space still unknown), the occluders and
+ *   a set of sight triangles (random ones, ones like a scanner's, ones through an occluder's
+ *   vertex or along its edge, the occluder itself) with the call's answer, for tests/t_sight.sh to
+ *   check against CGAL's exact do_intersect. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -67,7 +69,7 @@ static void config(vp_planner_config_t *c, double eps)
     vp_test_ell_config(c, ax, eps);
 }
 
-static void scan(ell_dev_t *d, double eps, int sight, vp_run_result_t *r)
+static void scan(ell_dev_t *d, double eps, int sight, unsigned long max_commands, vp_run_result_t *r)
 {
     vp_planner_config_t cfg;
     vp_device_ops_t ops;
@@ -86,7 +88,7 @@ static void scan(ell_dev_t *d, double eps, int sight, vp_run_result_t *r)
     memset(&hooks, 0, sizeof hooks);
     hooks.ctx = d;
     hooks.after = after;
-    vp_run(&pl, &ops, &hooks, 2000000, r);
+    vp_run(&pl, &ops, &hooks, max_commands, r);
 }
 
 static double urand(unsigned long *s)
@@ -123,18 +125,19 @@ static void query(FILE *f, const double *cam, const double *o, const double *end
 
 static void write_cases(const char *path)
 {
-    const vp_dt_t *dt = vp_planner_dt(&pl);
-    uint32_t slots = vp_planner_facet_slots(&pl), i, v[3], nf = 0;
+    uint32_t i, nf = 0;
     unsigned long s = 12345;
     unsigned n = 0;
+    double tri[3][3];
+    int got;
     FILE *f = fopen(path, "w");
     CHECK(f != NULL);
     if (!f) return;
-    for (i = 0; i < slots; i++) nf += vp_planner_facet(&pl, i, v, NULL, NULL) != 0;
+    for (i = 0; (got = vp_planner_sight_occluder(&pl, i, tri)) >= 0; i++) nf += got == 1;
     fprintf(f, "facets %u\n", nf);
-    for (i = 0; i < slots; i++) {
-        if (!vp_planner_facet(&pl, i, v, NULL, NULL)) continue;
-        put_tri(f, vp_dt_point(dt, v[0]), vp_dt_point(dt, v[1]), vp_dt_point(dt, v[2]));
+    for (i = 0; (got = vp_planner_sight_occluder(&pl, i, tri)) >= 0; i++) {
+        if (got != 1) continue;
+        put_tri(f, tri[0], tri[1], tri[2]);
         fprintf(f, "\n");
     }
     fprintf(f, "queries\n");
@@ -157,22 +160,20 @@ static void write_cases(const char *path)
         }
         query(f, cam, o, e, &n);
     }
-    for (i = 0, s = 777; i < slots && n < 1400; i++) { /* through a facet's vertex, along its edge, itself */
+    for (i = 0, s = 777; (got = vp_planner_sight_occluder(&pl, i, tri)) >= 0 && n < 1400; i++) {
+        /* through an occluder's vertex, along its edge, itself */
         double far[3];
-        const double *a, *b, *c;
+        const double *a = tri[0], *b = tri[1], *c = tri[2];
         int k;
-        if (!vp_planner_facet(&pl, i, v, NULL, NULL) || urand(&s) > 0.3) continue;
-        a = vp_dt_point(dt, v[0]);
-        b = vp_dt_point(dt, v[1]);
-        c = vp_dt_point(dt, v[2]);
+        if (got != 1 || urand(&s) > 0.3) continue;
         for (k = 0; k < 3; k++) far[k] = 3.2 * urand(&s) - 1.6;
         query(f, far, a, far[0] > 0 ? b : c, &n); /* the beam from a vertex to another: along an edge */
-        query(f, a, b, c, &n);                    /* the facet itself (in its plane) */
+        query(f, a, b, c, &n);                    /* the occluder itself (in its plane) */
         for (k = 0; k < 3; k++) far[k] = a[k] + 2.0 * (a[k] - c[k]) + 0.5 * urand(&s);
         query(f, c, far, a, &n);                   /* the cam at a vertex */
     }
     fclose(f);
-    printf("wrote %u facets and %u sight triangles to %s\n", nf, n, path);
+    printf("wrote %u occluders and %u sight triangles to %s\n", nf, n, path);
 }
 
 int main(int argc, char **argv)
@@ -188,11 +189,25 @@ int main(int argc, char **argv)
     CHECK(vp_planner_init(&pl, arena, sizeof arena, &cfg) == VP_OK);
     CHECK(vp_planner_spot_hidden(&pl, o, dir, 2.0, cam) == 0);
 
-    scan(&d, 0.2, 0, &r);
-    CHECK(r.status == VP_OK && r.done && d.b.into == 0 && r.unseen_misses == 0 && d.unseen == 0);
     if (argc == 3 && !strcmp(argv[1], "--cases")) {
+        /* part way: much of space is still unknown (its boundary occludes), part of the mesh found */
+        scan(&d, 0.2, 0, 400, &r);
+        CHECK(r.status == VP_OK && !r.done && d.b.into == 0);
         write_cases(argv[2]);
         return vp_test_done("test_sight --cases");
+    }
+    scan(&d, 0.2, 0, 2000000, &r);
+    CHECK(r.status == VP_OK && r.done && d.b.into == 0 && r.unseen_misses == 0 && d.unseen == 0);
+    /* every facet of the mesh is an occluder */
+    {
+        uint32_t i, v[3], nf = 0, nocc = 0;
+        double tri[3][3];
+        for (i = 0; i < vp_planner_facet_slots(&pl); i++) {
+            nf += vp_planner_facet(&pl, i, v, NULL, NULL) != 0;
+            nocc += vp_planner_facet(&pl, i, v, NULL, NULL) != 0 && vp_planner_sight_occluder(&pl, i, tri) == 1;
+        }
+        CHECKF(nf > 0 && nocc == nf, "%u of %u facets of the mesh are occluders", nocc, nf);
+        CHECK(vp_planner_sight_occluder(&pl, 0xFFFFFFF0u, tri) == -1);
     }
     /* the contract: bad input is refused and changes nothing */
     {
@@ -209,7 +224,7 @@ int main(int argc, char **argv)
     CHECK(vp_planner_spot_hidden(&pl, o, dir, 0.3, cam) == 0);
 
     /* the run loop with the camera far below the laser */
-    scan(&d, 0.2, 1, &r);
+    scan(&d, 0.2, 1, 2000000, &r);
     CHECKF(r.status == VP_OK && d.b.into == 0, "status %d, %lu moves into the ellipsoid", r.status, d.b.into);
     CHECKF(d.unseen == r.unseen_misses && d.unseen_checked == d.unseen && d.unseen > 0,
            "%lu results fed as unreadable, %lu counted, %lu of them misses the call calls hidden", d.unseen,
