@@ -941,9 +941,9 @@ static int scan_report(scan_job_t *j)
                 printf("unreadable frames: %s\n", why);
             }
             if (j->unseen_misses)
-                printf("unseen misses: %lu frames with no spot where the mesh found so far may hide the spot from the "
-                       "camera (no walls round the machine show a miss for what it is: [rangefinder] backdrop); "
-                       "taken as unreadable, never free space\n", j->unseen_misses);
+                printf("unseen misses: %lu frames with no spot where the mesh found so far or the space still unknown "
+                       "may hide the spot from the camera (no walls round the machine show a miss for what it is: "
+                       "[rangefinder] backdrop); taken as unreadable, never free space\n", j->unseen_misses);
         }
         {
             char rep[VP_LOGFMT_TEXT_MAX + 1];

@@ -8,8 +8,9 @@ static double vp_run_clock(const vp_run_hooks_t *h)
 }
 
 /* A miss must be seen: where the device's misses mean only that its camera found no spot, a miss
- * whose spot the mesh found so far may hide from the camera (vp_planner_spot_hidden) proves
- * nothing and is fed, and logged, as unreadable (VP_PROBE_TOO_CLOSE). */
+ * whose spot may be hidden from the camera by what is not known free (the mesh found so far, the
+ * space still unknown: vp_planner_spot_hidden) proves nothing and is fed, and logged, as
+ * unreadable (VP_PROBE_TOO_CLOSE). */
 static void vp_run_sight(const vp_planner_t *pl, const vp_device_ops_t *dev, const vp_run_hooks_t *hooks,
                          vp_run_result_t *out, const vp_cmd_t *cmd, vp_probe_result_t *res)
 {

@@ -3,7 +3,7 @@
  *     vp_planner_next -> MOVE:  dev->move  -> hooks->after(cmd, NULL)
  *                               stopped by contact: hooks->after(cmd, {hit 1, dist at})
  *                               -> vp_planner_touch
- *                     -> PROBE: dev->probe [-> dev->sight: a miss the mesh so far may hide
+ *                     -> PROBE: dev->probe [-> dev->sight: a miss whose spot may be hidden
  *                               from the camera becomes unreadable] -> hooks->after(cmd, res)
  *                               -> vp_planner_feed
  *                     -> DONE:  hooks->after(cmd, NULL), stop
@@ -41,8 +41,8 @@ typedef struct vp_run_result {
     unsigned long commands;     /* MOVE and PROBE commands executed */
     unsigned long collisions;   /* moves the device reported as collided */
     unsigned long contacts;     /* moves the head's contact switch stopped */
-    unsigned long unseen_misses; /* misses fed as unreadable: the mesh so far may hide their
-                                    spot from the camera (vp_device_ops_t.sight) */
+    unsigned long unseen_misses; /* misses fed as unreadable: their spot may be hidden from the
+                                    camera (vp_device_ops_t.sight, vp_planner_spot_hidden) */
     double planner_seconds;     /* inside vp_planner_next/feed (0 without hooks->clock) */
 } vp_run_result_t;
 
