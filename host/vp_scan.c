@@ -773,11 +773,12 @@ static int vp_scan_dev_touched(void *ctx, double *at)
     return vp_machine_contact(d->m, at);
 }
 
-/* A miss must be seen: without walls round the machine a miss only says the camera found no spot,
- * so its reading is judged against where the camera stood (its centre: the calibrated one when
- * the board has the full model, else [camera] position, carried by the head's pan and tilt). In
- * body mode only, where a side left unseen is found from aside (a head that travels inside Omega
- * has its contact switch for what the rangefinder cannot see). */
+/* A miss must be seen: without walls round the machine (vp_scan_ops gives this device no sight
+ * with them) a miss only says the camera found no spot, so its reading is judged against where
+ * the camera stood (its centre: the calibrated one when the board has the full model, else
+ * [camera] position, carried by the head's pan and tilt). In body mode only, where a side left
+ * unseen is found from aside (a head that travels inside Omega has its contact switch for what
+ * the rangefinder cannot see). */
 static int vp_scan_dev_sight(void *ctx, const vp_cmd_t *probe, double cam[3])
 {
     vp_scan_dev_t *d = ctx;
@@ -785,7 +786,7 @@ static int vp_scan_dev_sight(void *ctx, const vp_cmd_t *probe, double cam[3])
     const double *in = d->board.have_rf ? d->board.rf.cam.pos : d->board.cam_model.pos;
     int k;
     (void)probe;
-    if (d->board.have_backdrop || !d->pl || !(d->pl->cfg.clearance > 0.0)) return 0;
+    if (!d->pl || !(d->pl->cfg.clearance > 0.0)) return 0;
     vp_kin_head(&d->m->kin, d->m->j, rot, pos);
     vp_kin_mul(rot, in, c);
     for (k = 0; k < 3; k++) cam[k] = pos[k] + c[k];

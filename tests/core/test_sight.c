@@ -22,6 +22,7 @@
 #include "vp_test_ellipsoid.h"
 
 #define ARENA (32u << 20)
+static const double AX[3] = { 1.0, 0.7, 0.5 }; /* the ellipsoid's semi-axes */
 
 typedef struct ell_dev {
     vp_test_ell_dev_t b;     /* the ellipsoid, the device's place, its counts */
@@ -63,20 +64,15 @@ static int after(void *ctx, const vp_cmd_t *cmd, const vp_probe_result_t *res)
     return VP_OK;
 }
 
-static void config(vp_planner_config_t *c, double eps)
-{
-    static const double ax[3] = { 1.0, 0.7, 0.5 };
-    vp_test_ell_config(c, ax, eps);
-}
 
 static void scan(ell_dev_t *d, double eps, int sight, unsigned long max_commands, vp_run_result_t *r)
 {
     vp_planner_config_t cfg;
     vp_device_ops_t ops;
     vp_run_hooks_t hooks;
-    config(&cfg, eps);
+    vp_test_ell_config(&cfg, AX, eps);
     memset(d, 0, sizeof *d);
-    d->b.e.ax[0] = 1.0; d->b.e.ax[1] = 0.7; d->b.e.ax[2] = 0.5;
+    memcpy(d->b.e.ax, AX, sizeof d->b.e.ax);
     d->cam_off[0] = 0.2; d->cam_off[1] = -0.3; d->cam_off[2] = -1.5;
     memcpy(d->b.pos, cfg.start, sizeof d->b.pos);
     CHECK(vp_planner_init(&pl, arena, sizeof arena, &cfg) == VP_OK);
@@ -185,7 +181,7 @@ int main(int argc, char **argv)
     vp_planner_config_t cfg;
 
     /* nothing found yet: nothing hides a spot */
-    config(&cfg, 0.2);
+    vp_test_ell_config(&cfg, AX, 0.2);
     CHECK(vp_planner_init(&pl, arena, sizeof arena, &cfg) == VP_OK);
     CHECK(vp_planner_spot_hidden(&pl, o, dir, 2.0, cam) == 0);
 
