@@ -535,6 +535,29 @@ static int level_route(vp_planner_t *pl, const double *a, const double *b, int r
     return 1;
 }
 
+/* Timed body mode round a ball Omega (no tubes): how far back along its line (unit dir, o on
+ * dOmega, the line entering Omega there) a probe starts so that it stands on the route sphere
+ * (1% beyond dOmega, where the level way and the great circle run): the head then joins its
+ * way round Omega where it starts and leaves it where it ends, with no step out at the start
+ * and back in at the end (a reversal of every moving axis: a stop at each, backlash taken up).
+ * At most `most` (the range left), 0 when o is on that sphere already. */
+VP_PL_API double vp_pl_start_back(const vp_planner_t *pl, const double *o, const double *dir, double most)
+{
+    double v[3], vd, v2, rt, disc, s;
+    if (!vp_pl_timed(pl) || pl->cfg.omega_kind != VP_OMEGA_BALL || pl->cfg.min_feature > 0.0 || !(most > 0.0))
+        return 0.0;
+    rt = SPHERE_ROUTE_GROW * pl->cfg.omega_radius * (1.0 + 1e-9);
+    vp_sub3(v, o, pl->cfg.omega_center);
+    vd = vp_dot3(v, dir);
+    v2 = vp_dot3(v, v);
+    if (v2 >= rt * rt) return 0.0;
+    /* |v - s dir| = rt: the root beyond o (v2 < rt^2, so the other is behind) */
+    disc = vd * vd + (rt * rt - v2);
+    s = vd + sqrt(disc);
+    if (!(s > 0.0)) return 0.0;
+    return s < most ? s : most;
+}
+
 /* The route's points from n0 on, after a: their machine time at top speed (timed != 0) or
  * their length */
 static double route_sum(const vp_planner_t *pl, const double *a, uint32_t n0, int timed)
@@ -910,7 +933,7 @@ VP_PL_API int vp_pl_plan_route(vp_planner_t *pl, uint32_t b, const double *gp)
     pl->route.deferred = 0;
     if (b != NONE && b == pl->dev.at) return VP_OK;
     if (pl->cfg.clearance > 0.0) {
-        /* a device with a body never enters Omega: every probe starts on dOmega */
+        /* a device with a body never enters Omega: every probe starts on or beyond dOmega */
         if (b != NONE && !(pl->pool.vrec[b].flags & REC_OUT)) return VP_EDEGEN;
 #if VP_PL_TUBES
         if (pl->tube.on || pl->tube.inside) {

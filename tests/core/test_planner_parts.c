@@ -1384,6 +1384,95 @@ static double brute_way_time(const vp_planner_t *pl, const double *o, const doub
     return u > t ? u : t;
 }
 
+/* ---- a probe's start on the route sphere (route.c, vp_pl_start_back): 400 lines entering the
+ * ball Omega at a random point of dOmega; the start moved back along each lies on the sphere of
+ * 1.01 R (s found again here by halving), within `most`; a way between two such starts keeps
+ * every point on or beyond that sphere, while the way to the start on dOmega steps in to it
+ * (the case the rule removes, which this check must see); nothing moves untimed, round a
+ * box, with tubes, or from a start already beyond the sphere ---- */
+static void test_start_back(void *arena)
+{
+    vp_planner_t pl;
+    double a[3], b[3], d[3], e[3], rs;
+    int i, k, off = 0, capped = 0, beyond = 0, stepped = 0;
+    uint32_t r, q;
+    CHECK(init(&pl, arena, VP_OMEGA_BALL) == VP_OK);
+    pl.cfg.clearance = 0.01;
+    memcpy(pl.cfg.axis_time, timed_axes, sizeof timed_axes);
+    rs = 1.01 * pl.cfg.omega_radius;
+    for (i = 0; i < 400; i++) {
+        double s, lo = 0.0, hi = 4.0 * pl.cfg.omega_radius, v[3], n = 0.0;
+        on_boundary(&pl.cfg, a);
+        /* a direction into Omega: towards a random point inside */
+        for (k = 0; k < 3; k++) { v[k] = pl.cfg.omega_center[k] + 0.99 * pl.cfg.omega_radius * (urand() - 0.5) - a[k]; n += v[k] * v[k]; }
+        for (k = 0; k < 3; k++) d[k] = v[k] / sqrt(n);
+        s = vp_pl_start_back(&pl, a, d, VP_PL_HUGE);
+        for (k = 0; k < 60; k++) {
+            double mid = 0.5 * (lo + hi), x[3];
+            int j;
+            for (j = 0; j < 3; j++) x[j] = a[j] - mid * d[j];
+            if (vp_dist3(x, pl.cfg.omega_center) < rs) lo = mid;
+            else hi = mid;
+        }
+        for (k = 0; k < 3; k++) b[k] = a[k] - s * d[k];
+        off += !(fabs(s - hi) <= 1e-7 * pl.cfg.omega_radius) || !(vp_dist3(b, pl.cfg.omega_center) >= rs);
+        capped += !(vp_pl_start_back(&pl, a, d, 0.25 * hi) == 0.25 * hi);
+        beyond += vp_pl_start_back(&pl, b, d, VP_PL_HUGE) > 1e-9 * pl.cfg.omega_radius; /* rounding only */
+    }
+    CHECKF(off == 0 && capped == 0 && beyond == 0, "starts: %d off the route sphere, %d past `most`, %d moved again", off, capped, beyond);
+    /* ways between starts: on or beyond the sphere; to a start on dOmega: a step in at the end */
+    for (i = 0; i < 100; i++) {
+        double a0[3], b0[3], low = 1e300;
+        on_boundary(&pl.cfg, a0);
+        on_boundary(&pl.cfg, b0);
+        for (k = 0; k < 3; k++) { d[k] = pl.cfg.omega_center[k] - a0[k]; e[k] = pl.cfg.omega_center[k] - b0[k]; }
+        vp_normalize3(d);
+        vp_normalize3(e);
+        {
+            double sa = vp_pl_start_back(&pl, a0, d, VP_PL_HUGE), sb = vp_pl_start_back(&pl, b0, e, VP_PL_HUGE);
+            for (k = 0; k < 3; k++) { a[k] = a0[k] - sa * d[k]; b[k] = b0[k] - sb * e[k]; }
+        }
+        CHECK(init(&pl, arena, VP_OMEGA_BALL) == VP_OK);
+        pl.cfg.clearance = 0.01;
+        memcpy(pl.cfg.axis_time, timed_axes, sizeof timed_axes);
+        CHECK(vp_pl_rec_new(&pl, a, NONE, REC_OUT, &r) == VP_OK);
+        pl.dev.at = r;
+        CHECK(vp_pl_plan_route(&pl, NONE, b) == VP_OK);
+        for (q = 0; q < pl.route.n; q++) {
+            double x = vp_dist3(pl.route.pts + 3 * (size_t)q, pl.cfg.omega_center);
+            if (x < low) low = x;
+        }
+        CHECKF(low >= rs * (1.0 - 1e-9), "a way between starts on the route sphere dips to %.12g R", low / pl.cfg.omega_radius);
+        /* the same check on the way to b0 on dOmega (starts as they were): it must see the dip */
+        pl.dev.at = r;
+        CHECK(vp_pl_plan_route(&pl, NONE, b0) == VP_OK);
+        low = 1e300;
+        for (q = 0; q < pl.route.n; q++) {
+            double x = vp_dist3(pl.route.pts + 3 * (size_t)q, pl.cfg.omega_center);
+            if (x < low) low = x;
+        }
+        stepped += low < rs * (1.0 - 1e-9);
+    }
+    CHECKF(stepped == 100, "ways to starts on dOmega: %d of 100 seen dipping inside the route sphere", stepped);
+    /* no move: untimed, a box, tubes */
+    on_boundary(&pl.cfg, a);
+    for (k = 0; k < 3; k++) d[k] = pl.cfg.omega_center[k] - a[k];
+    vp_normalize3(d);
+    CHECK(vp_pl_start_back(&pl, a, d, VP_PL_HUGE) > 0.0);
+    pl.cfg.min_feature = 0.1;
+    CHECK(vp_pl_start_back(&pl, a, d, VP_PL_HUGE) == 0.0);
+    pl.cfg.min_feature = 0.0;
+    pl.cfg.axis_time[2] = 0.0;
+    CHECK(vp_pl_start_back(&pl, a, d, VP_PL_HUGE) == 0.0);
+    CHECK(init(&pl, arena, VP_OMEGA_BOX) == VP_OK);
+    pl.cfg.clearance = 0.01;
+    memcpy(pl.cfg.axis_time, timed_axes, sizeof timed_axes);
+    on_boundary(&pl.cfg, a);
+    CHECK(vp_pl_start_back(&pl, a, d, VP_PL_HUGE) == 0.0);
+    printf("starts on the route sphere: 400 lines, 0 off it (a halving's), 0 past `most`; 100 ways between "
+           "them stay on or beyond it, %d of the 100 to starts on dOmega seen stepping in\n", stepped);
+}
+
 static void test_timed_nearest(void *arena)
 {
     vp_planner_config_t c;
@@ -1684,6 +1773,7 @@ int main(void)
     test_nearest(arena, ARENA, 0.03);
     test_nearest(arena, 200u * 1024u, 0.1);
     test_timed_route(arena);
+    test_start_back(arena);
     test_timed_nearest(arena);
     test_far_vertices(arena);
     test_small_arenas(arena);
