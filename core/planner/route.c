@@ -512,48 +512,50 @@ static int level_setup(const vp_planner_t *pl, const double *a, const double *b,
     return 0;
 }
 
-/* The level way's points: with smooth ends (smooth != 0) the way leaves a for the point half a
- * chord along and reaches b from half a chord before it, instead of stepping out from a to its
- * place on the route sphere and back in to b there (an end on dOmega lies inside that sphere):
- * a step out or in reverses every moving axis, and the stepping loop stops there. */
-static double level_s(int q, int n, int smooth)
-{
-    if (smooth && q == 0) return 0.5 / n;
-    if (smooth && q == n) return 1.0 - 0.5 / n;
-    return q / (double)n;
-}
-
 /* Measures (route == 0) or appends the level way from a to b; its machine time in *t. Returns
  * 0 when there is none, a piece of it would enter Omega, or (route != 0) the route has no room
- * for it (nothing appended then). Smooth ends where no piece enters Omega, else stepped ones. */
+ * for it (nothing appended then). */
 static int level_route(vp_planner_t *pl, const double *a, const double *b, int route, double *t)
 {
     level_t L;
     double prev[3], w[3];
-    int n, q, smooth;
+    int n, q;
     if (!level_setup(pl, a, b, &L, &n)) return 0;
     if (route && (uint64_t)pl->route.n + (uint64_t)n + 2u > pl->route.cap) return 0;
-    for (smooth = 1; smooth >= 0; smooth--) {
-        int ok = 1;
-        memcpy(prev, a, sizeof prev);
-        *t = 0.0;
-        for (q = 0; q <= n + 1 && ok; q++) {
-            if (q <= n) level_point(&L, level_s(q, n, smooth), w);
-            else memcpy(w, b, sizeof w);
-            if (vp_pl_seg_enters_omega(&pl->cfg, prev, w)) ok = 0;
-            *t += vp_pl_move_time(pl, prev, w);
-            memcpy(prev, w, sizeof prev);
-        }
-        if (ok) break;
-    }
-    if (smooth < 0) return 0;
-    if (!route) return 1;
+    memcpy(prev, a, sizeof prev);
+    *t = 0.0;
     for (q = 0; q <= n + 1; q++) {
-        if (q <= n) level_point(&L, level_s(q, n, smooth), w);
+        if (q <= n) level_point(&L, q / (double)n, w);
         else memcpy(w, b, sizeof w);
-        if (vp_pl_route_push(pl, w, PROOF_OUTSIDE) != VP_OK) return 0;
+        if (vp_pl_seg_enters_omega(&pl->cfg, prev, w)) return 0;
+        *t += vp_pl_move_time(pl, prev, w);
+        if (route && vp_pl_route_push(pl, w, PROOF_OUTSIDE) != VP_OK) return 0;
+        memcpy(prev, w, sizeof prev);
     }
     return 1;
+}
+
+/* Timed body mode round a ball Omega (no tubes): how far back along its line (unit dir, o on
+ * dOmega, the line entering Omega there) a probe starts so that it stands on the route sphere
+ * (1% beyond dOmega, where the level way and the great circle run): the head then joins its
+ * way round Omega where it starts and leaves it where it ends, with no step out at the start
+ * and back in at the end (a reversal of every moving axis: a stop at each, backlash taken up).
+ * At most `most` (the range left), 0 when o is on that sphere already. */
+VP_PL_API double vp_pl_start_back(const vp_planner_t *pl, const double *o, const double *dir, double most)
+{
+    double v[3], vd, v2, rt, disc, s;
+    if (!vp_pl_timed(pl) || pl->cfg.omega_kind != VP_OMEGA_BALL || pl->cfg.min_feature > 0.0 || !(most > 0.0))
+        return 0.0;
+    rt = SPHERE_ROUTE_GROW * pl->cfg.omega_radius * (1.0 + 1e-9);
+    vp_sub3(v, o, pl->cfg.omega_center);
+    vd = vp_dot3(v, dir);
+    v2 = vp_dot3(v, v);
+    if (v2 >= rt * rt) return 0.0;
+    /* |v - s dir| = rt: the root beyond o (v2 < rt^2, so the other is behind) */
+    disc = vd * vd + (rt * rt - v2);
+    s = vd + sqrt(disc);
+    if (!(s > 0.0)) return 0.0;
+    return s < most ? s : most;
 }
 
 /* The route's points from n0 on, after a: their machine time at top speed (timed != 0) or
@@ -931,7 +933,7 @@ VP_PL_API int vp_pl_plan_route(vp_planner_t *pl, uint32_t b, const double *gp)
     pl->route.deferred = 0;
     if (b != NONE && b == pl->dev.at) return VP_OK;
     if (pl->cfg.clearance > 0.0) {
-        /* a device with a body never enters Omega: every probe starts on dOmega */
+        /* a device with a body never enters Omega: every probe starts on or beyond dOmega */
         if (b != NONE && !(pl->pool.vrec[b].flags & REC_OUT)) return VP_EDEGEN;
 #if VP_PL_TUBES
         if (pl->tube.on || pl->tube.inside) {

@@ -256,6 +256,24 @@ static int body_origin(const vp_planner_t *pl, const edgegeom_t *g, double *o, d
     return 1;
 }
 
+/* Timed body mode: a probe's start o moved back along its line (unit dir, into Omega) onto the
+ * route sphere (route.c), by at most on_edge and within the rangefinder's range with the
+ * probe's `range`: how far. */
+static double start_back(const vp_planner_t *pl, double *o, const double *dir, double range, double on_edge)
+{
+#if VP_PL_TIMED
+    double most = on_edge, s;
+    int q;
+    if (pl->cfg.max_range > 0.0 && pl->cfg.max_range - range < most) most = pl->cfg.max_range - range;
+    s = vp_pl_start_back(pl, o, dir, most);
+    for (q = 0; q < 3; q++) o[q] -= s * dir[q];
+    return s;
+#else
+    (void)pl; (void)o; (void)dir; (void)range; (void)on_edge;
+    return 0.0;
+#endif
+}
+
 #if VP_PL_TUBES
 /* halvings of the search for the start nearest the edge whose way out is proven */
 #define TUBE_START_HALVINGS 8
@@ -316,9 +334,12 @@ static int edge_origin(const vp_planner_t *pl, uint32_t t, int f, double *o, dou
     if (dir) memcpy(dir, g.dir, sizeof g.dir);
     if (!g.a_inside) {
         for (q = 0; q < 3; q++) o[q] = g.a[q] + g.t0 * g.dir[q];
+        start_back(pl, o, g.dir, g.t1 - g.t0, g.t0);
         return 1;
     }
-    return body_origin(pl, &g, o, &standoff);
+    if (!body_origin(pl, &g, o, &standoff)) return 0;
+    start_back(pl, o, g.dir, standoff + g.t1, VP_PL_HUGE);
+    return 1;
 }
 
 /* A live task may be preferred for its start: its tet active, not a ray walked on */
@@ -376,8 +397,9 @@ static int task_origin_kept(vp_planner_t *pl, uint32_t i, double *o, double *dir
     return c->ok;
 }
 
-/* Body mode: every probe starts on dOmega and the head travels round Omega to it. Of the
- * waiting tasks (with tubes, of the NEAR_WINDOW_TUBES newest), the one whose probe starts
+/* Body mode: every probe starts on dOmega (timed round a ball: on the route sphere just beyond,
+ * start_back) and the head travels round Omega to it. Of the waiting tasks (with tubes, of the
+ * NEAR_WINDOW_TUBES newest), the one whose probe starts
  * nearest the head (timed, route.c: whose start and aim the head reaches soonest at the axes'
  * top speeds) is put on top of the stack (ties: the newer; none: the top stays). Without
  * tubes the tasks whose tet an insertion killed are dropped on the way, the order kept: they
@@ -463,7 +485,7 @@ VP_PL_API int vp_pl_task_start(vp_planner_t *pl, vp_task_t *k)
     if (g.a_inside && pl->cfg.clearance > 0.0) {
         /* a device with a body stays outside Omega: it probes the edge's line from where the
          * line leaves Omega behind the vertex; only a hit beyond the vertex is on the edge */
-        double t1b;
+        double t1b, back_s;
         if (!body_origin(pl, &g, o, &t1b)) return task_unprobeable(pl, t, f);
 #if VP_PL_TUBES
         if ((s & SIDE_RETRIED) && !pl->tube.on) {
@@ -481,7 +503,10 @@ VP_PL_API int vp_pl_task_start(vp_planner_t *pl, vp_task_t *k)
         }
 #endif
         range = t1b + g.t1;
-        pl->probe.standoff = t1b;
+        /* timed: from the route sphere, a little further back on the line */
+        back_s = start_back(pl, o, g.dir, range, VP_PL_HUGE);
+        range += back_s;
+        pl->probe.standoff = t1b + back_s;
     } else if (g.a_inside) {
         goal = tet_rec(pl, t);
         if (goal == VREC_OUT || goal == NONE) return task_unprobeable(pl, t, f);
@@ -509,6 +534,8 @@ VP_PL_API int vp_pl_task_start(vp_planner_t *pl, vp_task_t *k)
             range -= adv;
         }
 #endif
+        /* timed: from the route sphere, still on the edge (g.a lies outside Omega) */
+        if (k->off <= 0.0) range += start_back(pl, o, g.dir, range, g.t0 - back);
     }
     if (k->off > 0.0) {
         /* resume a range-limited probe from the end of its free part */

@@ -326,6 +326,7 @@ VP_PL_API double vp_pl_move_time(const vp_planner_t *pl, const double *a, const 
 VP_PL_API double vp_pl_pan_for(const vp_planner_t *pl, const double *dir);
 VP_PL_API void vp_pl_pan_aim(vp_planner_t *pl, const double *dir);
 VP_PL_API double vp_pl_way_time(const vp_planner_t *pl, const double *o, const double *dir);
+VP_PL_API double vp_pl_start_back(const vp_planner_t *pl, const double *o, const double *dir, double most);
 #endif
 #if VP_PL_CONTACTS
 VP_PL_API int vp_pl_route_outside(vp_planner_t *pl, const double *q);
