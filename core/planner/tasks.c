@@ -399,12 +399,11 @@ static int task_origin_kept(vp_planner_t *pl, uint32_t i, double *o, double *dir
 
 /* Body mode: every probe starts on dOmega (timed round a ball: on the route sphere just beyond,
  * start_back) and the head travels round Omega to it. Of the waiting tasks (with tubes, of the
- * NEAR_WINDOW_TUBES newest), the one whose probe starts
- * nearest the head (timed, route.c: whose start and aim the head reaches soonest at the axes'
- * top speeds) is put on top of the stack (ties: the newer; none: the top stays). Without
- * tubes the tasks whose tet an insertion killed are dropped on the way, the order kept: they
- * are most of the stack (the torus at eps-rel 0.01: 17k of 18k), and each pick would read them
- * all again. The stack may end empty. */
+ * NEAR_WINDOW_TUBES newest), the one whose probe starts nearest the head (timed, route.c: whose
+ * start and aim the head reaches soonest at the axes' top speeds) is put on top of the stack
+ * (ties: the newer; none: the top stays). Without tubes the tasks whose tet an insertion killed
+ * are dropped on the way, the order kept: they are most of the stack (the torus at eps-rel 0.01:
+ * 17k of 18k), and each pick would read them all again. The stack may end empty. */
 VP_PL_API void vp_pl_task_nearest_on_top(vp_planner_t *pl)
 {
     uint32_t i, n, top, best = NONE;
