@@ -1384,6 +1384,18 @@ static double brute_way_time(const vp_planner_t *pl, const double *o, const doub
     return u > t ? u : t;
 }
 
+/* the least distance from Omega's centre of the route just planned */
+static double route_low(const vp_planner_t *pl)
+{
+    double low = 1e300;
+    uint32_t q;
+    for (q = 0; q < pl->route.n; q++) {
+        double x = vp_dist3(pl->route.pts + 3 * (size_t)q, pl->cfg.omega_center);
+        if (x < low) low = x;
+    }
+    return low;
+}
+
 /* ---- a probe's start on the route sphere (route.c, vp_pl_start_back): 400 lines entering the
  * ball Omega at a random point of dOmega; the start moved back along each lies on the sphere of
  * 1.01 R (s found again here by halving), within `most`; a way between two such starts keeps
@@ -1395,7 +1407,7 @@ static void test_start_back(void *arena)
     vp_planner_t pl;
     double a[3], b[3], d[3], e[3], rs;
     int i, k, off = 0, capped = 0, beyond = 0, stepped = 0;
-    uint32_t r, q;
+    uint32_t r;
     CHECK(init(&pl, arena, VP_OMEGA_BALL) == VP_OK);
     pl.cfg.clearance = 0.01;
     memcpy(pl.cfg.axis_time, timed_axes, sizeof timed_axes);
@@ -1422,7 +1434,7 @@ static void test_start_back(void *arena)
     CHECKF(off == 0 && capped == 0 && beyond == 0, "starts: %d off the route sphere, %d past `most`, %d moved again", off, capped, beyond);
     /* ways between starts: on or beyond the sphere; to a start on dOmega: a step in at the end */
     for (i = 0; i < 100; i++) {
-        double a0[3], b0[3], low = 1e300;
+        double a0[3], b0[3], low;
         on_boundary(&pl.cfg, a0);
         on_boundary(&pl.cfg, b0);
         for (k = 0; k < 3; k++) { d[k] = pl.cfg.omega_center[k] - a0[k]; e[k] = pl.cfg.omega_center[k] - b0[k]; }
@@ -1438,19 +1450,12 @@ static void test_start_back(void *arena)
         CHECK(vp_pl_rec_new(&pl, a, NONE, REC_OUT, &r) == VP_OK);
         pl.dev.at = r;
         CHECK(vp_pl_plan_route(&pl, NONE, b) == VP_OK);
-        for (q = 0; q < pl.route.n; q++) {
-            double x = vp_dist3(pl.route.pts + 3 * (size_t)q, pl.cfg.omega_center);
-            if (x < low) low = x;
-        }
+        low = route_low(&pl);
         CHECKF(low >= rs * (1.0 - 1e-9), "a way between starts on the route sphere dips to %.12g R", low / pl.cfg.omega_radius);
         /* the same check on the way to b0 on dOmega (starts as they were): it must see the dip */
         pl.dev.at = r;
         CHECK(vp_pl_plan_route(&pl, NONE, b0) == VP_OK);
-        low = 1e300;
-        for (q = 0; q < pl.route.n; q++) {
-            double x = vp_dist3(pl.route.pts + 3 * (size_t)q, pl.cfg.omega_center);
-            if (x < low) low = x;
-        }
+        low = route_low(&pl);
         stepped += low < rs * (1.0 - 1e-9);
     }
     CHECKF(stepped == 100, "ways to starts on dOmega: %d of 100 seen dipping inside the route sphere", stepped);

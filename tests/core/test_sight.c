@@ -64,7 +64,6 @@ static int after(void *ctx, const vp_cmd_t *cmd, const vp_probe_result_t *res)
     return VP_OK;
 }
 
-
 static void scan(ell_dev_t *d, double eps, int sight, unsigned long max_commands, vp_run_result_t *r)
 {
     vp_planner_config_t cfg;
