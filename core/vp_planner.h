@@ -391,6 +391,12 @@ typedef struct vp_pl_aim {
     double next_t;             /* where the last hit puts S's crossing of the edge, or -1 */
     double near_c[3], near_d;  /* of this direction's hits, the one nearest the edge: taken onto
                                   it, and its distance (near_d < 0: none within tol) */
+    double near_h[3];          /* that hit as read */
+    struct vp_pl_aim_read {    /* the balls found lately (a ring): record k's centre c, on the edge, */
+        uint32_t k;            /* and h, the point of S the line read, up to the tolerance aside */
+        double c[3], h[3];     /* (refining the ball may insert h instead: update.c) */
+    } read[32];
+    uint32_t nread;            /* balls found from aside so far; the next goes to read[nread % 32] */
     uint64_t past_share;       /* aims up to this count start past AIM_SHARE: those closing's last
                                   resort queued (close.c, vp_pl_aim_last_resort); 0 again on a
                                   re-scan */

@@ -120,11 +120,11 @@ static int aim_narrowed(const vp_planner_t *pl, const vp_pl_aim_t *A)
     return (A->hi - A->lo) * A->len * vp_dot3(A->d, A->e) < aim_tol(pl);
 }
 
-/* The hit `dist` along the issued line from o, taken onto the edge (kept a hair inside its
- * ends) into c; returns the hit's distance from c */
-static double aim_onto_edge(const vp_pl_aim_t *A, const double *o, double dist, double *c)
+/* The hit `dist` along the issued line from o into h, and taken onto the edge (kept a hair
+ * inside its ends) into c; returns the hit's distance from c */
+static double aim_onto_edge(const vp_pl_aim_t *A, const double *o, double dist, double *h, double *c)
 {
-    double h[3], x[3], s, inset = 1e-9 * A->len;
+    double x[3], s, inset = 1e-9 * A->len;
     int q;
     for (q = 0; q < 3; q++) h[q] = o[q] + dist * A->d[q];
     vp_sub3(x, h, A->a);
@@ -139,20 +139,52 @@ static double aim_onto_edge(const vp_pl_aim_t *A, const double *o, double dist, 
  * than the direction's hits before */
 static void aim_keep_near(vp_pl_aim_t *A, const double *o, double dist, double tol)
 {
-    double c[3], dd = aim_onto_edge(A, o, dist, c);
+    double h[3], c[3], dd = aim_onto_edge(A, o, dist, h, c);
     if (dd <= tol && (A->near_d < 0.0 || dd < A->near_d)) {
         memcpy(A->near_c, c, sizeof A->near_c);
+        memcpy(A->near_h, h, sizeof A->near_h);
         A->near_d = dd;
     }
 }
 
-/* The aim ends with the facet's surface Delaunay ball centred at c, on the edge */
-static int aim_ball(vp_planner_t *pl, const double *c)
+#define AIM_READS (sizeof ((vp_pl_aim_t *)0)->read / sizeof ((vp_pl_aim_t *)0)->read[0])
+
+/* The aim ends with the facet's surface Delaunay ball centred at c, on the edge, taken there from
+ * the point h of S the line read; the record (when the ball is its own) keeps h in a ring of the
+ * latest such balls, for its refinement */
+static int aim_ball(vp_planner_t *pl, const double *c, const double *h)
 {
     const vp_task_t *k = &pl->probe.task;
-    pl->aim.on = 0;
+    vp_pl_aim_t *A = &pl->aim;
+    uint32_t fv[3], r;
+    A->on = 0;
     pl->st.aim_balls++;
-    return vp_pl_side_hit(pl, k->tet, k->facet, c, pl->aim.out, PROOF_NONE);
+    VP_TRY(vp_pl_side_hit(pl, k->tet, k->facet, c, A->out, PROOF_NONE));
+    vp_dt_facet(&pl->dt, k->tet, k->facet, fv);
+    r = vp_pl_frec_lookup(pl, fv);
+    if (r != NONE && !memcmp(pl->pool.frec[r].c, c, sizeof pl->pool.frec[r].c)) {
+        struct vp_pl_aim_read *e = &A->read[A->nread++ % AIM_READS];
+        pl->pool.frec[r].flags |= FREC_ASIDE;
+        e->k = r;
+        memcpy(e->c, c, sizeof e->c);
+        memcpy(e->h, h, sizeof e->h);
+    }
+    return VP_OK;
+}
+
+/* The point of S read for record k's ball found from aside, into h: 1 when the ring still holds
+ * it (the same record with the same centre), else 0 */
+VP_PL_API int vp_pl_aim_read(const vp_planner_t *pl, uint32_t k, double *h)
+{
+    uint32_t i;
+    for (i = 0; i < AIM_READS; i++) {
+        const struct vp_pl_aim_read *e = &pl->aim.read[i];
+        if (i < pl->aim.nread && e->k == k && !memcmp(e->c, pl->pool.frec[k].c, sizeof e->c)) {
+            memcpy(h, e->h, sizeof e->h);
+            return 1;
+        }
+    }
+    return 0;
 }
 
 /* Prepares the line through q(t) along the current direction, trying the next directions
@@ -301,9 +333,9 @@ VP_PL_API int vp_pl_aim_feed(vp_planner_t *pl, const vp_probe_result_t *res)
         A->steps = AIM_STEPS; /* b not seen free along this direction */
     } else if (res->dist >= A->sq - tol) {
         /* S met within tol of q(t): the ball's centre, on the edge */
-        double c[3];
-        (void)aim_onto_edge(A, pl->probe.origin, res->dist, c);
-        return aim_ball(pl, c);
+        double h[3], c[3];
+        (void)aim_onto_edge(A, pl->probe.origin, res->dist, h, c);
+        return aim_ball(pl, c, h);
     } else if (res->dist >= A->sq - aim_near(pl)) {
         A->hi = A->t; /* met just before q(t): S crosses the edge before it */
         A->next_t = aim_crossing(A, res->dist);
@@ -315,7 +347,7 @@ VP_PL_API int vp_pl_aim_feed(vp_planner_t *pl, const vp_probe_result_t *res)
         if (A->near_d >= 0.0 && aim_narrowed(pl, A)) {
             /* narrowed with no line within tol of q(t): the hit nearest the edge */
             pl->st.aim_near++;
-            return aim_ball(pl, A->near_c);
+            return aim_ball(pl, A->near_c, A->near_h);
         }
     }
     st = aim_issue(pl);

@@ -585,7 +585,6 @@ VP_PL_API void vp_pl_probe_drop(vp_planner_t *pl)
 #if VP_PL_CONTACTS || VP_PL_LINE_LASER
 /* samples seen from elsewhere (body mode) and a line laser's samples */
 #define OCCLUDED_SPACING 0.25
-#define OCCLUDED_WALK 512u
 #define OCCLUDED_REACH 1.0
 /* Inserts the point h of S when no sample lies within sp of it: the nearest sample is a vertex
  * of a tet whose circumsphere holds h (it becomes h's Delaunay neighbour), found by walking the
@@ -594,29 +593,12 @@ VP_PL_API void vp_pl_probe_drop(vp_planner_t *pl)
  * room); < 0 an error. */
 VP_PL_API int vp_pl_sample_insert(vp_planner_t *pl, const double h[3], uint32_t hint, double sp, uint32_t *vout)
 {
-    double near2 = VP_PL_HUGE;
-    uint32_t t0, *stack = pl->pool.astar, n = 0, seen = 0, v;
+    double near2;
+    uint32_t t0, v;
     int st;
     if (!vp_pl_omega_inside(&pl->cfg, h)) return 0;
     if (vp_dt_locate(&pl->dt, h, hint, &t0) != VP_OK) return 0;
-    /* the conflict region, breadth first (pool.astar is scratch: nobody holds it here) */
-    if (pl->pool.cap_astar < 2 * OCCLUDED_WALK) return 0;
-    stack[n++] = t0;
-    while (seen < n && n < OCCLUDED_WALK) {
-        uint32_t t = stack[seen++], k, j;
-        const uint32_t *w = vp_dt_tet(&pl->dt, t);
-        for (k = 0; k < 4; k++) {
-            uint32_t u = w[4 + k] >> 2;
-            if (w[k] != VP_DT_GHOST) {
-                double d2 = vp_dist3(h, vp_dt_point(&pl->dt, w[k]));
-                d2 *= d2;
-                if (d2 < near2) near2 = d2;
-            }
-            for (j = 0; j < n && stack[j] != u; j++) {}
-            if (j == n && n < OCCLUDED_WALK && vp_dt_in_conflict(&pl->dt, u, h)) stack[n++] = u;
-        }
-    }
-    if (n >= OCCLUDED_WALK || !(near2 > sp * sp)) return 0;
+    if (!vp_pl_nearest_sample(pl, h, t0, &near2) || !(near2 > sp * sp)) return 0;
     if (!vp_pl_pools_have_room(pl)) return 0;
     st = vp_dt_insert(&pl->dt, h, t0, &v);
     if (st == VP_EDUP) return 0;

@@ -314,6 +314,43 @@ static uint32_t choose_ball(const vp_planner_t *pl)
     return best;
 }
 
+#if VP_PL_CONTACTS
+/* The squared distance from h to its nearest sample into *near2: that sample becomes h's
+ * Delaunay neighbour, so it is a vertex of a tet whose circumsphere holds h; those tets are
+ * walked breadth first from t0, the tet that holds h (pool.astar is scratch: nobody holds it
+ * here). 1 when found; 0 when that region has NEAR_WALK tets or more. */
+#define NEAR_WALK 512u
+VP_PL_API int vp_pl_nearest_sample(vp_planner_t *pl, const double h[3], uint32_t t0, double *near2)
+{
+    uint32_t *stack = pl->pool.astar, n = 0, seen = 0;
+    *near2 = VP_PL_HUGE;
+    if (pl->pool.cap_astar < 2 * NEAR_WALK) return 0;
+    stack[n++] = t0;
+    while (seen < n && n < NEAR_WALK) {
+        uint32_t t = stack[seen++], k, j;
+        const uint32_t *w = vp_dt_tet(&pl->dt, t);
+        for (k = 0; k < 4; k++) {
+            uint32_t u = w[4 + k] >> 2;
+            if (w[k] != VP_DT_GHOST) {
+                double d2 = vp_dist3(h, vp_dt_point(&pl->dt, w[k]));
+                d2 *= d2;
+                if (d2 < *near2) *near2 = d2;
+            }
+            for (j = 0; j < n && stack[j] != u; j++) {}
+            if (j == n && n < NEAR_WALK && vp_dt_in_conflict(&pl->dt, u, h)) stack[n++] = u;
+        }
+    }
+    return n < NEAR_WALK;
+}
+
+/* A ball found from aside is refined at the point of S its line read, instead of its centre
+ * taken onto the edge, when the two lie more than READ_OFF_REL of the ball's radius apart (the
+ * centre would be a sample that far off S), the point lies inside the ball (within
+ * READ_INSIDE_REL of its radius) and no sample lies within READ_OFF_REL of the radius of it */
+#define READ_OFF_REL (1.0 / 3.0)
+#define READ_INSIDE_REL 0.95
+#endif
+
 VP_PL_API int vp_pl_refine(vp_planner_t *pl)
 {
     if (pl->pool.fhash_dirty) { vp_pl_fhash_rebuild(pl); pl->pool.fhash_dirty = 0; }
@@ -331,6 +368,24 @@ VP_PL_API int vp_pl_refine(vp_planner_t *pl)
         pl->st.stale_balls++;
         return VP_OK;
     }
+#if VP_PL_CONTACTS
+    if (pl->pool.frec[k].flags & FREC_ASIDE) {
+        /* a ball found from aside: its centre, the hit taken onto the edge, lies up to the
+         * tolerance off S. Where that is more than a fraction of the ball, the point of S the
+         * line read is the sample, if it lies in the ball (so the facet goes) and keeps a
+         * spacing to every sample (a picking region of Delaunay refinement: the insertions
+         * stay apart, so they end) */
+        double h[3], o[3], o2, n2, r = pl->pool.frec[k].r, sp = READ_OFF_REL * r;
+        uint32_t th;
+        if (vp_pl_aim_read(pl, k, h)) {
+            vp_sub3(o, h, c);
+            o2 = vp_dot3(o, o);
+            if (o2 > sp * sp && o2 < READ_INSIDE_REL * READ_INSIDE_REL * r * r && vp_dt_locate(&pl->dt, h, t, &th) == VP_OK &&
+                vp_pl_nearest_sample(pl, h, th, &n2) && n2 >= sp * sp)
+                memcpy(c, h, sizeof c);
+        }
+    }
+#endif
     st = vp_dt_insert_in_conflict(&pl->dt, c, t, &v);
     if (st == VP_EINVAL)
         st = vp_dt_insert_in_conflict(&pl->dt, c, vp_dt_tet(&pl->dt, t)[4 + fi] >> 2, &v);

@@ -73,6 +73,8 @@
 #define FREC_CUT 8u      /* no probed ball: a facet of a tet cut off at a pinch (close.c); its
                             ball is its circumball, never refined */
 #define FREC_OUTOUT 16u  /* both its tets outside at the last closing pass (close.c) */
+#define FREC_ASIDE 32u   /* its ball was found from aside (aim.c): refining it may insert the point
+                            of S the line read instead of the centre (pl->aim.read, update.c) */
 #define FREC_NOTMESH (FREC_DOUBLE | FREC_OUTOUT) /* between two outside tets: not in the mesh */
 
 /* VP_PL_PHASES — the planner's state machine, in one place (planner.c runs it).
@@ -386,6 +388,9 @@ VP_PL_API uint32_t vp_pl_find_facet(vp_planner_t *pl, const uint32_t *fv, int *f
 VP_PL_API int vp_pl_incident(vp_planner_t *pl, uint32_t v, uint32_t held, uint32_t **inc);
 VP_PL_API int vp_pl_pools_have_room(const vp_planner_t *pl);
 VP_PL_API int vp_pl_refine(vp_planner_t *pl);
+#if VP_PL_CONTACTS
+VP_PL_API int vp_pl_nearest_sample(vp_planner_t *pl, const double h[3], uint32_t t0, double *near2);
+#endif
 
 /* close.c */
 VP_PL_API int vp_pl_check_components(vp_planner_t *pl);
@@ -435,6 +440,7 @@ VP_PL_API int vp_pl_vantage_unseen(vp_planner_t *pl);
 VP_PL_API int vp_pl_aim_start(vp_planner_t *pl, const vp_task_t *k, const double *out);
 VP_PL_API int vp_pl_aim_feed(vp_planner_t *pl, const vp_probe_result_t *res);
 VP_PL_API void vp_pl_aim_last_resort(vp_planner_t *pl, uint32_t sides);
+VP_PL_API int vp_pl_aim_read(const vp_planner_t *pl, uint32_t k, double *h);
 #endif
 
 /* planner.c */
