@@ -153,6 +153,8 @@ struct vp_frec {
  *   astar_path (route.c)      the search's open heap, for one route;
  *   after_insert (update.c)   the killed tets' payloads, for one insertion's update;
  *   find_facet (update.c)     the tets around a vertex, after the words its caller holds;
+ *   nearest_sample (update.c) the tets whose circumspheres hold a point, for the refinement of
+ *                             a ball found from aside or a sample seen from elsewhere;
  *   close_holes (close.c)     the edge-count table (3 words a slot) at the front, held while
  *                             it calls find_facet, which then lists after it (held = 3 slots).
  * None of them calls another of them but close_holes -> find_facet. */
