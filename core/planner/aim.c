@@ -150,21 +150,18 @@ static void aim_keep_near(vp_pl_aim_t *A, const double *o, double dist, double t
 #define AIM_READS (sizeof ((vp_pl_aim_t *)0)->read / sizeof ((vp_pl_aim_t *)0)->read[0])
 
 /* The aim ends with the facet's surface Delaunay ball centred at c, on the edge, taken there from
- * the point h of S the line read; the record (when the ball is its own) keeps h in a ring of the
- * latest such balls, for its refinement */
+ * the point h of S the line read; when the ball is its record's own, a ring of the latest such
+ * balls keeps h with the record and the centre, for its refinement */
 static int aim_ball(vp_planner_t *pl, const double *c, const double *h)
 {
     const vp_task_t *k = &pl->probe.task;
     vp_pl_aim_t *A = &pl->aim;
-    uint32_t fv[3], r;
+    uint32_t r;
     A->on = 0;
     pl->st.aim_balls++;
-    VP_TRY(vp_pl_side_hit(pl, k->tet, k->facet, c, A->out, PROOF_NONE));
-    vp_dt_facet(&pl->dt, k->tet, k->facet, fv);
-    r = vp_pl_frec_lookup(pl, fv);
-    if (r != NONE && !memcmp(pl->pool.frec[r].c, c, sizeof pl->pool.frec[r].c)) {
+    VP_TRY(vp_pl_side_hit(pl, k->tet, k->facet, c, A->out, PROOF_NONE, &r));
+    if (!memcmp(pl->pool.frec[r].c, c, sizeof pl->pool.frec[r].c)) {
         struct vp_pl_aim_read *e = &A->read[A->nread++ % AIM_READS];
-        pl->pool.frec[r].flags |= FREC_ASIDE;
         e->k = r;
         memcpy(e->c, c, sizeof e->c);
         memcpy(e->h, h, sizeof e->h);
@@ -173,13 +170,14 @@ static int aim_ball(vp_planner_t *pl, const double *c, const double *h)
 }
 
 /* The point of S read for record k's ball found from aside, into h: 1 when the ring still holds
- * it (the same record with the same centre), else 0 */
+ * it (the same record with the same centre: a record made again, or given a larger ball, has
+ * another), else 0 */
 VP_PL_API int vp_pl_aim_read(const vp_planner_t *pl, uint32_t k, double *h)
 {
-    uint32_t i;
-    for (i = 0; i < AIM_READS; i++) {
+    uint32_t i, n = pl->aim.nread < AIM_READS ? pl->aim.nread : (uint32_t)AIM_READS;
+    for (i = 0; i < n; i++) {
         const struct vp_pl_aim_read *e = &pl->aim.read[i];
-        if (i < pl->aim.nread && e->k == k && !memcmp(e->c, pl->pool.frec[k].c, sizeof e->c)) {
+        if (e->k == k && !memcmp(e->c, pl->pool.frec[k].c, sizeof e->c)) {
             memcpy(h, e->h, sizeof e->h);
             return 1;
         }

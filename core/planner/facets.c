@@ -664,7 +664,6 @@ VP_PL_API void vp_pl_frec_set_ball(vp_planner_t *pl, uint32_t k, const double *c
     frec_touch(pl, f);
     if (!(r > f->r)) return;
     f->c[0] = c[0]; f->c[1] = c[1]; f->c[2] = c[2];
-    f->flags &= ~FREC_ASIDE;
     f->r = r;
     if (f->heap != NONE) {
         (void)vp_pl_facet_rate(pl, f);

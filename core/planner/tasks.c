@@ -804,8 +804,10 @@ static int vantage_retry(vp_planner_t *pl, double dist)
 
 /* Side f of t met S at h, a point of its Voronoi edge: the facet's record with its surface
  * Delaunay ball centred at h (`outside` a point on the probe's side; pf the proof of the free
- * part up to h, or none), the side hit, the other end behind S unless it was hit too. */
-VP_PL_API int vp_pl_side_hit(vp_planner_t *pl, uint32_t t, int f, const double *h, const double *outside, uint32_t pf)
+ * part up to h, or none; the record's index into *rec unless NULL), the side hit, the other end
+ * behind S unless it was hit too. */
+VP_PL_API int vp_pl_side_hit(vp_planner_t *pl, uint32_t t, int f, const double *h, const double *outside, uint32_t pf,
+                             uint32_t *rec)
 {
     const uint32_t *w = vp_dt_tet(&pl->dt, t);
     uint32_t u = w[4 + f] >> 2, j = w[4 + f] & 3u, fv[3], fr;
@@ -821,6 +823,7 @@ VP_PL_API int vp_pl_side_hit(vp_planner_t *pl, uint32_t t, int f, const double *
     } else {
         side_set(pl, u, (int)j, (side_get(pl, u, (int)j) & ~SIDE_MASK) | SIDE_BEHIND);
     }
+    if (rec) *rec = fr;
     return VP_OK;
 }
 
@@ -895,7 +898,7 @@ VP_PL_API int vp_pl_task_finish(vp_planner_t *pl, const vp_probe_result_t *res)
         {
             uint32_t pf;
             VP_TRY(vp_pl_probe_proof(pl, res, &pf));
-            return vp_pl_side_hit(pl, t, f, h, pl->probe.origin, pf);
+            return vp_pl_side_hit(pl, t, f, h, pl->probe.origin, pf, NULL);
         }
     }
     pl->st.misses++;

@@ -369,7 +369,7 @@ VP_PL_API int vp_pl_refine(vp_planner_t *pl)
         return VP_OK;
     }
 #if VP_PL_CONTACTS
-    if (pl->pool.frec[k].flags & FREC_ASIDE) {
+    {
         /* a ball found from aside: its centre, the hit taken onto the edge, lies up to the
          * tolerance off S. Where that is more than a fraction of the ball, the point of S the
          * line read is the sample, if it lies in the ball (so the facet goes) and keeps a

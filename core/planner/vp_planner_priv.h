@@ -73,8 +73,6 @@
 #define FREC_CUT 8u      /* no probed ball: a facet of a tet cut off at a pinch (close.c); its
                             ball is its circumball, never refined */
 #define FREC_OUTOUT 16u  /* both its tets outside at the last closing pass (close.c) */
-#define FREC_ASIDE 32u   /* its ball was found from aside (aim.c): refining it may insert the point
-                            of S the line read instead of the centre (pl->aim.read, update.c) */
 #define FREC_NOTMESH (FREC_DOUBLE | FREC_OUTOUT) /* between two outside tets: not in the mesh */
 
 /* VP_PL_PHASES — the planner's state machine, in one place (planner.c runs it).
@@ -367,7 +365,8 @@ VP_PL_API void vp_pl_task_compact(vp_planner_t *pl);
 #if VP_PL_CONTACTS
 VP_PL_API void vp_pl_probe_drop(vp_planner_t *pl);
 #endif
-VP_PL_API int vp_pl_side_hit(vp_planner_t *pl, uint32_t t, int f, const double *h, const double *outside, uint32_t pf);
+VP_PL_API int vp_pl_side_hit(vp_planner_t *pl, uint32_t t, int f, const double *h, const double *outside, uint32_t pf,
+                             uint32_t *rec);
 VP_PL_API int vp_pl_task_finish(vp_planner_t *pl, const vp_probe_result_t *res);
 VP_PL_API int vp_pl_tet_reached(vp_planner_t *pl, uint32_t u, uint32_t proof);
 VP_PL_API int vp_pl_task_push(vp_planner_t *pl, uint32_t t, int f, int forced);
