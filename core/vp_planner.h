@@ -146,6 +146,8 @@ typedef struct vp_planner_stats {
     uint64_t unproven;         /* segments an inference took for free that no probe covers:
                                   never added to the free graph */
     uint64_t manifold_refinements; /* facets refined because an edge had not two facets */
+    uint64_t unseen_refinements; /* ... of them at an edge whose ring holds a side left unseen (body
+                                  mode, after closing's last resort, while the odd edges fall) */
     uint64_t fins_cut;         /* tets of the inside cut off where it touched itself (at an edge
                                   or a vertex) below the manifold floor (a fin's tip; close.c) */
     uint64_t stalls;           /* steps that made no progress (bounded: see VP_ESTALL) */
@@ -299,6 +301,8 @@ typedef struct vp_pl_close {
                                 closing finds nothing left to probe at a hole (close.c) */
     uint32_t resort_odd;     /* the odd edges when closing's last resort was last taken: taken
                                 again only with at most half as many (close.c) */
+    uint32_t unseen_odd;     /* body mode: the odd edges when the manifold criterion last refined
+                                round a side left unseen (0: never); again only with fewer (close.c) */
     uint32_t h2_done;        /* bit i: o_i is enclosed by the mesh */
     uint8_t h2_tries[VP_PLANNER_MAX_SEEDS];
 } vp_pl_close_t;
@@ -395,8 +399,10 @@ typedef struct vp_pl_aim {
     struct vp_pl_aim_read {    /* the balls found lately (a ring): record k's centre c, on the edge, */
         uint32_t k;            /* and h, the point of S the line read, up to the tolerance aside */
         double c[3], h[3];     /* (refining the ball may insert h instead: update.c) */
-    } read[32];
-    uint32_t nread;            /* balls found from aside so far; the next goes to read[nread % 32] */
+    } read[256];
+    uint32_t nread;            /* balls found from aside so far; the next goes to
+                                  read[nread % 256]: a run closing the rpi4's 36 mm torus at eps 1.8
+                                  to 3 finds 68 to 185 */
     uint64_t past_share;       /* aims up to this count start past AIM_SHARE: those closing's last
                                   resort queued (close.c, vp_pl_aim_last_resort); 0 again on a
                                   re-scan */

@@ -46,8 +46,14 @@ static int probe_around_edge(vp_planner_t *pl, uint32_t t0, uint32_t x, uint32_t
 #define MANIFOLD_FLOOR_REL 0.01 /* of eps: the smallest ball refined for the manifold criterion */
 /* 1 if a side of a tet around edge (x, y) of Del(E) is blocked as unseen: a Voronoi edge there
  * could not be probed (occluded from dOmega for a device with a body, or too close), so the hole
- * is one the device cannot see, and refining there would only add samples it cannot close (a
- * degenerate edge is no such reason: refinement is what removes it) */
+ * may be one the device cannot see, where refining would only add samples it cannot close (a
+ * degenerate edge is no such reason: refinement is what removes it). In body mode such an edge
+ * is refined all the same once no line is left to aim there (closing's last resort spent), while
+ * each pass that does so finds fewer odd edges than the last one (refine_at_edges): at the rpi4's
+ * 36 mm torus the unseen sides of the rings at its inner equator run along the axis through the
+ * hole (S is not on them; a miss there cannot be read, the camera looking through the hole), and
+ * refining closes the hole; where the device truly cannot see, the holes grow as they are
+ * refined, and it stops. */
 static int ring_blocked(const vp_planner_t *pl, uint32_t t0, uint32_t x, uint32_t y)
 {
     ring_t r;
@@ -108,8 +114,16 @@ static double manifold_floor(const vp_planner_t *pl)
 
 static int refine_at_edges(vp_planner_t *pl, const uint32_t *tab, uint32_t slots)
 {
-    uint32_t i, refined = 0;
+    uint32_t i, refined = 0, odd = odd_edges(tab, slots);
     double floor = manifold_floor(pl);
+    /* round an unseen side too: body mode, once closing's last resort has been taken and would
+     * not be again (no line is left to aim: vp_pl_aim_far_vertices), and only while the odd
+     * edges keep falling (so it ends) */
+    int unseen_ok = 0, unseen_used = 0;
+#if VP_PL_TUBES
+    unseen_ok = pl->cfg.clearance > 0.0 && pl->close.far_lines && 2u * odd > pl->close.resort_odd &&
+                (pl->close.unseen_odd == 0 || odd < pl->close.unseen_odd);
+#endif
     for (i = 0; i < slots; i++) {
         uint32_t a = tab[3 * i], b = tab[3 * i + 1], best;
         if (a == NONE || tab[3 * i + 2] == 2) continue;
@@ -119,11 +133,17 @@ static int refine_at_edges(vp_planner_t *pl, const uint32_t *tab, uint32_t slots
         {
             int fi;
             uint32_t t = vp_pl_find_facet(pl, pl->pool.frec[best].v, &fi, 3u * slots);
-            if (t == NONE || ring_blocked(pl, t, a, b)) continue;
+            if (t == NONE) continue;
+            if (ring_blocked(pl, t, a, b)) {
+                if (!unseen_ok) continue;
+                unseen_used++;
+            }
         }
         VP_TRY(vp_pl_heap_push(pl, best));
         refined++;
     }
+    if (unseen_used) pl->close.unseen_odd = odd;
+    pl->st.unseen_refinements += (uint32_t)unseen_used;
     pl->st.manifold_refinements += refined;
     return (int)refined;
 }
