@@ -401,8 +401,8 @@ typedef struct vp_pl_aim {
         double c[3], h[3];     /* (refining the ball may insert h instead: update.c) */
     } read[256];
     uint32_t nread;            /* balls found from aside so far; the next goes to
-                                  read[nread % 256]: a run closing the rpi4's 36 mm torus at eps 1.8
-                                  to 3 finds 68 to 185 */
+                                  read[nread % 256]: a run on the rpi4's 36 mm torus at eps 1.85 to
+                                  3 finds 68 to 430 */
     uint64_t past_share;       /* aims up to this count start past AIM_SHARE: those closing's last
                                   resort queued (close.c, vp_pl_aim_last_resort); 0 again on a
                                   re-scan */
