@@ -677,7 +677,7 @@ void vp_sim_report(const vp_sim_t *s, const vp_sim_options_t *o, FILE *f)
                 ex == VP_EXIT_ERROR ? ": the scan stopped on an error; the mesh so far is written" : "");
     }
     if (o->json) {
-        char touch[800] = "";
+        char touch[1024] = "";
         if (o->contact || o->ndark)
             snprintf(touch, sizeof touch, ",\"contacts\":%llu,\"revoked\":%llu,\"dark_misses\":%llu,\"dark_probes\":%lu",
                      (unsigned long long)st.contacts, (unsigned long long)st.revoked,
