@@ -114,15 +114,17 @@ static double manifold_floor(const vp_planner_t *pl)
 
 static int refine_at_edges(vp_planner_t *pl, const uint32_t *tab, uint32_t slots)
 {
-    uint32_t i, refined = 0, odd = odd_edges(tab, slots);
+    uint32_t i, refined = 0, odd = 0, unseen_used = 0;
     double floor = manifold_floor(pl);
     /* round an unseen side too: body mode, once closing's last resort has been taken and would
      * not be again (no line is left to aim: vp_pl_aim_far_vertices), and only while the odd
      * edges keep falling (so it ends) */
-    int unseen_ok = 0, unseen_used = 0;
+    int unseen_ok = 0;
 #if VP_PL_TUBES
-    unseen_ok = pl->cfg.clearance > 0.0 && pl->close.far_lines && 2u * odd > pl->close.resort_odd &&
-                (pl->close.unseen_odd == 0 || odd < pl->close.unseen_odd);
+    if (pl->cfg.clearance > 0.0 && pl->close.far_lines) {
+        odd = odd_edges(tab, slots);
+        unseen_ok = 2u * odd > pl->close.resort_odd && (pl->close.unseen_odd == 0 || odd < pl->close.unseen_odd);
+    }
 #endif
     for (i = 0; i < slots; i++) {
         uint32_t a = tab[3 * i], b = tab[3 * i + 1], best;
@@ -143,7 +145,7 @@ static int refine_at_edges(vp_planner_t *pl, const uint32_t *tab, uint32_t slots
         refined++;
     }
     if (unseen_used) pl->close.unseen_odd = odd;
-    pl->st.unseen_refinements += (uint32_t)unseen_used;
+    pl->st.unseen_refinements += unseen_used;
     pl->st.manifold_refinements += refined;
     return (int)refined;
 }
