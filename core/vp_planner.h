@@ -136,6 +136,10 @@ typedef struct vp_planner_stats {
     uint64_t aim_balls;        /* hidden facets whose surface Delaunay ball those found */
     uint64_t aim_near;         /* ... of them by the hit nearest the edge of a narrowed stretch */
     uint64_t aim_reached;      /* hidden facets whose far vertex those saw free (reached) */
+    uint64_t read_samples;     /* balls found from aside refined at the point of S the line read
+                                  instead of their centre (update.c) */
+    uint64_t read_kept;        /* ... left unrefined: the point read lies beside a sample, where
+                                  the centre may be as far off S as the tolerance */
     uint64_t far_line_sides;   /* sides aimed at once more with lines through the far vertex alone
                                   (the last resort of closing, close.c) */
     uint64_t last_resorts;     /* closing's last resort taken (again only with at most half as

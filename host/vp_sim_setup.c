@@ -614,10 +614,12 @@ void vp_sim_report(const vp_sim_t *s, const vp_sim_options_t *o, FILE *f)
             fprintf(f, "body: hidden facets at holes aimed at from aside: %llu probes, %llu balls found (%llu by the "
                     "hit nearest the edge), %llu far vertices seen free; %llu sides aimed at again through their far "
                     "vertex alone (closing's last resort, taken %llu times); %llu facets refined at open edges round sides "
-                    "left unseen\n", (unsigned long long)st.aims,
+                    "left unseen; %llu balls refined at the point read, %llu left as they were (read beside a "
+                    "sample)\n", (unsigned long long)st.aims,
                     (unsigned long long)st.aim_balls, (unsigned long long)st.aim_near,
                     (unsigned long long)st.aim_reached, (unsigned long long)st.far_line_sides,
-                    (unsigned long long)st.last_resorts, (unsigned long long)st.unseen_refinements);
+                    (unsigned long long)st.last_resorts, (unsigned long long)st.unseen_refinements,
+                    (unsigned long long)st.read_samples, (unsigned long long)st.read_kept);
         if (s->cfg.line_rays)
             fprintf(f, "line laser: %u more rays per probe over %.3g degrees: %llu rays, %llu hits, %llu of them "
                     "made samples\n", s->cfg.line_rays, o->line_deg, (unsigned long long)st.rays,
@@ -677,7 +679,7 @@ void vp_sim_report(const vp_sim_t *s, const vp_sim_options_t *o, FILE *f)
                 ex == VP_EXIT_ERROR ? ": the scan stopped on an error; the mesh so far is written" : "");
     }
     if (o->json) {
-        char touch[1024] = "";
+        char touch[1280] = "";
         if (o->contact || o->ndark)
             snprintf(touch, sizeof touch, ",\"contacts\":%llu,\"revoked\":%llu,\"dark_misses\":%llu,\"dark_probes\":%lu",
                      (unsigned long long)st.contacts, (unsigned long long)st.revoked,
@@ -692,14 +694,16 @@ void vp_sim_report(const vp_sim_t *s, const vp_sim_options_t *o, FILE *f)
                      ",\"clearance\":%.6g,\"occluded\":%llu,\"min_feature\":%.6g,\"feature_margin\":%.6g,"
                      "\"tube_moves\":%llu,\"tube_starts\":%llu,\"vantages\":%llu,\"surveys\":%llu,"
                      "\"survey_probes\":%llu,\"surveys_failed\":%llu,\"aims\":%llu,\"aim_balls\":%llu,\"aim_near\":%llu,\"aim_reached\":%llu,"
-                     "\"far_line_sides\":%llu,\"last_resorts\":%llu,\"unseen_refinements\":%llu", s->cfg.clearance,
+                     "\"far_line_sides\":%llu,\"last_resorts\":%llu,\"unseen_refinements\":%llu,\"read_samples\":%llu,"
+                     "\"read_kept\":%llu", s->cfg.clearance,
                      (unsigned long long)st.occluded, s->cfg.min_feature, s->cfg.feature_margin,
                      (unsigned long long)st.tube_moves, (unsigned long long)st.tube_starts,
                      (unsigned long long)st.vantages, (unsigned long long)st.surveys,
                      (unsigned long long)st.survey_probes, (unsigned long long)st.surveys_failed,
                      (unsigned long long)st.aims, (unsigned long long)st.aim_balls, (unsigned long long)st.aim_near,
                      (unsigned long long)st.aim_reached, (unsigned long long)st.far_line_sides,
-                     (unsigned long long)st.last_resorts, (unsigned long long)st.unseen_refinements);
+                     (unsigned long long)st.last_resorts, (unsigned long long)st.unseen_refinements,
+                     (unsigned long long)st.read_samples, (unsigned long long)st.read_kept);
         fprintf(f, "{\"surface\":\"%s\",\"eps\":%.9g,\"status\":\"%s\",\"exit\":%d,\"planner_status\":\"%s\","
                 "\"vertices\":%u,\"facets\":%u,"
                 "\"probes\":%llu,\"hits\":%llu,\"misses\":%llu,\"reprobes\":%llu,\"moves\":%llu,"

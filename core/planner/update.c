@@ -345,10 +345,15 @@ VP_PL_API int vp_pl_nearest_sample(vp_planner_t *pl, const double h[3], uint32_t
 
 /* A ball found from aside is refined at the point of S its line read, instead of its centre
  * taken onto the edge, when the two lie more than READ_OFF_REL of the ball's radius apart (the
- * centre would be a sample that far off S), the point lies inside the ball (within
- * READ_INSIDE_REL of its radius) and no sample lies within READ_OFF_REL of the radius of it */
+ * centre would be a sample that far off S) and the point lies inside the ball (within
+ * READ_INSIDE_REL of its radius), if no sample lies within READ_NEAR_REL of the radius of it (the
+ * insertions stay apart, so they end). A point read nearer a sample than that is where the line
+ * met S beside a vertex of the facet, not where S crosses the facet's Voronoi edge: the centre
+ * may lie as far off S as the tolerance, and the ball is left unrefined (the facet kept, as one
+ * that cannot be refined). */
 #define READ_OFF_REL (1.0 / 3.0)
 #define READ_INSIDE_REL 0.95
+#define READ_NEAR_REL 0.1
 #endif
 
 VP_PL_API int vp_pl_refine(vp_planner_t *pl)
@@ -374,15 +379,23 @@ VP_PL_API int vp_pl_refine(vp_planner_t *pl)
          * tolerance off S. Where that is more than a fraction of the ball, the point of S the
          * line read is the sample, if it lies in the ball (so the facet goes) and keeps a
          * spacing to every sample (a picking region of Delaunay refinement: the insertions
-         * stay apart, so they end) */
+         * stay apart, so they end); read right beside a sample, the ball stays as it is */
         double h[3], o[3], o2, n2, r = pl->pool.frec[k].r, sp = READ_OFF_REL * r;
         uint32_t th;
         if (vp_pl_aim_read(pl, k, h)) {
             vp_sub3(o, h, c);
             o2 = vp_dot3(o, o);
             if (o2 > sp * sp && o2 < READ_INSIDE_REL * READ_INSIDE_REL * r * r && vp_dt_locate(&pl->dt, h, t, &th) == VP_OK &&
-                vp_pl_nearest_sample(pl, h, th, &n2) && n2 >= sp * sp)
+                vp_pl_nearest_sample(pl, h, th, &n2)) {
+                if (n2 < READ_NEAR_REL * READ_NEAR_REL * r * r) {
+                    vp_pl_heap_remove(pl, k);
+                    pl->pool.frec[k].flags |= FREC_STUCK;
+                    pl->st.read_kept++;
+                    return VP_OK;
+                }
                 memcpy(c, h, sizeof c);
+                pl->st.read_samples++;
+            }
         }
     }
 #endif
