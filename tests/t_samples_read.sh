@@ -48,17 +48,27 @@ print(off, nv, '%.3f' % worst)
 EOF
 }
 
-"$VP" scan --board boards/rpi4-gantry.ini --dry-run --surface 'torus*18@200,150,150' --eps 4 --log "$tmp/t.vplog" \
-  --quiet >"$tmp/t.out" 2>&1
-rc=$?
-[ $rc -eq 0 ] || bad "torus: exit $rc ($(grep '^mesh' "$tmp/t.out"))"
-grep -q ' 0 moves through the object' "$tmp/t.out" || bad "torus: moves through the object"
-set -- $(offtorus "$tmp/t.off" 18 5.4 200 150 150 0.5)
-[ "${1:-x}" = 0 ] || bad "torus: ${1:-?} of ${2:-?} vertices more than 0.5 mm off S (the farthest ${3:-?} mm)"
-res="$2 vertices, the farthest $3 mm off S"
-"$CO" topology "$tmp/t.off" | grep -q '"manifold":true,"closed":true,"components":1,"genus":1}' ||
-  bad "torus: CGAL topology: $("$CO" topology "$tmp/t.off")"
-"$VP" log verify "$tmp/t.vplog" >"$tmp/t.verify" 2>&1 || bad "torus: log verify: $(tail -n 1 "$tmp/t.verify")"
+# torus_run NAME LABEL SCAN-ARGS...: the rpi4 dry run of the 36 mm torus into $tmp/NAME.*, and
+# what every run must show: exit 0, 0 moves through the object, every vertex within 0.5 mm of S,
+# CGAL's closed 2-manifold of genus 1, every move proven free; res: its vertices and the farthest
+torus_run() {
+  n=$1 l=$2
+  shift 2
+  "$VP" scan --board boards/rpi4-gantry.ini --dry-run --surface 'torus*18@200,150,150' "$@" --log "$tmp/$n.vplog" \
+    --out "$tmp/$n" --quiet --json >"$tmp/$n.out" 2>&1
+  rc=$?
+  [ $rc -eq 0 ] || bad "$l: exit $rc ($(grep '^mesh' "$tmp/$n.out"))"
+  grep -q ' 0 moves through the object' "$tmp/$n.out" || bad "$l: moves through the object"
+  set -- $(offtorus "$tmp/$n.off" 18 5.4 200 150 150 0.5)
+  [ "${1:-x}" = 0 ] || bad "$l: ${1:-?} of ${2:-?} vertices more than 0.5 mm off S (the farthest ${3:-?} mm)"
+  res="${2:-?} vertices, the farthest ${3:-?} mm off S"
+  "$CO" topology "$tmp/$n.off" | grep -q '"manifold":true,"closed":true,"components":1,"genus":1}' ||
+    bad "$l: CGAL topology: $("$CO" topology "$tmp/$n.off")"
+  "$VP" log verify "$tmp/$n.vplog" >"$tmp/$n.verify" 2>&1 || bad "$l: log verify: $(tail -n 1 "$tmp/$n.verify")"
+}
+
+torus_run t torus --eps 4
+res1=$res
 
 # the checker must fail: the first vertex moved 1 mm out along the torus's normal there
 "$PY" - "$tmp/t.off" "$tmp/moved.off" <<'EOF'
@@ -81,19 +91,9 @@ set -- $(offtorus "$tmp/moved.off" 18 5.4 200 150 150 0.5)
 # hits trusted to 4 mm: a line that read S beside a sample of the facet (nearer than a third of
 # the ball's radius) gave the centre, 2.26 mm off S; now the point read (if no sample lies within
 # a tenth of the radius), else the ball is left as it is
-"$VP" scan --board boards/rpi4-gantry.ini --dry-run --surface 'torus*18@200,150,150' --eps 4 --noise-tol 4 \
-  --log "$tmp/w.vplog" --out "$tmp/w" --quiet --json >"$tmp/w.out" 2>&1
-rc=$?
-[ $rc -eq 0 ] || bad "torus, hits trusted to 4 mm: exit $rc ($(grep '^mesh' "$tmp/w.out"))"
-grep -q ' 0 moves through the object' "$tmp/w.out" || bad "torus, 4 mm: moves through the object"
+torus_run w "torus, 4 mm" --eps 4 --noise-tol 4
 rs=$(tail -n 1 "$tmp/w.out" | sed -n 's/.*"read_samples":\([0-9]*\).*/\1/p')
 [ "${rs:-0}" -gt 0 ] || bad "torus, 4 mm: no ball refined at the point read (${rs:-none})"
-set -- $(offtorus "$tmp/w.off" 18 5.4 200 150 150 0.5)
-[ "${1:-x}" = 0 ] || bad "torus, 4 mm: ${1:-?} of ${2:-?} vertices more than 0.5 mm off S (the farthest ${3:-?} mm)"
-res2="$2 vertices, the farthest $3 mm off S, $rs balls refined at the point read"
-"$CO" topology "$tmp/w.off" | grep -q '"manifold":true,"closed":true,"components":1,"genus":1}' ||
-  bad "torus, 4 mm: CGAL topology: $("$CO" topology "$tmp/w.off")"
-"$VP" log verify "$tmp/w.vplog" >"$tmp/w.verify" 2>&1 || bad "torus, 4 mm: log verify: $(tail -n 1 "$tmp/w.verify")"
 
 [ $fail -eq 0 ] || exit 1
-echo "t_samples_read: rpi4 dry run, 36 mm torus at eps 4 (hits trusted to 2 mm): closed, genus 1 (CGAL), $res; a vertex moved 1 mm out is seen; trusted to 4 mm: closed, genus 1, $res2"
+echo "t_samples_read: rpi4 dry run, 36 mm torus at eps 4 (hits trusted to 2 mm): closed, genus 1 (CGAL), $res1; a vertex moved 1 mm out is seen; trusted to 4 mm: closed, genus 1, $res, $rs balls refined at the point read"
