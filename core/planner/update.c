@@ -356,6 +356,14 @@ VP_PL_API int vp_pl_nearest_sample(vp_planner_t *pl, const double h[3], uint32_t
 #define READ_NEAR_REL 0.1
 #endif
 
+/* A ball that is not to be refined: its facet kept, the ball off the heap for good (FREC_STUCK:
+ * the manifold criterion's pick skips it too) */
+static void keep_unrefined(vp_planner_t *pl, uint32_t k)
+{
+    vp_pl_heap_remove(pl, k);
+    pl->pool.frec[k].flags |= FREC_STUCK;
+}
+
 VP_PL_API int vp_pl_refine(vp_planner_t *pl)
 {
     if (pl->pool.fhash_dirty) { vp_pl_fhash_rebuild(pl); pl->pool.fhash_dirty = 0; }
@@ -388,8 +396,7 @@ VP_PL_API int vp_pl_refine(vp_planner_t *pl)
             if (o2 > sp * sp && o2 < READ_INSIDE_REL * READ_INSIDE_REL * r * r && vp_dt_locate(&pl->dt, h, t, &th) == VP_OK &&
                 vp_pl_nearest_sample(pl, h, th, &n2)) {
                 if (n2 < READ_NEAR_REL * READ_NEAR_REL * r * r) {
-                    vp_pl_heap_remove(pl, k);
-                    pl->pool.frec[k].flags |= FREC_STUCK;
+                    keep_unrefined(pl, k);
                     pl->st.read_kept++;
                     return VP_OK;
                 }
@@ -405,9 +412,8 @@ VP_PL_API int vp_pl_refine(vp_planner_t *pl)
     if (st == VP_EINVAL) st = vp_dt_insert(&pl->dt, c, t, &v);
     if (st == VP_ENOMEM) return st;
     if (st != VP_OK) {
-        /* cannot be refined (a duplicate within rounding): keep the facet, drop the ball */
-        vp_pl_heap_remove(pl, k);
-        pl->pool.frec[k].flags |= FREC_STUCK;
+        /* cannot be refined (a duplicate within rounding) */
+        keep_unrefined(pl, k);
         pl->st.stale_balls++;
         return VP_OK;
     }
