@@ -345,12 +345,14 @@ VP_PL_API int vp_pl_nearest_sample(vp_planner_t *pl, const double h[3], uint32_t
 
 /* A ball found from aside is refined at the point of S its line read, instead of its centre
  * taken onto the edge, when the two lie more than READ_OFF_REL of the ball's radius apart (the
- * centre would be a sample that far off S) and the point lies inside the ball (within
- * READ_INSIDE_REL of its radius), if no sample lies within READ_NEAR_REL of the radius of it (the
- * insertions stay apart, so they end). A point read nearer a sample than that is where the line
- * met S beside a vertex of the facet, not where S crosses the facet's Voronoi edge: the centre
- * may lie as far off S as the tolerance, and the ball is left unrefined (the facet kept, as one
- * that cannot be refined). */
+ * centre would be a sample that far off S). A point read
+ * beyond READ_INSIDE_REL of the radius is taken along the way to the centre until it lies that
+ * far inside the ball (where the aim's tolerance exceeds the ball: a sample there still kills the
+ * facet, every ball through its circle between the two tets' circumballs lying in their union).
+ * No sample may lie within READ_NEAR_REL of the radius of that point (the insertions stay apart,
+ * so they end). A point read nearer a sample than that is where the line met S beside a vertex of
+ * the facet, not where S crosses the facet's Voronoi edge: the centre may lie as far off S as the
+ * tolerance, and the ball is left unrefined (the facet kept, as one that cannot be refined). */
 #define READ_OFF_REL (1.0 / 3.0)
 #define READ_INSIDE_REL 0.95
 #define READ_NEAR_REL 0.1
@@ -384,17 +386,23 @@ VP_PL_API int vp_pl_refine(vp_planner_t *pl)
 #if VP_PL_CONTACTS
     {
         /* a ball found from aside: its centre, the hit taken onto the edge, lies up to the
-         * tolerance off S. Where that is more than a fraction of the ball, the point of S the
-         * line read is the sample, if it lies in the ball (so the facet goes) and keeps a
-         * spacing to every sample (a picking region of Delaunay refinement: the insertions
-         * stay apart, so they end); read right beside a sample, the ball stays as it is */
-        double h[3], o[3], o2, n2, r = pl->pool.frec[k].r, sp = READ_OFF_REL * r;
+         * aim's tolerance off S. Where that is more than a fraction of the ball, the point of
+         * S the line read is the sample (taken into the ball
+         * when read beyond it, so the facet goes), if it keeps a spacing to every sample (a
+         * picking region of Delaunay refinement: the insertions stay apart, so they end); read
+         * right beside a sample, the ball stays as it is */
+        double h[3], o[3], o2, n2, r = pl->pool.frec[k].r, sp = READ_OFF_REL * r, in = READ_INSIDE_REL * r;
         uint32_t th;
         if (vp_pl_aim_read(pl, k, h)) {
             vp_sub3(o, h, c);
             o2 = vp_dot3(o, o);
-            if (o2 > sp * sp && o2 < READ_INSIDE_REL * READ_INSIDE_REL * r * r && vp_dt_locate(&pl->dt, h, t, &th) == VP_OK &&
-                vp_pl_nearest_sample(pl, h, th, &n2)) {
+            if (o2 > sp * sp && o2 >= in * in) {
+                /* read beyond the ball: the point of [c, h] nearest h inside it */
+                double s = in / sqrt(o2);
+                int q;
+                for (q = 0; q < 3; q++) h[q] = c[q] + s * o[q];
+            }
+            if (o2 > sp * sp && vp_dt_locate(&pl->dt, h, t, &th) == VP_OK && vp_pl_nearest_sample(pl, h, th, &n2)) {
                 if (n2 < READ_NEAR_REL * READ_NEAR_REL * r * r) {
                     keep_unrefined(pl, k);
                     pl->st.read_kept++;
