@@ -28,18 +28,20 @@ for e in 5 3; do
 done
 awk -v h="$(field "$tmp/e3.txt" hausdorff)" 'BEGIN { exit !(h > 0 && h <= 1.0) }' || bad "eps 3: Hausdorff $(field "$tmp/e3.txt" hausdorff) mm, above 1 mm"
 # a miss must be seen: the 36 mm torus, its inner side lit through a hole the head cannot enter
-# and often hidden from the camera; with the sight rule it closes at eps 6 with genus 1 (CGAL)
-# (the build before ended open, 8 edges; tests/t_backdrop.sh has a torus left open without walls)
+# and often hidden from the camera; with the sight rule it closes at eps 5 with genus 1 (CGAL)
+# (at eps 6 the build before the sight rule ended open, 8 edges, and so does the planner since
+# the aim's tolerance is eps: 6 mm is above the tube's 5.4 mm radius; tests/t_backdrop.sh has a
+# torus left open without walls)
 . tests/cgal_object.sh
 cgal_object_build "$B" || bad "$CG_WHY"
 o="$tmp/torus"
-"$VP" scan --board boards/rpi4-gantry.ini --dry-run --surface 'torus*18@200,150,150' --eps 6 --log "$o.vplog" \
+"$VP" scan --board boards/rpi4-gantry.ini --dry-run --surface 'torus*18@200,150,150' --eps 5 --log "$o.vplog" \
   --json --quiet >"$o.txt" 2>"$o.err"
 rc=$?
-[ $rc -eq 0 ] && [ "$(field "$o.txt" unseen_misses)" -gt 0 ] 2>/dev/null || bad "torus eps 6: exit $rc, $(field "$o.txt" unseen_misses) unseen misses"
-[ "$(field "$o.txt" through)" = 0 ] && [ "$(field "$o.txt" head_collisions)" = 0 ] || bad "torus eps 6: moves through or head collisions"
-[ -x "${CO:-}" ] && { "$CO" topology "$o.off" | grep -q '"closed":true,"components":1,"genus":1' || bad "torus eps 6: CGAL: $("$CO" topology "$o.off")"; }
-"$VP" log verify "$o.vplog" >"$o.verify" 2>&1 || bad "torus eps 6: log verify: $(tail -n 1 "$o.verify")"
-out="$out the 36 mm torus at eps 6 genus 1 (CGAL), $(field "$o.txt" unseen_misses) misses not seen taken as unreadable;"
+[ $rc -eq 0 ] && [ "$(field "$o.txt" unseen_misses)" -gt 0 ] 2>/dev/null || bad "torus eps 5: exit $rc, $(field "$o.txt" unseen_misses) unseen misses"
+[ "$(field "$o.txt" through)" = 0 ] && [ "$(field "$o.txt" head_collisions)" = 0 ] || bad "torus eps 5: moves through or head collisions"
+[ -x "${CO:-}" ] && { "$CO" topology "$o.off" | grep -q '"closed":true,"components":1,"genus":1' || bad "torus eps 5: CGAL: $("$CO" topology "$o.off")"; }
+"$VP" log verify "$o.vplog" >"$o.verify" 2>&1 || bad "torus eps 5: log verify: $(tail -n 1 "$o.verify")"
+out="$out the 36 mm torus at eps 5 genus 1 (CGAL), $(field "$o.txt" unseen_misses) misses not seen taken as unreadable;"
 [ $fail = 0 ] || exit 1
 echo "t_body: rpi4 body mode closed at$out 0 moves through, 0 head collisions, logs verified"

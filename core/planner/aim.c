@@ -26,10 +26,11 @@
  * up to tol along S's normal (the larger of the hits' noise and eps: a line that meets S within
  * eps of the edge has found the ball, as closely as the refinement resolves S there; a tolerance
  * of the hits' noise alone left the rpi4 torus's inner equator open at 7 of 24 eps from 1.8 to
- * 6 mm, against 2 of 24). What the refinement guarantees is unchanged (every ball at most eps,
+ * 6 mm, against 5 of 24). What the refinement guarantees is unchanged (every ball at most eps,
  * checked exactly at the end); the centre may lie tol off S, so its refinement takes the point
- * of S the line read instead where the two lie apart (update.c). The head never enters Omega: each line
- * starts on dOmega, reached round Omega like every probe in body mode.
+ * of S the line read instead where the two lie farther apart than the hits are trusted
+ * (update.c). The head never enters Omega: each line starts on dOmega, reached round Omega like
+ * every probe in body mode.
  *
  * Lines for b alone (the last resort of closing, close.far_lines): b seen free needs no crossing
  * of S read near the edge, and the tilts above all come from behind the facet, through the

@@ -344,8 +344,9 @@ VP_PL_API int vp_pl_nearest_sample(vp_planner_t *pl, const double h[3], uint32_t
 }
 
 /* A ball found from aside is refined at the point of S its line read, instead of its centre
- * taken onto the edge, when the two lie more than READ_OFF_REL of the ball's radius apart (the
- * centre would be a sample that far off S). A point read
+ * taken onto the edge, when the two lie more than READ_OFF_REL of the ball's radius apart, or
+ * more than the hits' tolerance (the centre would be a sample that far off S: the aim's
+ * tolerance, up to eps, is wider than the hits'). A point read
  * beyond READ_INSIDE_REL of the radius is taken along the way to the centre until it lies that
  * far inside the ball (where the aim's tolerance exceeds the ball: a sample there still kills the
  * facet, every ball through its circle between the two tets' circumballs lying in their union).
@@ -386,13 +387,14 @@ VP_PL_API int vp_pl_refine(vp_planner_t *pl)
 #if VP_PL_CONTACTS
     {
         /* a ball found from aside: its centre, the hit taken onto the edge, lies up to the
-         * aim's tolerance off S. Where that is more than a fraction of the ball, the point of
-         * S the line read is the sample (taken into the ball
+         * aim's tolerance off S. Where that is more than a fraction of the ball or than the
+         * hits' tolerance, the point of S the line read is the sample (taken into the ball
          * when read beyond it, so the facet goes), if it keeps a spacing to every sample (a
          * picking region of Delaunay refinement: the insertions stay apart, so they end); read
          * right beside a sample, the ball stays as it is */
         double h[3], o[3], o2, n2, r = pl->pool.frec[k].r, sp = READ_OFF_REL * r, in = READ_INSIDE_REL * r;
         uint32_t th;
+        if (sp > pl->cfg.noise_tol) sp = pl->cfg.noise_tol;
         if (vp_pl_aim_read(pl, k, h)) {
             vp_sub3(o, h, c);
             o2 = vp_dot3(o, o);

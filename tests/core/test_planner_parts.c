@@ -760,7 +760,8 @@ static void aim_drive(vp_planner_t *pl, const vp_task_t *k, const edgegeom_t *g,
  * facet's samples, inside the ball; 2, 3, 4 at 0.6, 0.2 and 1.3 of the radius from the centre in
  * a random direction) and the ball refined. What must happen is worked out here from every
  * sample (each vertex of each tet, against the planner's walk from the tet holding the point):
- * the centre is the sample while h lies within a third of the radius of it; otherwise the point p of [centre, h] nearest h within 0.95 of the radius is, unless a sample
+ * the centre is the sample while h lies within a third of the radius and the hits' tolerance of
+ * it; otherwise the point p of [centre, h] nearest h within 0.95 of the radius is, unless a sample
  * lies within a tenth of the radius of p: then the ball is kept as it is (not refined, off the
  * heap for good). Returns 0 centre, 1 p, 2 kept, -1 when the planner did otherwise. */
 static int read_point_refine(vp_planner_t *pl, uint32_t fr, int how)
@@ -801,7 +802,7 @@ static int read_point_refine(vp_planner_t *pl, uint32_t fr, int how)
             if (d * d < n2) n2 = d * d;
         }
     }
-    sp = r / 3.0;
+    sp = r / 3.0 < pl->cfg.noise_tol ? r / 3.0 : pl->cfg.noise_tol;
     want = !(o2 > sp * sp) ? 0 : n2 < 0.01 * r * r ? 2 : 1;
     /* the ball refined next: the only one on the heap */
     pl->cfg.flags |= VP_PLAN_LARGEST;
