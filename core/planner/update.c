@@ -346,12 +346,11 @@ VP_PL_API int vp_pl_nearest_sample(vp_planner_t *pl, const double h[3], uint32_t
 /* A ball found from aside is refined at the point of S its line read, instead of its centre
  * taken onto the edge, when the two lie more than READ_OFF_REL of the ball's radius apart, or
  * more than the hits' tolerance (the centre would be a sample that far off S: the aim's
- * tolerance, up to eps, is wider than the hits'). A point read
- * beyond READ_INSIDE_REL of the radius is taken along the way to the centre until it lies that
- * far inside the ball (where the aim's tolerance exceeds the ball: a sample there still kills the
- * facet, every ball through its circle between the two tets' circumballs lying in their union).
- * No sample may lie within READ_NEAR_REL of the radius of that point (the insertions stay apart,
- * so they end). A point read nearer a sample than that is where the line met S beside a vertex of
+ * tolerance, up to eps, is wider than the hits'). A point read beyond READ_INSIDE_REL of the
+ * radius is taken along the way to the centre until it lies that far inside the ball (where the
+ * aim's tolerance exceeds the ball: a sample there still kills the facet, every ball through its
+ * circle between the two tets' circumballs lying in their union). No sample may lie within
+ * READ_NEAR_REL of the radius of that point (the insertions stay apart, so they end). A point read nearer a sample than that is where the line met S beside a vertex of
  * the facet, not where S crosses the facet's Voronoi edge: the centre may lie as far off S as the
  * tolerance, and the ball is left unrefined (the facet kept, as one that cannot be refined). */
 #define READ_OFF_REL (1.0 / 3.0)
