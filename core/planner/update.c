@@ -350,9 +350,10 @@ VP_PL_API int vp_pl_nearest_sample(vp_planner_t *pl, const double h[3], uint32_t
  * radius is taken along the way to the centre until it lies that far inside the ball (where the
  * aim's tolerance exceeds the ball: a sample there still kills the facet, every ball through its
  * circle between the two tets' circumballs lying in their union). No sample may lie within
- * READ_NEAR_REL of the radius of that point (the insertions stay apart, so they end). A point read nearer a sample than that is where the line met S beside a vertex of
- * the facet, not where S crosses the facet's Voronoi edge: the centre may lie as far off S as the
- * tolerance, and the ball is left unrefined (the facet kept, as one that cannot be refined). */
+ * READ_NEAR_REL of the radius of that point (the insertions stay apart, so they end). A point
+ * read nearer a sample than that is where the line met S beside a vertex of the facet, not where
+ * S crosses the facet's Voronoi edge: the centre may lie as far off S as the tolerance, and the
+ * ball is left unrefined (the facet kept, as one that cannot be refined). */
 #define READ_OFF_REL (1.0 / 3.0)
 #define READ_INSIDE_REL 0.95
 #define READ_NEAR_REL 0.1
@@ -397,20 +398,22 @@ VP_PL_API int vp_pl_refine(vp_planner_t *pl)
         if (vp_pl_aim_read(pl, k, h)) {
             vp_sub3(o, h, c);
             o2 = vp_dot3(o, o);
-            if (o2 > sp * sp && o2 >= in * in) {
-                /* read beyond the ball: the point of [c, h] nearest h inside it */
-                double s = in / sqrt(o2);
-                int q;
-                for (q = 0; q < 3; q++) h[q] = c[q] + s * o[q];
-            }
-            if (o2 > sp * sp && vp_dt_locate(&pl->dt, h, t, &th) == VP_OK && vp_pl_nearest_sample(pl, h, th, &n2)) {
-                if (n2 < READ_NEAR_REL * READ_NEAR_REL * r * r) {
-                    keep_unrefined(pl, k);
-                    pl->st.read_kept++;
-                    return VP_OK;
+            if (o2 > sp * sp) {
+                if (o2 >= in * in) {
+                    /* read beyond the ball: the point of [c, h] nearest h inside it */
+                    double s = in / sqrt(o2);
+                    int q;
+                    for (q = 0; q < 3; q++) h[q] = c[q] + s * o[q];
                 }
-                memcpy(c, h, sizeof c);
-                pl->st.read_samples++;
+                if (vp_dt_locate(&pl->dt, h, t, &th) == VP_OK && vp_pl_nearest_sample(pl, h, th, &n2)) {
+                    if (n2 < READ_NEAR_REL * READ_NEAR_REL * r * r) {
+                        keep_unrefined(pl, k);
+                        pl->st.read_kept++;
+                        return VP_OK;
+                    }
+                    memcpy(c, h, sizeof c);
+                    pl->st.read_samples++;
+                }
             }
         }
     }

@@ -768,7 +768,7 @@ static int read_point_refine(vp_planner_t *pl, uint32_t fr, int how)
 {
     uint32_t i, t, fv[3], v;
     int q, want, got;
-    double h[3], c[3], p[3], r = pl->pool.frec[fr].r, o2, n2 = 1e300, sp, in = 0.95 * r;
+    double h[3], c[3], p[3], o[3], r = pl->pool.frec[fr].r, o2, n2 = 1e300, sp, in = 0.95 * r;
     uint64_t ins = pl->st.insertions, rs = pl->st.read_samples, rk = pl->st.read_kept;
     struct vp_pl_aim_read *e = NULL;
     memcpy(c, pl->pool.frec[fr].c, sizeof c);
@@ -790,8 +790,9 @@ static int read_point_refine(vp_planner_t *pl, uint32_t fr, int how)
         for (q = 0; q < 3; q++) e->h[q] = c[q] + at * r * d[q] / m;
     }
     memcpy(h, e->h, sizeof h);
-    o2 = (h[0] - c[0]) * (h[0] - c[0]) + (h[1] - c[1]) * (h[1] - c[1]) + (h[2] - c[2]) * (h[2] - c[2]);
-    for (q = 0; q < 3; q++) p[q] = o2 < in * in ? h[q] : c[q] + (h[q] - c[q]) * in / sqrt(o2);
+    vp_sub3(o, h, c);
+    o2 = vp_dot3(o, o);
+    for (q = 0; q < 3; q++) p[q] = o2 < in * in ? h[q] : c[q] + o[q] * in / sqrt(o2);
     for (t = 0; t < pl->dt.ntet_slots; t++) {
         const uint32_t *w = vp_dt_tet(&pl->dt, t);
         if (!vp_dt_alive(&pl->dt, t)) continue;
