@@ -119,6 +119,8 @@ typedef struct vp_probe_result {
 } vp_probe_result_t;
 
 typedef struct vp_planner_stats {
+    /* hits, misses and too_close count the answers as the device gave them (every probe fed,
+     * the seed's too), whatever the planner made of each: they sum to the probes answered */
     uint64_t probes, hits, misses, moves, reprobes;
     uint64_t insertions, stale_balls, routes, astar_fallbacks, astar_expansions;
     uint64_t shortcut_probes;  /* probes of a straight way to save a detour */

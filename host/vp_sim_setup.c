@@ -706,7 +706,7 @@ void vp_sim_report(const vp_sim_t *s, const vp_sim_options_t *o, FILE *f)
                      (unsigned long long)st.read_samples, (unsigned long long)st.read_kept);
         fprintf(f, "{\"surface\":\"%s\",\"eps\":%.9g,\"status\":\"%s\",\"exit\":%d,\"planner_status\":\"%s\","
                 "\"vertices\":%u,\"facets\":%u,"
-                "\"probes\":%llu,\"hits\":%llu,\"misses\":%llu,\"reprobes\":%llu,\"moves\":%llu,"
+                "\"probes\":%llu,\"hits\":%llu,\"misses\":%llu,\"too_close\":%llu,\"reprobes\":%llu,\"moves\":%llu,"
                 "\"travel\":%.6g,\"travel_prev_chains\":%.6g,\"collisions\":%lu,"
                 "\"closed_manifold\":%s,\"components\":%d,\"genus\":%s,\"max_ball_radius\":%.9g,"
                 "\"hausdorff\":%.6g,\"min_angle_deg\":%.3f,\"planner_seconds\":%.4f,"
@@ -716,7 +716,7 @@ void vp_sim_report(const vp_sim_t *s, const vp_sim_options_t *o, FILE *f)
                 "\"stalls\":%llu,\"fins_cut\":%llu,\"accuracy_target\":%.6g,\"size_rel\":%.6g,\"min_size\":%.6g,\"max_distance\":%.6g%s",
                 s->rescan ? s->rescan_spec : o->surface, s->cfg.eps, vp_outcome_name(ex), ex, vp_strerror(s->run.status), nv, (unsigned)s->mesh.nt,
                 (unsigned long long)st.probes, (unsigned long long)st.hits,
-                (unsigned long long)st.misses, (unsigned long long)st.reprobes,
+                (unsigned long long)st.misses, (unsigned long long)st.too_close, (unsigned long long)st.reprobes,
                 (unsigned long long)st.moves, st.travel, st.travel_prev_chains, ds.collisions,
                 s->have_check && s->check.closed_manifold ? "true" : "false",
                 s->have_check ? s->check.components : -1, genus,

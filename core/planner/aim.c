@@ -300,9 +300,6 @@ VP_PL_API int vp_pl_aim_feed(vp_planner_t *pl, const vp_probe_result_t *res)
     double tol = aim_tol(pl);
     uint32_t pf = PROOF_NONE;
     int st, redo;
-    if (res->hit == 1) pl->st.hits++;
-    else if (res->hit == 0) pl->st.misses++;
-    else pl->st.too_close++;
     /* a dropout must not show b or q(t) free: a miss is trusted after confirm_misses more
      * misses on the same line, as along an edge (tasks.c); its free part is recorded then */
     redo = res->hit == 0 && A->tries < pl->cfg.confirm_misses;

@@ -505,11 +505,7 @@ static int shortcut_feed(vp_planner_t *pl, const vp_probe_result_t *res)
 {
     uint32_t pf;
     pl->sc.pending = 0;
-    if (res->hit) {
-        pl->st.hits++;
-        return shortcut_search(pl);
-    }
-    pl->st.misses++;
+    if (res->hit) return shortcut_search(pl);
     if (pl->sc.tries < pl->cfg.confirm_misses) {
         pl->sc.tries++;
         pl->st.reprobes++;
@@ -540,6 +536,10 @@ int vp_planner_feed(vp_planner_t *pl, const vp_probe_result_t *res)
     if (!pl->dev.awaiting) return VP_ESTATE;
     if (!result_ok(res)) return VP_EINVAL;
     pl->dev.awaiting = 0;
+    /* counted as the device answered, whatever the answer is used for */
+    if (res->hit == 1) pl->st.hits++;
+    else if (res->hit == 0) pl->st.misses++;
+    else pl->st.too_close++;
 #if VP_PL_LINE_LASER
     pl->rays.left = pl->cfg.line_rays;
 #endif

@@ -489,8 +489,6 @@ VP_PL_API int vp_pl_verify_feed(vp_planner_t *pl, const vp_probe_result_t *res)
 {
     uint32_t v = pl->rescan.cur;
     double tol = pl->rescan.tol, e = pl->rescan.expect;
-    if (res->hit == 1) pl->st.hits++;
-    else pl->st.misses++;
     if (res->hit == 1 && fabs(res->dist - e) <= tol) {
         pl->st.rescan_kept++;
         return measured(pl, v, 0);
@@ -596,8 +594,6 @@ VP_PL_API int vp_pl_reprove_feed(vp_planner_t *pl, const vp_probe_result_t *res)
     uint32_t old = pl->route.proof[pl->route.i], fresh;
     int k;
     pl->rescan.reprove = 0;
-    if (res->hit == 1) pl->st.hits++;
-    else pl->st.misses++;
     if (res->hit == 0 && pl->rescan.tries < pl->cfg.confirm_misses) {
         pl->rescan.tries++;
         pl->st.reprobes++;

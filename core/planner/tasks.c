@@ -849,7 +849,6 @@ VP_PL_API int vp_pl_task_finish(vp_planner_t *pl, const vp_probe_result_t *res)
         /* nothing learnt: not free, no sample; not asked again from this end */
         unsigned was = side_get(pl, t, f);
         side_set(pl, t, f, was | SIDE_BLOCKED);
-        pl->st.too_close++;
 #if VP_PL_CONTACTS
         if ((was & SIDE_RETRIED) && pl->cfg.clearance > 0.0 && !pl->tube.on && !(pl->probe.standoff > 0.0)) {
             /* unseen at a hole, once more (its line enters Omega from a vertex outside: no
@@ -862,7 +861,6 @@ VP_PL_API int vp_pl_task_finish(vp_planner_t *pl, const vp_probe_result_t *res)
     }
     if (res->hit && pl->probe.standoff > 0.0 && res->dist < pl->probe.standoff + tol) {
         /* from a standoff: the line met S before reaching the vertex; the edge is unseen */
-        pl->st.hits++;
         pl->st.occluded++;
 #if VP_PL_TUBES
         if (pl->tube.on && !pl->probe.vantage) {
@@ -894,14 +892,12 @@ VP_PL_API int vp_pl_task_finish(vp_planner_t *pl, const vp_probe_result_t *res)
         if (d > pl->probe.range - inset) d = pl->probe.range - inset;
         if (d < inset) d = inset;
         for (q = 0; q < 3; q++) h[q] = pl->probe.origin[q] + d * pl->probe.dir[q];
-        pl->st.hits++;
         {
             uint32_t pf;
             VP_TRY(vp_pl_probe_proof(pl, res, &pf));
             return vp_pl_side_hit(pl, t, f, h, pl->probe.origin, pf, NULL);
         }
     }
-    pl->st.misses++;
     /* a dropout must not open a way into the object: a miss is trusted only after
      * confirm_misses more misses on the same ray (twice that where a hit is expected) */
     if (pl->cfg.confirm_misses > 0 &&

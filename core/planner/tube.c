@@ -325,14 +325,12 @@ VP_PL_API int vp_pl_survey_feed(vp_planner_t *pl, const vp_probe_result_t *res)
          * cannot be proven; the survey ends here */
         double h[3], d[3], e[3], tx, r = pl->cfg.clearance;
         int q;
-        pl->st.hits++;
         for (q = 0; q < 3; q++) h[q] = pl->dev.iss_o[q] + res->dist * pl->dev.iss_d[q];
         tx = vp_pl_omega_exit(&pl->cfg, T->sx, T->su);
         for (q = 0; q < 3; q++) e[q] = T->sx[q] + tx * T->su[q];
         vp_sub3(d, e, T->sx);
         if (vp_pl_seg_dist2(T->sx, d, vp_dot3(d, d), h) < r * r) T->survey_i = T->survey_n - 1u;
-    } else if (res->hit == 0)
-        pl->st.misses++;
+    }
     return ++T->survey_i < T->survey_n ? VP_OK : survey_finish(pl);
 }
 
