@@ -117,7 +117,7 @@ PORT_LIBS = $(PORT_LIBS)
 LDLIBS = $(LDLIBS)
 endef
 
-.PHONY: all tests check bench demo clean deps deps-build deps-bench fuzz FORCE
+.PHONY: all tests test-programs check bench demo clean deps deps-build deps-bench fuzz FORCE
 # The targets a user types install the packages first, then make again (re-reading this file).
 ifeq ($(CROSS),)
 all: deps-build
@@ -204,7 +204,11 @@ $(BUILD)/tests/%: tests/%.c $(wildcard tests/*.h) $(LIBS) $(CONFIG)
 	@mkdir -p $(@D)
 	$(CC) $(HOST_CFLAGS) -Itests -o $@ $< $(LIBS) $(PORT_LIBS) $(LDLIBS)
 
-tests: $(PROG) $(TEST_BIN)
+# after `all` (which may make itself again once packages are installed), never beside it: two
+# makes writing one build directory at once (`make -j2 all tests`) link half-written libraries
+tests: all
+	@$(MAKE) --no-print-directory test-programs
+test-programs: $(PROG) $(TEST_BIN)
 
 # tools/install-deps.sh GROUP: build (compiler, pkg-config, libgpiod-dev, libcamera-dev),
 # check (build + every tool a test calls), bench (check + CGAL).
