@@ -10,6 +10,7 @@
 #include "vp_dt.h"
 #include "vp_pointgen.h"
 #include "vp_rtclock.h"
+#include "vp_sim_opts.h"
 
 static void bench_usage(FILE *f)
 {
@@ -48,15 +49,34 @@ int vp_cli_bench_delaunay(int argc, char **argv)
         const char *val = i + 1 < argc ? argv[i + 1] : NULL;
         if (!strcmp(a, "--help") || !strcmp(a, "-h")) { bench_usage(stdout); return 0; }
         if (!strcmp(a, "--check")) { check = 1; continue; }
+        if (strcmp(a, "--node") && strcmp(a, "--uniform") && strcmp(a, "--grid") && strcmp(a, "--sphere") &&
+            strcmp(a, "--seed") && strcmp(a, "--bytes-per-point") && strcmp(a, "--save-node")) {
+            fprintf(stderr, "bench-delaunay: unknown option %s\n", a);
+            bench_usage(stderr);
+            return 2;
+        }
         if (!val) { fprintf(stderr, "bench-delaunay: %s needs a value\n", a); return 2; }
         if (!strcmp(a, "--node")) node = val;
-        else if (!strcmp(a, "--uniform")) uniform = strtol(val, NULL, 10);
-        else if (!strcmp(a, "--grid")) grid = strtol(val, NULL, 10);
-        else if (!strcmp(a, "--sphere")) sphere = strtol(val, NULL, 10);
-        else if (!strcmp(a, "--seed")) seed = strtoull(val, NULL, 10);
-        else if (!strcmp(a, "--bytes-per-point")) bpp = strtod(val, NULL);
         else if (!strcmp(a, "--save-node")) save = val;
-        else { fprintf(stderr, "bench-delaunay: unknown option %s\n", a); bench_usage(stderr); return 2; }
+        else if (!strcmp(a, "--bytes-per-point")) {
+            char *e;
+            bpp = strtod(val, &e);
+            if (e == val || *e || !(bpp > 0.0) || !isfinite(bpp)) {
+                fprintf(stderr, "bench-delaunay: --bytes-per-point takes a positive number, not '%s'\n", val);
+                return 2;
+            }
+        } else {
+            unsigned long long cnt;
+            if (vp_parse_count(val, !strcmp(a, "--seed") ? ~0ull : 100000000ull, &cnt) || (strcmp(a, "--seed") && cnt == 0)) {
+                fprintf(stderr, "bench-delaunay: %s takes a whole number%s, not '%s'\n", a,
+                        !strcmp(a, "--seed") ? "" : " from 1 to 1e8", val);
+                return 2;
+            }
+            if (!strcmp(a, "--uniform")) uniform = (long)cnt;
+            else if (!strcmp(a, "--grid")) grid = (long)cnt;
+            else if (!strcmp(a, "--sphere")) sphere = (long)cnt;
+            else seed = cnt;
+        }
         i++;
     }
     if ((node != NULL) + (uniform >= 0) + (grid >= 0) + (sphere >= 0) != 1) {

@@ -7,6 +7,7 @@
 #include "vp_cli.h"
 #include "vp_meshio.h"
 #include "vp_session.h"
+#include "vp_sim_opts.h"
 #include "vp_sim_setup.h"
 #include "vp_sessionlog.h"
 
@@ -79,8 +80,9 @@ static int certify_parse(int argc, char **argv, certify_args_t *o)
             continue;
         }
         if (!strcmp(a, "--list")) {
-            o->list = strtoul(val, &e, 10);
-            if (e == val || *e) { fprintf(stderr, "certify: --list takes a count\n"); return 2; }
+            unsigned long long n;
+            if (vp_parse_count(val, 1000000000ull, &n)) { fprintf(stderr, "certify: --list takes a count, not '%s'\n", val); return 2; }
+            o->list = (unsigned long)n;
             continue;
         }
         {
@@ -164,7 +166,7 @@ static int certify_from_mesh(certify_args_t *o, certify_input_t *in, vp_cert_con
     double lo[3] = { HUGE_VAL, HUGE_VAL, HUGE_VAL }, hi[3] = { -HUGE_VAL, -HUGE_VAL, -HUGE_VAL };
     char err[1400];
     if (o->eps <= 0) { fprintf(stderr, "certify: --eps is required for a mesh (see --help)\n"); return 2; }
-    if (vp_mesh_read_file(o->path, m, err, sizeof err) != VP_OK) { fprintf(stderr, "certify: %s: %s\n", o->path, err); return 1; }
+    if (vp_mesh_read_file(o->path, m, err, sizeof err) != VP_OK) { fprintf(stderr, "certify: %s\n", err); return 1; }
     for (v = 0; v < m->nv; v++) {
         int k;
         for (k = 0; k < 3; k++) {

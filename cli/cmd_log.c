@@ -90,9 +90,12 @@ static int job_option(logjob_t *j, int argc, char **argv, int *i, const char *cm
     else if (!strcmp(a, "--arena")) {
         if (vp_parse_size(val, &j->arena) || j->arena == 0) { fprintf(stderr, "%s: --arena: bad size '%s'\n", cmd, val); return -1; }
     } else {
-        char *e;
-        j->upto = strtoul(val, &e, 10);
-        if (e == val || *e) { fprintf(stderr, "%s: --upto takes a record count, not '%s'\n", cmd, val); return -1; }
+        unsigned long long n;
+        if (vp_parse_count(val, 0xffffffffull, &n) || n == 0) {
+            fprintf(stderr, "%s: --upto takes a count of records (at least 1), not '%s'\n", cmd, val);
+            return -1;
+        }
+        j->upto = (unsigned long)n;
     }
     return 0;
 }

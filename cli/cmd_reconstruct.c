@@ -102,6 +102,14 @@ static int rec_parse(int argc, char **argv, rec_args_t *o)
         if (!strcmp(a, "--json")) { o->json = 1; continue; }
         if (!strcmp(a, "--quiet")) { o->quiet = 1; continue; }
         if (!strcmp(a, "--nonuniform")) { o->nonuniform = 1; continue; }
+        {
+            static const char *const valued[] = {"--out", "--out-points", "--generate", "--fix", "--dim", "--perturb-rel",
+                                                 "--time-limit", "--noise", "--rounds", "--pca", "--seed", "--n"};
+            size_t k;
+            for (k = 0; k < sizeof valued / sizeof valued[0] && strcmp(a, valued[k]); k++)
+                ;
+            if (k == sizeof valued / sizeof valued[0]) { fprintf(stderr, "reconstruct: unknown option %s (see --help)\n", a); return 2; }
+        }
         if (!v) { fprintf(stderr, "reconstruct: %s needs a value (see --help)\n", a); return 2; }
         i++;
         if (!strcmp(a, "--out")) o->out = v;

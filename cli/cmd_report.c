@@ -5,9 +5,11 @@
 #include <stdlib.h>
 #include <string.h>
 #include "vp_cli.h"
+#include "vp_note.h"
 #include "vp_outcome.h"
 #include "vp_render.h"
 #include "vp_report.h"
+#include "vp_sim_opts.h"
 
 /* the page (host/report/viewer.html), turned into an array by the Makefile */
 extern const unsigned char vp_viewer_page[];
@@ -24,7 +26,7 @@ static void report_usage(FILE *f)
         "ball radius or by the certificate (facets breaking H1 or H3 in red), holes and\n"
         "non-manifold edges marked, the summary sim and scan print, and plots (probes and\n"
         "vertices over the session, hit ratio, ball-radius histogram, travel per tenth).\n"
-        "  --out FILE       the HTML file to write\n"
+        "  --out FILE       the HTML file to write (LOG and at least one of --out, --png, --json)\n"
         "  --png FILE       also (or only) a picture of the mesh: four views (the viewer's, front,\n"
         "                   side, top), facets breaking H1 or H3 in red; drawn in software\n"
         "  --mesh MESH      show this mesh (PLY or OFF) instead of the session's; the summary\n"
@@ -78,10 +80,9 @@ int vp_cli_report(int argc, char **argv)
             else if (!strcmp(a, "--png")) png = val;
             else if (!strcmp(a, "--mesh")) mesh = val;
             else {
-                char *e;
-                unsigned long n = strtoul(val, &e, 10);
-                if (e == val || *e || n == 0) { fprintf(stderr, "report: --max-rays takes a positive count, not '%s'\n", val); return 2; }
-                max_rays = n;
+                unsigned long long n;
+                if (vp_parse_count(val, 1000000000ull, &n) || n == 0) { fprintf(stderr, "report: --max-rays takes a positive count, not '%s'\n", val); return 2; }
+                max_rays = (unsigned long)n;
             }
             continue;
         }
@@ -89,7 +90,10 @@ int vp_cli_report(int argc, char **argv)
         if (log) { fprintf(stderr, "report: one log at a time ('%s' and '%s')\n", log, a); return 2; }
         log = a;
     }
-    if (!log || (!out && !png)) { fprintf(stderr, "report: give LOG and --out FILE.html or --png FILE.png (see --help)\n"); return 2; }
+    if (!log || (!out && !png && !json)) {
+        fprintf(stderr, "report: give LOG and --out FILE.html, --png FILE.png or --json (see --help)\n");
+        return 2;
+    }
     st = vp_report_build(&r, log, mesh, err, sizeof err);
     if (st != VP_OK) {
         fprintf(stderr, "report: %s\n", err);
@@ -99,11 +103,15 @@ int vp_cli_report(int argc, char **argv)
     if (r.L.status != VP_OK) fprintf(stderr, "report: %s: %s\n", log, r.stop_text);
     if (png && report_png(&r, png)) { vp_report_free(&r); return 1; }
     if (!out) {
+        if (png && !quiet && !json)
+            printf("report: %s: %zu vertices, %zu facets, %llu probes (%llu hits), status %s; wrote %s\n", log,
+                   r.mesh.nv, r.mesh.nt, (unsigned long long)r.st.probes, (unsigned long long)r.st.hits,
+                   vp_outcome_name(r.exit_status), png);
         if (json) { vp_report_summary_json(&r, stdout); printf("\n"); }
         vp_report_free(&r);
         return 0;
     }
-    f = fopen(out, "wb");
+    f = vp_mkdirs_for(out) == 0 ? fopen(out, "wb") : NULL; /* its folder made, as sim's --out */
     if (!f) {
         fprintf(stderr, "report: cannot write %s: %s\n", out, strerror(errno));
         vp_report_free(&r);

@@ -11,6 +11,7 @@
 #include "vp_meshcheck.h"
 #include "vp_meshio.h"
 #include "vp_motion.h"
+#include "vp_note.h"
 #include "vp_outcome.h"
 #include "vp_live_cli.h"
 #include "vp_render.h"
@@ -220,9 +221,20 @@ int vp_cli_sim(int argc, char **argv)
         vp_sim_session_free(&g);
         return 2;
     }
+    if (png && vp_mkdirs_for(png) != 0) {
+        fprintf(stderr, "sim: cannot create the folder of %s: %s\n", png, strerror(errno));
+        vp_sim_session_free(&g);
+        return 2;
+    }
     st = vp_sim_open(&sim, &o, err, sizeof err);
     if (st == VP_OK) st = vp_sim_session_begin(&g, &sim, &o, o.quiet ? NULL : stderr, err, sizeof err);
-    if (st != VP_OK) { fprintf(stderr, "sim: %s\n", err); vp_sim_close(&sim); vp_sim_session_free(&g); return 1; }
+    if (st != VP_OK) {
+        /* a setting out of what the planner supports is a usage error, as a bad value is */
+        fprintf(stderr, "sim: %s\n", err);
+        vp_sim_close(&sim);
+        vp_sim_session_free(&g);
+        return st == VP_EINVAL ? 2 : 1;
+    }
     if (!o.quiet)
         fprintf(stderr, "voroprobe sim: %s, eps %.6g, %d component(s), arena %zu bytes\n",
                 o.surface, sim.cfg.eps, sim.components, o.arena);
@@ -297,7 +309,17 @@ int vp_cli_track(int argc, char **argv)
             free(av);
             return 0;
         }
-        if (!strcmp(argv[i], "--rounds") && i + 1 < argc) { rounds = argv[++i]; continue; }
+        if (!strcmp(argv[i], "--rounds") && i + 1 < argc) {
+            char *e;
+            long v = strtol(argv[++i], &e, 10);
+            if (e == argv[i] || *e || v < 1 || v > 1000) {
+                fprintf(stderr, "track: --rounds takes a number of rounds, 1..1000, not '%s'\n", argv[i]);
+                free(av);
+                return 2;
+            }
+            rounds = argv[i];
+            continue;
+        }
         av[n++] = argv[i];
     }
     av[n++] = (char *)"--track";

@@ -19,6 +19,20 @@ int vp_parse_size(const char *s, size_t *out)
     return 0;
 }
 
+int vp_parse_count(const char *s, unsigned long long max, unsigned long long *out)
+{
+    unsigned long long v = 0;
+    const char *c = s;
+    if (!*c) return -1;
+    for (; *c; c++) {
+        unsigned d = (unsigned)(*c - '0');
+        if (d > 9u || v > (max - d) / 10u) return -1; /* strtoul would take "-3" as a huge count */
+        v = 10u * v + d;
+    }
+    *out = v;
+    return 0;
+}
+
 static int num(const char *s, double *v)
 {
     char *e;
@@ -217,9 +231,8 @@ int vp_sim_session_parse_option(vp_sim_session_t *g, int argc, char **argv, int 
             return -1;
         }
     } else {
-        char *e;
-        unsigned long long v = strtoull(val, &e, 10);
-        if (e == val || *e || v == 0) { snprintf(err, errlen, "%s takes a positive integer, not '%s'", a, val); return -1; }
+        unsigned long long v;
+        if (vp_parse_count(val, ~0ull, &v) || v == 0) { snprintf(err, errlen, "%s takes a positive integer, not '%s'", a, val); return -1; }
         if (!strcmp(a, "--stop-after")) g->stop_after = (unsigned long)v;
         else g->fcfg.die_after_bytes = v;
     }
@@ -280,9 +293,16 @@ int vp_sim_session_options(vp_sim_session_t *g, vp_sim_options_t *o, int argc, c
                      "--surface (the object now) and the outputs (--out, --log, --json, --quiet, --hausdorff, --png)", argv[i]);
             return VP_EINVAL;
         }
-        if (vp_sim_parse_option(o, argc, argv, &i, sub, sizeof sub) != 0) {
-            snprintf(err, errlen, "bad option %s", argv[i]);
-            return VP_EINVAL;
+        {
+            int at = i, bad = vp_sim_parse_option(o, argc, argv, &i, sub, sizeof sub);
+            if (bad < 0) {
+                snprintf(err, errlen, "%s (the options given with --resume add to those in the log)", sub);
+                return VP_EINVAL;
+            }
+            if (bad > 0) {
+                snprintf(err, errlen, "unknown option %s", argv[at]);
+                return VP_EINVAL;
+            }
         }
     }
     if (!has_out) {

@@ -14,6 +14,8 @@ int vp_sim_parse_option(vp_sim_options_t *o, int argc, char **argv, int *i, char
 int vp_sim_parse_motion_option(vp_sim_options_t *o, int argc, char **argv, int *i, char *err, size_t errlen);
 /* Size with an optional K/M/G suffix; -1 on error. */
 int vp_parse_size(const char *s, size_t *out);
+/* A count: decimal digits only (no sign, no blanks), at most max; -1 on error. */
+int vp_parse_count(const char *s, unsigned long long max, unsigned long long *out);
 /* The log options (--log, --no-log, --resume, --sync, --stop-after, --power-cut), like
  * vp_sim_parse_option: 0 taken, 1 not ours, -1 bad value (err). */
 int vp_sim_session_parse_option(vp_sim_session_t *g, int argc, char **argv, int *i, char *err, size_t errlen);

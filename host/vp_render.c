@@ -4,6 +4,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include "vp_note.h"
 #include "vp_render.h"
 #include "vp_status.h"
 #ifdef VP_HAVE_PNG
@@ -164,7 +165,7 @@ int vp_render_rgb(const vp_mesh_t *m, const vp_render_opts_t *o, unsigned char *
 #ifdef VP_HAVE_PNG
 static int write_png(const char *path, const unsigned char *rgb, int w, int h, char *err, size_t errlen)
 {
-    FILE *f = fopen(path, "wb");
+    FILE *f = vp_mkdirs_for(path) == 0 ? fopen(path, "wb") : NULL; /* its folder made, as --out's */
     png_structp png;
     png_infop info;
     int y;

@@ -52,7 +52,7 @@ struct vp_surface {
 };
 
 static const char vp_help_text[] =
-"Object specs (the simulated object; --object SPEC):\n"
+"Object specs (the simulated object; --surface SPEC):\n"
 "  SPEC  = TERM ( '+' TERM )*            several terms = several components\n"
 "  TERM  = NAME [ '*' SCALE ] [ '@' X ',' Y ',' Z ]   (modifiers in either order)\n"
 "  NAME  = sphere      unit sphere\n"
