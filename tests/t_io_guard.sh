@@ -4,7 +4,9 @@
 # OFF number, a .node line or an INI value are refused naming the line; /dev/zero as a mesh,
 # a .node file, a board or a log is refused at once; a log being written is locked against a
 # second writer; the messages for a tiny eps, an out-of-range rangefinder, a damaged log
-# header, --eps with --eps-rel and an unknown option say what is wrong, once.
+# header, --eps with --eps-rel and an unknown option say what is wrong, once; a count given as
+# '-3', 'abc' or 0 is refused (exit 2) by every command that takes one; report --json alone
+# prints the summary; --png makes its folder.
 set -u
 B=${BUILD:-build}
 VP=${VP:-$B/voroprobe}
@@ -161,6 +163,34 @@ grep -q "newer format version" "$tmp/e.txt" && bad "a damaged header was called 
 "$VP" log check "$tmp/dmg.vplog" >"$tmp/c.txt" 2>&1 && bad "log check accepted a damaged header"
 grep -q "header is damaged" "$tmp/c.txt" || { bad "log check: damaged header message"; cat "$tmp/c.txt"; }
 echo "messages: eps too small (smallest accepted named), rangefinder ranges, --eps with --eps-rel, unknown option once, damaged header"
+
+# ---- counts are counts: a sign, a letter or nothing is refused with exit 2, naming the value
+# (strtoul took '-3' as 2^64 - 3 and 'abc' as 0: the whole log replayed, an empty benchmark)
+cnt() { # EXPECTED-TEXT COMMAND...
+  want=$1; shift
+  "$VP" "$@" >/dev/null 2>"$tmp/e.txt"; r=$?
+  [ $r -eq 2 ] && grep -q -- "$want" "$tmp/e.txt" || { bad "$* -> exit $r: $(head -1 "$tmp/e.txt")"; }
+}
+cnt "--upto takes a count of records (at least 1), not '-3'" replay "$tmp/keep.vplog" --out "$tmp/u" --upto -3
+cnt "--upto takes a count of records (at least 1), not '0'" mesh "$tmp/keep.vplog" --out "$tmp/u" --upto 0
+cnt "--max-rays takes a positive count, not '-1'" report "$tmp/keep.vplog" --out "$tmp/u.html" --max-rays -1
+cnt "--list takes a count, not '-1'" certify "$tmp/keep.vplog" --list -1
+cnt "--uniform takes a whole number from 1 to 1e8, not 'abc'" bench-delaunay --uniform abc
+cnt "--seed takes a whole number, not '-1'" bench-delaunay --uniform 10 --seed -1
+cnt "unknown option --bogus" bench-delaunay --bogus
+cnt "unknown option --bogus" reconstruct --generate sphere --n 100 --bogus
+cnt "--rounds takes a number of rounds" track --surface torus --eps 0.1 --rounds abc
+cnt "--dropout 0.7 is out of the range the planner supports" sim --surface torus --eps 0.1 --dropout 0.7 $S --no-log
+# report --json alone prints the summary; its answers (the planner's count) sum to the probes
+"$VP" report "$tmp/keep.vplog" --json >"$tmp/r.json" 2>"$tmp/e.txt" || bad "report --json alone: $(head -1 "$tmp/e.txt")"
+jn() { sed -n "s/.*\"$1\":\([0-9]*\).*/\1/p" "$tmp/r.json"; }
+pr=$(jn probes); hi=$(jn hits); mi=$(jn misses); tc=$(jn too_close)
+[ -n "$pr" ] && [ -n "$hi" ] && [ -n "$mi" ] && [ -n "$tc" ] && [ "$pr" -gt 0 ] && [ $((hi + mi + tc)) -eq "$pr" ] ||
+  bad "report --json: probes '$pr' against hits '$hi' + misses '$mi' + too close '$tc'"
+# a picture's folder is made, as --out's, before the scan
+"$VP" sim --surface sphere --eps 0.3 --out "$tmp/p/s" --png "$tmp/q/r/s.png" $S >/dev/null 2>"$tmp/e.txt" && [ -s "$tmp/q/r/s.png" ] ||
+  bad "sim --png into a new folder: $(head -1 "$tmp/e.txt")"
+echo "counts: signs, letters and 0 refused (replay, mesh, report, certify, bench-delaunay, track); report --json alone; --png into a new folder"
 
 [ $fail -eq 0 ] && echo "t_io_guard: all passed"
 exit $fail
