@@ -485,7 +485,10 @@ int vp_planner_sight_occluder(const vp_planner_t *pl, uint32_t i, double tri[3][
  * now on, takes the point as a sample, and routes the device back along the move to its start
  * (the next MOVE goes from the contact point there). VP_EINVAL for NaN or `at` outside the
  * move; VP_ESTATE when the last command was not a MOVE or a touch was already reported for it;
- * VP_ERANGE when the contact lies outside Omega (Omega must hold the object: assumption A2). */
+ * VP_ERANGE when the contact lies outside Omega (Omega must hold the object: assumption A2);
+ * VP_EUNSAFE when it comes while the seeds are placed (a seed's ray walked on into Omega met S
+ * where its probe had shown it free: there is no triangulation yet to take the point, and the
+ * scan stops). */
 #ifndef VP_CORE_MCU /* a microcontroller core leaves the contact safety net out (vp_status.h) */
 int vp_planner_touch(vp_planner_t *pl, double at);
 /* The same for `move`, a MOVE of a path the device made as one (vp_run): the MOVEs given after it,

@@ -139,6 +139,7 @@ VP_PL_API int vp_pl_seed_next(vp_planner_t *pl)
     case 2: /* two directions very close to [q, a): the persistent facet */
         th = pl->cfg.eps / (8.0 * vp_dist3(pl->seed.q, pl->seed.pts[pl->seed.npts - 1])) /
              (double)(1u << (2 * (pl->seed.attempt / 2)));
+        if (!(th <= 1.0)) th = 1.0; /* a hit nearer than eps/8 (or at q itself): 45 degrees at most */
         seed_axes(u, (int)pl->seed.attempt, w1, w2);
         for (k = 0; k < 3; k++) d[k] = -u[k] + th * (pl->seed.step == 1 ? w1[k] : w2[k]);
         vp_normalize3(d);
@@ -161,12 +162,16 @@ VP_PL_API int vp_pl_seed_feed(vp_planner_t *pl, const vp_probe_result_t *res_in)
     int k;
     vp_probe_result_t r = *res_in;
     const vp_probe_result_t *res = &r;
+    if (r.hit == 1) {
+        for (k = 0; k < 3; k++) h[k] = pl->probe.origin[k] + r.dist * pl->probe.dir[k];
+        /* S lies inside Omega (A2): a hit on dOmega or beyond it (at the probe's very origin,
+         * a false hit) is no sample, and the facet's legs would have no length; as unreadable */
+        if (!vp_pl_omega_inside(&pl->cfg, h)) r.hit = VP_PROBE_TOO_CLOSE;
+    }
     if (r.hit == VP_PROBE_TOO_CLOSE) r.hit = 0; /* no usable sample: like a miss */
-    if (res->hit)
-        for (k = 0; k < 3; k++) h[k] = pl->probe.origin[k] + res->dist * pl->probe.dir[k];
     if (!res->hit && pl->seed.step != 1 && pl->seed.step != 2) {
         /* towards o_i: a hit is certain unless o_i is outside the object */
-        int w = res_in->hit == VP_PROBE_TOO_CLOSE ? 0 : vp_pl_seed_miss_on(pl);
+        int w = res_in->hit != 0 ? 0 : vp_pl_seed_miss_on(pl);
         if (w < 0) return w;
         return w ? VP_OK : seed_other_dir(pl);
     }

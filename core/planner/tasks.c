@@ -537,11 +537,12 @@ VP_PL_API int vp_pl_task_start(vp_planner_t *pl, vp_task_t *k)
         if (k->off <= 0.0) range += start_back(pl, o, g.dir, range, g.t0 - back);
     }
     if (k->off > 0.0) {
-        /* resume a range-limited probe from the end of its free part */
-        int q;
-        for (q = 0; q < 3; q++) o[q] += k->off * g.dir[q];
+        /* resume a range-limited probe from the end of its free part, where the device was left
+         * (vp_pl_walk_on): from that record's point itself, the MOVE's end to the last bit (the
+         * edge's start moved on by off rounds otherwise) */
         range -= k->off;
-        goal = pl->dev.at; /* the device was left there */
+        goal = pl->dev.at;
+        memcpy(o, pl->pool.vrec[goal].p, sizeof o);
     }
     pl->probe.full = range;
     range = vp_pl_clamp_range(pl, range);

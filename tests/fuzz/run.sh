@@ -6,7 +6,7 @@
 set -u
 B=${1:-build}; T=${2:-60}
 F="$B/fuzz"; S="$F/seeds"
-rm -rf "$S"; mkdir -p "$S/log" "$S/off" "$S/ply" "$F/artifacts"
+rm -rf "$S"; mkdir -p "$S/log" "$S/off" "$S/ply" "$S/planner" "$F/artifacts"
 w="$S/work"; mkdir -p "$w"
 "$B/voroprobe" sim --surface sphere --eps-rel 0.3 --out "$w/s" --quiet --hausdorff 0 --sync close >/dev/null &&
 "$B/voroprobe" sim --surface torus --eps-rel 0.25 --out "$w/t" --dropout 0.1 --noise 0.001 --quiet --hausdorff 0 \
@@ -23,6 +23,14 @@ printf 'OFF\n# comment\n3 1 0\n0 0 0 1 0 0 0 1 0\n3 0 1 2\n' >"$S/off/tri.off"
 cp "$w/s.ply" "$S/ply/bin.ply"; cp "$w/a.ply" "$S/ply/ascii.ply"
 printf 'ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n' >"$S/ply/tri.ply"
 rm -rf "$w"
+# the planner: configurations (Omega a box or a ball, a body, eps, noise, confirmed misses, a short
+# range, a distance bound, tubes), then each kind of fault in turn (tests/fuzz/fuzz_planner.c)
+f='\000\000\315\000\334\000\346\000\360\200\000\367\012\000\372\001\000\373\200\000'
+printf '\000\000\010\000'"$f$f$f$f$f$f" >"$S/planner/c0"
+printf '\041\022\017\000'"$f$f$f$f$f$f" >"$S/planner/c1"
+printf '\211\377\003\011'"$f$f$f$f$f$f" >"$S/planner/c2"
+printf '\153\100\010\002'"$f$f$f$f$f$f" >"$S/planner/c3"
+printf '\070\000\017\000'"$f$f$f$f$f$f" >"$S/planner/c4"
 fail=0
 for f in "$F"/fuzz_*; do
   [ -x "$f" ] || continue
