@@ -31,6 +31,8 @@ printf '\041\022\017\000'"$f$f$f$f$f$f" >"$S/planner/c1"
 printf '\211\377\003\011'"$f$f$f$f$f$f" >"$S/planner/c2"
 printf '\153\100\010\002'"$f$f$f$f$f$f" >"$S/planner/c3"
 printf '\070\000\017\000'"$f$f$f$f$f$f" >"$S/planner/c4"
+# inputs that once failed it (tests/fuzz/regress/KIND/), kept as seeds
+for d in tests/fuzz/regress/*/; do [ -d "$d" ] && cp "$d"* "$S/$(basename "$d")/"; done
 fail=0
 for f in "$F"/fuzz_*; do
   [ -x "$f" ] || continue
