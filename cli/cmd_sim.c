@@ -184,10 +184,12 @@ int vp_cli_sim(int argc, char **argv)
         else fprintf(stderr, "sim: unknown option %s (see --help)\n", a);
         return 2;
     }
-    if (vp_sim_session_options(&g, &o, argc, argv, err, sizeof err) != VP_OK) {
+    st = vp_sim_session_options(&g, &o, argc, argv, err, sizeof err);
+    if (st != VP_OK) {
+        /* options that clash with the log's are usage; a log that cannot be read, a failure */
         fprintf(stderr, "sim: %s\n", err);
         vp_sim_session_free(&g);
-        return 1;
+        return st == VP_EINVAL ? 2 : 1;
     }
     if (!o.surface) { fprintf(stderr, "sim: --surface is required (see --help)\n"); return 2; }
     if (g.sparse && !g.rescan && !track) {

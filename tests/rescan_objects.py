@@ -6,7 +6,7 @@ at its centre, (1 - (a/A)^2)^2 in the angle a from the centre, A the cap's angle
 hole on the +x side (by 0.3 at the inner equator, over 0.6 of its length: the hole narrows
 from 0.7 to 0.4 there).
 usage: rescan_objects.py OUTDIR [HEIGHT]"""
-import math, sys
+import math, os, sys
 
 def icosphere(level):
     t = (1 + 5 ** 0.5) / 2
@@ -43,6 +43,7 @@ def write_off(path, v, f):
 
 def main():
     out = sys.argv[1]
+    os.makedirs(out, exist_ok=True)
     height = float(sys.argv[2]) if len(sys.argv) > 2 else 0.1
     v, f = icosphere(4)
     write_off(out + "/sphere.off", v, f)

@@ -181,6 +181,7 @@ cnt "unknown option --bogus" bench-delaunay --bogus
 cnt "unknown option --bogus" reconstruct --generate sphere --n 100 --bogus
 cnt "--rounds takes a number of rounds" track --surface torus --eps 0.1 --rounds abc
 cnt "--dropout 0.7 is out of the range the planner supports" sim --surface torus --eps 0.1 --dropout 0.7 $S --no-log
+cnt "a re-scan keeps the options of the session it re-scans" sim --rescan "$tmp/keep.vplog" --surface sphere --seed 3 $S --out "$tmp/rs"
 # report --json alone prints the summary; its answers (the planner's count) sum to the probes
 "$VP" report "$tmp/keep.vplog" --json >"$tmp/r.json" 2>"$tmp/e.txt" || bad "report --json alone: $(head -1 "$tmp/e.txt")"
 jn() { sed -n "s/.*\"$1\":\([0-9]*\).*/\1/p" "$tmp/r.json"; }
