@@ -235,7 +235,7 @@ cmp -s "$tmp/mp.ply" "$tmp/mc.ply" || bad "rpi4 re-scan paused and resumed: anot
 
 # ---- (5) refusals
 "$VP" sim --rescan "$tmp/sphere.vplog" --surface "sphere*3" $S >"$tmp/o.txt" 2>&1
-[ $? -eq 1 ] && grep -q "does not lie in the logged session's Omega" "$tmp/o.txt" || bad "an object outside Omega: $(cat "$tmp/o.txt")"
+[ $? -eq 2 ] && grep -q "does not lie in the logged session's Omega" "$tmp/o.txt" || bad "an object outside Omega: $(cat "$tmp/o.txt")"
 "$VP" sim --rescan "$tmp/sphere.vplog" --resume "$tmp/sphere.vplog" $S >"$tmp/o.txt" 2>&1
 [ $? -ne 0 ] && grep -q "cannot go together" "$tmp/o.txt" || bad "--resume with --rescan: $(cat "$tmp/o.txt")"
 "$VP" sim --rescan "$tmp/sphere.vplog" --log "$tmp/sphere.vplog" $S >"$tmp/o.txt" 2>&1
