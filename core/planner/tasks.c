@@ -683,8 +683,10 @@ VP_PL_API int vp_pl_vantage_go(vp_planner_t *pl, const double *x, double s, cons
     if (st != VP_OK) { pl->tube.goal_in = 0; return st < 0 ? st : 0; }
     memcpy(P->origin, x, sizeof P->origin);
     P->standoff -= s;
-    P->range -= s;
+    /* the rest of the line from x, within the rangefinder's reach again (the range kept was
+     * the reach's from the old origin: s can lie beyond it) */
     P->full -= s;
+    P->range = vp_pl_clamp_range(pl, P->full);
     P->origin_rec = pl->dev.at;
     P->chain_proof = PROOF_NONE;
     P->vantage = 1;

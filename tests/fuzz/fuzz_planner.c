@@ -1,14 +1,15 @@
 /* libFuzzer target: the planner driven by a rangefinder that errs as a real one can. The object
  * is a sphere; the input's first bytes choose the configuration (Omega a box or a ball, a body,
- * eps, noise tolerance, confirmed misses, a short range, a distance bound, the sphere), the rest
- * decide, probe by probe, whether the answer is the true one or a fault: a dropout (a miss), a
- * too-close, a distance off by up to 5 noise tolerances, a false hit anywhere on the ray, a hit
- * past the range, an answer that is not one (NaN, negative: it must be refused and change
- * nothing), or a contact part way along the last move. Whatever the device says, every call
- * returns a status, every command is well formed (a MOVE starts where the device stands, a
- * PROBE has a unit direction and a finite range within the rangefinder's), the planner never
- * finds one of its own moves unproven (VP_EUNSAFE), and the same input gives the same commands
- * bit for bit. Never a crash, never a sanitizer report. */
+ * moves weighed by machine time, tubes, eps, noise tolerance, confirmed misses, a short range, a
+ * distance bound, an angle bound, a line laser's more rays, a re-scan of the sphere moved after
+ * the first scan, the sphere), the rest decide, probe by probe and ray by ray, whether the answer
+ * is the true one or a fault: a dropout (a miss), a too-close, a distance off by up to 5 noise
+ * tolerances, a false hit anywhere on the ray, a hit past the range, an answer that is not one
+ * (NaN, negative: it must be refused and change nothing), or a contact part way along the last
+ * move. Whatever the device says, every call returns a status, every command is well formed (a
+ * MOVE starts where the device stands, a PROBE has a unit direction and a finite range within
+ * the rangefinder's), the planner never finds one of its own moves unproven (VP_EUNSAFE), and
+ * the same input gives the same commands bit for bit. Never a crash, never a sanitizer report. */
 #include <math.h>
 #include <stddef.h>
 #include <stdint.h>
@@ -21,28 +22,30 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 
 #define CONFIG_BYTES 4
 #define MAX_COMMANDS 6000
+#define LINE_RAYS 3u
 #define ARENA_BYTES ((size_t)24 << 20)
 
-typedef struct fault_src {
+typedef struct fuzz_dev {
     const uint8_t *p;
     size_t n, i;
-} fault_src_t;
+    double centre[3], radius, min_range, noise;
+} fuzz_dev_t;
 
-static unsigned next_byte(fault_src_t *s)
+static unsigned next_byte(fuzz_dev_t *s)
 {
     return s->i < s->n ? s->p[s->i++] : 0u; /* past the input: the truth */
 }
 
 static void fail(void) { __builtin_trap(); }
 
-/* the first point of the sphere (centre c, radius r) along the ray, or -1 */
-static double sphere_ray(const double *c, double r, const double *o, const double *d)
+/* the first point of the sphere along the ray, or -1 */
+static double sphere_ray(const fuzz_dev_t *D, const double *o, const double *d)
 {
     double w[3], b, q, disc, t;
     int k;
-    for (k = 0; k < 3; k++) w[k] = o[k] - c[k];
+    for (k = 0; k < 3; k++) w[k] = o[k] - D->centre[k];
     b = w[0] * d[0] + w[1] * d[1] + w[2] * d[2];
-    q = w[0] * w[0] + w[1] * w[1] + w[2] * w[2] - r * r;
+    q = w[0] * w[0] + w[1] * w[1] + w[2] * w[2] - D->radius * D->radius;
     if (q <= 0.0) return 0.0; /* from inside: at once */
     disc = b * b - q;
     if (disc < 0.0) return -1.0;
@@ -50,21 +53,72 @@ static double sphere_ray(const double *c, double r, const double *o, const doubl
     return t >= 0.0 ? t : -1.0;
 }
 
+/* What the rangefinder says along the ray into *r, the next byte choosing the truth or a fault
+ * (for a non-answer: checks that it is refused, then *r is the truth). */
+static void answer(vp_planner_t *pl, fuzz_dev_t *D, const double *o, const double *d, double range,
+                   int ray, vp_probe_result_t *r)
+{
+    unsigned x = next_byte(D);
+    double t = sphere_ray(D, o, d);
+    if (t >= 0.0 && t < D->min_range) r->hit = VP_PROBE_TOO_CLOSE, r->dist = 0.0;
+    else if (t >= 0.0 && t <= range) r->hit = 1, r->dist = t;
+    else r->hit = 0, r->dist = 0.0;
+    if (x >= 200u && x < 216u) r->hit = 0, r->dist = 0.0;                      /* dropout */
+    else if (x >= 216u && x < 224u) r->hit = VP_PROBE_TOO_CLOSE, r->dist = 0.0; /* unreadable */
+    else if (x >= 224u && x < 236u && r->hit == 1) {
+        r->dist += D->noise * ((double)x - 230.0);
+        if (r->dist < 0.0) r->dist = 0.0;
+    } else if (x >= 236u && x < 246u) {
+        r->hit = 1;                                                           /* false hit */
+        r->dist = range * (double)next_byte(D) / 255.0;
+    } else if (x >= 246u && x < 250u) {
+        r->hit = 1;                                                           /* past the range */
+        r->dist = range * (1.0 + (double)next_byte(D) / 64.0);
+    } else if (x == 250u) {
+        /* not an answer: refused, nothing changed; then the true one */
+        vp_probe_result_t bad;
+        double dd[3];
+        bad.hit = (next_byte(D) & 1u) ? 1 : 3;
+        bad.dist = bad.hit == 1 ? -1.0 : 0.5;
+        if ((ray ? vp_planner_feed_ray(pl, d, &bad) : vp_planner_feed(pl, &bad)) != VP_EINVAL) fail();
+        bad.hit = 1;
+        bad.dist = NAN;
+        if ((ray ? vp_planner_feed_ray(pl, d, &bad) : vp_planner_feed(pl, &bad)) != VP_EINVAL) fail();
+        if (ray) {
+            /* a ray's direction not of unit length: refused too */
+            dd[0] = 2.0 * d[0]; dd[1] = 2.0 * d[1]; dd[2] = 2.0 * d[2];
+            if (vp_planner_feed_ray(pl, dd, r) != VP_EINVAL) fail();
+        }
+    }
+}
+
+static int touch_ok(int st)
+{
+    return st == VP_OK || st == VP_EINVAL || st == VP_ERANGE || st == VP_ESTATE || st == VP_ENOMEM;
+}
+
 /* one run; the commands folded into *hash */
 static void run(const uint8_t *data, size_t size, void *arena, vp_planner_t *pl, uint64_t *hash)
 {
     vp_planner_config_t c;
-    fault_src_t f = { data + CONFIG_BYTES, size - CONFIG_BYTES, 0 };
-    double centre[3], radius, pos[3], min_range;
+    fuzz_dev_t D;
+    double pos[3], move[3];
     uint64_t h = 1469598103934665603ull;
     vp_cmd_t cmd;
-    int k, n, st, touched = 0;
+    int k, n, st, touched = 0, rescans = 0;
     unsigned b0 = data[0], b1 = data[1], b2 = data[2], b3 = data[3];
     memset(&c, 0, sizeof c);
-    radius = 0.55 + 0.4 * (b2 & 15u) / 15.0;
-    centre[0] = 0.05 * (double)((int)(b1 & 7u) - 3);
-    centre[1] = 0.05 * (double)((int)((b1 >> 3) & 7u) - 3);
-    centre[2] = 0.03 * (double)((int)(b1 >> 6) - 1);
+    memset(&D, 0, sizeof D);
+    D.p = data + CONFIG_BYTES;
+    D.n = size - CONFIG_BYTES;
+    D.radius = 0.55 + 0.4 * (b2 & 15u) / 15.0;
+    D.centre[0] = 0.05 * (double)((int)(b1 & 7u) - 3);
+    D.centre[1] = 0.05 * (double)((int)((b1 >> 3) & 7u) - 3);
+    D.centre[2] = 0.03 * (double)((int)(b1 >> 6) - 1);
+    /* the re-scan's sphere: moved by up to 0.1 (b2's high bits), Omega still holding it */
+    move[0] = 0.025 * (double)((b2 >> 4) & 3u);
+    move[1] = 0.0;
+    move[2] = -0.025 * (double)(b2 >> 6);
     if (b0 & 1u) {
         c.omega_kind = VP_OMEGA_BALL;
         c.omega_radius = 2.0;
@@ -72,20 +126,30 @@ static void run(const uint8_t *data, size_t size, void *arena, vp_planner_t *pl,
         c.omega_kind = VP_OMEGA_BOX;
         for (k = 0; k < 3; k++) { c.omega_lo[k] = -2.0; c.omega_hi[k] = 2.0; }
     }
-    for (k = 0; k < 3; k++) { c.start[k] = 2.5; c.interior[0][k] = centre[k]; }
+    for (k = 0; k < 3; k++) { c.start[k] = 2.5; c.interior[0][k] = D.centre[k]; }
     c.ninterior = 1;
     {
         static const double eps[4] = { 0.5, 0.35, 0.7, 0.28 };
         c.eps = eps[(b0 >> 1) & 3u];
     }
     c.noise_tol = (b0 & 8u) ? 0.01 : 0.0;
+    D.noise = c.noise_tol > 0.0 ? c.noise_tol : 0.002;
     c.confirm_misses = (b0 >> 4) & 1u;
-    c.clearance = (b0 & 32u) ? 0.2 : 0.0; /* a body: Omega keeps 0.2 from the sphere (r < 1) */
+    c.clearance = (b0 & 32u) ? 0.2 : 0.0; /* a body: Omega keeps 0.2 from the sphere (r < 1.1) */
     c.max_range = (b0 & 64u) ? 1.6 : 0.0;
     if (b0 & 128u) c.max_distance = 0.06;
     if (b3 & 1u) c.min_angle = 20.0;
     if ((b3 & 6u) == 2u && c.clearance > 0.0) c.min_feature = 0.3;
-    min_range = (b3 & 8u) ? 0.05 : 0.0;
+    D.min_range = (b3 & 8u) ? 0.05 : 0.0;
+    if ((b3 & 16u) && c.clearance > 0.0) {
+        /* moves weighed by machine time: Z six times slower than X and Y, the pan's travel two turns */
+        c.axis_time[0] = c.axis_time[1] = 1.0 / 300.0;
+        c.axis_time[2] = 1.0 / 50.0;
+        c.axis_time[3] = c.axis_time[4] = 1.0 / 3.0;
+        c.pan_travel[0] = -6.283185307179586;
+        c.pan_travel[1] = 6.283185307179586;
+    }
+    if (b3 & 32u) c.line_rays = LINE_RAYS;
     st = vp_planner_init(pl, arena, ARENA_BYTES, &c);
     if (st != VP_OK) { *hash = (uint64_t)(int64_t)st; return; }
     memcpy(pos, c.start, sizeof pos);
@@ -105,77 +169,56 @@ static void run(const uint8_t *data, size_t size, void *arena, vp_planner_t *pl,
             memcpy(&u, &v[cmd.kind == VP_CMD_MOVE ? 1 : 0], sizeof u);
             h = (h ^ u) * 1099511628211ull;
         }
-        if (cmd.kind == VP_CMD_DONE) break;
+        if (cmd.kind == VP_CMD_DONE) {
+            if (!(b3 & 64u) || rescans > 0) break;
+            /* the sphere moved after the first scan: a re-scan from the start (every old proof
+             * stale, every sample measured again) */
+            for (k = 0; k < 3; k++) D.centre[k] += move[k];
+            st = vp_planner_rescan(pl);
+            if (st != VP_OK && st != VP_ENOMEM) fail();
+            if (st != VP_OK) break;
+            rescans++;
+            memcpy(pos, c.start, sizeof pos);
+            continue;
+        }
+        for (k = 0; k < 3; k++) {
+            /* from where it stands (after a contact: the contact point, as the planner worked
+             * it out along the move, to rounding) */
+            if (touched && fabs(cmd.from[k] - pos[k]) <= 1e-12 * (1.0 + fabs(pos[k]))) pos[k] = cmd.from[k];
+            if (cmd.from[k] != pos[k]) fail();
+        }
+        touched = 0;
         if (cmd.kind == VP_CMD_MOVE) {
-            unsigned t;
-            for (k = 0; k < 3; k++) {
-                /* from where it stands (after a contact: the contact point, as the planner
-                 * worked it out along the move, to rounding) */
-                if (touched && fabs(cmd.from[k] - pos[k]) <= 1e-12 * (1.0 + fabs(pos[k]))) pos[k] = cmd.from[k];
-                if (!isfinite(cmd.to[k]) || cmd.from[k] != pos[k]) fail();
-            }
-            touched = 0;
+            for (k = 0; k < 3; k++)
+                if (!isfinite(cmd.to[k])) fail();
             memcpy(pos, cmd.to, sizeof pos);
-            t = next_byte(&f);
-            if (t == 251u) {
+            if (next_byte(&D) == 251u) {
                 /* the contact switch part way along the move (a surface the camera missed,
                  * or a false alarm): the device stands there */
                 double len = 0.0, at;
+                vp_planner_stage_t stage = vp_planner_stage(pl);
                 for (k = 0; k < 3; k++) len += (cmd.to[k] - cmd.from[k]) * (cmd.to[k] - cmd.from[k]);
                 len = sqrt(len);
-                at = len * (double)next_byte(&f) / 255.0;
-                {
-                    vp_planner_stage_t stage = vp_planner_stage(pl);
-                    st = vp_planner_touch(pl, at);
-                    /* during the seeds a contact stops the scan (documented), else never */
-                    if (st == VP_EUNSAFE && stage == VP_STAGE_SEED) break;
-                }
+                at = len * (double)next_byte(&D) / 255.0;
+                st = vp_planner_touch(pl, at);
+                /* during the seeds a contact stops the scan (documented), else never */
+                if (st == VP_EUNSAFE && stage == VP_STAGE_SEED) break;
+                if (!touch_ok(st)) fail();
                 if (st == VP_OK && len > 0.0) {
                     for (k = 0; k < 3; k++) pos[k] = cmd.from[k] + at / len * (cmd.to[k] - cmd.from[k]);
                     touched = 1;
                 }
-                else if (st != VP_OK && st != VP_EINVAL && st != VP_ERANGE && st != VP_ESTATE && st != VP_ENOMEM)
-                    fail();
             }
             continue;
         }
         if (cmd.kind != VP_CMD_PROBE) fail();
         {
-            double dd = cmd.dir[0] * cmd.dir[0] + cmd.dir[1] * cmd.dir[1] + cmd.dir[2] * cmd.dir[2], t;
+            double dd = cmd.dir[0] * cmd.dir[0] + cmd.dir[1] * cmd.dir[1] + cmd.dir[2] * cmd.dir[2];
             vp_probe_result_t r;
-            unsigned x = next_byte(&f);
-            for (k = 0; k < 3; k++) {
-                if (touched && fabs(cmd.from[k] - pos[k]) <= 1e-12 * (1.0 + fabs(pos[k]))) pos[k] = cmd.from[k];
-                if (cmd.from[k] != pos[k]) fail(); /* a probe from where the device stands */
-            }
-            touched = 0;
+            unsigned i, fed = 0;
             if (!(fabs(dd - 1.0) < 1e-9) || !(cmd.range > 0.0) || !isfinite(cmd.range)) fail();
             if (c.max_range > 0.0 && cmd.range > c.max_range * (1.0 + 1e-12)) fail();
-            t = sphere_ray(centre, radius, cmd.from, cmd.dir);
-            if (t >= 0.0 && t < min_range) r.hit = VP_PROBE_TOO_CLOSE, r.dist = 0.0;
-            else if (t >= 0.0 && t <= cmd.range) r.hit = 1, r.dist = t;
-            else r.hit = 0, r.dist = 0.0;
-            if (x >= 200u && x < 216u) r.hit = 0, r.dist = 0.0;                      /* dropout */
-            else if (x >= 216u && x < 224u) r.hit = VP_PROBE_TOO_CLOSE, r.dist = 0.0; /* unreadable */
-            else if (x >= 224u && x < 236u && r.hit == 1) {
-                r.dist += (c.noise_tol > 0.0 ? c.noise_tol : 0.002) * ((double)x - 230.0);
-                if (r.dist < 0.0) r.dist = 0.0;
-            } else if (x >= 236u && x < 246u) {
-                r.hit = 1;                                                           /* false hit */
-                r.dist = cmd.range * (double)next_byte(&f) / 255.0;
-            } else if (x >= 246u && x < 250u) {
-                r.hit = 1;                                                           /* past the range */
-                r.dist = cmd.range * (1.0 + (double)next_byte(&f) / 64.0);
-            } else if (x >= 250u && x < 251u) {
-                /* not an answer: refused, nothing changed; then the true one */
-                vp_probe_result_t bad;
-                bad.hit = (next_byte(&f) & 1u) ? 1 : 3;
-                bad.dist = bad.hit == 1 ? -1.0 : 0.5;
-                if (vp_planner_feed(pl, &bad) != VP_EINVAL) fail();
-                bad.hit = 1;
-                bad.dist = NAN;
-                if (vp_planner_feed(pl, &bad) != VP_EINVAL) fail();
-            }
+            answer(pl, &D, cmd.from, cmd.dir, cmd.range, 0, &r);
             st = vp_planner_feed(pl, &r);
             if (st == VP_EUNSAFE || (st != VP_OK && (st >= 0 || st < VP_ESTALL))) fail();
             if (st != VP_OK) {
@@ -183,6 +226,22 @@ static void run(const uint8_t *data, size_t size, void *arena, vp_planner_t *pl,
                 break;
             }
             h = (h ^ (uint64_t)r.hit) * 1099511628211ull;
+            for (i = 0; i < c.line_rays; i++) {
+                /* a line laser's more rays, fanned about the probe's direction */
+                double d[3], s = 0.05 * ((double)i - 1.0), len;
+                d[0] = cmd.dir[0] + s * cmd.dir[1];
+                d[1] = cmd.dir[1] - s * cmd.dir[0];
+                d[2] = cmd.dir[2] + s;
+                len = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+                for (k = 0; k < 3; k++) d[k] /= len;
+                if (!(fabs(d[0] * d[0] + d[1] * d[1] + d[2] * d[2] - 1.0) <= 1e-9)) continue;
+                answer(pl, &D, cmd.from, d, cmd.range, 1, &r);
+                st = vp_planner_feed_ray(pl, d, &r);
+                if (st != VP_OK) fail();
+                fed++;
+            }
+            if (fed == c.line_rays && c.line_rays > 0 && vp_planner_feed_ray(pl, cmd.dir, &r) != VP_ESTATE)
+                fail(); /* one ray too many: refused */
         }
     }
     *hash = h;

@@ -24,13 +24,19 @@ cp "$w/s.ply" "$S/ply/bin.ply"; cp "$w/a.ply" "$S/ply/ascii.ply"
 printf 'ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n' >"$S/ply/tri.ply"
 rm -rf "$w"
 # the planner: configurations (Omega a box or a ball, a body, eps, noise, confirmed misses, a short
-# range, a distance bound, tubes), then each kind of fault in turn (tests/fuzz/fuzz_planner.c)
-f='\000\000\315\000\334\000\346\000\360\200\000\367\012\000\372\001\000\373\200\000'
-printf '\000\000\010\000'"$f$f$f$f$f$f" >"$S/planner/c0"
-printf '\041\022\017\000'"$f$f$f$f$f$f" >"$S/planner/c1"
-printf '\211\377\003\011'"$f$f$f$f$f$f" >"$S/planner/c2"
-printf '\153\100\010\002'"$f$f$f$f$f$f" >"$S/planner/c3"
-printf '\070\000\017\000'"$f$f$f$f$f$f" >"$S/planner/c4"
+# range, a distance bound, tubes, machine time, a line laser, a re-scan), then each kind of fault
+# in turn (tests/fuzz/fuzz_planner.c)
+f='\315\000\000\000\000\000\334\000\000\000\000\000\346\000\000\000\000\000\360\000\000\000\000\000\200\000\000\000\000\000\367\000\000\000\000\000\012\000\000\000\000\000\372\000\000\000\000\000\001\000\000\000\000\000'   # each fault among true answers
+z='\000\000\000\000\000\000\000\000\000\000\000\000\000\000\000\000\000\000\000\000\000\000\000\000\000\000\000\000\000\000\000\000\000\000\000\000\000\000\000\000\000\000\000\000\000\000\000\000\000\000\000\000\000\000\000\000\000\000\000\000\000\000\000\000'   # the seeds' probes answered truly first
+printf '\000\000\010\000'"$z$f$f$f$f" >"$S/planner/c0"
+printf '\041\022\017\000'"$z$f$f$f$f" >"$S/planner/c1"
+printf '\211\377\003\011'"$z$f$f$f$f" >"$S/planner/c2"
+printf '\153\100\010\002'"$z$f$f$f$f" >"$S/planner/c3"
+printf '\070\000\017\000'"$z$f$f$f$f" >"$S/planner/c4"
+printf '\041\022\057\120'"$z$f$f$f$f" >"$S/planner/c5"   # a body, timed, a re-scan
+printf '\000\011\217\140'"$z$f$f$f$f" >"$S/planner/c6"   # a line laser, a re-scan
+printf '\150\000\017\022'"$z$f$f$f$f" >"$S/planner/c7"   # a body, tubes, timed, a short range
+printf '\000\000\010\000'"$z$f\373\200$f$f\373\040$f" >"$S/planner/c8"   # contacts part way along moves
 # inputs that once failed it (tests/fuzz/regress/KIND/), kept as seeds
 for d in tests/fuzz/regress/*/; do [ -d "$d" ] && cp "$d"* "$S/$(basename "$d")/"; done
 fail=0
