@@ -1,12 +1,13 @@
 #!/bin/sh
 # Runs every libFuzzer target in BUILD/fuzz for SECONDS seconds each, on a corpus seeded with
-# a small simulated session (its log, OFF and PLY files), torn and hand-made variants.
+# a small simulated session (its log, OFF and PLY files), torn and hand-made variants, the
+# planner's configurations and faults, and the board files.
 # Crashes and sanitizer reports fail the run (artifacts in BUILD/fuzz/artifacts).
 # Usage: sh tests/fuzz/run.sh BUILD SECONDS
 set -u
 B=${1:-build}; T=${2:-60}
 F="$B/fuzz"; S="$F/seeds"
-rm -rf "$S"; mkdir -p "$S/log" "$S/off" "$S/ply" "$S/planner" "$F/artifacts"
+rm -rf "$S"; mkdir -p "$S/log" "$S/off" "$S/ply" "$S/planner" "$S/board" "$F/artifacts"
 w="$S/work"; mkdir -p "$w"
 "$B/voroprobe" sim --surface sphere --eps-rel 0.3 --out "$w/s" --quiet --hausdorff 0 --sync close >/dev/null &&
 "$B/voroprobe" sim --surface torus --eps-rel 0.25 --out "$w/t" --dropout 0.1 --noise 0.001 --quiet --hausdorff 0 \
@@ -37,7 +38,9 @@ printf '\041\022\057\120'"$z$f$f$f$f" >"$S/planner/c5"   # a body, timed, a re-s
 printf '\000\011\217\140'"$z$f$f$f$f" >"$S/planner/c6"   # a line laser, a re-scan
 printf '\150\000\017\022'"$z$f$f$f$f" >"$S/planner/c7"   # a body, tubes, timed, a short range
 printf '\000\000\010\000'"$z$f\373\200$f$f\373\040$f" >"$S/planner/c8"   # contacts part way along moves
-# inputs that once failed it (tests/fuzz/regress/KIND/), kept as seeds
+# the board files as they are
+cp boards/*.ini "$S/board/"
+# inputs that once failed a target (tests/fuzz/regress/KIND/), kept as seeds
 for d in tests/fuzz/regress/*/; do [ -d "$d" ] && cp "$d"* "$S/$(basename "$d")/"; done
 fail=0
 for f in "$F"/fuzz_*; do
