@@ -1,15 +1,17 @@
 /* libFuzzer target: the planner driven by a rangefinder that errs as a real one can. The object
- * is a sphere; the input's first bytes choose the configuration (Omega a box or a ball, a body,
- * moves weighed by machine time, tubes, eps, noise tolerance, confirmed misses, a short range, a
- * distance bound, an angle bound, a line laser's more rays, a re-scan of the sphere moved after
- * the first scan, the sphere), the rest decide, probe by probe and ray by ray, whether the answer
- * is the true one or a fault: a dropout (a miss), a too-close, a distance off by up to 5 noise
- * tolerances, a false hit anywhere on the ray, a hit past the range, an answer that is not one
- * (NaN, negative: it must be refused and change nothing), or a contact part way along the last
- * move. Whatever the device says, every call returns a status, every command is well formed (a
- * MOVE starts where the device stands, a PROBE has a unit direction and a finite range within
- * the rangefinder's), the planner never finds one of its own moves unproven (VP_EUNSAFE), and
- * the same input gives the same commands bit for bit. Never a crash, never a sanitizer report. */
+ * is a sphere, or two; the input's first bytes choose the configuration (Omega a box or a ball, a
+ * body, moves weighed by machine time, tubes, eps, noise tolerance, confirmed misses, a short
+ * range, a distance bound, an angle bound, a line laser's more rays, the sight rule of a camera's
+ * misses, a re-scan of the sphere moved after the first scan: from the start or where the device
+ * stands, every sample or a sparse share), the rest decide, probe by probe and ray by ray,
+ * whether the answer is the true one or a fault: a dropout (a miss), a too-close, a distance off
+ * by up to 5 noise tolerances, a false hit anywhere on the ray, a hit past the range, an answer
+ * that is not one (NaN, negative: it must be refused and change nothing), or a contact part way
+ * along the last move. Whatever the device says, every call returns a status, every command is
+ * well formed (a MOVE starts where the device stands, a PROBE has a unit direction and a finite
+ * range within the rangefinder's), the planner never finds one of its own moves unproven
+ * (VP_EUNSAFE), and the same input gives the same commands bit for bit. Never a crash, never a
+ * sanitizer report. */
 #include <math.h>
 #include <stddef.h>
 #include <stdint.h>
@@ -28,7 +30,9 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 typedef struct fuzz_dev {
     const uint8_t *p;
     size_t n, i;
-    double centre[3], radius, min_range, noise;
+    double centre[2][3], radius;  /* one sphere, or two apart (two components) */
+    int spheres;
+    double min_range, noise;
 } fuzz_dev_t;
 
 static unsigned next_byte(fuzz_dev_t *s)
@@ -38,19 +42,24 @@ static unsigned next_byte(fuzz_dev_t *s)
 
 static void fail(void) { __builtin_trap(); }
 
-/* the first point of the sphere along the ray, or -1 */
+/* the first point of the spheres along the ray, or -1 */
 static double sphere_ray(const fuzz_dev_t *D, const double *o, const double *d)
 {
-    double w[3], b, q, disc, t;
-    int k;
-    for (k = 0; k < 3; k++) w[k] = o[k] - D->centre[k];
-    b = w[0] * d[0] + w[1] * d[1] + w[2] * d[2];
-    q = w[0] * w[0] + w[1] * w[1] + w[2] * w[2] - D->radius * D->radius;
-    if (q <= 0.0) return 0.0; /* from inside: at once */
-    disc = b * b - q;
-    if (disc < 0.0) return -1.0;
-    t = -b - sqrt(disc);
-    return t >= 0.0 ? t : -1.0;
+    double best = -1.0;
+    int s;
+    for (s = 0; s < D->spheres; s++) {
+        double w[3], b, q, disc, t;
+        int k;
+        for (k = 0; k < 3; k++) w[k] = o[k] - D->centre[s][k];
+        b = w[0] * d[0] + w[1] * d[1] + w[2] * d[2];
+        q = w[0] * w[0] + w[1] * w[1] + w[2] * w[2] - D->radius * D->radius;
+        if (q <= 0.0) return 0.0; /* from inside: at once */
+        disc = b * b - q;
+        if (disc < 0.0) continue;
+        t = -b - sqrt(disc);
+        if (t >= 0.0 && (best < 0.0 || t < best)) best = t;
+    }
+    return best;
 }
 
 /* What the rangefinder says along the ray into *r, the next byte choosing the truth or a fault
@@ -105,16 +114,26 @@ static void run(const uint8_t *data, size_t size, void *arena, vp_planner_t *pl,
     double pos[3], move[3];
     uint64_t h = 1469598103934665603ull;
     vp_cmd_t cmd;
-    int k, n, st, touched = 0, rescans = 0;
+    int k, n, st, touched = 0, rescans = 0, sight;
     unsigned b0 = data[0], b1 = data[1], b2 = data[2], b3 = data[3];
     memset(&c, 0, sizeof c);
     memset(&D, 0, sizeof D);
     D.p = data + CONFIG_BYTES;
     D.n = size - CONFIG_BYTES;
     D.radius = 0.55 + 0.4 * (b2 & 15u) / 15.0;
-    D.centre[0] = 0.05 * (double)((int)(b1 & 7u) - 3);
-    D.centre[1] = 0.05 * (double)((int)((b1 >> 3) & 7u) - 3);
-    D.centre[2] = 0.03 * (double)((int)(b1 >> 6) - 1);
+    D.centre[0][0] = 0.05 * (double)((int)(b1 & 7u) - 3);
+    D.centre[0][1] = 0.05 * (double)((int)((b1 >> 3) & 7u) - 3);
+    D.centre[0][2] = 0.03 * (double)((int)((b1 >> 6) & 1u) - 1);
+    sight = (b1 & 128u) != 0;
+    D.spheres = 1;
+    if (b3 & 128u) {
+        /* two parts: smaller spheres 1.9 apart, an interior point in each */
+        D.spheres = 2;
+        D.radius *= 0.7;
+        memcpy(D.centre[1], D.centre[0], sizeof D.centre[1]);
+        D.centre[0][0] -= 0.95;
+        D.centre[1][0] += 0.95;
+    }
     /* the re-scan's sphere: moved by up to 0.1 (b2's high bits), Omega still holding it */
     move[0] = 0.025 * (double)((b2 >> 4) & 3u);
     move[1] = 0.0;
@@ -126,8 +145,12 @@ static void run(const uint8_t *data, size_t size, void *arena, vp_planner_t *pl,
         c.omega_kind = VP_OMEGA_BOX;
         for (k = 0; k < 3; k++) { c.omega_lo[k] = -2.0; c.omega_hi[k] = 2.0; }
     }
-    for (k = 0; k < 3; k++) { c.start[k] = 2.5; c.interior[0][k] = D.centre[k]; }
-    c.ninterior = 1;
+    for (k = 0; k < 3; k++) {
+        c.start[k] = 2.5;
+        c.interior[0][k] = D.centre[0][k];
+        c.interior[1][k] = D.centre[1][k];
+    }
+    c.ninterior = (uint32_t)D.spheres;
     {
         static const double eps[4] = { 0.5, 0.35, 0.7, 0.28 };
         c.eps = eps[(b0 >> 1) & 3u];
@@ -171,14 +194,16 @@ static void run(const uint8_t *data, size_t size, void *arena, vp_planner_t *pl,
         }
         if (cmd.kind == VP_CMD_DONE) {
             if (!(b3 & 64u) || rescans > 0) break;
-            /* the sphere moved after the first scan: a re-scan from the start (every old proof
-             * stale, every sample measured again) */
-            for (k = 0; k < 3; k++) D.centre[k] += move[k];
-            st = vp_planner_rescan(pl);
+            /* the sphere moved after the first scan: a re-scan (every old proof stale, every
+             * sample measured again, or a sparse share of them) from the start, or from where
+             * the device stands (the next byte says which) */
+            unsigned how = next_byte(&D) & 3u;
+            for (k = 0; k < 3; k++) D.centre[0][k] += move[k];
+            st = vp_planner_rescan_with(pl, how);
             if (st != VP_OK && st != VP_ENOMEM) fail();
             if (st != VP_OK) break;
             rescans++;
-            memcpy(pos, c.start, sizeof pos);
+            if (!(how & VP_RESCAN_HERE)) memcpy(pos, c.start, sizeof pos);
             continue;
         }
         for (k = 0; k < 3; k++) {
@@ -219,6 +244,15 @@ static void run(const uint8_t *data, size_t size, void *arena, vp_planner_t *pl,
             if (!(fabs(dd - 1.0) < 1e-9) || !(cmd.range > 0.0) || !isfinite(cmd.range)) fail();
             if (c.max_range > 0.0 && cmd.range > c.max_range * (1.0 + 1e-12)) fail();
             answer(pl, &D, cmd.from, cmd.dir, cmd.range, 0, &r);
+            if (sight && r.hit == 0) {
+                /* the sight rule, as a camera port applies it: a miss where the mesh so far may
+                 * hide the spot from the camera proves nothing */
+                double cam[3];
+                cam[0] = cmd.from[0] + 0.05; cam[1] = cmd.from[1] - 0.03; cam[2] = cmd.from[2] + 0.02;
+                st = vp_planner_spot_hidden(pl, cmd.from, cmd.dir, cmd.range, cam);
+                if (st != 0 && st != 1) fail();
+                if (st == 1) r.hit = VP_PROBE_TOO_CLOSE;
+            }
             st = vp_planner_feed(pl, &r);
             if (st == VP_EUNSAFE || (st != VP_OK && (st >= 0 || st < VP_ESTALL))) fail();
             if (st != VP_OK) {

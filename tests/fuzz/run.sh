@@ -38,6 +38,9 @@ printf '\041\022\057\120'"$z$f$f$f$f" >"$S/planner/c5"   # a body, timed, a re-s
 printf '\000\011\217\140'"$z$f$f$f$f" >"$S/planner/c6"   # a line laser, a re-scan
 printf '\150\000\017\022'"$z$f$f$f$f" >"$S/planner/c7"   # a body, tubes, timed, a short range
 printf '\000\000\010\000'"$z$f\373\200$f$f\373\040$f" >"$S/planner/c8"   # contacts part way along moves
+printf '\000\022\017\200'"$z$f$f$f$f" >"$S/planner/c9"   # two parts
+printf '\041\022\057\320'"$z$f$f$f$f" >"$S/planner/c10"  # two parts, a body, timed, a re-scan
+printf '\000\222\017\000'"$z$f$f$f$f" >"$S/planner/c11"  # the sight rule of a camera's misses
 # the board files as they are
 cp boards/*.ini "$S/board/"
 # inputs that once failed a target (tests/fuzz/regress/KIND/), kept as seeds
