@@ -87,7 +87,7 @@ static void sim_usage(FILE *f)
         "  --min-range R      the rangefinder cannot measure nearer than R (reported as too close)\n"
         "  --angle DEG        also refine facets with an angle below DEG (at most 30)\n"
         "  --size-rel E       adaptive sizing (paper 002): a ball is refined when its radius is above\n"
-        "                     g(c) = min_p (E dM(p) + |c - p|), dM from the samples' poles, held\n"
+        "                     g(c) = E min_p (dM(p) + |c - p|), dM from the samples' poles, held\n"
         "                     between --min-size and eps (then the largest ball); 0.1-0.5 is usual\n"
         "  --min-size F       the floor of the sizing field (object units; default eps/10) or of\n"
         "                     the distance bound (default none): no ball smaller is refined\n"

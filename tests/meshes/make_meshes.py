@@ -1,7 +1,9 @@
 #!/usr/bin/python3
 """Writes the regression meshes of issue 12 (tests/t_safety.sh) into this folder.
 
-usage: /usr/bin/python3 tests/meshes/make_meshes.py [DIR]
+usage: /usr/bin/python3 tests/meshes/make_meshes.py [DIR [APEX]]
+With APEX (degrees) only the knife-edge wedge of that apex angle is written, as DIR/wedgeAPEX.off
+(the 20 and 15 degree wedges of the README: APEX 20 and 15; 26 writes the committed wedge26.off).
 
 Closed triangle meshes, faces oriented outward (counter-clockwise seen from outside), OFF with a
 '#' comment header (voroprobe's reader skips '#' to the end of the line). Coordinates are
@@ -15,6 +17,7 @@ import sys
 from fractions import Fraction
 
 OUT = sys.argv[1] if len(sys.argv) > 1 else os.path.dirname(os.path.abspath(__file__))
+APEX = sys.argv[2] if len(sys.argv) > 2 else None
 
 
 def num(x):
@@ -283,11 +286,10 @@ def sphere_degenerate():
           "exact midpoint m of an edge ab, the face (m,a,b) has three collinear corners (area 0)", V, F)
 
 
-def wedge():
-    # a knife edge: the triangle (0,0), (1,h), (1,-h) with h = tan 13 degrees (an apex of 26
-    # degrees, dino's sharpest fold), extruded from z = 0 to 0.5; faces turned outward by the
-    # centroid test below
-    h = math.tan(math.radians(13.0))
+def wedge(apex="26"):
+    # a knife edge: the triangle (0,0), (1,h), (1,-h) with h = tan(apex / 2) (26 degrees: dino's
+    # sharpest fold), extruded from z = 0 to 0.5; faces turned outward by the centroid test below
+    h = math.tan(math.radians(float(apex) / 2.0))
     V = [(0, 0, 0), (1, h, 0), (1, -h, 0), (0, 0, 0.5), (1, h, 0.5), (1, -h, 0.5)]
     T = [(0, 1, 2), (3, 5, 4), (0, 3, 4), (0, 4, 1), (0, 2, 5), (0, 5, 3), (1, 4, 5), (1, 5, 2)]
     c = [sum(v[k] for v in V) / len(V) for k in range(3)]
@@ -297,9 +299,14 @@ def wedge():
         w = [V[d][k] - V[a][k] for k in range(3)]
         n = (u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2], u[0] * w[1] - u[1] * w[0])
         F.append((a, b, d) if sum(n[k] * (V[a][k] - c[k]) for k in range(3)) > 0 else (a, d, b))
-    write("wedge26.off", "a wedge with a knife edge: apex angle 26 degrees along the z axis, 1 deep, 0.5 high", V, F)
+    write("wedge%s.off" % apex, "a wedge with a knife edge: apex angle %s degrees along the z axis, 1 deep, 0.5 high" % apex,
+          V, F)
 
 
+if APEX is not None:
+    os.makedirs(OUT, exist_ok=True)
+    wedge(APEX)
+    sys.exit(0)
 cube()
 box_half()
 tetra()
