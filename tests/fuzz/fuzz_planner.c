@@ -10,8 +10,9 @@
  * along the last move. Whatever the device says, every call returns a status, every command is
  * well formed (a MOVE starts where the device stands, a PROBE has a unit direction and a finite
  * range within the rangefinder's), the planner never finds one of its own moves unproven
- * (VP_EUNSAFE), and the same input gives the same commands bit for bit. Never a crash, never a
- * sanitizer report. */
+ * (VP_EUNSAFE), and the same input gives the same commands bit for bit; and until an answer
+ * claims more free space than there is (a dropout on S, a hit read too far: a lie a move may
+ * then act on), no MOVE enters the true object. Never a crash, never a sanitizer report. */
 #include <math.h>
 #include <stddef.h>
 #include <stdint.h>
@@ -32,7 +33,8 @@ typedef struct fuzz_dev {
     size_t n, i;
     double centre[2][3], radius;  /* one sphere, or two apart (two components) */
     int spheres;
-    double min_range, noise;
+    double min_range, noise, tol; /* tol: the noise tolerance the planner trusts hits to */
+    int lied;                     /* an answer claimed more free space than there is */
 } fuzz_dev_t;
 
 static unsigned next_byte(fuzz_dev_t *s)
@@ -99,6 +101,35 @@ static void answer(vp_planner_t *pl, fuzz_dev_t *D, const double *o, const doubl
             if (vp_planner_feed_ray(pl, dd, r) != VP_EINVAL) fail();
         }
     }
+    if (!ray) {
+        /* the most free space the answer can prove (a hit: up to its distance less the noise
+         * tolerance, or the whole range past it; a miss: the range; a too-close: nothing)
+         * against the space that is free: beyond it, the device lied (a dropout on S, a hit
+         * read too far) and a move may go through the object on its word */
+        double claim = r->hit == 1 ? (r->dist > range + D->tol ? range : r->dist - D->tol) : r->hit == 0 ? range : 0.0;
+        if (t >= 0.0 && claim > t + 1e-12 * (1.0 + range)) D->lied = 1;
+    }
+}
+
+/* 1 when segment [a, b] enters one of the spheres (deeper than rounding) */
+static int through_object(const fuzz_dev_t *D, const double *a, const double *b)
+{
+    int s, k;
+    for (s = 0; s < D->spheres; s++) {
+        double ab[3], ac[3], l2 = 0.0, u = 0.0, d2 = 0.0, r = D->radius - 1e-9 * (1.0 + D->radius);
+        for (k = 0; k < 3; k++) {
+            ab[k] = b[k] - a[k];
+            ac[k] = D->centre[s][k] - a[k];
+            l2 += ab[k] * ab[k];
+            u += ab[k] * ac[k];
+        }
+        u = l2 > 0.0 ? u / l2 : 0.0;
+        if (u < 0.0) u = 0.0;
+        if (u > 1.0) u = 1.0;
+        for (k = 0; k < 3; k++) d2 += (ac[k] - u * ab[k]) * (ac[k] - u * ab[k]);
+        if (d2 < r * r) return 1;
+    }
+    return 0;
 }
 
 static int touch_ok(int st)
@@ -157,6 +188,7 @@ static void run(const uint8_t *data, size_t size, void *arena, vp_planner_t *pl,
     }
     c.noise_tol = (b0 & 8u) ? 0.01 : 0.0;
     D.noise = c.noise_tol > 0.0 ? c.noise_tol : 0.002;
+    D.tol = c.noise_tol;
     c.confirm_misses = (b0 >> 4) & 1u;
     c.clearance = (b0 & 32u) ? 0.2 : 0.0; /* a body: Omega keeps 0.2 from the sphere (r < 1.1) */
     c.max_range = (b0 & 64u) ? 1.6 : 0.0;
@@ -199,6 +231,8 @@ static void run(const uint8_t *data, size_t size, void *arena, vp_planner_t *pl,
              * the device stands (the next byte says which) */
             unsigned how = next_byte(&D) & 3u;
             for (k = 0; k < 3; k++) D.centre[0][k] += move[k];
+            /* a sphere that moved onto the device: the object, not the planner, went through */
+            if (through_object(&D, pos, pos)) D.lied = 1;
             st = vp_planner_rescan_with(pl, how);
             if (st != VP_OK && st != VP_ENOMEM) fail();
             if (st != VP_OK) break;
@@ -216,6 +250,9 @@ static void run(const uint8_t *data, size_t size, void *arena, vp_planner_t *pl,
         if (cmd.kind == VP_CMD_MOVE) {
             for (k = 0; k < 3; k++)
                 if (!isfinite(cmd.to[k])) fail();
+            /* the product's promise, checked against the true object: while the device has
+             * told no lie that frees space, no move goes through the object */
+            if (!D.lied && through_object(&D, cmd.from, cmd.to)) fail();
             memcpy(pos, cmd.to, sizeof pos);
             if (next_byte(&D) == 251u) {
                 /* the contact switch part way along the move (a surface the camera missed,

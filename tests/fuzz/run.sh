@@ -41,6 +41,10 @@ printf '\000\000\010\000'"$z$f\373\200$f$f\373\040$f" >"$S/planner/c8"   # conta
 printf '\000\022\017\200'"$z$f$f$f$f" >"$S/planner/c9"   # two parts
 printf '\041\022\057\320'"$z$f$f$f$f" >"$S/planner/c10"  # two parts, a body, timed, a re-scan
 printf '\000\222\017\000'"$z$f$f$f$f" >"$S/planner/c11"  # the sight rule of a camera's misses
+# true answers only: no move may enter the object (the check a lie switches off)
+for c in '\000\000\010\000' '\001\022\017\200' '\211\000\003\011' '\100\011\217\160'; do
+  printf "$c" >"$S/planner/true-$(printf "$c" | od -An -tx1 | tr -d ' \n')"
+done
 # the board files as they are
 cp boards/*.ini "$S/board/"
 # inputs that once failed a target (tests/fuzz/regress/KIND/), kept as seeds
