@@ -66,16 +66,17 @@ int vp_cli_bench_delaunay(int argc, char **argv)
                 return 2;
             }
         } else {
+            /* a count: the seed any, the points 1 to 1e8 */
+            int is_seed = !strcmp(a, "--seed");
             unsigned long long cnt;
-            if (vp_parse_count(val, !strcmp(a, "--seed") ? ~0ull : 100000000ull, &cnt) || (strcmp(a, "--seed") && cnt == 0)) {
-                fprintf(stderr, "bench-delaunay: %s takes a whole number%s, not '%s'\n", a,
-                        !strcmp(a, "--seed") ? "" : " from 1 to 1e8", val);
+            if (vp_parse_count(val, is_seed ? ~0ull : 100000000ull, &cnt) || (!is_seed && cnt == 0)) {
+                fprintf(stderr, "bench-delaunay: %s takes a whole number%s, not '%s'\n", a, is_seed ? "" : " from 1 to 1e8", val);
                 return 2;
             }
-            if (!strcmp(a, "--uniform")) uniform = (long)cnt;
+            if (is_seed) seed = cnt;
+            else if (!strcmp(a, "--uniform")) uniform = (long)cnt;
             else if (!strcmp(a, "--grid")) grid = (long)cnt;
-            else if (!strcmp(a, "--sphere")) sphere = (long)cnt;
-            else seed = cnt;
+            else sphere = (long)cnt;
         }
         i++;
     }

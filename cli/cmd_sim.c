@@ -151,6 +151,13 @@ static int track_event(void *ctx, int round)
     return vp_logwriter_event(&g->w.file, VP_LOGFMT_EV_RESCAN, VP_RESCAN_HERE | (g->sparse ? VP_RESCAN_SPARSE : 0u), text);
 }
 
+/* The rounds of --track (track's --rounds): 1 to 1000, else 0 */
+static int track_rounds(const char *s)
+{
+    unsigned long long n;
+    return vp_parse_count(s, 1000ull, &n) || n == 0 ? 0 : (int)n;
+}
+
 int vp_cli_sim(int argc, char **argv)
 {
     vp_sim_options_t o;
@@ -169,10 +176,10 @@ int vp_cli_sim(int argc, char **argv)
         if (!strcmp(a, "--help") || !strcmp(a, "-h")) { sim_usage(stdout); return 0; }
         if (!strcmp(a, "--png") && i + 1 < argc) { png = argv[++i]; continue; }
         if (!strcmp(a, "--track") && i + 1 < argc) {
-            char *e;
-            long v = strtol(argv[++i], &e, 10);
-            if (e == argv[i] || *e || v < 1 || v > 1000) { fprintf(stderr, "sim: --track takes a number of rounds, 1..1000\n"); return 2; }
-            track = (int)v;
+            if (!(track = track_rounds(argv[++i]))) {
+                fprintf(stderr, "sim: --track takes a number of rounds, 1..1000, not '%s'\n", argv[i]);
+                return 2;
+            }
             continue;
         }
         if ((st = vp_live_cli_option(&live, argc, argv, &i, "sim")) <= 0) { if (st < 0) return 2; continue; }
@@ -312,9 +319,7 @@ int vp_cli_track(int argc, char **argv)
             return 0;
         }
         if (!strcmp(argv[i], "--rounds") && i + 1 < argc) {
-            char *e;
-            long v = strtol(argv[++i], &e, 10);
-            if (e == argv[i] || *e || v < 1 || v > 1000) {
+            if (!track_rounds(argv[++i])) {
                 fprintf(stderr, "track: --rounds takes a number of rounds, 1..1000, not '%s'\n", argv[i]);
                 free(av);
                 return 2;
