@@ -1,13 +1,14 @@
 #!/bin/sh
 # Runs every libFuzzer target in BUILD/fuzz for SECONDS seconds each, on a corpus seeded with
 # a small simulated session (its log, OFF and PLY files), torn and hand-made variants, the
-# planner's configurations and faults, and the board files.
+# planner's configurations and faults, the board files, and lattice point sequences for the
+# triangulation.
 # Crashes and sanitizer reports fail the run (artifacts in BUILD/fuzz/artifacts).
 # Usage: sh tests/fuzz/run.sh BUILD SECONDS
 set -u
 B=${1:-build}; T=${2:-60}
 F="$B/fuzz"; S="$F/seeds"
-rm -rf "$S"; mkdir -p "$S/log" "$S/off" "$S/ply" "$S/planner" "$S/board" "$F/artifacts"
+rm -rf "$S"; mkdir -p "$S/log" "$S/off" "$S/ply" "$S/planner" "$S/board" "$S/dt" "$F/artifacts"
 w="$S/work"; mkdir -p "$w"
 "$B/voroprobe" sim --surface sphere --eps-rel 0.3 --out "$w/s" --quiet --hausdorff 0 --sync close >/dev/null &&
 "$B/voroprobe" sim --surface torus --eps-rel 0.25 --out "$w/t" --dropout 0.1 --noise 0.001 --quiet --hausdorff 0 \
@@ -45,6 +46,16 @@ printf '\000\222\017\000'"$z$f$f$f$f" >"$S/planner/c11"  # the sight rule of a c
 for c in '\000\000\010\000' '\001\022\017\200' '\211\000\003\011' '\100\011\217\160'; do
   printf "$c" >"$S/planner/true-$(printf "$c" | od -An -tx1 | tr -d ' \n')"
 done
+# the triangulation: 40 calls (insertions on a lattice, every fourth a removal) in a large arena,
+# in a small one, and on a wider lattice scaled by 1/8 (tests/fuzz/fuzz_dt.c)
+ops=''; i=0
+while [ $i -lt 40 ]; do
+  ops="$ops$(printf '\\%03o\\%03o\\%03o\\%03o' $((i * 37 % 256)) $((i * 11 % 256)) $((i * 7 % 256)) $((i * 5 % 256)))"
+  i=$((i + 1))
+done
+printf "\\300\\015$ops" >"$S/dt/big"
+printf "\\010\\015$ops" >"$S/dt/small"
+printf "\\300\\003$ops" >"$S/dt/wide"
 # the board files as they are
 cp boards/*.ini "$S/board/"
 # inputs that once failed a target (tests/fuzz/regress/KIND/), kept as seeds
