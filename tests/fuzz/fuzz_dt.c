@@ -1,16 +1,22 @@
 /* libFuzzer target: the Delaunay triangulation (core/vp_dt.c) under any sequence of insertions
  * and removals of points on a small integer lattice (scaled by a power of two), so that four
- * coplanar and five cospherical points are the rule, in an arena the input sizes (from a few
- * kilobytes: VP_ENOMEM on most calls). After every call:
- *   - the status is VP_OK, VP_EDUP (a point already there) or VP_ENOMEM, and a call that fails
- *     changed nothing (every tet, ghosts included, and every vertex record as before);
- *   - vp_dt_check passes;
+ * coplanar and five cospherical points are the rule, in an arena the input sizes (3 to 51 KB:
+ * VP_ENOMEM on most calls; or 1 MB), walks started from any tet slot, live or not. After every
+ * call:
+ *   - the status is VP_OK, VP_EDUP (a point already there, the vertex named), VP_EINVAL (a
+ *     removal of what is not a vertex, a tet not in conflict) or VP_ENOMEM, and a call that
+ *     fails changed nothing (the tets, ghosts included, as sets of points, and the counts); a
+ *     point inserted is a new record;
+ *   - vp_dt_check passes; every vertex record holds its point, a live vertex a live tet that has
+ *     it (VP_DT_PENDING while flat), a removed one VP_DT_NONE;
  *   - checked with exact 128-bit integer determinants of this file's own (not vp_pred's, though
  *     agreeing with them on random cases: predicates_agree): every
  *     finite tet is positively oriented, no point of the set lies strictly inside a finite tet's
  *     circumsphere, every point lies on the inner side of (or on) every hull facet, the tets use
  *     exactly the points of the set, and with fewer than four points or all of them coplanar the
- *     set is pending (dim < 3), else tetrahedralised;
+ *     set is pending (dim < 3), else tetrahedralised; a tet said to be in conflict with a point
+ *     is refused only where the point lies on or outside its circumsphere (behind or on its hull
+ *     facet) and taken only where on or inside;
  *   - the tets are those of the same points inserted from scratch in the reverse order (the
  *     symbolic perturbation makes the triangulation of a point set unique: vp_dt.h).
  * Never a crash, never a sanitizer report. */
@@ -116,10 +122,14 @@ typedef struct {
     ipt_t ip;      /* lattice point */
 } member_t;
 
+#define MAXGONE 256
+
 typedef struct {
     member_t m[MAXP];
     int n;
     int scale;
+    uint32_t gone[MAXGONE]; /* records removed */
+    int ngone;
 } set_t;
 
 static double coord(const set_t *S, long v)
@@ -219,6 +229,15 @@ static int tet_keys(const vp_dt_t *dt, const set_t *S, const uint32_t *ids, tkey
 
 #define MAXTETS 2048
 
+static int same_keys(const tkey_t *a, int na, const tkey_t *b, int nb)
+{
+    int i;
+    if (na != nb) return 0;
+    for (i = 0; i < na; i++)
+        if (key_cmp(&a[i], &b[i])) return 0;
+    return 1;
+}
+
 /* 1 when the points of S are all coplanar (or fewer than four) */
 static int flat(const set_t *S)
 {
@@ -255,6 +274,22 @@ static void check_all(vp_dt_t *dt, const set_t *S, void *scratch_arena)
     if (vp_dt_check(dt) != VP_OK) fail();
 #endif
     if (flat(S) != (dt->dim < 3)) fail();
+    for (i = 0; i < S->n; i++) {
+        const vp_dt_vertex_t *r = vp_dt_vertex(dt, S->m[i].id);
+        int q;
+        for (q = 0; q < 3; q++)
+            if (r->xyz[q] != coord(S, S->m[i].ip.x[q])) fail(); /* a record's point changed */
+        if (dt->dim < 3) {
+            if (r->tet != VP_DT_PENDING) fail();
+        } else {
+            const uint32_t *w;
+            if (!vp_dt_alive(dt, r->tet)) fail();
+            w = vp_dt_tet(dt, r->tet);
+            if (w[0] != S->m[i].id && w[1] != S->m[i].id && w[2] != S->m[i].id && w[3] != S->m[i].id) fail();
+        }
+    }
+    for (i = 0; i < S->ngone; i++)
+        if (vp_dt_vertex(dt, S->gone[i])->tet != VP_DT_NONE) fail(); /* a removed record revived */
     memset(used, 0, sizeof used);
     if (dt->dim == 3) {
         for (t = 0; t < dt->ntet_slots; t++) {
@@ -263,6 +298,7 @@ static void check_all(vp_dt_t *dt, const set_t *S, void *scratch_arena)
             if (!vp_dt_alive(dt, t)) continue;
             w = vp_dt_tet(dt, t);
             for (q = 0; q < 4; q++) {
+                if (w[q] == VP_DT_GHOST && q < 3) fail(); /* the ghost only in slot 3 */
                 mi[q] = w[q] == VP_DT_GHOST ? -1 : member_of(S, w[q]);
                 if (w[q] != VP_DT_GHOST && mi[q] < 0) fail(); /* a vertex not in the set */
                 if (mi[q] >= 0) used[mi[q]] = 1;
@@ -292,7 +328,7 @@ static void check_all(vp_dt_t *dt, const set_t *S, void *scratch_arena)
     na = tet_keys(dt, S, NULL, a, MAXTETS);
     nb = tet_keys(&fresh, S, fid, b, MAXTETS);
     if (na < 0 || nb < 0) fail();
-    if (na != nb || memcmp(a, b, (size_t)na * sizeof a[0])) fail();
+    if (!same_keys(a, na, b, nb)) fail();
 }
 
 /* a snapshot of everything a failed call must leave as it was */
@@ -323,7 +359,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         if (!((arena = malloc(BIG_ARENA)) && (big = malloc(BIG_ARENA)))) return 0;
     }
     if (size < 2) return 0;
-    /* the arena: 3 to 67 KB (VP_ENOMEM early), or 1 MB */
+    /* the arena: 3 to 51 KB (VP_ENOMEM early), or 1 MB */
     bytes = data[0] >= 192 ? BIG_ARENA : (size_t)3072 + (size_t)data[0] * 256;
     /* the lattice: coordinates in [-R, R], R 1, 2, 3 or 40, times 2^scale, scale -3..4 */
     range = (int[]){1, 2, 3, 40}[data[1] & 3];
@@ -335,15 +371,13 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         shape_t s0, s1;
         int na = 0, st;
         shape(&dt, &s0);
-        if (bytes < BIG_ARENA) {
-            /* what a failed call must not change: the tets as they are */
-            na = tet_keys(&dt, &S, NULL, before, MAXTETS);
-            if (na < 0) fail();
-        }
+        /* what a failed call must not change: the tets as they are */
+        na = tet_keys(&dt, &S, NULL, before, MAXTETS);
+        if (na < 0) fail();
         switch (b[0] % 8) {
         case 5: { /* insert a lattice point into the circumsphere of a tet said to hold it */
             double p[3];
-            uint32_t v, t = NONE_T, k = (uint32_t)(b[0] >> 3), seen = 0, u;
+            uint32_t v = NONE_T, t = NONE_T, k = (uint32_t)(b[0] >> 3) * 251u + b[3], seen = 0, u;
             ipt_t ip;
             int want = -2; /* 1 accepted, 0 refused (VP_EINVAL), -1 either */
             lattice(&S, b + 1, range, &ip, p);
@@ -354,7 +388,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
                 const uint32_t *w = vp_dt_tet(&dt, t);
                 int mi[4], q, sgn_;
                 for (q = 0; q < 4; q++) mi[q] = w[q] == VP_DT_GHOST ? -1 : member_of(&S, w[q]);
-                if (mi[0] < 0 || mi[1] < 0 || mi[2] < 0) fail();
+                if (mi[0] < 0 || mi[1] < 0 || mi[2] < 0 || (w[3] != VP_DT_GHOST && mi[3] < 0)) fail();
                 if (w[3] == VP_DT_GHOST) /* beyond the hull facet: its positive side */
                     sgn_ = iorient(&S.m[mi[0]].ip, &S.m[mi[1]].ip, &S.m[mi[2]].ip, &ip);
                 else
@@ -363,7 +397,11 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             }
             st = vp_dt_insert_in_conflict(&dt, p, t, &v);
             if (st == VP_OK) {
+                int q2;
                 if (want == 0) fail(); /* accepted outside the circumsphere */
+                if (v < s0.nvert || dt.nvert != s0.nvert + 1) fail(); /* not a new record */
+                for (q2 = 0; q2 < S.n; q2++)
+                    if (!pt_cmp(S.m[q2].ip.x, ip.x)) fail(); /* a duplicate taken as new */
                 add_member(&S, v, &ip);
             } else if (st == VP_EINVAL) {
                 if (want == 1) fail(); /* refused inside it */
@@ -389,6 +427,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
                 if (st != VP_EINVAL) fail();
             } else if (st == VP_OK) {
                 S.m[mi] = S.m[--S.n];
+                if (S.ngone < MAXGONE) S.gone[S.ngone++] = v;
                 if (vp_dt_remove(&dt, v) != VP_EINVAL) fail(); /* removed twice */
             } else if (st != VP_ENOMEM) {
                 fail();
@@ -434,9 +473,12 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             ipt_t ip;
             lattice(&S, b + 1, range, &ip, p);
             if (S.n >= MAXP) continue;
-            st = vp_dt_insert(&dt, p, (b[0] & 16) ? VP_DT_NONE : dt.last_tet, &v);
+            /* the walk from the last tet made, or from any slot (a dead one or past the end: the
+             * walk starts elsewhere) */
+            st = vp_dt_insert(&dt, p, (b[0] & 16) ? VP_DT_NONE : (uint32_t)(b[0] >> 5) * 97u % (dt.ntet_slots + 2u), &v);
             if (st == VP_OK) {
                 int q2;
+                if (v < s0.nvert || dt.nvert != s0.nvert + 1) fail(); /* not a new record */
                 for (q2 = 0; q2 < S.n; q2++)
                     if (!pt_cmp(S.m[q2].ip.x, ip.x)) fail(); /* a duplicate taken as new */
                 add_member(&S, v, &ip);
@@ -451,10 +493,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         shape(&dt, &s1);
         if (st != VP_OK) {
             if (memcmp(&s0, &s1, sizeof s0)) fail(); /* a failed call changed the counts */
-            if (bytes < BIG_ARENA) {
-                int nb = tet_keys(&dt, &S, NULL, after, MAXTETS);
-                if (nb != na || memcmp(before, after, (size_t)na * sizeof before[0])) fail();
-            }
+            if (!same_keys(before, na, after, tet_keys(&dt, &S, NULL, after, MAXTETS))) fail();
         }
         check_all(&dt, &S, big);
     }
