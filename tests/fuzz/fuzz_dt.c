@@ -10,11 +10,11 @@
  *   - vp_dt_check passes; every vertex record holds its point, a live vertex a live tet that has
  *     it (VP_DT_PENDING while flat), a removed one VP_DT_NONE;
  *   - checked with exact 128-bit integer determinants of this file's own (not vp_pred's, though
- *     agreeing with them on random cases: predicates_agree): every
- *     finite tet is positively oriented, no point of the set lies strictly inside a finite tet's
- *     circumsphere, every point lies on the inner side of (or on) every hull facet, the tets use
- *     exactly the points of the set, and with fewer than four points or all of them coplanar the
- *     set is pending (dim < 3), else tetrahedralised; a tet said to be in conflict with a point
+ *     agreeing with them on random cases: predicates_agree): every finite tet is positively
+ *     oriented, no point of the set lies strictly inside a finite tet's circumsphere, every
+ *     point lies on the inner side of (or on) every hull facet, the tets use exactly the points
+ *     of the set, and with fewer than four points or all of them coplanar the set is pending
+ *     (dim < 3), else tetrahedralised; a tet said to be in conflict with a point
  *     is refused only where the point lies on or outside its circumsphere (behind or on its hull
  *     facet) and taken only where on or inside;
  *   - the tets are those of the same points inserted from scratch in the reverse order (the
@@ -369,7 +369,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     for (pos = 2, op = 0; pos + 4 <= size && op < MAXOPS; pos += 4, op++) {
         const uint8_t *b = data + pos;
         shape_t s0, s1;
-        int na = 0, st;
+        int na, st;
         shape(&dt, &s0);
         /* what a failed call must not change: the tets as they are */
         na = tet_keys(&dt, &S, NULL, before, MAXTETS);
