@@ -20,6 +20,7 @@
  *   - the tets are those of the same points inserted from scratch in the reverse order (the
  *     symbolic perturbation makes the triangulation of a point set unique: vp_dt.h).
  * Never a crash, never a sanitizer report. */
+#include <math.h>
 #include <stddef.h>
 #include <stdint.h>
 #include <stdlib.h>
@@ -89,8 +90,9 @@ static int lifted(const ipt_t *const *p, const ipt_t *e)
 static int iinsphere(const ipt_t *a, const ipt_t *b, const ipt_t *c, const ipt_t *d, const ipt_t *e)
 {
     static const ipt_t k0 = {{0, 0, 0}}, k1 = {{4, 0, 0}}, k2 = {{0, 4, 0}}, k3 = {{0, 0, 4}}, ke = {{1, 1, 1}};
+    static int cal; /* worked out on the first call */
     const ipt_t *kp[4] = {&k0, &k1, &k2, &k3}, *p[4] = {a, b, c, d};
-    int cal = lifted(kp, &ke) * iorient(&k0, &k1, &k2, &k3);
+    if (!cal) cal = lifted(kp, &ke) * iorient(&k0, &k1, &k2, &k3);
     return lifted(p, e) * iorient(a, b, c, d) * cal;
 }
 
@@ -132,12 +134,12 @@ typedef struct {
     int ngone;
 } set_t;
 
-static double coord(const set_t *S, long v)
+static double coord(const set_t *S, long v) { return ldexp((double)v, S->scale); }
+
+static void to_coords(const set_t *S, const ipt_t *ip, double *p)
 {
-    double s = 1.0;
-    int k;
-    for (k = 0; k < (S->scale < 0 ? -S->scale : S->scale); k++) s *= 2.0;
-    return S->scale < 0 ? (double)v / s : (double)v * s;
+    int q;
+    for (q = 0; q < 3; q++) p[q] = coord(S, ip->x[q]);
 }
 
 /* the member whose vertex is v, or -1 */
@@ -149,16 +151,12 @@ static int member_of(const set_t *S, uint32_t v)
     return -1;
 }
 
-#define NONE_T 0xFFFFFFFFu
-
 /* the lattice point of bytes b[0..2] into ip, and as coordinates into p */
 static void lattice(const set_t *S, const uint8_t *b, int range, ipt_t *ip, double *p)
 {
     int q;
-    for (q = 0; q < 3; q++) {
-        ip->x[q] = (long)(b[q] % (2 * range + 1)) - range;
-        p[q] = coord(S, ip->x[q]);
-    }
+    for (q = 0; q < 3; q++) ip->x[q] = (long)(b[q] % (2 * range + 1)) - range;
+    to_coords(S, ip, p);
 }
 
 static void add_member(set_t *S, uint32_t v, const ipt_t *ip)
@@ -188,6 +186,31 @@ static int pt_cmp(const long *a, const long *b)
     for (i = 0; i < 3; i++)
         if (a[i] != b[i]) return a[i] < b[i] ? -1 : 1;
     return 0;
+}
+
+/* the member at lattice point x, or -1 */
+static int member_at(const set_t *S, const long *x)
+{
+    int i;
+    for (i = 0; i < S->n; i++)
+        if (!pt_cmp(S->m[i].ip.x, x)) return i;
+    return -1;
+}
+
+/* An insertion of ip answered st with vertex v (the records nvert0 before, nvert1 after): a new
+ * record for a point not yet there, joining the set; the vertex already at ip for VP_EDUP */
+static void insert_outcome(set_t *S, int st, uint32_t v, const ipt_t *ip, uint32_t nvert0, uint32_t nvert1)
+{
+    if (st == VP_OK) {
+        if (v < nvert0 || nvert1 != nvert0 + 1) fail();  /* not a new record */
+        if (member_at(S, ip->x) >= 0) fail();            /* a duplicate taken as new */
+        add_member(S, v, ip);
+    } else if (st == VP_EDUP) {
+        int mi = member_at(S, ip->x);
+        if (mi < 0 || S->m[mi].id != v) fail();          /* a duplicate of what? */
+    } else if (st != VP_ENOMEM) {
+        fail();
+    }
 }
 
 /* the sorted tet keys of dt into keys (room for cap); returns the count, -1 on overflow or a
@@ -262,10 +285,11 @@ static int flat(const set_t *S)
     return 1;
 }
 
-/* every check of the header on dt holding exactly the points of S */
-static void check_all(vp_dt_t *dt, const set_t *S, void *scratch_arena)
+/* every check of the header on dt holding exactly the points of S; dt's tet keys into now (the
+ * next call's reference, should it fail), their count returned */
+static int check_all(vp_dt_t *dt, const set_t *S, void *scratch_arena, tkey_t *now)
 {
-    static tkey_t a[MAXTETS], b[MAXTETS];
+    static tkey_t b[MAXTETS];
     static vp_dt_t fresh;
     static uint32_t fid[MAXP];
     uint32_t t;
@@ -321,14 +345,14 @@ static void check_all(vp_dt_t *dt, const set_t *S, void *scratch_arena)
     if (vp_dt_init(&fresh, scratch_arena, BIG_ARENA, 0) != VP_OK) fail();
     for (i = S->n - 1; i >= 0; i--) {
         double p[3];
-        int q;
-        for (q = 0; q < 3; q++) p[q] = coord(S, S->m[i].ip.x[q]);
+        to_coords(S, &S->m[i].ip, p);
         if (vp_dt_insert(&fresh, p, VP_DT_NONE, &fid[i]) != VP_OK) fail();
     }
-    na = tet_keys(dt, S, NULL, a, MAXTETS);
+    na = tet_keys(dt, S, NULL, now, MAXTETS);
     nb = tet_keys(&fresh, S, fid, b, MAXTETS);
     if (na < 0 || nb < 0) fail();
-    if (!same_keys(a, na, b, nb)) fail();
+    if (!same_keys(now, na, b, nb)) fail();
+    return na;
 }
 
 /* a snapshot of everything a failed call must leave as it was */
@@ -353,7 +377,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     static tkey_t before[MAXTETS], after[MAXTETS];
     vp_dt_t dt;
     size_t bytes, pos;
-    int range, op;
+    int range, op, na = 0; /* the tets now, in before: none yet */
     if (!arena) {
         predicates_agree();
         if (!((arena = malloc(BIG_ARENA)) && (big = malloc(BIG_ARENA)))) return 0;
@@ -369,21 +393,18 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     for (pos = 2, op = 0; pos + 4 <= size && op < MAXOPS; pos += 4, op++) {
         const uint8_t *b = data + pos;
         shape_t s0, s1;
-        int na, st;
-        shape(&dt, &s0);
-        /* what a failed call must not change: the tets as they are */
-        na = tet_keys(&dt, &S, NULL, before, MAXTETS);
-        if (na < 0) fail();
+        int st;
+        shape(&dt, &s0); /* with before: what a failed call must not change */
         switch (b[0] % 8) {
         case 5: { /* insert a lattice point into the circumsphere of a tet said to hold it */
             double p[3];
-            uint32_t v = NONE_T, t = NONE_T, k = (uint32_t)(b[0] >> 3) * 251u + b[3], seen = 0, u;
+            uint32_t v = VP_DT_NONE, t = VP_DT_NONE, k = (uint32_t)(b[0] >> 3) * 251u + b[3], seen = 0, u;
             ipt_t ip;
             int want = -2; /* 1 accepted, 0 refused (VP_EINVAL), -1 either */
             lattice(&S, b + 1, range, &ip, p);
             for (u = 0; u < dt.ntet_slots && dt.dim == 3; u++)
                 if (vp_dt_alive(&dt, u) && seen++ == k % dt.nalive) t = u;
-            if (t == NONE_T || S.n >= MAXP) continue;
+            if (t == VP_DT_NONE || S.n >= MAXP) continue;
             {
                 const uint32_t *w = vp_dt_tet(&dt, t);
                 int mi[4], q, sgn_;
@@ -396,20 +417,11 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
                 want = sgn_ > 0 ? 1 : sgn_ < 0 ? 0 : -1;
             }
             st = vp_dt_insert_in_conflict(&dt, p, t, &v);
-            if (st == VP_OK) {
-                int q2;
-                if (want == 0) fail(); /* accepted outside the circumsphere */
-                if (v < s0.nvert || dt.nvert != s0.nvert + 1) fail(); /* not a new record */
-                for (q2 = 0; q2 < S.n; q2++)
-                    if (!pt_cmp(S.m[q2].ip.x, ip.x)) fail(); /* a duplicate taken as new */
-                add_member(&S, v, &ip);
-            } else if (st == VP_EINVAL) {
-                if (want == 1) fail(); /* refused inside it */
-            } else if (st == VP_EDUP) {
-                int mi = member_of(&S, v);
-                if (mi < 0 || pt_cmp(S.m[mi].ip.x, ip.x)) fail();
-            } else if (st != VP_ENOMEM) {
-                fail();
+            if (st == VP_OK && want == 0) fail();     /* accepted outside the circumsphere */
+            if (st == VP_EINVAL) {
+                if (want == 1) fail();                /* refused inside it */
+            } else {
+                insert_outcome(&S, st, v, &ip, s0.nvert, dt.nvert);
             }
             break;
         }
@@ -438,7 +450,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             double xyz[3 * 6];
             uint32_t ids[6];
             ipt_t ips[6];
-            int n = 1 + b[1] % 6, i, j;
+            int n = 1 + b[1] % 6, i;
             if (pos + 4 + 3 * (size_t)n > size || S.n + n > MAXP) continue;
             for (i = 0; i < n; i++) lattice(&S, data + pos + 4 + 3 * i, range, &ips[i], xyz + 3 * i);
             pos += 3 * (size_t)n;
@@ -456,38 +468,26 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
                     if (pt_cmp(S.m[mi].ip.x, ips[i].x)) fail();
                     continue;
                 }
-                for (j = 0; j < S.n; j++)
-                    if (!pt_cmp(S.m[j].ip.x, ips[i].x)) fail(); /* a point already there made new */
+                if (member_at(&S, ips[i].x) >= 0) fail(); /* a point already there made new */
                 add_member(&S, ids[i], &ips[i]);
             }
             if (st == VP_ENOMEM) {
                 /* what was inserted stays; the counts before are no reference */
-                check_all(&dt, &S, big);
+                na = check_all(&dt, &S, big, before);
                 continue;
             }
             break;
         }
         default: { /* insert a lattice point */
             double p[3];
-            uint32_t v;
+            uint32_t v = VP_DT_NONE;
             ipt_t ip;
             lattice(&S, b + 1, range, &ip, p);
             if (S.n >= MAXP) continue;
             /* the walk from the last tet made, or from any slot (a dead one or past the end: the
              * walk starts elsewhere) */
             st = vp_dt_insert(&dt, p, (b[0] & 16) ? VP_DT_NONE : (uint32_t)(b[0] >> 5) * 97u % (dt.ntet_slots + 2u), &v);
-            if (st == VP_OK) {
-                int q2;
-                if (v < s0.nvert || dt.nvert != s0.nvert + 1) fail(); /* not a new record */
-                for (q2 = 0; q2 < S.n; q2++)
-                    if (!pt_cmp(S.m[q2].ip.x, ip.x)) fail(); /* a duplicate taken as new */
-                add_member(&S, v, &ip);
-            } else if (st == VP_EDUP) {
-                int mi = member_of(&S, v);
-                if (mi < 0 || pt_cmp(S.m[mi].ip.x, ip.x)) fail(); /* a duplicate of what? */
-            } else if (st != VP_ENOMEM) {
-                fail();
-            }
+            insert_outcome(&S, st, v, &ip, s0.nvert, dt.nvert);
         }
         }
         shape(&dt, &s1);
@@ -495,7 +495,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             if (memcmp(&s0, &s1, sizeof s0)) fail(); /* a failed call changed the counts */
             if (!same_keys(before, na, after, tet_keys(&dt, &S, NULL, after, MAXTETS))) fail();
         }
-        check_all(&dt, &S, big);
+        na = check_all(&dt, &S, big, before);
     }
     return 0;
 }

@@ -46,7 +46,7 @@ printf '\000\222\017\000'"$z$f$f$f$f" >"$S/planner/c11"  # the sight rule of a c
 for c in '\000\000\010\000' '\001\022\017\200' '\211\000\003\011' '\100\011\217\160'; do
   printf "$c" >"$S/planner/true-$(printf "$c" | od -An -tx1 | tr -d ' \n')"
 done
-# the triangulation: 40 calls (insertions on a lattice, every fourth a removal) in a large arena,
+# the triangulation: 40 calls (every kind in turn: insertions, batches, removals) in a large arena,
 # in a small one, and on a wider lattice scaled by 1/8 (tests/fuzz/fuzz_dt.c)
 ops=''; i=0
 while [ $i -lt 40 ]; do
