@@ -509,7 +509,9 @@ VP_PL_API int vp_pl_task_start(vp_planner_t *pl, vp_task_t *k)
     } else if (g.a_inside) {
         goal = tet_rec(pl, t);
         if (goal == VREC_OUT || goal == NONE) return task_unprobeable(pl, t, f);
-        o[0] = g.a[0]; o[1] = g.a[1]; o[2] = g.a[2];
+        /* from where the device will stand: the record's point (g.a is the same vertex, but
+         * worked out along the facet's line when the other end is far, so not the same bits) */
+        memcpy(o, pl->pool.vrec[goal].p, sizeof o);
         range = g.t1;
     } else {
         int q, tries;
