@@ -1,5 +1,7 @@
 /* libFuzzer target: the planner driven by a rangefinder that errs as a real one can. The object
- * is a sphere, or two; the input's first bytes choose the configuration (Omega a box or a ball, a
+ * is a sphere, or two; built with FUZZ_OBJECT_BOXES (fuzz_planner_box.c), a box or two instead
+ * (flat faces, edges and corners: coplanar samples, far Voronoi vertices, cuts at acute folds),
+ * axis-aligned or turned; the input's first bytes choose the configuration (Omega a box or a ball, a
  * body, moves weighed by machine time, tubes, eps, noise tolerance, confirmed misses, a short
  * range, a distance bound, an angle bound, a line laser's more rays, the sight rule of a camera's
  * misses, a re-scan of the sphere moved after the first scan: from the start or where the device
@@ -23,6 +25,9 @@
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 
+#ifndef FUZZ_OBJECT_BOXES
+#define FUZZ_OBJECT_BOXES 0
+#endif
 #define CONFIG_BYTES 4
 #define MAX_COMMANDS 6000
 #define LINE_RAYS 3u
@@ -33,6 +38,7 @@ typedef struct fuzz_dev {
     size_t n, i;
     double centre[2][3], radius;  /* one sphere, or two apart (two components) */
     int spheres;
+    double half[3], rot[3][3];    /* boxes: half sizes (corners on the sphere) and axes (rows) */
     double min_range, noise, tol; /* tol: the noise tolerance the planner trusts hits to */
     int lied;                     /* an answer claimed more free space than there is */
 } fuzz_dev_t;
@@ -44,12 +50,43 @@ static unsigned next_byte(fuzz_dev_t *s)
 
 static void fail(void) { __builtin_trap(); }
 
-/* the first point of the spheres along the ray, or -1 */
+/* boxes: the part [*lo, *hi] of o + t d (t in [*lo, *hi] on entry) inside the box about
+ * centre s shrunk by `in`; 0 when none */
+static int box_clip(const fuzz_dev_t *D, int s, const double *o, const double *d, double in, double *lo, double *hi)
+{
+    int a, k;
+    for (a = 0; a < 3; a++) {
+        double ol = 0.0, dl = 0.0, h = D->half[a] - in, t1, t2;
+        for (k = 0; k < 3; k++) {
+            ol += D->rot[a][k] * (o[k] - D->centre[s][k]);
+            dl += D->rot[a][k] * d[k];
+        }
+        if (dl == 0.0) {
+            if (!(fabs(ol) < h)) return 0;
+            continue;
+        }
+        t1 = (-h - ol) / dl;
+        t2 = (h - ol) / dl;
+        if (t1 > t2) { double x = t1; t1 = t2; t2 = x; }
+        if (t1 > *lo) *lo = t1;
+        if (t2 < *hi) *hi = t2;
+        if (!(*lo < *hi)) return 0;
+    }
+    return 1;
+}
+
+/* the first point of the spheres (boxes) along the ray, or -1 */
 static double sphere_ray(const fuzz_dev_t *D, const double *o, const double *d)
 {
     double best = -1.0;
     int s;
-    for (s = 0; s < D->spheres; s++) {
+    for (s = 0; FUZZ_OBJECT_BOXES && s < D->spheres; s++) {
+        double lo = -HUGE_VAL, hi = HUGE_VAL;
+        if (!box_clip(D, s, o, d, 0.0, &lo, &hi) || hi < 0.0) continue;
+        if (lo <= 0.0) return 0.0; /* from inside: at once */
+        if (best < 0.0 || lo < best) best = lo;
+    }
+    for (s = 0; !FUZZ_OBJECT_BOXES && s < D->spheres; s++) {
         double w[3], b, q, disc, t;
         int k;
         for (k = 0; k < 3; k++) w[k] = o[k] - D->centre[s][k];
@@ -111,11 +148,16 @@ static void answer(vp_planner_t *pl, fuzz_dev_t *D, const double *o, const doubl
     }
 }
 
-/* 1 when segment [a, b] enters one of the spheres (deeper than rounding) */
+/* 1 when segment [a, b] enters one of the spheres (boxes) deeper than rounding */
 static int through_object(const fuzz_dev_t *D, const double *a, const double *b)
 {
     int s, k;
-    for (s = 0; s < D->spheres; s++) {
+    for (s = 0; FUZZ_OBJECT_BOXES && s < D->spheres; s++) {
+        double ab[3], lo = 0.0, hi = 1.0;
+        for (k = 0; k < 3; k++) ab[k] = b[k] - a[k];
+        if (box_clip(D, s, a, ab, 1e-9 * (1.0 + D->radius), &lo, &hi)) return 1;
+    }
+    for (s = 0; !FUZZ_OBJECT_BOXES && s < D->spheres; s++) {
         double ab[3], ac[3], l2 = 0.0, u = 0.0, d2 = 0.0, r = D->radius - 1e-9 * (1.0 + D->radius);
         for (k = 0; k < 3; k++) {
             ab[k] = b[k] - a[k];
@@ -154,8 +196,19 @@ static void run(const uint8_t *data, size_t size, void *arena, vp_planner_t *pl,
     D.radius = 0.55 + 0.4 * (b2 & 15u) / 15.0;
     D.centre[0][0] = 0.05 * (double)((int)(b1 & 7u) - 3);
     D.centre[0][1] = 0.05 * (double)((int)((b1 >> 3) & 7u) - 3);
-    D.centre[0][2] = 0.03 * (double)((int)((b1 >> 6) & 1u) - 1);
+    D.centre[0][2] = FUZZ_OBJECT_BOXES ? 0.0 : 0.03 * (double)((int)((b1 >> 6) & 1u) - 1);
     sight = (b1 & 128u) != 0;
+    {
+        /* boxes: corners on the sphere of D.radius (set below); b1's bit 6 turns them about
+         * (1, 2, 3)/sqrt(14) by 0.5 rad, else their faces face the axes */
+        static const double turned[3][3] = {
+            { 0.88632666461248877, -0.36690738911144422, 0.28249603787013322 },
+            { 0.40188379999990925, 0.91255897277883746, -0.075667248519194735 },
+            { -0.23003142153743572, 0.18059648118458971, 0.95627948638941873 } };
+        int a;
+        for (a = 0; a < 3; a++)
+            for (k = 0; k < 3; k++) D.rot[a][k] = (b1 & 64u) ? turned[a][k] : (double)(a == k);
+    }
     D.spheres = 1;
     if (b3 & 128u) {
         /* two parts: smaller spheres 1.9 apart, an interior point in each */
@@ -165,6 +218,9 @@ static void run(const uint8_t *data, size_t size, void *arena, vp_planner_t *pl,
         D.centre[0][0] -= 0.95;
         D.centre[1][0] += 0.95;
     }
+    D.half[0] = 0.7 * D.radius;
+    D.half[1] = 0.55 * D.radius;
+    D.half[2] = 0.45 * D.radius;
     /* the re-scan's sphere: moved by up to 0.1 (b2's high bits), Omega still holding it */
     move[0] = 0.025 * (double)((b2 >> 4) & 3u);
     move[1] = 0.0;

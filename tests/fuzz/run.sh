@@ -46,6 +46,10 @@ printf '\000\222\017\000'"$z$f$f$f$f" >"$S/planner/c11"  # the sight rule of a c
 for c in '\000\000\010\000' '\001\022\017\200' '\211\000\003\011' '\100\011\217\160'; do
   printf "$c" >"$S/planner/true-$(printf "$c" | od -An -tx1 | tr -d ' \n')"
 done
+# the same for the planner with boxes for the object (fuzz_planner_box.c; b1's bit 6 turns them)
+mkdir -p "$S/planner_box"; cp "$S/planner/"* "$S/planner_box/"
+printf '\000\100\010\000'"$z$f$f$f$f" >"$S/planner_box/turned"
+printf '\041\122\057\120'"$z$f$f$f$f" >"$S/planner_box/turned-body"
 # the triangulation: 40 calls (every kind in turn: insertions, batches, removals) in a large arena,
 # in a small one, and on a wider lattice scaled by 1/8 (tests/fuzz/fuzz_dt.c)
 ops=''; i=0
