@@ -38,7 +38,7 @@ typedef struct fuzz_dev {
     size_t n, i;
     double centre[2][3], radius;  /* one sphere, or two apart (two components) */
     int spheres;
-    double half[3], rot[3][3];    /* boxes: half sizes (corners on the sphere) and axes (rows) */
+    double half[3], rot[3][3];    /* boxes: half sizes (corners just inside the sphere) and axes (rows) */
     double min_range, noise, tol; /* tol: the noise tolerance the planner trusts hits to */
     int lied;                     /* an answer claimed more free space than there is */
 } fuzz_dev_t;
@@ -76,7 +76,7 @@ static int box_clip(const fuzz_dev_t *D, int s, const double *o, const double *d
 }
 
 /* the first point of the spheres (boxes) along the ray, or -1 */
-static double sphere_ray(const fuzz_dev_t *D, const double *o, const double *d)
+static double object_ray(const fuzz_dev_t *D, const double *o, const double *d)
 {
     double best = -1.0;
     int s;
@@ -107,7 +107,7 @@ static void answer(vp_planner_t *pl, fuzz_dev_t *D, const double *o, const doubl
                    int ray, vp_probe_result_t *r)
 {
     unsigned x = next_byte(D);
-    double t = sphere_ray(D, o, d);
+    double t = object_ray(D, o, d);
     if (t >= 0.0 && t < D->min_range) r->hit = VP_PROBE_TOO_CLOSE, r->dist = 0.0;
     else if (t >= 0.0 && t <= range) r->hit = 1, r->dist = t;
     else r->hit = 0, r->dist = 0.0;
@@ -199,7 +199,7 @@ static void run(const uint8_t *data, size_t size, void *arena, vp_planner_t *pl,
     D.centre[0][2] = FUZZ_OBJECT_BOXES ? 0.0 : 0.03 * (double)((int)((b1 >> 6) & 1u) - 1);
     sight = (b1 & 128u) != 0;
     {
-        /* boxes: corners on the sphere of D.radius (set below); b1's bit 6 turns them about
+        /* boxes: corners just inside the sphere of D.radius (set below); b1's bit 6 turns them about
          * (1, 2, 3)/sqrt(14) by 0.5 rad, else their faces face the axes */
         static const double turned[3][3] = {
             { 0.88632666461248877, -0.36690738911144422, 0.28249603787013322 },
