@@ -2,7 +2,8 @@
 # A short libFuzzer smoke run (ASan + UBSan) of each fuzz target (the session log reader, the
 # OFF and PLY readers, the board file parser, the planner answered by a rangefinder that errs
 # about a sphere and about a box,
-# the triangulation under insertions and removals of degenerate points in a small arena)
+# the triangulation under insertions and removals of degenerate points in a small arena, the
+# camera frames the spot and line finders read, the rangefinder calibration fits)
 # on a small seed corpus, with the inputs that once failed: zero crashes, zero sanitizer reports.
 # `make fuzz FUZZ_TIME=600` runs them for longer.
 set -u

@@ -2,13 +2,13 @@
 # Runs every libFuzzer target in BUILD/fuzz for SECONDS seconds each, on a corpus seeded with
 # a small simulated session (its log, OFF and PLY files), torn and hand-made variants, the
 # planner's configurations and faults, the board files, and lattice point sequences for the
-# triangulation.
+# triangulation, camera frames with a spot or a line, and calibration sessions.
 # Crashes and sanitizer reports fail the run (artifacts in BUILD/fuzz/artifacts).
 # Usage: sh tests/fuzz/run.sh BUILD SECONDS
 set -u
 B=${1:-build}; T=${2:-60}
 F="$B/fuzz"; S="$F/seeds"
-rm -rf "$S"; mkdir -p "$S/log" "$S/off" "$S/ply" "$S/planner" "$S/board" "$S/dt" "$F/artifacts"
+rm -rf "$S"; mkdir -p "$S/log" "$S/off" "$S/ply" "$S/planner" "$S/board" "$S/dt" "$S/frame" "$S/calib" "$F/artifacts"
 w="$S/work"; mkdir -p "$w"
 "$B/voroprobe" sim --surface sphere --eps-rel 0.3 --out "$w/s" --quiet --hausdorff 0 --sync close >/dev/null &&
 "$B/voroprobe" sim --surface torus --eps-rel 0.25 --out "$w/t" --dropout 0.1 --noise 0.001 --quiet --hausdorff 0 \
@@ -60,6 +60,28 @@ done
 printf "\\300\\015$ops" >"$S/dt/big"
 printf "\\010\\015$ops" >"$S/dt/small"
 printf "\\300\\003$ops" >"$S/dt/wide"
+# camera frames (tests/fuzz/fuzz_frame.c: size, flags, band, the spot and the line, then the
+# texture): a spot the model reads as a hit, one off the beam, two spots, a line, a line
+# over a textured laser-off frame, YUYV with padded rows, a spot clipped at 255 on a large frame
+printf '\170\120\014\000\200\200\200\001\200\200' >"$S/frame/hit"
+printf '\170\120\014\000\100\140\200\001\200\200' >"$S/frame/off-beam"
+printf '\170\120\034\000\100\140\200\001\200\200' >"$S/frame/two-spots"
+printf '\170\120\044\001\200\200\200\007\200\200' >"$S/frame/line"
+printf '\170\120\244\002\200\200\140\047\120\220\030\040\050\060\040\030\020\030\377\000\030\020' >"$S/frame/line-textured"
+printf '\120\100\017\005\140\100\200\002\200\200\030\030\034\034' >"$S/frame/yuyv-padded"
+printf '\377\377\114\000\120\200\377\002\200\200' >"$S/frame/clipped"
+# the calibration fits (tests/fuzz/fuzz_calib.c: the true head, depths, spots, noise, the camera
+# alone, then spoilings): exact observations of the nominal head and of moved ones, with noise,
+# the camera alone, a NaN, two gross outliers and a copy, one depth, one spot
+printf '\200\200\200\200\200\200\200\200\004\030\000\000' >"$S/calib/exact"
+printf '\220\160\210\170\100\220\063\240\004\030\000\000' >"$S/calib/moved-exact"
+printf '\377\000\377\000\000\377\377\377\004\037\000\000' >"$S/calib/far-exact"
+printf '\220\160\210\170\100\220\063\240\004\030\001\000' >"$S/calib/moved-noisy"
+printf '\200\200\200\200\200\200\200\200\004\030\000\001' >"$S/calib/camera-exact"
+printf '\220\160\210\170\100\220\063\240\004\030\000\000\001\005\000' >"$S/calib/nan"
+printf '\220\160\210\170\100\220\063\240\004\030\000\000\003\007\377\003\011\000\004\002\000' >"$S/calib/outliers"
+printf '\200\200\200\200\200\200\200\200\000\030\000\000' >"$S/calib/one-depth"
+printf '\200\200\200\200\200\200\200\200\004\001\000\000' >"$S/calib/one-spot"
 # the board files as they are
 cp boards/*.ini "$S/board/"
 # inputs that once failed a target (tests/fuzz/regress/KIND/), kept as seeds

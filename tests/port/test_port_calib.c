@@ -253,6 +253,34 @@ static void fit(void)
                o2.cam.dist[0], w2);
         obs[5].uv[0] -= 25; obs[40].uv[1] += 25; obs[90].uv[0] -= 18;
     }
+    /* a mark and a spot taken from something 250 px away (the rms over all of them is then far
+     * above 10 px): the fit holds, names them, and gives the same distances; with such gross ones
+     * on more than 1 in 10 of the observations it is refused */
+    {
+        static vp_calib_obs_t bad[512];
+        vp_rf_model_t o3;
+        vp_rf_fit_report_t r3;
+        double w3, f3;
+        int ref3, i, spot = -1, gross = 0;
+        memcpy(bad, obs, sizeof bad);
+        for (i = 0; i < n && spot < 0; i++)
+            if (bad[i].kind == VP_OBS_SPOT) spot = i;
+        bad[7].uv[1] += 250;
+        bad[spot + 5].uv[0] -= 250;   /* a spot in the middle of the span: losing the farthest
+                                          one costs the far end its accuracy */
+        CHECK(vp_rf_fit(bad, n, &nominal, &o3, &r3) == VP_OK);
+        dist_error(&o3, &t, &w3, &f3, &ref3);
+        CHECKF(r3.rms_px > 10 && r3.outliers == 2 && r3.max_px > 200 && fabs(o3.cam.dist[0] + 0.15) < 0.003 && w3 < 0.5 &&
+               ref3 == 0, "with 2 gross strays: rms %.2f px, %d outliers, k1 %.5f, worst %.4f mm", r3.rms_px, r3.outliers,
+               o3.cam.dist[0], w3);
+        printf("with a mark and a spot 250 px astray: rms %.1f px over all, %d outliers, distance error worst %.4f mm\n",
+               r3.rms_px, r3.outliers, w3);
+        for (i = 0; i < n; i += 8) {
+            bad[i].uv[0] += 250;
+            gross++;
+        }
+        CHECKF(10 * gross > n && vp_rf_fit(bad, n, &nominal, &o3, &r3) == VP_EDEGEN, "%d of %d gross strays accepted", gross, n);
+    }
     /* the nominal model fails the same bound (what the check must catch) */
     wide = nominal;
     wide.ray_tol_px = 1e9;
