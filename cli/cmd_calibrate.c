@@ -281,6 +281,7 @@ static int calibrate_full(vp_scan_dev_t *dev, const vp_board_t *b, const vp_cali
         return 1;
     }
     /* a line laser has no spot: the camera from the mark alone, then its plane */
+    memset(&rep, 0, sizeof rep);
     st = line ? vp_rf_fit_camera(cal_obs, n, &nominal, &fit, &rep) : vp_rf_fit(cal_obs, n, &nominal, &fit, &rep);
     {
         int marks = 0, spots = 0;
@@ -294,6 +295,14 @@ static int calibrate_full(vp_scan_dev_t *dev, const vp_board_t *b, const vp_cali
             fprintf(stderr, "calibrate: too few observations: %d of the mark (at least %d) and %d laser spots (at least %d): "
                             "is the mark at y = %g, z = %g on the target, lit, and in view?\n", marks, VP_CALIB_MIN_MARKS, spots,
                     VP_CALIB_MIN_SPOTS, mark[0], mark[1]);
+            return 1;
+        }
+        if (st == VP_EDEGEN && rep.iterations > 0) {
+            fprintf(stderr, "calibrate: the fit does not converge: residual rms %.2f px over all %d observations, %d of them "
+                            "farther than %g px (more than 1 in 10): are the mark (y = %g, z = %g; the brightest thing in view "
+                            "with the laser off) and the spots read where they are, and the board's camera and laser near "
+                            "the real ones?\n",
+                    rep.rms_px, n, rep.strays, 3 * VP_CALIB_HUBER_PX, mark[0], mark[1]);
             return 1;
         }
         if (st != VP_OK) {

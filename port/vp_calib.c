@@ -303,7 +303,7 @@ static int vp_rf_fit_do(const vp_calib_obs_t *obs, int n, const vp_rf_model_t *s
     vp_rf_frame_t f;
     vp_rf_fit_report_t r;
     double q[NP], A[NP][NP], g[NP], dq[NP], qt[NP], cost, lam = 1e-3, a[3] = { 0, 0, 1 };
-    int i, k, it, marks = 0, spots = 0, rc, strays, bad_fit;
+    int i, k, it, marks = 0, spots = 0, rc, bad_fit;
     if (!obs || !start || !out || n < 1) return VP_EINVAL;
     for (i = 0; i < n; i++) {
         const vp_calib_obs_t *o = &obs[i];
@@ -411,7 +411,6 @@ static int vp_rf_fit_do(const vp_calib_obs_t *obs, int n, const vp_rf_model_t *s
     /* residuals; the span the spots cover */
     {
         double s2 = 0, m2 = 0, sp2 = 0, mm2 = 0, lo = HUGE_VAL, hi = -HUGE_VAL;
-        strays = 0;
         for (i = 0; i < n; i++) {
             double uv[2], t = 0, e2;
             vp_rf_predict(out, &obs[i], uv, &t);
@@ -419,7 +418,7 @@ static int vp_rf_fit_do(const vp_calib_obs_t *obs, int n, const vp_rf_model_t *s
             s2 += e2;
             if (sqrt(e2) > r.max_px) r.max_px = sqrt(e2);
             if (sqrt(e2) > VP_CALIB_HUBER_PX) r.outliers++;
-            if (sqrt(e2) > VP_CALIB_CUT_PX) strays++;
+            if (sqrt(e2) > VP_CALIB_CUT_PX) r.strays++;
             if (obs[i].kind == VP_OBS_MARK) m2 += e2;
             else {
                 double dm = 0;
@@ -447,7 +446,8 @@ static int vp_rf_fit_do(const vp_calib_obs_t *obs, int n, const vp_rf_model_t *s
     /* a fit that did not converge leaves large residuals everywhere; a few gross ones (a mark or
      * a spot detected far from where it was: left out of the last round, VP_CALIB_CUT_PX) do not
      * make it one, as long as they are at most 1 in 10 of the observations */
-    bad_fit = !(r.rms_px < 10) && 10 * strays > n;
+    bad_fit = !(r.rms_px < 10) && 10 * r.strays > n;
+    if (bad_fit && rep) *rep = r;
     if (camera_only) {
         /* the beam and its span as given */
         if (bad_fit) return VP_EDEGEN;

@@ -12,9 +12,9 @@
  *
  * What must hold: a status of VP_OK, VP_EINVAL or VP_EDEGEN, VP_EINVAL whenever a NaN or a bad
  * kind is among the observations; on VP_OK a model of finite numbers, a unit beam, a span with
- * min < max, and a report whose rms and worst residual agree with the residuals worked out here
- * from the model returned (a projection of this file's own, written from vp_laser.h's formula);
- * on exact, unspoiled observations from 3 depths and 8 distances or more, VP_OK with residuals
+ * min < max, a report whose rms, worst residual and strays (beyond 6 px) agree with the ones
+ * worked out here from the model returned (a projection of this file's own, written from
+ * vp_laser.h's formula), and not both an rms above 10 px and over 1 in 10 astray; on exact, unspoiled observations from 3 depths and 8 distances or more, VP_OK with residuals
  * below 0.01 px (a fit that stops short, or says it cannot, on what fixes every parameter, is a
  * finding). vp_tri_fit on the spots alone (before the spoiling): a status, VP_OK or VP_EDEGEN from
  * 4 spots up, and on VP_OK finite numbers whose worst distance error is the one reported. */
@@ -25,6 +25,7 @@
 #include "vp_calib.h"
 #include "vp_laser.h"
 #include "vp_status.h"
+#include "../port/ref_camera.h"
 #ifdef FUZZ_CALIB_SHOW /* what an input gives, to check that the seeds reach the fitted cases */
 #include <stdio.h>
 #define SHOW(...) fprintf(stderr, __VA_ARGS__)
@@ -36,36 +37,6 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 
 #define MAXOBS 256
 #define PI 3.14159265358979323846
-
-/* the pinhole with Brown-Conrady distortion of vp_laser.h, written here apart from the library */
-static int project(const vp_camera_model_t *c, const double p[3], double uv[2])
-{
-    double q[3], x, y, r2, rad;
-    int i;
-    for (i = 0; i < 3; i++)
-        q[i] = c->rot[3 * i] * (p[0] - c->pos[0]) + c->rot[3 * i + 1] * (p[1] - c->pos[1]) + c->rot[3 * i + 2] * (p[2] - c->pos[2]);
-    if (!(q[2] > 1e-9)) return 0;
-    x = q[0] / q[2];
-    y = q[1] / q[2];
-    r2 = x * x + y * y;
-    rad = 1 + c->dist[0] * r2 + c->dist[1] * r2 * r2;
-    uv[0] = c->fx * (x * rad + 2 * c->dist[2] * x * y + c->dist[3] * (r2 + 2 * x * x)) + c->cx;
-    uv[1] = c->fy * (y * rad + c->dist[2] * (r2 + 2 * y * y) + 2 * c->dist[3] * x * y) + c->cy;
-    return 1;
-}
-
-/* rotation of rot's rows about unit axis k by angle a (Rodrigues), applied on the left */
-static void turn(double rot[9], const double k[3], double a)
-{
-    double R[9], o[9], c = cos(a), s = sin(a), t = 1 - c;
-    int i, j;
-    R[0] = c + k[0] * k[0] * t; R[1] = k[0] * k[1] * t - k[2] * s; R[2] = k[0] * k[2] * t + k[1] * s;
-    R[3] = k[1] * k[0] * t + k[2] * s; R[4] = c + k[1] * k[1] * t; R[5] = k[1] * k[2] * t - k[0] * s;
-    R[6] = k[2] * k[0] * t - k[1] * s; R[7] = k[2] * k[1] * t + k[0] * s; R[8] = c + k[2] * k[2] * t;
-    memcpy(o, rot, sizeof o);
-    for (i = 0; i < 3; i++)
-        for (j = 0; j < 3; j++) rot[3 * i + j] = o[3 * i] * R[j] + o[3 * i + 1] * R[3 + j] + o[3 * i + 2] * R[6 + j];
-}
 
 /* a reproducible normal deviate from a counter (the noise) */
 static double noise_at(uint32_t k)
@@ -85,14 +56,14 @@ static double residual(const vp_rf_model_t *m, const vp_calib_obs_t *o)
     double p[3], uv[2], den;
     int k;
     if (o->kind == VP_OBS_MARK) {
-        if (!project(&m->cam, o->p, uv)) return -1;
+        if (!ref_project(&m->cam, o->p, uv)) return -1;
     } else {
         /* the beam's crossing of the target plane n.x = h */
         den = o->n[0] * m->dir[0] + o->n[1] * m->dir[1] + o->n[2] * m->dir[2];
         if (!(fabs(den) > 1e-12)) return -1;
         for (k = 0; k < 3; k++)
             p[k] = m->origin[k] + (o->h - (o->n[0] * m->origin[0] + o->n[1] * m->origin[1] + o->n[2] * m->origin[2])) / den * m->dir[k];
-        if (!project(&m->cam, p, uv)) return -1;
+        if (!ref_project(&m->cam, p, uv)) return -1;
     }
     return hypot(uv[0] - o->uv[0], uv[1] - o->uv[1]);
 }
@@ -140,7 +111,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     truth.cam.dist[2] = (h[6] & 15) / 5000.0 - 0.0015;
     truth.cam.dist[3] = (h[6] >> 4) / 5000.0 - 0.0015;
     for (k = 0; k < 3; k++) axis[k] /= sqrt(0.6 * 0.6 + 0.48 * 0.48 + 0.64 * 0.64);
-    turn(truth.cam.rot, axis, (h[7] - 128) / 128.0 * PI / 180);
+    ref_turn(truth.cam.rot, axis, (h[7] - 128) / 128.0 * PI / 180);
     truth.cam.pos[0] += (h[7] & 7) / 7.0 - 0.5;
     truth.origin[1] += (h[1] & 7) / 7.0 - 0.5;
     truth.origin[2] -= (h[2] & 7) / 7.0 - 0.5;
@@ -159,7 +130,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             if (vp_camera_ray(&nominal.cam, want, r) != VP_OK) continue;
             memset(&obs[n], 0, sizeof obs[n]);
             for (k = 0; k < 3; k++) obs[n].p[k] = nominal.cam.pos[k] + zs[depths == 1 ? 2 : i] * r[k];
-            if (!project(&truth.cam, obs[n].p, uv) || uv[0] < 0 || uv[1] < 0 || uv[0] > 639 || uv[1] > 479) continue;
+            if (!ref_project(&truth.cam, obs[n].p, uv) || uv[0] < 0 || uv[1] < 0 || uv[0] > 639 || uv[1] > 479) continue;
             obs[n].kind = VP_OBS_MARK;
             obs[n].uv[0] = uv[0] + noise * noise_at(2u * (uint32_t)n);
             obs[n].uv[1] = uv[1] + noise * noise_at(2u * (uint32_t)n + 1u);
@@ -176,7 +147,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             obs[n].n[1] = sin(tilt);
             for (k = 0; k < 3; k++) p[k] = truth.origin[k] + d * truth.dir[k];
             obs[n].h = obs[n].n[0] * p[0] + obs[n].n[1] * p[1];
-            if (!project(&truth.cam, p, uv)) continue;
+            if (!ref_project(&truth.cam, p, uv)) continue;
             obs[n].uv[0] = uv[0] + noise * noise_at(2u * (uint32_t)n);
             obs[n].uv[1] = uv[1] + noise * noise_at(2u * (uint32_t)n + 1u);
             tuv[nspot][0] = obs[n].uv[0];
@@ -214,7 +185,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     if (!spoiled && noise == 0 && depths >= 3 && (camera_only || spots >= 8) && st != VP_OK) __builtin_trap();
     if (st == VP_OK) {
         double ss = 0, worst = 0, len;
-        int m = 0;
+        int m = 0, strays = 0;
         if (!all_finite(&out.cam.fx, 4) || !all_finite(out.cam.dist, 4) || !all_finite(out.cam.pos, 3) ||
             !all_finite(out.cam.rot, 9) || !all_finite(out.origin, 3) || !all_finite(out.dir, 3) ||
             !isfinite(out.min_range) || !isfinite(out.max_range) || !(out.min_range < out.max_range))
@@ -231,10 +202,14 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             if (r < 0) continue;
             ss += r * r;
             if (r > worst) worst = r;
+            strays += r > 3 * VP_CALIB_HUBER_PX;
             m++;
         }
         if (m > 0 && (fabs(sqrt(ss / m) - rep.rms_px) > 1e-6 * (1 + rep.rms_px) || fabs(worst - rep.max_px) > 1e-6 * (1 + worst)))
             __builtin_trap();
+        /* the strays it names, and its own rule: no fit with an rms above 10 px and over 1 in 10 astray */
+        if (m == n && rep.strays != strays) __builtin_trap();
+        if (!(rep.rms_px < 10) && 10 * rep.strays > n) __builtin_trap();
         SHOW("fit: %d obs (%d marks, %d spots), rms %.6f px (here %.6f over %d), worst %.6f (here %.6f)\n", n, nmark, nspot,
              rep.rms_px, m > 0 ? sqrt(ss / m) : -1.0, m, rep.max_px, worst);
         if (!spoiled && noise == 0 && (worst > 0.01 || !(rep.rms_px < 0.01))) __builtin_trap();
