@@ -349,6 +349,9 @@ static int vp_spot_band(const vp_tri_model_t *m, double band, int w, int y, int 
     lo = m->p0[0] + (c - band) / ey;
     hi = m->p0[0] + (c + band) / ey;
     if (lo > hi) { double t = lo; lo = hi; hi = t; }
+    /* a line nearly along the rows puts lo and hi far out: the band misses the row's pixels, or
+     * the bounds land within them (never cast from out of an int's range) */
+    if (!(lo <= *x1) || !(hi >= *x0)) return 0;
     if (lo > *x0) *x0 = (int)ceil(lo);
     if (hi < *x1) *x1 = (int)floor(hi);
     return *x0 <= *x1;
@@ -504,16 +507,22 @@ int vp_spot_find(const vp_frame_t *f, const vp_spot_config_t *cfg0, const vp_tri
     double sigma, S1, S2, peak, thr, thr_det, half;
     if (!f || !f->data || !ws || !out || f->width < 8 || f->height < 8 || f->width > VP_SPOT_MAX_W || f->step < 1 ||
         f->stride < f->width * f->step) return VP_EINVAL;
-    memset(out, 0, sizeof *out);
     memset(&c, 0, sizeof c);
     if (cfg0) c = *cfg0;
-    if (c.block <= 0) c.block = 16;
-    if (!(c.percentile > 0)) c.percentile = 0.3;
-    if (!(c.min_snr > 0)) c.min_snr = 10;
-    if (!(c.min_peak > 0)) c.min_peak = 8;
-    if (!(c.rel_thresh > 0)) c.rel_thresh = 0.3;
-    if (!(c.second_ratio > 0)) c.second_ratio = 0.35;
-    if (c.max_radius <= 0) c.max_radius = 16;
+    /* a configuration out of its range is refused (0 is each field's default) */
+    if (c.block < 0 || c.block > VP_SPOT_MAX_W || !(c.percentile >= 0 && c.percentile <= 1) ||
+        !(c.rel_thresh >= 0 && c.rel_thresh <= 1) || !(c.min_snr >= 0) || !isfinite(c.min_snr) || !(c.min_peak >= 0) ||
+        !isfinite(c.min_peak) || !(c.second_ratio >= 0) || !isfinite(c.second_ratio) || c.max_radius < 0 ||
+        !(c.band >= 0) || !isfinite(c.band))
+        return VP_EINVAL;
+    memset(out, 0, sizeof *out);
+    if (c.block == 0) c.block = 16;
+    if (c.percentile == 0) c.percentile = 0.3;
+    if (c.min_snr == 0) c.min_snr = 10;
+    if (c.min_peak == 0) c.min_peak = 8;
+    if (c.rel_thresh == 0) c.rel_thresh = 0.3;
+    if (c.second_ratio == 0) c.second_ratio = 0.35;
+    if (c.max_radius == 0) c.max_radius = 16;
     if (c.max_radius > VP_SPOT_MAX_R) c.max_radius = VP_SPOT_MAX_R;
     w = f->width;
     h = f->height;

@@ -9,9 +9,12 @@
  * model, bit 3 a spot drawn, bit 4 a second one, bit 5 a line drawn, bit 6 the drawing clipped at
  * 255, bit 7 the laser-off frame its own bytes rather than the texture); b3 the padding, the
  * spot's band and the line's column step; b4-b9 where the spot and the line lie, how bright and
- * how wide; the rest the texture, repeated over the frame.
+ * how wide; b10 a field of the spot finder's configuration set in or out of its range (0: the
+ * defaults); b11 the beam's image line in the model turned, down to nearly along the rows (0: as
+ * the camera gives it); the rest the texture, repeated over the frame.
  *
- * What must hold (besides no crash and no sanitizer report): a valid frame is never refused; a
+ * What must hold (besides no crash and no sanitizer report): a configuration out of range is
+ * refused (VP_EINVAL) with nothing written; with one in range a valid frame is never refused; a
  * spot found lies on the sensor (pixel centres 0 .. size - 1, each pixel reaching half a pixel
  * either way: a centre fitted between rows 0 and 1 may lie a little above row 0) with a finite
  * centre and an area the spot's box can hold; a hit's distance lies within the model's range; a
@@ -36,7 +39,7 @@
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 
-#define HDR 10
+#define HDR 12
 
 static vp_spot_ws_t sws;
 static vp_line_ws_t lws;
@@ -96,12 +99,42 @@ static void camera(vp_camera_model_t *c, int w, int h)
     vp_camera_look_at(c, (double[3]){ 100, 0, 0 }, (double[3]){ 0, 0, 1 });
 }
 
-static void check_spot(const vp_frame_t *f, const vp_spot_config_t *cfg, const vp_tri_model_t *m)
+/* b10: one field of the spot finder's configuration set to a value in or out of its range (0:
+ * the defaults); 1 if the result is in range (block 0-4096, percentile and rel_thresh 0-1, the
+ * others finite and not negative) */
+static int spoil_config(vp_spot_config_t *c, int b)
+{
+    static const double val[8] = { -1, NAN, INFINITY, 1e300, 0.5, 2, 4096, 5000 };
+    double v = val[(b >> 3) & 7];
+    int iv = (b >> 3) & 7;
+    static const int ival[8] = { -1, 0, 2147483647, 1000000000, 1, 2, 4096, 5000 };
+    if (!b) return 1;
+    switch (b & 7) {
+    case 0: c->block = ival[iv]; return c->block >= 0 && c->block <= VP_SPOT_MAX_W;
+    case 1: c->percentile = v; return v >= 0 && v <= 1;
+    case 2: c->min_snr = v; return v >= 0 && isfinite(v);
+    case 3: c->min_peak = v; return v >= 0 && isfinite(v);
+    case 4: c->rel_thresh = v; return v >= 0 && v <= 1;
+    case 5: c->second_ratio = v; return v >= 0 && isfinite(v);
+    case 6: c->max_radius = ival[iv]; return c->max_radius >= 0;
+    default: c->band = v; return v >= 0 && isfinite(v);
+    }
+}
+
+static void check_spot(const vp_frame_t *f, const vp_spot_config_t *cfg, const vp_tri_model_t *m, int valid)
 {
     vp_spot_t a, b, s;
     double d = NAN;
-    int st, hit, R = cfg->max_radius > 0 ? cfg->max_radius : 16;
+    int st, hit, R = cfg->max_radius > 0 ? (cfg->max_radius < VP_SPOT_MAX_R ? cfg->max_radius : VP_SPOT_MAX_R) : 16;
     memset(&sws, 0, sizeof sws);
+    if (!valid) {
+        /* a configuration out of range: refused, nothing written */
+        memset(&a, 0x5A, sizeof a);
+        memcpy(&b, &a, sizeof b);
+        if (vp_spot_find(f, cfg, m, &sws, &a) != VP_EINVAL || memcmp(&a, &b, sizeof a) != 0) __builtin_trap();
+        if (m && vp_laser_measure(f, cfg, m, &sws, &s, &d) != VP_EINVAL) __builtin_trap();
+        return;
+    }
     st = vp_spot_find(f, cfg, m, &sws, &a);
     if (st != VP_OK) __builtin_trap(); /* a valid frame is never refused */
     if (a.result < VP_SPOT_OFF_LINE || a.result > VP_SPOT_FOUND) __builtin_trap();
@@ -166,7 +199,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     uint8_t hdr[HDR] = { 0 };
     const uint8_t *tex, *offtex;
     size_t ntex, noff;
-    int w, h, step, pad, flags, spots;
+    int w, h, step, pad, flags, spots, valid;
     vp_frame_t on, off;
     uint8_t *bon, *boff;
     vp_camera_model_t cam;
@@ -201,10 +234,20 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     camera(&cam, w, h);
     memset(&sc, 0, sizeof sc);
     sc.band = hdr[3] % 5 == 0 ? 0.0 : 1.0 + hdr[3] % 40;
+    valid = spoil_config(&sc, hdr[10]);
     if (!(flags & 4) || vp_tri_from_geometry(&cam, (double[3]){ 20, 0, 0 }, 10, 800, &tm) != VP_OK)
-        check_spot(&on, &sc, NULL);
-    else
-        check_spot(&on, &sc, &tm);
+        check_spot(&on, &sc, NULL, valid);
+    else {
+        if (hdr[11]) {
+            /* the beam's image line turned towards the rows, down to nearly along them */
+            static const double tilt[8] = { 0, 1e-12, 1e-10, 1.5e-9, 1e-6, 1e-3, 0.1, 1.2 };
+            double a = atan2(tm.e[1], tm.e[0]) + (hdr[11] & 128 ? -1 : 1) * tilt[hdr[11] & 7];
+            if (hdr[11] & 8) a = (hdr[11] & 128 ? -1 : 1) * tilt[hdr[11] & 7]; /* from along the rows */
+            tm.e[0] = cos(a);
+            tm.e[1] = sin(a);
+        }
+        check_spot(&on, &sc, &tm, valid);
+    }
     memset(&lc, 0, sizeof lc);
     lc.column_step = 1 + hdr[3] % 3;
     memset(&lm, 0, sizeof lm);

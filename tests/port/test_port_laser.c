@@ -131,7 +131,44 @@ static void misses(const vp_camsim_config_t *c0, const vp_tri_model_t *m)
     CHECK(vp_laser_measure(&f, NULL, m, &ws, &sp, &d) == 0 && sp.result == VP_SPOT_NONE); n++;
     f.width = 3;
     CHECK(vp_laser_measure(&f, NULL, m, &ws, &sp, &d) == VP_EINVAL);
+    f.width = W;
     printf("misses: %d frames with ghosts, a stray spot, a glare blob, hot pixels, out of range, blank: all refused\n", n);
+    /* the model's image line within 1e-8 rad of the rows (a camera level beside the laser): the
+     * band's ends lie some 1e10 px out along the rows, and the search stays in the frame (it
+     * started at INT_MIN before: a cast from beyond an int) */
+    {
+        vp_spot_config_t band = sc;
+        int k;
+        band.band = 12;
+        CHECK(flat(&c, 400, &rng, &tr) == VP_OK && tr.visible);
+        for (k = -1; k <= 1; k += 2) {
+            mb = *m;
+            mb.e[0] = cos(k * 1e-8);
+            mb.e[1] = sin(k * 1e-8);
+            mb.p0[1] = tr.uv[1] + 0.5 * k;          /* the line half a pixel off the spot */
+            CHECK(vp_spot_find(&f, &band, &mb, &ws, &sp) == VP_OK && sp.result == VP_SPOT_FOUND);
+            mb.p0[1] = tr.uv[1] + 40 * k;           /* 40 px off: outside the band */
+            CHECK(vp_spot_find(&f, &band, &mb, &ws, &sp) == VP_OK && sp.result != VP_SPOT_FOUND);
+        }
+    }
+    /* a configuration out of range is refused, nothing written */
+    {
+        vp_spot_config_t bad;
+        vp_spot_t keep;
+        int k;
+        for (k = 0; k < 6; k++) {
+            memset(&bad, 0, sizeof bad);
+            if (k == 0) bad.percentile = NAN;
+            if (k == 1) bad.percentile = 1.5;
+            if (k == 2) bad.block = -1;
+            if (k == 3) bad.min_snr = INFINITY;
+            if (k == 4) bad.band = -2;
+            if (k == 5) bad.rel_thresh = -0.1;
+            memset(&sp, 0x5A, sizeof sp);
+            keep = sp;
+            CHECK(vp_spot_find(&f, &bad, m, &ws, &sp) == VP_EINVAL && memcmp(&sp, &keep, sizeof sp) == 0);
+        }
+    }
 }
 
 /* Calibration: a flat target at 25 known distances, 3 frames each; the fitted model against
