@@ -315,11 +315,11 @@ static int calibrate_full(vp_scan_dev_t *dev, const vp_board_t *b, const vp_cali
     fit.ray_tol_px = 3;
     if (line)
         printf("camera fit (the mark alone: a line laser has no spot): %d observations, %d iterations; residual rms %.4f px "
-               "(nominal model %.3f px), max %.4f px, %d beyond %g px, %d of them beyond %g px (left out)\n", n, rep.iterations,
+               "(nominal model %.3f px), max %.4f px, %d beyond %g px, %d of them beyond %g px\n", n, rep.iterations,
                rep.rms_px, rep.start_rms_px, rep.max_px, rep.outliers, VP_CALIB_HUBER_PX, rep.strays, 3 * VP_CALIB_HUBER_PX);
     else
     printf("full fit: %d observations (%d of the mark, %d laser spots), %d iterations; residual rms %.4f px "
-           "(nominal model %.3f px), max %.4f px, %d beyond %g px, %d of them beyond %g px (left out); mark %.4f px rms, spots "
+           "(nominal model %.3f px), max %.4f px, %d beyond %g px, %d of them beyond %g px; mark %.4f px rms, spots "
            "%.4f px rms, %.4f mm rms (max %.4f mm) along the beam\n", n, rep.marks, rep.spots, rep.iterations, rep.rms_px,
            rep.start_rms_px, rep.max_px, rep.outliers, VP_CALIB_HUBER_PX, rep.strays, 3 * VP_CALIB_HUBER_PX, rep.mark_rms_px,
            rep.spot_rms_px, rep.spot_rms_mm, rep.spot_max_mm);

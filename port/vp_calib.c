@@ -446,7 +446,7 @@ static int vp_rf_fit_do(const vp_calib_obs_t *obs, int n, const vp_rf_model_t *s
     /* a fit that did not converge leaves large residuals everywhere; a few gross ones (a mark or
      * a spot detected far from where it was: left out of the last round, VP_CALIB_CUT_PX) do not
      * make it one, as long as they are at most 1 in 10 of the observations */
-    bad_fit = !(r.rms_px < 10) && 10 * r.strays > n;
+    bad_fit = !isfinite(r.rms_px) || (!(r.rms_px < 10) && 10 * r.strays > n);
     if (bad_fit && rep) *rep = r;
     if (camera_only) {
         /* the beam and its span as given */

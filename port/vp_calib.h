@@ -65,7 +65,7 @@ typedef struct vp_rf_fit_report {
                                             fitted beam's crossing of the target plane */
     double start_rms_px;                 /* the nominal model's */
     int outliers;                        /* observations left farther than VP_CALIB_HUBER_PX */
-    int strays;                          /* farther than 3 VP_CALIB_HUBER_PX: left out of the last round */
+    int strays;                          /* farther than 3 VP_CALIB_HUBER_PX (the last round leaves such out) */
     double span[2];                      /* distances the spots cover, mm */
 } vp_rf_fit_report_t;
 
@@ -76,7 +76,8 @@ typedef struct vp_rf_fit_report {
 /* Fits the model to n observations from start (the nominal). VP_EINVAL: a NaN or a bad kind, or
  * fewer than VP_CALIB_MIN_MARKS marks / VP_CALIB_MIN_SPOTS spots; VP_EDEGEN: the observations
  * cannot fix every parameter (marks all at one depth, spots all at one distance, ...) or the fit
- * diverges (an rms above 10 px with more than 1 in 10 observations off by over 3 Huber cuts: a few
+ * diverges (an rms of 10 px or more, or not a number, with more than 1 in 10 observations off by
+ * over 3 Huber cuts: a few
  * observations detected far from where they were are left out and counted, not a failure; rep,
  * when not NULL, is written then too: rms_px and strays say how far). out's span: the distances
  * the spots cover, widened by 0.5 mm + 0.2 %. */

@@ -506,7 +506,7 @@ int vp_spot_find(const vp_frame_t *f, const vp_spot_config_t *cfg0, const vp_tri
     unsigned hist[2048];
     double sigma, S1, S2, peak, thr, thr_det, half;
     if (!f || !f->data || !ws || !out || f->width < 8 || f->height < 8 || f->width > VP_SPOT_MAX_W || f->step < 1 ||
-        f->stride < f->width * f->step) return VP_EINVAL;
+        f->step > 4 || f->height > VP_SPOT_MAX_H || f->stride < f->width * f->step) return VP_EINVAL;
     memset(&c, 0, sizeof c);
     if (cfg0) c = *cfg0;
     /* a configuration out of its range is refused (0 is each field's default) */

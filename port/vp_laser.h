@@ -74,6 +74,7 @@ int vp_tri_fit(const double (*uv)[2], const double *d, int n, int width, int hei
 
 #define VP_SPOT_MAX_BLOCKS 8192
 #define VP_SPOT_MAX_W 4096
+#define VP_SPOT_MAX_H 65536
 #define VP_SPOT_MAX_R 32
 
 typedef struct vp_spot_config {
@@ -110,7 +111,8 @@ typedef struct vp_spot_ws {  /* workspace, about 130 KB; reuse it frame after fr
     int16_t stack[(2 * VP_SPOT_MAX_R + 1) * (2 * VP_SPOT_MAX_R + 1)][2];
 } vp_spot_ws_t;
 
-/* Returns VP_OK with out->result telling found or which miss; VP_EINVAL for a bad frame or a
+/* Returns VP_OK with out->result telling found or which miss; VP_EINVAL for a bad frame (8 x 8
+ * up to VP_SPOT_MAX_W x VP_SPOT_MAX_H, 1-4 bytes a pixel) or a
  * configuration out of range (block 0-VP_SPOT_MAX_W, percentile and rel_thresh 0-1, the other
  * numbers finite and not negative; a max_radius above VP_SPOT_MAX_R is taken as that), out then
  * unchanged. model may be NULL (no line gating). */

@@ -209,7 +209,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             __builtin_trap();
         /* the strays it names, and its own rule: no fit with an rms above 10 px and over 1 in 10 astray */
         if (m == n && rep.strays != strays) __builtin_trap();
-        if (!(rep.rms_px < 10) && 10 * rep.strays > n) __builtin_trap();
+        if (m == n && !(sqrt(ss / m) < 10) && 10 * strays > n) __builtin_trap();
         SHOW("fit: %d obs (%d marks, %d spots), rms %.6f px (here %.6f over %d), worst %.6f (here %.6f)\n", n, nmark, nspot,
              rep.rms_px, m > 0 ? sqrt(ss / m) : -1.0, m, rep.max_px, worst);
         if (!spoiled && noise == 0 && (worst > 0.01 || !(rep.rms_px < 0.01))) __builtin_trap();

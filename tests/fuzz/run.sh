@@ -63,7 +63,7 @@ printf "\\300\\003$ops" >"$S/dt/wide"
 # camera frames (tests/fuzz/fuzz_frame.c: size, flags, band, the spot and the line, then the
 # texture): a spot the model reads as a hit, one off the beam, two spots, a line, a line
 # over a textured laser-off frame, YUYV with padded rows, a spot clipped at 255 on a large frame, a
-# configuration out of range (percentile NaN), the beam's image line turned nearly along the rows
+# configuration out of range (percentile infinite), the beam's image line turned nearly along the rows
 printf '\170\120\014\000\200\200\200\001\200\200' >"$S/frame/hit"
 printf '\170\120\014\000\100\140\200\001\200\200' >"$S/frame/off-beam"
 printf '\170\120\034\000\100\140\200\001\200\200' >"$S/frame/two-spots"
@@ -71,7 +71,7 @@ printf '\170\120\044\001\200\200\200\007\200\200' >"$S/frame/line"
 printf '\170\120\244\002\200\200\140\047\120\220\000\000\030\040\050\060\040\030\020\030\377\000\030\020' >"$S/frame/line-textured"
 printf '\120\100\017\005\140\100\200\002\200\200\000\000\030\030\034\034' >"$S/frame/yuyv-padded"
 printf '\377\377\114\000\120\200\377\002\200\200' >"$S/frame/clipped"
-printf '\170\120\014\000\200\200\200\001\200\200\021' >"$S/frame/config-nan"
+printf '\170\120\014\000\200\200\200\001\200\200\021' >"$S/frame/config-inf"
 printf '\170\120\014\001\200\200\200\001\200\200\000\013' >"$S/frame/line-along-rows"
 # the calibration fits (tests/fuzz/fuzz_calib.c: the true head, depths, spots, noise, the camera
 # alone, then spoilings): exact observations of the nominal head and of moved ones, with noise,
