@@ -303,7 +303,7 @@ static int vp_rf_fit_do(const vp_calib_obs_t *obs, int n, const vp_rf_model_t *s
     vp_rf_frame_t f;
     vp_rf_fit_report_t r;
     double q[NP], A[NP][NP], g[NP], dq[NP], qt[NP], cost, lam = 1e-3, a[3] = { 0, 0, 1 };
-    int i, k, it, marks = 0, spots = 0, rc, bad_fit;
+    int i, k, it, marks = 0, spots = 0, rc;
     if (!obs || !start || !out || n < 1) return VP_EINVAL;
     for (i = 0; i < n; i++) {
         const vp_calib_obs_t *o = &obs[i];
@@ -412,13 +412,14 @@ static int vp_rf_fit_do(const vp_calib_obs_t *obs, int n, const vp_rf_model_t *s
     {
         double s2 = 0, m2 = 0, sp2 = 0, mm2 = 0, lo = HUGE_VAL, hi = -HUGE_VAL;
         for (i = 0; i < n; i++) {
-            double uv[2], t = 0, e2;
+            double uv[2], t = 0, e2, e;
             vp_rf_predict(out, &obs[i], uv, &t);
             e2 = (uv[0] - obs[i].uv[0]) * (uv[0] - obs[i].uv[0]) + (uv[1] - obs[i].uv[1]) * (uv[1] - obs[i].uv[1]);
+            e = sqrt(e2);
             s2 += e2;
-            if (sqrt(e2) > r.max_px) r.max_px = sqrt(e2);
-            if (sqrt(e2) > VP_CALIB_HUBER_PX) r.outliers++;
-            if (sqrt(e2) > VP_CALIB_CUT_PX) r.strays++;
+            if (e > r.max_px) r.max_px = e;
+            if (e > VP_CALIB_HUBER_PX) r.outliers++;
+            if (e > VP_CALIB_CUT_PX) r.strays++;
             if (obs[i].kind == VP_OBS_MARK) m2 += e2;
             else {
                 double dm = 0;
@@ -445,16 +446,18 @@ static int vp_rf_fit_do(const vp_calib_obs_t *obs, int n, const vp_rf_model_t *s
     }
     /* a fit that did not converge leaves large residuals everywhere; a few gross ones (a mark or
      * a spot detected far from where it was: left out of the last round, VP_CALIB_CUT_PX) do not
-     * make it one, as long as they are at most 1 in 10 of the observations */
-    bad_fit = !isfinite(r.rms_px) || (!(r.rms_px < 10) && 10 * r.strays > n);
-    if (bad_fit && rep) *rep = r;
+     * make it one, as long as they are at most 1 in 10 of the observations (the report says how
+     * far it got) */
+    if (!isfinite(r.rms_px) || (!(r.rms_px < 10) && 10 * r.strays > n)) {
+        if (rep) *rep = r;
+        return VP_EDEGEN;
+    }
     if (camera_only) {
         /* the beam and its span as given */
-        if (bad_fit) return VP_EDEGEN;
         if (rep) *rep = r;
         return VP_OK;
     }
-    if (bad_fit || !(r.span[1] > r.span[0]) || !(r.span[0] > 0)) return VP_EDEGEN;
+    if (!(r.span[1] > r.span[0]) || !(r.span[0] > 0)) return VP_EDEGEN;
     /* the span, widened by the spot's noise (0.5 mm and 0.2 %): the farthest station reads on
      * either side of its distance */
     out->min_range = r.span[0] - 0.5 - 0.002 * r.span[0];

@@ -77,10 +77,9 @@ typedef struct vp_rf_fit_report {
  * fewer than VP_CALIB_MIN_MARKS marks / VP_CALIB_MIN_SPOTS spots; VP_EDEGEN: the observations
  * cannot fix every parameter (marks all at one depth, spots all at one distance, ...) or the fit
  * diverges (an rms of 10 px or more, or not a number, with more than 1 in 10 observations off by
- * over 3 Huber cuts: a few
- * observations detected far from where they were are left out and counted, not a failure; rep,
- * when not NULL, is written then too: rms_px and strays say how far). out's span: the distances
- * the spots cover, widened by 0.5 mm + 0.2 %. */
+ * over 3 Huber cuts: a few observations detected far from where they were are left out and
+ * counted, not a failure; rep, when not NULL, is written then too: rms_px and strays say how
+ * far). out's span: the distances the spots cover, widened by 0.5 mm + 0.2 %. */
 int  vp_rf_fit(const vp_calib_obs_t *obs, int n, const vp_rf_model_t *start, vp_rf_model_t *out,
                vp_rf_fit_report_t *rep);
 

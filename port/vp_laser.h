@@ -112,10 +112,10 @@ typedef struct vp_spot_ws {  /* workspace, about 130 KB; reuse it frame after fr
 } vp_spot_ws_t;
 
 /* Returns VP_OK with out->result telling found or which miss; VP_EINVAL for a bad frame (8 x 8
- * up to VP_SPOT_MAX_W x VP_SPOT_MAX_H, 1-4 bytes a pixel) or a
- * configuration out of range (block 0-VP_SPOT_MAX_W, percentile and rel_thresh 0-1, the other
- * numbers finite and not negative; a max_radius above VP_SPOT_MAX_R is taken as that), out then
- * unchanged. model may be NULL (no line gating). */
+ * up to VP_SPOT_MAX_W x VP_SPOT_MAX_H, 1-4 bytes a pixel) or a configuration out of range (block
+ * 0-VP_SPOT_MAX_W, percentile and rel_thresh 0-1, the other numbers finite and not negative; a
+ * max_radius above VP_SPOT_MAX_R is taken as that), out then unchanged. model may be NULL (no
+ * line gating). */
 int vp_spot_find(const vp_frame_t *f, const vp_spot_config_t *cfg, const vp_tri_model_t *model,
                  vp_spot_ws_t *ws, vp_spot_t *out);
 
