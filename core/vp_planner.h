@@ -42,6 +42,10 @@
 #define VP_PLAN_NO_AIM       0x8u /* body mode: no lines aimed from aside at hidden facets (aim.c):
                                      for a head that reaches beyond the clearance ball, whose
                                      body only a dry run's sweep checks */
+#define VP_PLAN_FAR_READS   0x10u /* body mode: a probe asks for its line up to where it leaves
+                                     Omega, not only to its edge's end; a reading past the end
+                                     proves the edge free and is a point of S seen from
+                                     elsewhere, a sample where none lies within eps (tasks.c) */
 
 typedef struct vp_planner_config {
     int omega_kind;              /* VP_OMEGA_BOX or VP_OMEGA_BALL */
@@ -124,6 +128,8 @@ typedef struct vp_planner_stats {
     uint64_t probes, hits, misses, moves, reprobes;
     uint64_t insertions, stale_balls, routes, astar_fallbacks, astar_expansions;
     uint64_t shortcut_probes;  /* probes of a straight way to save a detour */
+    uint64_t far_reads, far_samples; /* VP_PLAN_FAR_READS: readings past a probed edge's end,
+                                        and the samples made of them (tasks.c) */
     uint64_t direct_routes;
     uint64_t escalations;      /* holes closed by probing every edge of every active vertex */
     uint64_t too_close;        /* probes that saw a surface nearer than the minimum range */
@@ -267,6 +273,8 @@ typedef struct vp_pl_device {
 typedef struct vp_pl_probe {
     vp_task_t task;                        /* the task it carries out */
     double origin[3], dir[3], range, full;
+    double reach;                          /* body mode: the beam asked for past the edge's end,
+                                              to where its line leaves Omega (0: range) */
     double standoff;                       /* origin to the edge's vertex (body mode) */
     int vantage;                           /* body mode with tubes: started past an occluder */
     int ready;                             /* prepared: issue it once the route is done */

@@ -52,6 +52,7 @@ void vp_sim_session_note(const vp_sim_options_t *o, char *buf, size_t n)
     vp_note_put_opt(buf, n, &len, "--seed", "%llu", o->seed);
     if ((o->flags & VP_PLAN_PAPER) != 0) vp_note_put(buf, n, &len, "--paper");
     if ((o->flags & VP_PLAN_LARGEST) != 0) vp_note_put(buf, n, &len, "--largest");
+    if ((o->flags & VP_PLAN_FAR_READS) != 0) vp_note_put(buf, n, &len, "--far-reads");
     if ((o->flags & VP_PLAN_PREV_CHAINS) != 0) vp_note_put(buf, n, &len, "--prev-chains");
     if (o->contact) vp_note_put(buf, n, &len, "--contact");
     if (o->proof_life > 0) vp_note_put_opt(buf, n, &len, "--proof-life", "%ld", o->proof_life);

@@ -231,6 +231,7 @@ static int aim_issue(vp_planner_t *pl)
         memcpy(P->origin, o, sizeof o);
         memcpy(P->dir, A->d, sizeof P->dir);
         P->range = P->full = range;
+        P->reach = 0.0;
         P->standoff = 0.0;
         P->vantage = 0;
         P->origin_rec = pl->dev.at;

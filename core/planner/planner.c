@@ -444,7 +444,8 @@ int vp_planner_next(vp_planner_t *pl, vp_cmd_t *cmd)
             st = issue_shortcut(pl, cmd);
         } else if (pl->probe.ready) {
             pl->probe.ready = 0;
-            issue_probe(pl, cmd, pl->probe.origin, pl->probe.dir, pl->probe.range);
+            issue_probe(pl, cmd, pl->probe.origin, pl->probe.dir,
+                        pl->probe.reach > pl->probe.range ? pl->probe.reach : pl->probe.range);
             return VP_OK;
 #if VP_PL_TUBES
         } else if (pl->tube.survey_ready) {

@@ -17,6 +17,7 @@ VP_PL_API int vp_pl_seed_issue(vp_planner_t *pl, const double *dir, double range
     memcpy(pl->probe.dir, dir, sizeof pl->probe.dir);
     pl->probe.full = range;
     pl->probe.range = vp_pl_clamp_range(pl, range);
+    pl->probe.reach = 0.0;
     pl->seed.miss = 0;
     pl->probe.ready = 1;
     pl->probe.chain_proof = PROOF_NONE;

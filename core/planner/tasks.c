@@ -446,6 +446,21 @@ VP_PL_API void vp_pl_task_nearest_on_top(vp_planner_t *pl)
 }
 #endif
 
+/* VP_PLAN_FAR_READS (body mode): the beam goes on past the edge's end, and a triangulating head
+ * reads the spot wherever it lands; so the range asked runs on to where the line leaves Omega
+ * (within the rangefinder's reach), and a reading past the edge's end proves the whole edge free
+ * (as a miss would) and is a point of S seen from elsewhere (vp_pl_task_finish). 0: nothing asked
+ * beyond the edge (point mode, no such flag, or a line longer than the reach, walked on). */
+static double far_reach(const vp_planner_t *pl, const double *o, const double *dir, double range)
+{
+    double t0, t1, most = range + 2.0 * vp_pl_omega_circumradius(&pl->cfg);
+    if (!VP_PL_CONTACTS || !(pl->cfg.flags & VP_PLAN_FAR_READS) || !(pl->cfg.clearance > 0.0) ||
+        vp_pl_probe_limited(pl))
+        return 0.0;
+    if (!vp_pl_omega_clip(&pl->cfg, o, dir, most, &t0, &t1) || !(t1 > range)) return 0.0;
+    return vp_pl_clamp_range(pl, t1);
+}
+
 /* Prepares the probe of task k: the route to its origin and the ray. Returns 1 when a probe
  * is ready, 0 when the task resolved without probing. */
 VP_PL_API int vp_pl_task_start(vp_planner_t *pl, vp_task_t *k)
@@ -559,6 +574,7 @@ VP_PL_API int vp_pl_task_start(vp_planner_t *pl, vp_task_t *k)
     memcpy(pl->probe.origin, o, sizeof o);
     memcpy(pl->probe.dir, g.dir, sizeof g.dir);
     pl->probe.range = range;
+    pl->probe.reach = far_reach(pl, o, g.dir, range);
     pl->probe.origin_rec = pl->dev.at;
     pl->probe.chain_proof = k->off > 0.0 ? k->proof : PROOF_NONE;
     pl->probe.task = *k;
@@ -689,6 +705,7 @@ VP_PL_API int vp_pl_vantage_go(vp_planner_t *pl, const double *x, double s, cons
      * the reach's from the old origin: s can lie beyond it) */
     P->full -= s;
     P->range = vp_pl_clamp_range(pl, P->full);
+    P->reach = 0.0;
     P->origin_rec = pl->dev.at;
     P->chain_proof = PROOF_NONE;
     P->vantage = 1;
@@ -837,7 +854,7 @@ VP_PL_API int vp_pl_task_finish(vp_planner_t *pl, const vp_probe_result_t *res)
 {
     vp_task_t *k = &pl->probe.task;
     uint32_t t = k->tet, u, j, fv[3], fr;
-    int f = k->facet, q;
+    int f = k->facet, q, far;
 #if VP_PL_CONTACTS
     int st;
 #endif
@@ -904,8 +921,10 @@ VP_PL_API int vp_pl_task_finish(vp_planner_t *pl, const vp_probe_result_t *res)
         }
     }
     /* a dropout must not open a way into the object: a miss is trusted only after
-     * confirm_misses more misses on the same ray (twice that where a hit is expected) */
-    if (pl->cfg.confirm_misses > 0 &&
+     * confirm_misses more misses on the same ray (twice that where a hit is expected); a
+     * reading past the edge's end is no dropout */
+    far = res->hit == 1 && pl->probe.reach > pl->probe.range;
+    if (pl->cfg.confirm_misses > 0 && !far &&
         k->tries < pl->cfg.confirm_misses *
                        (expect_hit(pl, t, f, pl->probe.origin, pl->probe.dir, pl->probe.range) ? 2u : 1u)) {
         k->tries++;
@@ -951,7 +970,21 @@ VP_PL_API int vp_pl_task_finish(vp_planner_t *pl, const vp_probe_result_t *res)
     side_set(pl, t, f, SIDE_UNKNOWN);
     side_free(pl, t, f, k->proof);
     side_free(pl, u, (int)j, k->proof);
-    return vp_pl_tet_reached(pl, u, k->proof);
+    VP_TRY(vp_pl_tet_reached(pl, u, k->proof));
+#if VP_PL_CONTACTS
+    if (far) {
+        /* the beam met S past the edge: a sample where none lies within eps (the line laser's
+         * spacing, vp_pl_ray_sample: every sample stays eps from the others, as a bad ball's
+         * centre does, so the packing bound and the end of the refinement are paper 000's) */
+        double h[3];
+        for (q = 0; q < 3; q++) h[q] = pl->probe.origin[q] + res->dist * pl->probe.dir[q];
+        pl->st.far_reads++;
+        st = vp_pl_sample_insert(pl, h, t, pl->cfg.eps, NULL);
+        if (st < 0) return st;
+        pl->st.far_samples += st == 1;
+    }
+#endif
+    return VP_OK;
 }
 
 /* Tet u's Voronoi vertex was seen free by the current probe (`proof` its free part, from the
