@@ -147,6 +147,7 @@ int vp_cli_mcu(int argc, char **argv)
         }
         if (!strcmp(a, "--arena")) { fprintf(stderr, "mcu: the MCU's arena is its own (its HELLO says how large)\n"); return 2; }
         if (!strcmp(a, "--line-laser")) { fprintf(stderr, "mcu: a microcontroller core takes one ray per probe (a dot laser): no --line-laser\n"); return 2; }
+        if (!strcmp(a, "--far-reads")) { fprintf(stderr, "mcu: a microcontroller core asks for its edges only: no --far-reads\n"); return 2; }
         if (!strcmp(a, "--proof-life")) { fprintf(stderr, "mcu: a microcontroller core's proofs do not expire (an object standing still): no --proof-life\n"); return 2; }
         st = vp_sim_parse_option(&o, argc, argv, &i, err, sizeof err);
         if (st == 0) continue;

@@ -68,8 +68,9 @@ static void scan_usage(FILE *f)
         "  --by-length      body mode: the head's moves ordered by length, as before they were weighed\n"
         "                   by the axes' speeds (the next probe the nearest, the ways round Omega\n"
         "                   along its surface): to compare machine times\n"
-        "  --no-far-reads   body mode: a probe asks for its edge only, a reading past the edge's end\n"
-        "                   taken as a miss (as before readings there became samples): to compare\n"
+        "  --far-reads      body mode on a board with a backdrop: a probe asks for its whole line\n"
+        "                   through Omega; a spot read past its edge's end proves the edge free and\n"
+        "                   becomes a sample where none lies within eps (fewer probes; see README)\n"
         "  --quiet          no progress line\n"
         "  --json           end with one JSON object (status, probes, mesh, moves, stop_reason when it\n"
         "                   stopped short; dry run: moves through the object, head collisions by\n"
@@ -116,7 +117,7 @@ typedef struct scan_opts {
     int sparse;                   /* --rescan-sparse (VP_RESCAN_SPARSE) */
     int reach_out;                /* --reach-out: a dry run's object may reach out of Omega */
     int by_length;                /* --by-length: body mode's moves not weighed by machine time */
-    int no_far;                   /* --no-far-reads: no VP_PLAN_FAR_READS */
+    int far;                      /* --far-reads: VP_PLAN_FAR_READS */
     size_t arena;
     unsigned long long seed;
     unsigned long stop_after, estop_at;
@@ -149,7 +150,7 @@ static int scan_option(scan_opts_t *o, int argc, char **argv, int *i, int from_n
     if (!strcmp(a, "--dry-run")) { o->dry = 1; return 0; }
     if (!strcmp(a, "--reach-out")) { o->reach_out = 1; return 0; }
     if (!strcmp(a, "--by-length")) { o->by_length = 1; return 0; }
-    if (!strcmp(a, "--no-far-reads")) { o->no_far = 1; return 0; }
+    if (!strcmp(a, "--far-reads")) { o->far = 1; return 0; }
     if (!strcmp(a, "--resume") && !from_note) { o->resume = 1; return 0; }
     if (!strcmp(a, "--quiet") && !from_note) { o->quiet = 1; return 0; }
     if (!strcmp(a, "--json") && !from_note) { o->json = 1; return 0; }
@@ -228,7 +229,7 @@ static void scan_note(const scan_opts_t *o, const char *board, double eps, const
     vp_note_put_opt(buf, n, &len, "--confirm", "%d", o->confirm);
     vp_note_put_str(buf, n, &len, "--near-spots", o->near ? "measure" : "too-close");
     if (o->by_length) vp_note_put(buf, n, &len, "--by-length");
-    if (o->no_far) vp_note_put(buf, n, &len, "--no-far-reads");
+    if (o->far) vp_note_put(buf, n, &len, "--far-reads");
     if (o->calib) vp_note_put_str(buf, n, &len, "--calib", o->calib);
     if (o->dry) {
         vp_note_put(buf, n, &len, "--dry-run");
@@ -625,8 +626,17 @@ static int scan_prepare(scan_job_t *j)
         memcpy(j->cfg.interior, j->L.header.cfg.interior, sizeof j->cfg.interior);
         j->cfg.ninterior = j->L.header.cfg.ninterior;
     }
-    if (j->o.no_far || (j->have_L && (j->o.resume || j->o.rescan) && !(j->L.header.cfg.flags & VP_PLAN_FAR_READS)))
-        j->cfg.flags &= ~VP_PLAN_FAR_READS; /* asked, or a session logged before far reads goes on as begun */
+    if (j->o.far) {
+        /* a miss asked that far is trusted only where every beam ends on a spot: without walls
+         * the sight rule (vp_planner_spot_hidden) would find an occluder in far more of them */
+        if (!(j->b.clearance > 0) || !j->b.have_backdrop) {
+            fprintf(stderr, "scan: --far-reads needs a board in body mode ([omega] clearance) with a backdrop "
+                    "([rangefinder] backdrop)\n");
+            j->rc = 2;
+            return j->rc;
+        }
+        j->cfg.flags |= VP_PLAN_FAR_READS;
+    }
     if (j->o.by_length || (j->have_L && (j->o.resume || j->o.rescan) && j->L.header.version < 6u)) {
         /* moves by length: asked for, or a session logged before its moves were weighed by the
          * axes' speeds (it goes on as begun) */

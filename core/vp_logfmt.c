@@ -70,7 +70,8 @@ static int sizing(const vp_planner_config_t *c) { return c->size_rel != 0.0 || c
 #ifndef VP_CORE_MCU
 /* version 4: those three, a line laser's rays per frame and the proofs' life (two uint32);
  * version 5: those and the tubes' feature size and margin (two doubles); version 6: those, the
- * axes' times per unit (five doubles) and the pan's travel (two) */
+ * axes' times per unit (five doubles) and the pan's travel (two); version 7: the same bytes, and
+ * the planner flag VP_PLAN_FAR_READS may be set (only there) */
 static int timed(const vp_planner_config_t *c)
 {
     int k;
@@ -80,7 +81,7 @@ static int timed(const vp_planner_config_t *c)
 }
 static uint32_t header_version(const vp_planner_config_t *c)
 {
-    return timed(c) ? 6u : c->min_feature != 0.0 || c->feature_margin != 0.0 ? 5u
+    return (c->flags & VP_PLAN_FAR_READS) ? 7u : timed(c) ? 6u : c->min_feature != 0.0 || c->feature_margin != 0.0 ? 5u
            : c->line_rays != 0u || c->proof_life != 0u ? 4u : c->max_distance != 0.0 ? 3u : sizing(c) ? 2u : 1u;
 }
 static uint32_t ext_bytes(uint32_t version)
@@ -256,10 +257,10 @@ static int header_decode(const unsigned char *p, uint32_t n, vp_logfmt_header_t 
             if (!vp_finite(c->pan_travel[0]) || !vp_finite(c->pan_travel[1])) return 0;
         }
 #endif
-        if (!vp_finite(c->size_rel) || !vp_finite(c->min_size) || !vp_finite(c->max_distance) ||
-            header_version(c) != h->version)
-            return 0;
+        if (!vp_finite(c->size_rel) || !vp_finite(c->min_size) || !vp_finite(c->max_distance)) return 0;
     }
+    /* what the header holds names its version (a version 1 with far reads is damaged too) */
+    if (header_version(c) != h->version) return 0;
     /* every number the planner needs must be finite; embedded NULs are not text */
     if (!vp_finite(c->eps) || !vp_finite3(c->omega_lo) || !vp_finite3(c->omega_hi) ||
         !vp_finite3(c->omega_center) || !vp_finite(c->omega_radius) || !vp_finite3(c->start) ||

@@ -1410,11 +1410,6 @@ void vp_board_planner_config(const vp_board_t *b, vp_planner_config_t *c)
     /* lines aimed from aside turn the head in ways no other probe does: only for a head that
      * lies within the clearance ball in every pose (the ball rule), never for clear_by = swept */
     if (b->clearance > 0 && b->head_reach + b->head_margin > b->clearance) c->flags |= VP_PLAN_NO_AIM;
-    /* body mode with a backdrop (every beam ends on a spot: a miss is always seen): a probe's
-     * spot is read wherever it lands on its line through Omega. Without one, a miss asked that
-     * far would be taken only where no occluder can hide a spot in the whole of that sight
-     * triangle (vp_planner_spot_hidden), and fewer are */
-    if (b->clearance > 0 && b->have_backdrop) c->flags |= VP_PLAN_FAR_READS;
     c->min_feature = b->min_feature;
     c->feature_margin = b->feature_margin;
     if (b->clearance > 0) {

@@ -453,12 +453,17 @@ VP_PL_API void vp_pl_task_nearest_on_top(vp_planner_t *pl)
  * beyond the edge (point mode, no such flag, or a line longer than the reach, walked on). */
 static double far_reach(const vp_planner_t *pl, const double *o, const double *dir, double range)
 {
-    double t0, t1, most = range + 2.0 * vp_pl_omega_circumradius(&pl->cfg);
-    if (!VP_PL_CONTACTS || !(pl->cfg.flags & VP_PLAN_FAR_READS) || !(pl->cfg.clearance > 0.0) ||
-        vp_pl_probe_limited(pl))
+#if VP_PL_CONTACTS
+    double t0, t1;
+    if (!(pl->cfg.flags & VP_PLAN_FAR_READS) || !(pl->cfg.clearance > 0.0) || vp_pl_probe_limited(pl)) return 0.0;
+    if (!vp_pl_omega_clip(&pl->cfg, o, dir, range + 2.0 * vp_pl_omega_circumradius(&pl->cfg), &t0, &t1) ||
+        !(t1 > range))
         return 0.0;
-    if (!vp_pl_omega_clip(&pl->cfg, o, dir, most, &t0, &t1) || !(t1 > range)) return 0.0;
     return vp_pl_clamp_range(pl, t1);
+#else
+    (void)pl; (void)o; (void)dir; (void)range;
+    return 0.0;
+#endif
 }
 
 /* Prepares the probe of task k: the route to its origin and the ray. Returns 1 when a probe
@@ -922,8 +927,8 @@ VP_PL_API int vp_pl_task_finish(vp_planner_t *pl, const vp_probe_result_t *res)
     }
     /* a dropout must not open a way into the object: a miss is trusted only after
      * confirm_misses more misses on the same ray (twice that where a hit is expected); a
-     * reading past the edge's end is no dropout */
-    far = res->hit == 1 && pl->probe.reach > pl->probe.range;
+     * reading past the edge's end is no dropout (one past the range asked is no reading: a miss) */
+    far = res->hit == 1 && pl->probe.reach > pl->probe.range && res->dist <= pl->dev.iss_range + tol;
     if (pl->cfg.confirm_misses > 0 && !far &&
         k->tries < pl->cfg.confirm_misses *
                        (expect_hit(pl, t, f, pl->probe.origin, pl->probe.dir, pl->probe.range) ? 2u : 1u)) {

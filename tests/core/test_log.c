@@ -454,6 +454,32 @@ static void test_sizing_header(void)
         memset(h.cfg.axis_time, 0, sizeof h.cfg.axis_time);
         memset(h.cfg.pan_travel, 0, sizeof h.cfg.pan_travel);
     }
+    /* spots read past the edge: version 7, the same 104 bytes, the flag read back; the flag in a
+     * header of any other version (the CRC made good) is damage */
+    {
+        int v;
+        h.cfg.flags |= VP_PLAN_FAR_READS;
+        h.cfg.axis_time[2] = 1.0 / 15;
+        nb = vp_logfmt_header_encode(&h, b, sizeof b);
+        vp_logfmt_reader_init(&r);
+        CHECK(nb == na + 104 && b[8] == 7 && vp_logfmt_reader_push(&r, b, (size_t)nb, &used, &rec) == VP_LOGFMT_GOT_HEADER);
+        h.version = 7;
+        CHECK(header_equal(&r.header, &h) && (r.header.cfg.flags & VP_PLAN_FAR_READS));
+        h.cfg.axis_time[2] = 0.0;
+        nb = vp_logfmt_header_encode(&h, b, sizeof b);
+        vp_logfmt_reader_init(&r);
+        CHECK(nb == na + 104 && b[8] == 7 && vp_logfmt_reader_push(&r, b, (size_t)nb, &used, &rec) == VP_LOGFMT_GOT_HEADER &&
+              header_equal(&r.header, &h));
+        for (v = 1; v <= 6; v++) {
+            unsigned char c2[sizeof b];
+            size_t m = (size_t)vp_logfmt_header_encode(&h, c2, sizeof c2);
+            c2[8] = (unsigned char)v;
+            put_crc(c2, m);
+            vp_logfmt_reader_init(&r);
+            CHECK(vp_logfmt_reader_push(&r, c2, m, &used, &rec) == VP_ECORRUPT);
+        }
+        h.cfg.flags &= ~VP_PLAN_FAR_READS;
+    }
 }
 
 int main(void)
