@@ -148,6 +148,13 @@ int vp_cli_mcu(int argc, char **argv)
         if (!strcmp(a, "--arena")) { fprintf(stderr, "mcu: the MCU's arena is its own (its HELLO says how large)\n"); return 2; }
         if (!strcmp(a, "--line-laser")) { fprintf(stderr, "mcu: a microcontroller core takes one ray per probe (a dot laser): no --line-laser\n"); return 2; }
         if (!strcmp(a, "--far-reads")) { fprintf(stderr, "mcu: a microcontroller core asks for its edges only: no --far-reads\n"); return 2; }
+        if (!strcmp(a, "--clearance") || !strcmp(a, "--min-feature")) {
+            /* its core plans a body in its own order (the newest task first, no lines aimed from
+             * aside, no tubes: its flash), so this build's planner could not replay its log */
+            fprintf(stderr, "mcu: a microcontroller core keeps the probe a point (no %s): its body-mode order is not "
+                    "this build's, whose replay checks its log\n", a);
+            return 2;
+        }
         if (!strcmp(a, "--proof-life")) { fprintf(stderr, "mcu: a microcontroller core's proofs do not expire (an object standing still): no --proof-life\n"); return 2; }
         st = vp_sim_parse_option(&o, argc, argv, &i, err, sizeof err);
         if (st == 0) continue;

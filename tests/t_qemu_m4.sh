@@ -22,6 +22,13 @@ fail() { echo "t_qemu_m4: $*"; exit 1; }
 size=$(sh boards/cortex-m4/build.sh "$B") || fail "the firmware does not build"
 echo "$size"
 S="--surface sphere --eps 0.35 --quiet"
+# a body is refused before any link is made: the host's replay, which checks the MCU's log, plans
+# a body in another order than the MCU's core (the build before ran the whole scan and then failed
+# that check at record 8, exit 1)
+"$VP" mcu --exec "$B/m4/voroprobe-m4-host" $S --clearance 0.05 --out "$tmp/body" >"$tmp/body.txt" 2>&1
+rc=$?
+[ $rc -eq 2 ] && grep -q 'mcu: a microcontroller core keeps the probe a point (no --clearance)' "$tmp/body.txt" &&
+  [ ! -e "$tmp/body.vplog" ] || fail "--clearance: exit $rc, not refused: $(head -n 1 "$tmp/body.txt")"
 "$VP" mcu --exec "$B/m4/voroprobe-m4-host" $S --out "$tmp/host" >"$tmp/host.txt" 2>&1 ||
   { cat "$tmp/host.txt"; fail "the x86-64 build's session failed"; }
 t0=$(date +%s)
