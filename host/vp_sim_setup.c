@@ -188,6 +188,10 @@ int vp_sim_open(vp_sim_t *s, const vp_sim_options_t *o, char *err, size_t errlen
         snprintf(err, errlen, "--min-feature lets a device with a body into Omega: give --clearance too");
         return VP_EINVAL;
     }
+    if ((o->flags & VP_PLAN_FAR_READS) && !(o->clearance > 0)) {
+        snprintf(err, errlen, "--far-reads reads on past a body-mode probe's edge: give --clearance too");
+        return VP_EINVAL;
+    }
     s->cfg.min_angle = o->min_angle;
     if (s->target > 0) {
         vp_accuracy_config(&s->cfg, s->target);

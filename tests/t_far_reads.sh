@@ -12,7 +12,8 @@
 #   - far readings and samples counted, and fewer probes than without (2,647 against 3,137);
 #   - a session cut short and resumed replays bit for bit and ends with the same mesh;
 #   - the log's header is version 7 with the rule, 6 without;
-#   - without the backdrop (the sight rule's boards) `--far-reads` is refused (exit 2).
+#   - without the backdrop (the sight rule's boards) `--far-reads` is refused (exit 2), and so is
+#     `sim --far-reads` without a body.
 set -u
 BUILD=${BUILD:-build}
 VP=${VP:-$BUILD/voroprobe}
@@ -68,5 +69,10 @@ orc=$?
 [ $orc -eq 2 ] && grep -q -- '--far-reads needs a board in body mode (\[omega\] clearance) with a backdrop' "$tmp/o.out" ||
   bad "without the backdrop: exit $orc, not refused ($(head -n 1 "$tmp/o.out"))"
 [ -e "$tmp/o.vplog" ] && bad "without the backdrop: a log was written"
+# sim: only with a body
+"$VP" sim --surface sphere --eps-rel 0.1 --far-reads --no-log --quiet >"$tmp/s.out" 2>&1
+src=$?
+[ $src -eq 2 ] && grep -q -- '--far-reads reads on past a body-mode probe.s edge: give --clearance too' "$tmp/s.out" ||
+  bad "sim without --clearance: exit $src, not refused"
 [ $fail = 0 ] || exit 1
 echo "t_far_reads: 100 mm torus at eps 6 on the enclosed board: $pf probes ($fr read past their edge, $fs samples) against $pn without; both closed, genus 1 (CGAL), 0 false hits, logs verified; resumed bit for bit; refused without walls"
