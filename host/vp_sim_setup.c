@@ -624,7 +624,7 @@ void vp_sim_report(const vp_sim_t *s, const vp_sim_options_t *o, FILE *f)
                     (unsigned long long)st.aim_reached, (unsigned long long)st.far_line_sides,
                     (unsigned long long)st.last_resorts, (unsigned long long)st.unseen_refinements,
                     (unsigned long long)st.read_samples, (unsigned long long)st.read_kept);
-        if (s->cfg.clearance > 0 && (s->cfg.flags & VP_PLAN_FAR_READS))
+        if (s->cfg.flags & VP_PLAN_FAR_READS) /* vp_sim_open: only with a body */
             fprintf(f, "body: %llu spots read past their edge's end (the edge free), %llu of them made samples (no "
                     "sample within eps)\n", (unsigned long long)st.far_reads, (unsigned long long)st.far_samples);
         if (s->cfg.line_rays)
@@ -711,7 +711,7 @@ void vp_sim_report(const vp_sim_t *s, const vp_sim_options_t *o, FILE *f)
                      (unsigned long long)st.aim_reached, (unsigned long long)st.far_line_sides,
                      (unsigned long long)st.last_resorts, (unsigned long long)st.unseen_refinements,
                      (unsigned long long)st.read_samples, (unsigned long long)st.read_kept);
-        if (s->cfg.clearance > 0 && (s->cfg.flags & VP_PLAN_FAR_READS))
+        if (s->cfg.flags & VP_PLAN_FAR_READS) /* vp_sim_open: only with a body */
             snprintf(touch + strlen(touch), sizeof touch - strlen(touch), ",\"far_reads\":%llu,\"far_samples\":%llu",
                      (unsigned long long)st.far_reads, (unsigned long long)st.far_samples);
         fprintf(f, "{\"surface\":\"%s\",\"eps\":%.9g,\"status\":\"%s\",\"exit\":%d,\"planner_status\":\"%s\","
