@@ -16,14 +16,7 @@
 #   - a mesh that closes with another topology than the object's is caught (exit 7): two spheres
 #     0.1 apart joined into one at a coarse eps (CGAL counts one component)
 #   - misuse is refused (exit 2)
-set -u
-BUILD=${BUILD:-build}
-VP=${VP:-$BUILD/voroprobe}
-tmp=$(mktemp -d) || exit 1
-trap 'rm -rf "$tmp"' EXIT
-fail=0
-bad() { echo "FAIL: $*"; fail=1; }
-field() { tail -n 1 "$1" | sed -n "s/.*\"$2\":\([^,}]*\).*/\1/p" | tr -d '"'; }
+. tests/lib.sh
 
 # ---- the independent measure
 . tests/cgal_object.sh

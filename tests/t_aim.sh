@@ -19,14 +19,7 @@
 #     Hausdorff distance within eps);
 #   - host-sim's exact check: 0 moves through the object; `log verify` proves every move free;
 #   - the checker must fail: the torus's mesh less one triangle is not closed.
-set -u
-BUILD=${BUILD:-build}
-VP=${VP:-$BUILD/voroprobe}
-tmp=$(mktemp -d) || exit 1
-trap 'rm -rf "$tmp"' EXIT
-fail=0
-bad() { echo "FAIL: $*"; fail=1; }
-field() { tail -n 1 "$1" | sed -n "s/.*\"$2\":\([^,}]*\).*/\1/p" | tr -d '"'; }
+. tests/lib.sh
 . tests/cgal_object.sh
 cgal_object_build "$BUILD" || { echo "FAIL: $CG_WHY"; exit 1; }
 # what every run must show: a line aimed from aside, CGAL's closed 2-manifold of the object's

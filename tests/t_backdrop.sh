@@ -18,14 +18,7 @@
 #     them); there the sight rule (a miss whose spot the mesh found so far or the space still
 #     unknown may hide from the camera is unreadable) takes some of them as unreadable, and the
 #     torus closes with genus 1 (CGAL) that way too.
-set -u
-BUILD=${BUILD:-build}
-VP=${VP:-$BUILD/voroprobe}
-tmp=$(mktemp -d) || exit 1
-trap 'rm -rf "$tmp"' EXIT
-fail=0
-bad() { echo "FAIL: $*"; fail=1; }
-field() { tail -n 1 "$1" | sed -n "s/.*\"$2\":\([^,}]*\).*/\1/p" | tr -d '"'; }
+. tests/lib.sh
 . tests/cgal_object.sh
 cgal_object_build "$BUILD" || { echo "FAIL: $CG_WHY"; exit 1; }
 B=boards/sim-enclosed.ini

@@ -14,14 +14,7 @@
 #   - the log's header is version 7 with the rule, 6 without;
 #   - without the backdrop (the sight rule's boards) `--far-reads` is refused (exit 2), and so is
 #     `sim --far-reads` without a body.
-set -u
-BUILD=${BUILD:-build}
-VP=${VP:-$BUILD/voroprobe}
-tmp=$(mktemp -d) || exit 1
-trap 'rm -rf "$tmp"' EXIT
-fail=0
-bad() { echo "FAIL: $*"; fail=1; }
-field() { tail -n 1 "$1" | sed -n "s/.*\"$2\":\([^,}]*\).*/\1/p" | tr -d '"'; }
+. tests/lib.sh
 . tests/cgal_object.sh
 cgal_object_build "$BUILD" || { echo "FAIL: $CG_WHY"; exit 1; }
 B=boards/sim-enclosed.ini

@@ -17,13 +17,7 @@
 #   - the checker must fail: the same mesh with one vertex moved 1 mm out;
 #   - CGAL (tests/cgal_object.cpp topology): a closed 2-manifold of genus 1; `log verify` proves
 #     every move free.
-set -u
-BUILD=${BUILD:-build}
-VP=${VP:-$BUILD/voroprobe}
-tmp=$(mktemp -d) || exit 1
-trap 'rm -rf "$tmp"' EXIT
-fail=0
-bad() { echo "FAIL: $*"; fail=1; }
+. tests/lib.sh
 . tests/need_python.sh
 need_python math python3-minimal
 . tests/cgal_object.sh

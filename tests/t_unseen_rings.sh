@@ -14,13 +14,7 @@
 #   - every vertex within 1 mm of the torus by its formula (Python: the dry run's own figure is
 #     0.80 mm at worst, a sample refined where its ball was found from aside); `log verify` proves
 #     every move free.
-set -u
-BUILD=${BUILD:-build}
-VP=${VP:-$BUILD/voroprobe}
-tmp=$(mktemp -d) || exit 1
-trap 'rm -rf "$tmp"' EXIT
-fail=0
-bad() { echo "FAIL: $*"; fail=1; }
+. tests/lib.sh
 . tests/need_python.sh
 need_python math python3-minimal
 . tests/cgal_object.sh
