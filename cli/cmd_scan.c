@@ -7,6 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "vp_backends.h"
+#include "vp_bodyreport.h"
 #include "vp_cli.h"
 #include "vp_logfmt.h"
 #include "vp_note.h"
@@ -981,19 +982,8 @@ static int scan_report(scan_job_t *j)
                    (unsigned long long)ps.tube_moves, (unsigned long long)(ps.tube_starts + ps.vantages),
                    (unsigned long long)ps.vantages, (unsigned long long)ps.surveys,
                    (unsigned long long)ps.survey_probes, (unsigned long long)ps.surveys_failed);
-        if (j->cfg.flags & VP_PLAN_FAR_READS)
-            printf("body: %llu spots read past their edge's end (the edge free), %llu of them made samples (no sample "
-                   "within eps)\n", (unsigned long long)ps.far_reads, (unsigned long long)ps.far_samples);
-        if (j->b.clearance > 0 && ps.aims > 0)
-            printf("body: hidden facets at holes aimed at from aside: %llu probes, %llu balls found (%llu by the hit "
-                   "nearest the edge), %llu far vertices seen free; %llu sides aimed at again through their far vertex "
-                   "alone (closing's last resort, taken %llu times); %llu facets refined at open edges round sides left unseen; "
-                   "%llu balls refined at the point read, %llu left as they were (read beside a sample)\n",
-                   (unsigned long long)ps.aims, (unsigned long long)ps.aim_balls, (unsigned long long)ps.aim_near,
-                   (unsigned long long)ps.aim_reached,
-                   (unsigned long long)ps.far_line_sides, (unsigned long long)ps.last_resorts,
-                   (unsigned long long)ps.unseen_refinements, (unsigned long long)ps.read_samples,
-                   (unsigned long long)ps.read_kept);
+        if (j->cfg.flags & VP_PLAN_FAR_READS) vp_bodyreport_far(stdout, &ps);
+        if (j->b.clearance > 0 && ps.aims > 0) vp_bodyreport_aims(stdout, &ps);
         if (j->rc == 0 && have_mc && !mc.closed_manifold) {
             printf("warning: the planner said DONE but the mesh is not closed (%zu boundary edges): the planner leaves open "
                    "what its probes could not see (%llu too-close results%s, %llu Voronoi edges occluded from dOmega)\n",
@@ -1114,15 +1104,12 @@ static int scan_report(scan_job_t *j)
             if (vp_planner_timed(&j->cfg))
                 printf(",\"level_routes\":%llu,\"routes\":%llu", (unsigned long long)ps.level_routes,
                        (unsigned long long)ps.routes);
-            if (j->b.clearance > 0)
-                printf(",\"aims\":%llu,\"aim_balls\":%llu,\"aim_near\":%llu,\"aim_reached\":%llu,\"far_line_sides\":%llu,\"last_resorts\":%llu,\"unseen_refinements\":%llu,\"read_samples\":%llu,\"read_kept\":%llu",
-                       (unsigned long long)ps.aims, (unsigned long long)ps.aim_balls, (unsigned long long)ps.aim_near,
-                       (unsigned long long)ps.aim_reached, (unsigned long long)ps.far_line_sides,
-                       (unsigned long long)ps.last_resorts, (unsigned long long)ps.unseen_refinements,
-                       (unsigned long long)ps.read_samples, (unsigned long long)ps.read_kept);
-            if (j->cfg.flags & VP_PLAN_FAR_READS)
-                printf(",\"far_reads\":%llu,\"far_samples\":%llu", (unsigned long long)ps.far_reads,
-                       (unsigned long long)ps.far_samples);
+            {
+                char body[512] = "";
+                if (j->b.clearance > 0) vp_bodyreport_aims_json(body, sizeof body, &ps);
+                if (j->cfg.flags & VP_PLAN_FAR_READS) vp_bodyreport_far_json(body, sizeof body, &ps);
+                fputs(body, stdout);
+            }
             if (j->b.clearance > 0 && j->b.min_feature > 0)
                 printf(",\"min_feature\":%g,\"feature_margin\":%g,\"tube_moves\":%llu,\"tube_starts\":%llu,"
                        "\"vantages\":%llu,\"surveys\":%llu,\"survey_probes\":%llu", j->b.min_feature, j->b.feature_margin,

@@ -3,6 +3,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "vp_sim_setup.h"
+#include "vp_bodyreport.h"
 #include "vp_vec3.h"
 #include "vp_kdtree.h"
 #include "vp_outcome.h"
@@ -614,19 +615,8 @@ void vp_sim_report(const vp_sim_t *s, const vp_sim_options_t *o, FILE *f)
                     (unsigned long long)st.survey_probes, (unsigned long long)st.surveys_failed);
         else if (s->cfg.clearance > 0)
             fprintf(f, "the device stays outside Omega\n");
-        if (s->cfg.clearance > 0)
-            fprintf(f, "body: hidden facets at holes aimed at from aside: %llu probes, %llu balls found (%llu by the "
-                    "hit nearest the edge), %llu far vertices seen free; %llu sides aimed at again through their far "
-                    "vertex alone (closing's last resort, taken %llu times); %llu facets refined at open edges round sides "
-                    "left unseen; %llu balls refined at the point read, %llu left as they were (read beside a "
-                    "sample)\n", (unsigned long long)st.aims,
-                    (unsigned long long)st.aim_balls, (unsigned long long)st.aim_near,
-                    (unsigned long long)st.aim_reached, (unsigned long long)st.far_line_sides,
-                    (unsigned long long)st.last_resorts, (unsigned long long)st.unseen_refinements,
-                    (unsigned long long)st.read_samples, (unsigned long long)st.read_kept);
-        if (s->cfg.flags & VP_PLAN_FAR_READS) /* vp_sim_open: only with a body */
-            fprintf(f, "body: %llu spots read past their edge's end (the edge free), %llu of them made samples (no "
-                    "sample within eps)\n", (unsigned long long)st.far_reads, (unsigned long long)st.far_samples);
+        if (s->cfg.clearance > 0) vp_bodyreport_aims(f, &st);
+        if (s->cfg.flags & VP_PLAN_FAR_READS) vp_bodyreport_far(f, &st); /* vp_sim_open: only with a body */
         if (s->cfg.line_rays)
             fprintf(f, "line laser: %u more rays per probe over %.3g degrees: %llu rays, %llu hits, %llu of them "
                     "made samples\n", s->cfg.line_rays, o->line_deg, (unsigned long long)st.rays,
@@ -700,20 +690,14 @@ void vp_sim_report(const vp_sim_t *s, const vp_sim_options_t *o, FILE *f)
             snprintf(touch + strlen(touch), sizeof touch - strlen(touch),
                      ",\"clearance\":%.6g,\"occluded\":%llu,\"min_feature\":%.6g,\"feature_margin\":%.6g,"
                      "\"tube_moves\":%llu,\"tube_starts\":%llu,\"vantages\":%llu,\"surveys\":%llu,"
-                     "\"survey_probes\":%llu,\"surveys_failed\":%llu,\"aims\":%llu,\"aim_balls\":%llu,\"aim_near\":%llu,\"aim_reached\":%llu,"
-                     "\"far_line_sides\":%llu,\"last_resorts\":%llu,\"unseen_refinements\":%llu,\"read_samples\":%llu,"
-                     "\"read_kept\":%llu", s->cfg.clearance,
+                     "\"survey_probes\":%llu,\"surveys_failed\":%llu", s->cfg.clearance,
                      (unsigned long long)st.occluded, s->cfg.min_feature, s->cfg.feature_margin,
                      (unsigned long long)st.tube_moves, (unsigned long long)st.tube_starts,
                      (unsigned long long)st.vantages, (unsigned long long)st.surveys,
-                     (unsigned long long)st.survey_probes, (unsigned long long)st.surveys_failed,
-                     (unsigned long long)st.aims, (unsigned long long)st.aim_balls, (unsigned long long)st.aim_near,
-                     (unsigned long long)st.aim_reached, (unsigned long long)st.far_line_sides,
-                     (unsigned long long)st.last_resorts, (unsigned long long)st.unseen_refinements,
-                     (unsigned long long)st.read_samples, (unsigned long long)st.read_kept);
+                     (unsigned long long)st.survey_probes, (unsigned long long)st.surveys_failed);
+        if (s->cfg.clearance > 0) vp_bodyreport_aims_json(touch, sizeof touch, &st);
         if (s->cfg.flags & VP_PLAN_FAR_READS) /* vp_sim_open: only with a body */
-            snprintf(touch + strlen(touch), sizeof touch - strlen(touch), ",\"far_reads\":%llu,\"far_samples\":%llu",
-                     (unsigned long long)st.far_reads, (unsigned long long)st.far_samples);
+            vp_bodyreport_far_json(touch, sizeof touch, &st);
         fprintf(f, "{\"surface\":\"%s\",\"eps\":%.9g,\"status\":\"%s\",\"exit\":%d,\"planner_status\":\"%s\","
                 "\"vertices\":%u,\"facets\":%u,"
                 "\"probes\":%llu,\"hits\":%llu,\"misses\":%llu,\"too_close\":%llu,\"reprobes\":%llu,\"moves\":%llu,"
