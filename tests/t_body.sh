@@ -7,14 +7,8 @@
 # within 1 mm of the object at eps 3 (host-sim's Hausdorff), 0 moves through the object, 0 head
 # collisions, the log proven free. (The build before this rule left 4 and 19 edges open at eps 5
 # and 3: `git show 1e63c8a`.)
-set -u
-B=${BUILD:-build}
-VP=${VP:-$B/voroprobe}
-tmp=$(mktemp -d) || exit 1
-trap 'rm -rf "$tmp"' EXIT
-fail=0
-bad() { echo "FAIL: $*"; fail=1; }
-field() { tail -n 1 "$1" | sed -n "s/.*\"$2\":\([^,}]*\).*/\1/p"; }
+. tests/lib.sh
+B=$BUILD
 out=""
 for e in 5 3; do
   o="$tmp/e$e"

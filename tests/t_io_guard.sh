@@ -7,13 +7,8 @@
 # header, --eps with --eps-rel and an unknown option say what is wrong, once; a count given as
 # '-3', 'abc' or 0 is refused (exit 2) by every command that takes one; report --json alone
 # prints the summary; --png makes its folder.
-set -u
-B=${BUILD:-build}
-VP=${VP:-$B/voroprobe}
-tmp=$(mktemp -d) || exit 1
-trap 'rm -rf "$tmp"' EXIT
-fail=0
-bad() { echo "FAIL: $*"; fail=1; }
+. tests/lib.sh
+B=$BUILD
 S="--quiet --hausdorff 0 --sync close"
 
 # ---- 1. long paths: 1229 characters are written whole; over PATH_MAX nothing is written

@@ -6,13 +6,8 @@
 # and every move's collision and every probe's reading agree with the exact sphere rebuilt from
 # the log alone (tests/motion_check.py), which must fail when told the wrong velocity; a
 # deforming sphere (bump, bend, rotation) runs to the end and reports its figures.
-set -u
-B=${BUILD:-build}
-VP=${VP:-$B/voroprobe}
-tmp=$(mktemp -d) || exit 1
-trap 'rm -rf "$tmp"' EXIT
-fail=0
-bad() { echo "FAIL: $*"; fail=1; }
+. tests/lib.sh
+B=$BUILD
 command -v python3 >/dev/null || { echo "skipped: python3 is needed for the exact check"; exit 77; }
 field() { python3 -c "import json,sys; print(json.loads(open(sys.argv[1]).read().strip().splitlines()[-1])[sys.argv[2]])" "$@"; }
 

@@ -28,15 +28,9 @@
 #     byte (also with --rescan-sparse); a smaller one closes with 0 moves through it and 0 head
 #     collisions, its log verified;
 #     paused and resumed, the same mesh.
-set -u
-B=${BUILD:-build}
-VP=${VP:-$B/voroprobe}
-tmp=$(mktemp -d) || exit 1
-trap 'rm -rf "$tmp"' EXIT
-fail=0
-bad() { echo "FAIL: $*"; fail=1; }
+. tests/lib.sh
+B=$BUILD
 S="--quiet --sync close"
-field() { tail -n 1 "$1" | sed -n "s/.*\"$2\":\([^,}]*\).*/\1/p" | tr -d '"'; }
 rfield() { tail -n 1 "$1" | sed -n "s/.*\"rescan\":{[^}]*\"$2\":\([^,}]*\).*/\1/p" | tr -d '"'; }
 . tests/cgal_moves.sh
 cgal_moves_build "$B" || bad "$CG_WHY"

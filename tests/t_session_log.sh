@@ -4,13 +4,8 @@
 # record boundaries, at random byte offsets (torn records) and by a simulated power cut resume
 # to the uncut mesh; damaged logs name the bad record and keep the rest; a newer format
 # version is refused; log dump/check, mesh of an incomplete session, --help everywhere.
-set -u
-B=${BUILD:-build}
-VP=${VP:-$B/voroprobe}
-tmp=$(mktemp -d) || exit 1
-trap 'rm -rf "$tmp"' EXIT
-fail=0
-bad() { echo "FAIL: $*"; fail=1; }
+. tests/lib.sh
+B=$BUILD
 N=${VP_LOG_CUTS:-24}
 [ "${VP_TEST_QUICK:-0}" != 0 ] && N=6
 

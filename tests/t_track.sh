@@ -19,13 +19,8 @@
 #     one-to-one; and the checker fails a round's mesh moved by 2 eps and one with a vertex pushed
 #     inside (skipped when /usr/bin/python3 has no Open3D);
 # (5) --track takes 1..1000.
-set -u
-B=${BUILD:-build}
-VP=${VP:-$B/voroprobe}
-tmp=$(mktemp -d) || exit 1
-trap 'rm -rf "$tmp"' EXIT
-fail=0
-bad() { echo "FAIL: $*"; fail=1; }
+. tests/lib.sh
+B=$BUILD
 J="$tmp/b.json"
 "$VP" sim --surface sphere --eps 0.2 --motion bump:1,0,0,0.5,0.001 --track 4 --out "$tmp/b" --quiet --json >"$J" 2>&1 || bad "bump: exit $?"
 python3 - "$J" <<'PY' || fail=1

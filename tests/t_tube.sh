@@ -15,14 +15,8 @@
 #   verifies (the rule held; the object did not keep the assumption); with the margin the edge
 #   needs (0.35) the same scan closes with 0 collisions;
 # - a board whose head reaches beyond the clearance ball is refused tubes (boards/sim.ini).
-set -u
-B=${BUILD:-build}
-VP=${VP:-$B/voroprobe}
-tmp=$(mktemp -d) || exit 1
-trap 'rm -rf "$tmp"' EXIT
-fail=0
-bad() { echo "FAIL: $*"; fail=1; }
-field() { tail -n 1 "$1" | sed -n "s/.*\"$2\":\([^,}]*\).*/\1/p"; }
+. tests/lib.sh
+B=$BUILD
 
 # the torus, without and with tubes
 for mf in 0 0.2; do
