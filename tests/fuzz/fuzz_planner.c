@@ -255,8 +255,10 @@ static void run(const uint8_t *data, size_t size, void *arena, vp_planner_t *pl,
          * proves nothing. Every sphere holds balls of radius 0.3; a box holds balls no larger
          * than its smallest half size, and its corners lie (sqrt 3 - 1) rho from them */
         c.min_feature = 0.3;
-        if (FUZZ_OBJECT_BOXES && c.min_feature > 0.9 * D.half[2]) c.min_feature = 0.9 * D.half[2];
-        if (FUZZ_OBJECT_BOXES) c.feature_margin = 0.75 * c.min_feature;
+        if (FUZZ_OBJECT_BOXES) {
+            if (c.min_feature > 0.9 * D.half[2]) c.min_feature = 0.9 * D.half[2];
+            c.feature_margin = 0.75 * c.min_feature;
+        }
     }
     if ((b3 & 4u) && c.clearance > 0.0) c.flags |= VP_PLAN_FAR_READS; /* spots read past the edge */
     D.min_range = (b3 & 8u) ? 0.05 : 0.0;
