@@ -102,7 +102,10 @@ static void sim_usage(FILE *f)
         "                     chooses eps (diagonal/20), the distance bound (H/3) and its floor\n"
         "                     (H/4); the simulator measures the result against H (exit 6 when it\n"
         "                     is farther). Not with --eps, --size-rel, --min-size, --max-distance\n"
-        "  --accuracy-rel R   the same with H = R times the bounding-box diagonal\n");
+        "  --accuracy-rel R   the same with H = R times the bounding-box diagonal\n"
+        "  --newest-first     with a distance bound: probe the newest task first, as the planner does\n"
+        "                     without one (default there: of the 32 newest, the one that can find\n"
+        "                     the smallest ball; fewer probes per vertex)\n");
     fprintf(f,
         "  --arena BYTES      memory given to the planner (default 512M; K, M, G suffixes)\n"
         "  --omega box|ball   the known region containing the object (default box: the bounding box\n"

@@ -49,6 +49,7 @@ int vp_sim_parse_option(vp_sim_options_t *o, int argc, char **argv, int *i, char
     if (!strcmp(a, "--paper")) { o->flags |= VP_PLAN_PAPER | VP_PLAN_PREV_CHAINS | VP_PLAN_LARGEST; return 0; }
     if (!strcmp(a, "--largest")) { o->flags |= VP_PLAN_LARGEST; return 0; }
     if (!strcmp(a, "--far-reads")) { o->flags |= VP_PLAN_FAR_READS; return 0; }
+    if (!strcmp(a, "--newest-first")) { o->newest_first = 1; return 0; }
     if (!strcmp(a, "--prev-chains")) { o->flags |= VP_PLAN_PREV_CHAINS; return 0; }
     if (!strcmp(a, "--contact")) { o->contact = 1; return 0; }
     if (!strcmp(a, "--dark")) {

@@ -71,7 +71,8 @@ static int sizing(const vp_planner_config_t *c) { return c->size_rel != 0.0 || c
 /* version 4: those three, a line laser's rays per frame and the proofs' life (two uint32);
  * version 5: those and the tubes' feature size and margin (two doubles); version 6: those, the
  * axes' times per unit (five doubles) and the pan's travel (two); version 7: the same bytes, and
- * the planner flag VP_PLAN_FAR_READS may be set (only there) */
+ * the planner flag VP_PLAN_FAR_READS may be set (only there); version 8: the same bytes, and the
+ * flag VP_PLAN_SMALL_FIRST is set (only there) */
 static int timed(const vp_planner_config_t *c)
 {
     int k;
@@ -81,7 +82,7 @@ static int timed(const vp_planner_config_t *c)
 }
 static uint32_t header_version(const vp_planner_config_t *c)
 {
-    return (c->flags & VP_PLAN_FAR_READS) ? 7u : timed(c) ? 6u : c->min_feature != 0.0 || c->feature_margin != 0.0 ? 5u
+    return (c->flags & VP_PLAN_SMALL_FIRST) ? 8u : (c->flags & VP_PLAN_FAR_READS) ? 7u : timed(c) ? 6u : c->min_feature != 0.0 || c->feature_margin != 0.0 ? 5u
            : c->line_rays != 0u || c->proof_life != 0u ? 4u : c->max_distance != 0.0 ? 3u : sizing(c) ? 2u : 1u;
 }
 static uint32_t ext_bytes(uint32_t version)

@@ -20,15 +20,17 @@
 #include "vp_status.h"
 
 #ifndef VP_CORE_MCU
-#define VP_LOGFMT_VERSION     7u  /* 2 adds the sizing field (size_rel, min_size) after the note,
+#define VP_LOGFMT_VERSION     8u  /* 2 adds the sizing field (size_rel, min_size) after the note,
                                      3 the distance bound too, 4 a line laser's rays per frame
                                      (and RAY records) and the proofs' life, 5 the tubes' feature
                                      size and margin, 6 the axes' times and the pan's travel
                                      (moves weighed by machine time), 7 the spots read past
                                      the edge (VP_PLAN_FAR_READS; no more bytes: a build
                                      before it refuses such a log rather than replay it
-                                     otherwise); a header is written in the oldest version
-                                     that holds its configuration */
+                                     otherwise), 8 the smallest ball first
+                                     (VP_PLAN_SMALL_FIRST; no more bytes, the same); a header
+                                     is written in the oldest version that holds its
+                                     configuration */
 #else
 #define VP_LOGFMT_VERSION     3u  /* a microcontroller core has no line laser */
 #endif

@@ -54,6 +54,7 @@ void vp_sim_session_note(const vp_sim_options_t *o, char *buf, size_t n)
     if ((o->flags & VP_PLAN_LARGEST) != 0) vp_note_put(buf, n, &len, "--largest");
     if ((o->flags & VP_PLAN_FAR_READS) != 0) vp_note_put(buf, n, &len, "--far-reads");
     if ((o->flags & VP_PLAN_PREV_CHAINS) != 0) vp_note_put(buf, n, &len, "--prev-chains");
+    if (o->newest_first) vp_note_put(buf, n, &len, "--newest-first");
     if (o->contact) vp_note_put(buf, n, &len, "--contact");
     if (o->proof_life > 0) vp_note_put_opt(buf, n, &len, "--proof-life", "%ld", o->proof_life);
     if (o->line_rays) {

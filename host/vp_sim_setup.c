@@ -213,6 +213,10 @@ int vp_sim_open(vp_sim_t *s, const vp_sim_options_t *o, char *err, size_t errlen
     if (o->max_distance > 0) s->cfg.max_distance = o->max_distance;
     s->cfg.max_range = o->max_range;
     s->cfg.flags = o->flags;
+    /* with a distance bound, in point mode: the task that can find the smallest ball first (the
+     * published order, --paper, keeps its own) */
+    if (s->cfg.max_distance > 0 && !(o->clearance > 0) && !o->newest_first && !(o->flags & VP_PLAN_PAPER))
+        s->cfg.flags |= VP_PLAN_SMALL_FIRST;
     s->cfg.line_rays = o->line_rays;
     if (o->proof_life >= 0) s->cfg.proof_life = (uint32_t)o->proof_life;
     s->line_half = 0.5 * o->line_deg * (M_PI / 180.0);

@@ -27,6 +27,7 @@ typedef struct vp_sim_options {
     int omega_ball;
     double omega_margin;      /* fraction of the bbox diagonal */
     unsigned flags;           /* VP_PLAN_* */
+    int newest_first;         /* --newest-first: no VP_PLAN_SMALL_FIRST with a distance bound */
     unsigned long long seed;
     size_t hausdorff;
     int json, quiet;

@@ -352,8 +352,10 @@ static int phase_step(vp_planner_t *pl, int *done)
         if (pl->pool.ntask > 0) {
             vp_task_t k;
 #ifndef VP_CORE_MCU
-            /* body mode: the task whose probe starts nearest the head (timed: soonest) goes first */
+            /* body mode: the task whose probe starts nearest the head (timed: soonest) goes first;
+             * point mode, asked: the one that can find the smallest ball */
             if (pl->cfg.clearance > 0.0 && pl->pool.ntask > 1) vp_pl_task_nearest_on_top(pl);
+            else if ((pl->cfg.flags & VP_PLAN_SMALL_FIRST) && pl->pool.ntask > 1) vp_pl_task_small_on_top(pl);
             if (pl->pool.ntask == 0) return pl->error; /* every task had gone */
 #endif
             k = pl->pool.task[--pl->pool.ntask];

@@ -446,6 +446,67 @@ VP_PL_API void vp_pl_task_nearest_on_top(vp_planner_t *pl)
 }
 #endif
 
+#ifndef VP_CORE_MCU
+/* VP_PLAN_SMALL_FIRST: the newest tasks looked at for the smallest ball */
+#define SMALL_WINDOW 32u
+/* ... but for facets at most this many floors (min_size) across: at a knife edge those are the
+ * facets laid across the fold, which wait their turn (the 26-degree wedge ended open without) */
+#define SMALL_HOLD 1.0
+
+/* The squared radius of the smallest surface Delaunay ball task k's probe can find: a ball
+ * centred on the facet's Voronoi edge (its part in Omega) through the facet's vertices, of
+ * radius^2 = R^2 + |c - m|^2 for the facet's circumcentre m and circumradius R. -1 when the
+ * task is not a candidate (gone, walked on, degenerate, or a facet within the hold). */
+static double task_small_key(const vp_planner_t *pl, const vp_task_t *k)
+{
+    uint32_t fv[3];
+    double m[3], x[3], r2, s, d2;
+    edgegeom_t g;
+    int q;
+    if (!task_live(pl, k) || k->off > 0.0 || !tet_active(pl, k->tet)) return -1.0;
+    vp_dt_facet(&pl->dt, k->tet, k->facet, fv);
+    if (fv[0] == VP_DT_GHOST || fv[1] == VP_DT_GHOST || fv[2] == VP_DT_GHOST || !vp_pl_facet_circumcenter(pl, fv, m))
+        return -1.0;
+    vp_sub3(x, m, vp_dt_point(&pl->dt, fv[0]));
+    r2 = vp_dot3(x, x);
+    if (pl->cfg.min_size > 0.0 && r2 <= SMALL_HOLD * SMALL_HOLD * pl->cfg.min_size * pl->cfg.min_size) return -1.0;
+    if (vp_pl_edge_geom(pl, k->tet, k->facet, &g) != VP_OK || !(g.t0 < g.t1)) return -1.0;
+    /* the point of the edge in Omega nearest m: m's foot on its line, clamped */
+    vp_sub3(x, m, g.a);
+    s = vp_dot3(x, g.dir);
+    s = s < g.t0 ? g.t0 : s > g.t1 ? g.t1 : s;
+    for (q = 0; q < 3; q++) x[q] = g.a[q] + s * g.dir[q] - m[q];
+    d2 = vp_dot3(x, x);
+    return r2 + d2;
+}
+
+/* Point mode with VP_PLAN_SMALL_FIRST: of the SMALL_WINDOW newest tasks, the one whose probe can
+ * find the smallest ball is put on top of the stack, the others keeping their order (ties: the
+ * newer). A small ball is a facet of the surface being sampled finely; the large ones mostly
+ * reach into the pockets of the hull, where the insertions found meanwhile kill them unprobed.
+ * Probes per vertex at --accuracy-rel 0.002: fandisk 8.23 -> 7.18, dino 9.66 -> 8.04 (README).
+ * A ray being walked on stays on top. */
+VP_PL_API void vp_pl_task_small_on_top(vp_planner_t *pl)
+{
+    uint32_t i, lo, best = NONE, top = pl->pool.ntask - 1;
+    double bk = VP_PL_HUGE;
+    if (pl->pool.task[top].off > 0.0) return;
+    lo = pl->pool.ntask > SMALL_WINDOW ? pl->pool.ntask - SMALL_WINDOW : 0;
+    for (i = pl->pool.ntask; i-- > lo;) {
+        double key = task_small_key(pl, &pl->pool.task[i]);
+        if (key >= 0.0 && key < bk) {
+            bk = key;
+            best = i;
+        }
+    }
+    if (best != NONE && best != top) {
+        vp_task_t k = pl->pool.task[best];
+        memmove(&pl->pool.task[best], &pl->pool.task[best + 1], (size_t)(top - best) * sizeof k);
+        pl->pool.task[top] = k;
+    }
+}
+#endif
+
 /* VP_PLAN_FAR_READS (body mode): the beam goes on past the edge's end, and a triangulating head
  * reads the spot wherever it lands; so the range asked runs on to where the line leaves Omega
  * (within the rangefinder's reach), and a reading past the edge's end proves the whole edge free

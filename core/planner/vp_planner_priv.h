@@ -374,6 +374,7 @@ VP_PL_API int vp_pl_task_start(vp_planner_t *pl, vp_task_t *k);
 #ifndef VP_CORE_MCU
 VP_PL_API int vp_pl_task_origin(const vp_planner_t *pl, const vp_task_t *k, double *o);
 VP_PL_API void vp_pl_task_nearest_on_top(vp_planner_t *pl);
+VP_PL_API void vp_pl_task_small_on_top(vp_planner_t *pl);
 #endif
 VP_PL_API int vp_pl_tet_point(const vp_planner_t *pl, uint32_t t, double *p);
 #if VP_PL_CONTACTS || VP_PL_LINE_LASER

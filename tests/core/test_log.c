@@ -480,6 +480,38 @@ static void test_sizing_header(void)
         }
         h.cfg.flags &= ~VP_PLAN_FAR_READS;
     }
+    /* the smallest ball first: version 8, the same 104 bytes, the flag read back (a distance bound
+     * beside it, as sim sets it); the flag in a header of any other version is damage, and a
+     * version 8 header without it too */
+    {
+        int v;
+        unsigned char c2[sizeof b];
+        size_t m;
+        h.cfg.flags |= VP_PLAN_SMALL_FIRST;
+        h.cfg.min_size = 0.001;
+        h.cfg.max_distance = 0.0004;
+        nb = vp_logfmt_header_encode(&h, b, sizeof b);
+        vp_logfmt_reader_init(&r);
+        CHECK(nb == na + 104 && b[8] == 8 && vp_logfmt_reader_push(&r, b, (size_t)nb, &used, &rec) == VP_LOGFMT_GOT_HEADER);
+        h.version = 8;
+        CHECK(header_equal(&r.header, &h) && (r.header.cfg.flags & VP_PLAN_SMALL_FIRST) &&
+              r.header.cfg.max_distance == 0.0004 && r.header.cfg.min_size == 0.001);
+        for (v = 1; v <= 7; v++) {
+            m = (size_t)vp_logfmt_header_encode(&h, c2, sizeof c2);
+            c2[8] = (unsigned char)v;
+            put_crc(c2, m);
+            vp_logfmt_reader_init(&r);
+            CHECK(vp_logfmt_reader_push(&r, c2, m, &used, &rec) == VP_ECORRUPT);
+        }
+        /* the flag's bit cleared in a version 8 header (the flags word at byte 172) */
+        m = (size_t)vp_logfmt_header_encode(&h, c2, sizeof c2);
+        c2[172] &= (unsigned char)~VP_PLAN_SMALL_FIRST;
+        put_crc(c2, m);
+        vp_logfmt_reader_init(&r);
+        CHECK(vp_logfmt_reader_push(&r, c2, m, &used, &rec) == VP_ECORRUPT);
+        h.cfg.flags &= ~VP_PLAN_SMALL_FIRST;
+        h.cfg.min_size = h.cfg.max_distance = 0.0;
+    }
 }
 
 int main(void)

@@ -1212,6 +1212,175 @@ static void test_nearest(void *arena, size_t bytes, double eps)
     free(snap);
 }
 
+/* ---- the smallest ball first in point mode (tasks.c, vp_pl_task_small_on_top): at every pick
+ * of a scan of the ellipsoid with a distance bound, against a brute force of its own: each task's
+ * smallest ball worked out from the two tets' circumcentres (a 3x3 solve here), the segment
+ * between them clipped to the box Omega by slabs, and the point of it nearest a facet vertex (no
+ * facet circumcentre, no edge geometry of the planner). The pick must move one task of the 32
+ * newest to the top, keep the others in order, and take one whose smallest ball is no larger
+ * than any other candidate's; a top swapped for the window's largest ball must be seen. */
+typedef struct small_snap { uint32_t tet; uint8_t facet; double off, key; } small_snap_t;
+
+/* circumcentre of four points by Cramer's rule; 0 when flat */
+static int brute_circumcentre(const double *p0, const double *p1, const double *p2, const double *p3, double *c)
+{
+    double a[3][3], b[3], det;
+    const double *p[3];
+    int i;
+    p[0] = p1; p[1] = p2; p[2] = p3;
+    for (i = 0; i < 3; i++) {
+        vp_sub3(a[i], p[i], p0);
+        b[i] = 0.5 * vp_dot3(a[i], a[i]);
+    }
+    det = a[0][0] * (a[1][1] * a[2][2] - a[1][2] * a[2][1]) - a[0][1] * (a[1][0] * a[2][2] - a[1][2] * a[2][0]) +
+          a[0][2] * (a[1][0] * a[2][1] - a[1][1] * a[2][0]);
+    if (!(fabs(det) > 1e-30)) return 0;
+    for (i = 0; i < 3; i++) {
+        double m[3][3];
+        int r, q;
+        for (r = 0; r < 3; r++)
+            for (q = 0; q < 3; q++) m[r][q] = q == i ? b[r] : a[r][q];
+        c[i] = p0[i] + (m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0]) +
+                        m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0])) / det;
+    }
+    return 1;
+}
+
+/* the brute force's key of task (t, f): the squared radius of the smallest ball centred on the
+ * Voronoi edge's part in [-1, 1]^3 through a facet vertex; -1 not a candidate (the planner's
+ * filters: gone, walked on, inactive, a facet within the floor), -2 unknown here (a ghost or flat
+ * tet, or no part in Omega) */
+static double small_brute_key(const vp_planner_t *pl, const vp_task_t *k)
+{
+    const uint32_t *w;
+    uint32_t fv[3], u, q;
+    double ct[3], cu[3], d[3], lo = 0.0, hi = 1.0, ab[3], ac[3], bc[3], n[3], r2, s, x[3], l2;
+    const double *a, *b, *c;
+    int i;
+    if (!vp_dt_alive(&pl->dt, k->tet) || !(side_get(pl, k->tet, k->facet) & SIDE_QUEUED) || k->off > 0.0 ||
+        pay(pl, k->tet)[0] == NONE)
+        return -1.0;
+    vp_dt_facet(&pl->dt, k->tet, k->facet, fv);
+    if (fv[0] == VP_DT_GHOST || fv[1] == VP_DT_GHOST || fv[2] == VP_DT_GHOST) return -1.0;
+    a = vp_dt_point(&pl->dt, fv[0]); b = vp_dt_point(&pl->dt, fv[1]); c = vp_dt_point(&pl->dt, fv[2]);
+    vp_sub3(ab, b, a); vp_sub3(ac, c, a); vp_sub3(bc, c, b); vp_cross3(n, ab, ac);
+    if (!(vp_dot3(n, n) > 0.0)) return -1.0;
+    r2 = vp_dot3(ab, ab) * vp_dot3(ac, ac) * vp_dot3(bc, bc) / (4.0 * vp_dot3(n, n)); /* circumradius^2 */
+    if (r2 <= pl->cfg.min_size * pl->cfg.min_size) return -1.0;
+    w = vp_dt_tet(&pl->dt, k->tet);
+    u = w[4 + k->facet] >> 2;
+    if (vp_dt_is_ghost(&pl->dt, k->tet) && vp_dt_is_ghost(&pl->dt, u)) return -2.0;
+    {
+        /* a ghost tet's end: the hull facet's Voronoi ray, 10 out along its outward normal */
+        int tg = vp_dt_is_ghost(&pl->dt, k->tet), ug = vp_dt_is_ghost(&pl->dt, u);
+        const uint32_t *y = vp_dt_tet(&pl->dt, tg ? u : k->tet);
+        double cf[3], nn[3], o[3];
+        if (!brute_circumcentre(vp_dt_point(&pl->dt, y[0]), vp_dt_point(&pl->dt, y[1]), vp_dt_point(&pl->dt, y[2]),
+                                vp_dt_point(&pl->dt, y[3]), cf))
+            return -2.0;
+        if (tg || ug) {
+            for (i = 0; i < 4; i++)
+                if (y[i] != fv[0] && y[i] != fv[1] && y[i] != fv[2]) break;
+            memcpy(nn, n, sizeof nn);
+            vp_normalize3(nn);
+            vp_sub3(o, vp_dt_point(&pl->dt, y[i]), a);
+            if (vp_dot3(nn, o) > 0.0) for (q = 0; q < 3; q++) nn[q] = -nn[q];
+            for (q = 0; q < 3; q++) o[q] = cf[q] + 10.0 * nn[q];
+            memcpy(tg ? ct : cu, o, sizeof o);
+            memcpy(tg ? cu : ct, cf, sizeof cf);
+        } else {
+            const uint32_t *z = vp_dt_tet(&pl->dt, u);
+            memcpy(ct, cf, sizeof cf);
+            if (!brute_circumcentre(vp_dt_point(&pl->dt, z[0]), vp_dt_point(&pl->dt, z[1]), vp_dt_point(&pl->dt, z[2]),
+                                    vp_dt_point(&pl->dt, z[3]), cu))
+                return -2.0;
+        }
+    }
+    if (vp_dist3(ct, cu) > 100.0) return -2.0; /* nearly flat: the planner takes the facet's line */
+    vp_sub3(d, cu, ct);
+    for (i = 0; i < 3; i++) {
+        /* slab -1 <= ct + s d <= 1 */
+        if (d[i] == 0.0) { if (fabs(ct[i]) > 1.0) return -2.0; continue; }
+        {
+            double s0 = (-1.0 - ct[i]) / d[i], s1 = (1.0 - ct[i]) / d[i];
+            if (s0 > s1) { double t = s0; s0 = s1; s1 = t; }
+            if (s0 > lo) lo = s0;
+            if (s1 < hi) hi = s1;
+        }
+    }
+    if (!(lo < hi)) return -2.0;
+    vp_sub3(x, a, ct);
+    l2 = vp_dot3(d, d);
+    s = l2 > 0.0 ? vp_dot3(x, d) / l2 : 0.0;
+    s = s < lo ? lo : s > hi ? hi : s;
+    for (q = 0; q < 3; q++) x[q] = ct[q] + s * d[q] - a[q];
+    return vp_dot3(x, x);
+}
+
+static void test_small_first(void *arena)
+{
+    vp_planner_config_t c;
+    vp_planner_t pl;
+    vp_test_ell_t e;
+    vp_cmd_t cmd;
+    small_snap_t snap[32];
+    long steps = 0, picks = 0, moved = 0, order_bad = 0, larger = 0, unknown = 0, mutants = 0, mutant_seen = 0;
+    ell_setup(&c, &e, 0.1, 0.0);
+    c.max_distance = 0.004;
+    c.min_size = 0.003;
+    c.flags = VP_PLAN_SMALL_FIRST;
+    CHECK(vp_planner_init(&pl, arena, ARENA, &c) == VP_OK);
+    for (;;) {
+        if (pl.pool.ntask > 1 && !pl.dev.awaiting && pl.pool.task[pl.pool.ntask - 1].off <= 0.0) {
+            uint32_t n = pl.pool.ntask, lo = n > 32 ? n - 32 : 0, i, j, top;
+            double best = -1.0, worst = -1.0;
+            for (i = lo; i < n; i++) {
+                snap[i - lo].tet = pl.pool.task[i].tet;
+                snap[i - lo].facet = pl.pool.task[i].facet;
+                snap[i - lo].off = pl.pool.task[i].off;
+                snap[i - lo].key = small_brute_key(&pl, &pl.pool.task[i]);
+                if (snap[i - lo].key >= 0.0 && (best < 0.0 || snap[i - lo].key < best)) best = snap[i - lo].key;
+                if (snap[i - lo].key > worst) worst = snap[i - lo].key;
+            }
+            vp_pl_task_small_on_top(&pl);
+            picks++;
+            top = pl.pool.ntask - 1;
+            /* the one moved: find it in the snapshot; the rest in their order */
+            /* (a dead task may share its tet and facet with a live one: the first j that fits) */
+            for (j = 0; j < n - lo; j++) {
+                uint32_t q = lo;
+                if (snap[j].tet != pl.pool.task[top].tet || snap[j].facet != pl.pool.task[top].facet) continue;
+                for (i = 0; i < n - lo; i++) {
+                    if (i == j) continue;
+                    if (pl.pool.task[q].tet != snap[i].tet || pl.pool.task[q].facet != snap[i].facet) break;
+                    q++;
+                }
+                if (i == n - lo) break;
+            }
+            if (pl.pool.ntask != n || j == n - lo) order_bad++;
+            else {
+                moved += j != n - lo - 1;
+                if (snap[j].key == -2.0) unknown++;
+                else if (best >= 0.0 && (snap[j].key < 0.0 || snap[j].key > best * (1.0 + 1e-9) + 1e-18)) larger++;
+                /* the checker: the window's largest ball put on top instead must be seen */
+                if (best >= 0.0 && worst > best * 1.01 && picks % 5 == 0) {
+                    for (i = 0; i < n - lo && snap[i].key != worst; i++) {}
+                    mutants++;
+                    mutant_seen += snap[i].key > best * (1.0 + 1e-9) + 1e-18;
+                }
+            }
+        }
+        if (vp_planner_next(&pl, &cmd) != VP_OK || cmd.kind == VP_CMD_DONE || ++steps > 2000000) break;
+        if (ell_answer(&pl, &e, &cmd) != VP_OK) break;
+    }
+    printf("smallest ball first: %ld picks against the brute force (%ld moved a task up), %ld out of order, "
+           "%ld not the smallest, %ld unknown to the brute force; %ld of %ld largest balls put on top seen\n",
+           picks, moved, order_bad, larger, unknown, mutant_seen, mutants);
+    CHECK(cmd.kind == VP_CMD_DONE);
+    CHECK(picks > 1000 && moved > 200 && order_bad == 0 && larger == 0 && unknown * 20 < picks);
+    CHECK(mutants > 50 && mutant_seen == mutants);
+}
+
 /* ---- timed body mode (route.c): moves weighed by the axes' speeds. The way round a ball Omega
  * stays outside it (the checker above) and never takes longer at top speed than the untimed
  * way; two starts at one height on either side go round level, not over the top; the pan and
@@ -1856,6 +2025,7 @@ int main(void)
     test_hole_vertices(arena);
     test_nearest(arena, ARENA, 0.03);
     test_nearest(arena, 200u * 1024u, 0.1);
+    test_small_first(arena);
     test_timed_route(arena);
     test_start_back(arena);
     test_timed_nearest(arena);
