@@ -48,8 +48,9 @@
                                      elsewhere, a sample where none lies within eps (tasks.c) */
 #define VP_PLAN_SMALL_FIRST 0x20u /* point mode: of the newest probe tasks, the one whose facet
                                      can have the smallest surface Delaunay ball goes first
-                                     (tasks.c; sim sets it with a distance bound); otherwise the
-                                     newest first */
+                                     (tasks.c; sim sets it with a distance bound), and a facet's
+                                     tilt waits for the size pass where it does not bend
+                                     (facets.c); otherwise the newest first */
 
 typedef struct vp_planner_config {
     int omega_kind;              /* VP_OMEGA_BOX or VP_OMEGA_BALL */

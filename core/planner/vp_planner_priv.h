@@ -352,7 +352,7 @@ VP_PL_API void vp_pl_frec_set_ball(vp_planner_t *pl, uint32_t k, const double *c
 VP_PL_API void vp_pl_heap_remove(vp_planner_t *pl, uint32_t k);
 VP_PL_API int vp_pl_heap_push(vp_planner_t *pl, uint32_t k);
 VP_PL_API double vp_pl_size_bound(vp_planner_t *pl, const uint32_t *v, const double *c);
-VP_PL_API int vp_pl_facet_rate(vp_planner_t *pl, vp_frec_t *f);
+VP_PL_API int vp_pl_facet_rate(vp_planner_t *pl, vp_frec_t *f, int at_pass);
 VP_PL_API int vp_pl_size_pass(vp_planner_t *pl);
 VP_PL_API void vp_pl_sample_touch(vp_planner_t *pl, uint32_t v);
 
