@@ -214,6 +214,15 @@ typedef struct vp_task_near {
     uint8_t ok;
 } vp_task_near_t;
 
+/* Point mode with VP_PLAN_SMALL_FIRST: beside each task slot, the squared radius of the smallest
+ * ball its probe can find (-1: not a candidate), with the two tets' vertices it was worked out
+ * for (as vp_task_near_t's: they name the facet and its Voronoi edge). tasks.c */
+typedef struct vp_task_small {
+    uint32_t tv[4], uv[4];
+    double key;
+    uint8_t ok;
+} vp_task_small_t;
+
 /* A proof of free space: the free part of one probe, [o, o + len * d] (d unit), and the proof
  * of the piece before it on the same ray (a range-limited probe walked on), or none. */
 typedef struct vp_proof {
@@ -239,6 +248,9 @@ typedef struct vp_pl_pools {
     vp_task_near_t *near;                             /* per task slot in body mode (an arena
                                                          of some 2.6 MB up, 3 MB timed), else NULL: tasks.c
                                                          (the nearest task) */
+    vp_task_small_t *small;                           /* per task slot with the smallest ball
+                                                         first (point mode; an arena of some
+                                                         3 MB up), else NULL: tasks.c */
     float *near_dir;                                  /* timed body mode: beside each kept
                                                          start, its probe's direction (3 per
                                                          slot, a cost's estimate: route.c) */

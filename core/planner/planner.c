@@ -67,7 +67,7 @@ int vp_planner_init(vp_planner_t *pl, void *arena, size_t bytes, const vp_planne
     size_t dtb, unit;
     const unsigned char *sh;
     uint32_t i, hwords;
-    int k, st, keep_starts = 0;
+    int k, st, keep_starts = 0, keep_small = 0;
     if (!pl || !arena || !cfg) return VP_EINVAL;
     if (cfg->omega_kind == VP_OMEGA_BALL) {
         if (!vp_finite3(cfg->omega_center) || !(cfg->omega_radius > 0.0) || !(cfg->omega_radius < CFG_MAX))
@@ -145,6 +145,10 @@ int vp_planner_init(vp_planner_t *pl, void *arena, size_t bytes, const vp_planne
         size_t slot = sizeof(vp_task_t) + sizeof(vp_task_near_t) + (vp_planner_timed(cfg) ? 3 * sizeof(float) : 0u);
         uint32_t cap_near = (uint32_t)(sh[4] * unit / slot);
         if (cap_near >= NEAR_ROOM * pl->pool.room) { keep_starts = 1; pl->pool.cap_task = cap_near; }
+    } else if (cfg->flags & VP_PLAN_SMALL_FIRST) {
+        /* the smallest ball first: each slot's smallest ball kept beside it (tasks.c) */
+        uint32_t cap_small = (uint32_t)(sh[4] * unit / (sizeof(vp_task_t) + sizeof(vp_task_small_t)));
+        if (cap_small >= NEAR_ROOM * pl->pool.room) { keep_small = 1; pl->pool.cap_task = cap_small; }
     }
 #endif
     pl->pool.cap_heap = (uint32_t)(unit / 4);
@@ -157,6 +161,11 @@ int vp_planner_init(vp_planner_t *pl, void *arena, size_t bytes, const vp_planne
     pl->pool.astar = carve(&cur, end, (size_t)pl->pool.cap_astar * 4);
     pl->route.path = carve(&cur, end, (size_t)pl->route.cap_path * 4);
     pl->pool.task = carve(&cur, end, (size_t)pl->pool.cap_task * sizeof(vp_task_t));
+    if (keep_small) {
+        pl->pool.small = carve(&cur, end, (size_t)pl->pool.cap_task * sizeof(vp_task_small_t));
+        if (!pl->pool.small) return VP_ENOMEM;
+        memset(pl->pool.small, 0, (size_t)pl->pool.cap_task * sizeof(vp_task_small_t)); /* none kept */
+    }
     if (keep_starts) {
         pl->pool.near = carve(&cur, end, (size_t)pl->pool.cap_task * sizeof(vp_task_near_t));
         if (!pl->pool.near) return VP_ENOMEM;

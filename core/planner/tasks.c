@@ -149,7 +149,10 @@ VP_PL_API void vp_pl_task_compact(vp_planner_t *pl)
 {
     uint32_t i, n = 0;
     for (i = 0; i < pl->pool.ntask; i++)
-        if (task_live(pl, &pl->pool.task[i])) pl->pool.task[n++] = pl->pool.task[i];
+        if (task_live(pl, &pl->pool.task[i])) {
+            if (pl->pool.small) pl->pool.small[n] = pl->pool.small[i]; /* the kept ball goes along */
+            pl->pool.task[n++] = pl->pool.task[i];
+        }
     pl->pool.ntask = n;
 }
 
@@ -450,20 +453,20 @@ VP_PL_API void vp_pl_task_nearest_on_top(vp_planner_t *pl)
 /* VP_PLAN_SMALL_FIRST: the newest tasks looked at for the smallest ball */
 #define SMALL_WINDOW 32u
 /* ... but for facets at most this many floors (min_size) across: at a knife edge those are the
- * facets laid across the fold, which wait their turn (the 26-degree wedge ended open without) */
+ * facets laid across the fold, which wait their turn */
 #define SMALL_HOLD 1.0
 
 /* The squared radius of the smallest surface Delaunay ball task k's probe can find: a ball
  * centred on the facet's Voronoi edge (its part in Omega) through the facet's vertices, of
- * radius^2 = R^2 + |c - m|^2 for the facet's circumcentre m and circumradius R. -1 when the
- * task is not a candidate (gone, walked on, degenerate, or a facet within the hold). */
-static double task_small_key(const vp_planner_t *pl, const vp_task_t *k)
+ * radius^2 = R^2 + |c - m|^2 for the facet's circumcentre m and circumradius R; a function of
+ * the two tets' vertices alone. -1 when the task is not a candidate (degenerate, or a facet
+ * within the hold). */
+static double small_key_of(const vp_planner_t *pl, const vp_task_t *k)
 {
     uint32_t fv[3];
     double m[3], x[3], r2, s, d2;
     edgegeom_t g;
     int q;
-    if (!task_live(pl, k) || k->off > 0.0 || !tet_active(pl, k->tet)) return -1.0;
     vp_dt_facet(&pl->dt, k->tet, k->facet, fv);
     if (fv[0] == VP_DT_GHOST || fv[1] == VP_DT_GHOST || fv[2] == VP_DT_GHOST || !vp_pl_facet_circumcenter(pl, fv, m))
         return -1.0;
@@ -480,6 +483,27 @@ static double task_small_key(const vp_planner_t *pl, const vp_task_t *k)
     return r2 + d2;
 }
 
+/* small_key_of for the task in slot i, or -1 when it is no candidate now (gone, walked on, its
+ * tet not reached): worked out again only when its edge is not the one kept beside the slot (a
+ * function of the two tets' vertices alone; every time in an arena too small to keep them) */
+static double task_small_key(vp_planner_t *pl, uint32_t i)
+{
+    const vp_task_t *k = &pl->pool.task[i];
+    vp_task_small_t *c = pl->pool.small ? &pl->pool.small[i] : NULL;
+    const uint32_t *w, *x;
+    if (!task_live(pl, k) || k->off > 0.0 || !tet_active(pl, k->tet)) return -1.0;
+    if (!c) return small_key_of(pl, k);
+    w = vp_dt_tet(&pl->dt, k->tet);
+    x = vp_dt_tet(&pl->dt, w[4 + k->facet] >> 2);
+    if (!c->ok || memcmp(c->tv, w, sizeof c->tv) != 0 || memcmp(c->uv, x, sizeof c->uv) != 0) {
+        c->key = small_key_of(pl, k);
+        memcpy(c->tv, w, sizeof c->tv);
+        memcpy(c->uv, x, sizeof c->uv);
+        c->ok = 1;
+    }
+    return c->key;
+}
+
 /* Point mode with VP_PLAN_SMALL_FIRST: of the SMALL_WINDOW newest tasks, the one whose probe can
  * find the smallest ball is put on top of the stack, the others keeping their order (ties: the
  * newer). A small ball is a facet of the surface being sampled finely; the large ones mostly
@@ -493,7 +517,7 @@ VP_PL_API void vp_pl_task_small_on_top(vp_planner_t *pl)
     if (pl->pool.task[top].off > 0.0) return;
     lo = pl->pool.ntask > SMALL_WINDOW ? pl->pool.ntask - SMALL_WINDOW : 0;
     for (i = pl->pool.ntask; i-- > lo;) {
-        double key = task_small_key(pl, &pl->pool.task[i]);
+        double key = task_small_key(pl, i);
         if (key >= 0.0 && key < bk) {
             bk = key;
             best = i;
@@ -503,6 +527,11 @@ VP_PL_API void vp_pl_task_small_on_top(vp_planner_t *pl)
         vp_task_t k = pl->pool.task[best];
         memmove(&pl->pool.task[best], &pl->pool.task[best + 1], (size_t)(top - best) * sizeof k);
         pl->pool.task[top] = k;
+        if (pl->pool.small) {
+            vp_task_small_t c = pl->pool.small[best];
+            memmove(&pl->pool.small[best], &pl->pool.small[best + 1], (size_t)(top - best) * sizeof c);
+            pl->pool.small[top] = c;
+        }
     }
 }
 #endif
