@@ -3,7 +3,9 @@
 # PLY/OFF files (here, and on aarch64 under qemu from the same log); sessions cut at random
 # record boundaries, at random byte offsets (torn records) and by a simulated power cut resume
 # to the uncut mesh; damaged logs name the bad record and keep the rest; a newer format
-# version is refused; log dump/check, mesh of an incomplete session, --help everywhere.
+# version is refused; a distance bound's session (the smallest ball first, version 8) and one
+# logged before that rule (version 3) resume bit for bit; log dump/check, mesh of an incomplete
+# session, --help everywhere.
 . tests/lib.sh
 B=$BUILD
 N=${VP_LOG_CUTS:-24}
@@ -98,6 +100,40 @@ cmp -s "$tmp/lp.ply" "$tmp/lpc.ply" || bad "off: scan at a long path: resumed me
 cmp -s "$tmp/sz.ply" "$tmp/szp.ply" || bad "sizing field: paused + resumed mesh differs"
 "$VP" sim --surface ellipsoid --eps 0.3 --min-size 0.01 --out "$tmp/szb" $S >/dev/null 2>"$tmp/e.txt" && bad "--min-size without --size-rel accepted"
 echo "sizing field: a version 2 log, replayed and resumed bit for bit"
+
+# a distance bound in point mode: the smallest ball first, a version 8 log, resumed bit for bit;
+# and a session logged before that rule (version 3, the newest task first), made here from a
+# --newest-first log whose note loses that option (header length and CRC made good), as a build
+# before wrote it: resumed with the newest task first, bit for bit
+A="--quiet --sync close"
+"$VP" sim --surface torus --accuracy-rel 0.005 --out "$tmp/sb" $A >/dev/null 2>&1 || bad "sim --accuracy-rel: exit $?"
+"$VP" log dump "$tmp/sb.vplog" | head -1 | grep -q "format version 8" || bad "the smallest ball first: not a version 8 log"
+"$VP" sim --surface torus --accuracy-rel 0.005 --out "$tmp/sbp" $A --stop-after 2500 >/dev/null 2>&1
+"$VP" sim --resume "$tmp/sbp.vplog" --quiet >/dev/null 2>&1 || bad "the smallest ball first: resume"
+cmp -s "$tmp/sb.ply" "$tmp/sbp.ply" || bad "the smallest ball first: paused + resumed mesh differs"
+"$VP" sim --surface torus --accuracy-rel 0.005 --newest-first --out "$tmp/nf" $A >/dev/null 2>&1 || bad "--newest-first: exit $?"
+"$VP" sim --surface torus --accuracy-rel 0.005 --newest-first --out "$tmp/nfp" $A --stop-after 2500 >/dev/null 2>&1
+cmp -s "$tmp/sb.ply" "$tmp/nf.ply" && bad "the two orders gave one mesh: the old log below would prove nothing"
+python3 - "$tmp/nfp.vplog" "$tmp/old.vplog" <<'PY' || bad "could not write the old log"
+import struct, sys, zlib
+b = open(sys.argv[1], 'rb').read()
+H = struct.unpack_from('<I', b, 12)[0]          # the header's length
+q = 188 + 24 * struct.unpack_from('<I', b, 184)[0]
+q += 2 + struct.unpack_from('<H', b, q)[0]     # past the board name
+nl = struct.unpack_from('<H', b, q)[0]
+note = b[q + 2:q + 2 + nl]
+new = note.replace(b' --newest-first', b'')
+assert new != note
+h = b[:q] + struct.pack('<H', len(new)) + new + b[q + 2 + nl:H - 4]
+h = h[:12] + struct.pack('<I', len(h) + 4) + h[16:]
+open(sys.argv[2], 'wb').write(h + struct.pack('<I', zlib.crc32(h) & 0xffffffff) + b[H:])
+PY
+"$VP" log dump "$tmp/old.vplog" >"$tmp/old.dump" 2>&1 || bad "the old log does not read: $(head -2 "$tmp/old.dump")"
+head -1 "$tmp/old.dump" | grep -q "format version 3" && ! head -3 "$tmp/old.dump" | grep -q -- "--newest-first" ||
+  bad "the old log is not one a build before wrote: $(head -2 "$tmp/old.dump")"
+"$VP" sim --resume "$tmp/old.vplog" --quiet >"$tmp/old.txt" 2>&1 || { bad "a version 3 log with a distance bound: resume"; tail -2 "$tmp/old.txt"; }
+cmp -s "$tmp/nf.ply" "$tmp/old.ply" || bad "a version 3 log with a distance bound: resumed mesh differs from the newest task first's"
+echo "distance bound: a version 8 log (the smallest ball first) and a version 3 one (the newest task first) resumed bit for bit"
 
 # a pause is resumable too
 "$VP" sim --surface torus --eps-rel 0.05 --noise 0.0005 --dropout 0.1 --out "$tmp/pa" $S --stop-after 3000 >/dev/null 2>&1
