@@ -276,7 +276,8 @@ int vp_sim_session_options(vp_sim_session_t *g, vp_sim_options_t *o, int argc, c
             return VP_EINVAL;
         }
     }
-    /* a session logged before the smallest ball first (format 3) ran with the newest task first */
+    /* a session logged without the smallest ball first (a log format before 8) ran with the
+     * newest task first */
     if (!(g->L.header.cfg.flags & VP_PLAN_SMALL_FIRST)) o->newest_first = 1;
     for (i = 1; i < argc; i++) {
         vp_sim_session_t scratch;

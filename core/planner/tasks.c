@@ -508,7 +508,8 @@ static double task_small_key(vp_planner_t *pl, uint32_t i)
  * find the smallest ball is put on top of the stack, the others keeping their order (ties: the
  * newer). A small ball is a facet of the surface being sampled finely; the large ones mostly
  * reach into the pockets of the hull, where the insertions found meanwhile kill them unprobed.
- * Probes per vertex at --accuracy-rel 0.002: fandisk 8.23 -> 7.18, dino 9.66 -> 8.04 (README).
+ * Probes per vertex at --accuracy-rel 0.002, with the tilt waiting for the size pass (facets.c):
+ * fandisk 8.23 -> 7.38, dino 9.66 -> 8.37, knot 8.86 -> 7.97 (README).
  * A ray being walked on stays on top. */
 VP_PL_API void vp_pl_task_small_on_top(vp_planner_t *pl)
 {
