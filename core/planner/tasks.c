@@ -320,6 +320,19 @@ static double tube_start(vp_planner_t *pl, const double *o, const double *dir, d
 #endif
 
 #ifndef VP_CORE_MCU
+/* 1 when task k's Voronoi edge (the vertices of its tet and of the tet across its facet) is the
+ * one kept in tv/uv beside its slot; else 0, and tv/uv keep it from now on. What a slot keeps of
+ * its edge (a start, a ball) is a function of those vertices alone. */
+static int edge_kept(const vp_planner_t *pl, const vp_task_t *k, uint32_t tv[4], uint32_t uv[4])
+{
+    const uint32_t *w = vp_dt_tet(&pl->dt, k->tet);
+    const uint32_t *x = vp_dt_tet(&pl->dt, w[4 + k->facet] >> 2);
+    if (memcmp(tv, w, 4 * sizeof *tv) == 0 && memcmp(uv, x, 4 * sizeof *uv) == 0) return 1;
+    memcpy(tv, w, 4 * sizeof *tv);
+    memcpy(uv, x, 4 * sizeof *uv);
+    return 0;
+}
+
 /* body mode with tubes: the newest tasks looked at for the one whose probe starts nearest the
  * head (without tubes all of them are: the 1,024 newest left the torus at eps 3 open where all
  * close it, at twice the machine time; with tubes all ended the mug open, its tubes unproven) */
@@ -376,20 +389,15 @@ static int task_origin_kept(vp_planner_t *pl, uint32_t i, double *o, double *dir
 {
     const vp_task_t *k = &pl->pool.task[i];
     vp_task_near_t *c = pl->pool.near ? &pl->pool.near[i] : NULL;
-    const uint32_t *w, *x;
     if (!c) {
         /* a small arena keeps no starts; the direction as a kept one would be (a float) */
         int ok = edge_origin(pl, k->tet, k->facet, o, dir), q;
         for (q = 0; ok && dir && q < 3; q++) dir[q] = (double)(float)dir[q];
         return ok;
     }
-    w = vp_dt_tet(&pl->dt, k->tet);
-    x = vp_dt_tet(&pl->dt, w[4 + k->facet] >> 2);
-    if (memcmp(c->tv, w, sizeof c->tv) != 0 || memcmp(c->uv, x, sizeof c->uv) != 0) {
+    if (!edge_kept(pl, k, c->tv, c->uv)) {
         double d[3] = { 0.0, 0.0, 0.0 };
         c->ok = (uint8_t)edge_origin(pl, k->tet, k->facet, c->o, d);
-        memcpy(c->tv, w, sizeof c->tv);
-        memcpy(c->uv, x, sizeof c->uv);
         if (pl->pool.near_dir) near_dir_put(pl, i, d);
     }
     if (c->ok) memcpy(o, c->o, sizeof c->o);
@@ -490,15 +498,10 @@ static double task_small_key(vp_planner_t *pl, uint32_t i)
 {
     const vp_task_t *k = &pl->pool.task[i];
     vp_task_small_t *c = pl->pool.small ? &pl->pool.small[i] : NULL;
-    const uint32_t *w, *x;
     if (!task_live(pl, k) || k->off > 0.0 || !tet_active(pl, k->tet)) return -1.0;
     if (!c) return small_key_of(pl, k);
-    w = vp_dt_tet(&pl->dt, k->tet);
-    x = vp_dt_tet(&pl->dt, w[4 + k->facet] >> 2);
-    if (!c->ok || memcmp(c->tv, w, sizeof c->tv) != 0 || memcmp(c->uv, x, sizeof c->uv) != 0) {
+    if (!edge_kept(pl, k, c->tv, c->uv) || !c->ok) {
         c->key = small_key_of(pl, k);
-        memcpy(c->tv, w, sizeof c->tv);
-        memcpy(c->uv, x, sizeof c->uv);
         c->ok = 1;
     }
     return c->key;
