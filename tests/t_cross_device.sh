@@ -3,9 +3,8 @@
 # qemu-aarch64: a short dry-run scan of boards/sim.ini to DONE (closed mesh, log), the x86-64
 # build replays its log to the same mesh bytes, a dry-run calibration fits, and without
 # --dry-run it says clearly what hardware support the build lacks.
-set -u
-B=${BUILD:-build}
-VP=${VP:-$B/voroprobe}
+. tests/lib.sh
+B=$BUILD
 command -v aarch64-linux-gnu-gcc >/dev/null || { echo "aarch64-linux-gnu-gcc missing (make deps)"; exit 1; }
 command -v qemu-aarch64 >/dev/null || { echo "qemu-aarch64 missing (make deps)"; exit 1; }
 command -v readelf >/dev/null || { echo "readelf missing (binutils: make deps)"; exit 1; }
@@ -13,10 +12,6 @@ C="$B/cross"
 make --no-print-directory -s BUILD="$C" CROSS=aarch64-linux-gnu- "$C/voroprobe" >"$B/cross-build.log" 2>&1 || {
   tail -20 "$B/cross-build.log"; echo "cross build failed"; exit 1; }
 readelf -h "$C/voroprobe" 2>/dev/null | grep -q "Machine: *AArch64" || { echo "$C/voroprobe is not an aarch64 program"; readelf -h "$C/voroprobe" | grep Machine; exit 1; }
-tmp=$(mktemp -d) || exit 1
-trap 'rm -rf "$tmp"' EXIT
-fail=0
-bad() { echo "FAIL: $*"; fail=1; }
 ARM="qemu-aarch64 -L /usr/aarch64-linux-gnu $C/voroprobe"
 
 $ARM scan --help >/dev/null || bad "scan --help under qemu"

@@ -8,16 +8,10 @@
 # parts named, while the laser origin's own check sees 0 moves through the object; a board whose
 # clearance is smaller than its head is refused at load, naming the part, how far it reaches and
 # the line; clear_by = swept on a board that drives motors is refused.
-set -u
-B=${BUILD:-build}
-VP=${VP:-$B/voroprobe}
+. tests/lib.sh
+B=$BUILD
 BOARD=boards/rpi4-gantry.ini
-tmp=$(mktemp -d) || exit 1
-trap 'rm -rf "$tmp"' EXIT
-fail=0
-bad() { echo "FAIL: $*"; fail=1; }
 S="--quiet --sync close"
-field() { tail -n 1 "$1" | sed -n "s/.*\"$2\":\([^,}]*\).*/\1/p"; }
 
 # ---- 1. the board's dry run: closed, 0 head collisions
 "$VP" scan --board $BOARD --dry-run --log "$tmp/r.vplog" $S --json >"$tmp/r.txt" 2>"$tmp/r.err"; rc=$?
@@ -25,7 +19,7 @@ field() { tail -n 1 "$1" | sed -n "s/.*\"$2\":\([^,}]*\).*/\1/p"; }
 grep -q "closed 2-manifold" "$tmp/r.txt" || bad "dry run: mesh not closed"
 grep -q "^dry run: head: 0 head collisions in [0-9]* motions (clearance ball 0, laser 0, camera 0, bracket 0, tilt hub 0" "$tmp/r.txt" ||
   { bad "dry run: head collisions"; grep "head" "$tmp/r.txt"; }
-[ "$(field "$tmp/r.txt" head_collisions)" = 0 ] && [ "$(field "$tmp/r.txt" status)" = '"closed"' ] || bad "dry run: --json"
+[ "$(field "$tmp/r.txt" head_collisions)" = 0 ] && [ "$(field "$tmp/r.txt" status)" = closed ] || bad "dry run: --json"
 # machine time by planner stage adds up to the run's machine time, and per vertex is that over the vertices
 awk -v t="$(field "$tmp/r.txt" machine_s)" -v a="$(field "$tmp/r.txt" machine_s_seed)" -v b="$(field "$tmp/r.txt" machine_s_refine)" \
     -v c="$(field "$tmp/r.txt" machine_s_close)" -v p="$(field "$tmp/r.txt" machine_s_per_vertex)" -v n="$(field "$tmp/r.txt" vertices)" \

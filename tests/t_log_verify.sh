@@ -13,14 +13,9 @@
 # exit statuses (0 proven, 1 not, 2 usage, 3 unreadable), --json, --help; and at the end every
 # *.vplog this test wrote is verified again (the other tests keep their logs in their own
 # temporary directories, removed on exit).
-set -u
-B=${BUILD:-build}
-VP=${VP:-$B/voroprobe}
+. tests/lib.sh
+B=$BUILD
 T=$B/tests/host/test_logverify
-tmp=$(mktemp -d) || exit 1
-trap 'rm -rf "$tmp"' EXIT
-fail=0
-bad() { echo "FAIL: $*"; fail=1; }
 [ -x "$T" ] || { echo "FAIL: $T not built"; exit 1; }
 S="--quiet --sync close --hausdorff 0"
 

@@ -7,14 +7,9 @@
 # logged; calibration on a mis-mounted simulated camera recovers its true model within bound
 # and scan then uses the file; bad boards and missing hardware fail with clear messages; a mesh
 # that closes with another topology than the simulated object's exits 7.
-set -u
-B=${BUILD:-build}
-VP=${VP:-$B/voroprobe}
+. tests/lib.sh
+B=$BUILD
 BOARD=boards/rpi4-gantry.ini
-tmp=$(mktemp -d) || exit 1
-trap 'rm -rf "$tmp"' EXIT
-fail=0
-bad() { echo "FAIL: $*"; fail=1; }
 S="--quiet --sync close"
 
 for c in scan calibrate; do

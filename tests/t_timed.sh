@@ -15,16 +15,10 @@
 #   - ordered by length instead (--by-length): no axis times in the log, and more machine time;
 #   - cut after 400 commands and resumed: the same commands as the run in one go; a log without
 #     the axes' times (as an older build wrote it) resumed goes on by length, as it began.
-set -u
-B=${BUILD:-build}
-VP=${VP:-$B/voroprobe}
+. tests/lib.sh
+B=$BUILD
 . tests/need_python.sh
 need_python numpy python3-numpy
-tmp=$(mktemp -d) || exit 1
-trap 'rm -rf "$tmp"' EXIT
-fail=0
-bad() { echo "FAIL: $*"; fail=1; }
-field() { tail -n 1 "$1" | sed -n "s/.*\"$2\":\([^,}]*\).*/\1/p"; }
 sh tools/small_head_board.sh "$tmp/old.ini" || exit 1
 
 cat >"$tmp/ways.py" <<'EOF'
