@@ -1,12 +1,14 @@
 /* vp_test_ellipsoid.h — an ellipsoid written from its formula alone, for the tests that check the
  * planner without host-sim (test_lineray, test_rescan, test_sight): its implicit value, a ray's
  * first entry from outside, whether a straight move enters it; a device that probes and moves
- * against it, and the planner configuration those tests share. */
+ * against it, the planner configuration those tests share, and the judge of the mesh they scan. */
 #ifndef VP_TEST_ELLIPSOID_H
 #define VP_TEST_ELLIPSOID_H
 #include <math.h>
 #include <string.h>
 #include "vp_device.h"
+#include "vp_planner.h"
+#include "vp_test.h"
 
 typedef struct vp_test_ell {
     double ax[3], c[3]; /* semi-axes, centre */
@@ -89,6 +91,55 @@ static inline void vp_test_ell_config(vp_planner_config_t *c, const double *ax, 
     c->ninterior = 1;
     c->eps = eps;
     c->start[2] = ax[2] + 0.5;
+}
+
+/* The planner's mesh judged against e: closed and oriented (each directed edge once, its reverse
+ * present), Euler characteristic 2, every ball centre and every vertex on e, every ball's radius
+ * (its centre to its vertices, recomputed) at most eps. what names the case in a failure; returns
+ * the mesh's vertices. */
+static inline unsigned vp_test_ell_judge(const vp_planner_t *pl, const vp_test_ell_t *e, double eps, const char *what)
+{
+    enum { MAXV = 200000, MAXH = 600000 };
+    static uint32_t used[MAXV];
+    static uint64_t half[MAXH];
+    const vp_dt_t *dt = vp_planner_dt(pl);
+    uint32_t slots = vp_planner_facet_slots(pl), i, j, nf = 0, nv = 0, v[3];
+    uint32_t nh = 0, bad_ball = 0, open = 0, off_surface = 0;
+    double r, c[3], worst = 0.0;
+    CHECKF(dt->nvert <= MAXV, "%s: %u samples, more than the judge holds", what, dt->nvert);
+    if (dt->nvert > MAXV) return 0;
+    memset(used, 0, sizeof used);
+    for (i = 0; i < slots; i++) {
+        int k;
+        if (!vp_planner_facet(pl, i, v, &r, c)) continue;
+        nf++;
+        if (fabs(vp_test_ell_f(e, c)) > 1e-9) off_surface++;
+        for (k = 0; k < 3; k++) {
+            const double *p = vp_dt_point(dt, v[k]);
+            double d = sqrt((p[0] - c[0]) * (p[0] - c[0]) + (p[1] - c[1]) * (p[1] - c[1]) + (p[2] - c[2]) * (p[2] - c[2]));
+            if (d > worst) worst = d;
+            if (d > eps * (1 + 1e-9)) bad_ball++;
+            if (!used[v[k]]++) nv++;
+            if (nh < MAXH) half[nh++] = ((uint64_t)v[k] << 32) | v[(k + 1) % 3];
+        }
+    }
+    for (i = 0; i < nh; i++) {
+        uint64_t rev = (half[i] << 32) | (half[i] >> 32);
+        uint32_t found = 0, same = 0;
+        for (j = 0; j < nh; j++) {
+            found += half[j] == rev;
+            same += half[j] == half[i];
+        }
+        if (found != 1 || same != 1) open++;
+    }
+    for (i = 0; i < dt->nvert; i++)
+        if (used[i] && fabs(vp_test_ell_f(e, vp_dt_point(dt, i))) > 1e-9) off_surface++;
+    CHECKF(nf > 0 && open == 0, "%s: %u of %u half-edges without a single reverse", what, open, nh);
+    CHECKF((long)nv - (long)(nh / 2) + (long)nf == 2, "%s: Euler characteristic %ld", what,
+           (long)nv - (long)(nh / 2) + (long)nf);
+    CHECKF(bad_ball == 0, "%s: %u ball radii above eps (worst %.9g)", what, bad_ball, worst);
+    CHECKF(off_surface == 0, "%s: %u points off the ellipsoid", what, off_surface);
+    return nv;
 }
 
 #endif

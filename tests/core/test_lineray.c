@@ -26,7 +26,6 @@ typedef struct ell_dev {
 } ell_dev_t;
 
 static const vp_test_ell_t ELL = { { 1.0, 0.7, 0.5 }, { 0, 0, 0 } };
-static double ell_f(const double *x) { return vp_test_ell_f(&ELL, x); }
 static int ell_first(const double *p, const double *u, double len, double *t) { return vp_test_ell_first(&ELL, p, u, len, t); }
 
 /* ray i: the fan in the plane of the probe's ray and the axis least along it */
@@ -65,49 +64,8 @@ static void config(vp_planner_config_t *c, double eps, unsigned nrays)
 static unsigned char arena[ARENA];
 static vp_planner_t pl;
 
-/* the mesh, judged here: closed, oriented, Euler 2, balls recomputed */
-static void judge(const char *what, double eps, unsigned *nv_out)
-{
-    const vp_dt_t *dt = vp_planner_dt(&pl);
-    uint32_t slots = vp_planner_facet_slots(&pl), i, j, nf = 0, nv = 0, v[3];
-    static uint32_t used[200000];
-    static uint64_t half[600000];
-    uint32_t nh = 0, bad_ball = 0, open = 0, off_surface = 0;
-    double r, c[3], worst = 0.0;
-    memset(used, 0, sizeof used);
-    for (i = 0; i < slots; i++) {
-        int k;
-        if (!vp_planner_facet(&pl, i, v, &r, c)) continue;
-        nf++;
-        if (fabs(ell_f(c)) > 1e-9) off_surface++;
-        for (k = 0; k < 3; k++) {
-            const double *p = vp_dt_point(dt, v[k]);
-            double e = sqrt((p[0] - c[0]) * (p[0] - c[0]) + (p[1] - c[1]) * (p[1] - c[1]) + (p[2] - c[2]) * (p[2] - c[2]));
-            if (e > worst) worst = e;
-            if (e > eps * (1 + 1e-9)) bad_ball++;
-            if (!used[v[k]]++) nv++;
-            if (nh < 600000) half[nh++] = ((uint64_t)v[k] << 32) | v[(k + 1) % 3];
-        }
-    }
-    /* each directed edge once, and its reverse present: closed and oriented */
-    for (i = 0; i < nh; i++) {
-        uint64_t rev = (half[i] << 32) | (half[i] >> 32);
-        uint32_t found = 0, same = 0;
-        for (j = 0; j < nh; j++) {
-            found += half[j] == rev;
-            same += half[j] == half[i];
-        }
-        if (found != 1 || same != 1) open++;
-    }
-    for (i = 0; i < dt->nvert; i++)
-        if (used[i] && fabs(ell_f(vp_dt_point(dt, i))) > 1e-9) off_surface++;
-    CHECKF(nf > 0 && open == 0, "%s: %u of %u half-edges without a single reverse", what, open, nh);
-    CHECKF((long)nv - (long)(nh / 2) + (long)nf == 2, "%s: Euler characteristic %ld", what,
-           (long)nv - (long)(nh / 2) + (long)nf);
-    CHECKF(bad_ball == 0, "%s: %u ball radii above eps (worst %.9g)", what, bad_ball, worst);
-    CHECKF(off_surface == 0, "%s: %u points off the ellipsoid", what, off_surface);
-    *nv_out = nv;
-}
+/* the mesh, judged against the ellipsoid: closed, oriented, Euler 2, on it, balls <= eps */
+static void judge(const char *what, double eps, unsigned *nv_out) { *nv_out = vp_test_ell_judge(&pl, &ELL, eps, what); }
 
 /* no two samples closer than eps but the seeds' (the persistent facet's tiny triangle and the
  * points found with it, the first inserted) */

@@ -39,43 +39,7 @@ static void run(ell_dev_t *d, vp_run_result_t *r)
 /* the mesh, judged against ellipsoid d: closed, oriented, Euler 2, on it, balls <= eps */
 static void judge(const char *what, const ell_dev_t *d, double eps, unsigned *nv_out)
 {
-    const vp_dt_t *dt = vp_planner_dt(&pl);
-    uint32_t slots = vp_planner_facet_slots(&pl), i, j, nf = 0, nv = 0, v[3];
-    static uint32_t used[100000];
-    static uint64_t half[300000];
-    uint32_t nh = 0, bad_ball = 0, open = 0, off_surface = 0;
-    double r, c[3];
-    memset(used, 0, sizeof used);
-    for (i = 0; i < slots; i++) {
-        int k;
-        if (!vp_planner_facet(&pl, i, v, &r, c)) continue;
-        nf++;
-        if (fabs(vp_test_ell_f(&d->e, c)) > 1e-9) off_surface++;
-        for (k = 0; k < 3; k++) {
-            const double *p = vp_dt_point(dt, v[k]);
-            double e = sqrt((p[0] - c[0]) * (p[0] - c[0]) + (p[1] - c[1]) * (p[1] - c[1]) + (p[2] - c[2]) * (p[2] - c[2]));
-            if (e > eps * (1 + 1e-9)) bad_ball++;
-            if (!used[v[k]]++) nv++;
-            if (nh < 300000) half[nh++] = ((uint64_t)v[k] << 32) | v[(k + 1) % 3];
-        }
-    }
-    for (i = 0; i < nh; i++) {
-        uint64_t rev = (half[i] << 32) | (half[i] >> 32);
-        uint32_t found = 0, same = 0;
-        for (j = 0; j < nh; j++) {
-            found += half[j] == rev;
-            same += half[j] == half[i];
-        }
-        if (found != 1 || same != 1) open++;
-    }
-    for (i = 0; i < dt->nvert; i++)
-        if (used[i] && fabs(vp_test_ell_f(&d->e, vp_dt_point(dt, i))) > 1e-9) off_surface++;
-    CHECKF(nf > 0 && open == 0, "%s: %u of %u half-edges without a single reverse", what, open, nh);
-    CHECKF((long)nv - (long)(nh / 2) + (long)nf == 2, "%s: Euler characteristic %ld", what,
-           (long)nv - (long)(nh / 2) + (long)nf);
-    CHECKF(bad_ball == 0, "%s: %u ball radii above eps", what, bad_ball);
-    CHECKF(off_surface == 0, "%s: %u points off the ellipsoid", what, off_surface);
-    *nv_out = nv;
+    *nv_out = vp_test_ell_judge(&pl, &d->e, eps, what);
 }
 
 /* the facets as (sorted vertex triple, centre, radius) in slot order: a fingerprint */
