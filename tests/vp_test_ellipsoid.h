@@ -104,7 +104,7 @@ static inline unsigned vp_test_ell_judge(const vp_planner_t *pl, const vp_test_e
     static uint64_t half[MAXH];
     const vp_dt_t *dt = vp_planner_dt(pl);
     uint32_t slots = vp_planner_facet_slots(pl), i, j, nf = 0, nv = 0, v[3];
-    uint32_t nh = 0, bad_ball = 0, open = 0, off_surface = 0;
+    uint32_t nh = 0, lost = 0, bad_ball = 0, open = 0, off_surface = 0;
     double r, c[3], worst = 0.0;
     CHECKF(dt->nvert <= MAXV, "%s: %u samples, more than the judge holds", what, dt->nvert);
     if (dt->nvert > MAXV) return 0;
@@ -121,6 +121,7 @@ static inline unsigned vp_test_ell_judge(const vp_planner_t *pl, const vp_test_e
             if (d > eps * (1 + 1e-9)) bad_ball++;
             if (!used[v[k]]++) nv++;
             if (nh < MAXH) half[nh++] = ((uint64_t)v[k] << 32) | v[(k + 1) % 3];
+            else lost++;
         }
     }
     for (i = 0; i < nh; i++) {
@@ -134,6 +135,7 @@ static inline unsigned vp_test_ell_judge(const vp_planner_t *pl, const vp_test_e
     }
     for (i = 0; i < dt->nvert; i++)
         if (used[i] && fabs(vp_test_ell_f(e, vp_dt_point(dt, i))) > 1e-9) off_surface++;
+    CHECKF(lost == 0, "%s: %u half-edges more than the judge holds", what, lost);
     CHECKF(nf > 0 && open == 0, "%s: %u of %u half-edges without a single reverse", what, open, nh);
     CHECKF((long)nv - (long)(nh / 2) + (long)nf == 2, "%s: Euler characteristic %ld", what,
            (long)nv - (long)(nh / 2) + (long)nf);
