@@ -11,11 +11,8 @@
 # it prints "FAIL: libgpiod-dev is installed but build/nohw/voroprobe is built without it ..."
 # (and that it links neither library nor uses its symbols, and the same for libcamera) and
 # exits 1; with HAVE_LIBCAMERA= alone, only the three libcamera lines fail.
-set -u
-B=${BUILD:-build}
-VP=${VP:-$B/voroprobe}
-fail=0
-bad() { echo "FAIL: $*"; fail=1; }
+. tests/lib.sh
+B=$BUILD
 for t in readelf nm; do
   command -v $t >/dev/null || { echo "$t missing (binutils: make deps)"; exit 1; }
 done

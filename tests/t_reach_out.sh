@@ -25,15 +25,10 @@
 #     the laser module meets it first (exit 5);
 #   - the checkers' failing case: the same run without the switch drives through the knob
 #     (the dry run counts moves through, exit 5; CGAL counts them too).
-set -u
-BUILD=${BUILD:-build}
-VP=${VP:-$BUILD/voroprobe}
+. tests/lib.sh
 D="$BUILD/reach_out"
 B=boards/rpi4-gantry.ini
 rm -rf "$D"; mkdir -p "$D"
-fail=0
-bad() { echo "FAIL: $*"; fail=1; }
-field() { tail -n 1 "$1" | sed -n "s/.*\"$2\":\([^,}]*\).*/\1/p" | tr -d '"'; }
 part() { tail -n 1 "$1" | sed -n "s/.*\"head_parts\":{[^}]*\"$2\":\([0-9]*\).*/\1/p"; }
 
 # the board's switch sits in the head's mount; the stylus at the laser origin is this copy's

@@ -5,12 +5,9 @@
 # an occluder's vertex, along its edge, in its plane) and the planner's answers;
 # tests/cgal_sight.cpp (CGAL's exact do_intersect, no voroprobe code) must agree with every one.
 # The case the checker must catch: the same file with two answers flipped.
-set -u
-BUILD=${BUILD:-build}
+. tests/lib.sh
 D="$BUILD/sight"
 rm -rf "$D"; mkdir -p "$D"
-fail=0
-bad() { echo "FAIL: $*"; fail=1; }
 if [ ! -f /usr/include/CGAL/intersections.h ] || ! command -v g++ >/dev/null 2>&1; then
   echo "FAIL: no CGAL (libcgal-dev): the sight rule would grade itself"; exit 1
 fi
