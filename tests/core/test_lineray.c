@@ -64,9 +64,6 @@ static void config(vp_planner_config_t *c, double eps, unsigned nrays)
 static unsigned char arena[ARENA];
 static vp_planner_t pl;
 
-/* the mesh, judged against the ellipsoid: closed, oriented, Euler 2, on it, balls <= eps */
-static void judge(const char *what, double eps, unsigned *nv_out) { *nv_out = vp_test_ell_judge(&pl, &ELL, eps, what); }
-
 /* no two samples closer than eps but the seeds' (the persistent facet's tiny triangle and the
  * points found with it, the first inserted) */
 static double min_spacing(uint32_t skip)
@@ -117,10 +114,10 @@ static void test_scans(void)
         double sp;
         scan(epss[e], 0, &d0, &s0, &r0);
         CHECK(r0.status == VP_OK && r0.done && d0.b.into == 0);
-        judge("dot laser", epss[e], &nv0);
+        nv0 = vp_test_ell_judge(&pl, &ELL, epss[e], "dot laser");
         scan(epss[e], 16, &d1, &s1, &r1);
         CHECK(r1.status == VP_OK && r1.done && d1.b.into == 0);
-        judge("line laser", epss[e], &nv1);
+        nv1 = vp_test_ell_judge(&pl, &ELL, epss[e], "line laser");
         /* every ray fed, its hits counted alike; some became samples */
         CHECK(s1.rays == d1.rays && s1.ray_hits == d1.ray_hits && s1.ray_samples > 0);
         /* the seeds are the first samples inserted; after them the spacing is eps */

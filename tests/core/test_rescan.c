@@ -36,12 +36,6 @@ static void run(ell_dev_t *d, vp_run_result_t *r)
     vp_run(&pl, &ops, NULL, 2000000, r);
 }
 
-/* the mesh, judged against ellipsoid d: closed, oriented, Euler 2, on it, balls <= eps */
-static void judge(const char *what, const ell_dev_t *d, double eps, unsigned *nv_out)
-{
-    *nv_out = vp_test_ell_judge(&pl, &d->e, eps, what);
-}
-
 /* the facets as (sorted vertex triple, centre, radius) in slot order: a fingerprint */
 static uint32_t facets(double *out, uint32_t cap)
 {
@@ -76,7 +70,6 @@ static void test_unchanged(double eps, unsigned flags)
     vp_run_result_t r;
     vp_planner_stats_t s;
     uint32_t n0, n1, samples;
-    unsigned nv;
     fresh(&d, eps);
     n0 = facets(before, 20000);
     samples = vp_planner_dt(&pl)->ninserted;
@@ -95,7 +88,7 @@ static void test_unchanged(double eps, unsigned flags)
                                      : s.rescan_skipped == 0),
            "unchanged: %lu probes for %u samples (%llu kept, %llu not measured)", d.probes, samples,
            (unsigned long long)s.rescan_kept, (unsigned long long)s.rescan_skipped);
-    judge("unchanged", &d, eps, &nv);
+    vp_test_ell_judge(&pl, &d.e, eps, "unchanged");
     printf("ellipsoid eps %g, unchanged%s: %u samples, %lu probes (%llu not measured), the same %u facets\n", eps,
            flags & VP_RESCAN_SPARSE ? ", sparse" : "", samples, d.probes, (unsigned long long)s.rescan_skipped, n1);
 }
@@ -119,7 +112,7 @@ static void test_changed(double eps, const double *ax, const double *c, const ch
     CHECKF(d.into == 0, "%s: %lu moves into the ellipsoid", what, d.into);
     vp_planner_get_stats(&pl, &s);
     CHECK(s.rescan_dropped > 0);
-    judge(what, &d, eps, &nv);
+    nv = vp_test_ell_judge(&pl, &d.e, eps, what);
     printf("ellipsoid eps %g, %s%s: %lu probes (the first scan %lu), %llu samples kept, %llu not measured, %llu removed "
            "(%llu moved), %u vertices, %llu route steps proven again (%llu blocked), no move into it\n", eps, what,
            flags & VP_RESCAN_SPARSE ? ", sparse" : "", d.probes, p0, (unsigned long long)s.rescan_kept,
