@@ -712,6 +712,17 @@ static int log_verify(const char *path, int json)
         printf("; %llu of %llu probes NOT from the device's position (first: record %u)",
                (unsigned long long)res->probes_off_position, (unsigned long long)res->probes, res->probe[0].record);
     if (res->probes_bad) printf("; %llu probe(s) with a zero direction (prove nothing)", (unsigned long long)res->probes_bad);
+    if (res->probes_far)
+        printf("; %llu probe(s) fired from farther than %g diameters of Omega (prove nothing)",
+               (unsigned long long)res->probes_far, VP_LOGVERIFY_FAR);
+    if (res->contacts_misplaced)
+        printf("; %llu CONTACT event(s) NOT right after a MOVE (a log voroprobe does not write)",
+               (unsigned long long)res->contacts_misplaced);
+    if (res->probes_near_contact)
+        printf("; %llu probe(s) within the contact reach of a contact (prove nothing)",
+               (unsigned long long)res->probes_near_contact);
+    if (res->tube_too_large)
+        printf("; %llu tube move(s) too long for the lattice (unproven)", (unsigned long long)res->tube_too_large);
     if (res->contacts)
         printf("; %llu contact(s) withdrew %llu free part(s)", (unsigned long long)res->contacts,
                (unsigned long long)res->withdrawn);
@@ -737,6 +748,10 @@ static int log_verify(const char *path, int json)
         printf(",\"index_fallbacks\":%llu,\"contacts\":%llu,\"withdrawn\":%llu", (unsigned long long)res->scans,
                (unsigned long long)res->contacts, (unsigned long long)res->withdrawn);
         if (res->rescans) printf(",\"rescans\":%llu", (unsigned long long)res->rescans);
+        printf(",\"contacts_misplaced\":%llu,\"probes_near_contact\":%llu,\"probes_far\":%llu",
+               (unsigned long long)res->contacts_misplaced, (unsigned long long)res->probes_near_contact,
+               (unsigned long long)res->probes_far);
+        if (res->tube_too_large) printf(",\"tube_too_large\":%llu", (unsigned long long)res->tube_too_large);
         if (res->tube_moves)
             printf(",\"tube_moves\":%llu,\"tube_points\":%llu", (unsigned long long)res->tube_moves,
                    (unsigned long long)res->tube_points);

@@ -30,6 +30,14 @@ struct vp_lv_entry {
  * at the probes fired from either of its ends, and scans them all only when those fall short. */
 #define LV_HO 1e-6
 #define LV_ORIGIN_SEED 0x6A09E667F3BCC909ull
+/* A free part within eps (at least this many noise tolerances) of a contact proves nothing, as
+ * in the planner (core/planner/contact.c) */
+#define LV_CONTACT_REACH_NOISE 4.0
+/* The tube rule looks at no more lattice points than this per move (the box about its capsule);
+ * a larger one is unproven (a body's move of that many feature sizes is not a move a planner
+ * makes), and a free part longer than LV_TUBE_STEPS steps of rho / 2 proves no tube */
+#define LV_TUBE_LATTICE 2e8
+#define LV_TUBE_STEPS 1e5
 
 
 static double dist3(const double *a, const double *b)
@@ -169,6 +177,12 @@ int vp_logverify_begin(vp_logverify_t *v, const vp_logfmt_header_t *h)
     v->hc = LV_HC * v->diam;
     v->ho = LV_HO * v->diam;
     v->res.tol = v->tol;
+    {
+        /* the planner's contact reach: eps, at least CONTACT_REACH_NOISE noise tolerances */
+        double e = isfinite(c->eps) && c->eps > 0.0 ? c->eps : 0.0;
+        double nt = isfinite(c->noise_tol) && c->noise_tol > 0.0 ? LV_CONTACT_REACH_NOISE * c->noise_tol : 0.0;
+        v->ct_reach = (e > nt ? e : nt) + v->tol;
+    }
     memcpy(v->res.pos, c->start, sizeof v->res.pos);
     v->res.ok = 1;
     if (c->clearance > 0.0 && c->min_feature > 0.0) {
@@ -222,27 +236,26 @@ static int outside_part(vp_logverify_t *v, const double *p, const double *q, siz
         if (pre >= 0.0 && push_iv(v, n, 0.0, pre) != VP_OK) return VP_ENOMEM;
         if (suf <= 1.0 && push_iv(v, n, suf, 1.0) != VP_OK) return VP_ENOMEM;
     } else {
-        /* |p - m + s w|^2 >= r^2 */
-        double w[3], a[3], A, B, C, D, r = c->omega_radius;
+        /* |p - m + s w|^2 >= r^2, from the foot of the perpendicular from m (no cancellation
+         * of the squares of far ends) */
+        double w[3], a[3], e[3], A, t0, h2, r = c->omega_radius;
         int k;
         for (k = 0; k < 3; k++) {
             w[k] = q[k] - p[k];
             a[k] = p[k] - c->omega_center[k];
         }
         A = vp_dot3(w, w);
-        B = 2.0 * vp_dot3(a, w);
-        C = vp_dot3(a, a) - r * r;
-        D = B * B - 4.0 * A * C;
         if (A == 0.0) {
-            if (C >= 0.0) return push_iv(v, n, 0.0, 1.0);
+            if (vp_dot3(a, a) >= r * r) return push_iv(v, n, 0.0, 1.0);
             return VP_OK;
         }
-        if (D <= 0.0) return push_iv(v, n, 0.0, 1.0);
+        t0 = -vp_dot3(a, w) / A;
+        for (k = 0; k < 3; k++) e[k] = a[k] + t0 * w[k];
+        h2 = r * r - vp_dot3(e, e);
+        if (!(h2 > 0.0)) return push_iv(v, n, 0.0, 1.0);
         {
-            double sq = sqrt(D), t = B >= 0.0 ? -0.5 * (B + sq) : -0.5 * (B - sq);
-            double s1 = t / A, s2 = t != 0.0 ? C / t : -s1, x;
-            if (s1 > s2) { x = s1; s1 = s2; s2 = x; }
-            if (push_iv(v, n, 0.0, s1) != VP_OK || push_iv(v, n, s2, 1.0) != VP_OK) return VP_ENOMEM;
+            double dt = sqrt(h2 / A);
+            if (push_iv(v, n, 0.0, t0 - dt) != VP_OK || push_iv(v, n, t0 + dt, 1.0) != VP_OK) return VP_ENOMEM;
         }
     }
     return VP_OK;
@@ -419,7 +432,7 @@ static int tube_add(vp_logverify_t *v, uint32_t id)
     double step = 0.25 * v->tcell, n = ceil(P->len / step);
     double i;
     int st;
-    if (n > 1e7) return VP_OK; /* left out: it proves no tube (never more than is true) */
+    if (n > LV_TUBE_STEPS) return VP_OK; /* left out: it proves no tube (never more than is true) */
     for (i = 0.0; i <= n; i += 1.0) {
         double s = n > 0.0 ? P->len * (i / n) : 0.0;
         int64_t c[3], k[3];
@@ -483,19 +496,23 @@ static int near_free(vp_logverify_t *v, const double *x)
 }
 
 /* The tube rule (vp_logverify.h) for the move p -> q (relative to the centre): 1 if it holds;
- * else *bad is the first lattice point found farther than rho from free space. */
+ * 0 and *bad the first lattice point found farther than rho from free space; -1 when the
+ * lattice is too large to look at (LV_TUBE_LATTICE). */
 static int tube_holds(vp_logverify_t *v, const double *p, const double *q, double *bad)
 {
     double R = v->cfg.clearance + v->cfg.feature_margin + v->cfg.min_feature, sp = 0.5 * v->cfg.min_feature;
-    double lo[3], d[3], len2;
+    double lo[3], d[3], len2, nd[3], pts = 1.0;
     long n[3], i[3];
     int k;
     for (k = 0; k < 3; k++) {
         double a = (p[k] < q[k] ? p[k] : q[k]) - R, b = (p[k] < q[k] ? q[k] : p[k]) + R;
         lo[k] = p[k] - sp * ceil((p[k] - a) / sp);
-        n[k] = (long)ceil((b - lo[k]) / sp);
+        nd[k] = ceil((b - lo[k]) / sp);
+        pts *= nd[k] + 1.0;
         d[k] = q[k] - p[k];
     }
+    if (!(pts <= LV_TUBE_LATTICE)) return -1;
+    for (k = 0; k < 3; k++) n[k] = (long)nd[k];
     len2 = vp_dot3(d, d);
     for (i[0] = 0; i[0] <= n[0]; i[0]++)
         for (i[1] = 0; i[1] <= n[1]; i[1]++)
@@ -562,9 +579,20 @@ static int check_move(vp_logverify_t *v, const vp_logfmt_record_t *r)
     R->moves++;
     len = dist3(p, q);
     if (len <= v->tol) return VP_OK;   /* shorter than the tolerance: nothing to cover */
+    if (!(dist3(p, v->centre) <= VP_LOGVERIFY_FAR * v->diam) || !(dist3(q, v->centre) <= VP_LOGVERIFY_FAR * v->diam)) {
+        /* not a move this machine makes, and one whose arithmetic is not to be trusted */
+        unproven(v, r, p, q, len, len, 0.0, 1.0, 1u);
+        return VP_OK;
+    }
     if ((st = outside_part(v, p, q, &n)) != VP_OK) return st;
     gap = n > 0 ? uncovered(v, n, &gaps, &g0, &g1) : 1.0; /* of the move, inside Omega */
     if (gap == 0.0) { R->moves_outside++; return VP_OK; }
+    if (v->cfg.clearance > 0.0 && !v->tubes) {
+        /* a body without tubes stays outside Omega: its part inside is unproven (a ray proves
+         * no volume) unless it enters by no more than the tolerance */
+        if (gap * len > v->tol) unproven(v, r, p, q, len, gap * len, g0, g1, gaps);
+        return VP_OK;
+    }
     if (v->tubes) {
         /* a body inside Omega: the tube rule alone (a ray proves no volume); a move that enters
          * Omega by no more than the tolerance (an end on dOmega, rounded) is outside */
@@ -576,7 +604,13 @@ static int check_move(vp_logverify_t *v, const vp_logfmt_record_t *r)
             qr[k] = q[k] - v->centre[k];
         }
         R->tube_moves++;
-        if (tube_holds(v, pr, qr, bad)) return VP_OK;
+        st = tube_holds(v, pr, qr, bad);
+        if (st == 1) return VP_OK;
+        if (st < 0) {
+            R->tube_too_large++;
+            unproven(v, r, p, q, len, len, 0.0, 1.0, 1u);
+            return VP_OK;
+        }
         /* the whole move unproven; its gap named by the point found far from free space */
         m = unproven(v, r, p, q, len, len, 0.0, 1.0, 1u);
         if (m)
@@ -599,6 +633,23 @@ static int check_move(vp_logverify_t *v, const vp_logfmt_record_t *r)
 
 static int add_free(vp_logverify_t *v, const double *origin, const double *u, double len);
 
+/* 1 if the free part origin .. origin + len u (origin absolute) passes within the contact
+ * reach of a contact logged so far: a miss there may be a surface the rangefinder cannot see */
+static int near_contact(const vp_logverify_t *v, const double *origin, const double *u, double len)
+{
+    vp_lv_probe_t P;
+    size_t i;
+    int k;
+    for (k = 0; k < 3; k++) {
+        P.o[k] = origin[k] - v->centre[k];
+        P.d[k] = u[k];
+    }
+    P.len = len;
+    for (i = 0; i < v->nct; i++)
+        if (part_dist2(&P, v->ct[i]) <= v->ct_reach * v->ct_reach) return 1;
+    return 0;
+}
+
 static int add_probe(vp_logverify_t *v, const vp_logfmt_record_t *r)
 {
     vp_logverify_result_t *R = &v->res;
@@ -617,6 +668,7 @@ static int add_probe(vp_logverify_t *v, const vp_logfmt_record_t *r)
         }
         return VP_OK;   /* fired from where the device was not: proves nothing */
     }
+    if (!(dist3(r->origin, v->centre) <= VP_LOGVERIFY_FAR * v->diam)) { R->probes_far++; return VP_OK; }
     dl = sqrt(vp_dot3(r->dir, r->dir));
     if (!(dl > 0.0) || !isfinite(dl)) { R->probes_bad++; return VP_OK; }
     if (r->hit == 1) {
@@ -628,8 +680,10 @@ static int add_probe(vp_logverify_t *v, const vp_logfmt_record_t *r)
     } else {
         return VP_OK;   /* too close: nothing measured, nothing free */
     }
+    if (v->cfg.max_range > 0.0 && len > v->cfg.max_range) len = v->cfg.max_range; /* the rangefinder's reach */
     if (!(len > 0.0) || !isfinite(len)) return VP_OK;
     for (i = 0; i < 3; i++) u[i] = r->dir[i] / dl;
+    if (near_contact(v, r->origin, u, len)) { R->probes_near_contact++; return VP_OK; }
     return add_free(v, r->origin, u, len);
 }
 
@@ -680,6 +734,8 @@ static int add_contact(vp_logverify_t *v, const vp_logfmt_record_t *r)
     double d[3], u[3], c[3], cr[3], len, at = r->value[0];
     size_t i;
     int k;
+    double wtol = v->tol + (v->cfg.noise_tol > 0.0 && isfinite(v->cfg.noise_tol) ? v->cfg.noise_tol : 0.0);
+    if (!v->after_move) { R->contacts_misplaced++; return VP_OK; } /* stopped no move: nothing learnt */
     vp_sub3(d, R->pos, v->from);
     len = sqrt(vp_dot3(d, d));
     if (!(at >= 0.0) || !(at <= len + v->tol)) return VP_OK; /* not on the move: nothing learnt */
@@ -688,12 +744,15 @@ static int add_contact(vp_logverify_t *v, const vp_logfmt_record_t *r)
         c[k] = v->from[k] + at * u[k];
     }
     R->contacts++;
-    /* every free part through the point was wrong */
+    /* every free part through the point (within the hits' tolerance) was wrong, and later
+     * ones near it prove nothing */
     for (k = 0; k < 3; k++) cr[k] = c[k] - v->centre[k];
     for (i = 0; i < v->npr; i++) {
         vp_lv_probe_t *P = &v->pr[i];
-        if (P->len >= 0.0 && part_dist2(P, cr) <= v->tol * v->tol) { P->len = -1.0; R->withdrawn++; }
+        if (P->len >= 0.0 && part_dist2(P, cr) <= wtol * wtol) { P->len = -1.0; R->withdrawn++; }
     }
+    if (grow((void **)&v->ct, &v->cap_ct, v->nct + 1, sizeof *v->ct) != VP_OK) return VP_ENOMEM;
+    memcpy(v->ct[v->nct++], cr, sizeof cr);
     memcpy(R->pos, c, sizeof R->pos);
     /* the head travelled up to the point */
     return at > 0.0 && len > 0.0 ? add_free(v, v->from, u, at) : VP_OK;
@@ -702,10 +761,17 @@ static int add_contact(vp_logverify_t *v, const vp_logfmt_record_t *r)
 int vp_logverify_add(vp_logverify_t *v, const vp_logfmt_record_t *r)
 {
     int st = VP_OK;
+    int was_move = v->after_move;
+    v->after_move = r->type == VP_LOGFMT_MOVE;
     if (r->type == VP_LOGFMT_MOVE) { st = check_move(v, r); v->commands++; }
     else if (r->type == VP_LOGFMT_PROBE) { v->commands++; st = add_probe(v, r); }
     else if (r->type == VP_LOGFMT_RAY) v->res.rays++; /* the planner moves on PROBE proofs alone */
-    else if (r->event == VP_LOGFMT_EV_CONTACT) { v->res.events++; st = add_contact(v, r); }
+    else if (r->event == VP_LOGFMT_EV_CONTACT) {
+        v->res.events++;
+        v->after_move = was_move;
+        st = add_contact(v, r);
+        v->after_move = 0;
+    }
     else if (r->event == VP_LOGFMT_EV_RESCAN) {
         /* a re-scan: the object may have changed, so nothing proven before proves anything now;
          * the device is at the start again */
@@ -725,12 +791,13 @@ int vp_logverify_add(vp_logverify_t *v, const vp_logfmt_record_t *r)
 
 void vp_logverify_end(vp_logverify_t *v, vp_logverify_result_t *res)
 {
-    v->res.ok = v->res.unproven_moves == 0 && v->res.probes_off_position == 0;
+    v->res.ok = v->res.unproven_moves == 0 && v->res.probes_off_position == 0 && v->res.contacts_misplaced == 0;
     if (res) *res = v->res;
     free(v->pr);
     hash_free(&v->lines);
     free(v->iv);
     free(v->seen);
+    free(v->ct);
     hash_free(&v->cells);
     memset(v, 0, sizeof *v);
 }

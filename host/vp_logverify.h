@@ -12,10 +12,19 @@
  *   position is counted as a violation and proves nothing);
  * - everything outside Omega (the header's box or ball) is free (assumption A2: Omega contains
  *   the object); a point on dOmega counts as outside;
- * - a CONTACT event (the head's contact switch stopped the MOVE before it at value[0] along
- *   it) puts the device at that point; every earlier free part that passes through the point
- *   is withdrawn (the surface is there: the probe that showed it free was wrong), and the part
- *   of the move up to the point is free (the head travelled it);
+ * - a PROBE proves nothing beyond the header's rangefinder range (max_range, when set), nor
+ *   anything when its free part passes within the contact reach (the header's eps, at least 4
+ *   noise tolerances, as the planner's) of an earlier contact: a miss there may be a surface
+ *   the rangefinder cannot see;
+ * - a CONTACT event (the head's contact switch stopped the MOVE right before it at value[0]
+ *   along it) puts the device at that point; every earlier free part that passes within the
+ *   noise tolerance of the point is withdrawn (the surface is there: the probe that showed it
+ *   free was wrong), and the part of the move up to the point is free (the head travelled it).
+ *   A CONTACT that does not follow a MOVE is a violation (misplaced) and teaches nothing;
+ * - a device with a body (a header with a clearance) and no tubes never enters Omega: the part
+ *   of a move inside Omega is unproven whatever probes lie along it (a ray proves no volume);
+ * - a move or probe more than VP_LOGVERIFY_FAR diameters from Omega's centre is not a move
+ *   this machine makes: the move is unproven, the probe proves nothing;
  * - a move is proven when the segment parameter interval [0,1] is covered by its part outside
  *   Omega and the free parts of earlier probes on its line (both its ends within tol of the
  *   probe's line), the uncovered length adding up to at most tol;
@@ -41,6 +50,10 @@
  * is on it, and a move may leave up to tol of its length uncovered (rounding of the planner's
  * arithmetic is ~1e-16 relative; an unproven stretch the tests care about is >= 1e-6). */
 #define VP_LOGVERIFY_TOL_REL 1e-9
+
+/* Moves and probe origins farther than this many Omega diameters from its centre are refused
+ * (their arithmetic could not be trusted to the tolerance). */
+#define VP_LOGVERIFY_FAR 1e6
 
 /* How many offending moves / probes the result lists (the counts are complete). */
 #define VP_LOGVERIFY_LIST 20
@@ -80,6 +93,11 @@ typedef struct vp_logverify_result {
                                   from their ends did not prove (all probes scanned) */
     uint64_t tube_moves;       /* with tubes: moves not wholly outside Omega, checked by the tube rule */
     uint64_t tube_points;      /* points of their capsules looked at */
+    uint64_t tube_too_large;   /* tube moves whose lattice is too large to look at: unproven */
+    uint64_t contacts_misplaced; /* CONTACT events not right after a MOVE (a violation) */
+    uint64_t probes_near_contact; /* probes whose free part passes within the contact reach of
+                                     an earlier contact: they prove nothing */
+    uint64_t probes_far;       /* probes fired from beyond VP_LOGVERIFY_FAR: they prove nothing */
     double unproven_length;    /* summed over the unproven moves */
     double tol;                /* the tolerance used (VP_LOGVERIFY_TOL_REL x Omega's diameter) */
     double pos[3];             /* the device position after the last record */
@@ -87,7 +105,8 @@ typedef struct vp_logverify_result {
     vp_logverify_move_t move[VP_LOGVERIFY_LIST];
     uint32_t nprobes_listed;   /* first off-position probes, in log order */
     vp_logverify_probe_t probe[VP_LOGVERIFY_LIST];
-    int ok;                    /* 1: every move proven and every probe from the device position */
+    int ok;                    /* 1: every move proven, every probe from the device position and
+                                  every CONTACT right after a MOVE */
 } vp_logverify_result_t;
 
 /* The verifier's state (fields are private). */
@@ -109,6 +128,9 @@ typedef struct vp_logverify {
     uint32_t index;                             /* next record index */
     uint64_t commands;                          /* PROBE and MOVE records so far */
     double from[3];                             /* where the last MOVE started */
+    int after_move;                             /* the last record was a MOVE */
+    double (*ct)[3]; size_t nct, cap_ct;        /* contact points (relative to the centre) */
+    double ct_reach;                            /* a free part this near a contact proves nothing */
     int tubes;                                  /* the header has a clearance and min_feature */
     double tcell;                               /* the free parts' cells: 2 min_feature */
     vp_lv_hash_t cells;                         /* a free part in every cell it passes within

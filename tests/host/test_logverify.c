@@ -5,7 +5,10 @@
  * the device never moved are named with their record number; legitimate moves (outside Omega,
  * along dOmega, covered end to end by two collinear probes and the outside part, a tangent to a
  * ball Omega, across a PAUSE/RESUME) pass; with tubes, a move whose capsule a fan of misses
- * covers passes, and one beyond the fan or along a single ray is refused; a torn tail is verified up to its last good record;
+ * covers passes, and one beyond the fan or along a single ray is refused; a body without tubes
+ * is refused inside Omega; forged logs fail (test_forged: a CONTACT that stopped no move, a miss
+ * fired again through a contact, a miss beside it within the noise tolerance, a miss past the
+ * rangefinder's range, moves and probes from far away, a lattice too large); a torn tail is verified up to its last good record;
  * a synthetic 500k-record log runs in seconds.
  *
  *   test_logverify              the checks above
@@ -459,10 +462,96 @@ static void test_crafted(void)
         pb(&c, 1, 0, 0, -1, 0, 0, 1.0, 0, 0);
         bad = mv(&c, 0.6, 0, 0);
         expect(&c, "tube_one_ray", 1, bad, 0, -1);
-        /* ... which the line rule (no feature size) takes */
+        /* ... and without a feature size nothing proves it: a body without tubes stays
+         * outside Omega (the build before took the line rule here) */
         c.h.cfg.min_feature = 0.0;
-        expect(&c, "tube_one_ray_line_rule", 0, -1, 0, -1);
+        expect(&c, "body_one_ray_no_tubes", 1, bad, 0, -1);
+        CHECK(vp_logverify_run(&c.h, c.r, c.n, &r) == VP_OK);
+        CHECK(r.nmoves_listed == 1 && fabs(r.move[0].unproven - 0.4) < 1e-9 && r.tube_moves == 0);
+        /* a point device (no clearance) takes the line rule */
+        c.h.cfg.clearance = 0.0;
+        expect(&c, "point_one_ray_line_rule", 0, -1, 0, -1);
+        /* a lattice too large to look at (feature 1e-6 against a move of 3): unproven, at once */
+        tube_header(&c, 1e-6);
+        c.h.cfg.start[0] = -3.0;
+        bad = mv(&c, 0, 0, 0);
+        expect(&c, "tube_lattice_too_large", 1, bad, 0, -1);
+        CHECK(vp_logverify_run(&c.h, c.r, c.n, &r) == VP_OK && r.tube_too_large == 1 && r.tube_points == 0);
     }
+}
+
+/* What a log cannot make the check believe: a CONTACT that stopped no MOVE, a miss through an
+ * earlier contact, a miss beside the contact within the hits' tolerance, a miss beyond the
+ * rangefinder's range, moves from far away (rounding), a ball Omega's chord from far away. */
+static void test_forged(void)
+{
+    crafted_t c;
+    vp_logverify_result_t r;
+    uint32_t bad;
+    /* a CONTACT first: it stopped no move, so it puts the device nowhere and frees nothing */
+    box_header(&c, 0, 2, 0, 0);
+    ct(&c, 1.5);
+    bad = mv(&c, 0, 0, 0);
+    expect(&c, "contact_misplaced", 1, bad, 0, -1);
+    CHECK(vp_logverify_run(&c.h, c.r, c.n, &r) == VP_OK && r.contacts_misplaced == 1 && r.contacts == 0 && !r.ok);
+    /* ... nor after a RESCAN (the move before it is not the one stopped) */
+    box_header(&c, 0, 2, 0, 0);
+    pb(&c, 2, 0, 0, -1, 0, 0, 2.5, 0, 0);
+    mv(&c, 0, 0, 0);
+    ev(&c, VP_LOGFMT_EV_RESCAN);
+    ct(&c, 2);
+    bad = mv(&c, 0, 0, 0);
+    expect(&c, "contact_after_rescan", 1, bad, 0, -1);
+    CHECK(vp_logverify_run(&c.h, c.r, c.n, &r) == VP_OK && r.contacts_misplaced == 1);
+    /* the same wrong miss fired again after the contact proves nothing near it */
+    box_header(&c, 0, 2, 0, 0);
+    pb(&c, 2, 0, 0, -1, 0, 0, 4, 0, 0);
+    mv(&c, -0.5, 0, 0);
+    ct(&c, 2);                            /* stopped at the centre */
+    mv(&c, 2, 0, 0);                      /* back along the travelled stretch */
+    pb(&c, 2, 0, 0, -1, 0, 0, 4, 0, 0);
+    bad = mv(&c, -0.5, 0, 0);
+    expect(&c, "contact_miss_again", 1, bad, 0, -1);
+    CHECK(vp_logverify_run(&c.h, c.r, c.n, &r) == VP_OK && r.probes_near_contact == 1 && r.withdrawn == 1);
+    /* a miss 1e-6 beside the contact point, noise tolerance 0.001: withdrawn with the other */
+    box_header(&c, 0.001, 2, 0, 0);
+    mv(&c, 2, 1e-6, 0);
+    pb(&c, 2, 1e-6, 0, -1, 0, 0, 4, 0, 0);
+    mv(&c, 2, 0, 0);
+    pb(&c, 2, 0, 0, -1, 0, 0, 4, 0, 0);
+    mv(&c, -0.5, 0, 0);
+    ct(&c, 2);
+    mv(&c, 2, 0, 0);
+    mv(&c, 2, 1e-6, 0);
+    bad = mv(&c, -0.5, 1e-6, 0);
+    expect(&c, "contact_beside", 1, bad, 0, -1);
+    CHECK(vp_logverify_run(&c.h, c.r, c.n, &r) == VP_OK && r.withdrawn == 2);
+    /* a miss is free no farther than the rangefinder reaches */
+    box_header(&c, 0, 2, 0, 0);
+    c.h.cfg.max_range = 1.0;
+    pb(&c, 2, 0, 0, -1, 0, 0, 4, 0, 0);
+    bad = mv(&c, -0.5, 0, 0);
+    expect(&c, "beyond_max_range", 1, bad, 0, -1);
+    CHECK(vp_logverify_run(&c.h, c.r, c.n, &r) == VP_OK && fabs(r.move[0].unproven - 1.5) < 1e-9);
+    c.h.cfg.max_range = 0.0;
+    expect(&c, "within_range", 0, -1, 0, -1);
+    /* a move from 1e16 away to the centre (its inside part rounds away): refused as far */
+    box_header(&c, 0, 2, 0, 0);
+    bad = mv(&c, 1e16, 0, 0);
+    mv(&c, 0, 0, 0);
+    expect(&c, "far_move", 2, bad, 0, -1);
+    /* a ball Omega's chord 0.5 from its centre, from 1e5 radii on either side: the inside
+     * part (sqrt 3) measured from the foot of the perpendicular, not from squares of 1e5 */
+    ball_header(&c);
+    mv(&c, 1e5, 0.5, 0);
+    bad = mv(&c, -1e5, 0.5, 0);
+    expect(&c, "ball_far_chord", 1, bad, 0, -1);
+    CHECK(vp_logverify_run(&c.h, c.r, c.n, &r) == VP_OK && fabs(r.move[0].unproven - sqrt(3.0)) < 1e-6);
+    /* a probe fired from far away proves nothing */
+    box_header(&c, 0, 2, 0, 0);
+    mv(&c, 1e7, 0, 0);
+    pb(&c, 1e7, 0, 0, -1, 0, 0, 2e7, 0, 0);
+    CHECK(vp_logverify_run(&c.h, c.r, c.n, &r) == VP_OK && r.probes_far == 1);
 }
 
 /* A synthetic log of 250k probes and 250k moves, each move along the probe before it (all
@@ -603,6 +692,7 @@ int main(int argc, char **argv)
         if (!expect_file) { fprintf(stderr, "cannot write %s\n", path); return 2; }
     }
     test_crafted();
+    test_forged();
     if (expect_file) fclose(expect_file);
     if (!out_dir) test_big();
     return vp_test_done("test_logverify");
