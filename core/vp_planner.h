@@ -473,7 +473,10 @@ typedef struct vp_planner {
 
 /* Checks the configuration (VP_EINVAL: bad Omega, eps <= 0 or NaN, no interior point, an
  * interior point or the start outside its place; VP_ENOMEM: arena too small) and prepares a
- * session. Nothing is probed before the first vp_planner_next(). */
+ * session. Nothing is probed before the first vp_planner_next(). A bad configuration or an
+ * arena under the least size leaves pl as it was; an arena too small for the pools once laid
+ * out leaves pl cleared and holding the error: every call but this one answers VP_ENOMEM (the
+ * arena is the new session's: an earlier session in it is gone). */
 int vp_planner_init(vp_planner_t *pl, void *arena, size_t bytes, const vp_planner_config_t *cfg);
 
 #ifndef VP_CORE_MCU
@@ -487,7 +490,12 @@ int vp_planner_timed(const vp_planner_config_t *c);
  * interior point turned out not to be inside the object. */
 int vp_planner_next(vp_planner_t *pl, vp_cmd_t *cmd);
 
-/* The result of the last PROBE. VP_EINVAL for NaN or a negative distance (nothing changes). */
+/* 1 when a device's result is one the planner (and a session log) takes: hit 0, 1 or
+ * VP_PROBE_TOO_CLOSE, the distance finite, a hit's not negative. */
+int vp_probe_result_valid(const vp_probe_result_t *res);
+
+/* The result of the last PROBE. VP_EINVAL for a distance that is NaN or infinite (whatever the
+ * result: the session log holds it) or a hit at a negative one (nothing changes). */
 int vp_planner_feed(vp_planner_t *pl, const vp_probe_result_t *res);
 
 /* A miss must be seen: 1 when an occluder (below) crosses the triangle swept by the sight lines

@@ -161,6 +161,7 @@ int vp_run(vp_planner_t *pl, const vp_device_ops_t *dev, const vp_run_hooks_t *h
             int hst = VP_OK;
             st = dev->probe(dev->ctx, &cmd, &res);
             if (st != VP_OK) break;
+            if (!vp_probe_result_valid(&res)) { st = VP_EINVAL; break; } /* never logged: unreadable */
             vp_run_sight(pl, dev, hooks, out, &cmd, &res);
             /* logged before the planner judges it */
             if (after) hst = after(hctx, &cmd, &res);
@@ -180,6 +181,7 @@ int vp_run(vp_planner_t *pl, const vp_device_ops_t *dev, const vp_run_hooks_t *h
                     got = dev->rays(dev->ctx, &cmd, i, &ray, &res);
                     if (got < 0) { st = got; break; }   /* the device failed */
                     if (got != 1) break;                 /* the frame has no more */
+                    if (!vp_probe_result_valid(&res)) { st = VP_EINVAL; break; }
                     vp_run_sight(pl, dev, hooks, out, &ray, &res);
                     if (after) st = after(hctx, &ray, &res);
                     if (st != VP_OK) break;

@@ -61,7 +61,9 @@ VP_PL_API void vp_pl_note_peak(vp_planner_t *pl)
 
 /* ---------- public ---------- */
 
-int vp_planner_init(vp_planner_t *pl, void *arena, size_t bytes, const vp_planner_config_t *cfg)
+/* vp_planner_init's work; *made = 1 once pl has been cleared (a failure after that leaves pl
+ * half made: vp_planner_init clears it and keeps the error) */
+static int planner_init(vp_planner_t *pl, void *arena, size_t bytes, const vp_planner_config_t *cfg, int *made)
 {
     unsigned char *cur, *end;
     size_t dtb, unit;
@@ -112,6 +114,8 @@ int vp_planner_init(vp_planner_t *pl, void *arena, size_t bytes, const vp_planne
         ((cfg->pan_travel[0] != 0.0 || cfg->pan_travel[1] != 0.0) && !(cfg->pan_travel[0] < cfg->pan_travel[1])))
         return VP_EINVAL;
 #endif
+    if (bytes < ARENA_MIN) return VP_ENOMEM;
+    *made = 1;
     memset(pl, 0, sizeof *pl);
     pl->cfg = *cfg;
     /* the slack of a proof: rounding of constructed points, far below any physical size */
@@ -126,7 +130,6 @@ int vp_planner_init(vp_planner_t *pl, void *arena, size_t bytes, const vp_planne
      * proofs weigh more and whose scratch needs less (split[1]): the triangulation at least
      * 24, records 23, proofs 15, free edges 6, facets 14, tasks 5, scratch 4, route 2. */
     unit = bytes / 100;
-    if (bytes < ARENA_MIN) return VP_ENOMEM;
     sh = split[bytes < SMALL_ARENA];
     pl->pool.room = bytes < SMALL_ARENA ? (uint32_t)(bytes / ROOM_BYTES) : ROOM_SMALL;
     pl->pool.cap_vrec = (uint32_t)(sh[0] * unit / sizeof(vp_vrec_t));
@@ -242,6 +245,18 @@ int vp_planner_init(vp_planner_t *pl, void *arena, size_t bytes, const vp_planne
     if (st != VP_OK) return st;
     vp_pl_note_peak(pl);
     return VP_OK;
+}
+
+int vp_planner_init(vp_planner_t *pl, void *arena, size_t bytes, const vp_planner_config_t *cfg)
+{
+    int made = 0, st = planner_init(pl, arena, bytes, cfg, &made);
+    if (st != VP_OK && made) {
+        /* the arena held too little once the pools were laid out: nothing half made is left to
+         * run, every call but vp_planner_init answers this error */
+        memset(pl, 0, sizeof *pl);
+        pl->error = st;
+    }
+    return st;
 }
 
 /* A PROBE goes out: what its result will prove is measured from this ray. */
@@ -533,11 +548,12 @@ static int shortcut_feed(vp_planner_t *pl, const vp_probe_result_t *res)
     return vp_pl_route_push(pl, pl->pool.vrec[pl->sc.to].p, pf);
 }
 
-/* A probe's (or a ray's) result as the device may give it: hit 0, 1 or too close, a hit's
- * distance finite and not negative. */
-static int result_ok(const vp_probe_result_t *res)
+/* A probe's (or a ray's) result as the device may give it: hit 0, 1 or too close, its distance
+ * finite (a miss's too: the session log holds it), a hit's not negative either. */
+int vp_probe_result_valid(const vp_probe_result_t *res)
 {
-    if (res->hit < 0 || res->hit > VP_PROBE_TOO_CLOSE) return 0;
+    if (!res || res->hit < 0 || res->hit > VP_PROBE_TOO_CLOSE) return 0;
+    if (!vp_finite(res->dist)) return 0;
     return res->hit != 1 || (res->dist >= 0.0 && res->dist < VP_PL_HUGE);
 }
 
@@ -546,7 +562,7 @@ int vp_planner_feed(vp_planner_t *pl, const vp_probe_result_t *res)
     int st;
     if (!pl || !res) return VP_EINVAL;
     if (!pl->dev.awaiting) return VP_ESTATE;
-    if (!result_ok(res)) return VP_EINVAL;
+    if (!vp_probe_result_valid(res)) return VP_EINVAL;
     pl->dev.awaiting = 0;
     /* counted as the device answered, whatever the answer is used for */
     if (res->hit == 1) pl->st.hits++;
@@ -581,7 +597,7 @@ int vp_planner_feed_ray(vp_planner_t *pl, const double dir[3], const vp_probe_re
     int q;
     if (!pl || !dir || !res) return VP_EINVAL;
     if (!vp_finite3(dir) || fabs(vp_dot3(dir, dir) - 1.0) > 1e-9) return VP_EINVAL;
-    if (!result_ok(res)) return VP_EINVAL;
+    if (!vp_probe_result_valid(res)) return VP_EINVAL;
     if (pl->error) return pl->error;
     if (pl->dev.awaiting || pl->rays.left == 0) return VP_ESTATE;
     pl->rays.left--;

@@ -398,6 +398,33 @@ static void test_errors(void)
     CHECK(vp_planner_init(pl, mem, bytes, &c) == VP_EINVAL);
     base_config(&c); c.noise_tol = -1;      CHECK(vp_planner_init(pl, mem, bytes, &c) == VP_EINVAL);
     base_config(&c);                         CHECK(vp_planner_init(pl, mem, 1000, &c) == VP_ENOMEM);
+    /* a failed init on a planner at work: under the least arena it is left as it was (the
+     * session goes on); over it but too small for the pools it is left holding the error
+     * (the build before left it half made: the next call crashed) */
+    base_config(&c);
+    CHECK(vp_planner_init(pl, mem, bytes, &c) == VP_OK);
+    CHECK(vp_planner_next(pl, &cmd) == VP_OK);
+    CHECK(vp_planner_init(pl, mem, 1000, &c) == VP_ENOMEM);
+    {
+        vp_cmd_t again;
+        int st = vp_planner_next(pl, &again);
+        CHECKF(st == VP_OK, "the session after a refused init: %d", st);
+    }
+    {
+        size_t small = 0, b;
+        for (b = 64u << 10; b <= (1u << 20) && !small; b += 4096)
+            if (vp_planner_init(pl, mem, b, &c) == VP_ENOMEM) small = b;
+            else break;
+        CHECKF(small > 0, "an arena over the least size that the pools do not fit");
+        if (small) {
+            vp_probe_result_t r0 = { 0, 0.0 };
+            CHECK(vp_planner_next(pl, &cmd) == VP_ENOMEM);
+            CHECK(vp_planner_feed(pl, &r0) == VP_ESTATE || vp_planner_feed(pl, &r0) == VP_ENOMEM);
+            CHECK(vp_planner_facet_slots(pl) == 0);
+            CHECK(vp_planner_init(pl, mem, bytes, &c) == VP_OK); /* and it starts again */
+            CHECK(vp_planner_next(pl, &cmd) == VP_OK);
+        }
+    }
     /* protocol: feed before a probe, next before feeding, bad results */
     base_config(&c);
     CHECK(vp_planner_init(pl, mem, bytes, &c) == VP_OK);
@@ -410,6 +437,15 @@ static void test_errors(void)
     CHECK(vp_planner_feed(pl, &res) == VP_EINVAL);
     res.dist = -1.0;
     CHECK(vp_planner_feed(pl, &res) == VP_EINVAL);
+    /* a miss's and a too-close result's distance too: the session log holds it (the build
+     * before took a NaN there and wrote a record its reader refuses) */
+    res.hit = 0; res.dist = NAN;
+    CHECK(vp_planner_feed(pl, &res) == VP_EINVAL);
+    res.dist = INFINITY;
+    CHECK(vp_planner_feed(pl, &res) == VP_EINVAL);
+    res.hit = VP_PROBE_TOO_CLOSE; res.dist = -INFINITY;
+    CHECK(vp_planner_feed(pl, &res) == VP_EINVAL);
+    CHECK(vp_planner_next(pl, &cmd) == VP_ESTATE); /* still owed: nothing changed */
     /* misses towards o from every side (the seed comes again from 26 other directions, a dark
      * surface on its way in being possible): o is not inside the object, VP_ERANGE */
     res.hit = 0; res.dist = 0;

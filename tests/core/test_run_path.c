@@ -29,6 +29,9 @@ typedef struct path_dev {
     unsigned long stop_at;         /* the hook stops the scan after this command (0: never) */
     unsigned long touch_at;        /* the contact stops the first MOVE from this command on,
                                       half way (1-based; 0: never) */
+    unsigned long nan_at;          /* from this PROBE on (1-based; 0: never) the device answers a
+                                      miss at a NaN distance */
+    unsigned long probes;
     int touched;                   /* the last MOVE stopped on the contact */
     double touch_dist, touch_point[3];
     unsigned long touch_logged;    /* MOVEs the hook saw with a touch, and their distance */
@@ -109,6 +112,10 @@ static int dev_probe(void *ctx, const vp_cmd_t *cmd, vp_probe_result_t *res)
     d->executed++;
     res->hit = 0;
     res->dist = 0.0;
+    if (d->nan_at && ++d->probes >= d->nan_at) {
+        res->dist = NAN;
+        return VP_OK;
+    }
     if (disc > 0.0 && (s = -b - sqrt(disc)) > 0.0 && s <= cmd->range) {
         res->hit = 1;
         res->dist = s;
@@ -150,13 +157,14 @@ static int scan(path_dev_t *d, int paths, unsigned long max_commands, vp_run_res
     vp_device_ops_t ops;
     vp_run_hooks_t hooks;
     int per = d->per_call;
-    unsigned long fail = d->fail_at, stop = d->stop_at, touch = d->touch_at;
+    unsigned long fail = d->fail_at, stop = d->stop_at, touch = d->touch_at, nan_at = d->nan_at;
     sphere_config(&cfg);
     memset(d, 0, sizeof *d);
     d->per_call = per;
     d->fail_at = fail;
     d->stop_at = stop;
     d->touch_at = touch;
+    d->nan_at = nan_at;
     d->hash = 1469598103934665603ull;
     memcpy(d->pos, cfg.start, sizeof d->pos);
     CHECK(vp_planner_init(&pl, arena, sizeof arena, &cfg) == VP_OK);
@@ -254,6 +262,13 @@ int main(void)
     CHECK(b.breaks == 0 && b.non_moves == 0);
     CHECK(a.collided > 0 && rb.collisions == b.collided && ra.collisions == a.collided && a.collided == b.collided);
     printf("  %lu commands, %lu paths of %lu MOVEs (the longest %lu), same log\n", b.logged, b.paths, b.path_moves, b.longest);
+
+    /* a device that answers a miss at a NaN distance: refused before it is logged (the log's
+     * reader would refuse the record, and everything after it), the scan stops there */
+    memset(&b, 0, sizeof b);
+    b.nan_at = 5;
+    CHECK(scan(&b, 1, 0, &rb, NULL) == VP_EINVAL);
+    CHECK(b.probes == 5 && b.logged + 1 == b.executed);
 
     /* a device that makes at most two MOVEs a call: given the rest again */
     memset(&b, 0, sizeof b);
