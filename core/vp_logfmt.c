@@ -372,6 +372,11 @@ int vp_logfmt_record_encode(const vp_logfmt_record_t *r, void *buf, size_t cap)
     unsigned char *p = (unsigned char *)buf;
     int size = vp_logfmt_record_size(r), k;
     if (size < 0) return size;
+    /* never a record the reader refuses (record_decode's field checks) */
+    if (PROBE_LIKE(r->type) && (r->hit < 0 || r->hit > 2 || !vp_finite3(r->origin) || !vp_finite3(r->dir) ||
+                                !vp_finite(r->range) || !vp_finite(r->dist)))
+        return VP_EINVAL;
+    if (r->type == VP_LOGFMT_MOVE && !vp_finite3(r->target)) return VP_EINVAL;
     if (!buf || cap < (size_t)size) return VP_ENOMEM;
     put32(p, (uint32_t)size);
     put32(p + 4, r->seq);

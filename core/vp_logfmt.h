@@ -117,6 +117,9 @@ void vp_logfmt_record_move(vp_logfmt_record_t *r, uint32_t seq, const vp_cmd_t *
 void vp_logfmt_record_event(vp_logfmt_record_t *r, uint32_t seq, uint32_t event, int32_t code,
                          const char *text);
 int vp_logfmt_record_size(const vp_logfmt_record_t *r);
+/* Its size in buf; VP_ENOMEM when cap is too small; VP_EINVAL for a record the reader would
+ * refuse (a PROBE's or RAY's non-finite origin, direction, range or distance or a hit outside
+ * 0..2, a MOVE's non-finite target, an event's text too long): nothing is written. */
 int vp_logfmt_record_encode(const vp_logfmt_record_t *r, void *buf, size_t cap);
 /* Decodes one record from buf[len] (frame, CRC and fields checked; not the sequence): its size,
  * or VP_ECORRUPT with *reason (VP_LOGFMT_R_*; may be NULL). */

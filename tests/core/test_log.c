@@ -178,6 +178,46 @@ static void test_roundtrip(void)
         CHECK(vp_logfmt_record_encode(&rec, buf, 10) == VP_ENOMEM);
         rec.type = 9;
         CHECK(vp_logfmt_record_encode(&rec, buf, sizeof buf) == VP_EINVAL);
+        /* nothing the reader refuses is written (the build before wrote these, and the reader
+         * then stopped at them: the rest of a session lost) */
+        {
+            vp_cmd_t cmd;
+            vp_probe_result_t res;
+            static const double bad[] = { NAN, INFINITY, -INFINITY };
+            int j, ok;
+            memset(&cmd, 0, sizeof cmd);
+            cmd.kind = VP_CMD_PROBE;
+            cmd.dir[2] = 1.0;
+            cmd.range = 1.0;
+            res.hit = 0;
+            res.dist = 0.0;
+            for (j = 0; j < 3; j++) {
+                unsigned char tmp[256];
+                memset(tmp, 0xA5, sizeof tmp);
+                vp_logfmt_record_probe(&rec, 1, &cmd, &res, NAN); /* a NaN raw reading is fine */
+                ok = vp_logfmt_record_encode(&rec, tmp, sizeof tmp);
+                CHECK(ok == VP_LOGFMT_PROBE_SIZE);
+                rec.dist = bad[j];
+                CHECK(vp_logfmt_record_encode(&rec, tmp, sizeof tmp) == VP_EINVAL);
+                vp_logfmt_record_probe(&rec, 1, &cmd, &res, 0.0);
+                rec.origin[1] = bad[j];
+                CHECK(vp_logfmt_record_encode(&rec, tmp, sizeof tmp) == VP_EINVAL);
+                vp_logfmt_record_probe(&rec, 1, &cmd, &res, 0.0);
+                rec.range = bad[j];
+                CHECK(vp_logfmt_record_encode(&rec, tmp, sizeof tmp) == VP_EINVAL);
+                cmd.kind = VP_CMD_MOVE;
+                cmd.to[0] = bad[j];
+                vp_logfmt_record_move(&rec, 2, &cmd);
+                memset(tmp, 0xA5, sizeof tmp);
+                CHECK(vp_logfmt_record_encode(&rec, tmp, sizeof tmp) == VP_EINVAL);
+                CHECK(tmp[0] == 0xA5 && tmp[11] == 0xA5); /* nothing written */
+                cmd.kind = VP_CMD_PROBE;
+                cmd.to[0] = 0.0;
+            }
+            vp_logfmt_record_probe(&rec, 1, &cmd, &res, 0.0);
+            rec.hit = 3;
+            CHECK(vp_logfmt_record_encode(&rec, buf, sizeof buf) == VP_EINVAL);
+        }
         /* long texts are cut at the limit */
         {
             char t[400];
@@ -310,10 +350,19 @@ static void test_errors(void)
         CHECK(n == 1 && fin == VP_ECORRUPT && r.reason == VP_LOGFMT_R_SEQUENCE && r.bad_record == 1 &&
               r.bad_offset == hl + VP_LOGFMT_PROBE_SIZE);
     }
-    /* a NaN coordinate with a valid CRC is an invalid field; hit must be 0 or 1 */
-    cmd.from[1] = NAN;
+    /* a NaN coordinate with a valid CRC is an invalid field; hit must be 0 or 1 (the encoder
+     * writes no such record: the NaN is put into the origin's y, bytes 20-27 little-endian,
+     * and the CRC made again) */
     vp_logfmt_record_probe(&rec, 0, &cmd, &res, 0.5);
     w = vp_logfmt_record_encode(&rec, buf + hl, sizeof buf - hl);
+    {
+        double nan = NAN;
+        uint64_t u;
+        int k;
+        memcpy(&u, &nan, sizeof u);
+        for (k = 0; k < 8; k++) buf[hl + 20 + (size_t)k] = (unsigned char)(u >> (8 * k));
+        put_crc(buf + hl, (size_t)w);
+    }
     {
         vp_logfmt_record_t out[2];
         int fin;
