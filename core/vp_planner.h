@@ -471,7 +471,8 @@ typedef struct vp_planner {
     vp_planner_stats_t st;   /* counters, written where things happen */
 } vp_planner_t;
 
-/* Checks the configuration (VP_EINVAL: bad Omega, eps <= 0 or NaN, no interior point, an
+/* Checks the configuration (VP_EINVAL: bad Omega (also one whose circumradius is below 1e-4 or
+ * above 1e50 units: choose the units so, mm for a desktop scanner), eps <= 0 or NaN, no interior point, an
  * interior point or the start outside its place; VP_ENOMEM: arena too small) and prepares a
  * session. Nothing is probed before the first vp_planner_next(). A bad configuration or an
  * arena under the least size leaves pl as it was; an arena too small for the pools once laid

@@ -17,6 +17,10 @@
 /* the slack of a proof check, relative to Omega's size (1 + its circumradius): the rounding of
  * constructed points (Voronoi vertices, hits), far below any physical size */
 #define PROOF_TOL_REL 1e-10
+/* Omega's circumradius, in the caller's units: at least 1e-4 (the proofs' slack of 1e-10 then
+ * at most 1e-6 of it; at 1e-13 a scan ended DONE with no facet), at most 1e50 */
+#define OMEGA_R_MIN 1e-4
+#define OMEGA_R_MAX 1e50
 #define DEG_TO_RAD 0.017453292519943295
 /* body mode: the task slots keep their starts only where the task share holds this many times
  * an update's headroom with them (vp_pl_pools_have_room) */
@@ -81,6 +85,10 @@ static int planner_init(vp_planner_t *pl, void *arena, size_t bytes, const vp_pl
     } else {
         return VP_EINVAL;
     }
+    /* Omega's size in the units the caller chose: the proofs' slack holds an absolute part
+     * (PROOF_TOL_REL) and the predicates' products grow as its cube and more */
+    if (!(vp_pl_omega_circumradius(cfg) >= OMEGA_R_MIN) || !(vp_pl_omega_circumradius(cfg) <= OMEGA_R_MAX))
+        return VP_EINVAL;
     if (!(cfg->eps > 0.0) || !(cfg->eps < CFG_MAX)) return VP_EINVAL;
     if (cfg->ninterior < 1 || cfg->ninterior > VP_PLANNER_MAX_SEEDS) return VP_EINVAL;
     for (i = 0; i < cfg->ninterior; i++)

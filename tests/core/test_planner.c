@@ -368,6 +368,15 @@ static void base_config(vp_planner_config_t *c)
     c->eps = 0.1;
 }
 
+/* base_config with every length times f */
+static void scaled_config(vp_planner_config_t *c, double f)
+{
+    int k;
+    base_config(c);
+    for (k = 0; k < 3; k++) { c->omega_lo[k] *= f; c->omega_hi[k] *= f; c->start[k] *= f; }
+    c->eps *= f;
+}
+
 static void test_errors(void)
 {
     vp_planner_t *pl = malloc(sizeof *pl);
@@ -397,6 +406,13 @@ static void test_errors(void)
     base_config(&c); c.start[0] = 0; c.start[1] = 0; c.start[2] = 0; /* start inside Omega */
     CHECK(vp_planner_init(pl, mem, bytes, &c) == VP_EINVAL);
     base_config(&c); c.noise_tol = -1;      CHECK(vp_planner_init(pl, mem, bytes, &c) == VP_EINVAL);
+    /* Omega's size (its circumradius 3.46 f here): below 1e-4 or above 1e50 units refused (at
+     * 1e-13 a scan ended DONE with no facet, the proofs' slack larger than Omega) */
+    scaled_config(&c, 1e-5);                 CHECK(vp_planner_init(pl, mem, bytes, &c) == VP_EINVAL);
+    scaled_config(&c, 1e-13);                CHECK(vp_planner_init(pl, mem, bytes, &c) == VP_EINVAL);
+    scaled_config(&c, 1e50);                 CHECK(vp_planner_init(pl, mem, bytes, &c) == VP_EINVAL);
+    scaled_config(&c, 1e-4);                 CHECK(vp_planner_init(pl, mem, bytes, &c) == VP_OK);
+    scaled_config(&c, 1e49);                 CHECK(vp_planner_init(pl, mem, bytes, &c) == VP_OK);
     base_config(&c);                         CHECK(vp_planner_init(pl, mem, 1000, &c) == VP_ENOMEM);
     /* a failed init on a planner at work: under the least arena it is left as it was (the
      * session goes on); over it but too small for the pools it is left holding the error
