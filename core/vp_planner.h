@@ -476,8 +476,9 @@ typedef struct vp_planner {
  * interior point or the start outside its place; VP_ENOMEM: arena too small) and prepares a
  * session. Nothing is probed before the first vp_planner_next(). A bad configuration or an
  * arena under the least size leaves pl as it was; an arena too small for the pools once laid
- * out leaves pl cleared and holding the error: every call but this one answers VP_ENOMEM (the
- * arena is the new session's: an earlier session in it is gone). */
+ * out leaves pl cleared and holding the error: vp_planner_next and every call that acts answer
+ * VP_ENOMEM (vp_planner_feed VP_ESTATE: no probe is owed); the arena is the new session's, an
+ * earlier session in it is gone. */
 int vp_planner_init(vp_planner_t *pl, void *arena, size_t bytes, const vp_planner_config_t *cfg);
 
 #ifndef VP_CORE_MCU

@@ -36,7 +36,7 @@ struct vp_lv_entry {
 /* The tube rule looks at no more lattice points than this per move (the box about its capsule);
  * a larger one is unproven (a body's move of that many feature sizes is not a move a planner
  * makes), and a free part longer than LV_TUBE_STEPS steps of rho / 2 proves no tube */
-#define LV_TUBE_LATTICE 2e8
+#define LV_TUBE_LATTICE 1e9
 #define LV_TUBE_STEPS 1e5
 
 
@@ -181,7 +181,9 @@ int vp_logverify_begin(vp_logverify_t *v, const vp_logfmt_header_t *h)
         /* the planner's contact reach: eps, at least CONTACT_REACH_NOISE noise tolerances */
         double e = isfinite(c->eps) && c->eps > 0.0 ? c->eps : 0.0;
         double nt = isfinite(c->noise_tol) && c->noise_tol > 0.0 ? LV_CONTACT_REACH_NOISE * c->noise_tol : 0.0;
-        v->ct_reach = (e > nt ? e : nt) + v->tol;
+        /* less the tolerance: never a probe the planner trusted refused for rounding */
+        v->ct_reach = (e > nt ? e : nt) - v->tol;
+        if (v->ct_reach < 0.0) v->ct_reach = 0.0;
     }
     memcpy(v->res.pos, c->start, sizeof v->res.pos);
     v->res.ok = 1;
@@ -579,6 +581,12 @@ static int check_move(vp_logverify_t *v, const vp_logfmt_record_t *r)
     R->moves++;
     len = dist3(p, q);
     if (len <= v->tol) return VP_OK;   /* shorter than the tolerance: nothing to cover */
+    if (v->omega_broken) {
+        /* a contact outside Omega: Omega does not hold the object (A2 fails), nothing outside
+         * it is free any more (the planner stops there) */
+        unproven(v, r, p, q, len, len, 0.0, 1.0, 1u);
+        return VP_OK;
+    }
     if (!(dist3(p, v->centre) <= VP_LOGVERIFY_FAR * v->diam) || !(dist3(q, v->centre) <= VP_LOGVERIFY_FAR * v->diam)) {
         /* not a move this machine makes, and one whose arithmetic is not to be trusted */
         unproven(v, r, p, q, len, len, 0.0, 1.0, 1u);
@@ -727,6 +735,14 @@ static int add_free(vp_logverify_t *v, const double *origin, const double *u, do
     return v->tubes ? tube_add(v, id) : VP_OK;
 }
 
+/* c relative to Omega's centre, into out */
+static const double *cr0(const vp_logverify_t *v, const double *c, double *out)
+{
+    int k;
+    for (k = 0; k < 3; k++) out[k] = c[k] - v->centre[k];
+    return out;
+}
+
 /* CONTACT: the MOVE before stopped at value[0] along it, where the surface is. */
 static int add_contact(vp_logverify_t *v, const vp_logfmt_record_t *r)
 {
@@ -744,9 +760,9 @@ static int add_contact(vp_logverify_t *v, const vp_logfmt_record_t *r)
         c[k] = v->from[k] + at * u[k];
     }
     R->contacts++;
+    if (outside_dist(v, cr0(v, c, cr)) <= 0.0) v->omega_broken = 1;
     /* every free part through the point (within the hits' tolerance) was wrong, and later
      * ones near it prove nothing */
-    for (k = 0; k < 3; k++) cr[k] = c[k] - v->centre[k];
     for (i = 0; i < v->npr; i++) {
         vp_lv_probe_t *P = &v->pr[i];
         if (P->len >= 0.0 && part_dist2(P, cr) <= wtol * wtol) { P->len = -1.0; R->withdrawn++; }

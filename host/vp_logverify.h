@@ -20,7 +20,9 @@
  *   along it) puts the device at that point; every earlier free part that passes within the
  *   noise tolerance of the point is withdrawn (the surface is there: the probe that showed it
  *   free was wrong), and the part of the move up to the point is free (the head travelled it).
- *   A CONTACT that does not follow a MOVE is a violation (misplaced) and teaches nothing;
+ *   A CONTACT that does not follow a MOVE is a violation (misplaced) and teaches nothing; one
+ *   outside Omega (or on dOmega) shows that Omega does not hold the object: no move after it is
+ *   proven (the planner stops there);
  * - a device with a body (a header with a clearance) and no tubes never enters Omega: the part
  *   of a move inside Omega is unproven whatever probes lie along it (a ray proves no volume);
  * - a move or probe more than VP_LOGVERIFY_FAR diameters from Omega's centre is not a move
@@ -131,6 +133,7 @@ typedef struct vp_logverify {
     int after_move;                             /* the last record was a MOVE */
     double (*ct)[3]; size_t nct, cap_ct;        /* contact points (relative to the centre) */
     double ct_reach;                            /* a free part this near a contact proves nothing */
+    int omega_broken;                           /* a contact outside Omega: nothing after it is proven */
     int tubes;                                  /* the header has a clearance and min_feature */
     double tcell;                               /* the free parts' cells: 2 min_feature */
     vp_lv_hash_t cells;                         /* a free part in every cell it passes within

@@ -494,10 +494,13 @@ static void test_forged(void)
     bad = mv(&c, 0, 0, 0);
     expect(&c, "contact_misplaced", 1, bad, 0, -1);
     CHECK(vp_logverify_run(&c.h, c.r, c.n, &r) == VP_OK && r.contacts_misplaced == 1 && r.contacts == 0 && !r.ok);
-    /* ... nor after a RESCAN (the move before it is not the one stopped) */
+    /* ... nor after a RESCAN (the move before it is not the one stopped; the build before took
+     * the stretch from that move's start to the start position as travelled) */
     box_header(&c, 0, 2, 0, 0);
     pb(&c, 2, 0, 0, -1, 0, 0, 2.5, 0, 0);
     mv(&c, 0, 0, 0);
+    pb(&c, 0, 0, 0, 0, 1, 0, 0.5, 0, 0);
+    mv(&c, 0, 0.5, 0);
     ev(&c, VP_LOGFMT_EV_RESCAN);
     ct(&c, 2);
     bad = mv(&c, 0, 0, 0);
@@ -546,7 +549,16 @@ static void test_forged(void)
     mv(&c, 1e5, 0.5, 0);
     bad = mv(&c, -1e5, 0.5, 0);
     expect(&c, "ball_far_chord", 1, bad, 0, -1);
-    CHECK(vp_logverify_run(&c.h, c.r, c.n, &r) == VP_OK && fabs(r.move[0].unproven - sqrt(3.0)) < 1e-6);
+    CHECK(vp_logverify_run(&c.h, c.r, c.n, &r) == VP_OK && fabs(r.move[0].unproven - sqrt(3.0)) < 1e-8);
+    /* a contact outside Omega: Omega does not hold the object, so its outside proves nothing
+     * after it (the build before took the way back through the touched point as outside) */
+    box_header(&c, 0, 2, 0, 0);
+    mv(&c, 2, 2, 0);
+    mv(&c, 2, -2, 0);
+    ct(&c, 1.0);                          /* touched at (2, 1, 0), outside Omega */
+    bad = mv(&c, 2, 2, 0);
+    mv(&c, 2, -2, 0);
+    expect(&c, "contact_outside", 2, bad, 0, -1);
     /* a probe fired from far away proves nothing */
     box_header(&c, 0, 2, 0, 0);
     mv(&c, 1e7, 0, 0);
