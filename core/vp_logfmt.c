@@ -367,16 +367,21 @@ int vp_logfmt_record_size(const vp_logfmt_record_t *r)
     }
 }
 
+/* A PROBE's, RAY's or MOVE's fields as the reader takes them: hit 0..2, every number finite */
+static int fields_ok(const vp_logfmt_record_t *r)
+{
+    if (PROBE_LIKE(r->type))
+        return r->hit >= 0 && r->hit <= 2 && vp_finite3(r->origin) && vp_finite3(r->dir) && vp_finite(r->range) &&
+               vp_finite(r->dist);
+    return r->type != VP_LOGFMT_MOVE || vp_finite3(r->target);
+}
+
 int vp_logfmt_record_encode(const vp_logfmt_record_t *r, void *buf, size_t cap)
 {
     unsigned char *p = (unsigned char *)buf;
     int size = vp_logfmt_record_size(r), k;
     if (size < 0) return size;
-    /* never a record the reader refuses (record_decode's field checks) */
-    if (PROBE_LIKE(r->type) && (r->hit < 0 || r->hit > 2 || !vp_finite3(r->origin) || !vp_finite3(r->dir) ||
-                                !vp_finite(r->range) || !vp_finite(r->dist)))
-        return VP_EINVAL;
-    if (r->type == VP_LOGFMT_MOVE && !vp_finite3(r->target)) return VP_EINVAL;
+    if (!fields_ok(r)) return VP_EINVAL; /* never a record the reader refuses */
     if (!buf || cap < (size_t)size) return VP_ENOMEM;
     put32(p, (uint32_t)size);
     put32(p + 4, r->seq);
@@ -416,14 +421,13 @@ static int record_decode(const unsigned char *p, uint32_t n, vp_logfmt_record_t 
         r->dist = getd(p + 68);
         r->raw = getd(p + 76);
         hit = get32(p + 84);
-        if (hit > 2 || !vp_finite3(r->origin) || !vp_finite3(r->dir) || !vp_finite(r->range) ||
-            !vp_finite(r->dist))
-            return VP_LOGFMT_R_FIELD;
+        if (hit > 2) return VP_LOGFMT_R_FIELD;
         r->hit = (int)hit;
+        if (!fields_ok(r)) return VP_LOGFMT_R_FIELD;
     } else if (type == VP_LOGFMT_MOVE) {
         if (n != VP_LOGFMT_MOVE_SIZE) return VP_LOGFMT_R_LENGTH;
         getd3(p + 12, r->target);
-        if (!vp_finite3(r->target)) return VP_LOGFMT_R_FIELD;
+        if (!fields_ok(r)) return VP_LOGFMT_R_FIELD;
     } else if (type == VP_LOGFMT_EVENT) {
         if (n < VP_LOGFMT_EVENT_BASE) return VP_LOGFMT_R_LENGTH;
         r->event = get32(p + 12);

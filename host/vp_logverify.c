@@ -735,14 +735,6 @@ static int add_free(vp_logverify_t *v, const double *origin, const double *u, do
     return v->tubes ? tube_add(v, id) : VP_OK;
 }
 
-/* c relative to Omega's centre, into out */
-static const double *cr0(const vp_logverify_t *v, const double *c, double *out)
-{
-    int k;
-    for (k = 0; k < 3; k++) out[k] = c[k] - v->centre[k];
-    return out;
-}
-
 /* CONTACT: the MOVE before stopped at value[0] along it, where the surface is. */
 static int add_contact(vp_logverify_t *v, const vp_logfmt_record_t *r)
 {
@@ -760,7 +752,8 @@ static int add_contact(vp_logverify_t *v, const vp_logfmt_record_t *r)
         c[k] = v->from[k] + at * u[k];
     }
     R->contacts++;
-    if (outside_dist(v, cr0(v, c, cr)) <= 0.0) v->omega_broken = 1;
+    for (k = 0; k < 3; k++) cr[k] = c[k] - v->centre[k];
+    if (outside_dist(v, cr) <= 0.0) v->omega_broken = 1;
     /* every free part through the point (within the hits' tolerance) was wrong, and later
      * ones near it prove nothing */
     for (i = 0; i < v->npr; i++) {
@@ -777,17 +770,10 @@ static int add_contact(vp_logverify_t *v, const vp_logfmt_record_t *r)
 int vp_logverify_add(vp_logverify_t *v, const vp_logfmt_record_t *r)
 {
     int st = VP_OK;
-    int was_move = v->after_move;
-    v->after_move = r->type == VP_LOGFMT_MOVE;
     if (r->type == VP_LOGFMT_MOVE) { st = check_move(v, r); v->commands++; }
     else if (r->type == VP_LOGFMT_PROBE) { v->commands++; st = add_probe(v, r); }
     else if (r->type == VP_LOGFMT_RAY) v->res.rays++; /* the planner moves on PROBE proofs alone */
-    else if (r->event == VP_LOGFMT_EV_CONTACT) {
-        v->res.events++;
-        v->after_move = was_move;
-        st = add_contact(v, r);
-        v->after_move = 0;
-    }
+    else if (r->event == VP_LOGFMT_EV_CONTACT) { v->res.events++; st = add_contact(v, r); }
     else if (r->event == VP_LOGFMT_EV_RESCAN) {
         /* a re-scan: the object may have changed, so nothing proven before proves anything now;
          * the device is at the start again */
@@ -799,6 +785,7 @@ int vp_logverify_add(vp_logverify_t *v, const vp_logfmt_record_t *r)
         v->res.rescans++;
     }
     else v->res.events++;   /* START, PAUSE, RESUME, FAULT, DONE, ...: the device stays */
+    v->after_move = r->type == VP_LOGFMT_MOVE; /* what the next record follows */
     if (st != VP_OK) return st;
     v->index++;
     v->res.records++;

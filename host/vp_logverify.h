@@ -130,7 +130,7 @@ typedef struct vp_logverify {
     uint32_t index;                             /* next record index */
     uint64_t commands;                          /* PROBE and MOVE records so far */
     double from[3];                             /* where the last MOVE started */
-    int after_move;                             /* the last record was a MOVE */
+    int after_move;                             /* the record before the current one was a MOVE */
     double (*ct)[3]; size_t nct, cap_ct;        /* contact points (relative to the centre) */
     double ct_reach;                            /* a free part this near a contact proves nothing */
     int omega_broken;                           /* a contact outside Omega: nothing after it is proven */
