@@ -118,10 +118,36 @@ void vp_logfmt_header_init(vp_logfmt_header_t *h, const vp_planner_config_t *cfg
     h->note[n] = 0;
 }
 
+/* The configuration fields a header's reader takes, shared by the encoder and the decoder (the
+ * fields a version does not hold are zero): a known Omega, 1 .. VP_PLANNER_MAX_SEEDS interior
+ * points, and every number the planner reads finite. */
+static int cfg_ok(const vp_planner_config_t *c)
+{
+    uint32_t i;
+    if (c->ninterior < 1 || c->ninterior > VP_PLANNER_MAX_SEEDS) return 0;
+    if (c->omega_kind != VP_OMEGA_BOX && c->omega_kind != VP_OMEGA_BALL) return 0;
+    if (!vp_finite(c->eps) || !vp_finite3(c->omega_lo) || !vp_finite3(c->omega_hi) ||
+        !vp_finite3(c->omega_center) || !vp_finite(c->omega_radius) || !vp_finite3(c->start) ||
+        !vp_finite(c->max_range) || !vp_finite(c->noise_tol) || !vp_finite(c->clearance) ||
+        !vp_finite(c->min_angle) || !vp_finite(c->size_rel) || !vp_finite(c->min_size) ||
+        !vp_finite(c->max_distance))
+        return 0;
+    for (i = 0; i < c->ninterior; i++)
+        if (!vp_finite3(c->interior[i])) return 0;
+#ifndef VP_CORE_MCU
+    if (c->line_rays > VP_PLANNER_MAX_LINE_RAYS || !vp_finite(c->min_feature) || !vp_finite(c->feature_margin) ||
+        !vp_finite(c->pan_travel[0]) || !vp_finite(c->pan_travel[1]))
+        return 0;
+    for (i = 0; i < VP_PLANNER_AXES; i++)
+        if (!vp_finite(c->axis_time[i])) return 0;
+#endif
+    return 1;
+}
+
 int vp_logfmt_header_size(const vp_logfmt_header_t *h)
 {
     size_t bl, nl;
-    if (!h || h->cfg.ninterior < 1 || h->cfg.ninterior > VP_PLANNER_MAX_SEEDS) return VP_EINVAL;
+    if (!h || !cfg_ok(&h->cfg)) return VP_EINVAL; /* never a header the reader refuses */
     bl = bounded_len(h->board, VP_LOGFMT_BOARD_MAX + 1);
     nl = bounded_len(h->note, VP_LOGFMT_NOTE_MAX + 1);
     if (bl > VP_LOGFMT_BOARD_MAX || nl > VP_LOGFMT_NOTE_MAX) return VP_EINVAL;
@@ -218,8 +244,7 @@ static int header_decode(const unsigned char *p, uint32_t n, vp_logfmt_header_t 
     h->arena_bytes = get64(p + 176);
     c->ninterior = get32(p + 184);
     if (get16(p + 10) != 0) return 0;
-    if (c->ninterior < 1 || c->ninterior > VP_PLANNER_MAX_SEEDS) return 0;
-    if (c->omega_kind != VP_OMEGA_BOX && c->omega_kind != VP_OMEGA_BALL) return 0;
+    if (c->ninterior < 1 || c->ninterior > VP_PLANNER_MAX_SEEDS) return 0; /* before reading them */
     q = p + HDR_FIXED;
     if ((size_t)(end - q) < 24u * c->ninterior + 2u) return 0;
     for (i = 0; i < c->ninterior; i++, q += 24) getd3(q, c->interior[i]);
@@ -243,35 +268,22 @@ static int header_decode(const unsigned char *p, uint32_t n, vp_logfmt_header_t 
         if (h->version >= 4u) {
             c->line_rays = get32(q + nl + 24);
             c->proof_life = get32(q + nl + 28);
-            if (c->line_rays > VP_PLANNER_MAX_LINE_RAYS) return 0;
         }
         if (h->version >= 5u) {
             c->min_feature = getd(q + nl + 32);
             c->feature_margin = getd(q + nl + 40);
-            if (!vp_finite(c->min_feature) || !vp_finite(c->feature_margin)) return 0;
         }
         if (h->version >= 6u) {
-            for (i = 0; i < VP_PLANNER_AXES; i++)
-                if (!vp_finite(c->axis_time[i] = getd(q + nl + 48 + 8 * i))) return 0;
+            for (i = 0; i < VP_PLANNER_AXES; i++) c->axis_time[i] = getd(q + nl + 48 + 8 * i);
             c->pan_travel[0] = getd(q + nl + 88);
             c->pan_travel[1] = getd(q + nl + 96);
-            if (!vp_finite(c->pan_travel[0]) || !vp_finite(c->pan_travel[1])) return 0;
         }
 #endif
-        if (!vp_finite(c->size_rel) || !vp_finite(c->min_size) || !vp_finite(c->max_distance)) return 0;
     }
     /* what the header holds names its version (a version 1 with far reads is damaged too) */
-    if (header_version(c) != h->version) return 0;
-    /* every number the planner needs must be finite; embedded NULs are not text */
-    if (!vp_finite(c->eps) || !vp_finite3(c->omega_lo) || !vp_finite3(c->omega_hi) ||
-        !vp_finite3(c->omega_center) || !vp_finite(c->omega_radius) || !vp_finite3(c->start) ||
-        !vp_finite(c->max_range) || !vp_finite(c->noise_tol) || !vp_finite(c->clearance) ||
-        !vp_finite(c->min_angle))
-        return 0;
-    for (i = 0; i < c->ninterior; i++)
-        if (!vp_finite3(c->interior[i])) return 0;
-    if (bounded_len(h->board, bl) != bl || bounded_len(h->note, nl) != nl) return 0;
-    return 1;
+    if (header_version(c) != h->version || !cfg_ok(c)) return 0;
+    /* embedded NULs are not text */
+    return bounded_len(h->board, bl) == bl && bounded_len(h->note, nl) == nl;
 }
 
 /* The length a header's first 16 bytes give, 0 when impossible. The length and the CRC at its
