@@ -601,9 +601,10 @@ VP_PL_API int vp_pl_reprove_feed(vp_planner_t *pl, const vp_probe_result_t *res)
     }
     pl->rescan.tries = 0;
     /* the free part this PROBE shows (a miss: its range; a hit: up to the noise before it);
-     * near a contact a miss proves nothing (a surface the rangefinder cannot see) */
+     * near a contact it proves nothing (a surface the rangefinder cannot see), as any probe's
+     * (vp_pl_probe_proof) */
     free_len = res->hit == 0 ? pl->dev.iss_range : res->hit == 1 ? res->dist - pl->cfg.noise_tol : 0.0;
-    if (res->hit == 0 && pl->contact.n > 0 && vp_pl_contact_distrusts(pl, pl->dev.iss_o, pl->dev.iss_d, free_len))
+    if (free_len > 0.0 && pl->contact.n > 0 && vp_pl_contact_distrusts(pl, pl->dev.iss_o, pl->dev.iss_d, free_len))
         free_len = 0.0;
     if (free_len >= len - pl->ptol) {
         /* free again: a fresh proof of the step */

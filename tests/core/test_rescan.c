@@ -121,6 +121,65 @@ static void test_changed(double eps, const double *ax, const double *c, const ch
            (unsigned long long)s.reproved, (unsigned long long)s.reprove_blocked);
 }
 
+/* A route step proven again (its proof grown old) by a PROBE that hits at the step's very end (within the noise: the
+ * step is free) proves it again; the same PROBE passing a contact's point proves nothing (a
+ * surface the rangefinder cannot see may stand there, as for any probe): the step is blocked and
+ * withdrawn. The contact is put into the planner's table by hand, beside the ray's end. */
+static void test_reprove_near_contact(void)
+{
+    int with;
+    for (with = 0; with < 2; with++) {
+        ell_dev_t d;
+        vp_cmd_t cmd;
+        vp_planner_stats_t a, b;
+        int n, got = 0;
+        vp_planner_config_t cfg;
+        config(&cfg, 0.2);
+        cfg.proof_life = 30; /* proofs older than 30 probes are stale: route steps proven again */
+        memset(&d, 0, sizeof d);
+        d.e.ax[0] = 1.0; d.e.ax[1] = 0.7; d.e.ax[2] = 0.5;
+        memcpy(d.pos, cfg.start, sizeof d.pos);
+        CHECK(vp_planner_init(&pl, arena, sizeof arena, &cfg) == VP_OK);
+        for (n = 0; n < 100000 && !got; n++) {
+            vp_probe_result_t res;
+            int collided = 0;
+            if (vp_planner_next(&pl, &cmd) != VP_OK || cmd.kind == VP_CMD_DONE) break;
+            if (cmd.kind == VP_CMD_MOVE) {
+                CHECK(vp_test_ell_dev_move(&d, &cmd, &collided) == VP_OK);
+                continue;
+            }
+            if (cmd.kind == VP_CMD_PROBE && pl.rescan.reprove && cmd.range > 0.05) {
+                int k;
+                memset(&res, 0, sizeof res);
+                res.hit = 1;
+                res.dist = cmd.range; /* at the step's end */
+                if (with) {
+                    pl.contact.n = 1;
+                    pl.contact.reach[0] = 0.01;
+                    for (k = 0; k < 3; k++) pl.contact.at[0][k] = cmd.from[k] + 0.5 * cmd.range * cmd.dir[k];
+                    pl.contact.at[0][0] += 0.005; /* within reach of the ray, not on it */
+                }
+                vp_planner_get_stats(&pl, &a);
+                CHECK(vp_planner_feed(&pl, &res) == VP_OK);
+                vp_planner_get_stats(&pl, &b);
+                got = 1;
+                if (with)
+                    CHECKF(b.reproved == a.reproved && b.reprove_blocked == a.reprove_blocked + 1,
+                           "a step proven again past a contact (%llu proven, %llu blocked)",
+                           (unsigned long long)(b.reproved - a.reproved), (unsigned long long)(b.reprove_blocked - a.reprove_blocked));
+                else
+                    CHECKF(b.reproved == a.reproved + 1 && b.reprove_blocked == a.reprove_blocked,
+                           "a step hit at its end not proven again (%llu proven, %llu blocked)",
+                           (unsigned long long)(b.reproved - a.reproved), (unsigned long long)(b.reprove_blocked - a.reprove_blocked));
+                break;
+            }
+            CHECK(vp_test_ell_dev_probe(&d, &cmd, &res) == VP_OK);
+            CHECK(vp_planner_feed(&pl, &res) == VP_OK);
+        }
+        CHECKF(got, "no route step proven again after %d commands", n);
+    }
+}
+
 static void test_contract(void)
 {
     vp_planner_config_t cfg;
@@ -145,6 +204,7 @@ int main(void)
     static const double stretched[3] = { 1.08, 0.7, 0.5 }, same[3] = { 1.0, 0.7, 0.5 };
     static const double origin[3] = { 0, 0, 0 }, moved[3] = { 0.04, -0.03, 0.02 };
     test_contract();
+    test_reprove_near_contact();
     test_unchanged(0.2, 0);
     test_unchanged(0.1, 0);
     test_unchanged(0.1, VP_RESCAN_SPARSE);
