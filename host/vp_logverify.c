@@ -38,6 +38,12 @@ struct vp_lv_entry {
  * makes), and a free part longer than LV_TUBE_STEPS steps of rho / 2 proves no tube */
 #define LV_TUBE_LATTICE 1e9
 #define LV_TUBE_STEPS 1e5
+/* The planner proves a tube with a margin m = rho / 32 (vp_logverify.h): a cube of half diagonal
+ * at most m that meets the capsule is always seen; a lattice cube (half side rho / 4, half
+ * diagonal 0.433 rho) halved four times has a half diagonal of 0.027 rho */
+#define LV_TUBE_MARGIN (1.0 / 32.0)
+#define LV_TUBE_DEPTH 4
+#define LV_SQRT3 1.7320508075688773
 
 
 static double dist3(const double *a, const double *b)
@@ -476,10 +482,10 @@ static double outside_dist(const vp_logverify_t *v, const double *x)
     return best;
 }
 
-/* 1 if x (relative to the centre) lies nearer than rho to free space */
-static int near_free(vp_logverify_t *v, const double *x)
+/* 1 if x (relative to the centre) lies nearer than r (at most rho) to free space */
+static int near_free(vp_logverify_t *v, const double *x, double r)
 {
-    double rho = v->cfg.min_feature + v->tol;
+    double rho = r + v->tol;
     int64_t k[3];
     uint64_t key;
     uint32_t e;
@@ -498,11 +504,16 @@ static int near_free(vp_logverify_t *v, const double *x)
 }
 
 /* The tube rule (vp_logverify.h) for the move p -> q (relative to the centre): 1 if it holds;
- * 0 and *bad the first lattice point found farther than rho from free space; -1 when the
- * lattice is too large to look at (LV_TUBE_LATTICE). */
+ * 0 and *bad the centre of the first cube found that is not seen to lie within rho of free
+ * space; -1 when the lattice is too large to look at (LV_TUBE_LATTICE). The cubes of side
+ * rho / 2 about the lattice's points fill the box about the capsule; a cube that meets the
+ * capsule is within rho of free space when its centre is within rho less its half diagonal h;
+ * otherwise its eight halves are looked at, down to h <= m rho (LV_TUBE_MARGIN), where a centre
+ * farther than rho - h is a violation. */
 static int tube_holds(vp_logverify_t *v, const double *p, const double *q, double *bad)
 {
     double R = v->cfg.clearance + v->cfg.feature_margin + v->cfg.min_feature, sp = 0.5 * v->cfg.min_feature;
+    double rho = v->cfg.min_feature, floor_h = LV_TUBE_MARGIN * rho;
     double lo[3], d[3], len2, nd[3], pts = 1.0;
     long n[3], i[3];
     int k;
@@ -519,20 +530,37 @@ static int tube_holds(vp_logverify_t *v, const double *p, const double *q, doubl
     for (i[0] = 0; i[0] <= n[0]; i[0]++)
         for (i[1] = 0; i[1] <= n[1]; i[1]++)
             for (i[2] = 0; i[2] <= n[2]; i[2]++) {
-                double x[3], w[3], t = 0.0, e[3];
-                for (k = 0; k < 3; k++) x[k] = lo[k] + sp * (double)i[k];
-                vp_sub3(w, x, p);
-                if (len2 > 0.0) {
-                    t = vp_dot3(w, d) / len2;
-                    if (t < 0.0) t = 0.0;
-                    if (t > 1.0) t = 1.0;
-                }
-                for (k = 0; k < 3; k++) e[k] = w[k] - t * d[k];
-                if (vp_dot3(e, e) > R * R) continue;
-                v->res.tube_points++;
-                if (!near_free(v, x)) {
-                    memcpy(bad, x, sizeof x);
-                    return 0;
+                /* a stack of cubes (centre, half side): each taken out is seen within rho of
+                 * free space, missed by the capsule, or split in eight (depth at most
+                 * LV_TUBE_DEPTH: 1 + 7 LV_TUBE_DEPTH entries) */
+                double cube[1 + 7 * LV_TUBE_DEPTH][4];
+                int top = 0;
+                for (k = 0; k < 3; k++) cube[0][k] = lo[k] + sp * (double)i[k];
+                cube[0][3] = 0.5 * sp;
+                while (top >= 0) {
+                    double x[3], a = cube[top][3], h = a * LV_SQRT3, w[3], t = 0.0, e[3];
+                    int c;
+                    memcpy(x, cube[top], sizeof x);
+                    top--;
+                    vp_sub3(w, x, p);
+                    if (len2 > 0.0) {
+                        t = vp_dot3(w, d) / len2;
+                        if (t < 0.0) t = 0.0;
+                        if (t > 1.0) t = 1.0;
+                    }
+                    for (k = 0; k < 3; k++) e[k] = w[k] - t * d[k];
+                    if (vp_dot3(e, e) > (R + h) * (R + h)) continue; /* the cube misses the capsule */
+                    v->res.tube_points++;
+                    if (near_free(v, x, rho - h)) continue;
+                    if (h <= floor_h || top + 8 >= 1 + 7 * LV_TUBE_DEPTH) {
+                        memcpy(bad, x, sizeof x);
+                        return 0;
+                    }
+                    for (c = 0; c < 8; c++) {
+                        top++;
+                        for (k = 0; k < 3; k++) cube[top][k] = x[k] + ((c >> k) & 1 ? 0.5 * a : -0.5 * a);
+                        cube[top][3] = 0.5 * a;
+                    }
                 }
             }
     return 1;

@@ -33,9 +33,13 @@
  * - with tubes (a header with a clearance C and a feature size rho > 0, margin eta; the object
  *   lies within eta of its balls of radius rho): a move not wholly outside Omega is proven when
  *   every point of the capsule of radius C + eta + rho about it lies nearer than rho to a free
- *   part or to the outside of Omega. The check looks at the points of a lattice of spacing
- *   rho / 2 anchored at the move's start (the planner proves the whole capsule on a grid of its
- *   own): a point farther than rho from all free space is a violation.
+ *   part or to the outside of Omega. The check covers the capsule with cubes, those of side
+ *   rho / 2 about the points of a lattice anchored at the move's start, split in eight where
+ *   need be: a cube whose centre lies nearer than rho less its half diagonal to free space is
+ *   proven whole. A planner proves its tubes with a margin m = rho / 32 (every point within
+ *   C + eta + rho + m of the move lies nearer than rho - m to free space: core/planner/tube.c),
+ *   so cubes of half diagonal at most m are always proven; a cube that small not proven is a
+ *   violation.
  *
  * Streaming: vp_logverify_begin, vp_logverify_add for each record in log order,
  * vp_logverify_end. Probes are kept in a hash on their quantised line (direction and foot

@@ -67,8 +67,9 @@ PYEOF
 # needs) through the facets found from aside (core/planner/aim.c): the mesh Open3D reads is closed,
 # manifold, Euler characteristic 0. The open-edge checker must find an open edge far from the
 # handle once a triangle of the cavity's floor is taken out. 0 collisions (host-sim), the log
-# verified.
-"$VP" sim --surface "off:$tmp/mug.off" --eps-rel 0.04 --clearance 1 --min-feature 2 --out "$tmp/b" --quiet --json \
+# verified. (At eps 0.04 4 edges at the handle's hole stay open since tubes are proven with a
+# margin the log check can see: README, tubes.)
+"$VP" sim --surface "off:$tmp/mug.off" --eps-rel 0.035 --clearance 1 --min-feature 2 --out "$tmp/b" --quiet --json \
   >"$tmp/b.json" 2>/dev/null
 grep -q '"collisions":0' "$tmp/b.json" || bad "the mug with a body: $(cut -c1-300 "$tmp/b.json")"
 "$VP" log verify "$tmp/b.vplog" >"$tmp/bv.txt" 2>&1 || bad "log verify, the mug with a body: $(tail -1 "$tmp/bv.txt")"

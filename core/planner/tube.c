@@ -13,11 +13,14 @@
  * first has a ball B(c, rho) inside the object within eta of it, and c lies in the second.
  *
  * The check is kept on a grid of cubic cells over Omega's bounding box (cell side s <= rho / 4,
- * h = half its diagonal): a cell is marked when its centre lies within rho - h of a free ray,
- * so every point of a marked cell lies within rho of F; a cell whose centre lies within rho - h
- * of Omega's outside needs no mark. A segment is a proven tube when every cell that meets its
- * capsule of radius C + eta + rho is marked or near the outside. Marks only grow (rays are
- * only added); a contact or a re-scan makes them stale and turns tubes off for good. */
+ * h = half its diagonal) with a margin m = rho / 32: a cell is marked when its centre lies
+ * within rho - m - h of a free ray, so every point of a marked cell lies within rho - m of F; a
+ * cell whose centre lies within rho - m - h of Omega's outside needs no mark. A segment is a
+ * proven tube when every cell that meets its capsule of radius C + eta + rho + m is marked or
+ * near the outside. The margin lets a check on cells of its own see the proof: a cell of half
+ * diagonal at most m that meets the capsule of C + eta + rho has its centre within rho - m of F
+ * (host/vp_logverify). Marks only grow (rays are only added); a contact or a re-scan makes them
+ * stale and turns tubes off for good. */
 #include "vp_planner_priv.h"
 
 #if VP_PL_TUBES
@@ -26,6 +29,7 @@
 #define CELLS_PER_RHO 4.0             /* finest cells: rho / 4 */
 #define CELLS_PER_RHO_MIN 2.0         /* coarsest cells that still leave a useful mark (rho / 2) */
 #define CELL_GROW 1.25
+#define TUBE_MARGIN (1.0 / 32.0)      /* m in rho: what a proven tube keeps in hand (see the top) */
 
 /* The grid for cfg within `budget` bytes: sets T's geometry, returns the bytes of its bits, or
  * 0 when even the coarsest grid does not fit. */
@@ -51,8 +55,8 @@ VP_PL_API size_t vp_pl_tube_plan(const vp_planner_config_t *c, double ptol, size
             memcpy(T->lo, lo, sizeof lo);
             T->cell = s;
             T->half = HALF_DIAG * s;
-            T->mark = rho - T->half - ptol;
-            T->reach = c->clearance + c->feature_margin + rho;
+            T->mark = rho - TUBE_MARGIN * rho - T->half - ptol;
+            T->reach = c->clearance + c->feature_margin + rho + TUBE_MARGIN * rho;
             return (size_t)(cells / 8.0) + 1u;
         }
     }

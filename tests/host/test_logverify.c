@@ -4,8 +4,8 @@
  * probe, parallel to a probed line 1e-6 away, a chord of a ball Omega) and a probe from where
  * the device never moved are named with their record number; legitimate moves (outside Omega,
  * along dOmega, covered end to end by two collinear probes and the outside part, a tangent to a
- * ball Omega, across a PAUSE/RESUME) pass; with tubes, a move whose capsule a fan of misses
- * covers passes, and one beyond the fan or along a single ray is refused; a body without tubes
+ * ball Omega, across a PAUSE/RESUME) pass; with tubes, a move whose capsule misses 0.1 apart
+ * cover passes, and one beyond them, between misses 0.3 apart or along a single ray is refused; a body without tubes
  * is refused inside Omega; forged logs fail (test_forged: a CONTACT that stopped no move, a miss
  * fired again through a contact, a miss beside it within the noise tolerance, a miss past the
  * rangefinder's range, moves and probes from far away, a lattice too large); a torn tail is verified up to its last good record;
@@ -29,7 +29,7 @@
 #include "vp_sessionlog.h"
 #include "vp_test.h"
 
-#define MAXREC 64
+#define MAXREC 256
 
 typedef struct crafted {
     vp_logfmt_header_t h;
@@ -442,20 +442,37 @@ static void test_crafted(void)
     CHECK(r.nmoves_listed == 1 && fabs(r.move[0].unproven - sqrt(2.0)) < 1e-9);
 
     /* tubes (clearance 0.1, feature 0.2, margin 0: the capsule of 0.3 about a move must lie
-     * within 0.2 of free space): a fan of 25 misses from (1,0,0) proves the tube to (0.6,0,0);
-     * a move on to (-0.2,0,0) reaches 0.3 beyond the fan's ends and is refused */
+     * within 0.2 of free space): 81 misses along -x from x = 1.5, 0.1 apart across, reaching
+     * x = 0, prove the tube to (0.6,0,0) and back; a move on to (-0.2,0,0) reaches 0.5 beyond
+     * the misses' ends and is refused */
     {
         int a, b;
         tube_header(&c, 0.2);
+        for (a = -4; a <= 4; a++)
+            for (b = -4; b <= 4; b++) {
+                mv(&c, 1.5, 0.1 * a, 0.1 * b); /* outside Omega (x <= 1) */
+                pb(&c, 1.5, 0.1 * a, 0.1 * b, -1, 0, 0, 1.5, 0, 0);
+            }
         mv(&c, 1, 0, 0);
-        for (a = -2; a <= 2; a++)
-            for (b = -2; b <= 2; b++) pb(&c, 1, 0, 0, -1, 0.2 * a, 0.2 * b, 1.0, 0, 0);
         mv(&c, 0.6, 0, 0);
         mv(&c, 1, 0, 0);
         bad = mv(&c, -0.2, 0, 0);
-        expect(&c, "tube_fan", 1, bad, 0, -1);
+        expect(&c, "tube_rays", 1, bad, 0, -1);
         CHECK(vp_logverify_run(&c.h, c.r, c.n, &r) == VP_OK);
         CHECK(r.tube_moves == 3 && r.tube_points > 100 && r.move[0].gap_from[0] < -0.2);
+        /* misses 0.3 apart across, at 0.1 + 0.3 i: every point of the lattice of 0.1 the rule
+         * starts from lies within 0.15 of one, yet the line (x, -0.05, -0.05), 0.07 from the
+         * move's axis, lies 0.21 from all: a ball of the object of radius 0.2 there meets no
+         * miss and the head's body (the build before passed this move) */
+        tube_header(&c, 0.2);
+        for (a = -2; a <= 2; a++)
+            for (b = -2; b <= 2; b++) {
+                mv(&c, 1.5, 0.1 + 0.3 * a, 0.1 + 0.3 * b);
+                pb(&c, 1.5, 0.1 + 0.3 * a, 0.1 + 0.3 * b, -1, 0, 0, 1.5, 0, 0);
+            }
+        mv(&c, 1, 0, 0);
+        bad = mv(&c, 0.6, 0, 0);
+        expect(&c, "tube_between_lattice_points", 1, bad, 0, -1);
         /* one probe along the move proves its line, not its tube ... */
         tube_header(&c, 0.2);
         mv(&c, 1, 0, 0);
