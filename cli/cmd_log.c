@@ -730,7 +730,7 @@ static int log_verify(const char *path, int json)
         printf("; %llu re-scan(s): no free part logged before one proves a move after it",
                (unsigned long long)res->rescans);
     if (res->tube_moves)
-        printf("; %llu move(s) inside Omega checked by the tube rule (%llu points of their capsules)",
+        printf("; %llu move(s) inside Omega checked by the tube rule (%llu cubes of their capsules)",
                (unsigned long long)res->tube_moves, (unsigned long long)res->tube_points);
     printf("\n");
     if (json) {

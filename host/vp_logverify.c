@@ -33,9 +33,10 @@ struct vp_lv_entry {
 /* A free part within eps (at least this many noise tolerances) of a contact proves nothing, as
  * in the planner (core/planner/contact.c) */
 #define LV_CONTACT_REACH_NOISE 4.0
-/* The tube rule looks at no more lattice points than this per move (the box about its capsule);
- * a larger one is unproven (a body's move of that many feature sizes is not a move a planner
- * makes), and a free part longer than LV_TUBE_STEPS steps of rho / 2 proves no tube */
+/* The tube rule looks at no more lattice points than this per move (the box about its capsule),
+ * nor more cubes, the split ones too: a larger one is unproven (a body's move of that many
+ * feature sizes is not a move a planner makes), and a free part longer than LV_TUBE_STEPS steps
+ * of rho / 2 proves no tube */
 #define LV_TUBE_LATTICE 1e9
 #define LV_TUBE_STEPS 1e5
 /* The planner proves a tube with a margin m = rho / 32 (vp_logverify.h): a cube of half diagonal
@@ -509,12 +510,12 @@ static int near_free(vp_logverify_t *v, const double *x, double r)
  * rho / 2 about the lattice's points fill the box about the capsule; a cube that meets the
  * capsule is within rho of free space when its centre is within rho less its half diagonal h;
  * otherwise its eight halves are looked at, down to h <= m rho (LV_TUBE_MARGIN), where a centre
- * farther than rho - h is a violation. */
+ * farther than rho - h is a violation. More than LV_TUBE_LATTICE cubes in all: -1 too. */
 static int tube_holds(vp_logverify_t *v, const double *p, const double *q, double *bad)
 {
     double R = v->cfg.clearance + v->cfg.feature_margin + v->cfg.min_feature, sp = 0.5 * v->cfg.min_feature;
     double rho = v->cfg.min_feature, floor_h = LV_TUBE_MARGIN * rho;
-    double lo[3], d[3], len2, nd[3], pts = 1.0;
+    double lo[3], d[3], len2, nd[3], pts = 1.0, budget;
     long n[3], i[3];
     int k;
     for (k = 0; k < 3; k++) {
@@ -525,6 +526,7 @@ static int tube_holds(vp_logverify_t *v, const double *p, const double *q, doubl
         d[k] = q[k] - p[k];
     }
     if (!(pts <= LV_TUBE_LATTICE)) return -1;
+    budget = LV_TUBE_LATTICE; /* cubes, the split ones too */
     for (k = 0; k < 3; k++) n[k] = (long)nd[k];
     len2 = vp_dot3(d, d);
     for (i[0] = 0; i[0] <= n[0]; i[0]++)
@@ -551,6 +553,7 @@ static int tube_holds(vp_logverify_t *v, const double *p, const double *q, doubl
                     for (k = 0; k < 3; k++) e[k] = w[k] - t * d[k];
                     if (vp_dot3(e, e) > (R + h) * (R + h)) continue; /* the cube misses the capsule */
                     v->res.tube_points++;
+                    if (--budget < 0.0) return -1; /* bounded time: as a lattice too large */
                     if (near_free(v, x, rho - h)) continue;
                     if (h <= floor_h || top + 8 >= 1 + 7 * LV_TUBE_DEPTH) {
                         memcpy(bad, x, sizeof x);

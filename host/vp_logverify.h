@@ -39,7 +39,7 @@
  *   proven whole. A planner proves its tubes with a margin m = rho / 32 (every point within
  *   C + eta + rho + m of the move lies nearer than rho - m to free space: core/planner/tube.c),
  *   so cubes of half diagonal at most m are always proven; a cube that small not proven is a
- *   violation.
+ *   violation. (Distances are taken to the check's tolerance tol, 1e-9 of Omega's diameter.)
  *
  * Streaming: vp_logverify_begin, vp_logverify_add for each record in log order,
  * vp_logverify_end. Probes are kept in a hash on their quantised line (direction and foot
@@ -98,8 +98,8 @@ typedef struct vp_logverify_result {
     uint64_t scans;            /* moves too short for the line index that the probes fired
                                   from their ends did not prove (all probes scanned) */
     uint64_t tube_moves;       /* with tubes: moves not wholly outside Omega, checked by the tube rule */
-    uint64_t tube_points;      /* points of their capsules looked at */
-    uint64_t tube_too_large;   /* tube moves whose lattice is too large to look at: unproven */
+    uint64_t tube_points;      /* cubes of their capsules looked at (their centres) */
+    uint64_t tube_too_large;   /* tube moves whose lattice (or cubes) are too many to look at: unproven */
     uint64_t contacts_misplaced; /* CONTACT events not right after a MOVE (a violation) */
     uint64_t probes_near_contact; /* probes whose free part passes within the contact reach of
                                      an earlier contact: they prove nothing */

@@ -558,6 +558,7 @@ static void test_tubes(void *arena)
     vp_cmd_t cmd;
     double pos[3], R = 0.5, C = 0.1, rho = 0.3, reach, worst = 1e9;
     long steps = 0, tube_moves = 0, checked_pts = 0, misses = 0, half_refused = 0, grid_refused = 0, refused_brute = 0;
+    long marked_cells = 0, corners_far = 0;
     int k;
     memset(&c, 0, sizeof c);
     for (k = 0; k < 3; k++) { e.ax[k] = R; e.c[k] = 0.0; c.omega_lo[k] = -1.0; c.omega_hi[k] = 1.0; }
@@ -596,6 +597,29 @@ static void test_tubes(void *arena)
         }
     }
     CHECK(cmd.kind == VP_CMD_DONE);
+    /* the margin, cell by cell: every corner of every marked cell lies within rho - m of a free
+     * part (brute force); without the margin the corners reach rho less the slack */
+    {
+        const vp_pl_tube_t *T = &pl.tube;
+        size_t i0, i1, i2;
+        for (i2 = 0; i2 < T->n[2]; i2++)
+            for (i1 = 0; i1 < T->n[1]; i1++)
+                for (i0 = 0; i0 < T->n[0]; i0++) {
+                    size_t bit = (i2 * T->n[1] + i1) * T->n[0] + i0;
+                    int q;
+                    if (!(T->bits[bit >> 3] & (1u << (bit & 7u)))) continue;
+                    marked_cells++;
+                    for (q = 0; q < 8; q++) {
+                        double x[3];
+                        x[0] = T->lo[0] + (double)(i0 + (size_t)(q & 1)) * T->cell;
+                        x[1] = T->lo[1] + (double)(i1 + (size_t)((q >> 1) & 1)) * T->cell;
+                        x[2] = T->lo[2] + (double)(i2 + (size_t)((q >> 2) & 1)) * T->cell;
+                        corners_far += !near_free_brute(&pl, x, rho - rho / 32.0);
+                    }
+                }
+    }
+    CHECKF(marked_cells > 1000 && corners_far == 0, "%ld of the corners of %ld marked cells farther than rho - m",
+           corners_far, marked_cells);
     /* segments near the ball the grid refuses: most have points far from free space */
     for (k = 0; k < 400; k++) {
         double a[3], b[3];
@@ -608,8 +632,9 @@ static void test_tubes(void *arena)
     printf("tubes: a ball of radius %.2f, clearance %.2f, feature %.2f: %llu samples, %ld tube moves (%llu probes "
            "started inside Omega), the body at least %.4f from the ball; %ld of %ld capsule points not near free "
            "space (brute force), %ld moves refused with half the feature size; %ld of %ld random segments the grid "
-           "refuses have such points\n", R, C, rho, (unsigned long long)pl.dt.ninserted, tube_moves,
-           (unsigned long long)pl.st.tube_starts, worst - C, misses, checked_pts, half_refused, refused_brute, grid_refused);
+           "refuses have such points; the corners of %ld marked cells within rho - rho/32 of free space\n", R, C, rho,
+           (unsigned long long)pl.dt.ninserted, tube_moves, (unsigned long long)pl.st.tube_starts, worst - C, misses,
+           checked_pts, half_refused, refused_brute, grid_refused, marked_cells);
     CHECK(tube_moves > 50 && pl.st.tube_starts > 20);
     CHECK(worst >= C);
     CHECK(misses == 0);

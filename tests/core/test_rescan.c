@@ -124,7 +124,8 @@ static void test_changed(double eps, const double *ax, const double *c, const ch
 /* A route step proven again (its proof grown old) by a PROBE that hits at the step's very end (within the noise: the
  * step is free) proves it again; the same PROBE passing a contact's point proves nothing (a
  * surface the rangefinder cannot see may stand there, as for any probe): the step is blocked and
- * withdrawn. The contact is put into the planner's table by hand, beside the ray's end. */
+ * withdrawn, the hit taken as no point. The contact is put into the planner's table by hand,
+ * beside the ray. */
 static void test_reprove_near_contact(void)
 {
     int with;
@@ -164,7 +165,9 @@ static void test_reprove_near_contact(void)
                 vp_planner_get_stats(&pl, &b);
                 got = 1;
                 if (with)
-                    CHECKF(b.reproved == a.reproved && b.reprove_blocked == a.reprove_blocked + 1,
+                    /* blocked with no point: the hit, distrusted, is not taken as a sample (it may
+                     * lie at the step's end, past Omega) */
+                    CHECKF(b.reproved == a.reproved && b.reprove_blocked == a.reprove_blocked + 1 && pl.rescan.blocked == 2,
                            "a step proven again past a contact (%llu proven, %llu blocked)",
                            (unsigned long long)(b.reproved - a.reproved), (unsigned long long)(b.reprove_blocked - a.reprove_blocked));
                 else
