@@ -932,6 +932,14 @@ static int vp_board_check_head(vp_bctx_t *c, char *err, size_t el)
                           "does not help inside Omega: a dry run of a torus brought the camera into it): raise "
                           "clearance to %.1f or more, or set min_feature = 0", b->head.part[worst].name,
                           b->head_reach + b->head_margin, b->clearance, b->head_reach + b->head_margin);
+        /* a tube is proven by misses round the head's way; a surface too dark for the camera reads
+         * as a miss, and no switch guards the body (a mount's needs min_feature = 0, a stylus
+         * guards the beam only): a miss must be a spot seen on the walls */
+        if (!vp_seen(c, S_RANGE, "backdrop"))
+            return vp_bad(c, S_OMEGA, "min_feature", err, el, "tubes inside Omega need [rangefinder] backdrop: they "
+                          "are proven by misses round the head's way, and without the walls a surface too dark for "
+                          "the camera reads as a miss where the head's body then goes (no switch guards the body); "
+                          "declare the walls, or set min_feature = 0");
         if (!vp_seen(c, S_OMEGA, "feature_margin")) b->feature_margin = VP_FEATURE_MARGIN_DEFAULT * b->min_feature;
     }
     if (b->clear_swept && b->io != VP_BOARD_IO_SIM)

@@ -189,6 +189,13 @@ int vp_sim_open(vp_sim_t *s, const vp_sim_options_t *o, char *err, size_t errlen
         snprintf(err, errlen, "--min-feature lets a device with a body into Omega: give --clearance too");
         return VP_EINVAL;
     }
+    if (o->min_feature > 0 && o->ndark > 0) {
+        /* as a board's loader: tubes need walls that tell a dark surface from empty space */
+        snprintf(err, errlen, "--min-feature with --dark: tubes are proven by misses round the body's way, and a "
+                 "dark patch reads as a miss where the body then goes; host-sim has no walls to tell them apart "
+                 "(a board's [rangefinder] backdrop does: scan --board boards/sim-enclosed.ini --dry-run)");
+        return VP_EINVAL;
+    }
     if ((o->flags & VP_PLAN_FAR_READS) && !(o->clearance > 0)) {
         snprintf(err, errlen, "--far-reads reads on past a body-mode probe's edge: give --clearance too");
         return VP_EINVAL;

@@ -66,5 +66,12 @@ rc=$?
 [ $rc -ne 0 ] && grep -q "min_feature: tubes inside Omega prove the clearance ball's way only" "$tmp/s.txt" ||
   bad "sim.ini with min_feature: exit $rc, $(head -n 1 "$tmp/s.txt")"
 
+# tubes take misses for free space: a dark patch (which reads as a miss; host-sim has no walls)
+# is refused with them (a board needs [rangefinder] backdrop for them: tests/host/test_board.c)
+"$VP" sim --surface torus --clearance 0.05 --eps-rel 0.03 --min-feature 0.2 --dark 0,1.3,0,0.3 --out "$tmp/dk" \
+  --quiet >"$tmp/dk.txt" 2>&1
+rc=$?
+[ $rc -eq 2 ] && grep -q "min-feature with --dark" "$tmp/dk.txt" || bad "tubes with a dark patch: exit $rc, $(head -n 1 "$tmp/dk.txt")"
+
 [ $fail = 0 ] || exit 1
 echo "tubes: the torus closes with genus 1 at eps-rel 0.04, 0.03 and 0.025 (outside Omega closed from aside too): travel $t0 -> $t1 ($tm moves, $ts probe starts inside Omega, $tv past an occluder, 0 collisions; log verify: $vm moves by the tube rule); knife edge without its margin: $c collisions caught (exit 5), with it closed, 0"

@@ -174,6 +174,24 @@ static void test_broken_boards(void)
         bad(t, LOC("contact_by"), "[head] contact_by: needs a contact switch");
         CHECK(load_text("boards/rpi4-gantry.ini"));
     }
+    /* tubes need the walls: with a stylus (the mount's switch refuses tubes) and no backdrop a
+     * dark surface would read free round the body's way; sim-enclosed.ini has walls and takes
+     * them, and refuses them with its walls taken out */
+    {
+        static char two[65536];
+        snprintf(two, sizeof two, "%s", edit("contact_by = mount ", "contact_by = stylus "));
+        memcpy(text, two, sizeof text);
+        t = edit("clearance = 58", "clearance = 58\nmin_feature = 10");
+        bad(t, LOC("min_feature"), "[omega] min_feature: tubes inside Omega need [rangefinder] backdrop");
+        CHECK(load_text("boards/sim-enclosed.ini"));
+        t = edit("clearance = 58", "clearance = 58\nmin_feature = 10");
+        CHECK(vp_board_parse(t, "rpi4.ini", &b, err, sizeof err) == VP_OK && b.min_feature == 10.0);
+        snprintf(two, sizeof two, "%s", t);
+        memcpy(text, two, sizeof text);
+        t = edit("backdrop = ", "# backdrop = ");
+        bad(t, LOC("min_feature"), "need [rangefinder] backdrop");
+        CHECK(load_text("boards/rpi4-gantry.ini"));
+    }
     /* without the key: a stylus */
     t = edit("contact_by = mount ", "# contact_by = mount ");
     CHECK(vp_board_parse(t, "rpi4.ini", &b, err, sizeof err) == VP_OK && b.contact_mount == 0);
