@@ -5,7 +5,9 @@
  * the device never moved are named with their record number; legitimate moves (outside Omega,
  * along dOmega, covered end to end by two collinear probes and the outside part, a tangent to a
  * ball Omega, across a PAUSE/RESUME) pass; with tubes, a move whose capsule misses 0.1 apart
- * cover passes, and one beyond them, between misses 0.3 apart or along a single ray is refused; a body without tubes
+ * cover passes, and one beyond them, between misses 0.3 apart or along a single ray is refused;
+ * on 400 random logs of misses and a move into Omega no move is proven whose capsule holds a point
+ * farther than rho from free space (a brute force written here: the lattice check before did); a body without tubes
  * is refused inside Omega; forged logs fail (test_forged: a CONTACT that stopped no move, a miss
  * fired again through a contact, a miss beside it within the noise tolerance, a miss past the
  * rangefinder's range, moves and probes from far away, a lattice too large); a torn tail is verified up to its last good record;
@@ -585,6 +587,88 @@ static void test_forged(void)
 
 /* A synthetic log of 250k probes and 250k moves, each move along the probe before it (all
  * proven), then one not (offset 1e-6): linear-time, in seconds. */
+/* The tube rule against a brute force written here, on random logs: misses from outside the box
+ * Omega along about -x (random spacing, tilt and range), then a move into Omega. Whenever the
+ * check proves the move, 3,000 random points of its capsule (radius C + eta + rho = 0.3) must each
+ * lie within rho (0.2, to the check's tolerance) of a miss or of Omega's outside, measured here
+ * from the probes as logged. The check on lattice points alone (the build before) proves some
+ * moves with points 0.2-0.22 from all free space. A deterministic generator (xorshift). */
+static uint64_t lv_rng = 0x9E3779B97F4A7C15ull;
+static double lv_rand(void)
+{
+    lv_rng ^= lv_rng << 13;
+    lv_rng ^= lv_rng >> 7;
+    lv_rng ^= lv_rng << 17;
+    return (double)(lv_rng >> 11) * (1.0 / 9007199254740992.0);
+}
+
+static double seg_dist(const double *o, const double *d, double len, const double *x)
+{
+    double w[3], s, e[3];
+    int k;
+    for (k = 0; k < 3; k++) w[k] = x[k] - o[k];
+    s = w[0] * d[0] + w[1] * d[1] + w[2] * d[2];
+    if (s < 0.0) s = 0.0;
+    if (s > len) s = len;
+    for (k = 0; k < 3; k++) e[k] = w[k] - s * d[k];
+    return sqrt(e[0] * e[0] + e[1] * e[1] + e[2] * e[2]);
+}
+
+static void test_tube_random(void)
+{
+    static crafted_t c;
+    double ray[120][7]; /* origin, unit direction, range */
+    int trial, proven = 0, refused = 0, far_pts = 0, far_moves = 0;
+    for (trial = 0; trial < 400; trial++) {
+        double sp = 0.1 + 0.25 * lv_rand(), a[3], b[3], R = 0.3, rho = 0.2;
+        int nr = 0, i, j, k, bad_here = 0;
+        vp_logverify_result_t res;
+        tube_header(&c, rho);
+        for (i = -4; i <= 4 && nr < 120; i++)
+            for (j = -4; j <= 4 && nr < 120; j++) {
+                double *r = ray[nr], l;
+                if (fabs(i * sp) > 0.75 || fabs(j * sp) > 0.75) continue;
+                r[0] = 1.5; r[1] = i * sp + 0.3 * sp * (lv_rand() - 0.5); r[2] = j * sp + 0.3 * sp * (lv_rand() - 0.5);
+                r[3] = -1.0; r[4] = 0.1 * (lv_rand() - 0.5); r[5] = 0.1 * (lv_rand() - 0.5);
+                l = sqrt(r[3] * r[3] + r[4] * r[4] + r[5] * r[5]);
+                for (k = 3; k < 6; k++) r[k] /= l;
+                r[6] = 1.2 + 1.0 * lv_rand();
+                mv(&c, r[0], r[1], r[2]);
+                pb(&c, r[0], r[1], r[2], r[3], r[4], r[5], r[6], 0, 0);
+                nr++;
+            }
+        a[0] = 1.0; a[1] = 0.2 * (lv_rand() - 0.5); a[2] = 0.2 * (lv_rand() - 0.5);
+        b[0] = 0.3 + 0.5 * lv_rand(); b[1] = 0.4 * (lv_rand() - 0.5); b[2] = 0.4 * (lv_rand() - 0.5);
+        mv(&c, 2.0, a[1], a[2]);
+        mv(&c, a[0], a[1], a[2]); /* onto dOmega: outside */
+        mv(&c, b[0], b[1], b[2]);
+        if (vp_logverify_run(&c.h, c.r, c.n, &res) != VP_OK) { CHECK(0); continue; }
+        if (res.unproven_moves > 0) { refused++; continue; }
+        proven++;
+        for (i = 0; i < 3000; i++) {
+            double x[3], t = lv_rand(), best, e[3], dd;
+            for (k = 0; k < 3; k++) x[k] = a[k] + t * (b[k] - a[k]) + R * (2.0 * lv_rand() - 1.0);
+            for (k = 0; k < 3; k++) e[k] = b[k] - a[k];
+            dd = sqrt(e[0] * e[0] + e[1] * e[1] + e[2] * e[2]);
+            for (k = 0; k < 3; k++) e[k] /= dd;
+            if (seg_dist(a, e, dd, x) > R) { i--; continue; }
+            best = 1.0 - fabs(x[0]); /* Omega's outside: the box [-1,1]^3 */
+            for (k = 1; k < 3; k++)
+                if (1.0 - fabs(x[k]) < best) best = 1.0 - fabs(x[k]);
+            for (j = 0; j < nr; j++) {
+                double dj = seg_dist(ray[j], ray[j] + 3, ray[j][6], x);
+                if (dj < best) best = dj;
+            }
+            if (best > rho + 1e-8) { far_pts++; bad_here = 1; }
+        }
+        far_moves += bad_here;
+    }
+    printf("tube rule, random: %d moves proven, %d refused; %d proven with capsule points farther than rho (%d points)\n",
+           proven, refused, far_moves, far_pts);
+    CHECKF(proven > 40 && refused > 40, "%d proven, %d refused: the cases do not span the rule", proven, refused);
+    CHECKF(far_moves == 0, "%d moves proven with %d capsule points farther than rho from free space", far_moves, far_pts);
+}
+
 static void test_big(void)
 {
     enum { N = 250000 };
@@ -722,6 +806,7 @@ int main(int argc, char **argv)
     }
     test_crafted();
     test_forged();
+    if (!out_dir) test_tube_random();
     if (expect_file) fclose(expect_file);
     if (!out_dir) test_big();
     return vp_test_done("test_logverify");
