@@ -48,6 +48,14 @@ static char *edit(const char *from, const char *to)
     return out;
 }
 
+/* the edited text t becomes the text later edits start from */
+static void keep(const char *t)
+{
+    static char two[65536];
+    snprintf(two, sizeof two, "%s", t);
+    memcpy(text, two, sizeof text);
+}
+
 /* removes a whole section: from its header to the next '[' at a line start */
 static char *cut_section(const char *hdr)
 {
@@ -167,9 +175,7 @@ static void test_broken_boards(void)
     t = edit("clearance = 58", "clearance = 58\nmin_feature = 10");
     bad(t, LOC("contact_by"), "and no tubes inside it: min_feature = 0");
     {
-        static char two[65536];
-        snprintf(two, sizeof two, "%s", edit("contact = gpiochip0:7 pull-up", "#"));
-        memcpy(text, two, sizeof text);
+        keep(edit("contact = gpiochip0:7 pull-up", "#"));
         t = edit("contact_stop = 10 ", "# ");
         bad(t, LOC("contact_by"), "[head] contact_by: needs a contact switch");
         CHECK(load_text("boards/rpi4-gantry.ini"));
@@ -178,16 +184,13 @@ static void test_broken_boards(void)
      * dark surface would read free round the body's way; sim-enclosed.ini has walls and takes
      * them, and refuses them with its walls taken out */
     {
-        static char two[65536];
-        snprintf(two, sizeof two, "%s", edit("contact_by = mount ", "contact_by = stylus "));
-        memcpy(text, two, sizeof text);
+        keep(edit("contact_by = mount ", "contact_by = stylus "));
         t = edit("clearance = 58", "clearance = 58\nmin_feature = 10");
         bad(t, LOC("min_feature"), "[omega] min_feature: tubes inside Omega need [rangefinder] backdrop");
         CHECK(load_text("boards/sim-enclosed.ini"));
         t = edit("clearance = 58", "clearance = 58\nmin_feature = 10");
         CHECK(vp_board_parse(t, "rpi4.ini", &b, err, sizeof err) == VP_OK && b.min_feature == 10.0);
-        snprintf(two, sizeof two, "%s", t);
-        memcpy(text, two, sizeof text);
+        keep(t);
         t = edit("backdrop = ", "# backdrop = ");
         bad(t, LOC("min_feature"), "need [rangefinder] backdrop");
         CHECK(load_text("boards/rpi4-gantry.ini"));
