@@ -455,17 +455,23 @@ static int tube_add(vp_logverify_t *v, uint32_t id)
     return VP_OK;
 }
 
-/* squared distance from x (relative to the centre) to a free part */
-static double part_dist2(const vp_lv_probe_t *P, const double *x)
+/* squared distance from x to the segment o .. o + len u (unit u) */
+static double seg_dist2(const double *o, const double *u, double len, const double *x)
 {
     double w[3], s, e[3];
     int k;
-    for (k = 0; k < 3; k++) w[k] = x[k] - P->o[k];
-    s = vp_dot3(w, P->d);
+    for (k = 0; k < 3; k++) w[k] = x[k] - o[k];
+    s = vp_dot3(w, u);
     if (s < 0.0) s = 0.0;
-    if (s > P->len) s = P->len;
-    for (k = 0; k < 3; k++) e[k] = w[k] - s * P->d[k];
+    if (s > len) s = len;
+    for (k = 0; k < 3; k++) e[k] = w[k] - s * u[k];
     return vp_dot3(e, e);
+}
+
+/* squared distance from x (relative to the centre) to a free part */
+static double part_dist2(const vp_lv_probe_t *P, const double *x)
+{
+    return seg_dist2(P->o, P->d, P->len, x);
 }
 
 /* distance from x (relative to the centre, inside Omega) to the outside of Omega */
@@ -486,12 +492,12 @@ static double outside_dist(const vp_logverify_t *v, const double *x)
 /* 1 if x (relative to the centre) lies nearer than r (at most rho) to free space */
 static int near_free(vp_logverify_t *v, const double *x, double r)
 {
-    double rho = r + v->tol;
+    double lim = r + v->tol;
     int64_t k[3];
     uint64_t key;
     uint32_t e;
     int a;
-    if (outside_dist(v, x) < rho) return 1;
+    if (outside_dist(v, x) < lim) return 1;
     if (!v->cells.head) return 0;
     for (a = 0; a < 3; a++) k[a] = cell(x[a], v->tcell);
     key = tkey(k);
@@ -499,7 +505,7 @@ static int near_free(vp_logverify_t *v, const double *x, double r)
         const vp_lv_probe_t *P = &v->pr[v->cells.ent[e].probe];
         if (v->cells.ent[e].key != key || !(P->len >= 0.0)) continue;
         if (v->cfg.proof_life > 0 && v->commands - P->born > v->cfg.proof_life) continue;
-        if (part_dist2(P, x) < rho * rho) return 1;
+        if (part_dist2(P, x) < lim * lim) return 1;
     }
     return 0;
 }
@@ -515,7 +521,7 @@ static int tube_holds(vp_logverify_t *v, const double *p, const double *q, doubl
 {
     double R = v->cfg.clearance + v->cfg.feature_margin + v->cfg.min_feature, sp = 0.5 * v->cfg.min_feature;
     double rho = v->cfg.min_feature, floor_h = LV_TUBE_MARGIN * rho;
-    double lo[3], d[3], len2, nd[3], pts = 1.0, budget;
+    double lo[3], u[3], len, nd[3], pts = 1.0, budget;
     long n[3], i[3];
     int k;
     for (k = 0; k < 3; k++) {
@@ -523,12 +529,13 @@ static int tube_holds(vp_logverify_t *v, const double *p, const double *q, doubl
         lo[k] = p[k] - sp * ceil((p[k] - a) / sp);
         nd[k] = ceil((b - lo[k]) / sp);
         pts *= nd[k] + 1.0;
-        d[k] = q[k] - p[k];
+        u[k] = q[k] - p[k];
     }
     if (!(pts <= LV_TUBE_LATTICE)) return -1;
     budget = LV_TUBE_LATTICE; /* cubes, the split ones too */
     for (k = 0; k < 3; k++) n[k] = (long)nd[k];
-    len2 = vp_dot3(d, d);
+    len = sqrt(vp_dot3(u, u));
+    for (k = 0; k < 3; k++) u[k] = len > 0.0 ? u[k] / len : 0.0;
     for (i[0] = 0; i[0] <= n[0]; i[0]++)
         for (i[1] = 0; i[1] <= n[1]; i[1]++)
             for (i[2] = 0; i[2] <= n[2]; i[2]++) {
@@ -540,18 +547,11 @@ static int tube_holds(vp_logverify_t *v, const double *p, const double *q, doubl
                 for (k = 0; k < 3; k++) cube[0][k] = lo[k] + sp * (double)i[k];
                 cube[0][3] = 0.5 * sp;
                 while (top >= 0) {
-                    double x[3], a = cube[top][3], h = a * LV_SQRT3, w[3], t = 0.0, e[3];
+                    double x[3], a = cube[top][3], h = a * LV_SQRT3;
                     int c;
                     memcpy(x, cube[top], sizeof x);
                     top--;
-                    vp_sub3(w, x, p);
-                    if (len2 > 0.0) {
-                        t = vp_dot3(w, d) / len2;
-                        if (t < 0.0) t = 0.0;
-                        if (t > 1.0) t = 1.0;
-                    }
-                    for (k = 0; k < 3; k++) e[k] = w[k] - t * d[k];
-                    if (vp_dot3(e, e) > (R + h) * (R + h)) continue; /* the cube misses the capsule */
+                    if (seg_dist2(p, u, len, x) > (R + h) * (R + h)) continue; /* the cube misses the capsule */
                     v->res.tube_points++;
                     if (--budget < 0.0) return -1; /* bounded time: as a lattice too large */
                     if (near_free(v, x, rho - h)) continue;

@@ -592,7 +592,7 @@ VP_PL_API int vp_pl_reprove_feed(vp_planner_t *pl, const vp_probe_result_t *res)
     const double *to = pl->route.pts + 3 * (size_t)pl->route.i;
     double len = vp_dist3(pl->dev.pos, to), free_len;
     uint32_t old = pl->route.proof[pl->route.i], fresh;
-    int k, distrusted = 0;
+    int k;
     pl->rescan.reprove = 0;
     if (res->hit == 0 && pl->rescan.tries < pl->cfg.confirm_misses) {
         pl->rescan.tries++;
@@ -604,10 +604,8 @@ VP_PL_API int vp_pl_reprove_feed(vp_planner_t *pl, const vp_probe_result_t *res)
      * near a contact it proves nothing (a surface the rangefinder cannot see), as any probe's
      * (vp_pl_probe_proof) */
     free_len = res->hit == 0 ? pl->dev.iss_range : res->hit == 1 ? res->dist - pl->cfg.noise_tol : 0.0;
-    if (free_len > 0.0 && pl->contact.n > 0 && vp_pl_contact_distrusts(pl, pl->dev.iss_o, pl->dev.iss_d, free_len)) {
+    if (free_len > 0.0 && pl->contact.n > 0 && vp_pl_contact_distrusts(pl, pl->dev.iss_o, pl->dev.iss_d, free_len))
         free_len = 0.0;
-        distrusted = 1;
-    }
     if (free_len >= len - pl->ptol) {
         /* free again: a fresh proof of the step */
         VP_TRY(vp_pl_proof_add(pl, pl->dev.iss_o, pl->dev.iss_d, len, &fresh));
@@ -624,11 +622,12 @@ VP_PL_API int vp_pl_reprove_feed(vp_planner_t *pl, const vp_probe_result_t *res)
         if (fresh == PROOF_NONE) return VP_EUNSAFE;
         return split_step(pl, free_len, fresh);
     }
-    /* blocked (or not provable: near a contact, where a hit is withdrawn as no point: it may lie
-     * at the step's very end, past Omega): the old proofs there are false; handled by the next
-     * vp_planner_next (an error there leaves this PROBE's record replayable) */
+    /* blocked (or not provable: near a contact): the old proofs there are false; handled by the
+     * next vp_planner_next (an error there leaves this PROBE's record replayable). A hit is the
+     * point that blocks only when it lies before the step's end (one at its very end, not
+     * provable near a contact, may lie past Omega) */
     pl->st.reprove_blocked++;
-    pl->rescan.blocked = res->hit == 1 && !distrusted ? 1 : 2;
+    pl->rescan.blocked = res->hit == 1 && res->dist - pl->cfg.noise_tol < len - pl->ptol ? 1 : 2;
     pl->rescan.blocked_proof = old;
     for (k = 0; k < 3; k++) pl->rescan.blocked_at[k] = pl->dev.iss_o[k] + res->dist * pl->dev.iss_d[k];
     return VP_OK;
